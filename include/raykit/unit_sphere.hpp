@@ -1,0 +1,42 @@
+/// \file unit_sphere.hpp
+/// \brief Step 01: the unit sphere at the origin.
+///
+/// You write these two functions in `steps/01_unit_sphere/unit_sphere.cpp`.
+/// Lecture: `lectures/01-unit-sphere.md`.
+#pragma once
+
+#include <optional>
+
+#include "raykit/ray.hpp"
+#include "raykit/roots.hpp"
+
+namespace raykit {
+
+/// Every \f$t\f$ at which the line of \p ray meets the unit sphere
+/// \f$ \mathbf{x}\cdot\mathbf{x} = 1 \f$.
+///
+/// Substituting the ray into the sphere gives
+/// \f$ (\mathbf{d}\cdot\mathbf{d})\,t^2 + 2(\mathbf{o}\cdot\mathbf{d})\,t + (\mathbf{o}\cdot\mathbf{o} - 1) = 0 \f$.
+///
+/// \param ray any ray; its direction need not be unit length.
+/// \return the real roots, sorted (see Roots): `count == 2` when the line
+///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
+///         (discriminant exactly zero), `count == 0` when it misses or when
+///         the direction is zero. Roots behind the origin (\f$t < 0\f$) are
+///         included: this function knows nothing of windows.
+Roots unit_sphere_roots(const Ray& ray);
+
+/// The closest hit of \p ray with the unit sphere inside the closed window
+/// \f$ t_\min \le t \le t_\max \f$.
+///
+/// \param ray  any ray; its direction need not be unit length.
+/// \param tmin smallest accepted \f$t\f$ (inclusive).
+/// \param tmax largest accepted \f$t\f$ (inclusive).
+/// \return the smallest root \f$t\f$ with `tmin <= t <= tmax`, or no value.
+///         A root exactly at either end counts. When the near root is outside
+///         the window but the far one is inside (a ray that starts inside the
+///         sphere, for instance), the far root is returned. `tmin > tmax`
+///         means an empty window: no value.
+std::optional<float> intersect_unit_sphere(const Ray& ray, float tmin, float tmax);
+
+}  // namespace raykit

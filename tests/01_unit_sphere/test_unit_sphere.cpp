@@ -1,0 +1,221 @@
+// Step 01 grading suite: the unit sphere at the origin.
+//
+// Every case has an answer that is exact in float, so the textbook formula
+// passes them all. A case's description names the lecture section to read.
+
+#include <doctest/doctest.h>
+
+#include <limits>
+
+#include "../support/grading.hpp"
+#include "raykit/unit_sphere.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
+Roots one(float t) { return Roots{1, {t, t}}; }
+Roots none() { return Roots{}; }
+
+void expect_roots(const Ray& ray, const Roots& expected, const std::string& why) {
+    check_roots("unit_sphere_roots(ray)", show(ray), expected, unit_sphere_roots(ray), why);
+}
+
+void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> expected,
+                const std::string& why) {
+    check_hit("intersect_unit_sphere(ray, tmin, tmax)",
+              show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", expected,
+              intersect_unit_sphere(ray, tmin, tmax), why);
+}
+
+// The ray most window cases use: along +x from (-3, 0, 0), roots 2 and 4.
+const Ray through_centre{{-3, 0, 0}, {1, 0, 0}};
+
+}  // namespace
+
+TEST_SUITE_BEGIN("basic");
+
+// ---- unit_sphere_roots: how many roots, and where ----------------------------
+
+TEST_CASE("two hits: a ray through the centre enters at t = 2 and leaves at t = 4" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots(through_centre, two(2, 4),
+                 "From x = -3 moving along +x, the ray meets x = -1 at t = 2 and x = 1 at t = 4.");
+}
+
+TEST_CASE("two hits: a ray along -y that does not pass through the centre" *
+          doctest::description("3. The quadratic's coefficients")) {
+    // o = (0.6, 5, 0): the line x = 0.6 cuts the unit circle at y = +-0.8.
+    expect_roots({{0.6f, 5, 0}, {0, -1, 0}}, two(4.2f, 5.8f),
+                 "The line x = 0.6 meets the sphere at y = 0.8 (t = 4.2) and y = -0.8 (t = 5.8).");
+}
+
+TEST_CASE("a diagonal ray: every component of o and d matters" *
+          doctest::description("3. The quadratic's coefficients")) {
+    // o = (-6, -8, 0), d = (3, 4, 0): |o + t d| = 5 |t - 2|, so t = 2 -+ 1/5.
+    expect_roots({{-6, -8, 0}, {3, 4, 0}}, two(1.8f, 2.2f),
+                 "Along this line the distance to the centre is 5|t - 2|; it equals 1 at t = 1.8 and t = 2.2.");
+}
+
+TEST_CASE("no hit: a ray that passes far from the sphere" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots({{-3, 2, 0}, {1, 0, 0}}, none(),
+                 "The line y = 2 never comes within 1 of the centre: the discriminant is negative.");
+}
+
+TEST_CASE("no hit: a ray just outside the silhouette" *
+          doctest::description("4. What the discriminant says")) {
+    // y = 1 + 2^-10: outside by less than a thousandth, still exactly negative.
+    expect_roots({{-1, 1.0009765625f, 0}, {1, 0, 0}}, none(),
+                 "The line y = 1.0009765625 passes just outside the sphere: a miss, not a tangent.");
+}
+
+TEST_CASE("one hit: a tangent ray touches the sphere once" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots({{-2, 1, 0}, {1, 0, 0}}, one(2),
+                 "The line y = 1 touches the sphere at (0, 1, 0), t = 2; the discriminant is exactly 0.");
+}
+
+TEST_CASE("one hit: a tangent ray with a direction of length 2" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots({{0, 1, -4}, {0, 0, 2}}, one(2),
+                 "The ray touches (0, 1, 0) after moving 4 units, which is t = 2 steps of length 2.");
+}
+
+TEST_CASE("origin inside: one root behind the origin and one ahead" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots({{0, 0, 0}, {0, 0, 1}}, two(-1, 1),
+                 "From the centre the line leaves the sphere at t = -1 behind and t = 1 ahead.");
+}
+
+TEST_CASE("origin inside but off centre" * doctest::description("3. The quadratic's coefficients")) {
+    expect_roots({{0.5f, 0, 0}, {1, 0, 0}}, two(-1.5f, 0.5f),
+                 "From x = 0.5 the line reaches x = 1 at t = 0.5 and x = -1 at t = -1.5.");
+}
+
+TEST_CASE("origin on the surface looking in: one root is exactly 0" *
+          doctest::description("3. The quadratic's coefficients")) {
+    expect_roots({{1, 0, 0}, {-1, 0, 0}}, two(0, 2),
+                 "The origin (1, 0, 0) is on the sphere (c = 0), so t = 0 is a root; the ray leaves at (-1, 0, 0), t = 2.");
+}
+
+TEST_CASE("origin on the surface looking out: the other root is behind" *
+          doctest::description("3. The quadratic's coefficients")) {
+    expect_roots({{0, 0, 1}, {0, 0, 1}}, two(-2, 0),
+                 "The origin is on the sphere, and the line's other crossing is (0, 0, -1), at t = -2.");
+}
+
+TEST_CASE("sphere behind the ray: both roots negative" *
+          doctest::description("5. The closest root in a window")) {
+    expect_roots({{3, 0, 0}, {1, 0, 0}}, two(-4, -2),
+                 "The roots are of the whole line: behind the origin they are negative, and still reported.");
+}
+
+TEST_CASE("a direction of length 2 halves t" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-3, 0, 0}, {2, 0, 0}}, two(1, 2),
+                 "t counts steps of d: with |d| = 2 the same points are reached at half the t (a = d.d = 4).");
+}
+
+TEST_CASE("a direction of length 1/2 doubles t" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{0, -3, 0}, {0, 0.5f, 0}}, two(4, 8),
+                 "With |d| = 1/2 each step is half as long: the sphere is met at t = 4 and t = 8.");
+}
+
+TEST_CASE("root order: a ray travelling towards -x still lists the smaller t first" *
+          doctest::description("3. The quadratic's coefficients")) {
+    expect_roots({{3, 0, 0}, {-1, 0, 0}}, two(2, 4),
+                 "Whatever the direction, t[0] <= t[1]: here t[0] = 2 and t[1] = 4.");
+}
+
+TEST_CASE("root order: a sphere behind a ray travelling towards -x" *
+          doctest::description("3. The quadratic's coefficients")) {
+    expect_roots({{-3, 0, 0}, {-2, 0, 0}}, two(-2, -1),
+                 "Both roots are negative; the smaller, t = -2, comes first.");
+}
+
+TEST_CASE("a zero direction is no ray: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{0.5f, 0, 0}, {0, 0, 0}}, none(),
+                 "With d = 0 the quadratic's a is 0: there is no line to intersect. Report count 0 (and no NaN).");
+}
+
+// ---- intersect_unit_sphere: the closest root in a closed window --------------
+
+TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 0, inf, 2.0f, "Both roots are in [0, inf]; the closest is t = 2.");
+}
+
+TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-3, 2, 0}, {1, 0, 0}}, 0, inf, std::nullopt, "The line never meets the sphere.");
+}
+
+TEST_CASE("window: a tangent is a hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-2, 1, 0}, {1, 0, 0}}, 0, inf, 2.0f, "A tangent touches the sphere: it is a hit at t = 2.");
+}
+
+TEST_CASE("window: the near root before tmin gives the far root" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 3, 10, 4.0f, "t = 2 is before tmin = 3, t = 4 is inside [3, 10].");
+}
+
+TEST_CASE("window: origin inside the sphere hits the far side" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{0, 0, 0}, {0, 0, 1}}, 0, inf, 1.0f,
+               "The roots are -1 and 1; -1 is behind the origin, so the hit is the far side, t = 1.");
+}
+
+TEST_CASE("window: both roots after tmax is no hit" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 0, 1, std::nullopt, "Both roots (2 and 4) lie beyond tmax = 1.");
+}
+
+TEST_CASE("window: both roots before tmin is no hit" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 5, 10, std::nullopt, "Both roots (2 and 4) lie before tmin = 5.");
+}
+
+TEST_CASE("window: a sphere behind the ray is no hit" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{3, 0, 0}, {1, 0, 0}}, 0, inf, std::nullopt, "The roots -4 and -2 are both behind tmin = 0.");
+}
+
+TEST_CASE("window: a root exactly at tmin counts" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 2, 10, 2.0f, "The window is closed: tmin <= t, so t = tmin = 2 is a hit.");
+}
+
+TEST_CASE("window: the far root exactly at tmin counts" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 4, 10, 4.0f, "t = 2 < tmin, and t = 4 = tmin is inside the closed window.");
+}
+
+TEST_CASE("window: a root exactly at tmax counts" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 0, 2, 2.0f, "The window is closed: t <= tmax, so t = tmax = 2 is a hit.");
+}
+
+TEST_CASE("window: the far root exactly at tmax counts" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 3, 4, 4.0f, "t = 2 < tmin = 3, and t = 4 = tmax is inside the closed window.");
+}
+
+TEST_CASE("window: a negative tmin accepts roots behind the origin" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{0, 0, 0}, {0, 0, 1}}, -10, 10, -1.0f,
+               "Any root in the window counts: -1 lies in [-10, 10] and is the smallest.");
+}
+
+TEST_CASE("window: tmin greater than tmax is empty" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, 4, 2, std::nullopt,
+               "No t satisfies 4 <= t <= 2; both conditions must hold, not either one.");
+}
+
+TEST_CASE("window: a direction of length 2 returns t in steps of d" *
+          doctest::description("2. The ray meets the sphere")) {
+    expect_hit({{-3, 0, 0}, {2, 0, 0}}, 0, inf, 1.0f,
+               "The hit point (-1, 0, 0) is o + 1 * d: t = 1, not the distance 2.");
+}
+
+TEST_SUITE_END();

@@ -1,0 +1,108 @@
+// Shared helpers for the step suites: how values are printed in a failure
+// message and how an answer is compared with the expected one.
+//
+// A failure message is written for a student. It names what was called, the
+// input, what was expected, what came back, and one sentence on why the
+// expected answer is right. The grader adds the case's name and the lecture
+// section (the doctest description of the case).
+#pragma once
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <charconv>
+#include <optional>
+#include <string>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "raykit/ray.hpp"
+#include "raykit/roots.hpp"
+
+namespace raykit::grading {
+
+/// Shortest text that reads back as the same float ("2", "0.5", "1.00000012").
+inline std::string show(float x) {
+    if (std::isnan(x)) return "NaN";
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+    char buf[64];
+    const auto end = std::to_chars(buf, buf + sizeof buf, x).ptr;  // shortest exact text
+    return std::string(buf, end);
+}
+
+inline std::string show(const glm::vec3& v) {
+    return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
+}
+
+inline std::string show(const glm::vec2& v) { return "(" + show(v.x) + ", " + show(v.y) + ")"; }
+
+inline std::string show(const Ray& ray) {
+    return "origin " + show(ray.origin) + ", direction " + show(ray.direction);
+}
+
+inline std::string show(const Roots& r) {
+    if (r.count == 0) return "no roots (count 0)";
+    if (r.count == 1) return "1 root (count 1): t[0] = " + show(r.t[0]) + ", t[1] = " + show(r.t[1]);
+    if (r.count == 2) return "2 roots (count 2): t = " + show(r.t[0]) + " and " + show(r.t[1]);
+    return "count = " + std::to_string(r.count) + " (not 0, 1 or 2)";
+}
+
+inline std::string show(const std::optional<float>& hit) {
+    return hit ? "a hit at t = " + show(*hit) : "no hit (std::nullopt)";
+}
+
+/// The basic tier checks logic, not rounding: answers are exactly
+/// representable and any sensible formula lands within a few ulps of them.
+inline bool close(float expected, float got) {
+    if (std::isnan(got)) return false;
+    const float tolerance = 1e-5f * std::fabs(expected) + 1e-6f;
+    return std::fabs(got - expected) <= tolerance;
+}
+
+/// Builds the message block shared by every failure.
+inline std::string report(const std::string& call, const std::string& input,
+                          const std::string& expected, const std::string& got,
+                          const std::string& why) {
+    std::string m = call + "\n";
+    m += "  input     " + input + "\n";
+    m += "  expected  " + expected + "\n";
+    m += "  got       " + got + "\n";
+    if (!why.empty()) m += "  why       " + why + "\n";
+    return m;
+}
+
+/// Checks a Roots answer against the expected one, contract first (count in
+/// {0,1,2}, sorted, tangent repeats its root), then the values.
+inline void check_roots(const std::string& call, const std::string& input,
+                        const Roots& expected, const Roots& got, const std::string& why) {
+    auto fail = [&](const std::string& problem) {
+        FAIL_CHECK(report(call, input, show(expected), show(got), problem + (why.empty() ? "" : " " + why)));
+    };
+    if (got.count < 0 || got.count > 2) return fail("count must be 0, 1 or 2.");
+    if (got.count != expected.count) {
+        if (expected.count == 1 && got.count == 2)
+            return fail("The discriminant is exactly 0 here: a tangent is one root, not two.");
+        if (expected.count == 1 && got.count == 0)
+            return fail("The discriminant is exactly 0 here: the ray touches the sphere, so it is one root, not a miss.");
+        return fail("The number of roots is wrong.");
+    }
+    if (got.count == 2 && !(got.t[0] <= got.t[1]))
+        return fail("Roots must be sorted: t[0] <= t[1].");
+    if (got.count == 1 && !(got.t[0] == got.t[1]))
+        return fail("For a tangent both entries hold the same root: t[0] == t[1].");
+    for (int i = 0; i < expected.count; ++i) {
+        if (!close(expected.t[i], got.t[i])) return fail("A root has the wrong value.");
+    }
+}
+
+/// Checks a windowed hit (std::optional<float>) against the expected one.
+inline void check_hit(const std::string& call, const std::string& input,
+                      const std::optional<float>& expected, const std::optional<float>& got,
+                      const std::string& why) {
+    const bool ok = expected.has_value() == got.has_value() &&
+                    (!expected || close(*expected, *got));
+    if (!ok) FAIL_CHECK(report(call, input, show(expected), show(got), why));
+}
+
+}  // namespace raykit::grading

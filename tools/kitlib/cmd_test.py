@@ -1,0 +1,217 @@
+"""./kit test: the kit's self-test, for instructors and CI.
+
+Every check prints one line, passed or failed with the reason; the run ends
+with "N passed, M failed" and exits non-zero when anything failed. Other
+modules named selftest_*.py add checks by defining checks() -> [(name, fn(ctx))].
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+import subprocess
+import sys
+import time
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from common import ROOT, KitError, ensure_packages, load_steps, paint, preset_build, say, \
+    submission_build
+from grade import StepResult, grade, list_cases
+
+
+@dataclass
+class Context:
+    fast: bool
+    steps: list = field(default_factory=load_steps)
+    reference: list[StepResult] | None = None
+
+
+class Failed(Exception):
+    pass
+
+
+def expect(condition: bool, message: str) -> None:
+    if not condition:
+        raise Failed(message)
+
+
+def kit(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    return subprocess.run([str(ROOT / "kit"), *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+# --- the checks ------------------------------------------------------------------
+
+def check_reference_builds(ctx: Context) -> str:
+    r = subprocess.run(["cmake", "--workflow", "--preset", "reference"], cwd=ROOT,
+                       capture_output=True, text=True)
+    tail = (r.stdout + r.stderr)[-4000:]
+    expect(r.returncode == 0, f"cmake --workflow --preset reference failed:\n{tail}")
+    m = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
+    expect(m is not None and int(m.group(2)) > 0, "ctest ran no test")
+    return f"warnings as errors, ctest {m.group(2)} tests"
+
+
+def check_solutions_pass(ctx: Context) -> str:
+    ctx.reference = grade(preset_build("reference"), ctx.steps, ctx.steps)
+    bad = []
+    for r in ctx.reference:
+        for c in r.cases:
+            if c.status != "pass":
+                bad.append(f"step {r.step.number} [{c.tier}] {c.name}: {c.status} {' '.join(c.messages)[:300]}")
+        if r.state != "done":
+            bad.append(f"step {r.step.number}: {r.state} {r.detail[:500]}")
+    expect(not bad, "the reference solutions fail:\n  " + "\n  ".join(bad[:10]))
+    n = sum(len(r.cases) for r in ctx.reference)
+    return f"{n} cases in {len(ctx.reference)} steps, both tiers"
+
+
+def check_stubs_not_started(ctx: Context) -> str:
+    results = grade(preset_build("student"), ctx.steps, ctx.steps)
+    bad = []
+    for r in results:
+        # A step that needs another is locked while that one is a stub: that is "not started" too.
+        if r.state == "locked":
+            continue
+        if r.state != "not_started":
+            bad.append(f"step {r.step.number} is {r.state}")
+        bad += [f"step {r.step.number} case '{c.name}' is {c.status}" for c in r.cases if c.status != "not_started"]
+    expect(not bad, "a shipped stub is not graded 'not started':\n  " + "\n  ".join(bad[:10]))
+    return "every case of every shipped stub reports not_implemented"
+
+
+def check_case_names_and_lectures(ctx: Context) -> str:
+    bad = []
+    total = 0
+    for step in ctx.steps:
+        exe = preset_build("reference").exe(step)
+        lecture = ROOT / step.lecture
+        expect(lecture.is_file(), f"step {step.number}: lecture {step.lecture} is missing")
+        headings = {h.strip() for h in re.findall(r"^#+\s+(.*)$", lecture.read_text(), re.M)}
+        names = set()
+        for c in list_cases(exe):
+            total += 1
+            if re.search(r"[,;*?\[\]\\]", c.name):
+                bad.append(f"'{c.name}': , ; * ? [ ] \\ break doctest's and ctest's filters")
+            if c.name in names:
+                bad.append(f"'{c.name}' appears twice")
+            names.add(c.name)
+            if c.tier not in ("basic", "robust"):
+                bad.append(f"'{c.name}': tier '{c.tier}' is neither basic nor robust")
+            if not c.lecture:
+                bad.append(f"'{c.name}' names no lecture section")
+            elif c.lecture not in headings:
+                bad.append(f"'{c.name}' points to section '{c.lecture}', not a heading of {step.lecture}")
+    expect(not bad, "\n  ".join(bad[:10]))
+    return f"{total} case names are filter-safe and each points to a lecture heading that exists"
+
+
+def check_solution_copied_is_done(ctx: Context) -> str:
+    r = kit("check", "--steps", "solutions")
+    expect(r.returncode == 0, f"./kit check --steps solutions exited {r.returncode}:\n{r.stdout[-2000:]}")
+    expect("done" in r.stdout, "the scoreboard does not say done")
+    return "./kit check --steps solutions: every step done, exit 0"
+
+
+FIXTURES = {
+    # folder: (state, a case status that must appear, some cases must still pass)
+    "wrong": ("partial", "fail", True),
+    "crash": ("partial", "crashed", True),
+    "hang": ("partial", "timed_out", True),
+    "throw": ("partial", "threw", True),
+    "flood": ("partial", "crashed", True),
+    "no_compile": ("no_compile", None, False),
+}
+
+
+def check_grader_fixtures(ctx: Context) -> str:
+    steps = [s for s in ctx.steps if s.number == "01"]
+    seen = []
+    for name, (state, status, some_pass) in FIXTURES.items():
+        source = ROOT / "tests" / "fixtures" / name
+        [r] = grade(submission_build(source, "fixtures"), steps, ctx.steps)
+        expect(r.state == state, f"fixture {name}: graded {r.state}, expected {state}")
+        if status:
+            expect(any(c.status == status for c in r.cases), f"fixture {name}: no case is {status}")
+        if some_pass:
+            expect(r.passed("basic") > 0, f"fixture {name}: grading stopped, no other case passed")
+        seen.append(name)
+    r = kit("check", "1", "--steps", "tests/fixtures/wrong")
+    expect(r.returncode == 1, f"a wrong answer must exit 1, got {r.returncode}")
+    expect("window: a root exactly at tmin counts" in r.stdout and "section" in r.stdout,
+           "the scoreboard does not name the first failing case and its lecture section")
+    return "reported per case and graded on: " + ", ".join(seen)
+
+
+def check_command_line(ctx: Context) -> str:
+    for args, words in [(["check", "99"], "no step"), (["frobnicate"], "invalid choice"),
+                        (["check", "--steps", "/nonexistent/folder"], "no such folder"),
+                        (["check", "--bogus"], "unrecognized")]:
+        r = kit(*args, timeout=60)
+        expect(r.returncode == 2, f"./kit {' '.join(args)} exited {r.returncode}, expected 2")
+        expect(words in r.stderr, f"./kit {' '.join(args)}: message lacks '{words}': {r.stderr[-300:]}")
+    return "bad commands, options, steps and folders: message and exit 2"
+
+
+def check_sanitizers(ctx: Context) -> str:
+    if ctx.fast:
+        return "skipped (--fast)"
+    r = subprocess.run(["cmake", "--workflow", "--preset", "sanitize"], cwd=ROOT, capture_output=True, text=True)
+    tail = (r.stdout + r.stderr)[-4000:]
+    expect(r.returncode == 0, f"the ASan + UBSan build or its tests failed:\n{tail}")
+    m = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
+    expect(m is not None and int(m.group(2)) > 0, "ctest ran no test under the sanitizers")
+    return f"ASan + UBSan, {m.group(2)} tests, no finding"
+
+
+CHECKS = [
+    ("reference build", check_reference_builds),
+    ("solutions pass every case", check_solutions_pass),
+    ("shipped stubs are 'not started'", check_stubs_not_started),
+    ("case names and lecture pointers", check_case_names_and_lectures),
+    ("a copied solution grades 'done'", check_solution_copied_is_done),
+    ("grader survives bad code", check_grader_fixtures),
+    ("command line errors", check_command_line),
+]
+LAST = [("sanitizers", check_sanitizers)]
+
+
+def extra_checks() -> list:
+    found = []
+    for path in sorted(Path(__file__).parent.glob("selftest_*.py")):  # e.g. selftest_render.py
+        module = importlib.import_module(path.stem)
+        found += module.checks()
+    return found
+
+
+HELP = "the kit's self-test: solutions pass, stubs are not started, tools work (instructors, CI)"
+
+
+def register(p) -> None:
+    p.add_argument("--fast", action="store_true", help="skip the slow checks (the sanitizer build)")
+
+
+def run(args) -> int:
+    ensure_packages("build")
+    ctx = Context(fast=args.fast)
+    passed = failed = 0
+    for name, fn in CHECKS + extra_checks() + LAST:
+        start = time.monotonic()
+        try:
+            detail = fn(ctx)
+            passed += 1
+            say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
+        except Failed as e:
+            failed += 1
+            say(f"{paint('✗', 'red')} {name}: {e}")
+        except KitError as e:
+            failed += 1
+            say(f"{paint('✗', 'red')} {name}: {e}")
+        except Exception:  # a bug in the check itself: still report and go on
+            failed += 1
+            say(f"{paint('✗', 'red')} {name}: the check itself failed\n{traceback.format_exc()}")
+    say()
+    say(f"selftest: {passed} passed, {failed} failed")
+    return 0 if failed == 0 else 1

@@ -1,0 +1,218 @@
+"""Shared pieces of the kit's driver: where things are, the steps, packages, builds."""
+
+from __future__ import annotations
+
+import filecmp
+import json
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+BUILD = ROOT / "build"
+
+
+class KitError(Exception):
+    """A problem the user can fix: printed as one clear message, exit status `code`."""
+
+    def __init__(self, message: str, code: int = 2):
+        super().__init__(message)
+        self.code = code
+
+
+# --- terminal ------------------------------------------------------------------
+
+_COLOR = sys.stdout.isatty() and os.environ.get("NO_COLOR") is None and os.environ.get("TERM") != "dumb"
+
+
+def paint(text: str, style: str) -> str:
+    codes = {"green": "32", "red": "31", "yellow": "33", "bold": "1", "dim": "2", "cyan": "36"}
+    if not _COLOR:
+        return text
+    return f"\033[{codes[style]}m{text}\033[0m"
+
+
+def say(text: str = "") -> None:
+    print(text, flush=True)
+
+
+def note(text: str) -> None:
+    print(paint(text, "dim"), file=sys.stderr, flush=True)
+
+
+# --- steps -------------------------------------------------------------------
+
+@dataclass
+class Step:
+    """One numbered step, described by tests/NN_topic/step.json."""
+
+    folder: str                 # "01_unit_sphere"
+    title: str
+    files: list[str]
+    needs: list[str]
+    lecture: str                # "lectures/01-unit-sphere.md"
+    functions: list[str] = field(default_factory=list)
+
+    @property
+    def number(self) -> str:
+        return self.folder[:2]
+
+    @property
+    def target(self) -> str:
+        return f"test_step{self.number}"
+
+
+def load_steps() -> list[Step]:
+    steps = []
+    for manifest in sorted((ROOT / "tests").glob("[0-9][0-9]_*/step.json")):
+        data = json.loads(manifest.read_text())
+        steps.append(Step(folder=manifest.parent.name, title=data["title"], files=data["files"],
+                          needs=data.get("needs", []), lecture=data["lecture"],
+                          functions=data.get("functions", [])))
+    return steps
+
+
+def select_steps(steps: list[Step], wanted: list[str]) -> list[Step]:
+    """Steps named by number ("1", "01") or folder; all of them when none is named."""
+    if not wanted:
+        return steps
+    chosen = []
+    for w in wanted:
+        match = [s for s in steps if w == s.folder or (w.isdigit() and int(w) == int(s.number))]
+        if not match:
+            known = ", ".join(str(int(s.number)) for s in steps)
+            raise KitError(f"there is no step {w!r}; the steps are {known}")
+        if match[0] not in chosen:
+            chosen.append(match[0])
+    return sorted(chosen, key=lambda s: s.number)
+
+
+# --- packages --------------------------------------------------------------------
+
+# Debian package names each command needs. The first ./kit call installs what is
+# missing (apt-get, non-interactive, with sudo when not root).
+PACKAGES = {
+    "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev", "pkg-config"],
+}
+
+
+def missing_packages(names: list[str]) -> list[str]:
+    if shutil.which("dpkg-query") is None:
+        return []
+    missing = []
+    for name in names:
+        r = subprocess.run(["dpkg-query", "-W", "-f=${Status}", name], capture_output=True, text=True)
+        if r.returncode != 0 or "install ok installed" not in r.stdout:
+            missing.append(name)
+    return missing
+
+
+def ensure_packages(*groups: str) -> None:
+    names: list[str] = []
+    for g in groups:
+        names += [n for n in PACKAGES[g] if n not in names]
+    missing = missing_packages(names)
+    if not missing:
+        return
+    sudo = [] if os.geteuid() == 0 else ["sudo", "-n"]
+    command = " ".join(["sudo"] * bool(sudo) + ["apt-get", "install", "-y"] + missing)
+    if shutil.which("apt-get") is None:
+        raise KitError(f"missing packages: {' '.join(missing)}; install them and run ./kit again", 3)
+    note(f"kit: installing {' '.join(missing)} (once)")
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    ok = subprocess.run(sudo + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing,
+                        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if ok.returncode != 0:
+        # The package lists may be stale on a fresh machine: update once and retry.
+        subprocess.run(sudo + ["apt-get", "update", "-q"], env=env, capture_output=True)
+        ok = subprocess.run(sudo + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing,
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if ok.returncode != 0:
+        raise KitError(f"could not install the packages the kit needs. Run:\n  {command}", 3)
+
+
+# --- builds ----------------------------------------------------------------------
+
+@dataclass
+class Build:
+    """A build folder and the steps folder it compiles."""
+
+    name: str                   # student, reference, sanitize, submission
+    binary_dir: Path
+    steps_dir: Path             # what is compiled (for a submission: the staging copy)
+    shown_dir: Path             # what the user named (for messages)
+    preset: str | None = None
+
+    def exe(self, step: Step) -> Path:
+        return self.binary_dir / step.target
+
+
+def preset_build(name: str) -> Build:
+    steps_dir = ROOT / ("steps" if name == "student" else "solutions")
+    return Build(name, BUILD / name, steps_dir, steps_dir, preset=name)
+
+
+def resolve_steps_dir(path: str) -> Path:
+    """A student's steps folder, or a whole copy of the kit that holds one."""
+    p = Path(path).expanduser()
+    if not p.exists():
+        raise KitError(f"--steps {path}: no such folder")
+    if not p.is_dir():
+        raise KitError(f"--steps {path}: not a folder")
+    p = p.resolve()
+    steps = load_steps()
+    if not any((p / s.folder).is_dir() for s in steps) and (p / "steps").is_dir():
+        p = p / "steps"
+    if not any((p / s.folder).is_dir() for s in steps):
+        names = ", ".join(s.folder for s in steps)
+        raise KitError(f"--steps {path}: holds none of the step folders ({names})")
+    return p
+
+
+def submission_build(source: Path, slot: str = "submission") -> Build:
+    """Grades a copy of `source` (never modified) in a build folder reused across submissions.
+
+    Only files that changed are rewritten, so grading many submissions rebuilds
+    just the steps that differ.
+    """
+    staging = BUILD / f"{slot}-src"
+    for step in load_steps():
+        for f in step.files:
+            src, dst = source / step.folder / f, staging / step.folder / f
+            if src.is_file():
+                dst.parent.mkdir(parents=True, exist_ok=True)
+                if not dst.exists() or not filecmp.cmp(src, dst, shallow=False):
+                    shutil.copyfile(src, dst)
+            elif dst.exists():
+                dst.unlink()
+    return Build(slot, BUILD / slot, staging, source)
+
+
+def configure(build: Build, quiet: bool = True) -> None:
+    if build.preset:
+        cmd = ["cmake", "--preset", build.preset]
+    else:
+        gen = ["-G", "Ninja"] if shutil.which("ninja") else []
+        cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
+               "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DRAYKIT_STEPS_DIR={build.steps_dir}"]
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise KitError(f"cmake could not configure {build.binary_dir}:\n{r.stdout[-3000:]}{r.stderr[-3000:]}", 1)
+    if not quiet:
+        say(r.stdout)
+
+
+def build_target(build: Build, target: str) -> tuple[bool, str]:
+    r = subprocess.run(["cmake", "--build", str(build.binary_dir), "--target", target],
+                       cwd=ROOT, capture_output=True, text=True)
+    out = r.stdout + r.stderr
+    if build.steps_dir != build.shown_dir:
+        out = out.replace(str(build.steps_dir), str(build.shown_dir))
+    return r.returncode == 0, out
+
+
+def run(cmd: list[str], **kw) -> subprocess.CompletedProcess:
+    return subprocess.run(cmd, cwd=kw.pop("cwd", ROOT), **kw)
