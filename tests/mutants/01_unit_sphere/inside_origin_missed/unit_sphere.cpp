@@ -1,0 +1,30 @@
+// Mutant inside_origin_missed: only the near root is tried, so a ray from inside misses
+// A complete step-01 answer with one realistic mistake. ./kit test grades it like a
+// student's work and fails unless the basic tier catches it.
+
+#include "raykit/unit_sphere.hpp"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace raykit {
+
+Roots unit_sphere_roots(const Ray& ray) {
+    const float a = glm::dot(ray.direction, ray.direction);
+    const float b = 2.0f * glm::dot(ray.origin, ray.direction);
+    const float c = glm::dot(ray.origin, ray.origin) - 1.0f;
+    const float disc = b * b - 4.0f * a * c;
+    if (a == 0.0f || disc < 0.0f) return {};
+    if (disc == 0.0f) return {1, {-b / (2.0f * a), -b / (2.0f * a)}};
+    const float s = std::sqrt(disc);
+    return {2, {(-b - s) / (2.0f * a), (-b + s) / (2.0f * a)}};
+}
+
+std::optional<float> intersect_unit_sphere(const Ray& ray, float tmin, float tmax) {
+    const Roots r = unit_sphere_roots(ray);
+    if (r.count > 0 && tmin <= r.t[0] && r.t[0] <= tmax) return r.t[0];
+    return std::nullopt;
+}
+
+}  // namespace raykit

@@ -1,0 +1,66 @@
+"""Self-test: every mutant (a full answer with one realistic slip) is caught by the basic tier.
+
+Each mutant goes through the path a student's work takes: `./kit check N --steps DIR`, where DIR
+holds the mutant's files for its step and the reference files for the steps it needs.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from collections import defaultdict
+
+from common import BUILD, ROOT, load_steps
+
+MUTANTS = ROOT / "tests" / "mutants"
+MINIMUM_PER_STEP = 8
+
+
+def _needed(step, by_number) -> list:
+    out, todo = [], list(step.needs)
+    while todo:
+        n = todo.pop()
+        if n not in [s.number for s in out]:
+            out.append(by_number[n])
+            todo += by_number[n].needs
+    return out
+
+
+def check_mutants(ctx) -> str:
+    from cmd_test import Failed, kit
+
+    steps = load_steps()
+    by_number = {s.number: s for s in steps}
+    scores: dict[str, list[int]] = defaultdict(lambda: [0, 0])
+    escaped = []
+    work = BUILD / "mutant-steps"
+    for step in steps:
+        folder = MUTANTS / step.folder
+        mutants = sorted(p for p in folder.iterdir() if p.is_dir()) if folder.is_dir() else []
+        if len(mutants) < MINIMUM_PER_STEP:
+            raise Failed(f"step {step.number} has {len(mutants)} mutants in tests/mutants/{step.folder}/, "
+                         f"at least {MINIMUM_PER_STEP} are needed")
+        for mutant in mutants:
+            shutil.rmtree(work, ignore_errors=True)
+            for dep in _needed(step, by_number):
+                shutil.copytree(ROOT / "solutions" / dep.folder, work / dep.folder)
+            shutil.copytree(mutant, work / step.folder)
+            report = BUILD / "mutant.json"
+            r = kit("check", str(int(step.number)), "--steps", str(work), "--json", str(report), "--quiet")
+            result = json.loads(report.read_text())["steps"][0] if report.exists() else None
+            report.unlink(missing_ok=True)
+            scores[step.number][1] += 1
+            if r.returncode == 1 and result and result["state"] not in ("done", "not_started"):
+                scores[step.number][0] += 1
+            else:
+                state = result["state"] if result else f"exit {r.returncode}"
+                escaped.append(f"{step.folder}/{mutant.name} ({state})")
+    shutil.rmtree(work, ignore_errors=True)
+    summary = ", ".join(f"step {n}: {k}/{t}" for n, (k, t) in sorted(scores.items()))
+    if escaped:
+        raise Failed(f"mutation score {summary}; not caught: " + ", ".join(escaped))
+    return f"mutation score {summary} (every mutant caught by the basic tier)"
+
+
+def checks():
+    return [("mutants are caught", check_mutants)]
