@@ -4,11 +4,17 @@ from __future__ import annotations
 
 import json
 import os
+import time
 from pathlib import Path
 
 from common import ROOT, Build, KitError, Step, ensure_packages, load_steps, paint, preset_build, \
     resolve_steps_dir, say, select_steps, submission_build
 from grade import StepResult, grade
+
+STATE_WORDS = {
+    "done": "done", "partial": "some cases fail", "not_started": "not started", "missing": "a file is missing",
+    "no_compile": "does not compile", "locked": "waits for an earlier step", "broken": "could not be graded",
+}
 
 STATUS_WORDS = {
     "fail": "wrong answer", "not_started": "not started", "threw": "threw an exception",
@@ -142,18 +148,66 @@ def run(args) -> int:
     else:
         build = preset_build("student")
         source = build.steps_dir
+    if args.json:  # fail early on a path we cannot write, before any building
+        write_json(args.json, [], 0.0)
+    start = time.monotonic()
     results = grade(build, steps, all_steps)
     if args.json:
-        write_json(args.json, results)
+        write_json(args.json, results, time.monotonic() - start)
     if not args.quiet:
         scoreboard(results, source)
     return 0 if all(r.state == "done" for r in results) else 1
 
 
-def write_json(path: str, results: list[StepResult]) -> None:
+def gradescope(results: list[StepResult], elapsed: float) -> dict:
+    """The results in Gradescope's autograder format (results.json).
+
+    One test per case. A basic case is worth one point; a ★ robust case is shown with
+    max_score 0 (optional, never lowers the score). The kit's own per-step view is kept
+    under extra_data for tools that want more than points.
+    """
+    tests = []
+    for r in results:
+        s = r.step
+        if not r.cases:  # not compiled, missing file, locked: one line for the whole step
+            tests.append({"name": f"Step {s.number} · {s.title}", "number": s.number, "score": 0,
+                          "max_score": 0, "status": "failed", "visibility": "visible",
+                          "output": f"{STATE_WORDS[r.state]}. {r.detail[:4000]}".strip(),
+                          "tags": [f"step{s.number}"]})
+            continue
+        for i, c in enumerate(r.cases, 1):
+            robust = c.tier == "robust"
+            lines = [f"{STATUS_WORDS.get(c.status, c.status)}"] if c.status != "pass" else ["passed"]
+            lines += c.messages[:3]
+            if c.status != "pass" and c.lecture:
+                lines.append(f"Read {s.lecture}, section \"{c.lecture}\".")
+            tests.append({
+                "name": f"Step {s.number}{' ★' if robust else ''} · {c.name}",
+                "number": f"{int(s.number)}.{i}",
+                "score": 0 if robust else int(c.status == "pass"),
+                "max_score": 0 if robust else 1,
+                "status": "passed" if c.status == "pass" else "failed",
+                "visibility": "visible",
+                "output": "\n".join(lines),
+                "tags": [f"step{s.number}", c.tier],
+            })
+    score = sum(t["score"] for t in tests)
+    summary = "; ".join(f"step {r.step.number}: {STATE_WORDS[r.state]}" for r in results)
+    return {"score": score, "execution_time": round(elapsed, 3), "output": summary,
+            "visibility": "visible", "stdout_visibility": "hidden", "tests": tests,
+            "extra_data": {"steps": [r.to_json() for r in results]}}
+
+
+def write_json(path: str, results: list[StepResult], elapsed: float) -> None:
     target = Path(path)
-    if target.parent and not target.parent.is_dir():
+    if not target.parent.is_dir():
         raise KitError(f"--json {path}: folder {target.parent} does not exist")
-    tmp = target.with_name(target.name + ".tmp")
-    tmp.write_text(json.dumps({"steps": [r.to_json() for r in results]}, indent=2))
-    tmp.replace(target)
+    if target.is_dir():
+        raise KitError(f"--json {path}: is a folder, not a file")
+    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(json.dumps(gradescope(results, elapsed), indent=2, ensure_ascii=False))
+        tmp.replace(target)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)
+        raise KitError(f"--json {path}: cannot write it ({e.strerror})")

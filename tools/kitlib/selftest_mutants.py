@@ -27,7 +27,9 @@ def _needed(step, by_number) -> list:
 
 
 def check_mutants(ctx) -> str:
-    from cmd_test import Failed, kit
+    from cmd_test import Failed, kit, need_solutions
+
+    need_solutions()
 
     steps = load_steps()
     by_number = {s.number: s for s in steps}
@@ -47,7 +49,7 @@ def check_mutants(ctx) -> str:
             shutil.copytree(mutant, work / step.folder)
             report = BUILD / "mutant.json"
             r = kit("check", str(int(step.number)), "--steps", str(work), "--json", str(report), "--quiet")
-            result = json.loads(report.read_text())["steps"][0] if report.exists() else None
+            result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.exists() else None
             report.unlink(missing_ok=True)
             scores[step.number][1] += 1
             if r.returncode == 1 and result and result["state"] not in ("done", "not_started"):
