@@ -22,7 +22,9 @@ namespace raykit {
 /// \return the real roots, sorted (see Roots): `count == 2` when the line
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses or when
-///         the direction is zero. Roots behind the origin (\f$t < 0\f$) are
+///         the direction is zero. Inputs containing NaN or infinity, or so large
+///         that \f$\mathbf{d}\cdot\mathbf{d}\f$ overflows, count as a miss; no
+///         root is ever NaN. Roots behind the origin (\f$t < 0\f$) are
 ///         included: this function knows nothing of windows.
 Roots unit_sphere_roots(const Ray& ray);
 

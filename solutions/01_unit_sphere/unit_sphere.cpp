@@ -4,6 +4,8 @@
 #include "raykit/unit_sphere.hpp"
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -18,8 +20,10 @@ Roots unit_sphere_roots(const Ray& ray) {
     const float h = glm::dot(o, d);
     const float c = glm::dot(o, o) - 1.0f;
 
-    // A zero (or NaN) direction describes no line: nothing to hit.
-    if (!(a > 0.0f)) return {};
+    // A zero or NaN direction describes no line: nothing to hit. A direction so long that
+    // d.d overflows cannot be handled in float either (inf / inf would make a root NaN):
+    // it is rejected too, as the header documents.
+    if (!(a > 0.0f && a <= std::numeric_limits<float>::max())) return {};
 
     // The quarter discriminant h^2 - a c, written as a (1 - |o - (h/a) d|^2).
     // o - (h/a) d is the vector from the centre to the closest point of the
@@ -44,6 +48,8 @@ Roots unit_sphere_roots(const Ray& ray) {
     const float q = -(h + std::copysign(s, h));
     float t0 = q / a;
     float t1 = c / q;
+    // Inputs near float's limits (an origin whose o.o overflows, say) can still end in NaN.
+    if (std::isnan(t0) || std::isnan(t1)) return {};
     if (t0 > t1) std::swap(t0, t1);
     return {2, {t0, t1}};
 }
