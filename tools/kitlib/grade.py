@@ -168,10 +168,15 @@ def run_cases(exe: Path, cases: list[Case], case_seconds: float = CASE_SECONDS,
                 c.messages = [f"The code printed more than {OUTPUT_LIMIT >> 20} MiB and was stopped."]
             else:
                 c.status = "crashed"
-                sig = -proc.returncode if proc.returncode and proc.returncode < 0 else None
-                what = signal.Signals(sig).name if sig and sig in signal.Signals._value2member_map_ else \
-                    f"exit status {proc.returncode}"
-                c.messages = [f"The program died in this case ({what})."]
+                if proc.returncode is not None and proc.returncode < 0:
+                    try:
+                        what = signal.Signals(-proc.returncode).name
+                    except ValueError:
+                        what = f"signal {-proc.returncode}"
+                    c.messages = [f"The program died in this case ({what})."]
+                else:
+                    c.messages = [f"The program stopped in the middle of this case (exit status "
+                                  f"{proc.returncode}): does the code call exit() or abort()?"]
         for c in cases:
             if c.name not in done and c.status == "not_run":
                 c.messages = ["Not run: the step's time ran out."]

@@ -1,0 +1,36 @@
+// Mutant unit_dir_plus_h: t = h -+ sqrt(D): the sign of the half-b term is lost
+// A complete step-03 answer with one realistic mistake. ./kit test grades it like a
+// student's work and fails unless the basic tier catches it.
+
+#include "raykit/unit_direction.hpp"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace raykit {
+
+Roots sphere_roots_unit_dir(const Ray& ray, const Sphere& sphere) {
+    const glm::vec3 f = ray.origin - sphere.center;
+    const float h = glm::dot(f, ray.direction);
+    const float c = glm::dot(f, f) - sphere.radius * sphere.radius;
+    const float disc = h * h - c;
+    if (!(sphere.radius > 0.0f) || disc < 0.0f) return {};
+    if (disc == 0.0f) return {1, {h, h}};
+    const float s = std::sqrt(disc);
+    return {2, {h - s, h + s}};
+}
+
+Roots sphere_roots_geometric(const Ray& ray, const Sphere& sphere) {
+    const glm::vec3 L = sphere.center - ray.origin;
+    const float tm = glm::dot(L, ray.direction);
+
+    const float lm2 = glm::dot(L, L) - tm * tm;
+    const float r2 = sphere.radius * sphere.radius;
+    if (!(sphere.radius > 0.0f) || lm2 > r2) return {};
+    const float dt = std::sqrt(r2 - lm2);
+    if (dt == 0.0f) return {1, {tm, tm}};
+    return {2, {tm - dt, tm + dt}};
+}
+
+}  // namespace raykit
