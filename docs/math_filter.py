@@ -91,6 +91,13 @@ class Translator:
         return self.text(line)
 
     def text(self, line: str) -> str:
+        was_display = self.in_display
+        out = self.formulas(line)
+        if was_display or self.in_display or "\\f[" in out:
+            return out
+        return emphasis_around_formulas(out)
+
+    def formulas(self, line: str) -> str:
         out: list[str] = []
         i = 0
         while i < len(line):
@@ -148,6 +155,23 @@ class Translator:
         return "".join(out)
 
 
+# Doxygen opens **bold** or *italics* only before a letter or a few signs, not
+# before the backslash of \f$: "**$t$ counts**" would stay literal asterisks.
+# HTML tags say the same thing and Doxygen passes them through.
+EMPHASIS = [
+    (re.compile(r"(?<![*\\])\*\*(\\f\$.*?[^\s*])\*\*(?!\*)"), r"<b>\1</b>"),
+    (re.compile(r"(?<![_\w\\])__(\\f\$.*?[^\s_])__(?![_\w])"), r"<b>\1</b>"),
+    (re.compile(r"(?<![*\\])\*(\\f\$[^*]*?[^\s*])\*(?!\*)"), r"<em>\1</em>"),
+    (re.compile(r"(?<![_\w\\])_(\\f\$[^_]*?\\f\$[^_]*?)_(?![_\w])"), r"<em>\1</em>"),
+]
+
+
+def emphasis_around_formulas(line: str) -> str:
+    for pattern, html in EMPHASIS:
+        line = pattern.sub(html, line)
+    return line
+
+
 def translate(text: str) -> str:
     t = Translator()
     return "".join(t.line(l[:-1]) + "\n" if l.endswith("\n") else t.line(l)
@@ -169,9 +193,26 @@ EXAMPLES = [
     ("| $\\Delta < 0$ | miss |", "| \\f$\\Delta < 0\\f$ | miss |"),
     ("$ not math $", "$ not math $"),
     ("Doxygen's own \\f$x\\f$ and \\f[y\\f] stay", "Doxygen's own \\f$x\\f$ and \\f[y\\f] stay"),
+    ("- **$t$ counts steps.** Then", "- <b>\\f$t\\f$ counts steps.</b> Then"),
+    ("*$x$ is small* and **bold** and $a*b$", "<em>\\f$x\\f$ is small</em> and **bold** and \\f$a*b\\f$"),
     ("$$\\begin{aligned} a &= b \\\\ c &= d \\end{aligned}$$",
      "\\f[\\begin{aligned} a &= b \\\\ c &= d \\end{aligned}\\f]"),
 ]
+
+
+TASK = re.compile(r"(^|/)steps/\d\d_[^/]+/README\.md$")
+
+
+def retitle_task(text: str, path: str) -> str:
+    """A step's task (steps/NN_topic/README.md) often has its lecture's title; the side bar
+    of the site lists both, so the task's page says what it is. Only its first line changes."""
+    if not TASK.search(path.replace("\\", "/")):
+        return text
+    first, newline, rest = text.partition("\n")
+    m = re.match(r"#[ \t]+(.+?)[ \t#]*$", first)
+    if not m or "{#" in first:
+        return text
+    return f"# {m.group(1)}: the task" + newline + rest
 
 
 def selftest() -> list[str]:
@@ -183,6 +224,11 @@ def selftest() -> list[str]:
             bad.append(f"{source!r} became {got!r}, expected {expected!r}")
         elif got.count("\n") != source.count("\n"):
             bad.append(f"{source!r}: the line count changed")
+    for path, expected in [("steps/01_unit_sphere/README.md", "# Step 01: the task\nText"),
+                           ("lectures/01-unit-sphere.md", "# Step 01\nText")]:
+        got = retitle_task("# Step 01\nText", path)
+        if got != expected:
+            bad.append(f"the title of {path} became {got!r}, expected {expected!r}")
     return bad
 
 
@@ -196,7 +242,7 @@ def main(argv: list[str]) -> int:
         return 2
     with open(argv[1], encoding="utf-8") as f:
         text = f.read()
-    sys.stdout.write(translate(text))
+    sys.stdout.write(translate(retitle_task(text, argv[1])))
     return 0
 
 

@@ -146,9 +146,10 @@ def front_page(c: Content, instructor: bool) -> str:
         "raykit: a first course in ray tracing {#mainpage}",
         "======================================",
         "",
-        "Five steps from one ray and one sphere to an empty Cornell box. Each step has a lecture "
-        "to read, a task that says what to write, and tests that grade it: edit the step's file, "
-        "then run `./kit check N`.",
+        "From one ray and one sphere to an empty Cornell box, one step at a time. Each step has a "
+        "lecture to read, a task that says what to write, and tests that grade it: edit the step's "
+        "file, then run `./kit check N`, which also names the lecture section to reread when a "
+        "case fails.",
         "",
     ]
     if instructor:
@@ -165,7 +166,8 @@ def front_page(c: Content, instructor: bool) -> str:
         else:
             out.append(f"- **Lecture:** not written yet (`{s.lecture}`)")
         if sp.task:
-            out.append(f"- **Task:** \\ref {page_id(sp.task)} \"{title_of(sp.task, 'Step ' + s.number + ' task')}\"")
+            out.append(f"- **Task:** \\ref {page_id(sp.task)} \"steps/{s.folder}/README.md\": what to write, "
+                       "in which order, how to check it")
         else:
             out.append(f"- **Task:** `steps/{s.folder}/README.md` (not written yet)")
         files = ", ".join(f"`steps/{s.folder}/{f}`" for f in s.files)
@@ -188,8 +190,8 @@ def front_page(c: Content, instructor: bool) -> str:
         out.append("")
     out += ["## The API", "",
             "Every type and function a step uses or asks you to write, with its contract: units, "
-            "preconditions, the window `tmin <= t <= tmax`, what a tangent returns. The headers are "
-            "in `include/raykit/`; read them, do not edit them.", ""]
+            "preconditions, the closed window \\f$t_\\min \\le t \\le t_\\max\\f$, what a tangent "
+            "returns. The headers are in `include/raykit/`; read them, do not edit them.", ""]
     for h in c.headers:
         out.append(f"- \\ref {h.name} \"raykit/{h.name}\": {brief_of(h)}")
     out += ["", "All of it on one page: the namespace \\ref raykit.", ""]
