@@ -95,7 +95,7 @@ class Translator:
         out = self.formulas(line)
         if was_display or self.in_display or "\\f[" in out:
             return out
-        return emphasis_around_formulas(out)
+        return local_images_by_name(emphasis_around_formulas(out))
 
     def formulas(self, line: str) -> str:
         out: list[str] = []
@@ -172,6 +172,18 @@ def emphasis_around_formulas(line: str) -> str:
     return line
 
 
+# A figure's path is relative to the Markdown file, for GitHub:
+# ![a figure](figures/01-x.svg), ![a render](../docs/images/x.png). Doxygen finds
+# an image by its name in IMAGE_PATH and copies it next to the pages, but keeps
+# a path with ../ as it is, which then points nowhere: keep the name only.
+IMAGE = re.compile(r"(!\[[^\]]*\]\()(?![a-zA-Z][a-zA-Z0-9+.-]*:|/)([^()\s]*/)([^/()\s]+\.(?:png|svg|jpe?g|gif))"
+                   r"(?=[\s)])", re.I)
+
+
+def local_images_by_name(line: str) -> str:
+    return IMAGE.sub(r"\1\3", line)
+
+
 def translate(text: str) -> str:
     t = Translator()
     return "".join(t.line(l[:-1]) + "\n" if l.endswith("\n") else t.line(l)
@@ -195,6 +207,9 @@ EXAMPLES = [
     ("Doxygen's own \\f$x\\f$ and \\f[y\\f] stay", "Doxygen's own \\f$x\\f$ and \\f[y\\f] stay"),
     ("- **$t$ counts steps.** Then", "- <b>\\f$t\\f$ counts steps.</b> Then"),
     ("*$x$ is small* and **bold** and $a*b$", "<em>\\f$x\\f$ is small</em> and **bold** and \\f$a*b\\f$"),
+    ("![A render](../docs/images/box.png) and ![f](figures/01-a.svg \"t\")",
+     "![A render](box.png) and ![f](01-a.svg \"t\")"),
+    ("![web](https://example.org/a/b.png) ![same](c.png)", "![web](https://example.org/a/b.png) ![same](c.png)"),
     ("$$\\begin{aligned} a &= b \\\\ c &= d \\end{aligned}$$",
      "\\f[\\begin{aligned} a &= b \\\\ c &= d \\end{aligned}\\f]"),
 ]

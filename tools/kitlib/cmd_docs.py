@@ -7,7 +7,8 @@ the pages Doxygen leaves network-dependent:
 - formulas: MathJax 3, pinned in docs/package.json, installed once with npm
   into build/docs/npm and copied next to the pages;
 - Doxygen 1.9.4 adds a <script> from polyfill.io to every page: removed;
-- SVG figures come out as <object> without alt text: rewritten as <img>.
+- SVG figures come out as <object>, and figures without alt text: rewritten as
+  <img> with the caption as alt text.
 
 The student site never reads solutions/; `--instructor` builds a second site
 with one more page that lists them.
@@ -73,7 +74,7 @@ class StepPages:
     step: Step
     lecture: Path | None        # lectures/NN-topic.md, when written
     task: Path | None           # steps/NN_topic/README.md, when written
-    image: Path | None          # docs/images/NN*.png, the reference render
+    image: Path | None          # docs/images/NN*.png or <topic>.png, the reference render
     headers: dict[str, str]     # function -> header that declares it
 
 
@@ -98,6 +99,12 @@ class Content:
         return ", ".join(parts)
 
 
+def is_step_image(image: Path, step: Step) -> bool:
+    """docs/images/NN-anything.png, or named after the step's folder or topic (rectangles.png)."""
+    stem = image.stem.replace("-", "_")
+    return bool(re.match(rf"{step.number}(?!\d)", stem)) or stem in (step.folder, step.folder[3:])
+
+
 def declaring_header(function: str, headers: list[Path]) -> str | None:
     pattern = re.compile(rf"\b{re.escape(function)}\s*\(")
     for h in headers:
@@ -119,7 +126,7 @@ def gather(instructor: bool) -> Content:
         if manifest.get("image") and (DOCS / "images" / manifest["image"]).is_file():
             image = DOCS / "images" / manifest["image"]
         else:
-            image = next((p for p in images if re.match(rf"{s.number}(?!\d)", p.name)), None)
+            image = next((p for p in images if is_step_image(p, s)), None)
         steps.append(StepPages(s, lecture if lecture.is_file() else None, task if task.is_file() else None,
                                image, {f: declaring_header(f, headers) for f in s.functions}))
         used.add(lecture.resolve())
@@ -304,16 +311,26 @@ SVG_OBJECT = re.compile(
     re.S)
 
 
+IMG_WITHOUT_ALT = re.compile(r'<img src="([^"]+)" alt=""([^>]*)/>(\s*<div class="caption">\s*(.*?)\s*</div>)', re.S)
+
+
+def alt_text(caption: str) -> str:
+    return html.escape(re.sub(r"<[^>]+>", "", html.unescape(caption)), quote=True)
+
+
 def svg_as_img(m: re.Match) -> str:
-    caption = m.group(3) or ""
-    alt = html.escape(re.sub(r"<[^>]+>", "", html.unescape(caption)), quote=True)
-    return f'<img src="{m.group(1)}" alt="{alt}"/>' + (m.group(2) or "")
+    return f'<img src="{m.group(1)}" alt="{alt_text(m.group(3) or "")}"/>' + (m.group(2) or "")
+
+
+def caption_as_alt(m: re.Match) -> str:
+    return f'<img src="{m.group(1)}" alt="{alt_text(m.group(4))}"{m.group(2)}/>' + m.group(3)
 
 
 def finish_html(site: Path, mathjax: Path) -> None:
     for page in site.glob("*.html"):
         text = page.read_text(encoding="utf-8")
-        new = SVG_OBJECT.sub(svg_as_img, POLYFILL.sub("", text))
+        # Figures get their caption as alt text, for screen readers and broken links.
+        new = IMG_WITHOUT_ALT.sub(caption_as_alt, SVG_OBJECT.sub(svg_as_img, POLYFILL.sub("", text)))
         if new != text:
             page.write_text(new, encoding="utf-8")
     for rel in MATHJAX_FILES:
