@@ -356,6 +356,8 @@ class Site:
 
 def build_site(instructor: bool = False) -> Site:
     """Writes the site into build/docs/<variant>/; the old one is replaced only when the new one is whole."""
+    if instructor and not (ROOT / "solutions").is_dir():
+        raise KitError("--instructor: this copy of the kit has no solutions/ folder (a student handout?)")
     ensure_docs_tools()
     variant = "instructor" if instructor else "student"
     content = gather(instructor)
@@ -391,6 +393,8 @@ def build_site(instructor: bool = False) -> Site:
         final.rename(old)
     work.rename(final)
     shutil.rmtree(old, ignore_errors=True)
+    doxyfile_run = final / "Doxyfile"      # kept to rerun by hand: say where things are now
+    doxyfile_run.write_text(doxyfile_run.read_text().replace(str(work), str(final)))
     # Doxygen repeats some warnings (once per page that shows the member): each once.
     warnings = list(dict.fromkeys(w.replace(str(work), str(final)).replace(str(ROOT) + "/", "")
                                   for w in warnings))

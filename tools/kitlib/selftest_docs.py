@@ -157,12 +157,17 @@ INSPECT = r"""
 
 
 def pages_to_open(site) -> list[tuple[str, str]]:
-    """(file, why): the front page, every lecture, the API's namespace page, the benchmark."""
+    """(file, why): the front page, every lecture and task, the API's namespace page, the
+    benchmark, the rendered images."""
     c = site.content
     pages = [("index.html", "front page")]
-    pages += [(cmd_docs.page_id(sp.lecture) + ".html", f"lecture {sp.step.number}") for sp in c.steps if sp.lecture]
+    for sp in c.steps:
+        pages += [(cmd_docs.page_id(sp.lecture) + ".html", f"lecture {sp.step.number}")] if sp.lecture else []
+        pages += [(cmd_docs.page_id(sp.task) + ".html", f"task {sp.step.number}")] if sp.task else []
     pages += [(cmd_docs.page_id(p) + ".html", p.name) for p in c.other_lectures + c.bench_readings]
     pages.append(("namespaceraykit.html", "API"))
+    if c.images:
+        pages.append(("rendered_images.html", "rendered images"))
     return pages
 
 
