@@ -188,8 +188,11 @@ class Browser:
             raise BrowserError(f"the page's script failed: {text}")
         return result["result"].get("value")
 
-    def screenshot(self, path: Path) -> None:
-        """A PNG of the whole page (not only the window) at `path`."""
+    def screenshot(self, path: Path, whole_page: bool = True) -> None:
+        """A PNG of the whole page (or only the window) at `path`."""
+        if not whole_page:
+            self._write_png(path, self.call("Page.captureScreenshot", session=True, format="png")["data"])
+            return
         width, height = self.evaluate(
             "[document.documentElement.scrollWidth, Math.max(document.documentElement.scrollHeight,"
             " ...Array.from(document.querySelectorAll('#doc-content'), e => e.scrollHeight))]")
@@ -199,6 +202,10 @@ class Browser:
         data = self.call("Page.captureScreenshot", session=True, format="png")["data"]
         self.call("Emulation.setDeviceMetricsOverride", session=True, width=self.size[0],
                   height=self.size[1], deviceScaleFactor=1, mobile=False)
+        self._write_png(path, data)
+
+    @staticmethod
+    def _write_png(path: Path, data: str) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(path.name + ".tmp")
         tmp.write_bytes(base64.b64decode(data))

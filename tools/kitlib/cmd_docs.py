@@ -31,8 +31,13 @@ from pathlib import Path
 from common import BUILD, PACKAGES, ROOT, KitError, Step, ensure_packages, load_steps, note, say
 
 PACKAGES["docs"] = ["doxygen", "graphviz", "doxygen-awesome-css"]
-PACKAGES["node"] = ["nodejs", "npm"]      # only when no npm is on the PATH (see ensure_docs_tools)
 PACKAGES["browser"] = ["chromium"]        # the browser check of ./kit test
+# npm installs MathJax. Node.js from elsewhere (nodesource) ships its own npm and
+# conflicts with Debian's npm package, so this group is asked for, and added to
+# PACKAGES, only when there is no npm on the PATH.
+NODE_PACKAGES = ["nodejs", "npm"]
+if shutil.which("npm") is None:
+    PACKAGES["node"] = NODE_PACKAGES
 
 DOCS = ROOT / "docs"
 OUT = BUILD / "docs"
@@ -242,10 +247,11 @@ NAMESPACE_DOC = """/// \\namespace raykit
 
 def ensure_docs_tools() -> None:
     ensure_packages("docs")
-    # Node.js from another source (nodesource) ships npm and conflicts with
-    # Debian's npm package: ask for the packages only when there is no npm.
     if shutil.which("npm") is None:
+        PACKAGES["node"] = NODE_PACKAGES
         ensure_packages("node")
+        if shutil.which("npm") is None:
+            raise KitError("npm is not on the PATH; install it: sudo apt-get install nodejs npm", 3)
     if shutil.which("doxygen") is None:
         raise KitError("doxygen is not on the PATH; install it: sudo apt-get install doxygen", 3)
 
