@@ -111,9 +111,11 @@ def is_step_image(image: Path, step: Step) -> bool:
 
 
 def declaring_header(function: str, headers: list[Path]) -> str | None:
+    """The header that declares `function` (comments that merely name it do not count)."""
     pattern = re.compile(rf"\b{re.escape(function)}\s*\(")
     for h in headers:
-        if pattern.search(h.read_text(encoding="utf-8", errors="replace")):
+        code = re.sub(r"//.*", "", h.read_text(encoding="utf-8", errors="replace"))
+        if pattern.search(code):
             return h.relative_to(ROOT / "include").as_posix()
     return None
 
@@ -152,6 +154,11 @@ def brief_of(header: Path) -> str:
     return m.group(1).strip() if m else ""
 
 
+def label(text: str) -> str:
+    """Text for \\ref name "text", which ends at the next double quote."""
+    return text.replace('"', "'")
+
+
 def front_page(c: Content, instructor: bool) -> str:
     """The course's table of contents, in Doxygen Markdown."""
     out = [
@@ -174,7 +181,7 @@ def front_page(c: Content, instructor: bool) -> str:
         out += [f"### Step {s.number}: {s.title}", ""]
         if sp.lecture:
             out.append(f"- **Lecture:** \\ref {page_id(sp.lecture)} "
-                       f"\"{title_of(sp.lecture, s.title)}\"")
+                       f"\"{label(title_of(sp.lecture, s.title))}\"")
         else:
             out.append(f"- **Lecture:** not written yet (`{s.lecture}`)")
         if sp.task:
@@ -198,7 +205,7 @@ def front_page(c: Content, instructor: bool) -> str:
             out += [f"\\image html {sp.image.name} \"Step {s.number}: the reference image\" width=360px", ""]
     if c.other_lectures:
         out += ["## More lectures", ""]
-        out += [f"- \\ref {page_id(p)} \"{title_of(p, p.stem)}\"" for p in c.other_lectures]
+        out += [f"- \\ref {page_id(p)} \"{label(title_of(p, p.stem))}\"" for p in c.other_lectures]
         out.append("")
     out += ["## The API", "",
             "Every type and function a step uses or asks you to write, with its contract: units, "
@@ -209,7 +216,7 @@ def front_page(c: Content, instructor: bool) -> str:
     out += ["", "All of it on one page: the namespace \\ref raykit.", ""]
     if c.bench_readings or c.bench_plots:
         out += ["## The benchmark", ""]
-        out += [f"- \\ref {page_id(p)} \"{title_of(p, 'Benchmark')}\"" for p in c.bench_readings]
+        out += [f"- \\ref {page_id(p)} \"{label(title_of(p, 'Benchmark'))}\"" for p in c.bench_readings]
         out.append("")
         for p in c.bench_plots:
             out += [f"\\image html {p.name} \"The benchmark's plot\" width=640px", ""]
@@ -313,8 +320,9 @@ def doxyfile(out: Path, gen: Path, c: Content, instructor: bool) -> str:
 
 POLYFILL = re.compile(r'[ \t]*<script[^>]*src="https?://[^"]*polyfill[^"]*"[^>]*>\s*</script>\n?')
 SVG_OBJECT = re.compile(
-    r'<object type="image/svg\+xml" data="([^"]+)"[^>]*>\s*</object>(\s*<div class="caption">\s*(.*?)\s*</div>)?',
+    r'<object type="image/svg\+xml" data="([^"]+)"([^>]*)>\s*</object>(\s*<div class="caption">\s*(.*?)\s*</div>)?',
     re.S)
+SIZE = re.compile(r'\s(?:width|height)="[^"]*"')
 
 
 IMG_WITHOUT_ALT = re.compile(r'<img src="([^"]+)" alt=""([^>]*)/>(\s*<div class="caption">\s*(.*?)\s*</div>)', re.S)
@@ -325,7 +333,8 @@ def alt_text(caption: str) -> str:
 
 
 def svg_as_img(m: re.Match) -> str:
-    return f'<img src="{m.group(1)}" alt="{alt_text(m.group(3) or "")}"/>' + (m.group(2) or "")
+    size = "".join(SIZE.findall(m.group(2)))
+    return f'<img src="{m.group(1)}" alt="{alt_text(m.group(4) or "")}"{size}/>' + (m.group(3) or "")
 
 
 def caption_as_alt(m: re.Match) -> str:
