@@ -17,6 +17,7 @@ import json
 import os
 import select
 import shutil
+import signal
 import subprocess
 import tempfile
 import time
@@ -95,7 +96,11 @@ class Browser:
                 self.send("Browser.close")
                 self.proc.wait(timeout=5)
             except (OSError, subprocess.TimeoutExpired, BrowserError):
-                self.proc.kill()
+                # Chromium's helpers share its process group (start_new_session): end them too.
+                try:
+                    os.killpg(self.proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
                 self.proc.wait()
         for fd in (self.to_child, self.from_child):
             try:

@@ -193,6 +193,13 @@ def check_browser(ctx) -> str:
     if chromium is None:
         return skip("no chromium on the PATH (sudo apt-get install chromium)")
     site = _site(ctx)
+    try:
+        return _check_pages(browser, chromium, site)
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
+
+
+def _check_pages(browser, chromium: str, site) -> str:
     problems, formulas, images, shots = [], 0, 0, []
     with browser.Browser(chromium) as b:
         for name, why in pages_to_open(site):
