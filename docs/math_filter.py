@@ -16,6 +16,14 @@ Rules, close to what GitHub and pandoc do:
 - `\\$` is a literal dollar (Doxygen reads `\\$` the same way);
 - nothing changes inside code: fenced blocks and `code spans`.
 
+Three smaller fixes for Doxygen on the same lines:
+- **bold** or *italics* that start with a formula become <b> or <em> (Doxygen
+  would print the asterisks);
+- a figure's relative path keeps only the file name, which Doxygen looks up in
+  IMAGE_PATH (it would keep ../docs/images/x.png as is, pointing nowhere);
+- a step's task (steps/NN_topic/README.md) gets ": the task" after its title,
+  which is often its lecture's title too.
+
 Every line stays on its line, so Doxygen's warnings point to the right line of
 the original file.
 
