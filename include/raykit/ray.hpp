@@ -22,6 +22,11 @@ struct Ray {
 };
 
 /// The point \f$ \mathbf{o} + t\,\mathbf{d} \f$ on \p ray.
+///
+/// \param ray the ray; its direction need not be unit length.
+/// \param t   how many multiples of the direction to go from the origin;
+///             negative values go backwards, behind the origin.
+/// \return the point, in scene units.
 inline glm::vec3 point_at(const Ray& ray, float t) {
     return ray.origin + t * ray.direction;
 }
