@@ -97,7 +97,7 @@ TEST_CASE("a hit exactly on a corner counts" * doctest::description("4. Inside t
                "The ray reaches (-3, 1, 5) at t = 1: x = lo.x and y = hi.y, a corner, which is part of the rectangle.");
 }
 
-TEST_CASE("a slanted ray is tested where it arrives, not where it starts" *
+TEST_CASE("a slanted ray is tested where it arrives and not where it starts" *
           doctest::description("4. Inside the rectangle")) {
     // Starts in front of the middle, arrives at (5, 0, 5), outside.
     expect_hit({{0, 0, 0}, {1, 0, 1}}, wide, std::nullopt,
