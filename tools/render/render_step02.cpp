@@ -22,10 +22,10 @@ Canvas spheres(const std::string& shading, int width, int height) {
     const Ball balls[] = {
         {{{0.3f, -41.0f, 0.0f}, 40.0f}, {0.55f, 0.55f, 0.5f}},
         {{{0.0f, 0.0f, 0.0f}, 1.0f}, {0.85f, 0.25f, 0.2f}},
-        {{{1.7f, -0.4f, 0.9f}, 0.6f}, {0.2f, 0.45f, 0.9f}},
-        {{{-1.5f, -0.5f, -0.9f}, 0.5f}, {0.3f, 0.75f, 0.3f}},
+        {{{1.3f, -0.4f, 1.3f}, 0.6f}, {0.2f, 0.45f, 0.9f}},
+        {{{-1.25f, -0.5f, -1.4f}, 0.5f}, {0.3f, 0.75f, 0.3f}},
     };
-    const Camera camera = tool::look_at({0.6f, 1.4f, 6.0f}, {0.0f, -0.3f, 0.0f}, {0, 1, 0}, 36.0f, width, height);
+    const Camera camera = tool::look_at({0.6f, 1.5f, 6.5f}, {0.0f, -0.4f, 0.0f}, {0, 1, 0}, 36.0f, width, height);
     Canvas canvas(width, height);
     for (int j = 0; j < height; ++j) {
         for (int i = 0; i < width; ++i) {
