@@ -37,7 +37,7 @@ inline std::string show(const Scene& scene) {
         s += "\n              [" + std::to_string(i) + "] \"" + scene.objects[i].name + "\" " +
              show(scene.objects[i].shape);
     }
-    return s.empty() ? "an empty scene" : s;
+    return s.empty() ? " (empty)" : ":" + s;
 }
 
 /// Colours are typed in from a table: equal to two decimals.

@@ -38,7 +38,7 @@ void expect(const Scene& scene, const Ray& ray, float tmin, float tmax, std::opt
                     (!expected || (got->index == expected->index && close(expected->t, got->t)));
     if (!ok) {
         FAIL_CHECK(report("find_intersection(ray, scene, tmin, tmax)",
-                          show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "],\n            scene " +
+                          show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "],\n            scene" +
                               show(scene),
                           show(expected), show(got), why));
     }

@@ -46,7 +46,7 @@ std::string show_canvas(const Canvas& c, const Scene& scene) {
 void expect_canvas(const Scene& scene, const Camera& camera, const std::string& expected, const std::string& why) {
     const Canvas got = render(scene, camera);
     const std::string call = "render(scene, camera)";
-    const std::string input = show(camera) + ",\n            scene " + show(scene);
+    const std::string input = show(camera) + ",\n            scene" + show(scene);
     if (got.width() != camera.width || got.height() != camera.height) {
         FAIL_CHECK(report(call, input, std::to_string(camera.width) + " x " + std::to_string(camera.height) + " pixels",
                           std::to_string(got.width()) + " x " + std::to_string(got.height()) + " pixels",
@@ -147,7 +147,8 @@ TEST_CASE("the Cornell box at 48 by 32 pixels matches the reference render" *
         pictures += "\n            " + std::string(cornell_reference::rows[j]) + "   " + mine;
     }
     if (wrong > 0) {
-        FAIL_CHECK(report("render(cornell_box(), cornell_camera(48, 32))", "",
+        FAIL_CHECK(report("render(cornell_box(), cornell_camera(48, 32))",
+                          "all of your step 05 together: the model, the camera, view_ray, find_intersection, render",
                           "the reference picture (left)", std::to_string(wrong) + " of 1536 pixels differ (right); " + first +
                               pictures,
                           "W white, R red, G green, L light, . black, ? another colour. A missing light: the tie "
