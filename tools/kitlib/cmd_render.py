@@ -279,6 +279,14 @@ def run(args) -> int:
     size = parse_size(args.size) if args.size else DEFAULT_SIZE
     scenes = select_scenes(args.scenes)
     source = resolve_steps_dir(args.steps) if args.steps else None
+    if not (ROOT / "solutions").is_dir():
+        # A student's copy of the kit: the committed pictures are the only reference.
+        if source is None:
+            raise KitError("this copy of the kit has no solutions/ folder. Render your own code with:\n"
+                           "  ./kit render --steps steps", 2)
+        if size != DEFAULT_SIZE:
+            raise KitError(f"this copy has no solutions/, so the only reference pictures are those in docs/images, "
+                           f"at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}; drop --size", 2)
     default_out = BUILD / "render" / ("steps" if source else "")
     out = prepare_out(Path(args.out).expanduser() if args.out else default_out, args.out or str(default_out))
     if source is None:
