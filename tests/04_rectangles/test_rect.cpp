@@ -1,0 +1,310 @@
+// Step 04 grading suite: axis-aligned rectangles.
+//
+// Every hit in the basic tier is exact in float (the t and the hit point),
+// so edge and corner cases test the comparisons, not rounding. Most cases
+// use `wide`, a rectangle that is neither square nor centred, so that
+// swapping the two in-plane coordinates turns hits into misses.
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "../support/grading.hpp"
+#include "raykit/rect.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
+
+std::string show(const Rect& r) {
+    return "Rect{axis " + std::to_string(r.axis) + ", offset " + grading::show(r.offset) + ", lo " +
+           grading::show(r.lo) + ", hi " + grading::show(r.hi) + "}";
+}
+
+void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::optional<float> expected,
+                const std::string& why) {
+    check_hit("intersect_rect(ray, rect, tmin, tmax)",
+              grading::show(ray) + ",\n            " + show(rect) + ", window [" + grading::show(tmin) +
+                  ", " + grading::show(tmax) + "]",
+              expected, intersect_rect(ray, rect, tmin, tmax), why);
+}
+
+void expect_hit(const Ray& ray, const Rect& rect, std::optional<float> expected, const std::string& why) {
+    expect_hit(ray, rect, 0.0f, inf, expected, why);
+}
+
+// The plane z = 5, with -3 <= x <= 3 and -1 <= y <= 1: six wide, two tall.
+const Rect wide{2, 5.0f, {-3.0f, -1.0f}, {3.0f, 1.0f}};
+
+// Straight along +z from the plane z = 0: every such ray reaches z = 5 at t = 5.
+Ray along_z(float x, float y) { return Ray{{x, y, 0.0f}, {0.0f, 0.0f, 1.0f}}; }
+
+}  // namespace
+
+TEST_SUITE_BEGIN("basic");
+
+// ---- the plane and the rectangle ------------------------------------------------
+
+TEST_CASE("a ray straight at the middle of the rectangle hits it" *
+          doctest::description("2. Where the ray meets the plane")) {
+    expect_hit(along_z(0, 0), wide, 5.0f, "From z = 0 along +z the ray reaches the plane z = 5 at t = 5.");
+}
+
+TEST_CASE("a hit near the end of the long side" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(2.5f, 0.5f), wide, 5.0f,
+               "(x, y) = (2.5, 0.5) is inside: -3 <= x <= 3 and -1 <= y <= 1. For axis 2 the in-plane "
+               "coordinates are (x, y) in that order; with them swapped, 2.5 would be tested against [-1, 1].");
+}
+
+TEST_CASE("a miss beyond the short side is a miss even though swapped bounds would accept it" *
+          doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(0.5f, 2.5f), wide, std::nullopt,
+               "y = 2.5 is above the top edge y = 1. lo and hi hold (x, y) for axis 2, not (y, x).");
+}
+
+TEST_CASE("a miss beyond the right edge x = 3" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(3.5f, 0), wide, std::nullopt, "x = 3.5 is beyond hi.x = 3.");
+}
+
+TEST_CASE("a miss beyond the left edge x = -3" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(-3.5f, 0), wide, std::nullopt, "x = -3.5 is below lo.x = -3.");
+}
+
+TEST_CASE("a miss beyond the top edge y = 1" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(0, 1.5f), wide, std::nullopt, "y = 1.5 is beyond hi.y = 1.");
+}
+
+TEST_CASE("a miss beyond the bottom edge y = -1" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(0, -1.5f), wide, std::nullopt, "y = -1.5 is below lo.y = -1.");
+}
+
+TEST_CASE("a hit exactly on the right edge counts" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(3, 0), wide, 5.0f, "x = 3 equals hi.x: edges belong to the rectangle (<=, not <).");
+}
+
+TEST_CASE("a hit exactly on the bottom edge counts" * doctest::description("4. Inside the rectangle")) {
+    expect_hit(along_z(0, -1), wide, 5.0f, "y = -1 equals lo.y: edges belong to the rectangle (<=, not <).");
+}
+
+TEST_CASE("a hit exactly on a corner counts" * doctest::description("4. Inside the rectangle")) {
+    // o + 1 * d = (-3, 1, 5): the top left corner, exactly.
+    expect_hit({{0, 0, 0}, {-3, 1, 5}}, wide, 1.0f,
+               "The ray reaches (-3, 1, 5) at t = 1: x = lo.x and y = hi.y, a corner, which is part of the rectangle.");
+}
+
+TEST_CASE("a slanted ray is tested where it arrives and not where it starts" *
+          doctest::description("4. Inside the rectangle")) {
+    // Starts in front of the middle, arrives at (5, 0, 5), outside.
+    expect_hit({{0, 0, 0}, {1, 0, 1}}, wide, std::nullopt,
+               "The ray starts at x = 0 but reaches the plane at x = 5 (t = 5): test the hit point o + t d.");
+}
+
+TEST_CASE("a slanted ray that arrives inside" * doctest::description("4. Inside the rectangle")) {
+    expect_hit({{-4, 3, 1}, {0.5f, -0.5f, 1}}, wide, 4.0f,
+               "t = (5 - 1) / 1 = 4 and the ray arrives at (-2, 1, 5): on the top edge, inside.");
+}
+
+TEST_CASE("a direction of length 2 halves t" * doctest::description("2. Where the ray meets the plane")) {
+    expect_hit({{0, 0, 0}, {0, 0, 2}}, wide, 2.5f,
+               "t counts steps of d: with d = (0, 0, 2) the plane z = 5 is 2.5 steps away.");
+}
+
+TEST_CASE("a ray from the other side hits too" * doctest::description("5. The window and both sides")) {
+    expect_hit({{1, 0, 12}, {0, 0, -2}}, wide, 3.5f,
+               "From z = 12 moving along -z by 2 per step: (5 - 12) / -2 = 3.5. A rectangle has no back side.");
+}
+
+// ---- parallel rays ---------------------------------------------------------------
+
+TEST_CASE("a ray parallel to the plane beside it is no hit" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{-10, 0, 0}, {1, 0, 0}}, wide, std::nullopt,
+               "d.z = 0: the ray stays at z = 0 and never reaches z = 5. Dividing gives inf, not a hit.");
+}
+
+TEST_CASE("a ray lying in the plane is no hit and no NaN" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{-10, 0, 5}, {1, 0, 0}}, wide, std::nullopt,
+               "The ray runs inside the plane z = 5 across the rectangle: it sees it edge-on, so no hit. "
+               "(5 - 5) / 0 is NaN; test d.z == 0 before dividing.");
+}
+
+TEST_CASE("a ray lying in the plane with a negative tmin is still no hit" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{0, 0, 5}, {0, 1, 0}}, wide, -inf, inf, std::nullopt,
+               "A ray in the plane has no single t, whatever the window; a NaN must not pass the window test.");
+}
+
+TEST_CASE("a direction with -0 along the axis is parallel too" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{-10, 0, 0}, {1, 0, -0.0f}}, wide, std::nullopt,
+               "d.z = -0 is a zero: the ray never reaches z = 5. 1 / -0 is -inf, and (5 - 0) / -0 is -inf.");
+}
+
+TEST_CASE("a direction with -0 along the axis lying in the plane is no hit" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{-10, 0, 5}, {1, 0, -0.0f}}, wide, -inf, inf, std::nullopt,
+               "d.z = -0 and the ray lies in z = 5: (5 - 5) / -0 is NaN, which must not come back as a hit. "
+               "-0.0f == 0.0f is true.");
+}
+
+TEST_CASE("a -0 in the direction's in-plane components changes nothing" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{2, 0.5f, 0}, {-0.0f, -0.0f, 1}}, wide, 5.0f,
+               "Only d.z decides whether the ray is parallel to z = 5. Here d.z = 1: a hit at (2, 0.5, 5).");
+}
+
+TEST_CASE("a zero direction is no ray: no hit" * doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{0, 0, 0}, {0, 0, 0}}, wide, -inf, inf, std::nullopt,
+               "d = 0 is parallel to every plane: there is nothing to intersect. Dividing gives t = inf, "
+               "and the hit point o + inf * 0 is NaN.");
+}
+
+TEST_CASE("a zero direction written with -0 is no hit either" *
+          doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{0, 0, 0}, {-0.0f, 0, -0.0f}}, wide, -inf, inf, std::nullopt,
+               "d = (-0, 0, -0) is a zero direction: 5 / -0 = -inf, which even the window [-inf, inf] admits; "
+               "only the test d.z == 0 stops it.");
+}
+
+// ---- the window -------------------------------------------------------------------
+
+TEST_CASE("a rectangle behind the origin is no hit" * doctest::description("5. The window and both sides")) {
+    expect_hit({{0, 0, 10}, {0, 0, 1}}, wide, std::nullopt,
+               "The plane z = 5 is behind this ray: t = -5, outside [0, inf].");
+}
+
+TEST_CASE("a negative tmin accepts a rectangle behind the origin" *
+          doctest::description("5. The window and both sides")) {
+    expect_hit({{0, 0, 10}, {0, 0, 1}}, wide, -10.0f, 10.0f, -5.0f, "t = -5 lies in [-10, 10].");
+}
+
+TEST_CASE("a hit exactly at tmin counts" * doctest::description("5. The window and both sides")) {
+    expect_hit(along_z(0, 0), wide, 5.0f, 10.0f, 5.0f, "The window is closed: t = tmin = 5 is a hit.");
+}
+
+TEST_CASE("a hit exactly at tmax counts" * doctest::description("5. The window and both sides")) {
+    expect_hit(along_z(0, 0), wide, 0.0f, 5.0f, 5.0f, "The window is closed: t = tmax = 5 is a hit.");
+}
+
+TEST_CASE("a hit before tmin is no hit" * doctest::description("5. The window and both sides")) {
+    expect_hit(along_z(0, 0), wide, 5.5f, 10.0f, std::nullopt, "t = 5 is before tmin = 5.5.");
+}
+
+TEST_CASE("a hit after tmax is no hit" * doctest::description("5. The window and both sides")) {
+    expect_hit(along_z(0, 0), wide, 0.0f, 4.0f, std::nullopt, "t = 5 is after tmax = 4.");
+}
+
+TEST_CASE("tmin greater than tmax is an empty window" * doctest::description("5. The window and both sides")) {
+    expect_hit(along_z(0, 0), wide, 6.0f, 4.0f, std::nullopt,
+               "No t satisfies 6 <= t <= 4; both conditions must hold, not either one.");
+}
+
+TEST_CASE("a ray starting on the rectangle hits it at t = 0" *
+          doctest::description("5. The window and both sides")) {
+    expect_hit({{1, 0, 5}, {0, 0, 1}}, wide, 0.0f,
+               "The origin (1, 0, 5) is on the rectangle: t = 0, inside the closed window [0, inf].");
+}
+
+// ---- the other two axes -------------------------------------------------------------
+
+// The plane x = -2, with 1 <= y <= 2 and 10 <= z <= 30: (u, v) = (y, z).
+const Rect x_plane{0, -2.0f, {1.0f, 10.0f}, {2.0f, 30.0f}};
+// The plane y = 3, with -4 <= x <= -2 and 0 <= z <= 8: (u, v) = (x, z).
+const Rect y_plane{1, 3.0f, {-4.0f, 0.0f}, {-2.0f, 8.0f}};
+
+TEST_CASE("axis 0: a rectangle in the plane x = -2 uses (y and z)" *
+          doctest::description("1. An axis-aligned rectangle")) {
+    expect_hit({{0, 1.5f, 20}, {-1, 0, 0}}, x_plane, 2.0f,
+               "From x = 0 along -x the ray reaches x = -2 at t = 2, at (y, z) = (1.5, 20): inside.");
+}
+
+TEST_CASE("axis 0: y and z are not swapped" * doctest::description("1. An axis-aligned rectangle")) {
+    expect_hit({{0, 20, 1.5f}, {-1, 0, 0}}, x_plane, std::nullopt,
+               "At (y, z) = (20, 1.5) the point is outside: y must be in [1, 2] and z in [10, 30].");
+}
+
+TEST_CASE("axis 0: a ray from the negative side" * doctest::description("5. The window and both sides")) {
+    expect_hit({{-6, 2, 10}, {2, 0, 0}}, x_plane, 2.0f,
+               "From x = -6 along +x by 2 per step, x = -2 is reached at t = 2, on the corner (y, z) = (2, 10).");
+}
+
+TEST_CASE("axis 1: a rectangle in the plane y = 3 uses (x and z)" *
+          doctest::description("1. An axis-aligned rectangle")) {
+    expect_hit({{-3, 0, 6}, {0, 1, 0}}, y_plane, 3.0f,
+               "From y = 0 along +y the ray reaches y = 3 at t = 3, at (x, z) = (-3, 6): inside.");
+}
+
+TEST_CASE("axis 1: x and z are not swapped" * doctest::description("1. An axis-aligned rectangle")) {
+    expect_hit({{6, 0, -3}, {0, 1, 0}}, y_plane, std::nullopt,
+               "At (x, z) = (6, -3) the point is outside: x must be in [-4, -2] and z in [0, 8].");
+}
+
+TEST_CASE("axis 1: a ray from above" * doctest::description("5. The window and both sides")) {
+    expect_hit({{-2.5f, 7, 1}, {0, -0.5f, 0}}, y_plane, 8.0f,
+               "From y = 7 along -y by 0.5 per step, y = 3 is reached at t = 8, at (x, z) = (-2.5, 1).");
+}
+
+TEST_CASE("axis 1: a ray parallel to the plane y = 3" * doctest::description("3. Rays parallel to the plane")) {
+    expect_hit({{-3, 0, -5}, {0, 0, 1}}, y_plane, std::nullopt, "d.y = 0: the ray never reaches y = 3.");
+}
+
+TEST_SUITE_END();
+
+// ---- ★ robust: input that describes no rectangle or no ray ---------------------------
+
+TEST_SUITE_BEGIN("robust");
+
+TEST_CASE("an axis of 3 is no rectangle" * doctest::description("6. Bad input")) {
+    expect_hit(along_z(0, 0), Rect{3, 5.0f, {-3, -1}, {3, 1}}, std::nullopt,
+               "Only axes 0, 1 and 2 exist; check the axis before using it as an index.");
+}
+
+TEST_CASE("an axis of -1 is no rectangle" * doctest::description("6. Bad input")) {
+    expect_hit(along_z(0, 0), Rect{-1, 5.0f, {-3, -1}, {3, 1}}, std::nullopt,
+               "Only axes 0, 1 and 2 exist; check the axis before using it as an index.");
+}
+
+TEST_CASE("lo greater than hi is an empty rectangle" * doctest::description("6. Bad input")) {
+    expect_hit(along_z(0, 0), Rect{2, 5.0f, {3, 1}, {-3, -1}}, std::nullopt,
+               "No x satisfies 3 <= x <= -3: the rectangle is empty.");
+}
+
+TEST_CASE("a NaN origin is no hit" * doctest::description("6. Bad input")) {
+    expect_hit({{0, 0, not_a_number}, {0, 0, 1}}, wide, std::nullopt, "t = (5 - NaN) / 1 is NaN: no hit, and no NaN returned.");
+}
+
+TEST_CASE("a NaN in the origin's in-plane coordinates is no hit" * doctest::description("6. Bad input")) {
+    expect_hit({{0, not_a_number, 0}, {0, 0, 1}}, wide, std::nullopt,
+               "t = 5 but the hit point's y is NaN, which is inside no interval.");
+}
+
+TEST_CASE("a NaN direction along the axis is no hit" * doctest::description("6. Bad input")) {
+    expect_hit({{0, 0, 0}, {0, 0, not_a_number}}, wide, -inf, inf, std::nullopt,
+               "t = 5 / NaN is NaN: no hit, and no NaN returned, even with the window [-inf, inf].");
+}
+
+TEST_CASE("a NaN direction in the plane is no hit" * doctest::description("6. Bad input")) {
+    expect_hit({{0, 0, 0}, {not_a_number, 0, 1}}, wide, std::nullopt,
+               "t = 5 but the hit point's x is 0 + 5 NaN = NaN, inside no interval.");
+}
+
+TEST_CASE("a NaN offset is no hit" * doctest::description("6. Bad input")) {
+    expect_hit(along_z(0, 0), Rect{2, not_a_number, {-3, -1}, {3, 1}}, std::nullopt, "A NaN offset is no plane.");
+}
+
+TEST_CASE("a NaN bound is no hit" * doctest::description("6. Bad input")) {
+    expect_hit(along_z(0, 0), Rect{2, 5.0f, {not_a_number, -1}, {3, 1}}, std::nullopt,
+               "lo.x is NaN: no x satisfies NaN <= x.");
+}
+
+TEST_CASE("an infinite origin is no hit" * doctest::description("6. Bad input")) {
+    expect_hit({{inf, 0, 0}, {0, 0, 1}}, wide, std::nullopt, "The hit point's x is inf, beyond hi.x = 3.");
+}
+
+TEST_SUITE_END();

@@ -1,0 +1,132 @@
+// Step 05 grading suite, part 3: view_ray, the ray through a pixel's centre
+// (steps/05_cornell_box/render.cpp).
+//
+// A direction may have any positive length, so each ray is checked by the
+// point where it crosses the film: o + d (F / (d . f)), which is the same
+// for every positive multiple of d.
+
+#include <doctest/doctest.h>
+
+#include <glm/geometric.hpp>
+
+#include "cornell_checks.hpp"
+#include "raykit/camera.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+// Eye (1, 2, 3) looking along -z, up +y, so right is +x. The film is 2 away,
+// 2 high and, for 4 x 2 pixels, 4 wide: pixel (i, j) has its centre at
+// x = i - 1.5, y = 0.5 - j on the film, which is the plane z = 1.
+const Camera wide{{1, 2, 3}, {0, 0, -1}, {0, 1, 0}, 2.0f, 2.0f, 4, 2};
+
+void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expected, const std::string& why) {
+    const Ray ray = view_ray(camera, i, j);
+    const std::string call = "view_ray(camera, " + std::to_string(i) + ", " + std::to_string(j) + ")";
+    const std::string input = show(camera);
+    if (!(glm::length(ray.origin - camera.eye) <= 1e-5f)) {
+        FAIL_CHECK(report(call, input, "origin " + show(camera.eye), "origin " + show(ray.origin),
+                          "Every view ray starts at the eye."));
+        return;
+    }
+    const float along = glm::dot(ray.direction, camera.forward);
+    if (!(along > 0.0f)) {
+        FAIL_CHECK(report(call, input, "a direction through " + show(expected), "direction " + show(ray.direction),
+                          "The ray must point forward, through the film in front of the eye."));
+        return;
+    }
+    const glm::vec3 got = ray.origin + ray.direction * (camera.focal_length / along);
+    const bool ok = glm::length(got - expected) <= 1e-5f * (1.0f + glm::length(expected));
+    if (!ok) {
+        FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
+                          "a ray through " + show(got) + " (direction " + show(ray.direction) + ")", why));
+    }
+}
+
+}  // namespace
+
+TEST_SUITE_BEGIN("basic");
+
+TEST_CASE("the centre pixel of an odd-sized image looks straight ahead" * doctest::description("6. A view ray per pixel")) {
+    const Camera c{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 1.0f, 1.0f, 5, 3};
+    expect_film_point(c, 2, 1, {0, 0, -1},
+                      "Pixel (2, 1) is the middle of a 5 x 3 image: its centre, (2 + 1/2) / 5 = 1/2 across and "
+                      "(1 + 1/2) / 3 = 1/2 down, is the film's centre, straight ahead.");
+}
+
+TEST_CASE("the top left pixel is up and to the left" * doctest::description("6. A view ray per pixel")) {
+    expect_film_point(wide, 0, 0, {-0.5f, 2.5f, 1},
+                      "Column 0 is the left, row 0 the top: the centre is 1.5 left (x = -1.5) and 0.5 up "
+                      "(y = +0.5) from the film's centre (1, 2, 1). Rows count down from the top.");
+}
+
+TEST_CASE("the top right pixel" * doctest::description("6. A view ray per pixel")) {
+    expect_film_point(wide, 3, 0, {2.5f, 2.5f, 1},
+                      "Column 3 of 4: (3 + 1/2) / 4 - 1/2 = 3/8 of the 4-wide film, 1.5 to the right.");
+}
+
+TEST_CASE("the bottom left pixel" * doctest::description("6. A view ray per pixel")) {
+    expect_film_point(wide, 0, 1, {-0.5f, 1.5f, 1},
+                      "Row 1 of 2 is the bottom row: 1/2 - (1 + 1/2) / 2 = -1/4 of the 2-high film, 0.5 down.");
+}
+
+TEST_CASE("the bottom right pixel" * doctest::description("6. A view ray per pixel")) {
+    expect_film_point(wide, 3, 1, {2.5f, 1.5f, 1}, "Column 3, row 1: 1.5 right and 0.5 down from the film's centre.");
+}
+
+TEST_CASE("the view ray starts at the eye" * doctest::description("6. A view ray per pixel")) {
+    const Ray ray = view_ray(wide, 1, 1);
+    if (!(glm::length(ray.origin - wide.eye) <= 1e-5f)) {
+        FAIL_CHECK(report("view_ray(camera, 1, 1)", show(wide), "origin " + show(wide.eye),
+                          "origin " + show(ray.origin), "A pinhole camera's rays all start at the eye."));
+    }
+}
+
+TEST_CASE("pixels are square whatever the aspect ratio" * doctest::description("5. The camera")) {
+    // 2 x 2 pixels on the same film height: the film is 2 wide, not 4, and
+    // pixel (0, 0) is 0.5 left, not 1.5.
+    const Camera square{{1, 2, 3}, {0, 0, -1}, {0, 1, 0}, 2.0f, 2.0f, 2, 2};
+    expect_film_point(square, 0, 0, {0.5f, 2.5f, 1},
+                      "The film's width is film_height * width / height: 2 for a 2 x 2 image. Pixel (0, 0) is "
+                      "0.5 left and 0.5 up.");
+}
+
+TEST_CASE("a wide image sees more to the sides" * doctest::description("5. The camera")) {
+    const Camera panorama{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 1.0f, 1.0f, 8, 2};
+    expect_film_point(panorama, 7, 1, {1.75f, -0.25f, -1},
+                      "8 x 2 pixels on a film 1 high: the film is 4 wide, so the last column's centre is "
+                      "(7.5 / 8 - 0.5) * 4 = 1.75 to the right. Scale x by the film's width, not its height.");
+}
+
+TEST_CASE("a tall image" * doctest::description("5. The camera")) {
+    const Camera tall{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 1.0f, 4.0f, 2, 8};
+    expect_film_point(tall, 0, 7, {-0.25f, -1.75f, -1},
+                      "2 x 8 pixels on a film 4 high: the film is 1 wide; pixel (0, 7) is 0.25 left and "
+                      "(0.5 - 7.5 / 8) * 4 = -1.75 down.");
+}
+
+TEST_CASE("looking along +z the image's left is +x" * doctest::description("5. The camera")) {
+    const Camera c{{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1.0f, 2.0f, 2, 2};
+    expect_film_point(c, 0, 0, {0.5f, 0.5f, 1},
+                      "right = forward x up = (0, 0, 1) x (0, 1, 0) = (-1, 0, 0), so the left column is at +x. "
+                      "This is the Cornell camera's orientation: swapped red and green walls come from here.");
+}
+
+TEST_CASE("a camera looking down uses its own up vector" * doctest::description("5. The camera")) {
+    // forward -y, up +z: right = (0, -1, 0) x (0, 0, 1) = (-1, 0, 0).
+    const Camera c{{0, 10, 0}, {0, -1, 0}, {0, 0, 1}, 2.0f, 2.0f, 2, 2};
+    expect_film_point(c, 1, 0, {-0.5f, 8, 0.5f},
+                      "The film is 2 below the eye; up is +z and right = forward x up = (-1, 0, 0). Pixel (1, 0), "
+                      "top right, is 0.5 along right and 0.5 along up. Use the camera's vectors, not world axes.");
+}
+
+TEST_CASE("the film's size sets the field of view" * doctest::description("5. The camera")) {
+    const Camera c{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 0.5f, 3.0f, 3, 3};
+    expect_film_point(c, 0, 2, {-1, -1, -0.5f},
+                      "A film 3 x 3 at distance 0.5: pixel (0, 2), bottom left, has its centre at "
+                      "x = (0.5 / 3 - 0.5) * 3 = -1 and y = (0.5 - 2.5 / 3) * 3 = -1.");
+}
+
+TEST_SUITE_END();

@@ -1,0 +1,155 @@
+// Step 05 grading suite, part 2: find_intersection, the closest hit over a
+// list of objects (steps/05_cornell_box/render.cpp).
+//
+// The scenes are stacks of squares across the z axis and a ray along it, so
+// every t is exact and each case is about the loop, not about geometry.
+
+#include <doctest/doctest.h>
+
+#include <limits>
+
+#include "cornell_checks.hpp"
+#include "raykit/scene.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+// A 2 x 2 square across the z axis in the plane z = `z`, hit by the ray below.
+Object square(const std::string& name, float z, float half = 1.0f) {
+    return Object{name, Rect{2, z, {-half, -half}, {half, half}}, Color{0.5f, 0.5f, 0.5f}};
+}
+
+// A square beside the axis: the ray below passes it by.
+Object aside(const std::string& name, float z) {
+    return Object{name, Rect{2, z, {5, 5}, {6, 6}}, Color{0.5f, 0.5f, 0.5f}};
+}
+
+// From the origin along +z: it reaches the plane z = k at t = k.
+const Ray along_z{{0, 0, 0}, {0, 0, 1}};
+
+void expect(const Scene& scene, const Ray& ray, float tmin, float tmax, std::optional<Hit> expected,
+            const std::string& why) {
+    const std::optional<Hit> got = find_intersection(ray, scene, tmin, tmax);
+    const bool ok = expected.has_value() == got.has_value() &&
+                    (!expected || (got->index == expected->index && close(expected->t, got->t)));
+    if (!ok) {
+        FAIL_CHECK(report("find_intersection(ray, scene, tmin, tmax)",
+                          show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "],\n            scene" +
+                              show(scene),
+                          show(expected), show(got), why));
+    }
+}
+
+void expect(const Scene& scene, std::optional<Hit> expected, const std::string& why) {
+    expect(scene, along_z, 0.0f, inf, expected, why);
+}
+
+}  // namespace
+
+TEST_SUITE_BEGIN("basic");
+
+TEST_CASE("an empty scene is never hit" * doctest::description("4. The closest hit")) {
+    expect(Scene{}, std::nullopt, "There is nothing to hit.");
+}
+
+TEST_CASE("one object: its t and index 0" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("A", 3)}}, Hit{3, 0}, "The ray reaches z = 3 at t = 3; the only object has index 0.");
+}
+
+TEST_CASE("one object missed: no hit" * doctest::description("4. The closest hit")) {
+    expect(Scene{{aside("A", 3)}}, std::nullopt, "The square lies beside the ray, which passes it by.");
+}
+
+TEST_CASE("two objects on one ray with the near one listed first" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("near", 2), square("far", 5)}}, Hit{2, 0},
+           "Both are hit (t = 2 and t = 5); the nearer, index 0, hides the other. A far object listed after a "
+           "near one must not replace it: compare each t with the best so far, not with tmax.");
+}
+
+TEST_CASE("two objects on one ray with the near one listed last" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("far", 5), square("near", 2)}}, Hit{2, 1},
+           "Both are hit (t = 5 and t = 2); the nearer one wins wherever it is in the list: index 1.");
+}
+
+TEST_CASE("the nearest of three wins from the middle of the list" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("far", 7), square("near", 3), square("middle", 5)}}, Hit{3, 1},
+           "t = 7, 3 and 5: the smallest is 3, index 1. Keeping the last hit would give index 2.");
+}
+
+TEST_CASE("a far object after a near one and a nearer one after both" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("B", 4), square("C", 6), square("A", 1)}}, Hit{1, 2},
+           "t = 4, 6 and 1: the last is the nearest here, index 2. The loop must look at every object.");
+}
+
+TEST_CASE("a missed object listed last does not erase the hit" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("hit", 3), aside("missed", 1)}}, Hit{3, 0},
+           "The second square is nearer but beside the ray, so it is not hit: the best stays index 0.");
+}
+
+TEST_CASE("a tie goes to the object listed first" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("small", 4, 1), square("big", 4, 2)}}, Hit{4, 0},
+           "Both squares lie in z = 4 and are hit at t = 4. On a tie the object listed first wins: replace "
+           "the best only when strictly nearer (<, not <=).");
+}
+
+TEST_CASE("a tie goes to the object listed first in the other order too" *
+          doctest::description("4. The closest hit")) {
+    expect(Scene{{square("big", 4, 2), square("small", 4, 1)}}, Hit{4, 0},
+           "Both are hit at t = 4: index 0 wins again, whichever object it is. Shrinking the window to the "
+           "best t so far still reports an object at exactly that t: keep the strict comparison.");
+}
+
+TEST_CASE("a tie behind a nearer object" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("A", 4), square("near", 2), square("B", 4)}}, Hit{2, 1},
+           "t = 4, 2 and 4: the nearest is index 1, whatever happens between the two at t = 4.");
+}
+
+TEST_CASE("an object behind the origin is not seen" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("behind", -3), square("ahead", 4)}}, Hit{4, 1},
+           "z = -3 is met at t = -3, outside the window [0, inf]; the hit is the square ahead, at t = 4.");
+}
+
+TEST_CASE("an object before tmin is skipped for the next one" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("near", 2), square("far", 5)}}, along_z, 3.0f, inf, Hit{5, 1},
+           "t = 2 is before tmin = 3, so the nearest hit in the window is t = 5, index 1.");
+}
+
+TEST_CASE("objects after tmax are not hit" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("near", 2), square("far", 5)}}, along_z, 0.0f, 1.0f, std::nullopt,
+           "Both t = 2 and t = 5 are beyond tmax = 1.");
+}
+
+TEST_CASE("a hit exactly at tmax counts" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("far", 5), square("near", 2)}}, along_z, 0.0f, 2.0f, Hit{2, 1},
+           "The window is closed: t = tmax = 2 is a hit.");
+}
+
+TEST_CASE("a hit exactly at tmin counts" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("near", 2), square("far", 5)}}, along_z, 5.0f, 9.0f, Hit{5, 1},
+           "The window is closed: t = tmin = 5 is a hit, and t = 2 is before it.");
+}
+
+TEST_CASE("tmin greater than tmax is an empty window" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("A", 2), square("B", 5)}}, along_z, 6.0f, 1.0f, std::nullopt,
+           "No t satisfies 6 <= t <= 1.");
+}
+
+TEST_CASE("the hit's t counts steps of the ray's direction" * doctest::description("4. The closest hit")) {
+    expect(Scene{{square("far", 6), square("near", 3)}}, Ray{{0, 0, 0}, {0, 0, 2}}, 0.0f, inf, Hit{1.5f, 1},
+           "With d = (0, 0, 2) the plane z = 3 is 1.5 steps away: t = 1.5, as intersect_rect returns it.");
+}
+
+TEST_CASE("objects facing along different axes" * doctest::description("4. The closest hit")) {
+    // A ray along (1, 1, 1) meets x = 3 at t = 3, y = 2 at t = 2 and z = 4 at t = 4.
+    const Scene scene{{Object{"x = 3", Rect{0, 3, {0, 0}, {10, 10}}, Color{1, 0, 0}},
+                       Object{"y = 2", Rect{1, 2, {0, 0}, {10, 10}}, Color{0, 1, 0}},
+                       Object{"z = 4", Rect{2, 4, {0, 0}, {10, 10}}, Color{0, 0, 1}}}};
+    expect(scene, Ray{{0, 0, 0}, {1, 1, 1}}, 0.0f, inf, Hit{2, 1},
+           "The ray meets y = 2 first (t = 2), then x = 3 and z = 4.");
+}
+
+TEST_SUITE_END();

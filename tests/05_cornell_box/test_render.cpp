@@ -1,0 +1,160 @@
+// Step 05 grading suite, part 4: render, the loop over pixels
+// (steps/05_cornell_box/render.cpp), and the whole picture: the empty Cornell
+// box rendered with all of your step 05 and compared, pixel by pixel, with
+// the reference render in reference_render.hpp.
+
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "cornell_checks.hpp"
+#include "raykit/cornell_box.hpp"
+#include "raykit/render.hpp"
+#include "reference_render.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+const Color orange{1.0f, 0.5f, 0.0f};
+const Color blue{0.0f, 0.25f, 1.0f};
+
+// Eye at the origin looking along -z; the film is 1 away, 2 high and, for
+// 4 x 2 pixels, 4 wide. Pixel centres sit at x = -1.5, -0.5, 0.5, 1.5 and
+// y = 0.5 (row 0), -0.5 (row 1) on the plane z = -1.
+const Camera camera4x2{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 1.0f, 2.0f, 4, 2};
+
+std::string show_canvas(const Canvas& c, const Scene& scene) {
+    std::string s;
+    for (int j = 0; j < c.height(); ++j) {
+        s += "\n            ";
+        for (int i = 0; i < c.width(); ++i) {
+            char letter = '?';
+            if (same_color(background, c.at(i, j))) letter = '.';
+            for (const Object& o : scene.objects) {
+                if (same_color(o.color, c.at(i, j))) letter = o.name[0];
+            }
+            s += letter;
+        }
+    }
+    return s;
+}
+
+// `expected` holds one letter per pixel, row by row: '.' for the background,
+// otherwise the first letter of the object's name.
+void expect_canvas(const Scene& scene, const Camera& camera, const std::string& expected, const std::string& why) {
+    const Canvas got = render(scene, camera);
+    const std::string call = "render(scene, camera)";
+    const std::string input = show(camera) + ",\n            scene" + show(scene);
+    if (got.width() != camera.width || got.height() != camera.height) {
+        FAIL_CHECK(report(call, input, std::to_string(camera.width) + " x " + std::to_string(camera.height) + " pixels",
+                          std::to_string(got.width()) + " x " + std::to_string(got.height()) + " pixels",
+                          "The canvas has the camera's size."));
+        return;
+    }
+    std::string want;
+    for (int j = 0; j < camera.height; ++j) {
+        want += "\n            " + expected.substr(static_cast<std::size_t>(j * camera.width),
+                                                  static_cast<std::size_t>(camera.width));
+    }
+    const std::string shown = show_canvas(got, scene);
+    if (shown != want) FAIL_CHECK(report(call, input, want, shown, why));
+}
+
+}  // namespace
+
+TEST_SUITE_BEGIN("basic");
+
+TEST_CASE("render makes a canvas of the camera's size" * doctest::description("7. The render loop")) {
+    const Camera c{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 1.0f, 1.0f, 7, 3};
+    expect_canvas(Scene{}, c, std::string(21, '.'),
+                  "An empty scene renders as a 7 x 3 canvas of background (black) pixels.");
+}
+
+TEST_CASE("every pixel that sees an object gets its colour" * doctest::description("7. The render loop")) {
+    const Scene scene{{Object{"orange", Rect{2, -1, {-10, -10}, {10, 10}}, orange}}};
+    expect_canvas(scene, camera4x2, "oooooooo",
+                  "The square z = -1, 20 wide, fills the view: all 8 pixels, the last row and column included, "
+                  "are orange.");
+}
+
+TEST_CASE("only the pixels whose ray hits an object are coloured" * doctest::description("7. The render loop")) {
+    // Covers x in [-2, 0] and y in [0, 1] on z = -1: the two top left pixels.
+    const Scene scene{{Object{"orange", Rect{2, -1, {-2, 0}, {0, 1}}, orange}}};
+    expect_canvas(scene, camera4x2, "oo......",
+                  "The square covers the top left quarter of the view: pixels (0, 0) and (1, 0). Row 0 is the "
+                  "top of the image, column 0 its left; the rest see nothing and stay black.");
+}
+
+TEST_CASE("the nearest object's colour wins" * doctest::description("7. The render loop")) {
+    // The blue square (z = -1) hides the right half of the orange one (z = -3).
+    const Scene scene{{Object{"orange", Rect{2, -3, {-10, -10}, {10, 10}}, orange},
+                       Object{"blue", Rect{2, -1, {0, -1}, {2, 1}}, blue}}};
+    expect_canvas(scene, camera4x2, "oobboobb",
+                  "Pixels (2, j) and (3, j) see the blue square first (t = 1), the others only the orange one "
+                  "(t = 3): each pixel shows the closest hit's colour.");
+}
+
+TEST_CASE("objects behind the eye are not seen" * doctest::description("7. The render loop")) {
+    const Scene scene{{Object{"orange", Rect{2, 1, {-10, -10}, {10, 10}}, orange}}};
+    expect_canvas(scene, camera4x2, "........",
+                  "The square z = 1 is behind the eye, which looks along -z: search the window [0, inf].");
+}
+
+TEST_CASE("the Cornell box at 48 by 32 pixels matches the reference render" *
+          doctest::description("8. Checking the picture")) {
+    const Scene scene = cornell_box();
+    const Camera camera = cornell_camera(cornell_reference::width, cornell_reference::height);
+    const Canvas got = render(scene, camera);
+    if (got.width() != cornell_reference::width || got.height() != cornell_reference::height) {
+        FAIL_CHECK(report("render(cornell_box(), cornell_camera(48, 32))", "", "48 x 32 pixels",
+                          std::to_string(got.width()) + " x " + std::to_string(got.height()) + " pixels",
+                          "The canvas has the camera's size."));
+        return;
+    }
+    // The reference's letters and the colours they stand for (lecture 05, section 3).
+    const auto color_of = [](char letter) -> Color {
+        switch (letter) {
+            case 'W': return {0.73f, 0.74f, 0.70f};
+            case 'R': return {0.58f, 0.08f, 0.06f};
+            case 'G': return {0.13f, 0.35f, 0.11f};
+            case 'L': return {1.0f, 1.0f, 1.0f};
+            default: return background;
+        }
+    };
+    const auto letter_of = [&](const Color& c) -> char {
+        for (char letter : {'.', 'W', 'R', 'G', 'L'}) {
+            if (same_color(color_of(letter), c)) return letter;
+        }
+        return '?';
+    };
+    int wrong = 0;
+    std::string first, pictures;
+    for (int j = 0; j < got.height(); ++j) {
+        std::string mine;
+        for (int i = 0; i < got.width(); ++i) {
+            const char want = cornell_reference::rows[j][i];
+            const Color& c = got.at(i, j);
+            mine += letter_of(c);
+            if (!same_color(color_of(want), c)) {
+                if (wrong++ == 0) {
+                    first = "pixel (" + std::to_string(i) + ", " + std::to_string(j) + ") is " + show(c) +
+                            ", the reference has " + show(color_of(want));
+                }
+            }
+        }
+        pictures += "\n            " + std::string(cornell_reference::rows[j]) + "   " + mine;
+    }
+    if (wrong > 0) {
+        FAIL_CHECK(report("render(cornell_box(), cornell_camera(48, 32))",
+                          "all of your step 05 together: the model, the camera, view_ray, find_intersection, render",
+                          "the reference picture (left)", std::to_string(wrong) + " of 1536 pixels differ (right); " + first +
+                              pictures,
+                          "W white, R red, G green, L light, . black, ? another colour. A missing light: the tie "
+                          "rule or the list's order. Red and green swapped: forward x up. Upside down: the row "
+                          "flip. ./kit render cornell_box --steps steps shows it bigger, with a diff image."));
+    }
+}
+
+TEST_SUITE_END();
