@@ -41,6 +41,9 @@ struct Camera {
 /// with \f$F\f$ the focal length, \f$\mathbf{r} = \mathbf{f} \times \mathbf{u}\f$,
 /// \f$W \times H\f$ the image size and \f$w_\text{film} = h_\text{film} W / H\f$.
 ///
+/// \param camera the camera, as documented in Camera.
+/// \param i      the pixel's column, 0 at the left.
+/// \param j      the pixel's row, 0 at the top.
 /// \return a ray with origin `camera.eye` and a direction pointing from the
 ///         eye through that point: \f$\mathbf{p} - \mathbf{e}\f$ or any
 ///         positive multiple of it (normalised or not; the tests compare

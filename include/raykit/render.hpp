@@ -22,6 +22,8 @@ inline constexpr Color background{0.0f, 0.0f, 0.0f};
 /// of the eye), and paint the pixel with the colour of the object hit, or
 /// with #background when nothing is hit.
 ///
+/// \param scene  what to draw.
+/// \param camera where it is seen from, and the image size.
 /// \return a Canvas of `camera.width` x `camera.height` pixels.
 Canvas render(const Scene& scene, const Camera& camera);
 

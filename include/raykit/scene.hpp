@@ -27,7 +27,7 @@ struct Object {
 /// that on a tie (two objects hit at the same \f$t\f$) the one listed first
 /// is seen.
 struct Scene {
-    std::vector<Object> objects;
+    std::vector<Object> objects;  ///< The objects, tie order first to last.
 };
 
 /// Which object a ray hits first, and where.

@@ -245,6 +245,13 @@ TEST_CASE("axis 1: x and z are not swapped" * doctest::description("1. An axis-a
                "At (x, z) = (6, -3) the point is outside: x must be in [-4, -2] and z in [0, 8].");
 }
 
+TEST_CASE("axis 1: the second in-plane coordinate is z and not y" *
+          doctest::description("1. An axis-aligned rectangle")) {
+    expect_hit({{-3, 0, 9}, {0, 1, 0}}, y_plane, std::nullopt,
+               "The ray reaches y = 3 at (x, z) = (-3, 9): z = 9 is outside [0, 8]. Testing y (always 3 on "
+               "this plane) instead of z would accept it.");
+}
+
 TEST_CASE("axis 1: a ray from above" * doctest::description("5. The window and both sides")) {
     expect_hit({{-2.5f, 7, 1}, {0, -0.5f, 0}}, y_plane, 8.0f,
                "From y = 7 along -y by 0.5 per step, y = 3 is reached at t = 8, at (x, z) = (-2.5, 1).");

@@ -7,7 +7,7 @@ import tempfile
 from pathlib import Path
 
 import cmd_render
-from cmd_test import expect, kit
+from cmd_test import expect, kit, need_solutions
 from common import ROOT, load_steps, preset_build, submission_build
 from grade import grade
 
@@ -16,6 +16,7 @@ WRONG_05 = ROOT / "tests" / "fixtures" / "cornell_wrong"
 
 def check_pictures_current(ctx) -> str:
     """docs/images and step 05's test picture are what the solutions render today."""
+    need_solutions()  # these render with, or against, the reference solutions
     scenes = cmd_render.available_scenes()
     stale = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -38,6 +39,7 @@ def check_pictures_current(ctx) -> str:
 
 def check_wrong_cornell(ctx) -> str:
     """A step 05 that keeps the last hit fails its cases and shows in a diff image."""
+    need_solutions()  # these render with, or against, the reference solutions
     all_steps = load_steps()
     steps = [s for s in all_steps if s.number in ("04", "05")]
     r04, r05 = grade(submission_build(WRONG_05, "fixtures"), steps, all_steps)
@@ -60,6 +62,7 @@ def check_wrong_cornell(ctx) -> str:
 
 def check_render_skips(ctx) -> str:
     """Stubs and crashing code are reported and skipped, and leave no picture."""
+    need_solutions()  # these render with, or against, the reference solutions
     seen = []
     for source, scene, words in [("steps", "cornell_box", "not written yet"),
                                  ("tests/fixtures/crash", "unit_sphere", "crashed"),
@@ -75,6 +78,7 @@ def check_render_skips(ctx) -> str:
 
 
 def check_render_arguments(ctx) -> str:
+    need_solutions()  # these render with, or against, the reference solutions
     with tempfile.TemporaryDirectory() as tmp:
         a_file = Path(tmp) / "a_file"
         a_file.write_text("not a folder\n")

@@ -1,4 +1,4 @@
-// Mutant no_parallel_guard: a ray parallel to the plane is not rejected: it divides by zero
+// Mutant in_plane_ray_hits: a ray lying in the plane is taken to hit where it starts
 // A complete step-04 answer with one realistic mistake. ./kit test grades it like a
 // student's work and fails unless the basic tier catches it.
 
@@ -13,7 +13,14 @@ std::optional<float> intersect_rect(const Ray& ray, const Rect& rect, float tmin
     const int k = rect.axis;
     const int u = k == 0 ? 1 : 0;
     const int v = k == 2 ? 1 : 2;
-
+    if (ray.direction[k] == 0.0f) {
+        // In the plane: "it touches the rectangle right away" (it does not: it sees it edge-on).
+        const bool in_plane = ray.origin[k] == rect.offset;
+        const bool inside = rect.lo.x <= ray.origin[u] && ray.origin[u] <= rect.hi.x &&
+                            rect.lo.y <= ray.origin[v] && ray.origin[v] <= rect.hi.y;
+        if (in_plane && inside && tmin <= 0.0f && 0.0f <= tmax) return 0.0f;
+        return std::nullopt;
+    }
     const float t = (rect.offset - ray.origin[k]) / ray.direction[k];
     if (!(tmin <= t && t <= tmax)) return std::nullopt;
     const float pu = ray.origin[u] + t * ray.direction[u];
