@@ -26,8 +26,10 @@ namespace raykit {
 /// \return the real roots, sorted (see Roots): `count == 2` when the line
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses, when the
-///         direction is zero or when the radius describes no sphere. Roots
-///         behind the origin (\f$t < 0\f$) are included.
+///         direction is zero or when the radius describes no sphere. Inputs
+///         containing NaN or infinity, or so large that \f$\mathbf{d}\cdot\mathbf{d}\f$
+///         overflows, count as a miss; no root is ever NaN. Roots behind the
+///         origin (\f$t < 0\f$) are included.
 ///
 /// The ★ robust cases also ask for accuracy: each root within a few units in
 /// the last place (ulps) of the exact root of the same float inputs, for far,

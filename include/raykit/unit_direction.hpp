@@ -25,7 +25,8 @@ namespace raykit {
 ///               sphere: `count == 0`.
 /// \return the real roots, with the same contract as sphere_roots(): sorted,
 ///         `count == 1` and `t[0] == t[1]` for a tangent, roots behind the
-///         origin included.
+///         origin included; inputs containing NaN or infinity count as a miss
+///         and no root is ever NaN.
 Roots sphere_roots_unit_dir(const Ray& ray, const Sphere& sphere);
 
 /// The same roots read off a drawing: project the centre onto the ray, then

@@ -5,6 +5,7 @@
 #include "raykit/general_sphere.hpp"
 
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -31,8 +32,10 @@ Roots sphere_roots(const Ray& ray, const Sphere& sphere) {
     const float r = sphere.radius;
 
     // a t^2 + 2 h t + c = 0, with the "half b" h.
+    // A zero or NaN direction describes no line. A direction so long that d.d
+    // overflows cannot be handled in float either (inf / inf is NaN): no line.
     const float a = glm::dot(d, d);
-    if (!(a > 0.0f)) return {};  // zero (or NaN) direction: no line
+    if (!(a > 0.0f && a <= std::numeric_limits<float>::max())) return {};
     const float h = glm::dot(f, d);
     const float c = glm::dot(f, f) - r * r;
 
@@ -58,6 +61,9 @@ Roots sphere_roots(const Ray& ray, const Sphere& sphere) {
     const float q = -(h + std::copysign(std::sqrt(disc), h));
     float t0 = q / a;
     float t1 = c / q;
+    // Inputs near float's limits (an origin whose f.f overflows) can still end
+    // in NaN; the contract says no root is ever NaN.
+    if (std::isnan(t0) || std::isnan(t1)) return {};
     if (t0 > t1) std::swap(t0, t1);
     return {2, {t0, t1}};
 }

@@ -20,6 +20,8 @@ bool is_sphere(const Sphere& sphere) {
 }
 
 Roots sorted_pair(float t0, float t1) {
+    // Inputs near float's limits can end in NaN; no root is ever NaN.
+    if (std::isnan(t0) || std::isnan(t1)) return {};
     if (t0 > t1) std::swap(t0, t1);
     return {2, {t0, t1}};
 }

@@ -1,4 +1,4 @@
-// Mutant shortcut_h_sign: the shortcut uses t = h -+ sqrt(h^2 - c), dropping the minus sign of h
+// Mutant unit_dir_tangent_as_miss: the shortcut treats a zero discriminant as a miss
 // A complete step-03 answer with one realistic mistake. ./kit test grades it like a
 // student's work and fails unless the basic tier catches it.
 
@@ -16,10 +16,10 @@ Roots sphere_roots_unit_dir(const Ray& ray, const Sphere& sphere) {
     const float h = glm::dot(f, ray.direction);
     const float c = glm::dot(f, f) - sphere.radius * sphere.radius;
     const float disc = h * h - c;
-    if (disc < 0.0f) return {};
-    if (disc == 0.0f) return {1, {h, h}};
+    if (disc <= 0.0f) return {};
+    if (disc == 0.0f) return {1, {-h, -h}};
     const float s = std::sqrt(disc);
-    return {2, {h - s, h + s}};
+    return {2, {-h - s, -h + s}};
 }
 
 Roots sphere_roots_geometric(const Ray& ray, const Sphere& sphere) {

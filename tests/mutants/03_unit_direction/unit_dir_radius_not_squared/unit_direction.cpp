@@ -1,4 +1,4 @@
-// Mutant geometric_early_exit_behind: the classic early exit: t_m < 0 is rejected, so spheres behind and origins inside lose their roots
+// Mutant unit_dir_radius_not_squared: the shortcut uses c = f.f - r
 // A complete step-03 answer with one realistic mistake. ./kit test grades it like a
 // student's work and fails unless the basic tier catches it.
 
@@ -14,7 +14,7 @@ Roots sphere_roots_unit_dir(const Ray& ray, const Sphere& sphere) {
     if (!(sphere.radius > 0.0f) || std::isinf(sphere.radius)) return {};
     const glm::vec3 f = ray.origin - sphere.center;
     const float h = glm::dot(f, ray.direction);
-    const float c = glm::dot(f, f) - sphere.radius * sphere.radius;
+    const float c = glm::dot(f, f) - sphere.radius;
     const float disc = h * h - c;
     if (disc < 0.0f) return {};
     if (disc == 0.0f) return {1, {-h, -h}};
@@ -26,7 +26,6 @@ Roots sphere_roots_geometric(const Ray& ray, const Sphere& sphere) {
     if (!(sphere.radius > 0.0f) || std::isinf(sphere.radius)) return {};
     const glm::vec3 L = sphere.center - ray.origin;
     const float tm = glm::dot(L, ray.direction);
-    if (tm < 0.0f) return {};
     const float lm2 = glm::dot(L, L) - tm * tm;
     const float dt2 = sphere.radius * sphere.radius - lm2;
     if (dt2 < 0.0f) return {};
