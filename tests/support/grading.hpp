@@ -19,6 +19,7 @@
 
 #include "raykit/ray.hpp"
 #include "raykit/roots.hpp"
+#include "raykit/sphere.hpp"
 
 namespace raykit::grading {
 
@@ -39,6 +40,10 @@ inline std::string show(const glm::vec2& v) { return "(" + show(v.x) + ", " + sh
 
 inline std::string show(const Ray& ray) {
     return "origin " + show(ray.origin) + ", direction " + show(ray.direction);
+}
+
+inline std::string show(const Sphere& s) {
+    return "centre " + show(s.center) + ", radius " + show(s.radius);
 }
 
 inline std::string show(const Roots& r) {

@@ -1,0 +1,79 @@
+// Step 01 grading suite, ★ robust tier: the unit sphere seen from far away
+// and by grazing rays.
+//
+// Optional. The expected roots are those of the same float inputs in 113-bit
+// precision (tests/support/reference_roots.hpp), compared in ulps
+// (tests/support/robust_grading.hpp). Lecture 03 explains why the textbook
+// formula fails here and how to fix it; come back to these after step 03.
+
+#include <doctest/doctest.h>
+
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "../support/robust_grading.hpp"
+#include "raykit/unit_sphere.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+constexpr int miss = 0, hits = 2;
+const Sphere unit{{0, 0, 0}, 1};
+
+// A ray from o that passes `miss_by` from the centre (0: through it), its
+// direction scaled to length `length`.
+Ray shot(glm::vec3 o, float miss_by, float length) {
+    const glm::vec3 side = glm::normalize(glm::cross(o, glm::vec3(0.1f, 0.2f, 1)));
+    return {o, length * glm::normalize(miss_by * side - o)};
+}
+
+void expect_accurate(const Ray& ray, int count, const std::string& why) {
+    const Roots exact = reference::sphere_roots_rounded(ray, unit);
+    if (exact.count != count) {
+        FAIL_CHECK(report("the case itself", show(ray), "count " + std::to_string(count), show(exact),
+                          "The exact roots disagree with the count the case claims: fix the case."));
+        return;
+    }
+    check_roots_ulps("unit_sphere_roots(ray)", show(ray), exact, unit_sphere_roots(ray), why);
+}
+
+const std::string why =
+    "Far away, h^2 and a c are nearly equal and their difference loses its digits: compute the "
+    "discriminant as a (1 - |o - (h/a) d|^2) (lecture 03, sections 5 and 6).";
+
+}  // namespace
+
+TEST_SUITE_BEGIN("robust");
+
+TEST_CASE("the unit sphere seen from 1000 units away" * doctest::description("4. What the discriminant says")) {
+    for (const glm::vec3 o : {glm::vec3(600, -480, 640), glm::vec3(-3, 999, 40)}) {
+        expect_accurate(shot(o, 0, 1), hits, why);
+        expect_accurate(shot(o, 0.6f, 1), hits, why);
+        expect_accurate(shot(o, 0.8f, 0.01f), hits, why);
+        expect_accurate(shot(o, 1.05f, 1), miss, why);
+    }
+}
+
+TEST_CASE("the unit sphere seen from 10000 units away" * doctest::description("4. What the discriminant says")) {
+    for (const glm::vec3 o : {glm::vec3(6000, -4800, 6400), glm::vec3(-30, 9999, 400)}) {
+        expect_accurate(shot(o, 0, 1), hits, why);
+        expect_accurate(shot(o, 0.6f, 1), hits, why);
+        expect_accurate(shot(o, 0.8f, 4), hits, why);
+        expect_accurate(shot(o, 1.05f, 1), miss, why);
+    }
+}
+
+TEST_CASE("grazing rays near the silhouette of the unit sphere" *
+          doctest::description("4. What the discriminant says")) {
+    // 1% inside and outside the radius, from 100 and 1000 units away.
+    for (const glm::vec3 o : {glm::vec3(-96, 20, 25), glm::vec3(-960, 200, 250)}) {
+        expect_accurate(shot(o, 0.99f, 1), hits, why);
+        expect_accurate(shot(o, 0.99f, 3), hits, why);
+        expect_accurate(shot(o, 1.01f, 1), miss, why);
+    }
+}
+
+TEST_SUITE_END();

@@ -1,0 +1,272 @@
+// Step 02 grading suite, basic tier: a sphere anywhere, of any size.
+//
+// The cases of step 01, moved off the origin and scaled: centres are not 0,
+// radii are not 1 (and r differs from r^2), directions are not unit length.
+// So forgetting the centre, the radius, its square or d.d changes an answer.
+// Answers are exact in float (or within a rounding of exact), so the textbook
+// formula passes every case. A case's description names the lecture section.
+
+#include <doctest/doctest.h>
+
+#include <limits>
+
+#include "../support/grading.hpp"
+#include "raykit/general_sphere.hpp"
+
+using namespace raykit;
+using namespace raykit::grading;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
+
+Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
+Roots one(float t) { return Roots{1, {t, t}}; }
+Roots none() { return Roots{}; }
+
+void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, const std::string& why) {
+    check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(sphere), expected,
+                sphere_roots(ray, sphere), why);
+}
+
+void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, std::optional<float> expected,
+                const std::string& why) {
+    check_hit("intersect_sphere(ray, sphere, tmin, tmax)",
+              show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
+              expected, intersect_sphere(ray, sphere, tmin, tmax), why);
+}
+
+// Most cases use this sphere: centre (5, -2, 3), radius 2. It spans x from 3
+// to 7 along the line y = -2, z = 3.
+const Sphere ball{{5, -2, 3}, 2};
+
+// Along that line from x = -1 with steps of length 2: x = 3 at t = 2, x = 7 at t = 4.
+const Ray through_centre{{-1, -2, 3}, {2, 0, 0}};
+
+}  // namespace
+
+TEST_SUITE_BEGIN("basic");
+
+// ---- sphere_roots: how many roots, and where -----------------------------------
+
+TEST_CASE("two hits: a ray through the centre of a sphere away from the origin" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots(through_centre, ball, two(2, 4),
+                 "x = -1 + 2t reaches the sphere's near side x = 3 at t = 2 and its far side x = 7 at t = 4. "
+                 "f = o - c = (-6, 0, 0), a = 4, h = -12, c = 32.");
+}
+
+TEST_CASE("the centre matters: a ray through the world origin misses a sphere centred elsewhere" *
+          doctest::description("1. Moving the centre")) {
+    expect_roots({{-3, 0, 0}, {1, 0, 0}}, {{0, 5, 0}, 1}, none(),
+                 "The sphere is centred at (0, 5, 0); the x axis passes 5 units from it. "
+                 "Use f = o - c, not o.");
+}
+
+TEST_CASE("the centre matters: the roots move with the sphere" * doctest::description("1. Moving the centre")) {
+    expect_roots({{0, 0, 0}, {0, 0, 1}}, {{0, 0, 10}, 1}, two(9, 11),
+                 "The sphere around (0, 0, 10) covers z from 9 to 11 on the z axis.");
+}
+
+TEST_CASE("the radius matters: c uses r squared" * doctest::description("2. Any radius")) {
+    // f = (-6, 0, 0), r = 3: c = 36 - 9 = 27, h = -6, h^2 - c = 9.
+    expect_roots({{-4, 1, 0}, {1, 0, 0}}, {{2, 1, 0}, 3}, two(3, 9),
+                 "The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9. "
+                 "c is f.f - r^2 = 36 - 9; with r instead of r^2 the roots are wrong.");
+}
+
+TEST_CASE("the radius matters: a small sphere" * doctest::description("2. Any radius")) {
+    expect_roots({{1, 1, -2}, {0, 0, 1}}, {{1, 1, 2}, 0.5f}, two(3.5f, 4.5f),
+                 "The sphere of radius 0.5 around (1, 1, 2) spans z from 1.5 to 2.5.");
+}
+
+TEST_CASE("two hits: a ray that does not pass through the centre" *
+          doctest::description("4. The roots and the discriminant")) {
+    // The line passes 1.2 from the centre of a radius-2 sphere: half chord 1.6.
+    expect_roots({{2.2f, 7, -3}, {0, -0.5f, 0}}, {{1, 2, -3}, 2}, two(6.8f, 13.2f),
+                 "The line x = 2.2, z = -3 meets the sphere at y = 3.6 and y = 0.4, which with steps of "
+                 "length 0.5 from y = 7 are t = 6.8 and t = 13.2.");
+}
+
+TEST_CASE("a diagonal ray: every component of o d and c matters" *
+          doctest::description("3. Any direction length")) {
+    // o - c = -3 d with d = (2, 3, 6), |d| = 7: the distance to the centre is 7 |t - 3|.
+    expect_roots({{-5, -11, -14}, {2, 3, 6}}, {{1, -2, 4}, 3.5f}, two(2.5f, 3.5f),
+                 "Along this line the distance to the centre is 7|t - 3|; it equals the radius 3.5 at "
+                 "t = 2.5 and t = 3.5.");
+}
+
+TEST_CASE("no hit: a ray that passes far from the sphere" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{-1, 1, 3}, {1, 0, 0}}, ball, none(),
+                 "The line y = 1, z = 3 passes 3 units from the centre (5, -2, 3), more than the radius 2.");
+}
+
+TEST_CASE("no hit: a ray just outside the silhouette" * doctest::description("4. The roots and the discriminant")) {
+    // y = -2 + (2 + 2^-9): outside by 2^-9, and every product is exact in float.
+    expect_roots({{-1, 0.001953125f, 3}, {1, 0, 0}}, ball, none(),
+                 "The line passes 2 + 1/512 from the centre: just outside, a miss and not a tangent.");
+}
+
+TEST_CASE("one hit: a tangent ray with a direction of length 2" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{1, 0, 3}, {2, 0, 0}}, ball, one(2),
+                 "The line y = 0, z = 3 is exactly 2 from the centre: it touches (5, 0, 3) at t = 2. "
+                 "a = 4, h = -8, c = 16: h^2 - a c = 0.");
+}
+
+TEST_CASE("one hit: a tangent ray with a direction of length 1/2" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{-3, 4.5f, -2}, {0, 0, 0.5f}}, {{-3, 4, 1}, 0.5f}, one(6),
+                 "The line passes 0.5 from the centre (-3, 4, 1), the radius: it touches (-3, 4.5, 1) "
+                 "after 3 units, t = 6 steps of 0.5.");
+}
+
+TEST_CASE("origin at the centre: roots at minus and plus the radius over the step" *
+          doctest::description("3. Any direction length")) {
+    expect_roots({{5, -2, 3}, {0, 0, 4}}, ball, two(-0.5f, 0.5f),
+                 "From the centre the surface is 2 units away both ways; with steps of length 4 that is "
+                 "t = -0.5 and t = 0.5.");
+}
+
+TEST_CASE("origin inside but off centre with a ray towards -x" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{6, -2, 3}, {-0.5f, 0, 0}}, ball, two(-2, 6),
+                 "From x = 6 with steps of -0.5 the ray reaches x = 3 at t = 6; behind it, x = 7 at t = -2.");
+}
+
+TEST_CASE("origin on the surface looking in: one root is exactly 0" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{3, -2, 3}, {4, 0, 0}}, ball, two(0, 1),
+                 "The origin (3, -2, 3) is on the sphere (c = 0), so t = 0 is a root; the ray leaves at "
+                 "x = 7, t = 1.");
+}
+
+TEST_CASE("origin on the surface looking out: the other root is behind" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{5, -2, 5}, {0, 0, 2}}, ball, two(-2, 0),
+                 "The origin is the sphere's top (5, -2, 5); the line's other crossing, z = 1, is at t = -2.");
+}
+
+TEST_CASE("sphere behind the ray: both roots negative" *
+          doctest::description("5. The closest root in a window")) {
+    expect_roots({{9, -2, 3}, {1, 0, 0}}, ball, two(-6, -2),
+                 "The roots are of the whole line: behind the origin they are negative, and still reported.");
+}
+
+TEST_CASE("a direction of length 1/2 doubles t" * doctest::description("3. Any direction length")) {
+    expect_roots({{-1, -2, 3}, {0.5f, 0, 0}}, ball, two(8, 16),
+                 "t counts steps of d: with |d| = 1/2 the sphere's sides x = 3 and x = 7 are reached at "
+                 "t = 8 and t = 16 (a = d.d = 0.25).");
+}
+
+TEST_CASE("root order: a ray travelling towards -x still lists the smaller t first" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{11, -2, 3}, {-2, 0, 0}}, ball, two(2, 4),
+                 "Whatever the direction, t[0] <= t[1]: x = 7 at t = 2 comes first, x = 3 at t = 4.");
+}
+
+TEST_CASE("root order: a sphere behind a ray travelling towards -x" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{-1, -2, 3}, {-1, 0, 0}}, ball, two(-8, -4),
+                 "Both roots are negative; the smaller, t = -8 (x = 7), comes first.");
+}
+
+TEST_CASE("a zero direction is no ray: no roots" * doctest::description("6. No sphere and no ray")) {
+    expect_roots({{5.5f, -2, 3}, {0, 0, 0}}, ball, none(),
+                 "With d = 0 the quadratic's a is 0: there is no line to intersect. Report count 0 (and no NaN).");
+}
+
+TEST_CASE("a radius of zero or less is no sphere: no roots" * doctest::description("6. No sphere and no ray")) {
+    expect_roots(through_centre, {{5, -2, 3}, 0}, none(),
+                 "A radius of 0 describes a point, not a sphere: report no roots.");
+    expect_roots(through_centre, {{5, -2, 3}, -2}, none(),
+                 "A negative radius describes no sphere, even though r^2 = 4 is a fine number: report no roots.");
+}
+
+TEST_CASE("a radius that is NaN or infinite is no sphere: no roots" *
+          doctest::description("6. No sphere and no ray")) {
+    expect_roots(through_centre, {{5, -2, 3}, not_a_number}, none(),
+                 "A NaN radius describes no sphere: report no roots, not NaN roots.");
+    expect_roots(through_centre, {{5, -2, 3}, inf}, none(),
+                 "An infinite radius describes no sphere: report no roots.");
+}
+
+// ---- intersect_sphere: the closest root in a closed window -----------------------
+
+TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 0, inf, 2.0f, "Both roots (2 and 4) are in [0, inf]; the closest is t = 2.");
+}
+
+TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-1, 1, 3}, {1, 0, 0}}, ball, 0, inf, std::nullopt, "The line never meets the sphere.");
+}
+
+TEST_CASE("window: a tangent is a hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{1, 0, 3}, {2, 0, 0}}, ball, 0, inf, 2.0f, "A tangent touches the sphere: it is a hit at t = 2.");
+}
+
+TEST_CASE("window: the near root before tmin gives the far root" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 3, 10, 4.0f, "t = 2 is before tmin = 3, t = 4 is inside [3, 10].");
+}
+
+TEST_CASE("window: origin inside the sphere hits the far side" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{6, -2, 3}, {-0.5f, 0, 0}}, ball, 0, inf, 6.0f,
+               "The roots are -2 and 6; -2 is behind the origin, so the hit is the far side, t = 6.");
+}
+
+TEST_CASE("window: both roots after tmax is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 0, 1, std::nullopt, "Both roots (2 and 4) lie beyond tmax = 1.");
+}
+
+TEST_CASE("window: both roots before tmin is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 5, 10, std::nullopt, "Both roots (2 and 4) lie before tmin = 5.");
+}
+
+TEST_CASE("window: a sphere behind the ray is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{9, -2, 3}, {1, 0, 0}}, ball, 0, inf, std::nullopt,
+               "The roots -6 and -2 are both behind tmin = 0.");
+}
+
+TEST_CASE("window: a root exactly at tmin counts" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 2, 10, 2.0f, "The window is closed: tmin <= t, so t = tmin = 2 is a hit.");
+}
+
+TEST_CASE("window: the far root exactly at tmin counts" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 4, 10, 4.0f, "t = 2 < tmin, and t = 4 = tmin is inside the closed window.");
+}
+
+TEST_CASE("window: a root exactly at tmax counts" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 0, 2, 2.0f, "The window is closed: t <= tmax, so t = tmax = 2 is a hit.");
+}
+
+TEST_CASE("window: the far root exactly at tmax counts" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 3, 4, 4.0f, "t = 2 < tmin = 3, and t = 4 = tmax is inside the closed window.");
+}
+
+TEST_CASE("window: a negative tmin accepts roots behind the origin" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{6, -2, 3}, {-0.5f, 0, 0}}, ball, -10, 10, -2.0f,
+               "Any root in the window counts: -2 lies in [-10, 10] and is the smallest.");
+}
+
+TEST_CASE("window: tmin greater than tmax is empty" * doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 4, 2, std::nullopt,
+               "No t satisfies 4 <= t <= 2; both conditions must hold, not either one.");
+}
+
+TEST_CASE("window: a direction of length 4 returns t in steps of d" *
+          doctest::description("3. Any direction length")) {
+    expect_hit({{-1, -2, 3}, {4, 0, 0}}, ball, 0, inf, 1.0f,
+               "The hit point (3, -2, 3) is o + 1 d: t = 1, not the distance 4.");
+}
+
+TEST_CASE("window: a degenerate sphere is no hit" * doctest::description("6. No sphere and no ray")) {
+    expect_hit(through_centre, {{5, -2, 3}, -2}, 0, inf, std::nullopt, "A negative radius describes no sphere.");
+    expect_hit({{-1, -2, 3}, {0, 0, 0}}, ball, -inf, inf, std::nullopt, "A zero direction describes no ray.");
+}
+
+TEST_SUITE_END();
