@@ -60,14 +60,17 @@ bool hit_rect(const Vec3<T>& o, const Vec3<T>& d, const Rect3& r, T tmin, T tmax
 }
 
 /// The closest hit over every rectangle: each one that is hit shrinks the
-/// window, so the last hit found is the closest.
+/// window. The window stays closed, so a rectangle at exactly the same t is
+/// still found, and the strict test keeps the one listed first: the tie rule
+/// of step 05's find_intersection (the Cornell box's light is coplanar with
+/// its ceiling).
 template <class T>
 BoxHit brute_force(const Vec3<T>& o, const Vec3<T>& d, const Rect3* rects, int n, T tmin) {
     BoxHit best;
     T tmax = std::numeric_limits<float>::infinity();
     for (int i = 0; i < n; ++i) {
         T t;
-        if (hit_rect(o, d, rects[i], tmin, tmax, t)) {
+        if (hit_rect(o, d, rects[i], tmin, tmax, t) && (!best.hit || t < tmax)) {
             tmax = t;
             best = {true, i, static_cast<float>(value(t))};
         }

@@ -102,6 +102,7 @@ ExactBoxHit exact_box(const Vec3<float>& o_in, const Vec3<float>& d_in, const Re
         if (crosses[i] && (!best.hit || plane_t[i] <= best.t) && abs_q(inside[i]) <= quad(kEdgeBand)) {
             best.near_edge = true;
         }
+        if (crosses[i] && best.hit && i != best.rect && plane_t[i] == best.t && inside[i] >= 0) best.tie = i;
     }
     return best;
 }

@@ -36,6 +36,9 @@ struct ExactBoxHit {
     bool hit = false;
     int rect = -1;
     quad t = 0;
+    /// Another rectangle hit at exactly the same t (coplanar and overlapping),
+    /// or -1. Either one is a right answer for a tracer that has no tie rule.
+    int tie = -1;
     /// The ray passes within kEdgeBand of an edge of some rectangle it meets,
     /// so which rectangle it hits is a matter of rounding.
     bool near_edge = false;

@@ -59,7 +59,8 @@ BoxHit brute_force(const RectTable* table, const Ray& ray, float tmin) {
     BoxHit best;
     float tmax = std::numeric_limits<float>::infinity();
     for (std::size_t i = 0; i < table->rects.size(); ++i) {
-        if (const std::optional<float> t = intersect_rect(ray, table->rects[i], tmin, tmax)) {
+        const std::optional<float> t = intersect_rect(ray, table->rects[i], tmin, tmax);
+        if (t && (!best.hit || *t < tmax)) {  // on a tie the first listed wins, as in step 05
             tmax = *t;
             best = {true, static_cast<int>(i), *t};
         }
