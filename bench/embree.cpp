@@ -22,20 +22,30 @@ void on_error(void*, RTCError code, const char* message) {
     std::fprintf(stderr, "raykit_bench: Embree error %d: %s\n", static_cast<int>(code), message ? message : "");
 }
 
-RTCDevice device() {
-    // One thread: the scenes are tiny and the machine may be shared.
-    static RTCDevice dev = [] {
-        RTCDevice d = rtcNewDevice("threads=1");
-        if (d) rtcSetDeviceErrorFunction(d, on_error, nullptr);
-        return d;
-    }();
-    return dev;
+/// The device and every scene made on it, released in order at exit.
+struct Registry {
+    RTCDevice device = nullptr;
+    std::deque<Scene> scenes;  // stable addresses for the pointers handed out
+
+    Registry() {
+        // One thread: the scenes are tiny and the machine may be shared.
+        device = rtcNewDevice("threads=1");
+        if (device) rtcSetDeviceErrorFunction(device, on_error, nullptr);
+    }
+    ~Registry() {
+        for (Scene& s : scenes) rtcReleaseScene(s.handle);
+        if (device) rtcReleaseDevice(device);
+    }
+    Registry(const Registry&) = delete;
+    Registry& operator=(const Registry&) = delete;
+};
+
+Registry& registry() {
+    static Registry r;
+    return r;
 }
 
-std::deque<Scene>& scenes() {
-    static std::deque<Scene> all;  // stable addresses; released at exit by the OS
-    return all;
-}
+RTCDevice device() { return registry().device; }
 
 const Scene* commit(RTCGeometry geometry) {
     rtcCommitGeometry(geometry);
@@ -43,8 +53,8 @@ const Scene* commit(RTCGeometry geometry) {
     rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
     rtcCommitScene(scene);
-    scenes().push_back({scene});
-    return &scenes().back();
+    registry().scenes.push_back({scene});
+    return &registry().scenes.back();
 }
 
 }  // namespace
