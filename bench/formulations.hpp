@@ -32,12 +32,17 @@
 
 namespace raykit::bench {
 
+// Each variant is exactly one out-of-line call per ray (variants.cpp); the
+// formulation is inlined into it whatever the compiler's size heuristics say,
+// so no variant pays for a second call the others do not.
+#define RAYKIT_FORMULATION __attribute__((always_inline)) inline
+
 /// a t^2 + b t + c = 0 with a = d.d, b = 2 f.d, c = f.f - r^2, f = o - c, and
 /// t = (-b -+ sqrt(b^2 - 4ac)) / 2a. Two cancellations: b^2 - 4ac when the
 /// sphere is far (both terms ~ |f|^2 |d|^2), and -b + sqrt(...) for the root
 /// near zero (the origin close to the surface).
 template <class T>
-RootsOf<T> textbook(const Sample<T>& s) {
+RAYKIT_FORMULATION RootsOf<T> textbook(const Sample<T>& s) {
     using std::sqrt;
     const Vec3<T> f = s.o - s.c;
     const T a = dot(s.d, s.d);
@@ -53,7 +58,7 @@ RootsOf<T> textbook(const Sample<T>& s) {
 /// The textbook form with b = 2h, h = f.d: the 2s and 4 cancel, leaving
 /// t = (-h -+ sqrt(h^2 - ac)) / a. Fewer operations, the same cancellations.
 template <class T>
-RootsOf<T> half_b(const Sample<T>& s) {
+RAYKIT_FORMULATION RootsOf<T> half_b(const Sample<T>& s) {
     using std::sqrt;
     const Vec3<T> f = s.o - s.c;
     const T a = dot(s.d, s.d);
@@ -70,7 +75,7 @@ RootsOf<T> half_b(const Sample<T>& s) {
 /// by |d| to count multiples of d again. Costs a square root and a divide more;
 /// the cancellations stay.
 template <class T>
-RootsOf<T> unit_dir(const Sample<T>& s) {
+RAYKIT_FORMULATION RootsOf<T> unit_dir(const Sample<T>& s) {
     using std::sqrt;
     const T len = sqrt(dot(s.d, s.d));
     const Vec3<T> u = (T(1) / len) * s.d;
@@ -88,7 +93,7 @@ RootsOf<T> unit_dir(const Sample<T>& s) {
 /// the hits are t_ca -+ sqrt(r^2 - d^2) along u. d^2 is again a difference of
 /// two large, nearly equal numbers when the sphere is far away.
 template <class T>
-RootsOf<T> geometric(const Sample<T>& s) {
+RAYKIT_FORMULATION RootsOf<T> geometric(const Sample<T>& s) {
     using std::sqrt;
     const T len = sqrt(dot(s.d, s.d));
     const Vec3<T> u = (T(1) / len) * s.d;
@@ -108,7 +113,7 @@ RootsOf<T> geometric(const Sample<T>& s) {
 /// q = -(h + sign(h) sqrt(disc)) adds two numbers of the same sign, and the
 /// roots are q/a and c/q (their product is c/a).
 template <class T>
-RootsOf<T> stable(const Sample<T>& s) {
+RAYKIT_FORMULATION RootsOf<T> stable(const Sample<T>& s) {
     using std::copysign;
     using std::sqrt;
     const Vec3<T> f = s.o - s.c;
@@ -131,7 +136,7 @@ RootsOf<T> stable(const Sample<T>& s) {
 /// back to float once at the end. What "just use double inside" costs and buys
 /// in a float ray tracer.
 template <RootsOf<double> (*F)(const Sample<double>&)>
-RootsOf<float> in_double(const Sample<float>& s) {
+RAYKIT_FORMULATION RootsOf<float> in_double(const Sample<float>& s) {
     const RootsOf<double> r = F(convert<double>(s));
     return {r.count, {static_cast<float>(r.t[0]), static_cast<float>(r.t[1])}};
 }

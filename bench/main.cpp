@@ -89,10 +89,10 @@ Options parse(int argc, char** argv) {
             std::exit(0);
         } else if (key == "--quick") {
             no_value();
-            o.rays = 10000, o.repetitions = 5, o.min_time = 0.004, o.peak_time = 0.01;
+            o.rays = 10000, o.repetitions = 5, o.min_time = 0.004, o.peak_time = 0.005;
         } else if (key == "--smoke") {
             no_value();
-            o.rays = 300, o.repetitions = 1, o.min_time = 1e-4, o.peak_time = 1e-3;
+            o.rays = 300, o.repetitions = 1, o.min_time = 1e-4, o.peak_time = 2e-4;
         } else if (key == "--rays") {
             need_value();
             o.rays = static_cast<std::size_t>(parse_count(key, value, 10, 10000000));
@@ -269,14 +269,19 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
         progress("error", ++done, families, boxes[f].label);
     }
 
+    // This CPU's peak, measured before and after the timing: the better of
+    // the two, as a neighbour's work can only have slowed a kernel down.
     Peak peak;
     if (!opt.subject_only) {
-        progress("peak", 0, 1, "");
-        peak = measure_peak(opt.peak_time);
-        progress("peak", 1, 1, "");
+        progress("peak", 0, 2, "");
+        peak = measure_peak(opt.peak_time, 5);
     }
-
     const std::map<std::string, Timing> timings = time_jobs(jobs, opt.repetitions, opt.min_time, argv0);
+    if (!opt.subject_only) {
+        progress("peak", 1, 2, "");
+        peak = best_of(peak, measure_peak(opt.peak_time, 5));
+        progress("peak", 2, 2, "");
+    }
 
     if (opt.out.empty()) {
         write_json(std::cout, opt, peak, spheres, boxes, variants, rows, timings);

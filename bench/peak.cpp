@@ -39,10 +39,10 @@ volatile double g_sink = 0;
 
 using Clock = std::chrono::steady_clock;
 
-/// Runs kernel(iterations) until it has taken about `seconds`, three times,
-/// and returns the best rate: operations per nanosecond.
+/// Runs kernel(iterations) for about `seconds`, `repetitions` times, and
+/// returns the best rate: operations per nanosecond.
 template <class Kernel>
-double best_rate(Kernel kernel, double ops_per_iteration, double seconds) {
+double best_rate(Kernel kernel, double ops_per_iteration, double seconds, int repetitions) {
     long n = 1000;
     for (;;) {  // find an iteration count that takes about `seconds`
         const auto t0 = Clock::now();
@@ -55,7 +55,7 @@ double best_rate(Kernel kernel, double ops_per_iteration, double seconds) {
         n *= 4;
     }
     double best = 0;
-    for (int rep = 0; rep < 3; ++rep) {
+    for (int rep = 0; rep < repetitions; ++rep) {
         const auto t0 = Clock::now();
         kernel(n);
         const double ns = std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
@@ -141,23 +141,37 @@ __attribute__((noinline, target("avx2,fma"))) void vector_fma_f64(long n) {
 
 }  // namespace
 
-Peak measure_peak(double seconds) {
+Peak measure_peak(double seconds, int repetitions) {
+    auto rate = [&](auto kernel, double ops) { return best_rate(kernel, ops, seconds, repetitions); };
     Peak p;
-    p.scalar_gflops_f32 = best_rate(scalar_mul_add<float>, 12 * 2, seconds);
-    p.scalar_gflops_f64 = best_rate(scalar_mul_add<double>, 12 * 2, seconds);
-    p.div_ns_f32 = 1 / best_rate(scalar_div<float>, 8, seconds);
-    p.div_ns_f64 = 1 / best_rate(scalar_div<double>, 8, seconds);
-    p.sqrt_ns_f32 = 1 / best_rate(scalar_sqrt<float>, 8, seconds);
-    p.sqrt_ns_f64 = 1 / best_rate(scalar_sqrt<double>, 8, seconds);
+    p.scalar_gflops_f32 = rate(scalar_mul_add<float>, 12 * 2);
+    p.scalar_gflops_f64 = rate(scalar_mul_add<double>, 12 * 2);
+    p.div_ns_f32 = 1 / rate(scalar_div<float>, 8);
+    p.div_ns_f64 = 1 / rate(scalar_div<double>, 8);
+    p.sqrt_ns_f32 = 1 / rate(scalar_sqrt<float>, 8);
+    p.sqrt_ns_f64 = 1 / rate(scalar_sqrt<double>, 8);
 #if RAYKIT_BENCH_AVX2
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
         // An FMA is two flops, on 8 floats or 4 doubles.
-        p.vector_gflops_f32 = best_rate(vector_fma_f32, 12 * 8 * 2, seconds);
-        p.vector_gflops_f64 = best_rate(vector_fma_f64, 12 * 4 * 2, seconds);
+        p.vector_gflops_f32 = rate(vector_fma_f32, 12 * 8 * 2);
+        p.vector_gflops_f64 = rate(vector_fma_f64, 12 * 4 * 2);
         p.vector_isa = "AVX2+FMA";
     }
 #endif
     if (p.vector_isa.empty()) p.vector_isa = "none measured";
+    return p;
+}
+
+Peak best_of(const Peak& a, const Peak& b) {
+    Peak p = a;
+    p.scalar_gflops_f32 = std::max(a.scalar_gflops_f32, b.scalar_gflops_f32);
+    p.scalar_gflops_f64 = std::max(a.scalar_gflops_f64, b.scalar_gflops_f64);
+    p.vector_gflops_f32 = std::max(a.vector_gflops_f32, b.vector_gflops_f32);
+    p.vector_gflops_f64 = std::max(a.vector_gflops_f64, b.vector_gflops_f64);
+    p.div_ns_f32 = std::min(a.div_ns_f32, b.div_ns_f32);
+    p.div_ns_f64 = std::min(a.div_ns_f64, b.div_ns_f64);
+    p.sqrt_ns_f32 = std::min(a.sqrt_ns_f32, b.sqrt_ns_f32);
+    p.sqrt_ns_f64 = std::min(a.sqrt_ns_f64, b.sqrt_ns_f64);
     return p;
 }
 

@@ -18,7 +18,11 @@ struct Peak {
     double div_ns_f64 = 0, sqrt_ns_f64 = 0;
 };
 
-/// Measures each rate for about `seconds` (best of three).
-Peak measure_peak(double seconds);
+/// Measures each rate: `repetitions` runs of about `seconds`, the best one
+/// (a busy machine only ever slows a kernel down).
+Peak measure_peak(double seconds, int repetitions);
+
+/// The better of two measurements, rate by rate.
+Peak best_of(const Peak& a, const Peak& b);
 
 }  // namespace raykit::bench

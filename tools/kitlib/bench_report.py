@@ -60,10 +60,11 @@ class Point:
     def misclassified_share(self) -> float:
         return self.raw["misclassified"] / self.judged if self.judged else 0.0
 
-    def bound_ns(self, peak: dict) -> float | None:
-        """The fastest this arithmetic could run on one core: the adds and
-        multiplies at the scalar peak, or the divides and square roots at the
-        divider's pace, whichever takes longer."""
+    def roofline_ns(self, peak: dict) -> float | None:
+        """The roofline: the least time this arithmetic needs on one core. The
+        adds and multiplies at the scalar peak, the divides and the square
+        roots each at the divider's pace, whichever takes longest (optimistic:
+        it does not assume divides and roots queue for the same unit)."""
         flops = self.raw.get("flops")
         if flops is None or not peak:
             return None
@@ -74,7 +75,7 @@ class Point:
         if not rate:
             return None
         add_mul = flops - self.raw["div"] - self.raw["sqrt"]
-        return max(add_mul / rate, self.raw["div"] * div_ns + self.raw["sqrt"] * sqrt_ns)
+        return max(add_mul / rate, self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns)
 
 
 def points(data: dict) -> list[Point]:
@@ -216,7 +217,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
       f"{m['tangent_band']:g} r of a tangent (or {m['edge_band']:g} of an edge) are not judged.\n")
     w("◆ on the speed/error Pareto front of its family (median time, p99 error, misclassified rays).\n")
     header = (f"  {'':2}{'variant':<34}{'type':<15}{'ns/ray':>7} {'[min-max]':<13}{'median':>8}{'p99':>8}"
-              f"{'max':>8}  {'missed':>8}{'flops':>7}{'bound':>7}\n")
+              f"{'max':>8}  {'missed':>8}{'flops':>7}{'roofl.':>7}\n")
     for fam in family_order(data):
         group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: order.get(p.vid, 99))
         if not group:
@@ -227,7 +228,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
         for p in group:
             mark = "◆" if p.pareto else " "
             span = f"[{fmt_ns(p.ns_min)}-{fmt_ns(p.ns_max)}]" if p.timed else ""
-            bound = p.bound_ns(peak)
+            bound = p.roofline_ns(peak)
             pct = f"{100 * bound / p.ns_median:.0f}%" if bound and p.timed else "-"
             flops = fmt_opt(p.raw.get("flops"), ".0f")
             w(f"  {mark} {p.variant['label'][:33]:<34}{precision_word(p.variant):<15}{fmt_ns(p.ns_median):>7} "
@@ -236,8 +237,9 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
             if p.variant["group"] == "box" and p.raw.get("vs_embree_compared"):
                 w(f"      {'':34}hit distance vs Embree: median {fmt_ulps(p.raw['vs_embree_median'])}, "
                   f"p99 {fmt_ulps(p.raw['vs_embree_p99'])}, max {fmt_ulps(p.raw['vs_embree_max'])} ulps\n")
-    w("\n'bound': the fastest the counted arithmetic could go on one core (adds and multiplies at the scalar peak, "
-      "or divides and square roots at the divider's pace), as a share of the measured time.\n")
+    w("\nroofline: the least time the counted arithmetic needs on one core (adds and multiplies at the scalar peak, "
+      "divides and square roots at the divider's pace), as a share of the measured time; 100% would be the "
+      "machine's limit.\n")
     for s in statuses:
         w(s + "\n")
     return out.getvalue()
@@ -246,7 +248,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
 CSV_FIELDS = ["group", "family", "family_label", "hard", "variant", "label", "formulation", "precision",
               "ulp_of", "rays", "in_band", "compared", "misclassified", "misclassified_share", "ulps_median",
               "ulps_p99", "ulps_max", "ns_median", "ns_min", "ns_max", "ns_real_median", "repetitions", "flops",
-              "div", "sqrt", "bound_ns", "gflops", "pareto", "dominated_by", "vs_embree_median", "vs_embree_p99",
+              "div", "sqrt", "roofline_ns", "gflops", "pareto", "dominated_by", "vs_embree_median", "vs_embree_p99",
               "vs_embree_max"]
 
 
@@ -264,7 +266,7 @@ def csv_text(data: dict, pts: list[Point]) -> str:
         return f"{x:.{digits}g}" if isinstance(x, float) else str(x)
 
     for p in pts:
-        bound = p.bound_ns(peak)
+        bound = p.roofline_ns(peak)
         flops = p.raw.get("flops")
         writer.writerow({
             "group": p.variant["group"], "family": p.family["id"], "family_label": p.family["label"],
@@ -277,7 +279,7 @@ def csv_text(data: dict, pts: list[Point]) -> str:
             "ns_min": num(p.ns_min), "ns_max": num(p.ns_max),
             "ns_real_median": num(statistics.median(p.ns_real) if p.ns_real else math.nan),
             "repetitions": len(p.ns), "flops": num(flops), "div": num(p.raw.get("div")),
-            "sqrt": num(p.raw.get("sqrt")), "bound_ns": num(bound),
+            "sqrt": num(p.raw.get("sqrt")), "roofline_ns": num(bound),
             "gflops": num(flops / p.ns_median if flops is not None and p.timed else None),
             "pareto": int(p.pareto), "dominated_by": " ".join(p.dominated_by),
             "vs_embree_median": num(p.raw.get("vs_embree_median")),
@@ -300,10 +302,10 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
         if not group:
             continue
         lines += ["", f"### {fam['label']}{' (hard)' if fam.get('hard') else ''}", "", fam["description"] + ".", "",
-                  "| | variant | type | ns/ray | min-max | median | p99 | max | misclassified | flops | bound |",
+                  "| | variant | type | ns/ray | min-max | median | p99 | max | misclassified | flops | roofline |",
                   "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|"]
         for p in group:
-            bound = p.bound_ns(peak)
+            bound = p.roofline_ns(peak)
             pct = f"{100 * bound / p.ns_median:.0f}%" if bound and p.timed else "-"
             lines.append(
                 f"| {'◆' if p.pareto else ''} | {p.variant['label']} | {precision_word(p.variant)} | "
