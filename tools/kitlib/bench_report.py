@@ -203,6 +203,15 @@ def peak_line(data: dict) -> str:
             f"when many are in flight.")
 
 
+def subtitle(data: dict) -> str:
+    """One short line under the plot's title: the machine and the settings."""
+    m, p = data["meta"], data.get("peak") or {}
+    peak = (f"; one core's peak {p['scalar_gflops_f32']:.1f} GFLOP/s scalar, {p['vector_gflops_f32']:.0f} with "
+            f"{p['vector_isa']} (float)" if p.get("scalar_gflops_f32") and p.get("vector_gflops_f32") else "")
+    return (f"{m['cpu']}{peak}; GCC {m['compiler']} {m['flags']}; {m['rays']} rays per family, "
+            f"{m['repetitions']} repetitions")
+
+
 def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     """The terminal table: one block per family."""
     peak = data.get("peak") or {}
@@ -379,7 +388,7 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
          f'<rect width="{width}" height="{height}" fill="white"/>',
          f'<text x="10" y="20" font-size="15" font-weight="bold">Speed against error: ns per ray (CPU time, '
          f'median, bar min-max) against p99 error in ulps of the result type</text>',
-         f'<text x="10" y="38" fill="#444">{_esc(peak_line(data))[:170]}</text>']
+         f'<text x="10" y="38" fill="#444">{_esc(subtitle(data))}</text>']
     # legend
     lx, ly = 10, 58
     for i, (name, colour) in enumerate([(k, v) for k, v in COLOURS.items() if k != "brute force"]):
@@ -458,7 +467,7 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
                                     f"{fmt_ulps(u)} ulps, {fmt_share(p)} misclassified</title></"
                                     + ("rect>" if shape == "square" else "path>" if shape == "diamond"
                                        else "circle>")))
-            if p.pareto or p.vid in ("kit", "kit_rect", "kit_scene", "student"):
+            if p.pareto or p.vid in ("kit", "kit_rect", "kit_scene", "student", "stable_f32"):
                 labels.append((p, px(p.ns_median), y))
             if p.vid in ("kit", "kit_rect", "kit_scene"):
                 s.append(f'<circle cx="{px(p.ns_median):.1f}" cy="{y:.1f}" r="9" fill="none" stroke="#000" '

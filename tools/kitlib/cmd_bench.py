@@ -40,6 +40,8 @@ def register(p) -> None:
     p.add_argument("--compare", metavar="CSV", help="compare with an earlier results.csv: same errors, times "
                                                      "within the noise?")
     p.add_argument("--no-student", action="store_true", help="do not build or measure your own step")
+    p.add_argument("--from", dest="source", metavar="JSON", help="measure nothing: remake the table, CSV and plot "
+                                                                 "from a results.json written earlier")
 
 
 # --- running raykit_bench --------------------------------------------------------------
@@ -250,9 +252,8 @@ def compare(old: dict, new: dict) -> list[str]:
 # --- the command ----------------------------------------------------------------------
 
 
-def run(args) -> int:
-    target = out_dir(args.out)
-    old = read_csv(Path(args.compare)) if args.compare else None
+def measure(args) -> dict:
+    """Builds and runs raykit_bench (and the student's), returns the merged results."""
     ensure_packages("build", "bench")
     try:
         ensure_packages("bench-embree")
@@ -279,6 +280,25 @@ def run(args) -> int:
     if data is None:
         raise KitError(f"raykit_bench {problem}", 1)
     report.merge_student(data, student, student_status or "ok", student_label)
+    return data
+
+
+def load(path: str) -> dict:
+    try:
+        data = json.loads(Path(path).read_text())
+    except OSError as e:
+        raise KitError(f"--from {path}: {e.strerror}")
+    except json.JSONDecodeError:
+        raise KitError(f"--from {path}: not JSON")
+    if not isinstance(data, dict) or not {"meta", "variants", "families", "results"} <= set(data):
+        raise KitError(f"--from {path}: not a results.json written by ./kit bench")
+    return data
+
+
+def run(args) -> int:
+    target = out_dir(args.out)
+    old = read_csv(Path(args.compare)) if args.compare else None
+    data = load(args.source) if args.source else measure(args)
 
     pts = report.points(data)
     report.mark_pareto(pts)
@@ -290,10 +310,10 @@ def run(args) -> int:
             say(line)
 
     target.mkdir(parents=True, exist_ok=True)
-    write_atomic(target / "results.json", json.dumps(data, indent=1) + "\n")
-    write_atomic(target / "results.csv", report.csv_text(data, pts))
-    write_atomic(target / "table.md", report.markdown_table(data, pts))
-    write_atomic(target / "plot.svg", report.plot_svg(data, pts))
+    outputs = {"results.json": json.dumps(data, indent=1) + "\n", "results.csv": report.csv_text(data, pts),
+               "table.md": report.markdown_table(data, pts), "plot.svg": report.plot_svg(data, pts)}
+    for name, text in outputs.items():
+        write_atomic(target / name, text)
     shown = os.path.relpath(target, Path.cwd()) if str(target).startswith(str(Path.cwd())) else str(target)
     say(f"\nwrote {', '.join(shown + '/' + n for n in OUTPUTS)}")
 

@@ -80,8 +80,16 @@ def check_quick_run(ctx) -> str:
         missing = [f["label"] for f in data["families"] if not any((t or "").startswith(f["label"]) for t in texts)]
         expect(not missing, f"plot.svg has no panel for: {', '.join(missing)}")
 
+        # Remaking the outputs from results.json measures nothing and changes nothing.
+        again = out / "again"
+        again.mkdir()
+        r2 = kit("bench", "--from", str(out / "results.json"), "--out", str(again), timeout=120)
+        expect(r2.returncode == 0, f"./kit bench --from exited {r2.returncode}: {r2.stderr[-500:]}")
+        expect((again / "results.csv").read_text() == (out / "results.csv").read_text(),
+               "./kit bench --from results.json does not remake the same results.csv")
+
         # Comparing a run with itself: every error identical.
-        lines = cmd_bench.compare(rows_as_csv(out), rows_as_csv(out))
+        lines = cmd_bench.compare(rows_as_csv(out), rows_as_csv(again))
         expect(f"errors identical in {len(rows)}" in lines[0], f"--compare with itself: {lines[0]}")
     return f"{len(rows)} rows; CSV, JSON, Markdown and SVG parse; student step 'not started'"
 
@@ -105,7 +113,9 @@ def check_bad_input(ctx) -> str:
         for args, words in [(["--out", str(blocker)], "not a folder"),
                             (["--out", str(Path(tmp) / "no" / "such")], "does not exist"),
                             (["--compare", str(Path(tmp) / "missing.csv")], "No such file"),
-                            (["--compare", str(blocker)], "not a results.csv")]:
+                            (["--compare", str(blocker)], "not a results.csv"),
+                            (["--from", str(blocker)], "not JSON"),
+                            (["--from", str(Path(tmp) / "missing.json")], "No such file")]:
             r = kit("bench", *args, timeout=60)
             expect(r.returncode == 2, f"./kit bench {' '.join(args)} exited {r.returncode}, expected 2")
             expect(words in r.stderr, f"./kit bench {' '.join(args)}: message lacks '{words}': {r.stderr[-300:]}")
