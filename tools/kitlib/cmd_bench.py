@@ -131,22 +131,25 @@ def build_bench(build: common.Build) -> tuple[bool, str]:
     return ok, out
 
 
+def student_label(step: int) -> str:
+    return f"your step 0{step}" + (", ray moved to the unit sphere" if step == 1 else "")
+
+
 def student_subject(progress: Progress, run_args: list[str], timeout: float) -> tuple[dict | None, str, str]:
     """Builds and runs the student's sphere function. Returns (JSON, status, label)."""
     build = preset_build("student")
     progress.show("building your steps' benchmark (build/student)", "build-student")
+    # The bench measures step 02's sphere_roots, or step 01's until step 02 exists.
+    label = student_label(2 if any(s.number == "02" for s in common.load_steps()) else 1)
     ok, out = build_bench(build)
-    label = "your sphere function"
     if not ok:
-        errors = [l for l in out.splitlines() if "error:" in l][:3]
-        return None, "does not compile", label + (": " + errors[0] if errors else "")
+        errors = [l.strip() for l in out.splitlines() if "error:" in l][:1]
+        return None, "does not compile" + (f" (first error: {errors[0]})" if errors else ""), label
     data, problem = run_bench(build.binary_dir / "bench" / TARGET, ["--subject-only", *run_args], timeout,
                               "your step", progress)
     if data is None:
         return None, problem, label
-    step = data["meta"]["sphere_step"]
-    label = f"your step 0{step}" + (", ray moved to the unit sphere" if step == 1 else "")
-    return data, "", label
+    return data, "", student_label(data["meta"]["sphere_step"])
 
 
 def status_lines(data: dict) -> list[str]:
@@ -271,7 +274,7 @@ def measure(args) -> dict:
         progress.done()
         raise KitError(f"the benchmark does not build: {out[-3000:]}", 1)
 
-    student, student_status, student_label = None, "not measured (--no-student)", "your sphere function"
+    student, student_status, student_label = None, "not measured (--no-student)", "your step"
     if not args.no_student:
         student, student_status, student_label = student_subject(progress, run_args, timeout)
 
