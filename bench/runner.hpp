@@ -1,0 +1,160 @@
+// What the benchmark's pieces share: the rays of each family with their exact
+// answers, the variants under test, and what the error pass, the timing and
+// the JSON writer exchange. main.cpp puts them together.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "raykit/ray.hpp"
+#include "raykit/sphere.hpp"
+
+#include "box.hpp"
+#include "embree.hpp"
+#include "exact.hpp"
+#include "families.hpp"
+#include "kit.hpp"
+#include "peak.hpp"
+#include "vec.hpp"
+
+namespace raykit::bench {
+
+/// What the command line asked for (see --help in main.cpp).
+struct Options {
+    std::size_t rays = 100000;   // per family, for the error pass
+    int repetitions = 15;        // timed repetitions per variant and family
+    double min_time = 0.01;      // seconds per repetition, about
+    double peak_time = 0.02;     // seconds per run of a peak kernel
+    bool subject_only = false;   // only the kit's sphere subject (the student build)
+    std::string out;             // JSON file; stdout when empty
+};
+
+/// One line per step on stderr; ./kit bench turns these into its progress display.
+inline void progress(const char* phase, std::size_t done, std::size_t total, const std::string& what) {
+    std::fprintf(stderr, "progress %s %zu %zu %s\n", phase, done, total, what.c_str());
+    std::fflush(stderr);
+}
+
+// ---- the data each family carries ------------------------------------------------
+
+struct KitSample {
+    raykit::Ray ray;
+    raykit::Sphere sphere;
+};
+
+struct SphereData {
+    SphereFamily family;
+    std::vector<ExactSphere> exact;
+    std::vector<Sample<double>> wide;    // the same samples, widened to double
+    std::vector<KitSample> kit;          // the same samples as the kit's types
+    const embree::Scene* embree = nullptr;
+};
+
+struct BoxData {
+    std::string id, label, description;
+    bool whole_box = true;               // false: one rectangle only
+    std::vector<Rect3> table;
+    std::vector<Vec3<float>> o, d;
+    std::vector<raykit::Ray> rays;
+    std::vector<ExactBoxHit> exact;
+    const embree::Scene* embree = nullptr;
+    const kit::RectTable* kit_table = nullptr;
+};
+
+/// The timed batch: the first kBatch rays of a family. 4096 rays are 160 KiB
+/// in float (320 KiB in double), inside this kind of CPU's L2 cache, and too
+/// many for the branch predictor to learn the hit/miss pattern by heart.
+constexpr std::size_t kBatch = 4096;
+
+inline std::size_t batch_size(std::size_t n) { return std::min(n, kBatch); }
+
+// ---- variants -------------------------------------------------------------------
+
+/// What one variant answered for one ray: roots, a first hit, or a box hit.
+struct Answer {
+    int count = 0;         // 0 miss; 2 roots; 1 a single first hit
+    double t[2] = {0, 0};
+    int rect = -1;
+};
+
+enum class Kind { roots, first_hit, box };
+
+struct Variant {
+    std::string id;            // unique, e.g. "stable_f32"
+    std::string formulation;   // e.g. "stable"
+    std::string label;         // e.g. "stable, float"
+    std::string precision;     // "float", "double", "float, double inside"
+    std::string group;         // "sphere" or "box"
+    int bits = 24;             // significand bits of the result type
+    Kind kind = Kind::roots;
+    std::string note;
+    std::string status = "ok";  // ok, absent, not_started, threw: ...
+    std::function<Answer(std::size_t family, std::size_t i)> answer;
+    std::function<void(std::size_t family)> pass;          // one timed pass over the batch
+    std::function<OpCount(std::size_t family, std::size_t i)> count;  // flops of one ray; empty: unknown
+    std::function<bool(std::size_t family)> applies = [](std::size_t) { return true; };
+};
+
+/// Every sphere variant on `data` (only the kit's own function and an anchor
+/// with `subject_only`), and every box variant on `data`.
+std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool subject_only);
+std::vector<Variant> box_variants(const std::vector<BoxData>& data);
+
+// ---- the error pass ----------------------------------------------------------------
+
+struct ErrorStats {
+    std::size_t rays = 0;          // in the family
+    std::size_t in_band = 0;       // near a tangent or an edge: not judged
+    std::size_t compared = 0;      // judged and both hit: errors measured
+    std::size_t misclassified = 0; // judged and the variant disagrees on hit/miss (or on the rectangle)
+    double median = 0, p99 = 0, max = 0;  // ulps over `compared`
+    // Box families: disagreement with Embree's hit distance, in float ulps.
+    std::size_t vs_embree_compared = 0;
+    double vs_embree_median = 0, vs_embree_p99 = 0, vs_embree_max = 0;
+};
+
+/// The error statistics of variant `v` on family `f`.
+ErrorStats sphere_errors(const Variant& v, std::size_t f, const SphereData& data);
+/// Also measures the disagreement with `embree` (may be null) on the hit distance.
+ErrorStats box_errors(const Variant& v, std::size_t f, const BoxData& data, const Variant* embree);
+
+// ---- timing ---------------------------------------------------------------------------
+
+/// Per repetition: nanoseconds per ray, CPU time (the process's own time, so a
+/// neighbour that takes the core away does not count) and wall-clock time.
+struct Timing {
+    std::vector<double> cpu_ns, real_ns;
+};
+
+struct Job {
+    std::string name;   // variant/family
+    std::function<void()> pass;
+    std::size_t rays;
+};
+
+/// Times every job with Google Benchmark: `repetitions` runs of about
+/// `seconds` each, interleaved at random. Keyed by Job::name.
+std::map<std::string, Timing> time_jobs(const std::vector<Job>& jobs, int repetitions, double seconds,
+                                        const char* argv0);
+
+// ---- output ----------------------------------------------------------------------------
+
+struct Row {
+    const Variant* variant;
+    std::string family;
+    ErrorStats error;
+    double flops = -1, div = 0, sqrt = 0;  // per ray, averaged over the timed batch; -1: unknown
+};
+
+/// Everything as one JSON document (read by tools/kitlib/bench_report.py).
+void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<SphereData>& spheres,
+                const std::vector<BoxData>& boxes, const std::vector<Variant>& variants,
+                const std::vector<Row>& rows, const std::map<std::string, Timing>& timings);
+
+}  // namespace raykit::bench

@@ -1,0 +1,252 @@
+// The variants under test and how each one is called. See runner.hpp.
+//
+// Every variant is called out of line, one call per ray, as the kit's step
+// functions are (they live in other translation units); results go to an
+// array the compiler must write.
+
+#include <type_traits>
+
+#include "formulations.hpp"
+#include "runner.hpp"
+
+namespace raykit::bench {
+
+namespace {
+
+// Where timed results go; one of each, reused.
+std::vector<RootsOf<float>> g_out_f(kBatch);
+std::vector<RootsOf<double>> g_out_d(kBatch);
+std::vector<raykit::Roots> g_out_kit(kBatch);
+std::vector<BoxHit> g_out_box(kBatch);
+
+template <class In, class Out, Out (*F)(const In&)>
+__attribute__((noinline)) Out out_of_line(const In& in) {
+    return F(in);
+}
+
+template <class T>
+Answer from_roots(const RootsOf<T>& r) {
+    Answer a;
+    a.count = r.count;
+    a.t[0] = static_cast<double>(r.t[0]);
+    a.t[1] = static_cast<double>(r.t[1]);
+    return a;
+}
+
+Answer from_box(const BoxHit& h) {
+    Answer a;
+    if (h.hit) {
+        a.count = 1;
+        a.t[0] = h.t;
+        a.rect = h.rect;
+    }
+    return a;
+}
+
+template <class T, RootsOf<T> (*F)(const Sample<T>&), RootsOf<Counted<float>> (*C)(
+                                                            const Sample<Counted<float>>&)>
+Variant formulation(const std::vector<SphereData>& data, const char* name, const char* precision_word) {
+    constexpr bool wide = std::is_same_v<T, double>;
+    Variant v;
+    v.formulation = name;
+    v.precision = wide ? "double" : "float";
+    v.id = std::string(name) + (wide ? "_f64" : "_f32");
+    v.label = std::string(name) + ", " + precision_word;
+    v.group = "sphere";
+    v.bits = wide ? 53 : 24;
+    const auto* d = &data;
+    v.answer = [d](std::size_t f, std::size_t i) {
+        if constexpr (wide) return from_roots(out_of_line<Sample<T>, RootsOf<T>, F>((*d)[f].wide[i]));
+        else return from_roots(out_of_line<Sample<T>, RootsOf<T>, F>((*d)[f].family.samples[i]));
+    };
+    v.pass = [d](std::size_t f) {
+        const auto& fam = (*d)[f];
+        const std::size_t n = batch_size(fam.family.samples.size());
+        if constexpr (wide) {
+            const Sample<double>* in = fam.wide.data();
+            for (std::size_t i = 0; i < n; ++i) g_out_d[i] = out_of_line<Sample<T>, RootsOf<T>, F>(in[i]);
+        } else {
+            const Sample<float>* in = fam.family.samples.data();
+            for (std::size_t i = 0; i < n; ++i) g_out_f[i] = out_of_line<Sample<T>, RootsOf<T>, F>(in[i]);
+        }
+    };
+    v.count = [d](std::size_t f, std::size_t i) {
+        op_count() = {};
+        C(convert<Counted<float>>((*d)[f].family.samples[i]));
+        return op_count();
+    };
+    return v;
+}
+
+}  // namespace
+
+std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool subject_only) {
+    std::vector<Variant> out;
+    if (subject_only) {
+        // An anchor timed in both runs, so ./kit bench can put the student's
+        // times, measured in another process, on the reference run's scale.
+        out.push_back(formulation<float, stable<float>, stable<Counted<float>>>(data, "stable", "float"));
+    } else {
+        out.push_back(formulation<float, textbook<float>, textbook<Counted<float>>>(data, "textbook", "float"));
+        out.push_back(formulation<double, textbook<double>, textbook<Counted<float>>>(data, "textbook", "double"));
+        out.push_back(formulation<float, half_b<float>, half_b<Counted<float>>>(data, "half-b", "float"));
+        out.push_back(formulation<double, half_b<double>, half_b<Counted<float>>>(data, "half-b", "double"));
+        out.push_back(formulation<float, unit_dir<float>, unit_dir<Counted<float>>>(data, "unit-dir", "float"));
+        out.push_back(formulation<double, unit_dir<double>, unit_dir<Counted<float>>>(data, "unit-dir", "double"));
+        out.push_back(formulation<float, geometric<float>, geometric<Counted<float>>>(data, "geometric", "float"));
+        out.push_back(formulation<double, geometric<double>, geometric<Counted<float>>>(data, "geometric", "double"));
+        out.push_back(formulation<float, stable<float>, stable<Counted<float>>>(data, "stable", "float"));
+        out.push_back(formulation<double, stable<double>, stable<Counted<float>>>(data, "stable", "double"));
+        for (Variant mixed : {formulation<float, in_double<half_b<double>>, half_b<Counted<float>>>(
+                                  data, "half-b", ""),
+                              formulation<float, in_double<stable<double>>, stable<Counted<float>>>(
+                                  data, "stable", "")}) {
+            mixed.id = mixed.formulation + "_f32_in_f64";
+            mixed.label = mixed.formulation + ", double inside";
+            mixed.precision = "float, double inside";
+            out.push_back(mixed);
+        }
+    }
+
+    // The kit's own function: step 02's sphere_roots, or step 01 after a move.
+    Variant subject;
+    subject.id = "kit";
+    subject.formulation = "kit";
+    subject.group = "sphere";
+    subject.precision = "float";
+    const int step = kit::sphere_step();
+    subject.label = step == 2 ? "kit step 02" : "kit step 01, ray moved to the unit sphere";
+    subject.note = step == 2   ? "sphere_roots(ray, sphere) of step 02"
+               : step == 1 ? "step 02 is not in this kit yet: step 01's unit_sphere_roots after o' = (o - c)/r, "
+                             "d' = d/r"
+                           : "no sphere step is built";
+    if (step == 0) subject.status = "absent";
+    const auto* d = &data;
+    subject.answer = [d](std::size_t f, std::size_t i) {
+        const KitSample& s = (*d)[f].kit[i];
+        const raykit::Roots r = kit::sphere_roots(s.ray, s.sphere);
+        Answer a;
+        a.count = r.count == 0 ? 0 : 2;  // a tangent (count 1) repeats its root in t[1]
+        a.t[0] = r.t[0];
+        a.t[1] = r.t[1];
+        return a;
+    };
+    subject.pass = [d](std::size_t f) {
+        const auto& fam = (*d)[f];
+        const std::size_t n = batch_size(fam.kit.size());
+        const KitSample* in = fam.kit.data();
+        for (std::size_t i = 0; i < n; ++i) g_out_kit[i] = kit::sphere_roots(in[i].ray, in[i].sphere);
+    };
+    out.push_back(subject);
+
+    if (!subject_only) {
+        Variant e;
+        e.id = "embree_sphere";
+        e.formulation = "embree";
+        e.label = "Embree sphere point";
+        e.precision = "float";
+        e.group = "sphere";
+        e.kind = Kind::first_hit;
+        e.note = "rtcIntersect1 on one RTC_GEOMETRY_TYPE_SPHERE_POINT; only the first hit in [0, inf) is "
+                 "returned, so its error is that hit's";
+        if (!embree::available()) e.status = "absent";
+        e.answer = [d](std::size_t f, std::size_t i) {
+            const Sample<float>& s = (*d)[f].family.samples[i];
+            return from_box(embree::intersect((*d)[f].embree, s.o, s.d, 0.0f));
+        };
+        e.pass = [d](std::size_t f) {
+            const auto& fam = (*d)[f];
+            const std::size_t n = batch_size(fam.family.samples.size());
+            const Sample<float>* in = fam.family.samples.data();
+            for (std::size_t i = 0; i < n; ++i) g_out_box[i] = embree::intersect(fam.embree, in[i].o, in[i].d, 0.0f);
+        };
+        out.push_back(e);
+    }
+    return out;
+}
+
+BoxHit own_brute_force(const BoxData& b, std::size_t i) {
+    return brute_force<float>(b.o[i], b.d[i], b.table.data(), static_cast<int>(b.table.size()), 0.0f);
+}
+
+__attribute__((noinline)) BoxHit own_brute_force_call(const Vec3<float>& o, const Vec3<float>& d,
+                                                          const Rect3* rects, int n) {
+    return brute_force<float>(o, d, rects, n, 0.0f);
+}
+
+std::vector<Variant> box_variants(const std::vector<BoxData>& data) {
+    std::vector<Variant> out;
+    const auto* d = &data;
+    auto base = [](const char* id, const char* formulation, const char* label) {
+        Variant v;
+        v.id = id;
+        v.formulation = formulation;
+        v.label = label;
+        v.precision = "float";
+        v.group = "box";
+        v.kind = Kind::box;
+        return v;
+    };
+
+    Variant own = base("brute_force", "brute force", "brute force, the benchmark's loop");
+    own.note = "hit_rect over the table in bench/box.hpp, closest hit shrinks the window";
+    own.answer = [d](std::size_t f, std::size_t i) { return from_box(own_brute_force((*d)[f], i)); };
+    own.pass = [d](std::size_t f) {
+        const BoxData& b = (*d)[f];
+        const std::size_t n = batch_size(b.o.size());
+        const int rects = static_cast<int>(b.table.size());
+        for (std::size_t i = 0; i < n; ++i) g_out_box[i] = own_brute_force_call(b.o[i], b.d[i], b.table.data(), rects);
+    };
+    own.count = [d](std::size_t f, std::size_t i) {
+        const BoxData& b = (*d)[f];
+        op_count() = {};
+        const auto wide = [](const Vec3<float>& v) {
+            return Vec3<Counted<float>>{v.x, v.y, v.z};
+        };
+        brute_force<Counted<float>>(wide(b.o[i]), wide(b.d[i]), b.table.data(),
+                                             static_cast<int>(b.table.size()), 0.0f);
+        return op_count();
+    };
+    out.push_back(own);
+
+    Variant kit_rect = base("kit_rect", "kit", "kit step 04, intersect_rect over the table");
+    kit_rect.note = "raykit::intersect_rect for each rectangle, window shrinking";
+    if (!kit::has_rect()) kit_rect.status = "absent";
+    kit_rect.answer = [d](std::size_t f, std::size_t i) {
+        return from_box(kit::brute_force((*d)[f].kit_table, (*d)[f].rays[i], 0.0f));
+    };
+    kit_rect.pass = [d](std::size_t f) {
+        const BoxData& b = (*d)[f];
+        const std::size_t n = batch_size(b.rays.size());
+        for (std::size_t i = 0; i < n; ++i) g_out_box[i] = kit::brute_force(b.kit_table, b.rays[i], 0.0f);
+    };
+    out.push_back(kit_rect);
+
+    Variant scene = base("kit_scene", "kit", "kit step 05, find_intersection");
+    scene.note = "raykit::find_intersection over raykit::cornell_box()";
+    if (!kit::has_scene()) scene.status = "absent";
+    scene.applies = [d](std::size_t f) { return (*d)[f].whole_box; };
+    scene.answer = [d](std::size_t f, std::size_t i) { return from_box(kit::find_intersection((*d)[f].rays[i], 0.0f)); };
+    scene.pass = [d](std::size_t f) {
+        const BoxData& b = (*d)[f];
+        const std::size_t n = batch_size(b.rays.size());
+        for (std::size_t i = 0; i < n; ++i) g_out_box[i] = kit::find_intersection(b.rays[i], 0.0f);
+    };
+    out.push_back(scene);
+
+    Variant e = base("embree_quads", "embree", "Embree quads");
+    e.note = "rtcIntersect1 on one RTC_GEOMETRY_TYPE_QUAD geometry, one quad per rectangle";
+    if (!embree::available()) e.status = "absent";
+    e.answer = [d](std::size_t f, std::size_t i) {
+        return from_box(embree::intersect((*d)[f].embree, (*d)[f].o[i], (*d)[f].d[i], 0.0f));
+    };
+    e.pass = [d](std::size_t f) {
+        const BoxData& b = (*d)[f];
+        const std::size_t n = batch_size(b.o.size());
+        for (std::size_t i = 0; i < n; ++i) g_out_box[i] = embree::intersect(b.embree, b.o[i], b.d[i], 0.0f);
+    };
+    out.push_back(e);
+    return out;
+}
+
+}  // namespace raykit::bench

@@ -1,0 +1,502 @@
+"""The benchmark's report: statistics, the Pareto front, the table, the CSV and the plot.
+
+raykit_bench (bench/main.cpp) writes raw results as JSON: per variant and ray
+family, the error statistics and the time of every repetition. This module turns
+them into what people read. Nothing here measures anything.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import statistics
+from dataclasses import dataclass, field
+
+# --- one measured point ------------------------------------------------------------
+
+
+@dataclass
+class Point:
+    """One variant on one family of rays."""
+
+    variant: dict
+    family: dict
+    raw: dict
+    ns: list[float] = field(default_factory=list)        # CPU ns per ray, each repetition
+    ns_real: list[float] = field(default_factory=list)   # wall-clock ns per ray
+    pareto: bool = False
+    dominated_by: list[str] = field(default_factory=list)
+
+    @property
+    def vid(self) -> str:
+        return self.variant["id"]
+
+    @property
+    def timed(self) -> bool:
+        return bool(self.ns)
+
+    @property
+    def ns_median(self) -> float:
+        return statistics.median(self.ns) if self.ns else math.nan
+
+    @property
+    def ns_min(self) -> float:
+        return min(self.ns) if self.ns else math.nan
+
+    @property
+    def ns_max(self) -> float:
+        return max(self.ns) if self.ns else math.nan
+
+    def ulps(self, which: str) -> float:
+        v = self.raw.get(f"ulps_{which}")
+        return math.inf if v is None else float(v)  # null: an infinite or NaN answer
+
+    @property
+    def judged(self) -> int:
+        return self.raw["rays"] - self.raw["in_band"]
+
+    @property
+    def misclassified_share(self) -> float:
+        return self.raw["misclassified"] / self.judged if self.judged else 0.0
+
+    def roofline_ns(self, peak: dict) -> float | None:
+        """The roofline: the least time this arithmetic needs on one core. The
+        adds and multiplies at the scalar peak, the divides and the square
+        roots each at the divider's pace, whichever takes longest (optimistic:
+        it does not assume divides and roots queue for the same unit)."""
+        flops = self.raw.get("flops")
+        if flops is None or not peak:
+            return None
+        wide = self.variant["precision"] != "float"
+        rate = peak["scalar_gflops_f64" if wide else "scalar_gflops_f32"]
+        div_ns = peak["div_ns_f64" if wide else "div_ns_f32"]
+        sqrt_ns = peak["sqrt_ns_f64" if wide else "sqrt_ns_f32"]
+        if not rate:
+            return None
+        add_mul = flops - self.raw["div"] - self.raw["sqrt"]
+        return max(add_mul / rate, self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns)
+
+
+def points(data: dict) -> list[Point]:
+    variants = {v["id"]: v for v in data["variants"]}
+    families = {f["id"]: f for f in data["families"]}
+    out = []
+    for r in data["results"]:
+        out.append(Point(variants[r["variant"]], families[r["family"]], r, list(r.get("cpu_ns") or []),
+                         list(r.get("real_ns") or [])))
+    return out
+
+
+def merge_student(data: dict, student: dict | None, status: str, label: str) -> None:
+    """Adds the student's sphere function to the reference run as variant "student".
+
+    The student's code runs in its own process (its functions have the same
+    names as the kit's), so its times are put on the reference run's scale:
+    both runs time the benchmark's own stable float form, and the student's
+    times on a family are multiplied by that form's median ratio there."""
+    variant = {"id": "student", "formulation": "student", "label": label, "precision": "float",
+               "group": "sphere", "ulp_of": "float", "status": status, "note": "built from steps/"}
+    if student is not None:
+        for v in student["variants"]:
+            if v["id"] == "kit":
+                variant["status"] = v["status"]
+                variant["note"] = "your code in steps/: " + v["note"]
+        anchor_ref = {r["family"]: r for r in data["results"] if r["variant"] == "stable_f32"}
+        anchor_own = {r["family"]: r for r in student["results"] if r["variant"] == "stable_f32"}
+        scales = []
+        for r in student["results"]:
+            if r["variant"] != "kit":
+                continue
+            row = dict(r, variant="student")
+            a, b = anchor_ref.get(r["family"]), anchor_own.get(r["family"])
+            if a and b and a["cpu_ns"] and b["cpu_ns"]:
+                k = statistics.median(a["cpu_ns"]) / statistics.median(b["cpu_ns"])
+                scales.append(k)
+                row["cpu_ns"] = [t * k for t in r["cpu_ns"]]
+                row["real_ns"] = [t * k for t in r["real_ns"]]
+            data["results"].append(row)
+        if scales:
+            variant["note"] += (f"; timed in its own process, times scaled by the stable float form's ratio "
+                                f"between the runs (x{min(scales):.2f} to x{max(scales):.2f})")
+    data["variants"].append(variant)
+
+
+# --- the Pareto front ----------------------------------------------------------------
+
+
+def dominates(a: Point, b: Point) -> bool:
+    """a is at least as fast, as accurate (p99) and misclassifies no more rays than
+    b, and better in one of them."""
+    ka = (a.ns_median, a.ulps("p99"), a.raw["misclassified"])
+    kb = (b.ns_median, b.ulps("p99"), b.raw["misclassified"])
+    return all(x <= y for x, y in zip(ka, kb)) and ka != kb
+
+
+def mark_pareto(pts: list[Point]) -> None:
+    by_family: dict[str, list[Point]] = {}
+    for p in pts:
+        if p.timed:
+            by_family.setdefault(p.family["id"], []).append(p)
+    for group in by_family.values():
+        for p in group:
+            p.dominated_by = [q.vid for q in group if q is not p and dominates(q, p)]
+            p.pareto = not p.dominated_by
+
+
+def clearly_faster(a: Point, b: Point) -> bool:
+    """a's slowest repetition beats b's fastest: faster beyond the noise."""
+    return a.ns_max < b.ns_min
+
+
+# --- formatting ------------------------------------------------------------------------
+
+
+def fmt_ulps(x: float) -> str:
+    if math.isinf(x) or math.isnan(x):
+        return "inf"
+    if x < 10:
+        return f"{x:.2f}"
+    if x < 1e5:
+        return f"{x:.0f}"
+    return f"{x:.1e}"
+
+
+def fmt_ns(x: float) -> str:
+    return "-" if math.isnan(x) else (f"{x:.1f}" if x < 100 else f"{x:.0f}")
+
+
+def fmt_share(p: Point) -> str:
+    if p.raw["misclassified"] == 0:
+        return "0"
+    s = 100 * p.misclassified_share
+    return f"{s:.2g}%" if s >= 0.01 else f"{p.raw['misclassified']} rays"
+
+
+def fmt_opt(x: float | None, spec: str) -> str:
+    return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
+
+
+def precision_word(v: dict) -> str:
+    return {"float": "float", "double": "double", "float, double inside": "f in, d inside"}.get(
+        v["precision"], v["precision"])
+
+
+def family_order(data: dict) -> list[dict]:
+    return list(data["families"])
+
+
+def variant_order(data: dict) -> list[str]:
+    return [v["id"] for v in data["variants"]]
+
+
+def peak_line(data: dict) -> str:
+    p = data.get("peak") or {}
+    m = data["meta"]
+    if not p.get("scalar_gflops_f32"):
+        return f"CPU: {m['cpu']}"
+    vec = (f", {p['vector_isa']} {p['vector_gflops_f32']:.0f} GFLOP/s float / {p['vector_gflops_f64']:.0f} double"
+           if p.get("vector_gflops_f32") else "")
+    return (f"CPU: {m['cpu']}, {m['cpus']} cores. One core's peak: scalar add/multiply "
+            f"{p['scalar_gflops_f32']:.1f} GFLOP/s{vec}; a divide takes {p['div_ns_f32']:.2f} ns (float) / "
+            f"{p['div_ns_f64']:.2f} ns (double), a square root {p['sqrt_ns_f32']:.2f} / {p['sqrt_ns_f64']:.2f} ns "
+            f"when many are in flight.")
+
+
+def subtitle(data: dict) -> str:
+    """One short line under the plot's title: the machine and the settings."""
+    m, p = data["meta"], data.get("peak") or {}
+    peak = (f"; one core's peak {p['scalar_gflops_f32']:.1f} GFLOP/s scalar, {p['vector_gflops_f32']:.0f} with "
+            f"{p['vector_isa']} (float)" if p.get("scalar_gflops_f32") and p.get("vector_gflops_f32") else "")
+    return (f"{m['cpu']}{peak}; GCC {m['compiler']} {m['flags']}; {m['rays']} rays per family, "
+            f"{m['repetitions']} repetitions")
+
+
+def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
+    """The terminal table: one block per family."""
+    peak = data.get("peak") or {}
+    order = {vid: i for i, vid in enumerate(variant_order(data))}
+    out = io.StringIO()
+    w = out.write
+    m = data["meta"]
+    w(f"{peak_line(data)}\n")
+    w(f"Compiled with {m['compiler']} {m['flags']}; {m['rays']} rays per family, {m['repetitions']} timed "
+      f"repetitions of {m['batch']} rays each (median [min-max] of CPU time).\n")
+    w("Error: in ulps of the result type against float128, over the rays both call a hit; rays within "
+      f"{m['tangent_band']:g} r of a tangent (or {m['edge_band']:g} of an edge) are not judged.\n")
+    w("◆ on the speed/error Pareto front of its family (median time, p99 error, misclassified rays).\n")
+    header = (f"  {'':2}{'variant':<34}{'type':<15}{'ns/ray':>7} {'[min-max]':<13}{'median':>8}{'p99':>8}"
+              f"{'max':>8}  {'missed':>8}{'flops':>7}{'roofl.':>7}\n")
+    for fam in family_order(data):
+        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: order.get(p.vid, 99))
+        if not group:
+            continue
+        hard = " (hard)" if fam.get("hard") else ""
+        w(f"\n{fam['label']}{hard}: {fam['description']}\n")
+        w(header)
+        for p in group:
+            mark = "◆" if p.pareto else " "
+            span = f"[{fmt_ns(p.ns_min)}-{fmt_ns(p.ns_max)}]" if p.timed else ""
+            bound = p.roofline_ns(peak)
+            pct = f"{100 * bound / p.ns_median:.0f}%" if bound and p.timed else "-"
+            flops = fmt_opt(p.raw.get("flops"), ".0f")
+            w(f"  {mark} {p.variant['label'][:33]:<34}{precision_word(p.variant):<15}{fmt_ns(p.ns_median):>7} "
+              f"{span:<13}{fmt_ulps(p.ulps('median')):>8}{fmt_ulps(p.ulps('p99')):>8}{fmt_ulps(p.ulps('max')):>8}"
+              f"  {fmt_share(p):>8}{flops:>7}{pct:>7}\n")
+            if p.variant["group"] == "box" and p.raw.get("vs_embree_compared"):
+                w(f"      {'':34}hit distance vs Embree: median {fmt_ulps(p.raw['vs_embree_median'])}, "
+                  f"p99 {fmt_ulps(p.raw['vs_embree_p99'])}, max {fmt_ulps(p.raw['vs_embree_max'])} ulps\n")
+    w("\nroofline: the least time the counted arithmetic needs on one core (adds and multiplies at the scalar peak, "
+      "divides and square roots at the divider's pace), as a share of the measured time; 100% would be the "
+      "machine's limit.\n")
+    for s in statuses:
+        w(s + "\n")
+    return out.getvalue()
+
+
+CSV_FIELDS = ["group", "family", "family_label", "hard", "variant", "label", "formulation", "precision",
+              "ulp_of", "rays", "in_band", "compared", "misclassified", "misclassified_share", "ulps_median",
+              "ulps_p99", "ulps_max", "ns_median", "ns_min", "ns_max", "ns_real_median", "repetitions", "flops",
+              "div", "sqrt", "roofline_ns", "gflops", "pareto", "dominated_by", "vs_embree_median", "vs_embree_p99",
+              "vs_embree_max"]
+
+
+def csv_text(data: dict, pts: list[Point]) -> str:
+    peak = data.get("peak") or {}
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=CSV_FIELDS, lineterminator="\n")
+    writer.writeheader()
+
+    def num(x, digits=4):
+        if x is None:
+            return ""
+        if isinstance(x, float) and (math.isinf(x) or math.isnan(x)):
+            return "inf" if math.isinf(x) else ""
+        return f"{x:.{digits}g}" if isinstance(x, float) else str(x)
+
+    for p in pts:
+        bound = p.roofline_ns(peak)
+        flops = p.raw.get("flops")
+        writer.writerow({
+            "group": p.variant["group"], "family": p.family["id"], "family_label": p.family["label"],
+            "hard": int(bool(p.family.get("hard"))), "variant": p.vid, "label": p.variant["label"],
+            "formulation": p.variant["formulation"], "precision": p.variant["precision"],
+            "ulp_of": p.variant["ulp_of"], "rays": p.raw["rays"], "in_band": p.raw["in_band"],
+            "compared": p.raw["compared"], "misclassified": p.raw["misclassified"],
+            "misclassified_share": num(p.misclassified_share), "ulps_median": num(p.ulps("median")),
+            "ulps_p99": num(p.ulps("p99")), "ulps_max": num(p.ulps("max")), "ns_median": num(p.ns_median),
+            "ns_min": num(p.ns_min), "ns_max": num(p.ns_max),
+            "ns_real_median": num(statistics.median(p.ns_real) if p.ns_real else math.nan),
+            "repetitions": len(p.ns), "flops": num(flops), "div": num(p.raw.get("div")),
+            "sqrt": num(p.raw.get("sqrt")), "roofline_ns": num(bound),
+            "gflops": num(flops / p.ns_median if flops is not None and p.timed else None),
+            "pareto": int(p.pareto), "dominated_by": " ".join(p.dominated_by),
+            "vs_embree_median": num(p.raw.get("vs_embree_median")),
+            "vs_embree_p99": num(p.raw.get("vs_embree_p99")), "vs_embree_max": num(p.raw.get("vs_embree_max")),
+        })
+    return out.getvalue()
+
+
+def markdown_table(data: dict, pts: list[Point]) -> str:
+    """The same numbers as the terminal table, for the docs."""
+    order = {vid: i for i, vid in enumerate(variant_order(data))}
+    peak = data.get("peak") or {}
+    lines = [f"<!-- written by ./kit bench; do not edit -->", "", peak_line(data), ""]
+    m = data["meta"]
+    lines.append(f"Compiled with GCC {m['compiler']} `{m['flags']}`; {m['rays']} rays per family; "
+                 f"{m['repetitions']} timed repetitions of {m['batch']} rays (median, min and max of CPU time). "
+                 f"Errors in ulps of the result type against float128; ◆ marks the Pareto front.")
+    for fam in family_order(data):
+        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: order.get(p.vid, 99))
+        if not group:
+            continue
+        lines += ["", f"### {fam['label']}{' (hard)' if fam.get('hard') else ''}", "", fam["description"] + ".", "",
+                  "| | variant | type | ns/ray | min-max | median | p99 | max | misclassified | flops | roofline |",
+                  "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|"]
+        for p in group:
+            bound = p.roofline_ns(peak)
+            pct = f"{100 * bound / p.ns_median:.0f}%" if bound and p.timed else "-"
+            lines.append(
+                f"| {'◆' if p.pareto else ''} | {p.variant['label']} | {precision_word(p.variant)} | "
+                f"{fmt_ns(p.ns_median)} | {fmt_ns(p.ns_min)}-{fmt_ns(p.ns_max)} | {fmt_ulps(p.ulps('median'))} | "
+                f"{fmt_ulps(p.ulps('p99'))} | {fmt_ulps(p.ulps('max'))} | {fmt_share(p)} | "
+                f"{fmt_opt(p.raw.get('flops'), '.0f')} | {pct} |")
+    return "\n".join(lines) + "\n"
+
+
+# --- the plot ------------------------------------------------------------------------
+
+COLOURS = {
+    "textbook": "#d62728", "half-b": "#ff7f0e", "unit-dir": "#bcbd22", "geometric": "#8c564b",
+    "stable": "#1f77b4", "kit": "#000000", "student": "#e377c2", "embree": "#2ca02c",
+    "brute force": "#1f77b4",
+}
+SHAPES = {"float": "circle", "double": "square", "float, double inside": "diamond"}
+
+
+def _marker(shape: str, x: float, y: float, r: float, fill: str, stroke: str, width: float) -> str:
+    style = f'fill="{fill}" stroke="{stroke}" stroke-width="{width}"'
+    if shape == "square":
+        return f'<rect x="{x - r:.1f}" y="{y - r:.1f}" width="{2 * r:.1f}" height="{2 * r:.1f}" {style}/>'
+    if shape == "diamond":
+        q = r * 1.3
+        return f'<path d="M{x:.1f},{y - q:.1f} L{x + q:.1f},{y:.1f} L{x:.1f},{y + q:.1f} L{x - q:.1f},{y:.1f} Z" {style}/>'
+    return f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{r:.1f}" {style}/>'
+
+
+def _ticks_125(lo: float, hi: float) -> list[float]:
+    """1, 2, 5 times powers of ten between lo and hi."""
+    out = []
+    for e in range(math.floor(math.log10(lo)), math.ceil(math.log10(hi)) + 1):
+        out += [m * 10.0 ** e for m in (1, 2, 5) if lo <= m * 10.0 ** e <= hi]
+    return out
+
+
+def short_name(v: dict) -> str:
+    """A few characters for a point's label in the plot."""
+    special = {"kit": "kit", "student": "yours", "embree": "Embree", "brute force": "brute force"}
+    if v["formulation"] in special:
+        return special[v["formulation"]]
+    return v["formulation"] + {"float": " f", "double": " d", "float, double inside": " f/d"}.get(v["precision"], "")
+
+
+def _decades(lo: float, hi: float) -> tuple[int, int]:
+    a, b = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
+    return a, max(b, a + 1)
+
+
+def _esc(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+
+
+def plot_svg(data: dict, pts: list[Point]) -> str:
+    """ns/ray against p99 error, log-log, one panel per family, the Pareto front as
+    a dashed staircase, the kit's reference ringed."""
+    fams = [f for f in family_order(data) if any(p.family["id"] == f["id"] and p.timed for p in pts)]
+    timed = [p for p in pts if p.timed]
+    floor = 0.1  # errors below 0.1 ulp are drawn at 0.1
+    cols, pw, ph = 3, 330, 250
+    ml, mr, mt, mb = 58, 12, 30, 40
+    legend_h = 118
+    rows = max(1, math.ceil(len(fams) / cols))
+    width, height = cols * pw + 20, legend_h + rows * ph + 10
+    xs = [p.ns_min for p in timed] + [p.ns_max for p in timed]
+    # One time axis for every panel, a little wider than the data.
+    x0, x1 = (math.log10(max(min(xs), 1e-3) / 1.15), math.log10(max(xs) * 1.15)) if xs else (0.0, 2.0)
+    s = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+         f'viewBox="0 0 {width} {height}" font-family="Helvetica, Arial, sans-serif" font-size="11">',
+         f'<rect width="{width}" height="{height}" fill="white"/>',
+         f'<text x="10" y="20" font-size="15" font-weight="bold">Speed against error: ns per ray (CPU time, '
+         f'median, bar min-max) against p99 error in ulps of the result type</text>',
+         f'<text x="10" y="38" fill="#444">{_esc(subtitle(data))}</text>']
+    # legend
+    lx, ly = 10, 58
+    for i, (name, colour) in enumerate([(k, v) for k, v in COLOURS.items() if k != "brute force"]):
+        x = lx + (i % 8) * 122
+        s.append(_marker("circle", x + 5, ly, 5, colour, colour, 1))
+        label = {"kit": "kit reference", "student": "your step", "embree": "Embree"}.get(name, name)
+        s.append(f'<text x="{x + 14}" y="{ly + 4}">{_esc(label)}</text>')
+    ly += 20
+    for i, (name, shape) in enumerate(SHAPES.items()):
+        x = lx + i * 200
+        s.append(_marker(shape, x + 5, ly, 5, "#888", "#888", 1))
+        word = {"float": "float (float ulps)", "double": "double (double ulps)",
+                "float, double inside": "float in/out, double inside"}[name]
+        s.append(f'<text x="{x + 14}" y="{ly + 4}">{word}</text>')
+    s.append(_marker("circle", lx + 605, ly, 5, "white", "#888", 1.5))
+    s.append(f'<text x="{lx + 614}" y="{ly + 4}">hollow: misclassifies some rays</text>')
+    ly += 20
+    s.append(f'<path d="M{lx},{ly} h24" stroke="#333" stroke-dasharray="4,3" fill="none"/>')
+    s.append(f'<text x="{lx + 30}" y="{ly + 4}">Pareto front (nothing is both faster and more accurate)</text>')
+    s.append(f'<circle cx="{lx + 380}" cy="{ly}" r="9" fill="none" stroke="#000" stroke-width="1.2"/>')
+    s.append(f'<text x="{lx + 394}" y="{ly + 4}">the kit\'s reference solution</text>')
+    ly += 18
+    s.append(f'<text x="{lx}" y="{ly + 4}" fill="#444">Errors below {floor} ulp are drawn at {floor}; '
+             f'Embree\'s sphere error is that of its first hit only.</text>')
+
+    for k, fam in enumerate(fams):
+        ox, oy = 10 + (k % cols) * pw, legend_h + (k // cols) * ph
+        group = [p for p in timed if p.family["id"] == fam["id"]]
+        ys = [max(p.ulps("p99"), floor) for p in group if not math.isinf(p.ulps("p99"))]
+        y0, y1 = _decades(min(ys) if ys else floor, max(ys) if ys else 1)
+        iw, ih = pw - ml - mr, ph - mt - mb
+
+        def px(ns: float) -> float:
+            return ox + ml + (math.log10(ns) - x0) / (x1 - x0) * iw
+
+        def py(u: float) -> float:
+            u = max(u, floor)
+            return oy + mt + ih - (math.log10(u) - y0) / (y1 - y0) * ih
+
+        title = fam["label"] + (" (hard)" if fam.get("hard") else "")
+        s.append(f'<text x="{ox + ml}" y="{oy + 18}" font-weight="bold">{_esc(title)}</text>')
+        s.append(f'<rect x="{ox + ml}" y="{oy + mt}" width="{iw}" height="{ih}" fill="#fafafa" stroke="#999"/>')
+        for v in _ticks_125(10 ** x0, 10 ** x1):
+            x = px(v)
+            s.append(f'<path d="M{x:.1f},{oy + mt} v{ih}" stroke="#e3e3e3"/>')
+            s.append(f'<text x="{x:.1f}" y="{oy + mt + ih + 14}" text-anchor="middle">{v:g}</text>')
+        for e in range(y0, y1 + 1):
+            y = py(10 ** e)
+            s.append(f'<path d="M{ox + ml},{y:.1f} h{iw}" stroke="#e3e3e3"/>')
+            s.append(f'<text x="{ox + ml - 4}" y="{y + 4:.1f}" text-anchor="end">{10 ** e:g}</text>')
+        s.append(f'<text x="{ox + ml + iw / 2}" y="{oy + mt + ih + 30}" text-anchor="middle" fill="#444">'
+                 f'ns per ray</text>')
+        s.append(f'<text transform="translate({ox + 14},{oy + mt + ih / 2}) rotate(-90)" text-anchor="middle" '
+                 f'fill="#444">p99 error, ulps</text>')
+        # the front: a staircase through its points, fastest first
+        front = sorted((p for p in group if p.pareto and not math.isinf(p.ulps("p99"))), key=lambda p: p.ns_median)
+        if front:
+            d = f"M{px(front[0].ns_median):.1f},{oy + mt}"
+            d += f" V{py(front[0].ulps('p99')):.1f}"
+            for a in front[1:]:
+                d += f" H{px(a.ns_median):.1f} V{py(a.ulps('p99')):.1f}"
+            d += f" H{ox + ml + iw}"
+            s.append(f'<path d="{d}" stroke="#333" stroke-dasharray="4,3" fill="none"/>')
+        labels: list[tuple[Point, float, float]] = []
+        for p in sorted(group, key=lambda p: p.pareto):
+            u = p.ulps("p99")
+            y = py(u) if not math.isinf(u) else oy + mt + 4
+            colour = COLOURS.get(p.variant["formulation"], "#777")
+            s.append(f'<path d="M{px(p.ns_min):.1f},{y:.1f} H{px(p.ns_max):.1f}" stroke="{colour}" '
+                     f'stroke-opacity="0.6"/>')
+            fill = "white" if p.raw["misclassified"] else colour
+            shape = SHAPES.get(p.variant["precision"], "circle")
+            s.append(_marker(shape, px(p.ns_median), y, 4.5 if p.pareto else 3.5, fill, colour,
+                             1.5 if p.raw["misclassified"] else 0.8)
+                     .replace("/>", f"><title>{_esc(p.variant['label'])}: {fmt_ns(p.ns_median)} ns, p99 "
+                                    f"{fmt_ulps(u)} ulps, {fmt_share(p)} misclassified</title></"
+                                    + ("rect>" if shape == "square" else "path>" if shape == "diamond"
+                                       else "circle>")))
+            if p.pareto or p.vid in ("kit", "kit_rect", "kit_scene", "student", "stable_f32"):
+                labels.append((p, px(p.ns_median), y))
+            if p.vid in ("kit", "kit_rect", "kit_scene"):
+                s.append(f'<circle cx="{px(p.ns_median):.1f}" cy="{y:.1f}" r="9" fill="none" stroke="#000" '
+                         f'stroke-width="1.2"/>')
+        s += _place_labels(labels, (ox + ml, oy + mt, ox + ml + iw, oy + mt + ih))
+    s.append("</svg>")
+    return "\n".join(s) + "\n"
+
+
+def _place_labels(labels: list, box: tuple) -> list[str]:
+    """Puts each label next to its point where it overlaps no other label and no
+    marker, trying right, left, above and below; the kit's own first."""
+    left, top, right, bottom = box
+    taken = [(x - 5, y - 5, x + 5, y + 5) for _, x, y in labels]   # the markers
+    out = []
+    order = sorted(labels, key=lambda t: t[0].vid not in ("kit", "kit_rect", "kit_scene", "student"))
+    for p, x, y in order:
+        name = short_name(p.variant)
+        w, h = 5.4 * len(name), 10
+        for dx, dy, anchor in ((9, 3.5, "start"), (-9, 3.5, "end"), (4, -8, "start"), (4, 15, "start"),
+                               (-4, -8, "end"), (-4, 15, "end")):
+            x0 = x + dx if anchor == "start" else x + dx - w
+            rect = (x0, y + dy - 8, x0 + w, y + dy - 8 + h)
+            inside = rect[0] >= left and rect[2] <= right and rect[1] >= top and rect[3] <= bottom
+            clear = all(rect[2] < a or rect[0] > c or rect[3] < b or rect[1] > d
+                        for a, b, c, d in taken if not (a == x - 5 and b == y - 5))
+            if inside and clear:
+                taken.append(rect)
+                out.append(f'<text x="{x + dx:.1f}" y="{y + dy:.1f}" font-size="9.5" text-anchor="{anchor}" '
+                           f'fill="#222">{_esc(name)}</text>')
+                break
+    return out

@@ -1,0 +1,129 @@
+"""./kit test checks for ./kit bench: it runs in quick mode and its output parses.
+
+No check judges a time: the machine may be busy. The errors, though, are
+deterministic (fixed seeds, same code), so a few facts about them are checked,
+facts that only hold when the float128 yardstick and the ulp measure work.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import subprocess
+import tempfile
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import cmd_bench
+from cmd_test import Failed, expect, kit
+from common import BUILD, ROOT
+
+SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside"}
+FORMULATIONS = {"textbook", "half-b", "unit-dir", "geometric", "stable"}
+
+
+def _rows(path: Path) -> dict[tuple[str, str], dict]:
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    expect(rows and set(cmd_bench.report.CSV_FIELDS) <= set(rows[0]), f"{path.name}: missing columns")
+    return {(r["family"], r["variant"]): r for r in rows}
+
+
+def _number(row: dict, key: str) -> float:
+    try:
+        return float(row[key])
+    except ValueError:
+        raise Failed(f"results.csv: {row['variant']} on {row['family']}: {key} = '{row[key]}' is not a number")
+
+
+def check_quick_run(ctx) -> str:
+    with tempfile.TemporaryDirectory() as tmp:
+        r = kit("bench", "--quick", "--out", tmp, timeout=900)
+        expect(r.returncode == 0, f"./kit bench --quick exited {r.returncode}:\n{(r.stdout + r.stderr)[-3000:]}")
+        out = Path(tmp)
+        for name in cmd_bench.OUTPUTS:
+            expect((out / name).is_file(), f"./kit bench --quick wrote no {name}")
+        expect(not list(out.glob("*.tmp")), "a temporary file was left behind")
+        rows = _rows(out / "results.csv")
+
+        # Every formulation, in float and double, on every sphere family, timed.
+        for fam in SPHERE_FAMILIES:
+            for f in FORMULATIONS:
+                for suffix in ("_f32", "_f64"):
+                    row = rows.get((fam, f + suffix))
+                    expect(row is not None, f"results.csv has no row for {f + suffix} on {fam}")
+                    ns = _number(row, "ns_median")
+                    expect(math.isfinite(ns) and ns > 0, f"{f + suffix} on {fam}: ns_median {ns}")
+                    expect(_number(row, "ulps_p99") >= 0, f"{f + suffix} on {fam}: negative error")
+        expect(("typical", "kit") in rows, "the kit's reference was not measured")
+        expect(("box_camera", "brute_force") in rows, "the Cornell box was not measured")
+
+        # Facts about the errors (not the times) that a broken yardstick would miss.
+        far_text, far_stable = rows[("far_1e4", "textbook_f32")], rows[("far_1e4", "stable_f32")]
+        expect(int(far_text["misclassified"]) > 0 and int(far_stable["misclassified"]) == 0,
+               "1e4 radii away, the textbook form in float must misclassify rays and the stable form none")
+        expect(_number(far_stable, "ulps_p99") < 10 < _number(far_text, "ulps_p99"),
+               "1e4 radii away, the stable form must stay within a few ulps and the textbook form must not")
+        rounded = _number(rows[("typical", "half-b_f32_in_f64")], "ulps_max")
+        expect(rounded <= 0.5 + 1e-3, f"a double result rounded to float must be within half an ulp, got {rounded}")
+
+        data = json.loads((out / "results.json").read_text())
+        student = next(v for v in data["variants"] if v["id"] == "student")
+        expect(student["status"] == "not_started",
+               f"the shipped stub must show as not started in the benchmark, got '{student['status']}'")
+        expect("not started" in r.stdout, "the table does not say the student's step is not started")
+
+        svg = ET.parse(out / "plot.svg").getroot()
+        expect(svg.tag.endswith("svg"), "plot.svg is not an SVG")
+        texts = {t.text for t in svg.iter() if t.tag.endswith("text")}
+        missing = [f["label"] for f in data["families"] if not any((t or "").startswith(f["label"]) for t in texts)]
+        expect(not missing, f"plot.svg has no panel for: {', '.join(missing)}")
+
+        # Remaking the outputs from results.json measures nothing and changes nothing.
+        again = out / "again"
+        again.mkdir()
+        r2 = kit("bench", "--from", str(out / "results.json"), "--out", str(again), timeout=120)
+        expect(r2.returncode == 0, f"./kit bench --from exited {r2.returncode}: {r2.stderr[-500:]}")
+        expect((again / "results.csv").read_text() == (out / "results.csv").read_text(),
+               "./kit bench --from results.json does not remake the same results.csv")
+
+        # Comparing a run with itself: every error identical.
+        lines = cmd_bench.compare(rows_as_csv(out), rows_as_csv(again))
+        expect(f"errors identical in {len(rows)}" in lines[0], f"--compare with itself: {lines[0]}")
+    return f"{len(rows)} rows; CSV, JSON, Markdown and SVG parse; student step 'not started'"
+
+
+def rows_as_csv(out: Path) -> dict:
+    return cmd_bench.read_csv(out / "results.csv")
+
+
+def check_bad_input(ctx) -> str:
+    exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
+    expect(exe.is_file(), f"{exe} was not built")
+    for args, words in [(["--rays=abc"], "whole number"), (["--rays=-5"], "whole number"),
+                        (["--min-time=0"], "seconds"), (["--min-time=nan"], "seconds"),
+                        (["--bogus"], "unknown option"), (["--out="], "file name"), (["--quick=3"], "no value")]:
+        r = subprocess.run([str(exe), *args], capture_output=True, text=True, timeout=30)
+        expect(r.returncode == 2, f"raykit_bench {' '.join(args)} exited {r.returncode}, expected 2")
+        expect(words in r.stderr, f"raykit_bench {' '.join(args)}: message lacks '{words}': {r.stderr[-200:]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        blocker = Path(tmp) / "file"
+        blocker.write_text("")
+        for args, words in [(["--out", str(blocker)], "not a folder"),
+                            (["--out", str(Path(tmp) / "no" / "such")], "does not exist"),
+                            (["--compare", str(Path(tmp) / "missing.csv")], "No such file"),
+                            (["--compare", str(blocker)], "not a results.csv"),
+                            (["--from", str(blocker)], "not JSON"),
+                            (["--from", str(Path(tmp) / "missing.json")], "No such file")]:
+            r = kit("bench", *args, timeout=60)
+            expect(r.returncode == 2, f"./kit bench {' '.join(args)} exited {r.returncode}, expected 2")
+            expect(words in r.stderr, f"./kit bench {' '.join(args)}: message lacks '{words}': {r.stderr[-300:]}")
+        r = subprocess.run([str(exe), "--smoke", f"--out={Path(tmp) / 'no' / 'such.json'}"], capture_output=True,
+                           text=True, timeout=120)
+        expect(r.returncode == 1 and "cannot write" in r.stderr, "an unwritable --out must fail with a message")
+    return "bad options and folders: message and exit 2, nothing written"
+
+
+def checks() -> list:
+    return [("bench runs and its output parses", check_quick_run), ("bench command line errors", check_bad_input)]
