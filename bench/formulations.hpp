@@ -131,6 +131,26 @@ RAYKIT_FORMULATION RootsOf<T> stable(const Sample<T>& s) {
     return {2, {t0, t1}};
 }
 
+/// The half-b discriminant h^2 - ac with the stable root pair q/a, c/q: the
+/// kit's reference for step 02 computes this in double (see in_double). In
+/// double, h^2 - ac no longer loses float precision for the families here, so
+/// only the root pair, which guards a tiny root beside a large one, is kept.
+template <class T>
+RAYKIT_FORMULATION RootsOf<T> half_b_pair(const Sample<T>& s) {
+    using std::copysign;
+    using std::sqrt;
+    const Vec3<T> f = s.o - s.c;
+    const T a = dot(s.d, s.d);
+    const T h = dot(f, s.d);
+    const T c = dot(f, f) - s.r * s.r;
+    const T disc = h * h - a * c;
+    if (!(disc >= T(0))) return {};
+    const T q = -(h + copysign(sqrt(disc), h));
+    const T t0 = q / a;
+    const T t1 = c / q;
+    return {2, {t0 < t1 ? t0 : t1, t0 < t1 ? t1 : t0}};
+}
+
 /// Float in, float out, arithmetic in double: formulation F on the inputs
 /// widened to double (exactly: every float is a double), its roots rounded
 /// back to float once at the end. What "just use double inside" costs and buys

@@ -100,7 +100,9 @@ std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool s
         for (Variant mixed : {formulation<float, in_double<half_b<double>>, half_b<Counted<float>>>(
                                   data, "half-b", ""),
                               formulation<float, in_double<stable<double>>, stable<Counted<float>>>(
-                                  data, "stable", "")}) {
+                                  data, "stable", ""),
+                              formulation<float, in_double<half_b_pair<double>>, half_b_pair<Counted<float>>>(
+                                  data, "half-b-pair", "")}) {
             mixed.id = mixed.formulation + "_f32_in_f64";
             mixed.label = mixed.formulation + ", double inside";
             mixed.precision = "float, double inside";
