@@ -166,6 +166,12 @@ def status_lines(data: dict) -> list[str]:
     return lines
 
 
+# The formulation solutions/02_general_sphere/general_sphere.cpp computes: the benchmark also times it
+# inlined into one call like every other formulation, so it can be judged on equal terms. The kit's
+# packaged function pays for two calls across libraries and its input guards on top.
+KIT_FORMULATION = "half-b_f32_in_f64"
+
+
 def reference_verdict(pts: list[report.Point]) -> list[str]:
     """Where the kit's reference sits on each hard family's front."""
     lines = []
@@ -175,6 +181,13 @@ def reference_verdict(pts: list[report.Point]) -> list[str]:
         fam = p.family["label"]
         if p.pareto:
             lines.append(f"  {fam}: on the front")
+            continue
+        same = next((q for q in pts if q.family is p.family and q.vid == KIT_FORMULATION), None)
+        if same is not None and same.pareto and same.ulps("p99") == p.ulps("p99"):
+            lines.append(f"  {fam}: its formulation ({same.variant['label']}) is on the front "
+                         f"({report.fmt_ns(same.ns_median)} ns, p99 {report.fmt_ulps(same.ulps('p99'))}); "
+                         f"the packaged function, two calls and its input checks, takes "
+                         f"{report.fmt_ns(p.ns_median)} ns with the same answers")
             continue
         by = [q for q in pts if q.family is p.family and q.vid in p.dominated_by]
         clear = [q for q in by if report.clearly_faster(q, p)]
