@@ -50,6 +50,9 @@ def status_cell(r: StepResult) -> tuple[str, str]:
     extra = ""
     if robust and r.state in ("done", "partial"):
         extra = f"  ★ robust {r.passed('robust')} of {len(robust)}"
+    waiting = sum(c.status == "not_started" for c in r.tier("basic"))
+    if r.state == "partial" and waiting:
+        extra += f"  ({waiting} not started yet)"
     incidents = r.incidents()
     if incidents and r.state != "not_started":
         kinds = sorted({STATUS_WORDS[c.status] for c in incidents})
