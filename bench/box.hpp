@@ -46,8 +46,11 @@ struct BoxHit {
 /// t = (offset - o_axis) / d_axis, then the hit point's other two coordinates
 /// must fall inside the rectangle. A ray parallel to the plane (d_axis = 0)
 /// gives t = +-inf or NaN, which fails the window test.
+/// Always inlined: whether GCC inlines it otherwise depends on how many callers it has, and the
+/// loop below is timed as the benchmark's model of a renderer's inner loop.
 template <class T>
-bool hit_rect(const Vec3<T>& o, const Vec3<T>& d, const Rect3& r, T tmin, T tmax, T& t) {
+__attribute__((always_inline)) inline bool hit_rect(const Vec3<T>& o, const Vec3<T>& d, const Rect3& r, T tmin,
+                                                    T tmax, T& t) {
     int u, v;
     other_axes(r.axis, u, v);
     const T t_plane = (T(r.offset) - component(o, r.axis)) / component(d, r.axis);

@@ -4,6 +4,7 @@
 // functions are (they live in other translation units); results go to an
 // array the compiler must write.
 
+#include <optional>
 #include <type_traits>
 
 #include "formulations.hpp"
@@ -176,6 +177,43 @@ __attribute__((noinline)) BoxHit own_brute_force_call(const Vec3<float>& o, cons
     return brute_force<float>(o, d, rects, n, 0.0f);
 }
 
+// The benchmark's own rectangle test behind one out-of-line call per rectangle, in the two
+// shapes a library could give it: a std::optional<float> (the kit's interface) and a bool with
+// t by reference. Same arithmetic as the loop above; only the call and the return differ.
+__attribute__((noinline)) std::optional<float> rect_call_optional(const Vec3<float>& o, const Vec3<float>& d,
+                                                                   const Rect3& r, float tmin, float tmax) {
+    float t;
+    if (hit_rect(o, d, r, tmin, tmax, t)) return t;
+    return std::nullopt;
+}
+
+__attribute__((noinline)) bool rect_call_plain(const Vec3<float>& o, const Vec3<float>& d, const Rect3& r,
+                                               float tmin, float tmax, float& t) {
+    return hit_rect(o, d, r, tmin, tmax, t);
+}
+
+template <bool Optional>
+BoxHit brute_force_calls(const Vec3<float>& o, const Vec3<float>& d, const Rect3* rects, int n) {
+    BoxHit best;
+    float tmax = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < n; ++i) {
+        float t = 0;
+        bool hit;
+        if constexpr (Optional) {
+            const std::optional<float> h = rect_call_optional(o, d, rects[i], 0.0f, tmax);
+            hit = h.has_value();
+            if (hit) t = *h;
+        } else {
+            hit = rect_call_plain(o, d, rects[i], 0.0f, tmax, t);
+        }
+        if (hit && (!best.hit || t < tmax)) {
+            tmax = t;
+            best = {true, i, t};
+        }
+    }
+    return best;
+}
+
 std::vector<Variant> box_variants(const std::vector<BoxData>& data) {
     std::vector<Variant> out;
     const auto* d = &data;
@@ -210,6 +248,27 @@ std::vector<Variant> box_variants(const std::vector<BoxData>& data) {
         return op_count();
     };
     out.push_back(own);
+
+    // Where the kit's own loop loses its time: the same test as the loop above, one call per
+    // rectangle, returning a bool (and t by reference) or a std::optional<float>.
+    for (bool optional : {false, true}) {
+        Variant call = base(optional ? "call_optional" : "call_plain", "brute force",
+                            optional ? "one call per rectangle, optional" : "one call per rectangle, bool");
+        call.note = optional ? "hit_rect behind an out-of-line call returning std::optional<float>"
+                             : "hit_rect behind an out-of-line call returning bool, t by reference";
+        const auto loop = optional ? &brute_force_calls<true> : &brute_force_calls<false>;
+        call.answer = [d, loop](std::size_t f, std::size_t i) {
+            const BoxData& b = (*d)[f];
+            return from_box(loop(b.o[i], b.d[i], b.table.data(), static_cast<int>(b.table.size())));
+        };
+        call.pass = [d, loop](std::size_t f) {
+            const BoxData& b = (*d)[f];
+            const std::size_t n = batch_size(b.o.size());
+            const int rects = static_cast<int>(b.table.size());
+            for (std::size_t i = 0; i < n; ++i) g_out_box[i] = loop(b.o[i], b.d[i], b.table.data(), rects);
+        };
+        out.push_back(call);
+    }
 
     Variant kit_rect = base("kit_rect", "kit", "kit step 04, intersect_rect over the table");
     kit_rect.note = "raykit::intersect_rect for each rectangle, window shrinking";
