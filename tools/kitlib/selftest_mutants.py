@@ -46,7 +46,10 @@ def check_mutants(ctx) -> str:
             shutil.rmtree(work, ignore_errors=True)
             for dep in _needed(step, by_number):
                 shutil.copytree(ROOT / "solutions" / dep.folder, work / dep.folder)
-            shutil.copytree(mutant, work / step.folder)
+            # A mutant folder holds the files its slip is in; the step's other files are the
+            # reference ones, so the whole is a complete answer with one mistake.
+            shutil.copytree(ROOT / "solutions" / step.folder, work / step.folder)
+            shutil.copytree(mutant, work / step.folder, dirs_exist_ok=True)
             report = BUILD / "mutant.json"
             r = kit("check", str(int(step.number)), "--steps", str(work), "--json", str(report), "--quiet")
             result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.exists() else None
