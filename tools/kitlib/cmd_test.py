@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import importlib
 import re
-import shutil
 import subprocess
 import sys
 import time
@@ -19,7 +18,7 @@ from pathlib import Path
 
 from common import BUILD, PACKAGES, ROOT, KitError, ensure_packages, load_steps, paint, preset_build, say, \
     submission_build
-from common import build_target
+from common import build_target, stage_on_reference
 from grade import StepResult, grade, list_cases
 
 
@@ -96,12 +95,7 @@ def check_stubs_not_started(ctx: Context) -> str:
         if r.state == "locked":
             # A step that needs another waits while that one is a stub. Grade its stub on top of the
             # reference answers to the steps it needs, so its own cases are shown to fail too.
-            staging = BUILD / "stub-steps"
-            shutil.rmtree(staging, ignore_errors=True)
-            for need in r.step.needs:
-                dep = next(s for s in ctx.steps if s.number == need)
-                shutil.copytree(ROOT / "solutions" / dep.folder, staging / dep.folder)
-            shutil.copytree(ROOT / "steps" / r.step.folder, staging / r.step.folder)
+            staging = stage_on_reference(BUILD / "stub-steps", r.step, ctx.steps, ROOT / "steps" / r.step.folder)
             [r] = grade(submission_build(staging, "stubs"), [r.step], ctx.steps)
             results[i] = r
         if r.state != "not_started":

@@ -90,6 +90,29 @@ def select_steps(steps: list[Step], wanted: list[str]) -> list[Step]:
     return sorted(chosen, key=lambda s: s.number)
 
 
+def prerequisites(step: Step, steps: list[Step]) -> list[Step]:
+    """The steps `step` links, directly or through another, in course order."""
+    by_number = {s.number: s for s in steps}
+    found: set[str] = set()
+    todo = list(step.needs)
+    while todo:
+        n = todo.pop()
+        if n not in found:
+            found.add(n)
+            todo += by_number[n].needs
+    return [s for s in steps if s.number in found]
+
+
+def stage_on_reference(target: Path, step: Step, steps: list[Step], files: Path) -> Path:
+    """A steps folder at `target`: the reference answers of the steps `step` needs and of `step`
+    itself, with the files in `files` (a stub, a mutant's changed files) laid over the latter."""
+    shutil.rmtree(target, ignore_errors=True)
+    for s in prerequisites(step, steps) + [step]:
+        shutil.copytree(ROOT / "solutions" / s.folder, target / s.folder)
+    shutil.copytree(files, target / step.folder, dirs_exist_ok=True)
+    return target
+
+
 # --- packages --------------------------------------------------------------------
 
 # Debian package names each command needs. The first ./kit call installs what is

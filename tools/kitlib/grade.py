@@ -17,7 +17,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from common import Build, Step, build_target, configure
+from common import Build, Step, build_target, configure, prerequisites
 
 CASE_SECONDS = 3.0          # one case may run this long before it counts as hung ...
 HUNG_AGAIN_SECONDS = 0.5    # ... and, once one case of the step has hung, this long
@@ -213,9 +213,7 @@ def grade(build: Build, steps: list[Step], all_steps: list[Step]) -> list[StepRe
     """Grades `steps`, and first the steps they need (quietly, to know whether they are done)."""
     configure(build)
     wanted = {s.number for s in steps}
-    needed: set[str] = set()
-    for s in steps:
-        needed.update(s.needs)
+    needed = {p.number for s in steps for p in prerequisites(s, all_steps)}
     results: dict[str, StepResult] = {}
     for s in all_steps:
         if s.number in wanted or s.number in needed:

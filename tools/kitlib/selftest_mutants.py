@@ -10,20 +10,10 @@ import json
 import shutil
 from collections import defaultdict
 
-from common import BUILD, ROOT, load_steps
+from common import BUILD, ROOT, load_steps, stage_on_reference
 
 MUTANTS = ROOT / "tests" / "mutants"
 MINIMUM_PER_STEP = 8
-
-
-def _needed(step, by_number) -> list:
-    out, todo = [], list(step.needs)
-    while todo:
-        n = todo.pop()
-        if n not in [s.number for s in out]:
-            out.append(by_number[n])
-            todo += by_number[n].needs
-    return out
 
 
 def check_mutants(ctx) -> str:
@@ -32,7 +22,6 @@ def check_mutants(ctx) -> str:
     need_solutions()
 
     steps = load_steps()
-    by_number = {s.number: s for s in steps}
     scores: dict[str, list[int]] = defaultdict(lambda: [0, 0])
     escaped = []
     work = BUILD / "mutant-steps"
@@ -43,13 +32,9 @@ def check_mutants(ctx) -> str:
             raise Failed(f"step {step.number} has {len(mutants)} mutants in tests/mutants/{step.folder}/, "
                          f"at least {MINIMUM_PER_STEP} are needed")
         for mutant in mutants:
-            shutil.rmtree(work, ignore_errors=True)
-            for dep in _needed(step, by_number):
-                shutil.copytree(ROOT / "solutions" / dep.folder, work / dep.folder)
             # A mutant folder holds the files its slip is in; the step's other files are the
             # reference ones, so the whole is a complete answer with one mistake.
-            shutil.copytree(ROOT / "solutions" / step.folder, work / step.folder)
-            shutil.copytree(mutant, work / step.folder, dirs_exist_ok=True)
+            stage_on_reference(work, step, steps, mutant)
             report = BUILD / "mutant.json"
             r = kit("check", str(int(step.number)), "--steps", str(work), "--json", str(report), "--quiet")
             result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.exists() else None
