@@ -59,7 +59,7 @@ def status_cell(r: StepResult) -> tuple[str, str]:
     if hidden and r.state in ("done", "partial"):
         extra += f"  hidden {r.passed('hidden')} of {len(hidden)}"
     if robust and r.state in ("done", "partial"):
-        extra = f"  ★ robust {r.passed('robust')} of {len(robust)}"
+        extra += f"  ★ robust {r.passed('robust')} of {len(robust)}"
     waiting = sum(c.status == "not_started" for c in r.tier("basic"))
     if r.state == "partial" and waiting:
         extra += f"  ({waiting} not started yet)"
