@@ -91,16 +91,10 @@ TEST_CASE("unit_sphere_roots on exact tangents and axis rays" *
 }
 
 TEST_CASE("unit_sphere_roots on degenerate input" * doctest::description("2. The ray meets the sphere")) {
-    roots_family("01 degenerate", [](Draw& d) {
-        Ray ray{d.around(unit.center, 0, 5), d.direction()};
-        const float bad[] = {0.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                             3e19f};
-        const int which = d.integer(0, 3);
-        if (which == 0) ray.direction = {0, 0, 0};
-        else if (which == 3) ray.direction *= bad[3];
-        else (d.coin() ? ray.origin : ray.direction)[d.integer(0, 2)] = bad[which];
-        return ray;
-    }, "A zero direction, NaN or infinity, or a d.d that overflows: no roots.");
+    // The basic tier's degenerate input: a zero direction, from anywhere (NaN and
+    // infinity are the ★ tier's: they are not drawn here).
+    roots_family("01 degenerate", [](Draw& d) { return Ray{d.around(unit.center, 0, 5), {0, 0, 0}}; },
+                 "With d = 0 there is no line to intersect: no roots.");
 }
 
 TEST_CASE("intersect_unit_sphere with random windows" * doctest::description("5. The closest root in a window")) {
