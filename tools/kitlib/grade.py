@@ -257,7 +257,9 @@ def grade_step(build: Build, step: Step, results: dict[str, StepResult], isolati
 
 def grade(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN) -> list[StepResult]:
     """Grades `steps`; without a reference, first the steps they need (quietly, to know whether they are done)."""
-    configure(build)
+    cache = build.binary_dir / "CMakeCache.txt"
+    if not cache.is_file() or f"RAYKIT_STEPS_DIR:PATH={build.steps_dir}\n" not in cache.read_text(errors="replace"):
+        configure(build)    # once; afterwards the build tool re-runs CMake itself when its inputs change
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     results: dict[str, StepResult] = {}
