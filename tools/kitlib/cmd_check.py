@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import time
@@ -174,6 +175,7 @@ def register(p) -> None:
                    choices=["hidden", "after_due_date", "after_published", "visible"],
                    help="Gradescope visibility of the hidden cases in --json (default: after_due_date)")
     p.add_argument("--reveal", action="store_true", help="show the inputs of failed hidden cases (instructors)")
+    p.add_argument("--slot", type=int, default=0, help=argparse.SUPPRESS)  # ./kit grade -j: build folder and sandbox
 
 
 def run(args) -> int:
@@ -182,13 +184,13 @@ def run(args) -> int:
     steps = select_steps(all_steps, args.numbers)
     if args.steps:
         source = resolve_steps_dir(args.steps)
-        build = submission_build(source)
+        build = submission_build(source, "submission" if args.slot == 0 else f"submission-{args.slot}")
     else:
         build = preset_build("student")
         source = build.steps_dir
     wanted = args.isolation or ("auto" if args.steps else "none")
     try:
-        isolation = NONE_OWN if wanted == "none" and not args.steps else choose(wanted)
+        isolation = NONE_OWN if wanted == "none" and not args.steps else choose(wanted, args.slot)
     except RuntimeError as e:
         raise KitError(f"--isolation {wanted}: {e}")
     if args.json:  # fail early on a path we cannot write, before any building
