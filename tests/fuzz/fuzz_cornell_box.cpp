@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "raykit/cornell_box.hpp"
-#include "raykit/scene.hpp"
+#include "raykit/render.hpp"
 
 using namespace raykit;
 

@@ -7,7 +7,7 @@
 
 #include "rect_oracle.hpp"
 #include "raykit/cornell_box.hpp"
-#include "raykit/scene.hpp"
+#include "raykit/render.hpp"
 
 using namespace raykit;
 

@@ -36,7 +36,7 @@ Camera look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& w
                float vertical_fov_degrees, int width, int height);
 
 /// The tool's own view ray, so that the sphere and rectangle scenes do not
-/// need step 05. Same contract as raykit::view_ray (camera.hpp).
+/// need step 05. Same contract as raykit::view_ray (render.hpp).
 Ray pixel_ray(const Camera& camera, int i, int j);
 
 /// The usual picture of a unit normal: each component from [-1, 1] to [0, 1].
