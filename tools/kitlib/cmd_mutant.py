@@ -319,6 +319,8 @@ def _save(step: Step, args, target: Path) -> int:
         return 1
     missed = [c for c in cases if c not in failing]
     say(f"caught by {len(failing)} basic case(s); the patch names: " + ", ".join(cases))
+    if not args.caught_by and len(cases) > 2:
+        say("name only the one or two cases made for this slip: save again with --caught-by CASE (repeatable)")
     if missed:
         say("these named cases do not fail on it: " + ", ".join(missed))
         return 1
