@@ -13,12 +13,10 @@
 
 namespace raykit {
 
-/// Every `t` at which the line of \p ray meets \p sphere,
-/// `|x - c|^2 = r^2`.
+/// Every `t` at which the line of \p ray meets \p sphere, `|x - center|^2 = r^2`.
 ///
-/// With `f = o - c` (the origin seen from the
-/// centre), substituting the ray gives
-/// `(d.d) t^2 + 2(f.d) t + (f.f - r^2) = 0`.
+/// With `f = o - center` (the origin seen from the centre), substituting the
+/// ray gives `(d.d) t^2 + 2(f.d) t + (f.f - r^2) = 0`.
 ///
 /// \param ray    any ray; its direction need not be unit length.
 /// \param sphere any centre; a radius that is not a positive finite number

@@ -41,6 +41,7 @@ WORK = BUILD / "mutants"            # the instructor's copies, one folder per mu
 # One line of context around each change: enough to place a hunk exactly, and two slips in the
 # same line of the reference share no more than the lines they both remove.
 CONTEXT_LINES = 1
+GRADE_SECONDS = 900                 # one mutant, build included
 
 _HEADER = re.compile(r"^Slip: (?P<slip>.+?)\s+Caught by: (?P<cases>.*)$")
 _HUNK = re.compile(r"^@@ -(\d+)(?:,(\d+))? \+(\d+)(?:,(\d+))? @@")
@@ -196,8 +197,12 @@ def grade_files(step: Step, files: dict[str, str], work: Path) -> tuple[int, dic
     staged = stage_on_reference(work / "steps", step, load_steps(), changed)
     report = work / "result.json"
     report.unlink(missing_ok=True)
-    r = subprocess.run([str(ROOT / "kit"), "check", str(int(step.number)), "--steps", str(staged),
-                        "--json", str(report), "--quiet"], cwd=ROOT, capture_output=True, text=True)
+    try:
+        r = subprocess.run([str(ROOT / "kit"), "check", str(int(step.number)), "--steps", str(staged),
+                            "--json", str(report), "--quiet"], cwd=ROOT, capture_output=True, text=True,
+                           timeout=GRADE_SECONDS)
+    except subprocess.TimeoutExpired:
+        return -1, None     # the grader limits every case; a build that never ends is reported as not caught
     result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.exists() else None
     return r.returncode, result
 
