@@ -5,6 +5,7 @@ from __future__ import annotations
 import shutil
 import subprocess
 
+from cmd_mutant import patches, write_answer
 from common import BUILD, ROOT, load_steps
 
 
@@ -49,11 +50,12 @@ def check_handout(ctx) -> str:
     step = load_steps()[0]
     r = check(str(int(step.number)))
     expect(r.returncode == 1 and "not started" in r.stdout, f"handout: a fresh step is not 'not started':\n{r.stdout[-800:]}")
-    mutant = sorted((ROOT / "tests" / "mutants" / step.folder).iterdir())[0]
+    mutant = patches(step)[0]
+    answer = write_answer(step, mutant, BUILD / "handout-mutant")
     for f in step.files:
-        shutil.copyfile(mutant / f, target / "steps" / step.folder / f)
+        shutil.copyfile(answer / f, target / "steps" / step.folder / f)
     r = check(str(int(step.number)))
-    expect(r.returncode == 1 and "of" in r.stdout, f"handout: a wrong answer ({mutant.name}) is not caught")
+    expect(r.returncode == 1 and "of" in r.stdout, f"handout: a wrong answer ({mutant.stem}) is not caught")
     for f in step.files:
         shutil.copyfile(ROOT / "solutions" / step.folder / f, target / "steps" / step.folder / f)
     r = check(str(int(step.number)))
@@ -62,7 +64,7 @@ def check_handout(ctx) -> str:
     expect(r.returncode == 0, f"the handout's own ./kit test failed:\n{r.stdout[-1500:]}")
     shutil.rmtree(target, ignore_errors=True)
     return ("no solution line in the copy; "
-            f"step {step.number}: stub not started, {mutant.name} caught, solution done; its ./kit test passes")
+            f"step {step.number}: stub not started, {mutant.stem} caught, solution done; its ./kit test passes")
 
 
 def checks():

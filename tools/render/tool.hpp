@@ -4,6 +4,7 @@
 // step's code only, so a step that does not compile costs only its scenes.
 //
 //   raykit_render_stepNN SCENE SHADING WIDTH HEIGHT OUT
+//   raykit_render_stepNN --smoke OUT     (the first scene in its last shading, 40 x 30)
 //
 // OUT ending in .png gets the picture; OUT ending in .txt gets it as letters,
 // one a pixel (see palette_letter). Exit status: 0 written, 2 bad arguments,
@@ -36,7 +37,7 @@ Camera look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& w
                float vertical_fov_degrees, int width, int height);
 
 /// The tool's own view ray, so that the sphere and rectangle scenes do not
-/// need step 05. Same contract as raykit::view_ray (camera.hpp).
+/// need step 05. Same contract as raykit::view_ray (render.hpp).
 Ray pixel_ray(const Camera& camera, int i, int j);
 
 /// The usual picture of a unit normal: each component from [-1, 1] to [0, 1].
