@@ -79,7 +79,7 @@ class StepPages:
     step: Step
     lecture: Path | None        # lectures/NN-topic.md, when written
     task: Path | None           # steps/NN_topic/README.md, when written
-    image: Path | None          # docs/images/NN*.png or <topic>.png, the reference render
+    image: Path | None          # the reference render: step.json "image", its first scene, NN*.png or <topic>.png
     headers: dict[str, str]     # function -> header that declares it
 
 
