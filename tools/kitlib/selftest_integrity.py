@@ -76,9 +76,16 @@ def grade_json(folder: Path, numbers: list[str], isolation: str, json_path: Path
             raise Failed(f"./kit check --steps {folder.name} --isolation {isolation} exited {r.returncode}: "
                          f"{(r.stderr or r.stdout)[-800:]}")
         raw = target.read_bytes()
+    try:
+        data = json.loads(raw)
+        ok = isinstance(data, dict) and {"score", "tests", "extra_data"} <= set(data) and "steps" in data["extra_data"]
+    except (json.JSONDecodeError, TypeError):
+        ok = False
+    if not ok:
+        raise Failed(f"{folder.name} ({isolation}): the results file is not what ./kit wrote: {raw[:200]!r}")
     if cache:
         _graded[key] = (r.returncode, raw, took)
-    return r.returncode, json.loads(raw), raw, took
+    return r.returncode, data, raw, took
 
 
 def step_results(data: dict) -> dict[str, dict]:
@@ -196,7 +203,8 @@ def check_lingering_writer(ctx) -> str:
         base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
         before = kit_tree()
         # The Gradescope flow: results in /autograder/results, made by `mkdir -p` (0755) as root.
-        with tempfile.TemporaryDirectory(prefix="raykit-integrity-gs-") as tmp:
+        tmp = tempfile.mkdtemp(prefix="raykit-integrity-gs-")
+        try:
             os.chmod(tmp, 0o755)
             results = Path(tmp) / "autograder" / "results"
             results.mkdir(parents=True)
@@ -208,6 +216,8 @@ def check_lingering_writer(ctx) -> str:
             alive = processes_named(LINGERER)
             after = target.read_bytes() if target.is_file() else b""
             extra = sorted(p.name for p in results.iterdir() if p.name != "results.json")
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
         dropped = files_named(ROOT, MARKER, 3) + files_named(home, MARKER, 2) + files_named(Path("/home"), MARKER, 2)
         new = sorted(kit_tree() - before)
         expect(not alive, f"lingering_writer ({mode}): still running {LINGER_WAIT:g} s after grading: {alive[:5]}")
