@@ -88,6 +88,20 @@ def grade_json(folder: Path, numbers: list[str], isolation: str, json_path: Path
     return r.returncode, data, raw, took
 
 
+def prewarm(folders: list[Path], numbers: list[str]) -> dict[str, float]:
+    """Grades each folder under every isolation in turn, so the shared build/submission
+    is rebuilt once per folder rather than once per folder and isolation; the seconds
+    spent per isolation (builds included)."""
+    modes, _ = isolations()
+    spent = {m: 0.0 for m in modes}
+    for folder in folders:
+        for mode in modes:
+            start = time.monotonic()
+            grade_json(folder, numbers, mode)
+            spent[mode] += time.monotonic() - start
+    return spent
+
+
 def step_results(data: dict) -> dict[str, dict]:
     return {s["step"]: s for s in data["extra_data"]["steps"]}
 
@@ -159,8 +173,9 @@ def kit_tree() -> set[str]:
     return out
 
 
-def run_modes(fn) -> str:
-    """Runs fn(isolation) -> summary under every available isolation; the summaries, with times."""
+def run_modes(fn, spent: dict[str, float] | None = None) -> str:
+    """Runs fn(isolation) -> summary under every available isolation; the summaries, with the
+    seconds each isolation took (`spent`: already spent grading for it, see prewarm)."""
     from cmd_test import Skipped, need_solutions
 
     need_solutions()
@@ -171,14 +186,15 @@ def run_modes(fn) -> str:
     for mode in modes:
         start = time.monotonic()
         summary = fn(mode)
-        parts.append(f"{mode}: {summary} [{time.monotonic() - start:.0f} s]")
+        took = time.monotonic() - start + (spent or {}).get(mode, 0.0)
+        parts.append(f"{mode}: {summary} [{took:.0f} s]")
     return "; ".join(parts + skipped)
 
 
 # --- the checks ------------------------------------------------------------------------
 
 def check_forge_verdicts(ctx) -> str:
-    from cmd_test import expect
+    from cmd_test import expect, need_solutions
 
     def one(mode: str) -> str:
         base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
@@ -191,7 +207,9 @@ def check_forge_verdicts(ctx) -> str:
         same_as_wrong_answer("forge_verdicts", mode, got, rc, base, base_rc)
         return f"{got['score']} of {got['extra_data']['max_score']}, as without forging"
 
-    return run_modes(one)
+    need_solutions()
+    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "forge_verdicts"], ["01"])
+    return run_modes(one, spent)
 
 
 def check_lingering_writer(ctx) -> str:
@@ -229,7 +247,40 @@ def check_lingering_writer(ctx) -> str:
         same_as_wrong_answer("lingering_writer", mode, got, rc, base, base_rc)
         return "results.json byte-identical, no process left, nothing dropped"
 
-    return run_modes(one)
+    summary = run_modes(one)
+    return summary + "; ./kit grade: " + lingering_under_batch_grading(home)
+
+
+def lingering_under_batch_grading(home: Path) -> str:
+    """`./kit grade` (its own choice of isolation): the CSV and the JSON it keeps stay as written."""
+    from cmd_test import expect, kit
+
+    modes, _ = isolations()
+    _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], modes[0])
+    tmp = Path(tempfile.mkdtemp(prefix="raykit-integrity-batch-"))
+    try:
+        os.chmod(tmp, 0o755)
+        shutil.copytree(HOSTILE / "lingering_writer", tmp / "submissions" / "mallory")
+        csv_path, jsons = tmp / "grades.csv", tmp / "json"
+        start = time.monotonic()
+        r = kit("grade", str(tmp / "submissions"), "--out", str(csv_path), "--json-dir", str(jsons), timeout=1800)
+        took = time.monotonic() - start
+        expect(r.returncode == 0 and csv_path.is_file(), f"./kit grade exited {r.returncode}: {r.stderr[-500:]}")
+        written = {p: p.read_bytes() for p in [csv_path, *sorted(jsons.glob("*"))]}
+        time.sleep(LINGER_WAIT)
+        alive = processes_named(LINGERER)
+        changed = [p.name for p, b in written.items() if not p.is_file() or p.read_bytes() != b]
+        extra = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if MARKER in p.name)
+        row = csv_path.read_text().splitlines()
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    dropped = files_named(ROOT, MARKER, 3) + files_named(home, MARKER, 2)
+    expect(not alive, f"./kit grade: the lingering writer is still running after grading: {alive[:5]}")
+    expect(not changed, f"./kit grade: changed after it was written: {changed}")
+    expect(not extra and not dropped, f"./kit grade: files dropped: {(extra + [str(p) for p in dropped])[:5]}")
+    expect(len(row) == 2 and row[1].split(",")[1] == str(base["score"]),
+           f"./kit grade: the CSV gives {row[1:]} , the plain wrong answer scores {base['score']}")
+    return f"grades.csv and results.json unchanged, score {base['score']} as without the attack [{took:.0f} s]"
 
 
 def check_table_of_visible_inputs(ctx) -> str:
@@ -267,7 +318,7 @@ def one_slip_folder() -> Path:
 
 
 def check_one_scale(ctx) -> str:
-    from cmd_test import expect
+    from cmd_test import expect, need_solutions
 
     numbers = [s.number for s in load_steps()]
 
@@ -299,11 +350,13 @@ def check_one_scale(ctx) -> str:
         return (f"max {maxima['solutions']} for all; stubs 0, one slip {graded['one slip']['score']}, "
                 f"solutions {graded['solutions']['score']}; step 05 {slip['05']['earned']} of {slip['05']['maximum']}")
 
-    return run_modes(one)
+    need_solutions()
+    spent = prewarm([ROOT / "steps", one_slip_folder(), ROOT / "solutions"], numbers)
+    return run_modes(one, spent)
 
 
 def check_read_answers(ctx) -> str:
-    from cmd_test import expect
+    from cmd_test import expect, need_solutions
 
     def one(mode: str) -> str:
         base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
@@ -316,7 +369,9 @@ def check_read_answers(ctx) -> str:
         same_as_wrong_answer("read_answers", mode, got, rc, base, base_rc)
         return "nothing readable; graded like a wrong answer"
 
-    return run_modes(one)
+    need_solutions()
+    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "read_answers"], ["01"])
+    return run_modes(one, spent)
 
 
 def checks():
