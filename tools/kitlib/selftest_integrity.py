@@ -121,9 +121,18 @@ def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: di
     expect(rc == base_rc == 1, f"{name} ({isolation}): exit {rc}, the plain wrong answer {base_rc}; both must be 1")
     expect(got["score"] == base["score"],
            f"{name} ({isolation}): scored {got['score']}, the same answers without the attack {base['score']}")
-    diff = [f"{a[1]}: {a[2]} -> {b[2]}" for a, b in zip(statuses(base), statuses(got)) if a != b]
+    changed = [(a[1], a[2], b[2]) for a, b in zip(statuses(base), statuses(got)) if a != b]
+    diff = [f"{n}: {x} -> {y}" for n, x, y in changed]
+    # Hidden cases are drawn from a seed made from the submission's files, so the two meet
+    # different inputs; a never-hit answer fails or passes a family whatever the draw, so
+    # their verdicts must still agree. Say so when only they differ.
+    hidden = {c["name"] for s in base["extra_data"]["steps"] for c in s["cases"] if c["tier"] == "hidden"}
+    only_hidden = bool(changed) and all(n in hidden for n, _, _ in changed)
+    seeds = (sorted({s["seed"] for s in base["extra_data"]["steps"]}), sorted({s["seed"] for s in got["extra_data"]["steps"]}))
     expect(statuses(got) == statuses(base) and not diff,
-           f"{name} ({isolation}): case verdicts differ from the plain wrong answer: " + "; ".join(diff[:5]))
+           f"{name} ({isolation}): case verdicts differ from the plain wrong answer: " + "; ".join(diff[:5])
+           + (f" (only hidden cases differ, seeds {seeds[0]} and {seeds[1]}: does a never-hit answer's verdict "
+              "on that family depend on the draw?)" if only_hidden else ""))
     expect(all(s["state"] != "done" for s in got["extra_data"]["steps"]), f"{name} ({isolation}): graded done")
     expect(all(t["status"] == "failed" for t in got["tests"] if t["score"] == 0 and t["max_score"] > 0),
            f"{name} ({isolation}): a test with no points is marked passed")
