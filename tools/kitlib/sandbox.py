@@ -30,8 +30,11 @@ from common import BUILD, ROOT
 FIRST_UID = 64000
 
 # What the sandboxed code must not read even where the machine is readable: the
-# kit (solutions, the hidden cases' sources, the reference answers programs).
-SECRET_PARTS = ["solutions", "tests/hidden", "tests/mutants", "build"]
+# kit (solutions, the hidden cases' sources, the reference answers programs), and
+# the kit's git history, whose objects hold every committed solution. (In a git
+# worktree .git is a file and the objects live in another checkout's folder, which
+# the kit does not change: grade from a plain clone or a copy without .git.)
+SECRET_PARTS = ["solutions", "tests/hidden", "tests/mutants", "build", ".git"]
 
 
 @dataclass
