@@ -20,7 +20,7 @@ sys.path.insert(0, str(HERE))
 from common import KitError  # noqa: E402
 
 # The order of commands in ./kit help: the student's first, then the instructor's.
-ORDER = ["check", "watch", "hint", "render", "test", "bench", "docs", "grade", "handout"]
+ORDER = ["check", "watch", "hint", "reset", "render", "test", "bench", "docs", "grade", "handout"]
 
 
 class Parser(argparse.ArgumentParser):
