@@ -93,7 +93,7 @@ public:
     Child(std::string exe, bool sandboxed) : exe_(std::move(exe)), sandboxed_(sandboxed) {}
     ~Child() { stop(); }
 
-    bool available() const { return !exe_.empty(); }
+    bool available() const { return !exe_.empty() && ::access(exe_.c_str(), X_OK) == 0; }
     bool running() const { return pid_ > 0; }
 
     /// Sends a request, returns the reply body, or throws CallFailed.
