@@ -1,6 +1,8 @@
-// Scenes of step 04: rectangles facing all three axes, drawn with intersect_rect.
+// Scenes of step 04: rectangles facing all three axes, drawn with
+// intersect_rect and step 05's view_ray.
 #include <limits>
 
+#include "raykit/camera.hpp"
 #include "raykit/rect.hpp"
 #include "tool.hpp"
 
@@ -27,7 +29,7 @@ Canvas rectangles(const std::string&, int width, int height) {
     Canvas canvas(width, height);
     for (int j = 0; j < height; ++j) {
         for (int i = 0; i < width; ++i) {
-            const Ray ray = tool::pixel_ray(camera, i, j);
+            const Ray ray = view_ray(camera, i, j);  // step 05's
             float nearest = std::numeric_limits<float>::infinity();
             const Panel* seen = nullptr;
             for (const Panel& p : panels) {
