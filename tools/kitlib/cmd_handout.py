@@ -2,7 +2,8 @@
 
 What goes out:
   - steps/: the shipped stubs, as git's HEAD has them (never an instructor's experiment in the working
-    tree; a changed step file makes the command refuse, naming it, unless --from-working-tree);
+    tree): a changed step file makes the command refuse, naming it; --committed ships HEAD's stubs
+    anyway, --from-working-tree the working tree's files (with a warning; never a solution's line);
   - everything else the kit tracks, except what EXCLUDED lists: the solutions, the mutants and fixtures
     (answers with one slip), the property oracles and fuzz targets, the exact-root helper, the
     benchmark's reference formulations, and the instructor's tools that need them.
@@ -46,8 +47,12 @@ README_LINE = "<!-- instructor line -->"
 
 def register(p) -> None:
     p.add_argument("dir", metavar="DIR", help="where to write the handout (must not exist, or be empty)")
-    p.add_argument("--from-working-tree", action="store_true",
-                   help="ship steps/ as it is in the working tree, not as committed (with a warning)")
+    how = p.add_mutually_exclusive_group()
+    how.add_argument("--committed", action="store_true",
+                     help="ship the committed stubs even when steps/ has uncommitted changes (left as they are)")
+    how.add_argument("--from-working-tree", action="store_true",
+                     help="ship steps/ as it is in the working tree, not as committed (with a warning); "
+                          "a file holding a line of a solution is still refused")
 
 
 # --- the scan for step code ---------------------------------------------------------------------------
@@ -263,7 +268,7 @@ def strip_instructor_parts(text: str) -> str:
     return "".join(line for line in text.splitlines(keepends=True) if README_LINE not in line)
 
 
-def student_steps(from_working_tree: bool) -> dict[str, bytes]:
+def student_steps(from_working_tree: bool, committed: bool = False) -> dict[str, bytes]:
     """{path under steps/: bytes} to ship."""
     if from_working_tree:
         files = {p.relative_to(ROOT).as_posix(): p.read_bytes() for p in sorted((ROOT / "steps").rglob("*"))
@@ -280,10 +285,13 @@ def student_steps(from_working_tree: bool) -> dict[str, bytes]:
         raise KitError("this copy of the kit is not a git clone, so the committed stubs cannot be told from "
                        "edits in steps/. Run it in a clone, or ship steps/ as it is with --from-working-tree")
     changed = changed_steps()
-    if changed:
+    if changed and not committed:
         raise KitError("steps/ differs from the committed stubs in: " + ", ".join(changed) +
-                       "\n  A handout ships the committed stubs; put them back (git checkout -- steps; "
-                       "git clean -n steps shows new files) or ship these with --from-working-tree")
+                       "\n  A handout ships the committed stubs: put them back (git checkout -- steps; git clean "
+                       "-n steps lists new files), or ship the committed stubs anyway with --committed, or these "
+                       "files with --from-working-tree")
+    if changed:
+        note("kit: shipping the committed stubs; left as they are in steps/: " + ", ".join(changed))
     return committed_steps()
 
 
@@ -315,7 +323,7 @@ def run(args) -> int:
     inside = ROOT == target.resolve() or ROOT in target.resolve().parents
     if inside and (ROOT / "build") not in target.resolve().parents:
         raise KitError(f"{args.dir}: a handout cannot live inside the kit")
-    steps_files = student_steps(args.from_working_tree)
+    steps_files = student_steps(args.from_working_tree, args.committed)
     check_no_answers(steps_files)
 
     staging = parent / f".{target.name}.partial"
