@@ -41,16 +41,16 @@ using RootsFn = Roots (*)(const Ray&, const Sphere&);
 void expect_accurate(const char* call, RootsFn fn, const Sphere& s, const std::vector<Shot>& shots,
                      const std::string& why) {
     for (const Shot& shot : shots) {
-        const std::optional<Roots> found = exact::sphere_roots(shot.ray, s);
+        const std::optional<exact::SphereCase> found = exact::sphere_roots(shot.ray, s);
         if (!found) continue;
-        const Roots& exact = *found;
-        const std::string input = show(shot.ray) + "; sphere " + show(s);
+        const Roots& exact = found->roots;
+        const std::string input = show(found->ray) + "; sphere " + show(found->sphere);
         if (exact.count != shot.count) {
             FAIL_CHECK(report("the case itself", input, "count " + std::to_string(shot.count), show(exact),
                               "The exact roots disagree with the count the case claims: fix the case."));
             continue;
         }
-        check_roots_ulps(call, input, exact, fn(shot.ray, s), why);
+        check_roots_ulps(call, input, exact, fn(found->ray, found->sphere), why);
     }
 }
 

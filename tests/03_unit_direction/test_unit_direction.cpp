@@ -183,16 +183,16 @@ std::vector<Scene> unit_scenes() {
 TEST_CASE("shortcut: the same roots as step 02 on 54 unit rays" *
           doctest::description("1. When the direction has length 1")) {
     for (const Scene& s : unit_scenes())
-        if (const std::optional<Roots> expected = exact::sphere_roots(s.ray, s.sphere))
-            expect_shortcut(s.ray, s.sphere, *expected,
+        if (const std::optional<exact::SphereCase> c = exact::sphere_roots(s.ray, s.sphere))
+            expect_shortcut(c->ray, c->sphere, c->roots,
                             "With |d| = 1 the shortcut must give the roots of the general quadratic of step 02.");
 }
 
 TEST_CASE("geometric: the same roots as step 02 on 54 unit rays" *
           doctest::description("2. The same roots from a drawing")) {
     for (const Scene& s : unit_scenes())
-        if (const std::optional<Roots> expected = exact::sphere_roots(s.ray, s.sphere))
-            expect_geometric(s.ray, s.sphere, *expected,
+        if (const std::optional<exact::SphereCase> c = exact::sphere_roots(s.ray, s.sphere))
+            expect_geometric(c->ray, c->sphere, c->roots,
                              "With |d| = 1 the geometric form must give the roots of the general quadratic of step 02.");
 }
 

@@ -6,8 +6,8 @@
 // So the answers are precomputed. Each step whose suites ask for them has a
 // generated data file, tests/NN_topic/exact_answers.cpp, that lists every
 // (input -> exact answer) its cases ask for, keyed by the bit patterns of the
-// float inputs (the inputs a case computes, e.g. through glm::normalize, are
-// the keys, so no rounding of a printed decimal can shift a key).
+// float inputs. A case looks its inputs up and then runs on the recorded ones
+// (see snap_ulps: another compiler may compute a case's input an ulp away).
 //
 // Two builds of the same interface:
 //  - the instructor's copy has tests/support/reference_roots.hpp (113-bit
@@ -33,6 +33,7 @@
 #include "raykit/ray.hpp"
 #include "raykit/roots.hpp"
 #include "raykit/sphere.hpp"
+#include "ulps.hpp"
 
 #if __has_include("reference_roots.hpp")
 #include "reference_roots.hpp"
@@ -105,23 +106,59 @@ inline std::string hex(const Key& key) {
     return s;
 }
 
-inline void missing(const char* what, const Key& key, bool differs = false) {
-    FAIL_CHECK((differs ? "The precomputed exact " : "No precomputed exact ")
-               << what << (differs ? " differs from the computed one" : "") << " for this input in " << table.file
-               << ": the kit's data is older than this case (key " << hex(key)
-               << "). Instructors: ./kit exact --refresh, then commit the file.");
+/// How far apart two keys are: the largest distance, in ulps, of one float
+/// from its counterpart (the largest int64 when a NaN is met).
+inline std::int64_t key_distance(const std::uint32_t* a, const std::uint32_t* b, int n) {
+    std::int64_t worst = 0;
+    for (int i = 0; i < n; ++i) {
+        const std::int64_t d = grading::ulp_distance(from_bits(a[i]), from_bits(b[i]));
+        if (d > worst) worst = d;
+    }
+    return worst;
 }
 
-inline const RootsEntry* find_roots(const Key& key) {
-    for (std::size_t i = 0; i < table.roots_size; ++i)
-        if (std::memcmp(table.roots[i].key, key.k, sizeof table.roots[i].key) == 0) return &table.roots[i];
-    return nullptr;
+/// How far a case's inputs may be from the recorded ones and still be the
+/// same case. The inputs are computed by the test code (glm::normalize and
+/// the like), and compilers round them differently by an ulp or two: Clang
+/// contracts a * b + c into a fused multiply-add (even when folding constants
+/// on a machine without one), GCC in ISO mode does not. Such a case takes the
+/// nearest recorded inputs, and the student's function and the exact answer
+/// both use them: whichever entry it snaps to, input and answer agree.
+constexpr std::int64_t snap_ulps = 16;
+
+/// The entry whose key is `key`, else the nearest within snap_ulps of it.
+template <class Entry>
+const Entry* find_entry(const Entry* entries, std::size_t size, const Key& key) {
+    const Entry* best = nullptr;
+    std::int64_t best_distance = snap_ulps + 1;
+    for (std::size_t i = 0; i < size; ++i) {
+        if (std::memcmp(entries[i].key, key.k, sizeof entries[i].key) == 0) return &entries[i];
+        const std::int64_t d = key_distance(entries[i].key, key.k, key.size);
+        if (d < best_distance) {
+            best = &entries[i];
+            best_distance = d;
+        }
+    }
+    return best;
 }
 
-inline const HitEntry* find_hit(const Key& key) {
-    for (std::size_t i = 0; i < table.hits_size; ++i)
-        if (std::memcmp(table.hits[i].key, key.k, sizeof table.hits[i].key) == 0) return &table.hits[i];
-    return nullptr;
+inline void missing(const char* what, const Key& key, const char* problem) {
+    const std::string message = std::string("The exact ") + what + " for this input in " + table.file + " " +
+                                problem + ": the kit's data is older than this case (key " + hex(key) +
+                                "). Instructors: ./kit exact --refresh, then commit the file.";
+    FAIL_CHECK(message);
+}
+
+inline const char* why_missing(const void* entry) {
+    return entry != nullptr ? "differs from the one computed now" : "is missing";
+}
+
+inline Ray ray_of(const std::uint32_t* k) {
+    return Ray{{from_bits(k[0]), from_bits(k[1]), from_bits(k[2])}, {from_bits(k[3]), from_bits(k[4]), from_bits(k[5])}};
+}
+
+inline Sphere sphere_of(const std::uint32_t* k) {
+    return Sphere{{from_bits(k[6]), from_bits(k[7]), from_bits(k[8])}, from_bits(k[9])};
 }
 
 inline Roots roots_of(const RootsEntry& e) {
@@ -144,69 +181,88 @@ inline void record(const std::string& line) {
     std::fputc('\n', out);
     std::fflush(out);
 }
-
-// Bit-for-bit equality: the table must hold exactly what is computed.
-inline bool same(const Roots& a, const RootsEntry& e) {
-    return a.count == e.count && bits(a.t[0]) == e.t[0] && bits(a.t[1]) == e.t[1];
-}
 #endif
+
+/// A case's inputs as recorded (equal to the ones asked for, or within
+/// snap_ulps of them), and their exact roots rounded to float.
+struct SphereCase {
+    Ray ray;
+    Sphere sphere;
+    Roots roots;
+};
 
 /// The roots of |o + t d - c|^2 = r^2 for these float inputs, exact and
 /// rounded to float (the contract of raykit::Roots), or nothing after a
-/// failed check when the data has no entry for them.
-inline std::optional<Roots> sphere_roots(const Ray& ray, const Sphere& sphere) {
+/// failed check when the data has no entry for them. Call the function
+/// under test with the returned case's ray and sphere.
+inline std::optional<SphereCase> sphere_roots(const Ray& ray, const Sphere& sphere) {
     const Key key = key_of(ray, sphere);
-    const RootsEntry* entry = find_roots(key);
+    const RootsEntry* entry = find_entry(table.roots, table.roots_size, key);
 #if defined(RAYKIT_EXACT_COMPUTED)
-    const Roots r = reference::sphere_roots_rounded(ray, sphere);
+    // Computed on the recorded inputs when there are some (so that the data
+    // does not change with the compiler that regenerates it), else on these.
+    const Ray r_in = entry ? ray_of(entry->key) : ray;
+    const Sphere s_in = entry ? sphere_of(entry->key) : sphere;
+    const Roots r = reference::sphere_roots_rounded(r_in, s_in);
     char buf[64];
     std::snprintf(buf, sizeof buf, " %d 0x%08x 0x%08x", r.count, static_cast<unsigned>(bits(r.t[0])),
                   static_cast<unsigned>(bits(r.t[1])));
-    record("roots " + hex(key) + buf);
-    if (entry == nullptr || !same(r, *entry)) {
-        missing("roots", key, entry != nullptr);
+    record("roots " + hex(key_of(r_in, s_in)) + buf);
+    const bool same = entry && r.count == entry->count && bits(r.t[0]) == entry->t[0] && bits(r.t[1]) == entry->t[1];
+    if (!same) {
+        missing("roots", key, why_missing(entry));
         return std::nullopt;
     }
 #endif
     if (entry == nullptr) {
-        missing("roots", key);
+        missing("roots", key, why_missing(entry));
         return std::nullopt;
     }
-    return roots_of(*entry);
+    return SphereCase{ray_of(entry->key), sphere_of(entry->key), roots_of(*entry)};
 }
 
-/// An exact answer that may be a miss: `known` is false after a failed check
-/// when the data has no entry.
-struct ExactHit {
-    bool known = false;
+/// A hit case's inputs as recorded, and the closest exact root inside the
+/// closed window [tmin, tmax] rounded to float.
+struct HitCase {
+    Ray ray;
+    Sphere sphere;
+    float tmin, tmax;
     std::optional<float> t;
 };
 
-/// The closest exact root inside the closed window [tmin, tmax], rounded to float.
-inline ExactHit sphere_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax) {
+/// The exact closest hit for these inputs, or nothing after a failed check
+/// when the data has no entry for them. Call the function under test with
+/// the returned case's inputs.
+inline std::optional<HitCase> sphere_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax) {
     Key key = key_of(ray, sphere);
     key.add(tmin);
     key.add(tmax);
-    const HitEntry* entry = find_hit(key);
+    const HitEntry* entry = find_entry(table.hits, table.hits_size, key);
 #if defined(RAYKIT_EXACT_COMPUTED)
+    const Ray r_in = entry ? ray_of(entry->key) : ray;
+    const Sphere s_in = entry ? sphere_of(entry->key) : sphere;
+    const float lo = entry ? from_bits(entry->key[10]) : tmin, hi = entry ? from_bits(entry->key[11]) : tmax;
     std::optional<float> hit;
-    const Roots r = reference::sphere_roots_rounded(ray, sphere);
+    const Roots r = reference::sphere_roots_rounded(r_in, s_in);
     for (int i = 0; i < r.count && !hit; ++i)
-        if (tmin <= r.t[i] && r.t[i] <= tmax) hit = r.t[i];
+        if (lo <= r.t[i] && r.t[i] <= hi) hit = r.t[i];
+    Key in = key_of(r_in, s_in);
+    in.add(lo);
+    in.add(hi);
     char buf[64];
     std::snprintf(buf, sizeof buf, " %d 0x%08x", hit ? 1 : 0, static_cast<unsigned>(hit ? bits(*hit) : 0u));
-    record("hit " + hex(key) + buf);
-    if (entry == nullptr || entry->hit != (hit ? 1 : 0) || (hit && entry->t != bits(*hit))) {
-        missing("hit", key, entry != nullptr);
-        return {};
+    record("hit " + hex(in) + buf);
+    const bool same = entry && entry->hit == (hit ? 1 : 0) && (!hit || entry->t == bits(*hit));
+    if (!same) {
+        missing("hit", key, why_missing(entry));
+        return std::nullopt;
     }
 #endif
     if (entry == nullptr) {
-        missing("hit", key);
-        return {};
+        missing("hit", key, why_missing(entry));
+        return std::nullopt;
     }
-    ExactHit out;
-    out.known = true;
+    HitCase out{ray_of(entry->key), sphere_of(entry->key), from_bits(entry->key[10]), from_bits(entry->key[11]), {}};
     if (entry->hit) out.t = from_bits(entry->t);
     return out;
 }
