@@ -296,11 +296,16 @@ def student_steps(from_working_tree: bool, committed: bool = False) -> dict[str,
 
 
 def check_no_answers(steps_files: dict[str, bytes]) -> None:
-    """Refuses a steps/ that carries a line of a reference solution."""
+    """Refuses a steps/ that carries a line of a reference solution, or a step file that is no stub."""
     for step in load_steps():
         for f in step.files:
             rel = f"steps/{step.folder}/{f}"
             text = steps_files.get(rel, b"").decode(errors="replace")
+            if rel in steps_files and "not_implemented_yet(" not in text:
+                # Every stub leaves at least one function to write (CONTRIBUTING.md, "A step"); a file
+                # without one was answered, whether committed that way or not.
+                raise KitError(f"{rel} is no stub: it has no not_implemented_yet(...) left; a handout ships "
+                               f"stubs only", 1)
             committed = git("show", f"HEAD:{rel}").stdout.decode(errors="replace") if is_clone() else ""
             leaked = sorted(line for line in answer_lines(step, committed or text) if line in text)
             if leaked:

@@ -137,7 +137,8 @@ def check_from_committed_stubs(ctx) -> str:
         expect(r.returncode == 0, f"./kit handout --committed failed:\n{r.stderr[-800:]}")
         expect((out / "b" / rel).read_bytes() == stub, f"./kit handout --committed did not ship the stub of {rel}")
         r = handout(str(out / "c"), "--from-working-tree")
-        expect(r.returncode != 0 and "reference solution" in r.stderr and not (out / "c").exists(),
+        expect(r.returncode != 0 and ("reference solution" in r.stderr or "no stub" in r.stderr)
+               and not (out / "c").exists(),
                f"./kit handout --from-working-tree shipped a solution (exit {r.returncode}):\n{r.stderr[-800:]}")
         edited = stub + b"\n// A note the instructor added to the stub.\n"
         (kit_dir / rel).write_bytes(edited)
@@ -150,8 +151,16 @@ def check_from_committed_stubs(ctx) -> str:
                            text=True, timeout=120)
         expect(r.returncode == 2 and "handout" in r.stderr and not (out / "e").exists(),
                f"./kit handout inside a handout exited {r.returncode}, expected 2:\n{r.stderr[-500:]}")
+        # A solution committed into steps/ by mistake: HEAD itself holds the answer.
+        shutil.copyfile(kit_dir / "solutions" / step.folder / step.files[0], kit_dir / rel)
+        subprocess.run(["git", "-c", "user.name=kit", "-c", "user.email=kit@localhost", "commit", "-q", "-am",
+                        "oops"], cwd=kit_dir, check=True, capture_output=True)
+        r = handout(str(out / "f"))
+        expect(r.returncode == 1 and "no stub" in r.stderr and not (out / "f").exists(),
+               f"with a solution committed into {rel}, ./kit handout exited {r.returncode}:\n{r.stderr[-500:]}")
     return ("a solution in steps/: refused naming the file, --committed ships the stub, --from-working-tree "
-            "refuses the solution and ships an edit with a warning; refused inside a handout")
+            "refuses the solution and ships an edit with a warning; a committed solution refused; refused inside "
+            "a handout")
 
 
 def _board(stdout: str) -> dict[str, str]:
