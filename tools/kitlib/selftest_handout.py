@@ -172,8 +172,7 @@ def check_handout_grades(ctx) -> str:
     from cmd_test import Failed, expect, need_solutions
 
     need_solutions()
-    if not TARGET.is_dir() or (TARGET / "solutions").exists():
-        _make_handout()
+    _make_handout()
     steps = load_steps()
 
     def check(*args):
