@@ -65,11 +65,13 @@ def register(p) -> None:
 _ID = r"[A-Za-z_][\w.]*(?:\[\w+\])?"          # a name, a member or an element: b, ray.direction, o[axis]
 _NUM_HALF = r"(?:0?\.5f?|\.5f?|0\.50*f?)"
 _IN_PARENS = r"[^()]|\([^()]*\)"            # one character of a parenthesised expression, or a call in it
-# A vector's dot product with itself, or one written out component by component (any two vectors).
-_DOT = (r"\bdot\((\w[\w.]*),\1\)|\blength2\(|"
-        r"\b(\w*)x\*(\w*)x\+\2y\*\3y\+\2z\*\3z\b|"
-        r"\b([\w.]+)\.x\*([\w.]+)\.x\+\4\.y\*\5\.y\+\4\.z\*\5\.z\b|"
-        r"\b(\w+)\[0\]\*(\w+)\[0\]\+\6\[1\]\*\7\[1\]\+\6\[2\]\*\7\[2\]")
+# A vector's dot product with itself, or one written out component by component (any two vectors), but
+# not as the whole argument of a square root: sqrt(dot(v, v)) is a length, which any vector code takes.
+_NOT_LENGTH = r"(?<!sqrt\()(?<!sqrt\(glm::)(?<!sqrt\(std::)"
+_DOT = (rf"{_NOT_LENGTH}\bdot\((\w[\w.]*),\1\)|\blength2\(|"
+        rf"{_NOT_LENGTH}\b(\w*)x\*(\w*)x\+\2y\*\3y\+\2z\*\3z\b|"
+        rf"{_NOT_LENGTH}\b([\w.]+)\.x\*([\w.]+)\.x\+\4\.y\*\5\.y\+\4\.z\*\5\.z\b|"
+        rf"{_NOT_LENGTH}\b(\w+)\[0\]\*(\w+)\[0\]\+\6\[1\]\*\7\[1\]\+\6\[2\]\*\7\[2\]")
 
 
 @dataclass
@@ -110,6 +112,16 @@ SCAN_PATTERNS = [
     Pattern("pixel centre (i + 0.5f)",
             re.compile(rf"(?:\w|\))\+{_NUM_HALF}\)|\({_NUM_HALF}\+(?:\w|static_cast)"),
             "const float x = (static_cast<float>(i) + 0.5f) / static_cast<float>(camera.width);"),
+]
+
+# Kit code that looks like a step's but is not: the scan must let it through (the self-test checks).
+NOT_STEP_CODE = [
+    "const float length = std::sqrt(glm::dot(v, v));",
+    "const glm::vec3 n = glm::normalize(point_at(ray, t) - sphere.center);",
+    "const glm::vec3 side = glm::normalize(glm::cross(o, glm::vec3(0.1f, 0.2f, 1)));",
+    "for (int i = 0; i < width; ++i) canvas.at(i, j) = color;",
+    "const float film_height = 2.0f * std::tan(glm::radians(fov) / 2.0f);",
+    "const float mid = (lo + hi) / 2.0f;",
 ]
 
 CPP_SUFFIXES = {".cpp", ".hpp", ".h", ".cc", ".cxx", ".hh", ".inc", ".c", ".in"}

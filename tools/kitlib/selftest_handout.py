@@ -86,14 +86,19 @@ def check_scan(ctx) -> str:
             scratch.write_text(text + f"\n// {p.example}\n/* {p.example} */\n")
             if cmd_handout.scan_tree(Path(tmp)):
                 noisy.append(p.name)
+        for line in cmd_handout.NOT_STEP_CODE:
+            scratch.write_text(text + f"\nnamespace planted {{\nvoid f() {{ {line} }}\n}}\n")
+            if cmd_handout.scan_tree(Path(tmp)):
+                noisy.append(line)
     expect(not missed, "the scan misses planted step code: " + "; ".join(missed))
-    expect(not noisy, "the scan flags step code written in a comment: " + "; ".join(noisy))
+    expect(not noisy, "the scan flags a comment or code that is no step's: " + "; ".join(noisy))
     # 4. The README shows only what a student has.
     readme = (TARGET / "README.md").read_text()
     for word in ("./kit test", "solutions/", "tests/mutants", "tests/fixtures", "CONTRIBUTING", "instructor"):
         expect(word not in readme, f"the handout's README mentions {word!r}")
     return (f"{scanned} code files scanned, no step code and no solution line; each of the "
-            f"{len(cmd_handout.SCAN_PATTERNS)} patterns caught when planted, none in a comment; README for students")
+            f"{len(cmd_handout.SCAN_PATTERNS)} patterns caught when planted, none in a comment, none of "
+            f"{len(cmd_handout.NOT_STEP_CODE)} look-alikes; README for students")
 
 
 def _scratch_kit(where: Path) -> Path:
