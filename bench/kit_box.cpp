@@ -14,6 +14,7 @@
 #endif
 #if RAYKIT_BENCH_STEP05
 #include "raykit/cornell_box.hpp"
+#include "raykit/render.hpp"
 #endif
 
 namespace raykit::bench::kit {

@@ -1,7 +1,8 @@
 /// \file camera.hpp
-/// \brief Step 05: a pinhole camera, and the view ray through a pixel.
+/// \brief Step 05: a pinhole camera.
 ///
-/// You write view_ray() in `steps/05_cornell_box/render.cpp`.
+/// The view ray through a pixel, view_ray(), is declared in render.hpp: you
+/// write it in `steps/05_cornell_box/render.cpp`.
 /// Lecture: `lectures/05-cornell-box.md`.
 #pragma once
 
@@ -18,9 +19,9 @@ namespace raykit {
 /// `film_height / focal_length` matters (it sets the field of view), so any
 /// unit will do as long as both use the same.
 ///
-/// The image's "right" is \f$\mathbf{r} = \mathbf{f} \times \mathbf{u}\f$
-/// (forward cross up): a camera looking along \f$+z\f$ with up \f$+y\f$ has
-/// \f$-x\f$ on its right.
+/// The image's "right" is `r = f x u`
+/// (forward cross up): a camera looking along `+z` with up `+y` has
+/// `-x` on its right.
 struct Camera {
     glm::vec3 eye;       ///< The pinhole, where every view ray starts.
     glm::vec3 forward;   ///< Unit vector: where the camera looks (the image centre).
@@ -30,25 +31,5 @@ struct Camera {
     int width;           ///< Image width in pixels, >= 1.
     int height;          ///< Image height in pixels, >= 1.
 };
-
-/// The view ray through the centre of pixel (i, j): column \p i (0 at the
-/// left), row \p j (0 at the **top**).
-///
-/// The pixel's centre on the film is
-/// \f[ \mathbf{p} = \mathbf{e} + F\,\mathbf{f} + x\,\mathbf{r} + y\,\mathbf{u}, \quad
-///     x = \Big(\frac{i + 1/2}{W} - \frac12\Big)\,w_\text{film}, \quad
-///     y = \Big(\frac12 - \frac{j + 1/2}{H}\Big)\,h_\text{film} \f]
-/// with \f$F\f$ the focal length, \f$\mathbf{r} = \mathbf{f} \times \mathbf{u}\f$,
-/// \f$W \times H\f$ the image size and \f$w_\text{film} = h_\text{film} W / H\f$.
-///
-/// \param camera the camera, as documented in Camera.
-/// \param i      the pixel's column, 0 at the left.
-/// \param j      the pixel's row, 0 at the top.
-/// \return a ray with origin `camera.eye` and a direction pointing from the
-///         eye through that point: \f$\mathbf{p} - \mathbf{e}\f$ or any
-///         positive multiple of it (normalised or not; the tests compare
-///         directions, not lengths). Pixels outside the image are not an
-///         error: they give rays beyond the film's edge.
-Ray view_ray(const Camera& camera, int i, int j);
 
 }  // namespace raykit

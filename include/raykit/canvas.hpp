@@ -13,7 +13,7 @@ namespace raykit {
 
 /// A width x height grid of colours, black when created.
 ///
-/// Pixel \f$(i, j)\f$ is column \f$i\f$ (0 at the left) of row \f$j\f$
+/// Pixel `(i, j)` is column `i` (0 at the left) of row `j`
 /// (0 at the **top**), the order in which image files store them.
 class Canvas {
 public:

@@ -6,7 +6,7 @@
 
 namespace raykit {
 
-/// Red, green and blue, each in \f$[0, 1]\f$: 0 is none, 1 is full.
+/// Red, green and blue, each in `[0, 1]`: 0 is none, 1 is full.
 ///
 /// In this course a colour is written to an image as it is, each channel
 /// scaled to a byte (see Canvas and the render tool); no gamma, no tone mapping.

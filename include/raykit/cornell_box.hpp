@@ -18,15 +18,15 @@ namespace raykit {
 /// `"floor"`, `"ceiling"`, `"back wall"`, `"left wall"` (red), `"right wall"`
 /// (green) and `"light"`; nothing else. "Left" and "right" are as seen from
 /// the camera. The light lies in the ceiling's plane, so a view ray hits both
-/// at the same \f$t\f$: list the light **before** the ceiling, so that it wins
+/// at the same `t`: list the light **before** the ceiling, so that it wins
 /// the tie (see find_intersection()).
 ///
 /// \return the six objects of the box, the light first.
 Scene cornell_box();
 
 /// The camera of the Cornell box data, for an image of \p width x \p height
-/// pixels: eye \f$(278, 273, -800)\f$, looking along \f$+z\f$ with up
-/// \f$+y\f$, focal length 0.035 and film height 0.025 (metres).
+/// pixels: eye `(278, 273, -800)`, looking along `+z` with up
+/// `+y`, focal length 0.035 and film height 0.025 (metres).
 ///
 /// \param width  image width in pixels, >= 1.
 /// \param height image height in pixels, >= 1.

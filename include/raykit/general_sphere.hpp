@@ -13,12 +13,10 @@
 
 namespace raykit {
 
-/// Every \f$t\f$ at which the line of \p ray meets \p sphere,
-/// \f$ |\mathbf{x} - \mathbf{c}|^2 = r^2 \f$.
+/// Every `t` at which the line of \p ray meets \p sphere, `|x - center|^2 = r^2`.
 ///
-/// With \f$\mathbf{f} = \mathbf{o} - \mathbf{c}\f$ (the origin seen from the
-/// centre), substituting the ray gives
-/// \f$ (\mathbf{d}\cdot\mathbf{d})\,t^2 + 2(\mathbf{f}\cdot\mathbf{d})\,t + (\mathbf{f}\cdot\mathbf{f} - r^2) = 0 \f$.
+/// With `f = o - center` (the origin seen from the centre), substituting the
+/// ray gives `(d.d) t^2 + 2(f.d) t + (f.f - r^2) = 0`.
 ///
 /// \param ray    any ray; its direction need not be unit length.
 /// \param sphere any centre; a radius that is not a positive finite number
@@ -27,9 +25,9 @@ namespace raykit {
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses, when the
 ///         direction is zero or when the radius describes no sphere. Inputs
-///         containing NaN or infinity, or so large that \f$\mathbf{d}\cdot\mathbf{d}\f$
+///         containing NaN or infinity, or so large that `d.d`
 ///         overflows, count as a miss; no root is ever NaN. Roots behind the
-///         origin (\f$t < 0\f$) are included.
+///         origin (`t < 0`) are included.
 ///
 /// The ★ robust cases also ask for accuracy: each root within a few units in
 /// the last place (ulps) of the exact root of the same float inputs, for far,
@@ -37,13 +35,13 @@ namespace raykit {
 Roots sphere_roots(const Ray& ray, const Sphere& sphere);
 
 /// The closest hit of \p ray with \p sphere inside the closed window
-/// \f$ t_\min \le t \le t_\max \f$.
+/// `tmin <= t <= tmax`.
 ///
 /// \param ray    any ray; its direction need not be unit length.
 /// \param sphere as for sphere_roots().
-/// \param tmin   smallest accepted \f$t\f$ (inclusive).
-/// \param tmax   largest accepted \f$t\f$ (inclusive).
-/// \return the smallest root \f$t\f$ with `tmin <= t <= tmax`, or no value.
+/// \param tmin   smallest accepted `t` (inclusive).
+/// \param tmax   largest accepted `t` (inclusive).
+/// \return the smallest root `t` with `tmin <= t <= tmax`, or no value.
 ///         A root exactly at either end counts; when the near root is outside
 ///         the window but the far one is inside, the far root is returned;
 ///         `tmin > tmax` is an empty window.

@@ -4,8 +4,8 @@
 
 namespace raykit {
 
-/// The parameters \f$t\f$ at which the whole line \f$\mathbf{o} + t\mathbf{d}\f$
-/// (both directions, \f$t \in (-\infty, \infty)\f$) meets a sphere.
+/// The parameters `t` at which the whole line `o + t d`
+/// (both directions, `t in (-inf, inf)`) meets a sphere.
 ///
 /// Contract, for every function that returns Roots:
 /// - `count` is 0 (the line misses), 1 (it touches: a tangent) or 2 (it passes

@@ -1,12 +1,12 @@
 /// \file scene.hpp
-/// \brief Step 05: a scene of coloured rectangles, and the closest hit in it.
+/// \brief Step 05: a scene of coloured rectangles, and a hit in it.
 ///
-/// You write find_intersection() in `steps/05_cornell_box/render.cpp`.
+/// The closest hit in a scene, find_intersection(), is declared in render.hpp:
+/// you write it in `steps/05_cornell_box/render.cpp`.
 /// Lecture: `lectures/05-cornell-box.md`.
 #pragma once
 
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,7 +24,7 @@ struct Object {
 };
 
 /// Everything there is: a list of objects, in no particular order except
-/// that on a tie (two objects hit at the same \f$t\f$) the one listed first
+/// that on a tie (two objects hit at the same `t`) the one listed first
 /// is seen.
 struct Scene {
     std::vector<Object> objects;  ///< The objects, tie order first to last.
@@ -32,24 +32,8 @@ struct Scene {
 
 /// Which object a ray hits first, and where.
 struct Hit {
-    float t;            ///< The ray parameter of the hit point \f$\mathbf{o} + t\,\mathbf{d}\f$.
+    float t;            ///< The ray parameter of the hit point `o + t d`.
     std::size_t index;  ///< The object hit: `scene.objects[index]`.
 };
-
-/// The closest hit of \p ray over all objects of \p scene inside the closed
-/// window \f$ t_\min \le t \le t_\max \f$.
-///
-/// Brute force: every object is tried with intersect_rect() (step 04), and
-/// the smallest \f$t\f$ wins. On a tie the object listed first wins: a later
-/// object replaces the best hit so far only when it is **strictly** nearer.
-///
-/// \param ray   any ray; its direction need not be unit length.
-/// \param scene any scene, possibly empty.
-/// \param tmin  smallest accepted \f$t\f$ (inclusive).
-/// \param tmax  largest accepted \f$t\f$ (inclusive).
-/// \return the smallest \f$t\f$ and the index of its object, or no value when
-///         no object is hit in the window (always for an empty scene or
-///         `tmin > tmax`).
-std::optional<Hit> find_intersection(const Ray& ray, const Scene& scene, float tmin, float tmax);
 
 }  // namespace raykit

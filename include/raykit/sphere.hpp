@@ -6,13 +6,13 @@
 
 namespace raykit {
 
-/// The sphere \f$ |\mathbf{x} - \mathbf{c}|^2 = r^2 \f$.
+/// The sphere `|x - center|^2 = r^2`: the points `x` at distance `r` from `center`.
 ///
 /// A radius that is zero, negative, NaN or infinite describes no sphere: the
 /// reference solutions report no intersection for it.
 struct Sphere {
-    glm::vec3 center;  ///< \f$\mathbf{c}\f$, in scene units.
-    float radius;      ///< \f$r > 0\f$, in scene units.
+    glm::vec3 center;  ///< The centre, in scene units.
+    float radius;      ///< `r > 0`, in scene units.
 };
 
 }  // namespace raykit

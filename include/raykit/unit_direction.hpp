@@ -14,9 +14,9 @@ namespace raykit {
 /// sphere_roots() for a ray whose direction has length 1, from the simplified
 /// quadratic.
 ///
-/// With \f$|\mathbf{d}| = 1\f$ the coefficient of \f$t^2\f$ is 1 and the roots
-/// are \f$ t = -h \pm \sqrt{h^2 - c} \f$, with \f$h = \mathbf{f}\cdot\mathbf{d}\f$,
-/// \f$c = \mathbf{f}\cdot\mathbf{f} - r^2\f$ and \f$\mathbf{f} = \mathbf{o} - \mathbf{c}\f$.
+/// With `|d| = 1` the coefficient of `t^2` is 1 and the roots are
+/// `t = -h +- sqrt(h^2 - c)`, with `f = o - center` (the origin seen from the
+/// sphere's centre), `h = f.d` and `c = f.f - r^2`.
 ///
 /// \param ray    **precondition:** `|ray.direction| == 1` up to float rounding
 ///               (a direction from `glm::normalize`). For any other direction the
@@ -32,11 +32,10 @@ Roots sphere_roots_unit_dir(const Ray& ray, const Sphere& sphere);
 /// The same roots read off a drawing: project the centre onto the ray, then
 /// use Pythagoras twice.
 ///
-/// With \f$\mathbf{L} = \mathbf{c} - \mathbf{o}\f$ and a unit direction:
-/// \f$ t_m = \mathbf{L}\cdot\mathbf{d} \f$ is where the ray passes closest to the
-/// centre, \f$ \ell_m^2 = |\mathbf{L}|^2 - t_m^2 \f$ is the squared distance of the
-/// line from the centre, \f$ \Delta t = \sqrt{r^2 - \ell_m^2} \f$ is half the
-/// chord, and the roots are \f$ t_m \mp \Delta t \f$.
+/// With `L = center - o` (the centre seen from the origin) and a unit direction:
+/// `t_m = L.d` is where the ray passes closest to the centre,
+/// `l_m^2 = |L|^2 - t_m^2` is the squared distance of the line from the centre,
+/// `dt = sqrt(r^2 - l_m^2)` is half the chord, and the roots are `t_m -+ dt`.
 ///
 /// \param ray    **precondition:** `|ray.direction| == 1` up to float rounding.
 /// \param sphere as for sphere_roots_unit_dir().

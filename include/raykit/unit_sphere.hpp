@@ -12,29 +12,29 @@
 
 namespace raykit {
 
-/// Every \f$t\f$ at which the line of \p ray meets the unit sphere
-/// \f$ \mathbf{x}\cdot\mathbf{x} = 1 \f$.
+/// Every `t` at which the line of \p ray meets the unit sphere
+/// `x.x = 1`.
 ///
 /// Substituting the ray into the sphere gives
-/// \f$ (\mathbf{d}\cdot\mathbf{d})\,t^2 + 2(\mathbf{o}\cdot\mathbf{d})\,t + (\mathbf{o}\cdot\mathbf{o} - 1) = 0 \f$.
+/// `(d.d) t^2 + 2(o.d) t + (o.o - 1) = 0`.
 ///
 /// \param ray any ray; its direction need not be unit length.
 /// \return the real roots, sorted (see Roots): `count == 2` when the line
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses or when
 ///         the direction is zero. Inputs containing NaN or infinity, or so large
-///         that \f$\mathbf{d}\cdot\mathbf{d}\f$ overflows, count as a miss; no
-///         root is ever NaN. Roots behind the origin (\f$t < 0\f$) are
+///         that `d.d` overflows, count as a miss; no
+///         root is ever NaN. Roots behind the origin (`t < 0`) are
 ///         included: this function knows nothing of windows.
 Roots unit_sphere_roots(const Ray& ray);
 
 /// The closest hit of \p ray with the unit sphere inside the closed window
-/// \f$ t_\min \le t \le t_\max \f$.
+/// `tmin <= t <= tmax`.
 ///
 /// \param ray  any ray; its direction need not be unit length.
-/// \param tmin smallest accepted \f$t\f$ (inclusive).
-/// \param tmax largest accepted \f$t\f$ (inclusive).
-/// \return the smallest root \f$t\f$ with `tmin <= t <= tmax`, or no value.
+/// \param tmin smallest accepted `t` (inclusive).
+/// \param tmax largest accepted `t` (inclusive).
+/// \return the smallest root `t` with `tmin <= t <= tmax`, or no value.
 ///         A root exactly at either end counts. When the near root is outside
 ///         the window but the far one is inside (a ray that starts inside the
 ///         sphere, for instance), the far root is returned. `tmin > tmax`

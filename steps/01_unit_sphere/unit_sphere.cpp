@@ -19,15 +19,11 @@
 namespace raykit {
 
 Roots unit_sphere_roots(const Ray& ray) {
-    (void)ray;
-    not_implemented_yet("unit_sphere_roots");
+    not_implemented_yet("unit_sphere_roots", ray);
 }
 
 std::optional<float> intersect_unit_sphere(const Ray& ray, float tmin, float tmax) {
-    (void)ray;
-    (void)tmin;
-    (void)tmax;
-    not_implemented_yet("intersect_unit_sphere");
+    not_implemented_yet("intersect_unit_sphere", ray, tmin, tmax);
 }
 
 }  // namespace raykit

@@ -19,17 +19,11 @@
 namespace raykit {
 
 Roots sphere_roots(const Ray& ray, const Sphere& sphere) {
-    (void)ray;
-    (void)sphere;
-    not_implemented_yet("sphere_roots");
+    not_implemented_yet("sphere_roots", ray, sphere);
 }
 
 std::optional<float> intersect_sphere(const Ray& ray, const Sphere& sphere, float tmin, float tmax) {
-    (void)ray;
-    (void)sphere;
-    (void)tmin;
-    (void)tmax;
-    not_implemented_yet("intersect_sphere");
+    not_implemented_yet("intersect_sphere", ray, sphere, tmin, tmax);
 }
 
 }  // namespace raykit

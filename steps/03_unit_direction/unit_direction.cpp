@@ -19,15 +19,11 @@
 namespace raykit {
 
 Roots sphere_roots_unit_dir(const Ray& ray, const Sphere& sphere) {
-    (void)ray;
-    (void)sphere;
-    not_implemented_yet("sphere_roots_unit_dir");
+    not_implemented_yet("sphere_roots_unit_dir", ray, sphere);
 }
 
 Roots sphere_roots_geometric(const Ray& ray, const Sphere& sphere) {
-    (void)ray;
-    (void)sphere;
-    not_implemented_yet("sphere_roots_geometric");
+    not_implemented_yet("sphere_roots_geometric", ray, sphere);
 }
 
 }  // namespace raykit

@@ -15,11 +15,7 @@
 namespace raykit {
 
 std::optional<float> intersect_rect(const Ray& ray, const Rect& rect, float tmin, float tmax) {
-    (void)ray;
-    (void)rect;
-    (void)tmin;
-    (void)tmax;
-    not_implemented_yet("intersect_rect");
+    not_implemented_yet("intersect_rect", ray, rect, tmin, tmax);
 }
 
 }  // namespace raykit

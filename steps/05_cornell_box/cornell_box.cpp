@@ -19,9 +19,7 @@ Scene cornell_box() {
 }
 
 Camera cornell_camera(int width, int height) {
-    (void)width;
-    (void)height;
-    not_implemented_yet("cornell_camera");
+    not_implemented_yet("cornell_camera", width, height);
 }
 
 }  // namespace raykit

@@ -4,9 +4,10 @@
 // Lecture: lectures/05-cornell-box.md (sections 4 to 7)
 // Check:   ./kit check 5        See it: ./kit render cornell_box --steps steps
 //
-// The declarations, with their full contracts, are in include/raykit/scene.hpp,
-// include/raykit/camera.hpp and include/raykit/render.hpp (read them, do not
-// edit them). Replace each `not_implemented_yet(...)` line with your code.
+// The declarations, with their full contracts, are in
+// include/raykit/render.hpp; the types they use in scene.hpp and camera.hpp
+// (read them, do not edit them). Replace each `not_implemented_yet(...)` line
+// with your code.
 
 #include "raykit/render.hpp"
 
@@ -19,24 +20,15 @@
 namespace raykit {
 
 std::optional<Hit> find_intersection(const Ray& ray, const Scene& scene, float tmin, float tmax) {
-    (void)ray;
-    (void)scene;
-    (void)tmin;
-    (void)tmax;
-    not_implemented_yet("find_intersection");
+    not_implemented_yet("find_intersection", ray, scene, tmin, tmax);
 }
 
 Ray view_ray(const Camera& camera, int i, int j) {
-    (void)camera;
-    (void)i;
-    (void)j;
-    not_implemented_yet("view_ray");
+    not_implemented_yet("view_ray", camera, i, j);
 }
 
 Canvas render(const Scene& scene, const Camera& camera) {
-    (void)scene;
-    (void)camera;
-    not_implemented_yet("render");
+    not_implemented_yet("render", scene, camera);
 }
 
 }  // namespace raykit

@@ -51,7 +51,8 @@ const std::string why =
 
 TEST_SUITE_BEGIN("robust");
 
-TEST_CASE("the unit sphere seen from 1000 units away" * doctest::description("4. What the discriminant says")) {
+TEST_CASE("the unit sphere seen from 1000 units away" *
+          doctest::description("6. Far and grazing rays (lecture 03 sections 5 and 6)")) {
     for (const glm::vec3 o : {glm::vec3(600, -480, 640), glm::vec3(-3, 999, 40)}) {
         expect_accurate(shot(o, 0, 1), hits, why);
         expect_accurate(shot(o, 0.6f, 1), hits, why);
@@ -60,7 +61,8 @@ TEST_CASE("the unit sphere seen from 1000 units away" * doctest::description("4.
     }
 }
 
-TEST_CASE("the unit sphere seen from 10000 units away" * doctest::description("4. What the discriminant says")) {
+TEST_CASE("the unit sphere seen from 10000 units away" *
+          doctest::description("6. Far and grazing rays (lecture 03 sections 5 and 6)")) {
     for (const glm::vec3 o : {glm::vec3(6000, -4800, 6400), glm::vec3(-30, 9999, 400)}) {
         expect_accurate(shot(o, 0, 1), hits, why);
         expect_accurate(shot(o, 0.6f, 1), hits, why);
@@ -70,7 +72,7 @@ TEST_CASE("the unit sphere seen from 10000 units away" * doctest::description("4
 }
 
 TEST_CASE("grazing rays near the silhouette of the unit sphere" *
-          doctest::description("4. What the discriminant says")) {
+          doctest::description("6. Far and grazing rays (lecture 03 sections 5 and 6)")) {
     // 1% inside and outside the radius, from 100 and 1000 units away.
     for (const glm::vec3 o : {glm::vec3(-96, 20, 25), glm::vec3(-960, 200, 250)}) {
         expect_accurate(shot(o, 0.99f, 1), hits, why);

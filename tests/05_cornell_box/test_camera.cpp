@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "cornell_checks.hpp"
-#include "raykit/camera.hpp"
+#include "raykit/render.hpp"
 
 using namespace raykit;
 using namespace raykit::grading;

@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "cornell_checks.hpp"
-#include "raykit/scene.hpp"
+#include "raykit/render.hpp"
 
 using namespace raykit;
 using namespace raykit::grading;

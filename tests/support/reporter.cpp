@@ -1,19 +1,26 @@
 // The "raykit" doctest reporter: one JSON object per line, written for the
-// grader (tools/kit), not for people.
+// grader (tools/kitlib), not for people.
 //
 //   --list-test-cases  -> {"case": ..., "suite": ..., "lecture": ...} per case
 //   a run              -> {"event": "start", "case": ...}
-//                         {"event": "end", "case": ..., "status": ..., "messages": [...]}
+//                         {"event": "end", "case": ..., "status": ..., "messages": [...],
+//                          "output": ..., "output_bytes": N}
 //
-// Every line is flushed at once, so when a student's code crashes or hangs the
-// grader still knows which case was running. Status is one of pass, fail,
-// not_started (a stub threw raykit::not_implemented), threw, crashed.
+// Every line is flushed at once. The student's code runs in another process
+// (remote.hpp): a call that crashed, hung or threw there is recorded per case,
+// and what the code printed comes back with the case. Status is one of pass,
+// fail, not_started (a stub threw raykit::not_implemented), threw, crashed,
+// timed_out.
 
 #include <doctest/doctest.h>
+
+#include <cstddef>
 
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include "remote.hpp"
 
 namespace {
 
@@ -56,13 +63,17 @@ public:
     }
 
     void test_run_start() override {}
-    void test_run_end(const doctest::TestRunStats&) override { out_.flush(); }
+    void test_run_end(const doctest::TestRunStats&) override {
+        raykit::remote::shutdown();
+        out_.flush();
+    }
 
     void test_case_start(const doctest::TestCaseData& tc) override {
         current_ = &tc;
         messages_.clear();
         exception_.clear();
         not_started_ = crashed_ = false;
+        raykit::remote::begin_case();
         out_ << "{\"event\": \"start\", \"case\": " << json_string(tc.m_name) << "}\n";
         out_.flush();
     }
@@ -80,9 +91,20 @@ public:
 
     void test_case_end(const doctest::CurrentTestCaseStats& stats) override {
         if (crashed_) return;
+        record_ = raykit::remote::end_case();
         const char* status = "pass";
-        if (not_started_) {
+        if (record_.incident.status == "crashed" || record_.incident.status == "timed_out") {
+            // The call that failed is named in the incident's message; the
+            // exception that carried it out of the case adds nothing.
+            status = record_.incident.status.c_str();
+            messages_.insert(messages_.begin(), record_.incident.message);
+            exception_.clear();
+        } else if (not_started_) {
             status = "not_started";
+        } else if (record_.incident.status == "threw") {
+            status = "threw";
+            if (exception_.find(record_.incident.message) == std::string::npos)
+                messages_.insert(messages_.begin(), record_.incident.message);
         } else if (!exception_.empty()) {
             status = "threw";
         } else if (!stats.testCaseSuccess || stats.numAssertsFailedCurrentTest > 0) {
@@ -125,8 +147,10 @@ private:
         if (!exception_.empty()) {
             out_ << (first ? "" : ", ") << json_string(exception_.c_str());
         }
-        out_ << "]}\n";
+        out_ << "], \"output\": " << json_string(record_.output.c_str())
+             << ", \"output_bytes\": " << record_.output_bytes << "}\n";
         out_.flush();
+        record_ = {};
     }
 
     std::ostream& out_;
@@ -135,6 +159,7 @@ private:
     std::string exception_;
     bool not_started_ = false;
     bool crashed_ = false;
+    raykit::remote::CaseRecord record_;
 };
 
 }  // namespace

@@ -21,7 +21,7 @@ from common import KitError  # noqa: E402
 
 # The order of commands in ./kit help: the student's first, then the instructor's (marked as such).
 STUDENT = ["check", "watch", "hint", "render", "docs", "bench"]
-ORDER = STUDENT + ["test", "grade", "handout", "exact"]
+ORDER = STUDENT + ["test", "grade", "handout", "exact", "mutant"]
 
 
 class Parser(argparse.ArgumentParser):

@@ -130,8 +130,12 @@ def gather(instructor: bool) -> Content:
         task = ROOT / "steps" / s.folder / "README.md"
         image = None
         manifest = json.loads((ROOT / "tests" / s.folder / "step.json").read_text())
-        if manifest.get("image") and (DOCS / "images" / manifest["image"]).is_file():
-            image = DOCS / "images" / manifest["image"]
+        # The picture named in the manifest, else its first scene's render, else one named after the step.
+        named = [manifest["image"]] if manifest.get("image") else []
+        named += [f"{sc['name']}.png" for sc in manifest.get("scenes", [])[:1]]
+        named = [DOCS / "images" / n for n in named if (DOCS / "images" / n).is_file()]
+        if named:
+            image = named[0]
         else:
             image = next((p for p in images if is_step_image(p, s)), None)
         steps.append(StepPages(s, lecture if lecture.is_file() else None, task if task.is_file() else None,

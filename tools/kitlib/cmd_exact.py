@@ -108,14 +108,17 @@ def data_text(step: Step, lines: list[str]) -> str:
 
 def recorded(build, step: Step) -> list[str]:
     """Runs every case of the step's reference test program and returns what it recorded."""
-    ok, out = build_target(build, step.target)
-    if not ok:
-        raise KitError(f"the reference build of step {step.number} does not compile:\n{out[-3000:]}", 1)
+    # The judge (test_stepNN) asks the answers program for the step functions' answers.
+    for target in (f"answers_step{step.number}", step.target):
+        ok, out = build_target(build, target)
+        if not ok:
+            raise KitError(f"the reference build of step {step.number} does not compile:\n{out[-3000:]}", 1)
     with tempfile.TemporaryDirectory(prefix="raykit-exact-") as tmp:
         log = Path(tmp) / "record.txt"
         env = dict(os.environ, RAYKIT_EXACT_RECORD=str(log))
         try:
-            r = subprocess.run([str(build.exe(step)), "--no-colors"], env=env, cwd=tmp, capture_output=True,
+            r = subprocess.run([str(build.exe(step)), "--no-colors", "--test-suite-exclude=hidden"], env=env,
+                               cwd=tmp, capture_output=True,
                                text=True, timeout=RUN_SECONDS)
         except subprocess.TimeoutExpired:
             raise KitError(f"step {step.number}'s reference test program ran over {RUN_SECONDS:g} s", 1) from None

@@ -1,4 +1,8 @@
-"""./kit grade SUBMISSIONS: batch grading, one submission at a time, into a CSV table."""
+"""./kit grade SUBMISSIONS: batch grading of a class into a CSV table, on one scale.
+
+Each submission is graded by a child ./kit (so nothing one does can stop the batch),
+in its own build folder and sandbox slot, several at a time (-j).
+"""
 
 from __future__ import annotations
 
@@ -9,8 +13,10 @@ import os
 import subprocess
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from cmd_check import STATE_WORDS
 from common import BUILD, ROOT, KitError, ensure_packages, load_steps, say
 
 HELP = "grade every student's steps folder under a directory and write a CSV summary"
@@ -20,24 +26,30 @@ SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own 
 def register(p) -> None:
     p.add_argument("submissions", metavar="SUBMISSIONS_DIR",
                    help="one folder per student, each a steps folder or a copy of the kit")
-    p.add_argument("--out", metavar="FILE", default="grades.csv", help="the CSV to write (default: grades.csv)")
+    p.add_argument("--out", metavar="FILE", default=str(BUILD / "grades.csv"),
+                   help="the CSV to write (default: build/grades.csv)")
+    p.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
+                   help="submissions graded at once (default: the number of cores)")
+    p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"], default="auto",
+                   help="how the graded code is kept apart (default: auto)")
     p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results.json (Gradescope format) here")
 
 
 def columns(steps) -> list[str]:
-    cols = ["student", "score", "max_score", "status"]
+    cols = ["student", "earned", "maximum", "percent", "status"]
     for s in steps:
-        cols += [f"step{s.number}_state", f"step{s.number}_basic", f"step{s.number}_basic_total",
+        cols += [f"step{s.number}_state", f"step{s.number}_earned", f"step{s.number}_maximum",
                  f"step{s.number}_robust", f"step{s.number}_robust_total"]
-    return cols + ["note"]
+    return cols + ["isolation", "note"]
 
 
-def grade_one(folder: Path, steps, report: Path) -> dict:
+def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str = "auto") -> dict:
     """Grades one submission in a child ./kit process, so nothing it does can stop the batch."""
     row = {"student": folder.name}
     report.unlink(missing_ok=True)
     try:
-        r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(folder), "--json", str(report), "--quiet"],
+        r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(folder), "--json", str(report), "--quiet",
+                            "--slot", str(slot), "--isolation", isolation],
                            cwd=ROOT, capture_output=True, text=True, timeout=SUBMISSION_SECONDS)
     except subprocess.TimeoutExpired:
         return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s")
@@ -45,18 +57,20 @@ def grade_one(folder: Path, steps, report: Path) -> dict:
         message = (r.stderr.strip().splitlines() or ["no result"])[-1]
         return dict(row, status="not graded", note=message.removeprefix("kit: "))
     data = json.loads(report.read_text())
-    row["score"] = data["score"]
-    row["max_score"] = sum(t["max_score"] for t in data["tests"])
+    row["earned"] = data["score"]
+    row["maximum"] = data["extra_data"]["max_score"]
+    row["percent"] = f"{100 * row['earned'] / row['maximum']:.1f}" if row["maximum"] else ""
     by_number = {s["step"]: s for s in data["extra_data"]["steps"]}
     row["status"] = "complete" if all(s["state"] == "done" for s in by_number.values()) else "incomplete"
+    row["isolation"] = next((s["isolation"] for s in by_number.values() if s.get("isolation")), "")
     notes = []
     for s in steps:
         res = by_number.get(s.number)
         if res is None:
             continue
-        row[f"step{s.number}_state"] = res["state"]
-        row[f"step{s.number}_basic"] = res["basic"]["passed"]
-        row[f"step{s.number}_basic_total"] = res["basic"]["total"]
+        row[f"step{s.number}_state"] = STATE_WORDS.get(res["state"], res["state"])
+        row[f"step{s.number}_earned"] = res["earned"]
+        row[f"step{s.number}_maximum"] = res["maximum"]
         row[f"step{s.number}_robust"] = res["robust"]["passed"]
         row[f"step{s.number}_robust_total"] = res["robust"]["total"]
         bad = sorted({c["status"] for c in res["cases"] if c["status"] in ("crashed", "timed_out", "threw")})
@@ -83,17 +97,28 @@ def run(args) -> int:
     if not folders:
         raise KitError(f"{args.submissions}: holds no submission folders")
     steps = load_steps()
-    rows = []
     start = time.monotonic()
     BUILD.mkdir(exist_ok=True)
-    for i, folder in enumerate(folders, 1):
-        print(f"[{i}/{len(folders)}] {folder.name} ...", end="", flush=True, file=sys.stderr)
-        report = BUILD / "grade-one.json"
-        row = grade_one(folder, steps, report)
+    jobs = max(1, min(args.jobs, len(folders)))
+    done = [0]
+
+    def one(item: tuple[int, Path]) -> dict:
+        i, folder = item
+        slot = i % jobs
+        report = BUILD / f"grade-one-{slot}.json"
+        row = grade_one(folder, steps, report, slot, args.isolation)
         if json_dir is not None and report.exists():
             (json_dir / f"{folder.name}.json").write_text(report.read_text())
-        rows.append(row)
-        print(f" {row.get('status')} {row.get('score', '')}", file=sys.stderr)
+        done[0] += 1
+        print(f"[{done[0]}/{len(folders)}] {folder.name}: {row.get('status')} "
+              f"{row.get('earned', '')}/{row.get('maximum', '')}", file=sys.stderr, flush=True)
+        return row
+
+    # Slot k serves submissions k, k + jobs, ...: one build folder and one sandbox user each.
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        by_slot = [[(i, f) for i, f in enumerate(folders) if i % jobs == k] for k in range(jobs)]
+        rows_by_slot = list(pool.map(lambda items: [one(item) for item in items], by_slot))
+    rows = sorted((r for slot_rows in rows_by_slot for r in slot_rows), key=lambda r: r["student"])
     text = io.StringIO()
     writer = csv.DictWriter(text, fieldnames=columns(steps), restval="")
     writer.writeheader()
@@ -104,6 +129,6 @@ def run(args) -> int:
     say(f"graded {len(rows)} submissions in {time.monotonic() - start:.0f} s: {out}")
     width = max(len(r["student"]) for r in rows)
     for r in rows:
-        say(f"  {r['student'].ljust(width)}  {str(r.get('score', '-')).rjust(4)} / {str(r.get('max_score', '-')).ljust(4)} "
+        say(f"  {r['student'].ljust(width)}  {str(r.get('earned', '-')).rjust(4)} / {str(r.get('maximum', '-')).ljust(4)} "
             f"{r.get('status', '')}  {r.get('note', '')}")
     return 0

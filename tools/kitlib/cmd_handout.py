@@ -32,6 +32,7 @@ HELP = "instructors: write the students' copy of the kit from the committed stub
 EXCLUDED = [
     "solutions", "tests/mutants", "tests/fixtures",        # answers, and answers with one slip
     "tests/properties", "tests/fuzz",                      # oracles and fuzz targets run on the solutions
+    "tests/hidden",                                        # the hidden cases (graded against the solutions)
     "tests/support/reference_roots.hpp",                   # the exact roots: a handout has the data instead
     "bench/reference",                                     # the benchmark's formulations and exact answers
     "tools/kitlib/cmd_exact.py",                           # regenerates that data from the solutions

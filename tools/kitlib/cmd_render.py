@@ -8,6 +8,7 @@ beside it.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -43,18 +44,20 @@ class Scene:
         return [(s, self.name if s == "flat" else f"{self.name}-{s}") for s in self.shadings]
 
 
-SCENES = [
-    Scene("unit_sphere", "01", ["flat", "normals"], "the unit sphere"),
-    Scene("spheres", "02", ["flat", "normals"], "a few general spheres on a big one"),
-    Scene("rectangles", "04", ["flat"], "rectangles facing the three axes"),
-    Scene("cornell_box", "05", ["flat"], "the empty Cornell box"),
-]
+def load_scenes() -> list[Scene]:
+    """The course's scenes, in step order, from each step's manifest: tests/NN_topic/step.json,
+    "scenes": [{"name", "shadings" ("flat" first), "about"}], drawn by tools/render/render_stepNN.cpp."""
+    scenes = []
+    for step in load_steps():
+        manifest = json.loads((ROOT / "tests" / step.folder / "step.json").read_text())
+        for entry in manifest.get("scenes", []):
+            scenes.append(Scene(entry["name"], step.number, list(entry["shadings"]), entry["about"]))
+    return scenes
 
 
 def available_scenes() -> list[Scene]:
-    """The scenes whose step is part of this kit."""
-    steps = {s.number for s in load_steps()}
-    return [s for s in SCENES if s.step in steps]
+    """The scenes of the steps that are part of this kit (a step's manifest lists them)."""
+    return load_scenes()
 
 
 def parse_size(text: str) -> tuple[int, int]:

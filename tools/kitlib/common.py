@@ -169,6 +169,11 @@ class Build:
     shown_dir: Path             # what the user named (for messages)
     preset: str | None = None
 
+    @property
+    def reference_needs(self) -> bool:
+        """Whether a step that needs another is graded on the reference's code for it."""
+        return (ROOT / "solutions").is_dir()
+
     def exe(self, step: Step) -> Path:
         return self.binary_dir / step.target
 

@@ -1,13 +1,21 @@
-"""Grading one build: compile each step, run its cases in a child process, collect results.
+"""Grading one build: compile the judge and the student's answers program, run the cases.
 
-A student's code may crash, loop, throw or print without end. Each step's test
-program runs in its own process group with a time limit per case and a cap on
-its output; when it dies, the case it was in is recorded and the run resumes
-with the next case, so one bad case costs only itself.
+The judge (a step's test program) never loads the student's code: it calls each
+step function in a child process, the answers program, which it starts itself
+(in a sandbox when the folder graded is not the student's own; see sandbox.py),
+and judges the answers it gets back. Nothing the student's code prints or writes
+reaches the verdicts. This module runs the judge, with a time limit per case as a
+backstop, and reads its verdicts.
+
+One scale: every case of every step counts, whatever state the step is in. A step
+whose code is missing or does not compile has all its cases failed; a step that
+needs another is graded on top of the reference's code for that other step where
+solutions/ is present, so one slip costs one step.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import signal
@@ -17,35 +25,53 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from common import Build, Step, build_target, configure, prerequisites
+from common import ROOT, Build, Step, build_target, configure, prerequisites
+from sandbox import NONE_OWN, Isolation, Scratch
 
-CASE_SECONDS = 3.0          # one case may run this long before it counts as hung ...
-HUNG_AGAIN_SECONDS = 0.5    # ... and, once one case of the step has hung, this long
-STEP_SECONDS = 20.0         # all cases of one step, including restarts
-OUTPUT_LIMIT = 1 << 20      # bytes a step's own printing may produce
+CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
+STEP_SECONDS = 120.0        # backstop: all cases of one step, including restarts
+OUTPUT_LIMIT = 1 << 20      # bytes the judge itself may print (it prints nothing)
+TIERS = ("basic", "hidden", "robust")
+SCORED_TIERS = ("basic", "hidden")   # one point a case; ★ robust cases are optional, 0 points
 
 
 @dataclass
 class Case:
     name: str
-    tier: str                   # "basic" or "robust"
+    tier: str                   # "basic", "hidden" or "robust"
     lecture: str                # lecture section, e.g. "4. What the discriminant says"
-    status: str = "not_run"     # pass fail not_started threw crashed timed_out not_run
+    status: str = "not_run"     # pass fail not_started threw crashed timed_out not_run no_compile missing waiting
     messages: list[str] = field(default_factory=list)
+    output: str = ""            # what the student's code printed during the case (trimmed)
+    output_bytes: int = 0
+
+    @property
+    def points(self) -> int:
+        return 1 if self.tier in SCORED_TIERS else 0
 
 
 @dataclass
 class StepResult:
     step: Step
-    state: str                  # done, partial, not_started, missing, no_compile, locked, broken
+    state: str                  # done, partial, not_started, missing, no_compile, waiting, broken
     cases: list[Case] = field(default_factory=list)
     detail: str = ""            # compiler errors, the missing file, the step we wait for
+    isolation: str = ""
+    seed: str = ""
 
     def tier(self, tier: str) -> list[Case]:
         return [c for c in self.cases if c.tier == tier]
 
     def passed(self, tier: str) -> int:
         return sum(c.status == "pass" for c in self.tier(tier))
+
+    @property
+    def earned(self) -> int:
+        return sum(c.points for c in self.cases if c.status == "pass")
+
+    @property
+    def maximum(self) -> int:
+        return sum(c.points for c in self.cases)
 
     def first_problem(self, tier: str = "basic") -> Case | None:
         for c in self.tier(tier):
@@ -59,11 +85,12 @@ class StepResult:
     def to_json(self) -> dict:
         return {
             "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
-            "state": self.state, "detail": self.detail,
-            "basic": {"passed": self.passed("basic"), "total": len(self.tier("basic"))},
-            "robust": {"passed": self.passed("robust"), "total": len(self.tier("robust"))},
+            "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
+            "earned": self.earned, "maximum": self.maximum,
+            **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
             "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
-                       "messages": c.messages} for c in self.cases],
+                       "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes}
+                      for c in self.cases],
         }
 
 
@@ -99,14 +126,19 @@ def list_cases(exe: Path) -> list[Case]:
         return [Case(e["case"], e.get("suite") or "basic", e.get("lecture") or "") for e in _read_lines(out)]
 
 
-def run_cases(exe: Path, cases: list[Case], case_seconds: float = CASE_SECONDS,
-              step_seconds: float = STEP_SECONDS) -> None:
-    """Runs every case of `exe`, filling in each Case's status and messages."""
+def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
+              case_seconds: float = CASE_SECONDS, step_seconds: float = STEP_SECONDS) -> None:
+    """Runs the judge `exe` over every case, filling in each Case's status and messages.
+
+    The judge is the kit's own code and limits each call to the student's code itself;
+    the limits here only guard against the judge going wrong.
+    """
     by_name = {c.name: c for c in cases}
     order = [c.name for c in cases]
     deadline = time.monotonic() + step_seconds
     done: set[str] = set()
-    with tempfile.TemporaryDirectory() as tmp:
+    full_env = dict(os.environ, **(env or {}))
+    with tempfile.TemporaryDirectory(prefix="raykit-judge-") as tmp:
         attempt = 0
         while len(done) < len(cases) and time.monotonic() < deadline:
             attempt += 1
@@ -118,9 +150,9 @@ def run_cases(exe: Path, cases: list[Case], case_seconds: float = CASE_SECONDS,
                 proc = subprocess.Popen([str(exe), "--reporters=raykit", f"--out={out}", f"--first={first}",
                                          "--no-breaks=true"],
                                         stdout=sink, stderr=sink, stdin=subprocess.DEVNULL,
-                                        start_new_session=True)
+                                        start_new_session=True, env=full_env)
                 current, started_at, reason = None, time.monotonic(), None
-                seen, reported_crash = 0, False
+                seen = 0
                 while True:
                     finished = proc.poll() is not None
                     events = _read_lines(out)
@@ -130,11 +162,9 @@ def run_cases(exe: Path, cases: list[Case], case_seconds: float = CASE_SECONDS,
                         elif e.get("event") == "end" and e["case"] in by_name:
                             c = by_name[e["case"]]
                             c.status, c.messages = e["status"], list(e.get("messages", []))
-                            if c.status == "crashed":
-                                c.messages = [f"Your code crashed in this case: {m}" for m in c.messages]
+                            c.output, c.output_bytes = e.get("output", ""), int(e.get("output_bytes", 0))
                             done.add(c.name)
                             current = None
-                            reported_crash = c.status == "crashed"
                     seen = len(events)
                     if finished:
                         break
@@ -149,73 +179,91 @@ def run_cases(exe: Path, cases: list[Case], case_seconds: float = CASE_SECONDS,
                     time.sleep(0.01)
             if current is None and reason is None and proc.returncode in (0, 1):
                 break       # a normal end (doctest exits 1 when a case failed)
-            if current is None and reason is None and reported_crash:
-                continue    # doctest caught the signal and told us which case it was
             if current is None or current not in by_name:
-                # Died between cases (static initialisers, exit() in student code ...).
                 rest = [n for n in order if n not in done]
                 if not rest:
                     break
                 current = rest[0]
             c = by_name[current]
             done.add(current)
-            if reason == "timed_out":
-                c.status = "timed_out"
-                c.messages = [f"This case did not finish within {case_seconds:g} s: an endless loop?"]
-                case_seconds = min(case_seconds, HUNG_AGAIN_SECONDS)
-            elif reason == "flooded":
-                c.status = "crashed"
-                c.messages = [f"The code printed more than {OUTPUT_LIMIT >> 20} MiB and was stopped."]
-            else:
-                c.status = "crashed"
-                if proc.returncode is not None and proc.returncode < 0:
-                    try:
-                        what = signal.Signals(-proc.returncode).name
-                    except ValueError:
-                        what = f"signal {-proc.returncode}"
-                    c.messages = [f"The program died in this case ({what})."]
-                else:
-                    c.messages = [f"The program stopped in the middle of this case (exit status "
-                                  f"{proc.returncode}): does the code call exit() or abort()?"]
+            c.status = "crashed"
+            c.messages = [f"The grader itself stopped in this case ({reason or proc.returncode}); "
+                          "this is the kit's fault, not yours: please tell your instructor."]
         for c in cases:
             if c.name not in done and c.status == "not_run":
                 c.messages = ["Not run: the step's time ran out."]
 
 
-def grade_step(build: Build, step: Step, results: dict[str, StepResult]) -> StepResult:
-    missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
-    if missing:
-        return StepResult(step, "missing", detail=f"{step.folder}/{missing[0]} is missing")
-    for need in step.needs:
-        dep = results.get(need)
-        if dep is not None and dep.state != "done":
-            return StepResult(step, "locked", detail=need)
+def submission_seed(build: Build, step: Step) -> str:
+    """The hidden cases' seed: a hash of the step's files, so one submission always meets the same inputs."""
+    h = hashlib.sha256(step.folder.encode())
+    for f in step.files:
+        p = build.steps_dir / step.folder / f
+        h.update(p.read_bytes() if p.is_file() else b"")
+    return h.hexdigest()[:8]
+
+
+def _all(cases: list[Case], status: str, message: str) -> list[Case]:
+    for c in cases:
+        c.status, c.messages = status, [message]
+    return cases
+
+
+def grade_step(build: Build, step: Step, results: dict[str, StepResult], isolation: Isolation) -> StepResult:
     ok, out = build_target(build, step.target)
     if not ok:
-        return StepResult(step, "no_compile", detail=out)
-    exe = build.exe(step)
+        return StepResult(step, "broken", detail="the kit's test program does not build (a kit bug):\n" + out)
+    judge = build.exe(step)
     try:
-        cases = list_cases(exe)
+        cases = list_cases(judge)
     except (RuntimeError, subprocess.TimeoutExpired, OSError) as e:
         return StepResult(step, "broken", detail=f"the test program could not list its cases: {e}")
-    run_cases(exe, cases)
-    basic = [c for c in cases if c.tier == "basic"]
-    if basic and all(c.status == "not_started" for c in cases):
+    missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
+    if missing:
+        detail = f"{step.folder}/{missing[0]} is missing"
+        return StepResult(step, "missing", _all(cases, "missing", detail), detail=detail)
+    if not build.reference_needs:
+        # No reference here (a student's handout): the step runs on the student's own
+        # earlier steps, so it waits until they are done.
+        for need in step.needs:
+            dep = results.get(need)
+            if dep is not None and dep.state != "done":
+                return StepResult(step, "waiting", _all(cases, "waiting", f"needs step {need} done first"),
+                                  detail=need)
+    ok, out = build_target(build, f"answers_step{step.number}")
+    if not ok:
+        first = next((l for l in out.splitlines() if "error" in l), "")
+        return StepResult(step, "no_compile", _all(cases, "no_compile", "does not compile: " + first.strip()),
+                          detail=out)
+    seed = submission_seed(build, step)
+    scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
+    try:
+        env = dict(scratch.env(), RAYKIT_SEED=seed)
+        if not isolation.sandboxed:
+            env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
+        run_cases(judge, cases, env)
+    finally:
+        scratch.close()
+    scored = [c for c in cases if c.tier == "basic"]
+    if scored and all(c.status == "not_started" for c in cases if c.tier != "hidden"):
         state = "not_started"
-    elif all(c.status == "pass" for c in basic):
+    elif all(c.status == "pass" for c in cases if c.tier in SCORED_TIERS):
         state = "done"
     else:
         state = "partial"
-    return StepResult(step, state, cases)
+    return StepResult(step, state, cases, isolation=isolation.description,
+                      seed=seed if any(c.tier == "hidden" for c in cases) else "")
 
 
-def grade(build: Build, steps: list[Step], all_steps: list[Step]) -> list[StepResult]:
-    """Grades `steps`, and first the steps they need (quietly, to know whether they are done)."""
-    configure(build)
+def grade(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN) -> list[StepResult]:
+    """Grades `steps`; without a reference, first the steps they need (quietly, to know whether they are done)."""
+    cache = build.binary_dir / "CMakeCache.txt"
+    if not cache.is_file() or f"RAYKIT_STEPS_DIR:PATH={build.steps_dir}\n" not in cache.read_text(errors="replace"):
+        configure(build)    # once; afterwards the build tool re-runs CMake itself when its inputs change
     wanted = {s.number for s in steps}
-    needed = {p.number for s in steps for p in prerequisites(s, all_steps)}
+    needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     results: dict[str, StepResult] = {}
     for s in all_steps:
         if s.number in wanted or s.number in needed:
-            results[s.number] = grade_step(build, s, results)
+            results[s.number] = grade_step(build, s, results, isolation)
     return [results[s.number] for s in steps]

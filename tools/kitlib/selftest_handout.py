@@ -22,6 +22,7 @@ import tempfile
 from pathlib import Path
 
 import cmd_handout
+from cmd_mutant import patches, write_answer
 from common import BUILD, ROOT, load_steps
 
 TARGET = BUILD / "handout-test"
@@ -196,12 +197,11 @@ def check_handout_grades(ctx) -> str:
         expect("not started" in line or (s.needs and "needs" in line),
                f"handout: step {s.number}'s stub is not 'not started': {line!r}\n{r.stdout[-800:]}")
     first = steps[0]
-    mutant = sorted((ROOT / "tests" / "mutants" / first.folder).iterdir())[0]
-    put(ROOT / "solutions" / first.folder, first)
-    put(mutant, first)
+    mutant = patches(first)[0]
+    put(write_answer(first, mutant, BUILD / "handout-mutant"), first)
     r = check(str(int(first.number)))
     expect(r.returncode == 1 and "done" not in _board(r.stdout).get(first.number, "done"),
-           f"handout: a wrong answer ({mutant.name}) is not caught:\n{r.stdout[-800:]}")
+           f"handout: a wrong answer ({mutant.stem}) is not caught:\n{r.stdout[-800:]}")
     for s in steps:
         put(ROOT / "solutions" / s.folder, s)
     r = check()
@@ -241,7 +241,7 @@ def check_handout_grades(ctx) -> str:
     if r.returncode != 0:
         raise Failed(f"the handout's own ./kit test failed:\n{r.stdout[-1500:]}")
     shutil.rmtree(TARGET, ignore_errors=True)
-    return (f"stubs not started, {mutant.name} caught, solutions done with {robust} ★ cases from the data, "
+    return (f"stubs not started, {mutant.stem} caught, solutions done with {robust} ★ cases from the data, "
             f"textbook step 02 ★ {textbook_score}, a stale entry reported; its ./kit test passes")
 
 

@@ -1,55 +1,83 @@
-"""Self-test: every mutant (a full answer with one realistic slip) is caught by the basic tier.
+"""Self-test: every mutant (the reference answer with one realistic slip) is caught, by its named case.
 
-Each mutant goes through the path a student's work takes: `./kit check N --steps DIR`, where DIR
-holds the mutant's files for its step and the reference files for the steps it needs.
+A mutant is a patch, tests/mutants/NN_topic/NAME.patch (format: cmd_mutant.py). Each one is applied
+to a fresh copy of the reference answer and goes through the path a student's work takes:
+`./kit check N --steps DIR`, where DIR holds the mutated files of its step and the reference files
+of the steps it needs. It is caught when the basic tier fails; it is caught by its named case when
+one of the cases its header names is among the failures. A patch that no longer applies, or that
+names a case the suite does not have, fails by name.
 """
 
 from __future__ import annotations
 
-import json
 import shutil
-from collections import defaultdict
 
-from common import BUILD, ROOT, load_steps, stage_on_reference
+from cmd_mutant import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
+from common import BUILD, load_steps
 
-MUTANTS = ROOT / "tests" / "mutants"
 MINIMUM_PER_STEP = 8
 
 
+def stray_files() -> list[str]:
+    """Anything under tests/mutants/ but the patches and the README: a full copy of a solution
+    left behind would go stale as the reference changes."""
+    return sorted(str(p.relative_to(MUTANTS)) for p in MUTANTS.rglob("*")
+                  if p.is_file() and p.suffix != ".patch" and p != MUTANTS / "README.md")
+
+
+def judge(step, path, work) -> tuple[bool, bool, list[str]]:
+    """Grades one patch: (caught, caught by a named case, the problems to report by name)."""
+    label = f"{step.folder}/{path.name}"
+    try:
+        mutant = read_patch(path, step)
+        files = apply_patch(mutant)
+    except PatchError as e:
+        return False, False, [f"{label}: {e}"]
+    problems = [] if mutant.cases else [f"{label}: its header names no case that must catch it"]
+    code, result = grade_files(step, files, work)
+    failing = failing_cases(result)
+    known = {c["name"] for c in result["cases"]} if result else set()
+    unknown = [c for c in mutant.cases if known and c not in known]
+    if unknown:
+        problems.append(f"{label}: names cases step {step.number} does not have: " + ", ".join(unknown))
+    # Caught: graded as a wrong answer (exit status 1, a basic case fails), not as a build
+    # problem or a stub, which would say nothing about the suite.
+    if not (code == 1 and result and result["state"] == "partial" and failing):
+        state = result["state"] if result else f"exit status {code}"
+        return False, False, problems + [f"{label}: not caught ({state})"]
+    named = any(c in failing for c in mutant.cases)
+    if not named and mutant.cases and not unknown:
+        problems.append(f"{label}: caught, but not by its named case(s); it fails: " + ", ".join(failing[:3]))
+    return True, named, problems
+
+
 def check_mutants(ctx) -> str:
-    from cmd_test import Failed, kit, need_solutions
+    from cmd_test import Failed, need_solutions
 
     need_solutions()
+    stray = stray_files()
+    if stray:
+        raise Failed("tests/mutants/ holds files that are not patches: " + ", ".join(stray))
 
-    steps = load_steps()
-    scores: dict[str, list[int]] = defaultdict(lambda: [0, 0])
-    escaped = []
-    work = BUILD / "mutant-steps"
-    for step in steps:
-        folder = MUTANTS / step.folder
-        mutants = sorted(p for p in folder.iterdir() if p.is_dir()) if folder.is_dir() else []
-        if len(mutants) < MINIMUM_PER_STEP:
-            raise Failed(f"step {step.number} has {len(mutants)} mutants in tests/mutants/{step.folder}/, "
-                         f"at least {MINIMUM_PER_STEP} are needed")
-        for mutant in mutants:
-            # A mutant folder holds the files its slip is in; the step's other files are the
-            # reference ones, so the whole is a complete answer with one mistake.
-            stage_on_reference(work, step, steps, mutant)
-            report = BUILD / "mutant.json"
-            r = kit("check", str(int(step.number)), "--steps", str(work), "--json", str(report), "--quiet")
-            result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.exists() else None
-            report.unlink(missing_ok=True)
-            scores[step.number][1] += 1
-            if r.returncode == 1 and result and result["state"] not in ("done", "not_started"):
-                scores[step.number][0] += 1
-            else:
-                state = result["state"] if result else f"exit {r.returncode}"
-                escaped.append(f"{step.folder}/{mutant.name} ({state})")
+    problems, lines = [], []
+    work = BUILD / "mutant-check"
+    for step in load_steps():
+        found = patches(step)
+        if len(found) < MINIMUM_PER_STEP:
+            problems.append(f"step {step.number} has {len(found)} mutants in tests/mutants/{step.folder}/, "
+                            f"at least {MINIMUM_PER_STEP} are needed")
+        caught = by_named = 0
+        for path in found:
+            is_caught, is_named, found_problems = judge(step, path, work)
+            caught += is_caught
+            by_named += is_named
+            problems += found_problems
+        lines.append(f"step {step.number}: {len(found)} mutants, {caught} caught, {by_named} by their named case")
     shutil.rmtree(work, ignore_errors=True)
-    summary = ", ".join(f"step {n}: {k}/{t}" for n, (k, t) in sorted(scores.items()))
-    if escaped:
-        raise Failed(f"mutation score {summary}; not caught: " + ", ".join(escaped))
-    return f"mutation score {summary} (every mutant caught by the basic tier)"
+    table = "\n    " + "\n    ".join(lines)
+    if problems:
+        raise Failed("mutation score" + table + "\n  " + "\n  ".join(problems))
+    return "mutation score (every mutant caught by its named case)" + table
 
 
 def checks():

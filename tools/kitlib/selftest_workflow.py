@@ -9,6 +9,7 @@ import signal
 import subprocess
 import time
 
+from cmd_mutant import MUTANTS, write_answer
 from common import BUILD, ROOT, load_steps
 
 # Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
@@ -54,7 +55,8 @@ def check_batch_grading(ctx) -> str:
     step = load_steps()[0]
     root = BUILD / "grade-test"
     shutil.rmtree(root, ignore_errors=True)
-    sources = {"alice": ROOT / "solutions", "bob": ROOT / "tests/mutants" / step.folder / "open_window",
+    wrong = write_answer(step, MUTANTS / step.folder / "open_window.patch", BUILD / "grade-test-mutant" / step.folder)
+    sources = {"alice": ROOT / "solutions", "bob": wrong.parent,
                "carol": ROOT / "tests/fixtures/crash", "dave": ROOT / "tests/fixtures/hang"}
     for student, src in sources.items():
         dst = root / student / step.folder

@@ -4,7 +4,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "raykit/camera.hpp"
+#include "raykit/render.hpp"
 #include "raykit/unit_sphere.hpp"
 #include "tool.hpp"
 

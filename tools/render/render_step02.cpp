@@ -5,7 +5,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "raykit/camera.hpp"
+#include "raykit/render.hpp"
 #include "raykit/general_sphere.hpp"
 #include "tool.hpp"
 

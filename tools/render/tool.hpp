@@ -9,6 +9,7 @@
 // code, and a view_ray still to write is reported as such.
 //
 //   raykit_render_stepNN SCENE SHADING WIDTH HEIGHT OUT
+//   raykit_render_stepNN --smoke OUT     (the first scene in its last shading, 40 x 30)
 //
 // OUT ending in .png gets the picture; OUT ending in .txt gets it as letters,
 // one a pixel (see palette_letter). Exit status: 0 written, 2 bad arguments,

@@ -1,0 +1,97 @@
+// The judge's side of the wire: calls a step function in the answers process
+// and brings back its answer, or says exactly which call went wrong.
+//
+// The test program (the judge) never links a student's code. Each step function
+// it calls is a proxy (tests/support/proxies.cpp) that sends the call to a child
+// process built from the student's sources plus a dispatcher
+// (tests/support/answers_main.cpp), waits at most a set time for the reply, and
+// decodes it. A crash, a time-out or a garbled reply becomes an exception naming
+// the function and its arguments; the child is started again for the next call.
+// What the student's code prints arrives on its own pipe and is kept per case.
+//
+// Where the child runs is set by the environment, so that ctest can run a test
+// program on its own:
+//   RAYKIT_ANSWERS            the answers program (default: the one built beside it)
+//   RAYKIT_REFERENCE_ANSWERS  the reference's answers program, for hidden cases
+//   RAYKIT_ISOLATION          none | bwrap | user:UID   (default none)
+//   RAYKIT_SCRATCH            the one folder the child may write (default: a new one)
+//   RAYKIT_HIDE               ':'-separated folders the child must not see (bwrap)
+//   RAYKIT_CALL_SECONDS       the time limit of one call (default 2)
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "wire.hpp"
+
+namespace raykit::remote {
+
+/// Which answers process a call goes to.
+enum class Target { student, reference };
+
+/// How a call went wrong, beyond a wrong answer.
+struct Incident {
+    std::string status;   ///< "crashed", "timed_out", "threw" or "" (none)
+    std::string message;  ///< one sentence for the student, naming the call
+};
+
+/// Thrown by a proxy when its call crashed, timed out, threw or replied garbage.
+struct CallFailed : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Sends one call and returns the reply's payload (after the kind byte has been
+/// checked). Throws CallFailed, or raykit::not_implemented for a stub.
+std::string exchange(Target target, const std::string& function, const std::string& arguments,
+                     const std::string& shown_arguments);
+
+/// Calls `function` in the answers process with `args` and decodes its result.
+template <class R, class... A>
+R call(Target target, const char* function, const A&... args) {
+    wire::Writer w;
+    (wire::put(w, args), ...);
+    const std::string reply = exchange(target, function, w.bytes, wire::args_text(args...));
+    wire::Reader r(reply.data(), reply.size());
+    try {
+        R value = wire::get<R>(r);
+        if (!r.at_end()) throw wire::wire_error("the reply is longer than its value");
+        return value;
+    } catch (const wire::wire_error& e) {
+        throw CallFailed(std::string(function) + "(" + wire::args_text(args...) +
+                         ") sent back an answer the grader cannot read (" + e.what() + ").");
+    }
+}
+
+/// The reference solution's answer, for hidden cases (needs RAYKIT_REFERENCE_ANSWERS).
+template <class R, class... A>
+R reference(const char* function, const A&... args) {
+    return call<R>(Target::reference, function, args...);
+}
+
+/// The answers programs built beside this test program (set by proxies.cpp at
+/// start-up); the environment overrides them.
+bool set_built_programs(const char* answers, const char* reference);
+
+/// Whether a reference answers program is there (solutions present).
+bool has_reference();
+
+// ---- per case, for the reporter ---------------------------------------------------
+
+/// A case begins: forget the last case's incident and output.
+void begin_case();
+
+/// A case ends: every process the student's code left behind is ended
+/// (sandboxed runs), and the case's incident and output are returned.
+struct CaseRecord {
+    Incident incident;
+    std::string output;          ///< what the student's code printed, trimmed
+    std::size_t output_bytes = 0;  ///< how much it printed in all
+};
+CaseRecord end_case();
+
+/// Stops the answers processes (at exit).
+void shutdown();
+
+}  // namespace raykit::remote

@@ -1,0 +1,130 @@
+"""Where a student's code runs while it is graded: the isolation the kit can get here.
+
+The judge (a step's test program) starts the student's answers program itself
+(tests/support/remote.cpp); this module chooses how, prepares the one folder the
+student's code may write, and says in words what was done:
+
+- bwrap: bubblewrap, where namespaces are allowed — a read-only view of the machine
+  with the kit, the homes and /tmp hidden, no network, its own PID namespace (every
+  process it starts is ended with the case), an unprivileged user id;
+- user: when bubblewrap cannot run but the kit runs as root (a Docker container, as
+  on Gradescope) — a dedicated unprivileged user id, which can write only its scratch
+  folder, cannot read the kit's answers, and whose every process is ended with the case;
+- none: neither is possible (say so plainly), or the student grades their own steps.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import stat
+import subprocess
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from common import BUILD, ROOT
+
+# User ids for the "user" isolation, one per parallel grading slot. Never in
+# /etc/passwd: nothing but the sandboxed processes ever has them.
+FIRST_UID = 64000
+
+# What the sandboxed code must not read even where the machine is readable: the
+# kit (solutions, the hidden cases' sources, the reference answers programs).
+SECRET_PARTS = ["solutions", "tests/hidden", "tests/mutants", "build"]
+
+
+@dataclass
+class Isolation:
+    mode: str           # "bwrap", "user:UID" or "none"
+    description: str    # one line for the report
+
+    @property
+    def sandboxed(self) -> bool:
+        return self.mode != "none"
+
+
+NONE_OWN = Isolation("none", "not sandboxed (your own steps: the code runs as you)")
+
+_probe: dict[str, bool] = {}
+
+
+def bwrap_works() -> bool:
+    if "bwrap" not in _probe:
+        ok = False
+        if shutil.which("bwrap"):
+            try:
+                r = subprocess.run(["bwrap", "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc",
+                                    "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
+                                    "--die-with-parent", "--cap-drop", "ALL", "true"],
+                                   capture_output=True, timeout=20)
+                ok = r.returncode == 0
+            except (OSError, subprocess.TimeoutExpired):
+                ok = False
+        _probe["bwrap"] = ok
+    return _probe["bwrap"]
+
+
+def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
+    """The isolation for a folder the kit did not write: `wanted` is auto, bwrap, user or none."""
+    if wanted in ("auto", "bwrap") and bwrap_works():
+        return Isolation("bwrap", "sandboxed with bubblewrap: read-only system, kit hidden, no network, "
+                                  "own process namespace, unprivileged user")
+    if wanted == "bwrap":
+        raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
+    if wanted in ("auto", "user") and os.geteuid() == 0:
+        return Isolation(f"user:{FIRST_UID + slot}",
+                         f"sandboxed as the unprivileged user id {FIRST_UID + slot}: it writes only a scratch "
+                         "folder and cannot read the kit's answers; every process it starts is ended; "
+                         "the network is NOT isolated (bubblewrap could not run here)")
+    if wanted == "user":
+        raise RuntimeError("the user isolation needs the kit to run as root")
+    if wanted == "none":
+        return Isolation("none", "NOT sandboxed (--isolation none): the code ran with the grader's rights")
+    return Isolation("none", "NOT sandboxed: bubblewrap could not run and the kit is not root, so the "
+                             "code ran with the grader's rights. Install bubblewrap, or grade as root.")
+
+
+class Scratch:
+    """A fresh folder that the student's code may write, holding a copy of its answers program."""
+
+    def __init__(self, isolation: Isolation, answers: Path | None):
+        self.isolation = isolation
+        self.path = Path(tempfile.mkdtemp(prefix="raykit-sandbox-"))
+        self.answers = None
+        if answers is not None and answers.is_file():
+            self.answers = self.path / "answers"
+            shutil.copy2(answers, self.answers)
+            os.chmod(self.answers, 0o755)
+        if isolation.mode.startswith("user:"):
+            uid = int(isolation.mode[5:])
+            os.chown(self.path, uid, uid)
+            os.chmod(self.path, 0o700)
+            if self.answers is not None:
+                os.chown(self.answers, uid, uid)
+            hide_secrets()
+
+    def env(self) -> dict[str, str]:
+        hidden = [str(ROOT), str(BUILD)]
+        home = os.environ.get("HOME")
+        if home:
+            hidden.append(home)
+        return {"RAYKIT_ISOLATION": self.isolation.mode, "RAYKIT_SCRATCH": str(self.path),
+                "RAYKIT_HIDE": ":".join(hidden), "RAYKIT_ANSWERS": str(self.answers or "")}
+
+    def close(self) -> None:
+        shutil.rmtree(self.path, ignore_errors=True)
+
+
+def hide_secrets() -> None:
+    """Under the user isolation, the answers must not be readable by other users.
+
+    Takes read and search rights from 'others' on the kit's secret folders (the kit
+    runs as root here, and nothing but the sandbox is 'other').
+    """
+    for part in SECRET_PARTS:
+        p = ROOT / part
+        if p.is_dir():
+            mode = p.stat().st_mode
+            if mode & (stat.S_IROTH | stat.S_IXOTH):
+                os.chmod(p, mode & ~(stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH))
