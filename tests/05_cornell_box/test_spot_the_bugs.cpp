@@ -13,7 +13,7 @@
 #include <string>
 
 #include "cornell_checks.hpp"
-#include "raykit/scene.hpp"
+#include "raykit/render.hpp"
 
 using namespace raykit;
 using namespace raykit::grading;

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import os
 import time
 from pathlib import Path
@@ -93,9 +94,39 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> lis
 
 
 def compile_errors(text: str, limit: int = 12) -> list[str]:
+    undefined = sorted({m.group(1) for m in re.finditer(r"undefined reference to [`'‘]([^'’]+)['’]", text)})
+    if undefined:
+        # The linker names the function, not the file: say which step function is missing.
+        out = ["The linker found no definition of:"] + [f"  {u}" for u in undefined[:limit]]
+        out.append("Each of these must be defined in the step's file with exactly this name and these "
+                   "parameter types (a typo, a missing raykit:: namespace or a changed signature?).")
+        return out
     lines = [l for l in text.splitlines() if "error" in l or l.startswith("  ") and "^" in l]
     errors = [l for l in text.splitlines() if "error:" in l]
     return (errors or lines or text.splitlines()[-limit:])[:limit]
+
+
+def function_of(case) -> str:
+    """The step function a failed case called, from its message's first line (`name(...)`)."""
+    for m in case.messages:
+        hit = re.match(r"\s*(?:Your code \w+ (?:in|an exception in) )?([a-z_]+)\(", m)
+        if hit:
+            return hit.group(1)
+    return "other checks"
+
+
+def all_failures(r: StepResult, reveal: bool) -> list[str]:
+    """Every failing case of a step, grouped by the function it called (./kit check N --all)."""
+    groups: dict[str, list] = {}
+    for c in r.cases:
+        if c.status != "pass":
+            groups.setdefault(function_of(c), []).append(c)
+    out = []
+    for name, cases in groups.items():
+        out.append(paint(f"  {name}: {len(cases)} failing case(s)", "bold"))
+        for c in cases:
+            out += case_block(r.step, c, "    ", reveal=reveal)
+    return out
 
 
 def next_steps(results: list[StepResult], shown: Path) -> list[str]:
@@ -140,7 +171,7 @@ def next_steps(results: list[StepResult], shown: Path) -> list[str]:
     return out
 
 
-def scoreboard(results: list[StepResult], shown: Path) -> None:
+def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = False, reveal: bool = False) -> None:
     say(paint(f"raykit · grading {rel(shown)}/", "bold"))
     say()
     width = max(len(r.step.title) for r in results)
@@ -157,8 +188,18 @@ def scoreboard(results: list[StepResult], shown: Path) -> None:
     if isolation and isolation != NONE_OWN.description:
         say(paint(f"  {isolation}", "yellow" if "NOT" in isolation else "dim"))
     say()
+    if every_failure:
+        for r in results:
+            if any(c.status != "pass" for c in r.cases):
+                say(paint(f"Step {r.step.number}, {r.step.title}: every failing case", "bold"))
+                for line in all_failures(r, reveal):
+                    say(line)
+                say()
     for line in next_steps(results, shown):
         say(line)
+    done = sum(r.state == "done" for r in results)
+    say()
+    say(paint(f"{done} of {len(results)} steps done.", "bold"))
 
 
 HELP = "grade your steps and show what to do next"
@@ -175,6 +216,7 @@ def register(p) -> None:
                    choices=["hidden", "after_due_date", "after_published", "visible"],
                    help="Gradescope visibility of the hidden cases in --json (default: after_due_date)")
     p.add_argument("--reveal", action="store_true", help="show the inputs of failed hidden cases (instructors)")
+    p.add_argument("--all", action="store_true", help="list every failing case of the steps, grouped by function")
     p.add_argument("--slot", type=int, default=0, help=argparse.SUPPRESS)  # ./kit grade -j: build folder and sandbox
 
 
@@ -200,7 +242,7 @@ def run(args) -> int:
     if args.json:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
     if not args.quiet:
-        scoreboard(results, source)
+        scoreboard(results, source, args.all, args.reveal)
     return 0 if all(r.state == "done" for r in results) else 1
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import importlib
 import re
 import subprocess
+import tempfile
 import sys
 import time
 import traceback
@@ -138,6 +139,35 @@ def check_case_names_and_lectures(ctx: Context) -> str:
     return f"{total} case names are filter-safe and each points to a lecture heading that exists{skipped}"
 
 
+def check_remote_lists(ctx: Context) -> str:
+    """Each step's remote.inc lists exactly the functions of its step.json, and CMake reads step.json's
+    lists (cmake/StepManifest.cmake, by regular expression) as Python's json module does."""
+    bad = []
+    for step in ctx.steps:
+        inc = ROOT / "tests" / step.folder / "remote.inc"
+        names = re.findall(r"^RAYKIT_REMOTE\([^,]+(?:<[^>]*>)?,\s*(\w+)", inc.read_text(), re.M) if inc.is_file() else []
+        if sorted(names) != sorted(step.functions):
+            bad.append(f"step {step.number}: remote.inc lists {sorted(names)}, step.json {sorted(step.functions)}")
+    cmake = ROOT / "cmake" / "StepManifest.cmake"
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "read.cmake"
+        lines = [f'include("{cmake}")']
+        for step in ctx.steps:
+            m = ROOT / "tests" / step.folder / "step.json"
+            lines += [f'raykit_manifest_list("{m}" files f)', f'raykit_manifest_list("{m}" needs n)',
+                      f'message(STATUS "{step.number}|${{f}}|${{n}}")']
+        script.write_text("\n".join(lines) + "\n")
+        r = subprocess.run(["cmake", "-P", str(script)], capture_output=True, text=True)
+        got = dict(line.strip("- ").split("|", 1)[0:1] + [line.split("|", 1)[1]]
+                   for line in (r.stdout + r.stderr).splitlines() if "|" in line)
+    for step in ctx.steps:
+        want = f"{';'.join(step.files)}|{';'.join(step.needs)}"
+        if got.get(step.number) != want:
+            bad.append(f"step {step.number}: CMake reads {got.get(step.number)!r}, json says {want!r}")
+    expect(not bad, "\n  ".join(bad))
+    return f"{len(ctx.steps)} steps: remote.inc and step.json agree, CMake reads the manifests as json does"
+
+
 def check_solution_copied_is_done(ctx: Context) -> str:
     need_solutions()
     r = kit("check", "--steps", "solutions")
@@ -204,6 +234,7 @@ CHECKS = [
     ("solutions pass every case", check_solutions_pass),
     ("student steps are graded" if HANDOUT else "shipped stubs are 'not started'", check_stubs_not_started),
     ("case names and lecture pointers", check_case_names_and_lectures),
+    ("step functions and manifests", check_remote_lists),
     ("a copied solution grades 'done'", check_solution_copied_is_done),
     ("grader survives bad code", check_grader_fixtures),
     ("command line errors", check_command_line),
