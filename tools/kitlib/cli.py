@@ -19,8 +19,9 @@ sys.path.insert(0, str(HERE))
 
 from common import KitError  # noqa: E402
 
-# The order of commands in ./kit help: the student's first, then the instructor's.
-ORDER = ["check", "watch", "hint", "reset", "render", "test", "bench", "docs", "grade", "handout"]
+# The order of commands in ./kit help: the student's first, then the instructor's (marked as such).
+STUDENT = ["check", "watch", "hint", "reset", "render", "docs", "bench"]
+ORDER = STUDENT + ["test", "grade", "handout", "exact", "mutant"]
 
 
 class Parser(argparse.ArgumentParser):
@@ -37,11 +38,15 @@ def commands() -> dict:
 
 
 def build_parser(mods: dict) -> argparse.ArgumentParser:
-    p = Parser(prog="./kit", description="raykit: a first ray tracing course kit.",
-               epilog="Start with ./kit check. Instructors: ./kit test verifies the whole kit.")
+    handout = not (HERE.parents[1] / "solutions").is_dir()   # a student's copy: no solutions/
+    epilog = "Start with ./kit check." + ("" if handout else " Instructors: ./kit test verifies the whole kit.")
+    p = Parser(prog="./kit", description="raykit: a first ray tracing course kit.", epilog=epilog)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for name, mod in mods.items():
-        mod.register(sub.add_parser(name, help=mod.HELP, description=mod.HELP))
+        shown = mod.HELP
+        if name not in STUDENT and "instructor" not in shown:
+            shown = "instructors: " + shown
+        mod.register(sub.add_parser(name, help=shown, description=mod.HELP))
     sub.add_parser("help", help="show this help")
     return p
 

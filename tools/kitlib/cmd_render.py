@@ -118,7 +118,8 @@ def build_renderers(build: Build, steps: list[str]) -> dict[str, str]:
     all_steps = {s.number: s for s in load_steps()}
     problems: dict[str, str] = {}
     for nn in steps:
-        chain = [nn] + all_steps[nn].needs
+        # Every program links step 05 too: its view_ray shoots the view rays (tools/render/tool.hpp).
+        chain = list(dict.fromkeys([nn] + all_steps[nn].needs + ["05"] + all_steps["05"].needs))
         missing = [f"{all_steps[n].folder}/{f}" for n in chain for f in all_steps[n].files
                    if not (build.steps_dir / all_steps[n].folder / f).is_file()]
         if missing:
@@ -155,7 +156,10 @@ def render_one(exe: Path, scene: str, shading: str, size: tuple[int, int], targe
         return None
     if proc.returncode == NOT_WRITTEN:
         name = re.search(r"raykit::not_implemented: (\S+)", first)
-        return f"not written yet ({name.group(1) if name else first})"
+        what = name.group(1) if name else first
+        if what == "view_ray":  # every scene shoots its rays with step 05's view_ray (tools/render/tool.hpp)
+            what += ", step 05: every picture is drawn with your own view rays"
+        return f"not written yet ({what})"
     if proc.returncode == THREW:
         return first
     if proc.returncode == CANNOT_WRITE:

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import re
+import shutil
 import tempfile
 from pathlib import Path
 
 import cmd_render
 from cmd_test import expect, kit, need_solutions
-from common import ROOT, load_steps, preset_build, submission_build
+from common import BUILD, ROOT, load_steps, preset_build, submission_build
 from grade import grade
 
 WRONG_05 = ROOT / "tests" / "fixtures" / "cornell_wrong"
@@ -64,8 +65,14 @@ def check_render_skips(ctx) -> str:
     """Stubs and crashing code are reported and skipped, and leave no picture."""
     need_solutions()  # these render with, or against, the reference solutions
     seen = []
+    # Every scene shoots its rays with step 05's view_ray (tools/render/tool.hpp): the crashing step 01
+    # is drawn on top of the reference steps 04 and 05.
+    crash = Path(tempfile.mkdtemp(dir=BUILD))
+    for folder in ("04_rectangles", "05_cornell_box"):
+        shutil.copytree(ROOT / "solutions" / folder, crash / folder)
+    shutil.copytree(ROOT / "tests" / "fixtures" / "crash", crash, dirs_exist_ok=True)
     for source, scene, words in [("steps", "cornell_box", "not written yet"),
-                                 ("tests/fixtures/crash", "unit_sphere", "crashed"),
+                                 (str(crash), "unit_sphere", "crashed"),
                                  ("tests/fixtures/cornell_wrong", "unit_sphere", "unit_sphere.cpp is missing")]:
         with tempfile.TemporaryDirectory() as tmp:
             r = kit("render", scene, "--steps", source, "--out", tmp)
@@ -74,6 +81,7 @@ def check_render_skips(ctx) -> str:
             left = [p.name for p in Path(tmp).iterdir()]
             expect(not left, f"./kit render {scene} --steps {source} left files: {left}")
         seen.append(words.split(" (")[0])
+    shutil.rmtree(crash, ignore_errors=True)
     return "reported and skipped, no file left: " + ", ".join(seen)
 
 

@@ -1,8 +1,10 @@
-// Scenes of step 01: the unit sphere, drawn with intersect_unit_sphere.
+// Scenes of step 01: the unit sphere, drawn with intersect_unit_sphere and
+// step 05's view_ray.
 #include <limits>
 
 #include <glm/geometric.hpp>
 
+#include "raykit/render.hpp"
 #include "raykit/unit_sphere.hpp"
 #include "tool.hpp"
 
@@ -17,7 +19,7 @@ Canvas unit_sphere(const std::string& shading, int width, int height) {
     Canvas canvas(width, height);
     for (int j = 0; j < height; ++j) {
         for (int i = 0; i < width; ++i) {
-            const Ray ray = tool::pixel_ray(camera, i, j);
+            const Ray ray = view_ray(camera, i, j);  // step 05's
             const std::optional<float> t = intersect_unit_sphere(ray, 0.0f, std::numeric_limits<float>::infinity());
             if (!t) continue;
             // On the unit sphere the point is its own unit normal.

@@ -1,9 +1,11 @@
-// Scenes of step 02: a few general spheres, drawn with intersect_sphere.
+// Scenes of step 02: a few general spheres, drawn with intersect_sphere and
+// step 05's view_ray.
 // Built only when the kit has step 02 (tools/render/CMakeLists.txt).
 #include <limits>
 
 #include <glm/geometric.hpp>
 
+#include "raykit/render.hpp"
 #include "raykit/general_sphere.hpp"
 #include "tool.hpp"
 
@@ -29,7 +31,7 @@ Canvas spheres(const std::string& shading, int width, int height) {
     Canvas canvas(width, height);
     for (int j = 0; j < height; ++j) {
         for (int i = 0; i < width; ++i) {
-            const Ray ray = tool::pixel_ray(camera, i, j);
+            const Ray ray = view_ray(camera, i, j);  // step 05's
             float nearest = std::numeric_limits<float>::infinity();
             const Ball* seen = nullptr;
             for (const Ball& b : balls) {

@@ -130,14 +130,6 @@ Camera look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& w
     return Camera{eye, forward, up, 1.0f, film_height, width, height};
 }
 
-Ray pixel_ray(const Camera& camera, int i, int j) {
-    const glm::vec3 right = glm::cross(camera.forward, camera.up);
-    const float film_width = camera.film_height * static_cast<float>(camera.width) / static_cast<float>(camera.height);
-    const float x = ((static_cast<float>(i) + 0.5f) / static_cast<float>(camera.width) - 0.5f) * film_width;
-    const float y = (0.5f - (static_cast<float>(j) + 0.5f) / static_cast<float>(camera.height)) * camera.film_height;
-    return Ray{camera.eye, camera.focal_length * camera.forward + x * right + y * camera.up};
-}
-
 Color normal_color(const glm::vec3& n) { return 0.5f * (n + glm::vec3(1.0f)); }
 
 char palette_letter(const Color& c) {

@@ -1,7 +1,12 @@
-// The render tool's shared part: its command line, its own camera, shading.
+// The render tool's shared part: its command line, a camera placed by eye and
+// target, shading.
 //
 // Each step has its own program (raykit_render_stepNN), linked with that
-// step's code only, so a step that does not compile costs only its scenes.
+// step's code, so a step that does not compile costs only its scenes. Every
+// program also links step 05 and shoots the view rays with its view_ray():
+// the tool computes nothing a step asks for (a student's handout carries
+// these files), so a student's pictures are drawn with the student's own
+// code, and a view_ray still to write is reported as such.
 //
 //   raykit_render_stepNN SCENE SHADING WIDTH HEIGHT OUT
 //   raykit_render_stepNN --smoke OUT     (the first scene in its last shading, 40 x 30)
@@ -35,10 +40,6 @@ int run(int argc, char** argv, const std::vector<SceneEntry>& scenes);
 /// width x height image. `world_up` need not be perpendicular to the view.
 Camera look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& world_up,
                float vertical_fov_degrees, int width, int height);
-
-/// The tool's own view ray, so that the sphere and rectangle scenes do not
-/// need step 05. Same contract as raykit::view_ray (render.hpp).
-Ray pixel_ray(const Camera& camera, int i, int j);
 
 /// The usual picture of a unit normal: each component from [-1, 1] to [0, 1].
 Color normal_color(const glm::vec3& unit_normal);
