@@ -364,6 +364,11 @@ def run(args) -> int:
             (staging / rel).parent.mkdir(parents=True, exist_ok=True)
             (staging / rel).write_bytes(data)
             count += 1
+            if rel.endswith(".cpp"):
+                # The shipped stub again, for ./kit reset (a handout has no git history).
+                keep = staging / "tools" / "stubs" / Path(rel).relative_to("steps")
+                keep.parent.mkdir(parents=True, exist_ok=True)
+                keep.write_bytes(data)
         found = scan_tree(staging)
         for part in OPTIONAL_PARTS:
             inside_part = sorted(f for f in found if f.startswith(part + "/"))
