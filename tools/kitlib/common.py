@@ -214,13 +214,49 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
     return Build(slot, BUILD / slot, staging, source)
 
 
+def preset_settings(name: str) -> tuple[str | None, Path, dict[str, str]]:
+    """The generator, build folder and cache variables of configure preset `name`, read from
+    CMakePresets.json with its `inherits` resolved.
+
+    Why not `cmake --preset`: presets need CMake 3.19 (this file's version 6 needs 3.25) and
+    Debian 11 ships 3.18. The presets stay the one place the builds are described (IDEs and
+    `cmake --workflow` read them too); the kit passes the same settings as -G and -D options.
+    """
+    data = json.loads((ROOT / "CMakePresets.json").read_text())
+    presets = {p["name"]: p for p in data.get("configurePresets", [])}
+    if name not in presets:
+        raise KitError(f"CMakePresets.json has no configure preset {name!r}", 1)
+    chain, todo = [], [name]
+    while todo:                       # this preset, then what it inherits, nearest first
+        p = presets[todo.pop(0)]
+        chain.append(p)
+        parents = p.get("inherits", [])
+        todo += [parents] if isinstance(parents, str) else parents
+    generator, binary_dir, variables = None, None, {}
+    for p in reversed(chain):         # the farthest ancestor first, so nearer ones override
+        generator = p.get("generator", generator)
+        binary_dir = p.get("binaryDir", binary_dir)
+        for key, value in p.get("cacheVariables", {}).items():
+            if isinstance(value, dict):   # {"type": "BOOL", "value": "ON"}
+                value = value.get("value", "")
+            variables[key] = str(value).replace("${sourceDir}", str(ROOT))
+    folder = Path(binary_dir.replace("${sourceDir}", str(ROOT))) if binary_dir else BUILD / name
+    return generator, folder, variables
+
+
 def configure(build: Build, quiet: bool = True) -> None:
-    if build.preset:
-        cmd = ["cmake", "--preset", build.preset]
-    else:
-        gen = ["-G", "Ninja"] if shutil.which("ninja") else []
-        cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
-               "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DRAYKIT_STEPS_DIR={build.steps_dir}"]
+    """Runs `cmake -S -B` for `build` with its preset's settings (a submission: the base preset's
+    and its own steps folder). Works from CMake 3.18: no --preset."""
+    generator, _, variables = preset_settings(build.preset or "base")
+    variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
+    gen = []
+    if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
+        generator = None              # CMake's default (Makefiles) rather than a failure
+    cache = build.binary_dir / "CMakeCache.txt"
+    if generator and not cache.is_file():
+        gen = ["-G", generator]       # an existing build folder keeps the generator it has
+    cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
+           *(f"-D{k}={v}" for k, v in sorted(variables.items()))]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if r.returncode != 0:
         raise KitError(f"cmake could not configure {build.binary_dir}:\n{r.stdout[-3000:]}{r.stderr[-3000:]}", 1)
