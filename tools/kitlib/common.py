@@ -5,9 +5,11 @@ from __future__ import annotations
 import filecmp
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -133,28 +135,75 @@ def missing_packages(names: list[str]) -> list[str]:
     return missing
 
 
+APT_LISTS = Path("/var/lib/apt/lists")
+APT_LISTS_MAX_AGE = 24 * 3600       # seconds: older package lists are refreshed before installing
+
+
+def apt_lists_stale(lists: Path = APT_LISTS, max_age: float = APT_LISTS_MAX_AGE) -> bool:
+    """True when apt has no package lists (a fresh container or minbase system) or the newest is
+    older than `max_age`: installing from them would fail on versions the mirror no longer has."""
+    try:
+        ages = [p.stat().st_mtime for p in lists.iterdir() if p.name.endswith("Packages")
+                or "_Packages." in p.name]
+    except OSError:
+        return True
+    return not ages or time.time() - max(ages) > max_age
+
+
+def apt_failure(stderr: str, names: list[str]) -> str:
+    """One line naming the package apt could not install and why, from apt-get's own words."""
+    errors = [l[2:].strip() for l in stderr.splitlines() if l.startswith("E:")]
+    for name in names:
+        for e in errors:
+            if re.search(rf"(^|[\s'\"]){re.escape(name)}($|[\s'\":])", e):
+                return f"{name}: {e}"
+    # "Depends: ... but it is not going to be installed" lines name the package first.
+    for l in stderr.splitlines():
+        m = re.match(r"\s*(\S+) : Depends: (.*)", l)
+        if m and m.group(1) in names:
+            return f"{m.group(1)}: depends on {m.group(2).strip()}"
+    if errors:
+        return errors[-1]
+    tail = [l for l in stderr.strip().splitlines() if l.strip()]
+    return tail[-1] if tail else "apt-get failed without a message"
+
+
 def ensure_packages(*groups: str) -> None:
+    """Installs the Debian packages of `groups` that are missing, once, with apt-get.
+
+    Root installs directly, anyone else through `sudo -n` (never a password prompt: the kit may
+    run in CI or an editor). Without apt, or without the right to install, the user gets the one
+    command to run. A failed install names the package and apt's reason.
+    """
     names: list[str] = []
     for g in groups:
         names += [n for n in PACKAGES[g] if n not in names]
     missing = missing_packages(names)
     if not missing:
         return
-    sudo = [] if os.geteuid() == 0 else ["sudo", "-n"]
-    command = " ".join(["sudo"] * bool(sudo) + ["apt-get", "install", "-y"] + missing)
+    command = f"sudo apt-get update && sudo apt-get install -y {' '.join(missing)}"
     if shutil.which("apt-get") is None:
-        raise KitError(f"missing packages: {' '.join(missing)}; install them and run ./kit again", 3)
-    note(f"kit: installing {' '.join(missing)} (once)")
+        raise KitError(f"missing packages: {' '.join(missing)}; install them (Debian names) and run ./kit again", 3)
+    if os.geteuid() == 0:
+        sudo: list[str] = []
+    elif shutil.which("sudo") and subprocess.run(["sudo", "-n", "true"], capture_output=True).returncode == 0:
+        sudo = ["sudo", "-n"]
+    else:
+        raise KitError(f"the kit needs {' '.join(missing)} and cannot install them (not root, no "
+                       f"sudo without a password). Run:\n  {command}\nthen ./kit again", 3)
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    if apt_lists_stale():
+        note("kit: updating the package lists (apt-get update)")
+        up = subprocess.run(sudo + ["apt-get", "update", "-q"], env=env, capture_output=True, text=True)
+        if up.returncode != 0:
+            raise KitError(f"apt-get update failed: {apt_failure(up.stderr, [])}\nFix that, then run:\n"
+                           f"  {command}", 3)
+    note(f"kit: installing {' '.join(missing)} (once)")
     ok = subprocess.run(sudo + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing,
                         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if ok.returncode != 0:
-        # The package lists may be stale on a fresh machine: update once and retry.
-        subprocess.run(sudo + ["apt-get", "update", "-q"], env=env, capture_output=True)
-        ok = subprocess.run(sudo + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing,
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if ok.returncode != 0:
-        raise KitError(f"could not install the packages the kit needs. Run:\n  {command}", 3)
+        raise KitError(f"could not install the packages the kit needs.\n  {apt_failure(ok.stderr, missing)}\n"
+                       f"Once that is fixed, run:\n  {command}", 3)
 
 
 # --- builds ----------------------------------------------------------------------
