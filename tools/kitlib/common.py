@@ -313,6 +313,20 @@ def configure(build: Build, quiet: bool = True) -> None:
         say(r.stdout)
 
 
+def workflow(name: str) -> subprocess.CompletedProcess:
+    """What `cmake --workflow --preset NAME` does (configure, build, test), without presets:
+    the same settings, through configure(). stdout holds ctest's summary line."""
+    build = preset_build(name)
+    try:
+        configure(build)
+    except KitError as e:
+        return subprocess.CompletedProcess([name], 1, "", str(e))
+    r = subprocess.run(["cmake", "--build", str(build.binary_dir)], cwd=ROOT, capture_output=True, text=True)
+    if r.returncode != 0:
+        return r
+    return subprocess.run(["ctest", "--output-on-failure"], cwd=build.binary_dir, capture_output=True, text=True)
+
+
 def build_target(build: Build, target: str) -> tuple[bool, str]:
     r = subprocess.run(["cmake", "--build", str(build.binary_dir), "--target", target],
                        cwd=ROOT, capture_output=True, text=True)
