@@ -9,9 +9,10 @@ Called by run_autograder (this folder), from the kit unpacked in /autograder/sou
   3. the kit's JSON is checked and only then written to /autograder/results/results.json.
 
 Why the detour through a private file: student code runs while the kit works. Anything it
-writes to results/ is overwritten at the end, and the kit runs in its own PID namespace where
-the system allows one, so no process of it outlives the grading to forge the file afterwards
-(without one, its process group is killed).
+writes to results/ is overwritten at the end, and no process of it outlives the grading to
+forge the file afterwards: the kit runs in its own PID namespace where the system allows one
+(the kernel ends the namespace with the kit), and this process is a child subreaper, so a
+process that detached itself (fork, setsid) is handed to us and killed before we write.
 
 Every path out of here writes a valid results.json: no step files, a kit that fails or hangs,
 a JSON file that is not Gradescope's; each becomes a failed test that says why.
@@ -19,6 +20,7 @@ a JSON file that is not Gradescope's; each becomes a failed test that says why.
 
 from __future__ import annotations
 
+import ctypes
 import json
 import os
 import shutil
@@ -33,6 +35,7 @@ AUTOGRADER = Path(os.environ.get("RAYKIT_AUTOGRADER_ROOT", "/autograder"))
 SOURCE = AUTOGRADER / "source"
 SUBMISSION = AUTOGRADER / "submission"
 RESULTS = AUTOGRADER / "results" / "results.json"
+PR_SET_CHILD_SUBREAPER = 36    # <linux/prctl.h>
 KIT_SECONDS = 30 * 60           # all steps; Gradescope's own limit is set per assignment
 
 sys.path.insert(0, str(SOURCE / "tools" / "kitlib"))
@@ -53,23 +56,65 @@ def write_results(data: dict) -> None:
 
 
 def pid_namespace_works() -> bool:
-    """True when `unshare` may start a PID namespace here (root on a normal host; often not in
-    a Docker container, which is what Gradescope runs)."""
+    """True when `unshare` may start a PID namespace here (root on a normal host or in a chroot;
+    often not in a Docker container, which is what Gradescope runs). No --mount-proc: in a
+    chroot the root is no mount point and unshare cannot make its mounts private."""
     if shutil.which("unshare") is None:
         return False
     try:
-        r = subprocess.run(["unshare", "--pid", "--fork", "--kill-child", "--mount-proc", "true"],
-                           capture_output=True, timeout=20)
+        r = subprocess.run(["unshare", "--pid", "--fork", "--kill-child", "true"], capture_output=True, timeout=20)
     except (OSError, subprocess.TimeoutExpired):
         return False
     return r.returncode == 0
 
 
+def become_subreaper() -> bool:
+    """Makes this process the one orphans of its descendants are given to (Linux 3.4+), so a
+    process the graded code detached with fork and setsid is still ours to find and end."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+def children() -> list[int]:
+    me, found = os.getpid(), []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                stat_line = Path(f"/proc/{entry}/stat").read_text()
+            except OSError:
+                continue
+            # The fields after the command (which may hold spaces) start at the last ')'.
+            fields = stat_line[stat_line.rfind(")") + 2:].split()
+            if len(fields) > 1 and int(fields[1]) == me:
+                found.append(int(entry))
+    return found
+
+
+def end_descendants() -> int:
+    """Kills and reaps every process left below us until none is left; returns how many."""
+    ended, quiet_rounds = 0, 0
+    while quiet_rounds < 3:
+        left = children()
+        quiet_rounds = 0 if left else quiet_rounds + 1
+        for pid in left:
+            try:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                ended += 1
+            except (ProcessLookupError, ChildProcessError):
+                pass
+        time.sleep(0.05)
+    return ended
+
+
 def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
     cmd = [str(SOURCE / "kit"), "check", "--steps", str(steps_dir), "--json", str(json_path), "--quiet"]
-    if pid_namespace_works():
+    if os.environ.get("RAYKIT_AUTOGRADER_NO_PIDNS") != "1" and pid_namespace_works():
         # The kit is process 1 of its namespace: when it ends, the kernel kills all that is left.
-        cmd = ["unshare", "--pid", "--fork", "--kill-child", "--mount-proc"] + cmd
+        cmd = ["unshare", "--pid", "--fork", "--kill-child"] + cmd
     with tempfile.TemporaryFile() as log:
         proc = subprocess.Popen(cmd, cwd=SOURCE, stdout=log, stderr=log, stdin=subprocess.DEVNULL,
                                 start_new_session=True)
@@ -82,10 +127,13 @@ def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
         except ProcessLookupError:
             pass
         proc.wait()
+        stray = end_descendants()                   # and whatever left it (we are its subreaper)
         log.seek(0)
         text = log.read().decode("utf-8", "replace")
     if code == -1:
         text += f"\nThe grading did not finish within {KIT_SECONDS // 60} minutes and was stopped."
+    if stray:
+        text += f"\n{stray} process(es) the graded code left running were stopped."
     return code, text
 
 
@@ -135,6 +183,7 @@ def grade() -> dict:
 
 def main() -> int:
     start = time.monotonic()
+    become_subreaper()
     try:
         data = grade()
     except Exception as e:      # noqa: BLE001 -- whatever happens, Gradescope gets a result
