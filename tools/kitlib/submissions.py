@@ -73,7 +73,8 @@ def _unzip(archive: Path, into: Path, budget: list[int]) -> list[str]:
                     continue
                 if info.is_dir():
                     continue
-                if mode and not stat.S_ISREG(mode):
+                # Only a type the zip states counts: many zips store permission bits alone.
+                if stat.S_IFMT(mode) not in (0, stat.S_IFREG):
                     notes.append(f"{archive.name}: skipped {name!r} (a link or special file)")
                     continue
                 if info.file_size > budget[0]:
@@ -211,6 +212,10 @@ def locate(upload: Path, work: Path, steps: list[Step] | None = None) -> Located
                  for s in steps if s.folder in found for f in s.files
                  if os.path.lexists(folder / s.folder / f)]
         _copy_step_files(pairs, notes, upload if upload in folder.parents or folder == upload else folder)
+        # Step folders not counted because their files are links (to the kit's answers, say): say so.
+        notes += [f"{s.folder}/{f}: left out (a link or not a regular file)" for s in steps
+                  if s.folder not in found for f in s.files
+                  if os.path.lexists(folder / s.folder / f) and not _regular(folder / s.folder / f)]
         layout = "steps folder" if folder.name == "steps" else "step folders"
         return Located(out, shown(folder) or "./", layout, found, notes)
 
