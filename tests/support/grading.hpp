@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -28,8 +30,17 @@ inline std::string show(float x) {
     if (std::isnan(x)) return "NaN";
     if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
     char buf[64];
+#if defined(__cpp_lib_to_chars)
     const auto end = std::to_chars(buf, buf + sizeof buf, x).ptr;  // shortest exact text
     return std::string(buf, end);
+#else
+    // GCC 10's library has no floating-point to_chars (Debian 11): the fewest significant digits
+    // that read back as the same float. Nine always do (a float has a 24-bit significand).
+    for (int digits = 1;; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(x));
+        if (digits >= 9 || std::strtof(buf, nullptr) == x) return buf;
+    }
+#endif
 }
 
 inline std::string show(const glm::vec3& v) {

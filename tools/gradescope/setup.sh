@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# Gradescope runs this once, as root, when it builds the autograder image.
-# The kit itself is unpacked in /autograder/source (zip the kit, without build/).
+# Gradescope runs this once, as root, when it builds the autograder image (Ubuntu LTS).
+# The kit is unpacked in /autograder/source (made by ./kit autograder OUT.zip).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
+cd "$(dirname "$0")"
+# python3 runs the kit; bubblewrap isolates the graded code. The kit installs the rest itself
+# (the same packages as for students: one list, in tools/kitlib/common.py).
 apt-get update -q
-apt-get install -y -q --no-install-recommends python3 cmake ninja-build g++ pkg-config \
-  libglm-dev doctest-dev libstb-dev
-# Build once now, so each submission only compiles its own step files.
-cd /autograder/source && ./kit check --quiet || true
+apt-get install -y -q --no-install-recommends python3 bubblewrap
+# Build once now with the stubs, in the folder submissions are graded in, so that each
+# submission only compiles its own step files. Not started is the expected outcome here.
+./kit check --steps steps --quiet || [ $? -eq 1 ]

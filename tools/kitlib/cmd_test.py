@@ -19,7 +19,7 @@ from pathlib import Path
 
 from common import BUILD, PACKAGES, ROOT, KitError, ensure_packages, load_steps, paint, preset_build, say, \
     submission_build
-from common import build_target, stage_on_reference
+from common import build_target, stage_on_reference, workflow
 from grade import StepResult, grade, list_cases
 
 
@@ -60,10 +60,9 @@ def kit(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
 
 def check_reference_builds(ctx: Context) -> str:
     need_solutions()
-    r = subprocess.run(["cmake", "--workflow", "--preset", "reference"], cwd=ROOT,
-                       capture_output=True, text=True)
+    r = workflow("reference")     # the preset's settings, without --preset (CMake 3.18)
     tail = (r.stdout + r.stderr)[-4000:]
-    expect(r.returncode == 0, f"cmake --workflow --preset reference failed:\n{tail}")
+    expect(r.returncode == 0, f"the reference build (preset reference) failed:\n{tail}")
     m = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
     expect(m is not None and int(m.group(2)) > 0, "ctest ran no test")
     return f"warnings as errors, ctest {m.group(2)} tests"
@@ -221,7 +220,7 @@ def check_sanitizers(ctx: Context) -> str:
     need_solutions()
     if ctx.fast:
         raise Skipped("--fast leaves out the sanitizer build")
-    r = subprocess.run(["cmake", "--workflow", "--preset", "sanitize"], cwd=ROOT, capture_output=True, text=True)
+    r = workflow("sanitize")
     tail = (r.stdout + r.stderr)[-4000:]
     expect(r.returncode == 0, f"the ASan + UBSan build or its tests failed:\n{tail}")
     m = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)

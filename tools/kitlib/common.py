@@ -5,9 +5,11 @@ from __future__ import annotations
 import filecmp
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -133,28 +135,75 @@ def missing_packages(names: list[str]) -> list[str]:
     return missing
 
 
+APT_LISTS = Path("/var/lib/apt/lists")
+APT_LISTS_MAX_AGE = 24 * 3600       # seconds: older package lists are refreshed before installing
+
+
+def apt_lists_stale(lists: Path = APT_LISTS, max_age: float = APT_LISTS_MAX_AGE) -> bool:
+    """True when apt has no package lists (a fresh container or minbase system) or the newest is
+    older than `max_age`: installing from them would fail on versions the mirror no longer has."""
+    try:
+        ages = [p.stat().st_mtime for p in lists.iterdir() if p.name.endswith("Packages")
+                or "_Packages." in p.name]
+    except OSError:
+        return True
+    return not ages or time.time() - max(ages) > max_age
+
+
+def apt_failure(stderr: str, names: list[str]) -> str:
+    """One line naming the package apt could not install and why, from apt-get's own words."""
+    errors = [l[2:].strip() for l in stderr.splitlines() if l.startswith("E:")]
+    for name in names:
+        for e in errors:
+            if re.search(rf"(^|[\s'\"]){re.escape(name)}($|[\s'\":])", e):
+                return f"{name}: {e}"
+    # "Depends: ... but it is not going to be installed" lines name the package first.
+    for l in stderr.splitlines():
+        m = re.match(r"\s*(\S+) : Depends: (.*)", l)
+        if m and m.group(1) in names:
+            return f"{m.group(1)}: depends on {m.group(2).strip()}"
+    if errors:
+        return errors[-1]
+    tail = [l for l in stderr.strip().splitlines() if l.strip()]
+    return tail[-1] if tail else "apt-get failed without a message"
+
+
 def ensure_packages(*groups: str) -> None:
+    """Installs the Debian packages of `groups` that are missing, once, with apt-get.
+
+    Root installs directly, anyone else through `sudo -n` (never a password prompt: the kit may
+    run in CI or an editor). Without apt, or without the right to install, the user gets the one
+    command to run. A failed install names the package and apt's reason.
+    """
     names: list[str] = []
     for g in groups:
         names += [n for n in PACKAGES[g] if n not in names]
     missing = missing_packages(names)
     if not missing:
         return
-    sudo = [] if os.geteuid() == 0 else ["sudo", "-n"]
-    command = " ".join(["sudo"] * bool(sudo) + ["apt-get", "install", "-y"] + missing)
+    command = f"sudo apt-get update && sudo apt-get install -y {' '.join(missing)}"
     if shutil.which("apt-get") is None:
-        raise KitError(f"missing packages: {' '.join(missing)}; install them and run ./kit again", 3)
-    note(f"kit: installing {' '.join(missing)} (once)")
+        raise KitError(f"missing packages: {' '.join(missing)}; install them (Debian names) and run ./kit again", 3)
+    if os.geteuid() == 0:
+        sudo: list[str] = []
+    elif shutil.which("sudo") and subprocess.run(["sudo", "-n", "true"], capture_output=True).returncode == 0:
+        sudo = ["sudo", "-n"]
+    else:
+        raise KitError(f"the kit needs {' '.join(missing)} and cannot install them (not root, no "
+                       f"sudo without a password). Run:\n  {command}\nthen ./kit again", 3)
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    if apt_lists_stale():
+        note("kit: updating the package lists (apt-get update)")
+        up = subprocess.run(sudo + ["apt-get", "update", "-q"], env=env, capture_output=True, text=True)
+        if up.returncode != 0:
+            raise KitError(f"apt-get update failed: {apt_failure(up.stderr, [])}\nFix that, then run:\n"
+                           f"  {command}", 3)
+    note(f"kit: installing {' '.join(missing)} (once)")
     ok = subprocess.run(sudo + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing,
                         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if ok.returncode != 0:
-        # The package lists may be stale on a fresh machine: update once and retry.
-        subprocess.run(sudo + ["apt-get", "update", "-q"], env=env, capture_output=True)
-        ok = subprocess.run(sudo + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing,
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if ok.returncode != 0:
-        raise KitError(f"could not install the packages the kit needs. Run:\n  {command}", 3)
+        raise KitError(f"could not install the packages the kit needs.\n  {apt_failure(ok.stderr, missing)}\n"
+                       f"Once that is fixed, run:\n  {command}", 3)
 
 
 # --- builds ----------------------------------------------------------------------
@@ -219,18 +268,68 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
     return Build(slot, BUILD / slot, staging, source)
 
 
+def preset_settings(name: str) -> tuple[str | None, Path, dict[str, str]]:
+    """The generator, build folder and cache variables of configure preset `name`, read from
+    CMakePresets.json with its `inherits` resolved.
+
+    Why not `cmake --preset`: presets need CMake 3.19 (this file's version 6 needs 3.25) and
+    Debian 11 ships 3.18. The presets stay the one place the builds are described (IDEs and
+    `cmake --workflow` read them too); the kit passes the same settings as -G and -D options.
+    """
+    data = json.loads((ROOT / "CMakePresets.json").read_text())
+    presets = {p["name"]: p for p in data.get("configurePresets", [])}
+    if name not in presets:
+        raise KitError(f"CMakePresets.json has no configure preset {name!r}", 1)
+    chain, todo = [], [name]
+    while todo:                       # this preset, then what it inherits, nearest first
+        p = presets[todo.pop(0)]
+        chain.append(p)
+        parents = p.get("inherits", [])
+        todo += [parents] if isinstance(parents, str) else parents
+    generator, binary_dir, variables = None, None, {}
+    for p in reversed(chain):         # the farthest ancestor first, so nearer ones override
+        generator = p.get("generator", generator)
+        binary_dir = p.get("binaryDir", binary_dir)
+        for key, value in p.get("cacheVariables", {}).items():
+            if isinstance(value, dict):   # {"type": "BOOL", "value": "ON"}
+                value = value.get("value", "")
+            variables[key] = str(value).replace("${sourceDir}", str(ROOT))
+    folder = Path(binary_dir.replace("${sourceDir}", str(ROOT))) if binary_dir else BUILD / name
+    return generator, folder, variables
+
+
 def configure(build: Build, quiet: bool = True) -> None:
-    if build.preset:
-        cmd = ["cmake", "--preset", build.preset]
-    else:
-        gen = ["-G", "Ninja"] if shutil.which("ninja") else []
-        cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
-               "-DCMAKE_BUILD_TYPE=RelWithDebInfo", f"-DRAYKIT_STEPS_DIR={build.steps_dir}"]
+    """Runs `cmake -S -B` for `build` with its preset's settings (a submission: the base preset's
+    and its own steps folder). Works from CMake 3.18: no --preset."""
+    generator, _, variables = preset_settings(build.preset or "base")
+    variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
+    gen = []
+    if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
+        generator = None              # CMake's default (Makefiles) rather than a failure
+    cache = build.binary_dir / "CMakeCache.txt"
+    if generator and not cache.is_file():
+        gen = ["-G", generator]       # an existing build folder keeps the generator it has
+    cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
+           *(f"-D{k}={v}" for k, v in sorted(variables.items()))]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if r.returncode != 0:
         raise KitError(f"cmake could not configure {build.binary_dir}:\n{r.stdout[-3000:]}{r.stderr[-3000:]}", 1)
     if not quiet:
         say(r.stdout)
+
+
+def workflow(name: str) -> subprocess.CompletedProcess:
+    """What `cmake --workflow --preset NAME` does (configure, build, test), without presets:
+    the same settings, through configure(). stdout holds ctest's summary line."""
+    build = preset_build(name)
+    try:
+        configure(build)
+    except KitError as e:
+        return subprocess.CompletedProcess([name], 1, "", str(e))
+    r = subprocess.run(["cmake", "--build", str(build.binary_dir)], cwd=ROOT, capture_output=True, text=True)
+    if r.returncode != 0:
+        return r
+    return subprocess.run(["ctest", "--output-on-failure"], cwd=build.binary_dir, capture_output=True, text=True)
 
 
 def build_target(build: Build, target: str) -> tuple[bool, str]:
