@@ -18,14 +18,16 @@ from pathlib import Path
 
 from cmd_check import STATE_WORDS
 from common import BUILD, ROOT, KitError, ensure_packages, load_steps, say
+from submissions import NotFound, locate
 
-HELP = "grade every student's steps folder under a directory and write a CSV summary"
+HELP = "instructors: grade a class (one folder or .zip per student, steps at any depth) into a CSV, several at a time"
 SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own limit
 
 
 def register(p) -> None:
     p.add_argument("submissions", metavar="SUBMISSIONS_DIR",
-                   help="one folder per student, each a steps folder or a copy of the kit")
+                   help="one folder or .zip per student, holding the steps at any depth (a steps folder, a "
+                        "copy of the kit, loose NN_topic/ folders)")
     p.add_argument("--out", metavar="FILE", default=str(BUILD / "grades.csv"),
                    help="the CSV to write (default: build/grades.csv)")
     p.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
@@ -45,10 +47,14 @@ def columns(steps) -> list[str]:
 
 def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str = "auto") -> dict:
     """Grades one submission in a child ./kit process, so nothing it does can stop the batch."""
-    row = {"student": folder.name}
+    row = {"student": folder.stem if folder.is_file() else folder.name}
     report.unlink(missing_ok=True)
     try:
-        r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(folder), "--json", str(report), "--quiet",
+        found = locate(folder, BUILD / f"grade-upload-{slot}", steps)
+    except NotFound as e:
+        return dict(row, status="no steps", note=str(e)[:300])
+    try:
+        r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--json", str(report), "--quiet",
                             "--slot", str(slot), "--isolation", isolation],
                            cwd=ROOT, capture_output=True, text=True, timeout=SUBMISSION_SECONDS)
     except subprocess.TimeoutExpired:
@@ -93,10 +99,16 @@ def run(args) -> int:
     json_dir = Path(args.json_dir) if args.json_dir else None
     if json_dir is not None:
         json_dir.mkdir(parents=True, exist_ok=True)
-    folders = sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith("."))
-    if not folders:
-        raise KitError(f"{args.submissions}: holds no submission folders")
     steps = load_steps()
+    if any((root / s.folder).is_dir() for s in steps) or (root / "steps").is_dir():
+        raise KitError(f"{args.submissions}: this looks like one student's steps (it holds "
+                       f"{'steps/' if (root / 'steps').is_dir() else 'NN_topic/ folders'}); ./kit grade takes a "
+                       "folder with one folder or .zip per student. For one student: ./kit check --steps DIR")
+    # One submission per folder or .zip, named after it; the steps may be at any depth inside.
+    folders = sorted(p for p in root.iterdir() if not p.name.startswith(".") and
+                     (p.is_dir() or (p.is_file() and p.suffix.lower() == ".zip")))
+    if not folders:
+        raise KitError(f"{args.submissions}: holds no submission folders or .zip files")
     start = time.monotonic()
     BUILD.mkdir(exist_ok=True)
     jobs = max(1, min(args.jobs, len(folders)))
@@ -108,7 +120,7 @@ def run(args) -> int:
         report = BUILD / f"grade-one-{slot}.json"
         row = grade_one(folder, steps, report, slot, args.isolation)
         if json_dir is not None and report.exists():
-            (json_dir / f"{folder.name}.json").write_text(report.read_text())
+            (json_dir / f"{row['student']}.json").write_text(report.read_text())
         done[0] += 1
         print(f"[{done[0]}/{len(folders)}] {folder.name}: {row.get('status')} "
               f"{row.get('earned', '')}/{row.get('maximum', '')}", file=sys.stderr, flush=True)
