@@ -16,6 +16,7 @@ struct SphereFamily {
     std::string label;        ///< for people ("far, 1e4 radii")
     std::string description;  ///< one sentence: what the rays are
     bool hard = false;        ///< one of the families where precision is at stake
+    double tangent_band = 0;  ///< rays with |distance of the line / r - 1| within it are not judged
     std::vector<Sample<float>> samples;  ///< all with the family's one sphere
 };
 
@@ -25,7 +26,8 @@ struct BoxFamily {
 };
 
 /// The sphere families, `n` rays each: typical, far (1e3, 1e4, 3e4 radii),
-/// tiny, huge, off-centre, grazing, inside.
+/// tiny, huge, off-centre, grazing, inside; pbrt-v4's test ranges (e = 4, 6,
+/// 8) and the ground (radius 1e3 and the Earth's, seen from 1 to 2 units up).
 std::vector<SphereFamily> sphere_families(std::size_t n);
 
 /// Rays into the Cornell box: from the usual camera, and from inside (bounces).

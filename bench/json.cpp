@@ -89,6 +89,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
     for (const auto& s : spheres) {
         os << (first ? "" : ",\n") << "    {\"id\": " << quote(s.family.id) << ", \"label\": " << quote(s.family.label)
            << ", \"group\": \"sphere\", \"hard\": " << (s.family.hard ? "true" : "false")
+           << ", \"tangent_band\": " << number(s.family.tangent_band)
            << ", \"description\": " << quote(s.family.description) << "}";
         first = false;
     }

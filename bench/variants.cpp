@@ -98,12 +98,16 @@ std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool s
         out.push_back(formulation<double, geometric<double>, geometric<Counted<float>>>(data, "geometric", "double"));
         out.push_back(formulation<float, stable<float>, stable<Counted<float>>>(data, "stable", "float"));
         out.push_back(formulation<double, stable<double>, stable<Counted<float>>>(data, "stable", "double"));
+        out.push_back(formulation<float, lagrange<float>, lagrange<Counted<float>>>(data, "lagrange", "float"));
+        out.push_back(formulation<double, lagrange<double>, lagrange<Counted<float>>>(data, "lagrange", "double"));
         for (Variant mixed : {formulation<float, in_double<half_b<double>>, half_b<Counted<float>>>(
                                   data, "half-b", ""),
                               formulation<float, in_double<stable<double>>, stable<Counted<float>>>(
                                   data, "stable", ""),
                               formulation<float, in_double<half_b_pair<double>>, half_b_pair<Counted<float>>>(
-                                  data, "half-b-pair", "")}) {
+                                  data, "half-b-pair", ""),
+                              formulation<float, in_double<lagrange<double>>, lagrange<Counted<float>>>(
+                                  data, "lagrange", "")}) {
             mixed.id = mixed.formulation + "_f32_in_f64";
             mixed.label = mixed.formulation + ", double inside";
             mixed.precision = "float, double inside";
@@ -153,6 +157,7 @@ std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool s
         e.note = "rtcIntersect1 on one RTC_GEOMETRY_TYPE_SPHERE_POINT; only the first hit in [0, inf) is "
                  "returned, so its error is that hit's";
         if (!embree::available()) e.status = "absent";
+        e.applies = [d](std::size_t f) { return (*d)[f].embree != nullptr; };  // one sphere per family only
         e.answer = [d](std::size_t f, std::size_t i) {
             const Sample<float>& s = (*d)[f].family.samples[i];
             return from_box(embree::intersect((*d)[f].embree, s.o, s.d, 0.0f));

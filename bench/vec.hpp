@@ -20,6 +20,9 @@ template <class T> Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) { retur
 template <class T> Vec3<T> operator-(const Vec3<T>& a, const Vec3<T>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 template <class T> Vec3<T> operator*(const T& s, const Vec3<T>& a) { return {s * a.x, s * a.y, s * a.z}; }
 template <class T> T dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T> Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 /// One ray and the sphere it is tested against. In float the layout is the
 /// kit's own: Ray{origin, direction} followed by Sphere{center, radius}.
