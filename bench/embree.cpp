@@ -1,4 +1,9 @@
-// Embree 3 scenes for the benchmark. See embree.hpp.
+// Embree 3 or 4 scenes for the benchmark. See embree.hpp.
+//
+// RAYKIT_BENCH_EMBREE is Embree's major version (bench/CMakeLists.txt), or 0
+// without Embree. The two versions differ here only in the header's folder
+// and in the query: Embree 3 takes an RTCIntersectContext, Embree 4 optional
+// RTCIntersectArguments (left out: the defaults).
 
 #include "embree.hpp"
 
@@ -8,7 +13,11 @@
 #include <deque>
 #include <limits>
 
+#if RAYKIT_BENCH_EMBREE >= 4
+#include <embree4/rtcore.h>
+#else
 #include <embree3/rtcore.h>
+#endif
 
 namespace raykit::bench::embree {
 
@@ -102,8 +111,6 @@ const Scene* sphere(const Vec3<float>& centre, float radius) {
 }
 
 BoxHit intersect(const Scene* scene, const Vec3<float>& o, const Vec3<float>& d, float tmin) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
     RTCRayHit rh;  // RTC_ALIGN(16) in its declaration
     rh.ray.org_x = o.x;
     rh.ray.org_y = o.y;
@@ -119,7 +126,13 @@ BoxHit intersect(const Scene* scene, const Vec3<float>& o, const Vec3<float>& d,
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+#if RAYKIT_BENCH_EMBREE >= 4
+    rtcIntersect1(scene->handle, &rh);
+#else
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
     rtcIntersect1(scene->handle, &context, &rh);
+#endif
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {};
     return {true, static_cast<int>(rh.hit.primID), rh.ray.tfar};
 }
@@ -133,7 +146,7 @@ namespace raykit::bench::embree {
 struct Scene {};
 
 bool available() { return false; }
-std::string status() { return "Embree 3 not found (Debian: libembree-dev); its comparison is skipped"; }
+std::string status() { return "Embree 3 or 4 not found (Debian: libembree-dev); its comparison is skipped"; }
 const Scene* quads(const std::vector<Rect3>&) { return nullptr; }
 const Scene* sphere(const Vec3<float>&, float) { return nullptr; }
 BoxHit intersect(const Scene*, const Vec3<float>&, const Vec3<float>&, float) { return {}; }

@@ -1,4 +1,4 @@
-// Intel Embree 3 on the benchmark's scenes, for comparison: the box as quads,
+// Intel Embree 3 or 4 on the benchmark's scenes, for comparison: the box as quads,
 // a sphere as one sphere point, each built once, traced with rtcIntersect1.
 // Optional: without Embree (RAYKIT_BENCH_EMBREE = 0) available() is false and
 // status() says why.
@@ -13,7 +13,7 @@
 namespace raykit::bench::embree {
 
 bool available();
-/// "Embree 3.13.5", or why Embree is not used.
+/// "Embree 3.13.5" (or 4.x), or why Embree is not used.
 std::string status();
 
 /// A committed Embree scene; owned by the module, alive to the end.
