@@ -63,7 +63,8 @@ std::string build_flags() {
 
 }  // namespace
 
-void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<SphereData>& spheres,
+void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<simd::Target>& targets,
+                const std::vector<SphereData>& spheres,
                 const std::vector<BoxData>& boxes, const std::vector<Variant>& variants, const std::vector<Row>& rows,
                 const std::map<std::string, Timing>& timings) {
     const auto& cpu = benchmark::CPUInfo::Get();
@@ -74,7 +75,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
        << ", \"rays\": " << opt.rays << ", \"batch\": " << batch_size(opt.rays)
        << ", \"repetitions\": " << opt.repetitions << ", \"min_time\": " << number(opt.min_time)
        << ", \"tangent_band\": " << number(kTangentBand) << ", \"edge_band\": " << number(kEdgeBand)
-       << ", \"embree\": " << quote(embree::status()) << ", \"sphere_step\": " << kit::sphere_step()
+       << ", \"embree\": " << quote(embree::status()) << ", \"highway\": " << quote(simd::status()) << ", \"sphere_step\": " << kit::sphere_step()
        << ", \"rect_step\": " << (kit::has_rect() ? "true" : "false")
        << ", \"scene_step\": " << (kit::has_scene() ? "true" : "false") << "},\n";
     os << "  \"peak\": {\"scalar_gflops_f32\": " << number(peak.scalar_gflops_f32)
@@ -83,7 +84,16 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
        << ", \"vector_gflops_f64\": " << number(peak.vector_gflops_f64) << ", \"vector_isa\": " << quote(peak.vector_isa)
        << ", \"div_ns_f32\": " << number(peak.div_ns_f32) << ", \"sqrt_ns_f32\": " << number(peak.sqrt_ns_f32)
        << ", \"div_ns_f64\": " << number(peak.div_ns_f64) << ", \"sqrt_ns_f64\": " << number(peak.sqrt_ns_f64)
-       << "},\n";
+       << ", \"vector_targets\": [";
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+        const simd::Target& t = targets[i];
+        os << (i ? ", " : "") << "{\"isa\": " << quote(t.name) << ", \"lanes_f32\": " << t.lanes_f32
+           << ", \"lanes_f64\": " << t.lanes_f64 << ", \"gflops_f32\": " << number(t.gflops_f32)
+           << ", \"gflops_f64\": " << number(t.gflops_f64) << ", \"div_ns_f32\": " << number(t.div_ns_f32)
+           << ", \"div_ns_f64\": " << number(t.div_ns_f64) << ", \"sqrt_ns_f32\": " << number(t.sqrt_ns_f32)
+           << ", \"sqrt_ns_f64\": " << number(t.sqrt_ns_f64) << "}";
+    }
+    os << "]},\n";
     os << "  \"families\": [\n";
     bool first = true;
     for (const auto& s : spheres) {
@@ -104,6 +114,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
         os << (i ? ",\n" : "") << "    {\"id\": " << quote(v.id) << ", \"formulation\": " << quote(v.formulation)
            << ", \"label\": " << quote(v.label) << ", \"precision\": " << quote(v.precision)
            << ", \"group\": " << quote(v.group) << ", \"ulp_of\": " << (v.bits == 24 ? "\"float\"" : "\"double\"")
+           << ", \"lanes\": " << v.lanes << ", \"isa\": " << quote(v.isa)
            << ", \"status\": " << quote(v.status) << ", \"note\": " << quote(v.note) << "}";
     }
     os << "\n  ],\n  \"results\": [\n";

@@ -129,6 +129,7 @@ std::vector<SphereData> make_spheres(std::size_t n, bool with_embree) {
             d.wide.push_back(convert<double>(s));
             d.kit.push_back({{{s.o.x, s.o.y, s.o.z}, {s.d.x, s.d.y, s.d.z}}, {{s.c.x, s.c.y, s.c.z}, s.r}});
         }
+        d.lanes = simd::to_lanes(d.family.samples);
         // Embree gets one scene per family: only where every ray sees the same sphere.
         bool one_sphere = true;
         for (const Sample<float>& s : d.family.samples) {
@@ -180,6 +181,7 @@ std::vector<BoxData> make_boxes(std::size_t n, std::string& note) {
             b.rays.push_back({{b.o[i].x, b.o[i].y, b.o[i].z}, {b.d[i].x, b.d[i].y, b.d[i].z}});
             b.exact.push_back(exact_box(b.o[i], b.d[i], b.table.data(), static_cast<int>(b.table.size()), 0.0f));
         }
+        b.lanes = simd::to_lanes(b.o, b.d);
         if (embree::available()) b.embree = embree::quads(b.table);
         if (kit::has_rect()) b.kit_table = kit::rect_table(b.table);
     }
@@ -234,7 +236,10 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
     for (Variant& v : variants) {
         if (v.id == "kit") probe_subject(v, spheres);
     }
+    std::vector<simd::Target> targets;
     if (!opt.subject_only) {
+        targets = simd::targets();
+        for (Variant& v : vector_variants(spheres, boxes, targets)) variants.push_back(std::move(v));
         for (Variant& v : box_variants(boxes)) variants.push_back(std::move(v));
         if (!box_note.empty()) {
             for (Variant& v : variants) {
@@ -281,19 +286,21 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
     if (!opt.subject_only) {
         progress("peak", 0, 2, "");
         peak = measure_peak(opt.peak_time, 5);
+        for (simd::Target& t : targets) simd::measure(t, opt.peak_time, 5);
     }
     const std::map<std::string, Timing> timings = time_jobs(jobs, opt.repetitions, opt.min_time, argv0);
     if (!opt.subject_only) {
         progress("peak", 1, 2, "");
         peak = best_of(peak, measure_peak(opt.peak_time, 5));
+        for (simd::Target& t : targets) simd::measure(t, opt.peak_time, 5);
         progress("peak", 2, 2, "");
     }
 
     if (opt.out.empty()) {
-        write_json(std::cout, opt, peak, spheres, boxes, variants, rows, timings);
+        write_json(std::cout, opt, peak, targets, spheres, boxes, variants, rows, timings);
         return std::cout.good() ? 0 : 1;
     }
-    write_json(file, opt, peak, spheres, boxes, variants, rows, timings);
+    write_json(file, opt, peak, targets, spheres, boxes, variants, rows, timings);
     file.close();
     if (!file) {
         std::fprintf(stderr, "raykit_bench: writing %s.tmp failed\n", opt.out.c_str());

@@ -22,6 +22,7 @@
 #include "kit.hpp"
 #include "peak.hpp"
 #include "vec.hpp"
+#include "vector.hpp"
 
 namespace raykit::bench {
 
@@ -53,6 +54,7 @@ struct SphereData {
     std::vector<ExactSphere> exact;
     std::vector<Sample<double>> wide;    // the same samples, widened to double
     std::vector<KitSample> kit;          // the same samples as the kit's types
+    simd::Rays lanes;                    // the same samples as a structure of arrays
     const embree::Scene* embree = nullptr;
 };
 
@@ -62,6 +64,7 @@ struct BoxData {
     std::vector<Rect3> table;
     std::vector<Vec3<float>> o, d;
     std::vector<raykit::Ray> rays;
+    simd::BoxRays lanes;                 // o and d as a structure of arrays
     std::vector<ExactBoxHit> exact;
     const embree::Scene* embree = nullptr;
     const kit::RectTable* kit_table = nullptr;
@@ -92,6 +95,8 @@ struct Variant {
     std::string precision;     // "float", "double", "float, double inside"
     std::string group;         // "sphere" or "box"
     int bits = 24;             // significand bits of the result type
+    int lanes = 1;             // rays per vector operation (1: scalar, one call per ray)
+    std::string isa;           // the vector instruction set (Highway's name), or "" for scalar
     Kind kind = Kind::roots;
     std::string note;
     std::string status = "ok";  // ok, absent, not_started, threw: ...
@@ -105,6 +110,9 @@ struct Variant {
 /// with `subject_only`), and every box variant on `data`.
 std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool subject_only);
 std::vector<Variant> box_variants(const std::vector<BoxData>& data);
+/// The vector variants for every instruction set in `targets`.
+std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, const std::vector<BoxData>& boxes,
+                                     const std::vector<simd::Target>& targets);
 
 // ---- the error pass ----------------------------------------------------------------
 
@@ -153,7 +161,8 @@ struct Row {
 };
 
 /// Everything as one JSON document (read by tools/kitlib/bench_report.py).
-void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<SphereData>& spheres,
+void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<simd::Target>& targets,
+                const std::vector<SphereData>& spheres,
                 const std::vector<BoxData>& boxes, const std::vector<Variant>& variants,
                 const std::vector<Row>& rows, const std::map<std::string, Timing>& timings);
 

@@ -87,6 +87,16 @@ template <class T> bool operator>=(Counted<T> a, Counted<T> b) { return a.v >= b
 template <class T> Counted<T> sqrt(Counted<T> a) { ++op_count().sqrt; return {std::sqrt(a.v)}; }
 template <class T> Counted<T> copysign(Counted<T> a, Counted<T> b) { return {std::copysign(a.v, b.v)}; }
 
+/// a b + c with one rounding: the hardware's fused multiply-add. Counted as a
+/// multiply and an add, as the peak measurement counts an FMA as two flops.
+inline float fused(float a, float b, float c) { return std::fma(a, b, c); }
+inline double fused(double a, double b, double c) { return std::fma(a, b, c); }
+template <class T> Counted<T> fused(Counted<T> a, Counted<T> b, Counted<T> c) {
+    ++op_count().mul;
+    ++op_count().add;
+    return {fused(a.v, b.v, c.v)};
+}
+
 /// The plain number inside a scalar, counted or not.
 template <class T> double value(T x) { return static_cast<double>(x); }
 template <class T> double value(Counted<T> x) { return static_cast<double>(x.v); }
