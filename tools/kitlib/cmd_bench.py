@@ -24,7 +24,8 @@ import common
 from common import ROOT, KitError, build_target, configure, ensure_packages, note, paint, preset_build, say
 
 # Google Benchmark is needed; Embree is optional (the comparison is skipped without it).
-common.PACKAGES["bench"] = ["libbenchmark-dev"]
+# Highway (libhwy-dev) gives the vector rows; the bench builds without it and says so.
+common.PACKAGES["bench"] = ["libbenchmark-dev", "libhwy-dev"]
 common.PACKAGES["bench-embree"] = ["libembree-dev"]
 
 TARGET = "raykit_bench"
@@ -163,13 +164,49 @@ def status_lines(data: dict) -> list[str]:
         lines.append(f"{v['label']}: {words.get(v['status'], v['status'])}"
                      + (f" ({v['note']})" if v["status"] == "absent" and v["note"] else "") + ".")
     lines.append(f"Embree: {data['meta']['embree']}.")
+    if data["meta"].get("highway"):
+        lines.append(f"Vectors: {data['meta']['highway']}.")
+    return lines
+
+
+def exact(p: report.Point) -> bool:
+    """The issue's bar: p99 within 1 ulp and nothing misclassified outside the band."""
+    return p.raw["misclassified"] == 0 and p.ulps("p99") <= 1.0
+
+
+def vector_verdict(pts: list[report.Point], peak: dict) -> list[str]:
+    """The reference scalar and vectorized, and the float-only exact form, on every sphere family."""
+    lines = []
+    fams: dict[str, list[report.Point]] = {}
+    for p in pts:
+        if p.variant["group"] == "sphere" and p.timed:
+            fams.setdefault(p.family["id"], []).append(p)
+    for group in fams.values():
+        kit = next((p for p in group if p.vid == "kit"), None)
+        vec = sorted((p for p in group if p.variant["formulation"] == "lagrange" and p.lanes > 1),
+                     key=lambda p: p.ns_median)
+        eft = sorted((p for p in group if p.variant["formulation"] == "exact-float" and p.lanes > 1),
+                     key=lambda p: p.ns_median)
+        if kit is None or not vec:
+            continue
+        v = vec[0]
+        bound = v.roofline_ns(peak)
+        roof = f", {100 * bound / v.ns_median:.0f}% of its roofline" if bound else ""
+        line = (f"  {group[0].family['label']}: kit {report.fmt_ns(kit.ns_median)} ns "
+                f"({'exact' if exact(kit) else 'NOT exact'}), {v.variant['label']} {v.ns_median:.2f} ns "
+                f"({'exact' if exact(v) else 'NOT exact'}{roof}): {kit.ns_median / v.ns_median:.1f}x")
+        if eft:
+            e = eft[0]
+            line += (f"; float-only exact {e.ns_median:.2f} ns ({'exact' if exact(e) else 'NOT exact'}, "
+                     f"p99 {report.fmt_ulps(e.ulps('p99'))}, {e.ns_median / v.ns_median:.1f}x the double lanes)")
+        lines.append(line)
     return lines
 
 
 # The formulation solutions/02_general_sphere/general_sphere.cpp computes: the benchmark also times it
 # inlined into one call like every other formulation, so it can be judged on equal terms. The kit's
 # packaged function pays for two calls across libraries and its input guards on top.
-KIT_FORMULATION = "half-b_f32_in_f64"
+KIT_FORMULATION = "lagrange_f32_in_f64"
 
 
 def reference_verdict(pts: list[report.Point]) -> list[str]:
@@ -323,6 +360,12 @@ def run(args) -> int:
     if verdict:
         say(paint("The kit's reference on the hard families:", "bold"))
         for line in verdict:
+            say(line)
+    lanes = vector_verdict(pts, data.get("peak") or {})
+    if lanes:
+        say(paint("The reference, scalar (the kit's function) and vectorized (the fastest lanes), and the "
+                  "float-only exact form:", "bold"))
+        for line in lanes:
             say(line)
 
     target.mkdir(parents=True, exist_ok=True)
