@@ -19,8 +19,21 @@ import cmd_bench
 from cmd_test import Failed, expect, kit
 from common import BUILD, ROOT
 
-SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside"}
-FORMULATIONS = {"textbook", "half-b", "unit-dir", "geometric", "stable"}
+SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",
+                   "pbrt_e4", "pbrt_e6", "pbrt_e8", "ground_1e3", "ground_earth"}
+FORMULATIONS = {"textbook", "half-b", "unit-dir", "geometric", "stable", "lagrange"}
+
+
+def exact_everywhere(rows: dict, variant: str) -> list[str]:
+    """The families on which `variant` is not exact (p99 over 1 ulp or a ray misclassified)."""
+    bad = []
+    for fam in sorted(SPHERE_FAMILIES):
+        row = rows.get((fam, variant))
+        if row is None:
+            bad.append(f"{fam} (no row)")
+        elif int(row["misclassified"]) or _number(row, "ulps_p99") > 1.0:
+            bad.append(f"{fam} (p99 {row['ulps_p99']}, {row['misclassified']} misclassified)")
+    return bad
 
 
 def _rows(path: Path) -> dict[tuple[str, str], dict]:
@@ -69,6 +82,29 @@ def check_quick_run(ctx) -> str:
                "1e4 radii away, the stable form must stay within a few ulps and the textbook form must not")
         rounded = _number(rows[("typical", "half-b_f32_in_f64")], "ulps_max")
         expect(rounded <= 0.5 + 1e-3, f"a double result rounded to float must be within half an ulp, got {rounded}")
+        # At pbrt's scales h^2 - a c loses even in double; the Lagrange form does not.
+        expect(int(rows[("pbrt_e8", "half-b_f32_in_f64")]["misclassified"]) > 0,
+               "on pbrt's ranges (e = 8), half-b in double must misclassify rays")
+        bad = exact_everywhere(rows, "lagrange_f32_in_f64")
+        expect(not bad, f"the Lagrange form in double (the reference) is not exact on: {', '.join(bad)}")
+        bad = exact_everywhere(rows, "exact-float_f32")
+        expect(not bad, f"the float-only exact form is not exact on: {', '.join(bad)}")
+        expect("lanes" in next(iter(rows.values())), "results.csv has no lanes column")
+
+        # The vector rows, where Highway is there: the reference and the float-only form stay exact,
+        # and half-b in float lanes fails far away as it does one ray at a time.
+        vector = sorted({v for (_, v) in rows if v.startswith("lagrange_f32_in_f64_x")})
+        meta = json.loads((out / "results.json").read_text())["meta"]
+        if "not found" not in meta.get("highway", "not found"):
+            expect(vector, f"Highway is there ({meta['highway']}) but no vector row was measured")
+        for v in vector:
+            lanes, isa = v[len("lagrange_f32_in_f64_x"):].split("_", 1)
+            floats = f"_x{2 * int(lanes)}_{isa}"  # as many floats as doubles fit twice
+            for name in (v, "exact-float_f32" + floats):
+                bad = exact_everywhere(rows, name)
+                expect(not bad, f"{name} is not exact on: {', '.join(bad)}")
+            expect(int(rows[("far_1e4", "half-b_f32" + floats)]["misclassified"]) > 0,
+                   f"1e4 radii away, half-b in float lanes ({isa}) must misclassify rays")
 
         data = json.loads((out / "results.json").read_text())
         student = next(v for v in data["variants"] if v["id"] == "student")
@@ -93,7 +129,8 @@ def check_quick_run(ctx) -> str:
         # Comparing a run with itself: every error identical.
         lines = cmd_bench.compare(rows_as_csv(out), rows_as_csv(again))
         expect(f"errors identical in {len(rows)}" in lines[0], f"--compare with itself: {lines[0]}")
-    return f"{len(rows)} rows; CSV, JSON, Markdown and SVG parse; student step 'not started'"
+    return (f"{len(rows)} rows; CSV, JSON, Markdown and SVG parse; student step 'not started'; reference and "
+            f"float-only form exact on {len(SPHERE_FAMILIES)} families ({len(vector)} vector widths)")
 
 
 def rows_as_csv(out: Path) -> dict:
