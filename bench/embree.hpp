@@ -4,6 +4,7 @@
 // status() says why.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -26,5 +27,14 @@ const Scene* sphere(const Vec3<float>& centre, float radius);
 
 /// The closest hit in [tmin, inf): rtcIntersect1 with tfar = inf.
 BoxHit intersect(const Scene* scene, const Vec3<float>& o, const Vec3<float>& d, float tmin);
+
+/// Whether this Embree runs packets of `width` rays (8 or 16) natively.
+bool packets(int width);
+
+/// The closest hits of rays [begin, end) (a multiple of `width`), given as a
+/// structure of arrays, `width` at a time: rtcIntersect8 or rtcIntersect16.
+/// t is 0 and rect -1 on a miss.
+void intersect_packets(const Scene* scene, int width, const float* const o[3], const float* const d[3],
+                       std::size_t begin, std::size_t end, float tmin, float* t, float* rect);
 
 }  // namespace raykit::bench::embree

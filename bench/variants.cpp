@@ -469,6 +469,54 @@ std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, con
         };
         out.push_back(v);
     }
+    // Embree's packet queries on the same quads, as many rays per call as the
+    // widest vectors above hold (8 and 16 where this Embree runs them natively).
+    for (const int width : {8, 16}) {
+        Variant e;
+        e.formulation = "embree";
+        e.group = "box";
+        e.kind = Kind::box;
+        e.precision = "float";
+        e.lanes = width;
+        e.isa = "Embree";
+        e.id = "embree_quads_x" + std::to_string(width);
+        e.label = "Embree quads, rtcIntersect" + std::to_string(width);
+        e.note = "rtcIntersect" + std::to_string(width) + " on the quads of the scalar Embree row, every lane active";
+        if (!embree::packets(width)) {
+            e.status = "absent";
+            e.note = embree::available() ? "this Embree does not run packets of " + std::to_string(width) + " natively"
+                                         : embree::status();
+        }
+        struct Cache {
+            std::vector<std::vector<float>> t, rect;
+        };
+        auto cache = std::make_shared<Cache>();
+        cache->t.resize(boxes.size()), cache->rect.resize(boxes.size());
+        auto run = [b, width](std::size_t f, std::size_t end, float* t, float* rect) {
+            const BoxData& box = (*b)[f];
+            const float* const o[3] = {box.lanes.ox.data(), box.lanes.oy.data(), box.lanes.oz.data()};
+            const float* const d[3] = {box.lanes.dx.data(), box.lanes.dy.data(), box.lanes.dz.data()};
+            embree::intersect_packets(box.embree, width, o, d, 0, end, 0.0f, t, rect);
+        };
+        e.answer = [b, run, cache](std::size_t f, std::size_t i) {
+            if (cache->t[f].empty()) {
+                const std::size_t n = (*b)[f].lanes.ox.size();
+                cache->t[f].resize(n), cache->rect[f].resize(n);
+                run(f, n, cache->t[f].data(), cache->rect[f].data());
+            }
+            Answer a;
+            if (cache->rect[f][i] >= 0) {
+                a.count = 1;
+                a.t[0] = cache->t[f][i];
+                a.rect = static_cast<int>(cache->rect[f][i]);
+            }
+            return a;
+        };
+        e.pass = [b, run](std::size_t f) {
+            run(f, padded(batch_size((*b)[f].lanes.n)), g_lane_t0.data(), g_lane_hit.data());
+        };
+        out.push_back(e);
+    }
     return out;
 }
 
