@@ -7,8 +7,6 @@
 
 #include "families.hpp"
 
-#include "exact.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <random>

@@ -11,6 +11,15 @@
 
 namespace raykit::bench {
 
+/// The near-tangent band, relative to the radius: rays whose line passes the
+/// centre within it of the radius are not judged. Outside it a float
+/// formulation that does its job classifies every ray correctly up to a few
+/// thousand radii away (the error of the line's distance is about |f| 2^-24).
+constexpr double kTangentBand = 1e-4;
+/// The narrower band of the pbrt and ground families, where the point is to
+/// judge what happens close to a tangent at every scale.
+constexpr double kNarrowTangentBand = 1e-5;
+
 struct SphereFamily {
     std::string id;           ///< short name, used in the CSV ("far_1e4")
     std::string label;        ///< for people ("far, 1e4 radii")

@@ -162,6 +162,8 @@ Peak measure_peak(double seconds, int repetitions) {
     return p;
 }
 
+void calibration_pass() { scalar_mul_add<float>(25000); }
+
 Peak best_of(const Peak& a, const Peak& b) {
     Peak p = a;
     p.scalar_gflops_f32 = std::max(a.scalar_gflops_f32, b.scalar_gflops_f32);

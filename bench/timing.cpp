@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "runner.hpp"
+#include "timing.hpp"
 
 namespace raykit::bench {
 

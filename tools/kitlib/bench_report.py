@@ -111,33 +111,39 @@ def merge_student(data: dict, student: dict | None, status: str, label: str) -> 
     """Adds the student's sphere function to the reference run as variant "student".
 
     The student's code runs in its own process (its functions have the same
-    names as the kit's), so its times are put on the reference run's scale:
-    both runs time the benchmark's own stable float form, and the student's
-    times on a family are multiplied by that form's median ratio there."""
+    names as the kit's), maybe on another day or machine (a handout places it
+    on the committed reference run), so its times are put on the reference
+    run's scale: both runs time the same calibration loop (a fixed amount of
+    arithmetic), and the student's times are multiplied by the ratio of its
+    medians."""
     variant = {"id": "student", "formulation": "student", "label": label, "precision": "float",
-               "group": "sphere", "ulp_of": "float", "status": status, "note": "built from steps/"}
+               "group": "sphere", "ulp_of": "float", "lanes": 1, "isa": "", "status": status,
+               "note": "built from steps/"}
     if student is not None:
         for v in student["variants"]:
             if v["id"] == "kit":
                 variant["status"] = v["status"]
                 variant["note"] = "your code in steps/: " + v["note"]
-        anchor_ref = {r["family"]: r for r in data["results"] if r["variant"] == "stable_f32"}
-        anchor_own = {r["family"]: r for r in student["results"] if r["variant"] == "stable_f32"}
-        scales = []
+        ref_cal, own_cal = data["meta"].get("calibration_ns"), student["meta"].get("calibration_ns")
+        k = ref_cal / own_cal if ref_cal and own_cal else None
         for r in student["results"]:
             if r["variant"] != "kit":
                 continue
             row = dict(r, variant="student")
-            a, b = anchor_ref.get(r["family"]), anchor_own.get(r["family"])
-            if a and b and a["cpu_ns"] and b["cpu_ns"]:
-                k = statistics.median(a["cpu_ns"]) / statistics.median(b["cpu_ns"])
-                scales.append(k)
+            if k is not None:
                 row["cpu_ns"] = [t * k for t in r["cpu_ns"]]
-                row["real_ns"] = [t * k for t in r["real_ns"]]
+                row["real_ns"] = [t * k for t in r.get("real_ns") or []]
+            else:
+                row["cpu_ns"], row["real_ns"] = [], []
             data["results"].append(row)
-        if scales:
-            variant["note"] += (f"; timed in its own process, times scaled by the stable float form's ratio "
-                                f"between the runs (x{min(scales):.2f} to x{max(scales):.2f})")
+        if student["meta"].get("handout"):
+            variant["note"] += (f"; errors over the first {max((r['rays'] for r in student['results']), default=0)} "
+                                f"rays of each family (their exact roots are shipped as data)")
+        if k is not None:
+            variant["note"] += (f"; timed in its own process, times scaled by the calibration loop's ratio between "
+                                f"the runs (x{k:.2f})")
+        else:
+            variant["note"] += "; not timed on the reference run's scale (no calibration in one of the runs)"
     data["variants"].append(variant)
 
 

@@ -2,6 +2,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -53,6 +54,15 @@ std::string cpu_model() {
     return "unknown";
 }
 
+/// The median CPU time of the calibration pass, or NaN when it was not timed.
+double calibration_ns(const std::map<std::string, Timing>& timings) {
+    const auto t = timings.find(kCalibration);
+    if (t == timings.end() || t->second.cpu_ns.empty()) return std::nan("");
+    std::vector<double> v = t->second.cpu_ns;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
 std::string build_flags() {
 #ifdef RAYKIT_BENCH_FLAGS
     return RAYKIT_BENCH_FLAGS;
@@ -77,7 +87,8 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
        << ", \"tangent_band\": " << number(kTangentBand) << ", \"edge_band\": " << number(kEdgeBand)
        << ", \"embree\": " << quote(embree::status()) << ", \"highway\": " << quote(simd::status()) << ", \"sphere_step\": " << kit::sphere_step()
        << ", \"rect_step\": " << (kit::has_rect() ? "true" : "false")
-       << ", \"scene_step\": " << (kit::has_scene() ? "true" : "false") << "},\n";
+       << ", \"scene_step\": " << (kit::has_scene() ? "true" : "false")
+       << ", \"calibration_ns\": " << number(calibration_ns(timings)) << "},\n";
     os << "  \"peak\": {\"scalar_gflops_f32\": " << number(peak.scalar_gflops_f32)
        << ", \"scalar_gflops_f64\": " << number(peak.scalar_gflops_f64)
        << ", \"vector_gflops_f32\": " << number(peak.vector_gflops_f32)

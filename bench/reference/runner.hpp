@@ -20,27 +20,14 @@
 #include "exact.hpp"
 #include "families.hpp"
 #include "kit.hpp"
+#include "options.hpp"
 #include "peak.hpp"
+#include "timing.hpp"
 #include "vec.hpp"
 #include "vector.hpp"
 
 namespace raykit::bench {
 
-/// What the command line asked for (see --help in main.cpp).
-struct Options {
-    std::size_t rays = 100000;   // per family, for the error pass
-    int repetitions = 15;        // timed repetitions per variant and family
-    double min_time = 0.01;      // seconds per repetition, about
-    double peak_time = 0.02;     // seconds per run of a peak kernel
-    bool subject_only = false;   // only the kit's sphere subject (the student build)
-    std::string out;             // JSON file; stdout when empty
-};
-
-/// One line per step on stderr; ./kit bench turns these into its progress display.
-inline void progress(const char* phase, std::size_t done, std::size_t total, const std::string& what) {
-    std::fprintf(stderr, "progress %s %zu %zu %s\n", phase, done, total, what.c_str());
-    std::fflush(stderr);
-}
 
 // ---- the data each family carries ------------------------------------------------
 
@@ -131,25 +118,6 @@ struct ErrorStats {
 ErrorStats sphere_errors(const Variant& v, std::size_t f, const SphereData& data);
 /// Also measures the disagreement with `embree` (may be null) on the hit distance.
 ErrorStats box_errors(const Variant& v, std::size_t f, const BoxData& data, const Variant* embree);
-
-// ---- timing ---------------------------------------------------------------------------
-
-/// Per repetition: nanoseconds per ray, CPU time (the process's own time, so a
-/// neighbour that takes the core away does not count) and wall-clock time.
-struct Timing {
-    std::vector<double> cpu_ns, real_ns;
-};
-
-struct Job {
-    std::string name;   // variant/family
-    std::function<void()> pass;
-    std::size_t rays;
-};
-
-/// Times every job with Google Benchmark: `repetitions` runs of about
-/// `seconds` each, interleaved at random. Keyed by Job::name.
-std::map<std::string, Timing> time_jobs(const std::vector<Job>& jobs, int repetitions, double seconds,
-                                        const char* argv0);
 
 // ---- output ----------------------------------------------------------------------------
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "box.hpp"
+#include "families.hpp"
 #include "vec.hpp"
 
 namespace raykit::bench {
@@ -20,14 +21,6 @@ struct ExactSphere {
     /// |impact - 1| <= the family's band: too close to a tangent to call hit or miss.
     bool near_tangent = false;
 };
-
-/// The near-tangent band, relative to the radius. Outside it a float
-/// formulation that does its job classifies every ray correctly up to a few
-/// thousand radii away (the error of the line's distance is about |f| 2^-24).
-constexpr double kTangentBand = 1e-4;
-/// The narrower band of the pbrt and ground families, where the point is to
-/// judge what happens close to a tangent at every scale.
-constexpr double kNarrowTangentBand = 1e-5;
 
 ExactSphere exact_sphere(const Sample<float>& s, double band);
 

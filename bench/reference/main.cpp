@@ -35,87 +35,6 @@ using namespace raykit::bench;
 
 namespace {
 
-const char* kUsage =
-    "usage: raykit_bench [--quick | --smoke] [--rays=N] [--repetitions=N] [--min-time=SECONDS]\n"
-    "                    [--subject-only] [--out=FILE]\n"
-    "\n"
-    "Measures the error (against float128) and the speed of ray-sphere formulations,\n"
-    "the kit's own step functions and Embree, and writes the results as JSON.\n"
-    "  --quick           fewer rays and repetitions (a few seconds)\n"
-    "  --smoke           a tiny run that only checks everything works\n"
-    "  --rays=N          rays per family for the error pass (default 100000)\n"
-    "  --repetitions=N   timed repetitions per variant and family (default 15)\n"
-    "  --min-time=S      seconds each repetition runs, about (default 0.01)\n"
-    "  --subject-only    only the kit's sphere function of this build (for a student build)\n"
-    "  --out=FILE        write the JSON here (written to FILE.tmp, then renamed)\n";
-
-[[noreturn]] void usage_error(const std::string& message) {
-    std::fprintf(stderr, "raykit_bench: %s\n%s", message.c_str(), kUsage);
-    std::exit(2);
-}
-
-long parse_count(const std::string& name, const std::string& text, long lo, long hi) {
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno != 0 || v < lo || v > hi) {
-        usage_error(name + " wants a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                    ", not '" + text + "'");
-    }
-    return v;
-}
-
-double parse_seconds(const std::string& name, const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0 || v > 10) {
-        usage_error(name + " wants seconds, more than 0 and at most 10, not '" + text + "'");
-    }
-    return v;
-}
-
-Options parse(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        const auto eq = arg.find('=');
-        const std::string key = arg.substr(0, eq);
-        const std::string value = eq == std::string::npos ? "" : arg.substr(eq + 1);
-        const bool has_value = eq != std::string::npos;
-        auto need_value = [&] { if (!has_value) usage_error(key + " needs a value: " + key + "=..."); };
-        auto no_value = [&] { if (has_value) usage_error(key + " takes no value"); };
-        if (key == "--help" || key == "-h") {
-            std::fputs(kUsage, stdout);
-            std::exit(0);
-        } else if (key == "--quick") {
-            no_value();
-            o.rays = 10000, o.repetitions = 5, o.min_time = 0.004, o.peak_time = 0.005;
-        } else if (key == "--smoke") {
-            no_value();
-            o.rays = 300, o.repetitions = 1, o.min_time = 1e-4, o.peak_time = 2e-4;
-        } else if (key == "--rays") {
-            need_value();
-            o.rays = static_cast<std::size_t>(parse_count(key, value, 10, 10000000));
-        } else if (key == "--repetitions") {
-            need_value();
-            o.repetitions = static_cast<int>(parse_count(key, value, 1, 100));
-        } else if (key == "--min-time") {
-            need_value();
-            o.min_time = parse_seconds(key, value);
-        } else if (key == "--subject-only") {
-            no_value();
-            o.subject_only = true;
-        } else if (key == "--out") {
-            need_value();
-            if (value.empty()) usage_error("--out needs a file name");
-            o.out = value;
-        } else {
-            usage_error("unknown option '" + arg + "'");
-        }
-    }
-    return o;
-}
-
 // ---- setting up the families --------------------------------------------------------
 
 std::vector<SphereData> make_spheres(std::size_t n, bool with_embree) {
@@ -219,6 +138,32 @@ void probe_subject(Variant& subject, const std::vector<SphereData>& spheres) {
     }
 }
 
+/// The handout's yardstick: the exact answers for the first kExactRays rays of
+/// each sphere family, as data (bench/handout.cpp reads them; the code that
+/// computes them stays with the instructor). Written to FILE.tmp, then renamed.
+constexpr std::size_t kExactRays = 500;
+
+void write_exact(const std::string& path, const std::vector<SphereData>& spheres) {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << "# raykit bench: exact roots (float128, rounded to double) of the first rays of each family.\n"
+               "# Written by raykit_bench --write-exact from bench/reference/; read by bench/handout.cpp.\n"
+               "# family index hit near_tangent t0 t1\n";
+        char line[160];
+        for (const SphereData& d : spheres) {
+            for (std::size_t i = 0; i < std::min(kExactRays, d.exact.size()); ++i) {
+                const ExactSphere& e = d.exact[i];
+                std::snprintf(line, sizeof line, "%s %zu %d %d %.17g %.17g\n", d.family.id.c_str(), i, e.hit ? 1 : 0,
+                              e.near_tangent ? 1 : 0, static_cast<double>(e.t[0]), static_cast<double>(e.t[1]));
+                out << line;
+            }
+        }
+        if (!out) throw std::runtime_error("writing " + tmp + " failed");
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
+}
+
 int run(const Options& opt, const char* argv0, std::ofstream& file) {
 #if defined(__SSE2__)
     // Embree asks for flush-to-zero and denormals-are-zero; no input or result
@@ -228,6 +173,7 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
 #endif
     const bool with_embree = !opt.subject_only && embree::available();
     std::vector<SphereData> spheres = make_spheres(opt.rays, with_embree);
+    if (!opt.write_exact.empty()) write_exact(opt.write_exact, spheres);
     std::string box_note;
     std::vector<BoxData> boxes;
     if (!opt.subject_only) boxes = make_boxes(opt.rays, box_note);
@@ -280,6 +226,8 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
         progress("error", ++done, families, boxes[f].label);
     }
 
+    jobs.push_back({kCalibration, calibration_pass, 1});
+
     // This CPU's peak, measured before and after the timing: the better of
     // the two, as a neighbour's work can only have slowed a kernel down.
     Peak peak;
@@ -317,7 +265,7 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const Options opt = parse(argc, argv);
+    const Options opt = parse_options(argc, argv);
     // The output file is opened first, so a bad --out fails at once rather
     // than after a minute of measuring; it is written as FILE.tmp and renamed
     // at the end, so a failed run never leaves a half-written FILE.
