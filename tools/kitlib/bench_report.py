@@ -126,8 +126,10 @@ def merge_student(data: dict, student: dict | None, status: str, label: str) -> 
                 variant["note"] = "your code in steps/: " + v["note"]
         ref_cal, own_cal = data["meta"].get("calibration_ns"), student["meta"].get("calibration_ns")
         k = ref_cal / own_cal if ref_cal and own_cal else None
+        known = {f["id"] for f in data["families"]}
+        skipped = sorted({r["family"] for r in student["results"] if r["family"] not in known})
         for r in student["results"]:
-            if r["variant"] != "kit":
+            if r["variant"] != "kit" or r["family"] not in known:  # a family the reference run lacks
                 continue
             row = dict(r, variant="student")
             if k is not None:
@@ -139,6 +141,8 @@ def merge_student(data: dict, student: dict | None, status: str, label: str) -> 
         if student["meta"].get("handout"):
             variant["note"] += (f"; errors over the first {max((r['rays'] for r in student['results']), default=0)} "
                                 f"rays of each family (their exact roots are shipped as data)")
+        if skipped:
+            variant["note"] += f"; not shown (the reference run has no such family): {', '.join(skipped)}"
         if k is not None:
             variant["note"] += (f"; timed in its own process, times scaled by the calibration loop's ratio between "
                                 f"the runs (x{k:.2f})")
