@@ -21,7 +21,7 @@ const char* kUsage =
     "  --smoke           a tiny run that only checks everything works\n"
     "  --rays=N          rays per family for the error pass (default 100000)\n"
     "  --repetitions=N   timed repetitions per variant and family (default 15)\n"
-    "  --min-time=S      seconds each repetition runs, about (default 0.01)\n"
+    "  --min-time=S      seconds each repetition runs, about (default 0.004)\n"
     "  --subject-only    only the kit's sphere function of this build (for a student build)\n"
     "  --out=FILE        write the JSON here (written to FILE.tmp, then renamed)\n"
     "  --write-exact=F   also write the exact roots of the first rays of each family (the\n"
@@ -69,7 +69,7 @@ Options parse_options(int argc, char** argv) {
             std::exit(0);
         } else if (key == "--quick") {
             no_value();
-            o.rays = 10000, o.repetitions = 5, o.min_time = 0.004, o.peak_time = 0.005;
+            o.rays = 10000, o.repetitions = 5, o.min_time = 0.002, o.peak_time = 0.005;
         } else if (key == "--smoke") {
             no_value();
             o.rays = 300, o.repetitions = 1, o.min_time = 1e-4, o.peak_time = 2e-4;

@@ -11,7 +11,7 @@ namespace raykit::bench {
 struct Options {
     std::size_t rays = 100000;   // per family, for the error pass
     int repetitions = 15;        // timed repetitions per variant and family
-    double min_time = 0.01;      // seconds per repetition, about
+    double min_time = 0.004;     // seconds per repetition, about
     double peak_time = 0.02;     // seconds per run of a peak kernel
     bool subject_only = false;   // only the kit's sphere subject (the student build)
     std::string out;             // JSON file; stdout when empty
