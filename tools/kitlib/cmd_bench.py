@@ -23,10 +23,12 @@ import bench_report as report
 import common
 from common import ROOT, KitError, build_target, configure, ensure_packages, note, paint, preset_build, say
 
-# Google Benchmark is needed; Embree is optional (the comparison is skipped without it).
-# Highway (libhwy-dev) gives the vector rows; the bench builds without it and says so.
-common.PACKAGES["bench"] = ["libbenchmark-dev", "libhwy-dev"]
+# Google Benchmark is needed; Embree is optional (the comparison is skipped without it), and so is
+# Google Highway (the vector rows; Debian 12 and later have libhwy-dev, Debian 11 has none recent
+# enough): the bench installs both when it can and says what it skipped.
+common.PACKAGES["bench"] = ["libbenchmark-dev"]
 common.PACKAGES["bench-embree"] = ["libembree-dev"]
+common.PACKAGES["bench-hwy"] = ["libhwy-dev"]
 
 TARGET = "raykit_bench"
 # The instructor's benchmark; a student's handout has only bench/handout.cpp (no code that computes
@@ -318,6 +320,10 @@ def measure(args) -> dict:
         ensure_packages("bench-embree")
     except KitError:
         note("kit: Embree (libembree-dev) could not be installed; the comparison with Embree is skipped")
+    try:
+        ensure_packages("bench-hwy")
+    except KitError:
+        note("kit: Google Highway (libhwy-dev) could not be installed; the vector rows are skipped")
 
     progress = Progress()
     run_args = ["--quick"] if args.quick else []
