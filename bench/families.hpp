@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct BoxFamily {
 /// tiny, huge, off-centre, grazing, inside; pbrt-v4's test ranges (e = 4, 6,
 /// 8) and the ground (radius 1e3 and the Earth's, seen from 1 to 2 units up).
 std::vector<SphereFamily> sphere_families(std::size_t n);
+
+/// A fingerprint of the first `m` samples' float inputs (FNV-1a over their
+/// bits), so that exact answers stored as data can be matched to the rays
+/// they belong to.
+std::uint64_t fingerprint(const std::vector<Sample<float>>& samples, std::size_t m);
 
 /// Rays into the Cornell box: from the usual camera, and from inside (bounces).
 std::vector<BoxFamily> box_families(std::size_t n);

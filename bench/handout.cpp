@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -44,25 +45,38 @@ struct ExactRoots {
     double t[2] = {0, 0};
 };
 
-/// data/exact_roots.txt: "family index hit near_tangent t0 t1" per line.
-std::map<std::string, std::vector<ExactRoots>> read_exact(const std::string& path) {
+struct ExactFamily {
+    std::uint64_t fingerprint = 0;  // of the rays' inputs (families.hpp)
+    std::vector<ExactRoots> rays;
+};
+
+/// data/exact_roots.txt: per family "= family rays fingerprint", then
+/// "family index hit near_tangent t0 t1" per ray.
+std::map<std::string, ExactFamily> read_exact(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error("cannot read the exact roots " + path);
-    std::map<std::string, std::vector<ExactRoots>> out;
+    std::map<std::string, ExactFamily> out;
     std::string line;
     while (std::getline(in, line)) {
         if (line.empty() || line[0] == '#') continue;
         std::istringstream fields(line);
+        if (line[0] == '=') {
+            std::string mark, family, hex;
+            std::size_t rays = 0;
+            if (!(fields >> mark >> family >> rays >> hex)) throw std::runtime_error(path + ": unreadable line '" + line + "'");
+            out[family].fingerprint = std::stoull(hex, nullptr, 16);
+            continue;
+        }
         std::string family;
         std::size_t index = 0;
         int hit = 0, near = 0;
         ExactRoots e;
-        if (!(fields >> family >> index >> hit >> near >> e.t[0] >> e.t[1]) || index != out[family].size()) {
+        if (!(fields >> family >> index >> hit >> near >> e.t[0] >> e.t[1]) || index != out[family].rays.size()) {
             throw std::runtime_error(path + ": unreadable line '" + line + "'");
         }
         e.hit = hit != 0;
         e.near_tangent = near != 0;
-        out[family].push_back(e);
+        out[family].rays.push_back(e);
     }
     return out;
 }
@@ -140,6 +154,18 @@ int run(const Options& opt, const char* argv0, std::ostream& os) {
         }
     }
 
+    // The data must be for these very rays (a changed family needs new data).
+    for (const SphereFamily& f : families) {
+        const auto known = exact.find(f.id);
+        if (known == exact.end()) throw std::runtime_error("data/exact_roots.txt has no family " + f.id);
+        const std::size_t m = known->second.rays.size();
+        if (f.samples.size() >= m && fingerprint(f.samples, m) != known->second.fingerprint) {
+            throw std::runtime_error("data/exact_roots.txt holds the roots of other rays than bench/families.cpp "
+                                     "makes for " + f.id + ": the instructor writes it again with "
+                                     "raykit_bench --write-exact");
+        }
+    }
+
     // The error pass, over the rays whose exact roots were shipped.
     struct Row {
         std::string family;
@@ -151,12 +177,11 @@ int run(const Options& opt, const char* argv0, std::ostream& os) {
     try {
         for (std::size_t f = 0; f < families.size() && status == "ok"; ++f) {
             const auto known = exact.find(families[f].id);
-            if (known == exact.end()) throw std::runtime_error("no exact roots for family " + families[f].id);
             Row row;
             row.family = families[f].id;
-            row.rays = std::min(known->second.size(), cases[f].size());
+            row.rays = std::min(known->second.rays.size(), cases[f].size());
             for (std::size_t i = 0; i < row.rays; ++i) {
-                const ExactRoots& e = known->second[i];
+                const ExactRoots& e = known->second.rays[i];
                 if (e.near_tangent) {
                     ++row.in_band;
                     continue;

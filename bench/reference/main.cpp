@@ -149,10 +149,16 @@ void write_exact(const std::string& path, const std::vector<SphereData>& spheres
         std::ofstream out(tmp);
         out << "# raykit bench: exact roots (float128, rounded to double) of the first rays of each family.\n"
                "# Written by raykit_bench --write-exact from bench/reference/; read by bench/handout.cpp.\n"
-               "# family index hit near_tangent t0 t1\n";
+               "# per family: '= family rays fingerprint', then 'family index hit near_tangent t0 t1' per ray\n";
         char line[160];
         for (const SphereData& d : spheres) {
-            for (std::size_t i = 0; i < std::min(kExactRays, d.exact.size()); ++i) {
+            const std::size_t m = std::min(kExactRays, d.exact.size());
+            // The rays themselves are not stored: the handout makes them again
+            // from families.cpp, and checks this fingerprint of their inputs.
+            std::snprintf(line, sizeof line, "= %s %zu %016llx\n", d.family.id.c_str(), m,
+                          static_cast<unsigned long long>(fingerprint(d.family.samples, m)));
+            out << line;
+            for (std::size_t i = 0; i < m; ++i) {
                 const ExactSphere& e = d.exact[i];
                 std::snprintf(line, sizeof line, "%s %zu %d %d %.17g %.17g\n", d.family.id.c_str(), i, e.hit ? 1 : 0,
                               e.near_tangent ? 1 : 0, static_cast<double>(e.t[0]), static_cast<double>(e.t[1]));

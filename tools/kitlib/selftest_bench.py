@@ -166,5 +166,30 @@ def check_bad_input(ctx) -> str:
     return "bad options and folders: message and exit 2, nothing written"
 
 
+def check_handout_data(ctx) -> str:
+    """The exact roots a handout's bench judges the student with (bench/data/exact_roots.txt) are what the
+    instructor's bench computes today for the same rays."""
+    from cmd_test import HANDOUT, Skipped
+    if HANDOUT:
+        raise Skipped("a handout has no instructor's bench to compare with")
+    exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
+    expect(exe.is_file(), f"{exe} was not built")
+    committed = ROOT / "bench" / "data" / "exact_roots.txt"
+    with tempfile.TemporaryDirectory() as tmp:
+        fresh = Path(tmp) / "exact_roots.txt"
+        r = subprocess.run([str(exe), "--rays=500", "--repetitions=1", "--min-time=0.0001",
+                            f"--write-exact={fresh}", f"--out={Path(tmp) / 'run.json'}"],
+                           capture_output=True, text=True, timeout=600)
+        expect(r.returncode == 0, f"raykit_bench --write-exact exited {r.returncode}: {r.stderr[-500:]}")
+        old, new = committed.read_text().splitlines(), fresh.read_text().splitlines()
+        differ = [i for i, (a, b) in enumerate(zip(old, new)) if a != b]
+        expect(len(old) == len(new) and not differ,
+               f"bench/data/exact_roots.txt is stale ({len(differ)} lines differ, first at line "
+               f"{differ[0] + 1 if differ else min(len(old), len(new)) + 1}); write it again with "
+               f"build/reference/bench/raykit_bench --rays=500 --write-exact=bench/data/exact_roots.txt")
+    return f"the handout's exact roots match the instructor's bench ({len(new)} lines)"
+
+
 def checks() -> list:
-    return [("bench runs and its output parses", check_quick_run), ("bench command line errors", check_bad_input)]
+    return [("bench runs and its output parses", check_quick_run), ("bench command line errors", check_bad_input),
+            ("handout's bench data is current", check_handout_data)]
