@@ -9,9 +9,9 @@ namespace raykit::bench {
 
 /// What the command line asked for (see --help).
 struct Options {
-    std::size_t rays = 100000;   // per family, for the error pass
+    std::size_t rays = 50000;    // per family, for the error pass
     int repetitions = 15;        // timed repetitions per variant and family
-    double min_time = 0.004;     // seconds per repetition, about
+    double min_time = 0.003;     // seconds per repetition, about
     double peak_time = 0.02;     // seconds per run of a peak kernel
     bool subject_only = false;   // only the kit's sphere subject (the student build)
     std::string out;             // JSON file; stdout when empty
