@@ -379,8 +379,7 @@ Variant sphere_lanes(const std::vector<SphereData>& data, const simd::Target& t,
     v.isa = t.name;
     v.precision = wide ? "float, double inside" : "float";
     v.id = formulation + (wide ? "_f32_in_f64" : "_f32") + "_x" + std::to_string(v.lanes) + "_" + t.name;
-    v.label = formulation + (wide ? ", double inside" : ", float") + ", " + std::to_string(v.lanes) + " lanes " +
-              t.name;
+    v.label = formulation + ", " + std::to_string(v.lanes) + " lanes " + t.name;  // the type column says the rest
     v.note = "Highway, " + t.name + ": " + std::to_string(v.lanes) + (wide ? " doubles" : " floats") +
              " per vector, rays as a structure of arrays, one call per batch";
     const auto* d = &data;
