@@ -76,8 +76,9 @@ def check_quick_run(ctx) -> str:
 
         # Facts about the errors (not the times) that a broken yardstick would miss.
         far_text, far_stable = rows[("far_1e4", "textbook_f32")], rows[("far_1e4", "stable_f32")]
-        expect(int(far_text["misclassified"]) > 0 and int(far_stable["misclassified"]) == 0,
-               "1e4 radii away, the textbook form in float must misclassify rays and the stable form none")
+        # (A handout reads the committed full run, where the stable form misclassifies a few rays in 10^4.)
+        expect(_number(far_text, "misclassified_share") > 0.1 and _number(far_stable, "misclassified_share") < 1e-3,
+               "1e4 radii away, the textbook form in float must misclassify many rays and the stable form almost none")
         expect(_number(far_stable, "ulps_p99") < 10 < _number(far_text, "ulps_p99"),
                "1e4 radii away, the stable form must stay within a few ulps and the textbook form must not")
         rounded = _number(rows[("typical", "half-b_f32_in_f64")], "ulps_max")
