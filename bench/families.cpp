@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 
 namespace raykit::bench {
@@ -76,8 +77,9 @@ double disc_impact(Rng& rng) { return 1.25 * std::sqrt(rng.uniform()); }
 std::vector<SphereFamily> sphere_families(std::size_t n) {
     std::vector<SphereFamily> out;
     std::uint64_t seed = 20240501;
+    double band = kTangentBand;  // the families below the pbrt ones use the wider band
     auto add = [&](const char* id, const char* label, const char* what, bool hard, auto&& make) {
-        SphereFamily f{id, label, what, hard, {}};
+        SphereFamily f{id, label, what, hard, band, {}};
         Rng rng(seed++);
         f.samples.reserve(n);
         for (std::size_t i = 0; i < n; ++i) f.samples.push_back(make(rng));
@@ -128,7 +130,65 @@ std::vector<SphereFamily> sphere_families(std::size_t n) {
             const Vec3<double> o = near_origin + radius * rng.direction();
             return make_sample(o, rng.length() * rng.direction(), near_origin, 1.0);
         });
+
+    // The ranges of pbrt-v4's own sphere tests (src/pbrt/shapes_test.cpp): a
+    // sphere at the world origin of radius 10^U(-4, 4), origin coordinates
+    // +-10^U(-e, e), the ray aimed at a random point of the sphere's bounding
+    // box, half the directions normalised. |f| / r reaches 10^(e + 4): the
+    // scale at which h^2 - a c cancels beyond what even double holds.
+    band = kNarrowTangentBand;
+    struct Pbrt { double e; const char* id; const char* label; };
+    for (const Pbrt p : {Pbrt{4, "pbrt_e4", "pbrt ranges, e = 4"}, Pbrt{6, "pbrt_e6", "pbrt ranges, e = 6"},
+                         Pbrt{8, "pbrt_e8", "pbrt ranges, e = 8"}}) {
+        add(p.id, p.label, "pbrt-v4's sphere test: radius 10^U(-4,4), origin coordinates +-10^U(-e,e), aimed into "
+            "the bounding box", true, [&](Rng& rng) {
+                auto signed_exp = [&](double e) {
+                    return (rng.uniform() < 0.5 ? -1.0 : 1.0) * std::pow(10.0, rng.uniform(-e, e));
+                };
+                const double r = std::pow(10.0, rng.uniform(-4, 4));
+                const Vec3<double> o{signed_exp(p.e), signed_exp(p.e), signed_exp(p.e)};
+                const Vec3<double> target{rng.uniform(-r, r), rng.uniform(-r, r), rng.uniform(-r, r)};
+                Vec3<double> d = target - o;
+                if (rng.uniform() < 0.5) d = normalized(d);
+                return make_sample(o, d, {0, 0, 0}, r);
+            });
+    }
+
+    // The ground: a sphere centred below the camera, the camera 1 to 2 units
+    // above its top, looking 1e-4 to 0.3 rad below the horizontal (log-uniform):
+    // the horizon dips by sqrt(2 H / r), so many rays are near-tangent misses.
+    struct Ground { double r; const char* id; const char* label; const char* what; };
+    for (const Ground g : {Ground{1e3, "ground_1e3", "ground, r = 1e3", "sphere of radius 1e3 below the camera"},
+                           Ground{6.4e6, "ground_earth", "ground, the Earth",
+                                  "sphere of radius 6.4e6 (the Earth in metres) below the camera"}}) {
+        const std::string what = std::string(g.what) + ", 1 to 2 units above it, looking 1e-4 to 0.3 rad down";
+        add(g.id, g.label, what.c_str(), true, [&](Rng& rng) {
+            const Vec3<double> c{0, -g.r, 0};
+            const Vec3<double> o{rng.uniform(-1, 1), rng.uniform(1, 2), rng.uniform(-1, 1)};
+            const double down = std::pow(10.0, rng.uniform(-4, std::log10(0.3)));
+            const double azimuth = rng.uniform(0, 2 * kPi);
+            const Vec3<double> d{std::cos(down) * std::cos(azimuth), -std::sin(down),
+                                 std::cos(down) * std::sin(azimuth)};
+            return make_sample(o, rng.length() * d, c, g.r);
+        });
+    }
     return out;
+}
+
+std::uint64_t fingerprint(const std::vector<Sample<float>>& samples, std::size_t m) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (std::size_t i = 0; i < m && i < samples.size(); ++i) {
+        const Sample<float>& s = samples[i];
+        for (const float x : {s.o.x, s.o.y, s.o.z, s.d.x, s.d.y, s.d.z, s.c.x, s.c.y, s.c.z, s.r}) {
+            std::uint32_t bits;
+            std::memcpy(&bits, &x, sizeof bits);
+            for (int k = 0; k < 4; ++k) {
+                h ^= (bits >> (8 * k)) & 0xffu;
+                h *= 0x100000001b3ULL;
+            }
+        }
+    }
+    return h;
 }
 
 std::vector<BoxFamily> box_families(std::size_t n) {

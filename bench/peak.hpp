@@ -22,6 +22,15 @@ struct Peak {
 /// (a busy machine only ever slows a kernel down).
 Peak measure_peak(double seconds, int repetitions);
 
+/// This thread's CPU time in seconds: what the peak kernels are timed with, so
+/// that a neighbour who takes the core away (the machine may be shared) does
+/// not count as slowness of the kernel.
+double thread_cpu_seconds();
+
+/// A fixed amount of scalar arithmetic (about 50 us here), timed beside the
+/// variants as the calibration job: its time puts two runs on one scale.
+void calibration_pass();
+
 /// The better of two measurements, rate by rate.
 Peak best_of(const Peak& a, const Peak& b);
 

@@ -2,11 +2,13 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <random>
 
-#include "runner.hpp"
+#include "timing.hpp"
 
 namespace raykit::bench {
 
@@ -26,8 +28,15 @@ public:
         for (const Run& run : runs) {
             if (run.run_type != Run::RT_Iteration) continue;
             const std::string& name = run.run_name.function_name;
-            if (run.error_occurred) {
-                std::fprintf(stderr, "raykit_bench: %s: %s\n", name.c_str(), run.error_message.c_str());
+#if RAYKIT_BENCHMARK_HAS_SKIPPED  // Google Benchmark 1.8 and later
+            const bool failed = static_cast<int>(run.skipped) != 0;
+            const std::string& why = run.skip_message;
+#else  // 1.5 to 1.7
+            const bool failed = run.error_occurred;
+            const std::string& why = run.error_message;
+#endif
+            if (failed) {
+                std::fprintf(stderr, "raykit_bench: %s: %s\n", name.c_str(), why.c_str());
                 continue;
             }
             const double rays = static_cast<double>(rays_.at(name));
@@ -63,33 +72,43 @@ std::map<std::string, Timing> time_jobs(const std::vector<Job>& jobs, int repeti
                                         const char* argv0) {
     std::map<std::string, Timing> timings;
     std::map<std::string, std::size_t> rays;
+    // Every repetition is registered as a benchmark of its own, and the list
+    // is shuffled (fixed seed): slow spells of a shared machine then spread
+    // over every variant instead of hitting one. Doing it here rather than
+    // with --benchmark_enable_random_interleaving (Google Benchmark 1.6 and
+    // later) keeps 1.5 working too.
+    struct One {
+        const Job* job;
+        benchmark::IterationCount iterations;
+    };
+    std::vector<One> order;
     for (const Job& job : jobs) {
         rays[job.name] = job.rays;
-        const auto pass = job.pass;
         // A fixed iteration count: Google Benchmark would otherwise search for
-        // one before every interleaved repetition, which costs more than the
-        // measurement itself.
-        benchmark::RegisterBenchmark(job.name.c_str(),
+        // one before every repetition, which costs more than the measurement.
+        const benchmark::IterationCount n = calibrate(job.pass, seconds);
+        for (int r = 0; r < repetitions; ++r) order.push_back({&job, n});
+    }
+    std::mt19937 rng(20240501);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (const One& one : order) {
+        const auto pass = one.job->pass;
+        benchmark::RegisterBenchmark(one.job->name.c_str(),
                                      [pass](benchmark::State& state) {
                                          for (auto _ : state) {
                                              pass();
                                              benchmark::ClobberMemory();
                                          }
                                      })
-            ->Repetitions(repetitions)
-            ->Iterations(calibrate(pass, seconds))
+            ->Iterations(one.iterations)
             ->Unit(benchmark::kNanosecond);
     }
-    // Interleave the repetitions of all benchmarks at random: slow spells of
-    // a shared machine then spread over every variant instead of hitting one.
     std::string program = argv0;
-    std::string interleave = "--benchmark_enable_random_interleaving=true";
-    char* args[] = {program.data(), interleave.data(), nullptr};
-    int count = 2;
+    char* args[] = {program.data(), nullptr};
+    int count = 1;
     benchmark::Initialize(&count, args);
-    Collector collector(timings, rays, jobs.size() * static_cast<std::size_t>(repetitions));
+    Collector collector(timings, rays, order.size());
     benchmark::RunSpecifiedBenchmarks(&collector);
-    benchmark::Shutdown();
     return timings;
 }
 

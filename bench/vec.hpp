@@ -20,6 +20,9 @@ template <class T> Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) { retur
 template <class T> Vec3<T> operator-(const Vec3<T>& a, const Vec3<T>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 template <class T> Vec3<T> operator*(const T& s, const Vec3<T>& a) { return {s * a.x, s * a.y, s * a.z}; }
 template <class T> T dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T> Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 /// One ray and the sphere it is tested against. In float the layout is the
 /// kit's own: Ray{origin, direction} followed by Sphere{center, radius}.
@@ -83,6 +86,16 @@ template <class T> bool operator<=(Counted<T> a, Counted<T> b) { return a.v <= b
 template <class T> bool operator>=(Counted<T> a, Counted<T> b) { return a.v >= b.v; }
 template <class T> Counted<T> sqrt(Counted<T> a) { ++op_count().sqrt; return {std::sqrt(a.v)}; }
 template <class T> Counted<T> copysign(Counted<T> a, Counted<T> b) { return {std::copysign(a.v, b.v)}; }
+
+/// a b + c with one rounding: the hardware's fused multiply-add. Counted as a
+/// multiply and an add, as the peak measurement counts an FMA as two flops.
+inline float fused(float a, float b, float c) { return std::fma(a, b, c); }
+inline double fused(double a, double b, double c) { return std::fma(a, b, c); }
+template <class T> Counted<T> fused(Counted<T> a, Counted<T> b, Counted<T> c) {
+    ++op_count().mul;
+    ++op_count().add;
+    return {fused(a.v, b.v, c.v)};
+}
 
 /// The plain number inside a scalar, counted or not.
 template <class T> double value(T x) { return static_cast<double>(x); }

@@ -25,17 +25,10 @@ bool is_sphere(const Sphere& sphere) {
 Roots sphere_roots(const Ray& ray, const Sphere& sphere) {
     if (!is_sphere(sphere)) return {};
 
-    // Work in double. Every input is a float, so each difference below and each
-    // product of two of them is exact in double (24 + 24 significant bits fit in
-    // 53), and a, h and c carry errors about 1e-16 of their size instead of
-    // 6e-8. That is what makes the cancellations of lecture 03 harmless: h^2 and
-    // a c may cancel to 1e-8 of their size and still leave a discriminant good
-    // to float precision. The benchmark (docs/bench.md) measured this form at
-    // half an ulp on every hard family and faster than the float-only stable
-    // form: converting to double costs less than the extra closest-point
-    // vector that the float form needs. On hardware where double is much
-    // slower than float (8-wide float SIMD, GPUs), the float form of lecture 03
-    // is the one to ship.
+    // Work in double. Every input is a float, so each product of two of them is
+    // exact in double (24 + 24 significant bits fit in 53), and so is o - c
+    // unless the origin and the centre differ in scale by more than about 2^29;
+    // what rounds is only the sums.
     const glm::dvec3 f = glm::dvec3(ray.origin) - glm::dvec3(sphere.center);
     const glm::dvec3 d(ray.direction);
     const double r = sphere.radius;
@@ -45,8 +38,19 @@ Roots sphere_roots(const Ray& ray, const Sphere& sphere) {
     const double a = glm::dot(d, d);
     if (!(a > 0.0 && a < std::numeric_limits<double>::infinity())) return {};
     const double h = glm::dot(f, d);
-    const double c = glm::dot(f, f) - r * r;
-    const double disc = h * h - a * c;
+
+    // The discriminant by Lagrange's identity, h^2 - a c = a r^2 - |f x d|^2:
+    // |f x d| / |d| is how far the line passes from the centre (lecture 03's
+    // geometric reading), so the discriminant is a (r^2 - distance^2) and
+    // cancels only near a tangent. Each component of f x d is a difference of
+    // two exact products, rounded once. Written as h^2 - a c instead, the two
+    // terms are about |f|^2 |d|^2 each and their difference loses
+    // log2(|f|^2 / r^2) bits: with |f| / r beyond about 1e5 (pbrt's own test
+    // ranges reach 1e12) even double misclassifies rays. The benchmark
+    // (docs/bench.md) measured this form at half an ulp on every family, for
+    // 0.1 to 1 ns per ray (a few percent) more than h^2 - a c.
+    const glm::dvec3 g = glm::cross(f, d);
+    const double disc = a * (r * r) - glm::dot(g, g);
 
     // "!(disc >= 0)" is also true for NaN (a NaN or infinite input): a miss.
     if (!(disc >= 0.0)) return {};

@@ -1,4 +1,5 @@
-// Step 02 grading suite, ★ robust tier: far, tiny, huge and grazing spheres.
+// Step 02 grading suite, ★ robust tier: far, tiny, huge and grazing spheres,
+// pbrt's test ranges and the ground.
 //
 // Each case is a handful of rays whose roots a float computation can get
 // right to a few ulps, but the textbook formula cannot: the discriminant
@@ -55,6 +56,10 @@ void expect_accurate(const Ray& ray, const Sphere& sphere, int count, const std:
 const std::string far_why =
     "Far away, h^2 and a c are both about |f|^2 |d|^2 and their difference loses most of its digits: "
     "compute the discriminant as a (r^2 - |f - (h/a) d|^2).";
+const std::string scale_why =
+    "With |f| many thousand radii, h^2 and a c agree to more digits than even double holds: read the "
+    "discriminant geometrically, a r^2 - |f x d|^2 (Lagrange's identity), the cross product giving the "
+    "line's distance from the centre.";
 const std::string root_why =
     "When one root is much smaller than the other, -h + sqrt(disc) cancels: take the root that adds terms "
     "of the same sign, q = -(h + sign(h) sqrt(disc)), and get the other from c / q.";
@@ -150,6 +155,55 @@ TEST_CASE("the first hit on a far sphere is accurate" * doctest::description("7.
         check_hit_ulps("intersect_sphere(ray, sphere, 0, inf)", show(c->ray) + "; sphere " + show(c->sphere), c->t,
                        intersect_sphere(c->ray, c->sphere, c->tmin, c->tmax), far_why);
     }
+}
+
+TEST_CASE("a tiny sphere seen from very far on pbrt's test ranges" * doctest::description("7. The robust cases")) {
+    // The ranges of pbrt-v4's own sphere tests: a sphere at the world origin,
+    // the origin 1e4 to 1e7 radii away, the ray aimed at a point of the
+    // sphere's bounding box. Most such rays miss; h^2 - a c, even in double,
+    // calls some of them hits.
+    const Sphere s{{0, 0, 0}, 0.01f};
+    const glm::vec3 o{30000, -40000, 120000};
+    expect_accurate(aim(o, s.center), s, hits, scale_why);
+    expect_accurate(aim_unit(o, glm::vec3(0.002f, -0.003f, 0.001f)), s, hits, scale_why);
+    expect_accurate(aim(o, glm::vec3(-0.0073f, 0.01f, -0.0079f)), s, miss, scale_why);
+    expect_accurate(aim(o, glm::vec3(0.0085f, -0.01f, 0.0098f)), s, miss, scale_why);
+    expect_accurate(aim(o, glm::vec3(-0.0082f, 0.01f, -0.0095f)), s, miss, scale_why);
+
+    const Sphere t{{0, 0, 0}, 0.001f};
+    const glm::vec3 p{5000, 8000, -20000};
+    expect_accurate(aim(p, t.center), t, hits, scale_why);
+    expect_accurate(aim(p, glm::vec3(-0.00087f, -0.00062f, -0.00008f)), t, miss, scale_why);
+    expect_accurate(aim_unit(p, glm::vec3(-0.0007f, 0.00082f, 0.00036f)), t, miss, scale_why);
+
+    const Sphere u{{0, 0, 0}, 0.25f};
+    const glm::vec3 q{-6e6f, 1e6f, 2e6f};
+    expect_accurate(aim_unit(q, u.center), u, hits, scale_why);
+    expect_accurate(aim_unit(q, glm::vec3(0.2325f, -0.0525f, 0.1875f)), u, miss, scale_why);
+    expect_accurate(aim_unit(q, glm::vec3(0.0675f, 0.175f, 0.2475f)), u, miss, scale_why);
+    expect_accurate(aim(q, glm::vec3(0.59f, -0.82f, 0.63f)), u, miss, scale_why);
+}
+
+TEST_CASE("the ground seen from a metre or two up" * doctest::description("7. The robust cases")) {
+    // A planet-sized or a big ground sphere centred below the camera. The
+    // horizon dips by about sqrt(2 H / r) below the horizontal: rays just above
+    // it miss, rays just below it hit far away, and c = |f|^2 - r^2 is a tiny
+    // difference of two numbers near r^2.
+    const Sphere earth{{0, -6.4e6f, 0}, 6.4e6f};  // the Earth in metres; dip 6.8e-4 rad from 1.5 m
+    const glm::vec3 eye{0, 1.5f, 0};
+    expect_accurate({eye, {1, -0.3f, 0}}, earth, hits, root_why);
+    expect_accurate({eye, {0, -1, 0}}, earth, hits, root_why);
+    expect_accurate({eye, {0.6f, -0.01f, 0.8f}}, earth, hits, root_why);
+    expect_accurate({eye, {1, -0.001f, 0}}, earth, hits, root_why);
+    expect_accurate({eye, {1, -0.0005f, 0}}, earth, miss, root_why);
+    expect_accurate({eye, {0.8f, -0.0001f, -0.6f}}, earth, miss, root_why);
+
+    const Sphere ground{{0, -1000, 0}, 1000};  // dip 0.049 rad from 1.2 units
+    const glm::vec3 cam{0.3f, 1.2f, -0.4f};
+    expect_accurate({cam, {0, -0.06f, 1}}, ground, hits, root_why);
+    expect_accurate({cam, {0.5f, -0.02f, 0.5f}}, ground, miss, root_why);
+    expect_accurate({cam, {-2, -0.3f, 1}}, ground, hits, root_why);
+    expect_accurate({cam, {0, -0.045f, -1}}, ground, miss, root_why);
 }
 
 TEST_SUITE_END();

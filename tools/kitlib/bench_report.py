@@ -53,6 +53,15 @@ class Point:
         return math.inf if v is None else float(v)  # null: an infinite or NaN answer
 
     @property
+    def lanes(self) -> int:
+        return int(self.variant.get("lanes") or 1)
+
+    @property
+    def regime(self) -> str:
+        """"scalar" (one call per ray) or "vector" (many rays per operation)."""
+        return "vector" if self.lanes > 1 else "scalar"
+
+    @property
     def judged(self) -> int:
         return self.raw["rays"] - self.raw["in_band"]
 
@@ -62,16 +71,26 @@ class Point:
 
     def roofline_ns(self, peak: dict) -> float | None:
         """The roofline: the least time this arithmetic needs on one core. The
-        adds and multiplies at the scalar peak, the divides and the square
-        roots each at the divider's pace, whichever takes longest (optimistic:
-        it does not assume divides and roots queue for the same unit)."""
+        adds and multiplies at the peak rate, the divides and the square roots
+        each at the divider's pace, whichever takes longest (optimistic: it
+        does not assume divides and roots queue for the same unit). Scalar
+        variants at the scalar rates; a vector variant at the rates measured
+        with its own vectors (an FMA counts two flops there, as in the count),
+        per lane."""
         flops = self.raw.get("flops")
         if flops is None or not peak:
             return None
         wide = self.variant["precision"] != "float"
-        rate = peak["scalar_gflops_f64" if wide else "scalar_gflops_f32"]
-        div_ns = peak["div_ns_f64" if wide else "div_ns_f32"]
-        sqrt_ns = peak["sqrt_ns_f64" if wide else "sqrt_ns_f32"]
+        kind = "f64" if wide else "f32"
+        if self.lanes > 1:
+            target = next((t for t in peak.get("vector_targets") or [] if t["isa"] == self.variant.get("isa")), None)
+            if target is None:
+                return None
+            rate, div_ns, sqrt_ns = target[f"gflops_{kind}"], target[f"div_ns_{kind}"], target[f"sqrt_ns_{kind}"]
+        else:
+            rate = peak[f"scalar_gflops_{kind}"]
+            div_ns = peak[f"div_ns_{kind}"]
+            sqrt_ns = peak[f"sqrt_ns_{kind}"]
         if not rate:
             return None
         add_mul = flops - self.raw["div"] - self.raw["sqrt"]
@@ -92,33 +111,43 @@ def merge_student(data: dict, student: dict | None, status: str, label: str) -> 
     """Adds the student's sphere function to the reference run as variant "student".
 
     The student's code runs in its own process (its functions have the same
-    names as the kit's), so its times are put on the reference run's scale:
-    both runs time the benchmark's own stable float form, and the student's
-    times on a family are multiplied by that form's median ratio there."""
+    names as the kit's), maybe on another day or machine (a handout places it
+    on the committed reference run), so its times are put on the reference
+    run's scale: both runs time the same calibration loop (a fixed amount of
+    arithmetic), and the student's times are multiplied by the ratio of its
+    medians."""
     variant = {"id": "student", "formulation": "student", "label": label, "precision": "float",
-               "group": "sphere", "ulp_of": "float", "status": status, "note": "built from steps/"}
+               "group": "sphere", "ulp_of": "float", "lanes": 1, "isa": "", "status": status,
+               "note": "built from steps/"}
     if student is not None:
         for v in student["variants"]:
             if v["id"] == "kit":
                 variant["status"] = v["status"]
                 variant["note"] = "your code in steps/: " + v["note"]
-        anchor_ref = {r["family"]: r for r in data["results"] if r["variant"] == "stable_f32"}
-        anchor_own = {r["family"]: r for r in student["results"] if r["variant"] == "stable_f32"}
-        scales = []
+        ref_cal, own_cal = data["meta"].get("calibration_ns"), student["meta"].get("calibration_ns")
+        k = ref_cal / own_cal if ref_cal and own_cal else None
+        known = {f["id"] for f in data["families"]}
+        skipped = sorted({r["family"] for r in student["results"] if r["family"] not in known})
         for r in student["results"]:
-            if r["variant"] != "kit":
+            if r["variant"] != "kit" or r["family"] not in known:  # a family the reference run lacks
                 continue
             row = dict(r, variant="student")
-            a, b = anchor_ref.get(r["family"]), anchor_own.get(r["family"])
-            if a and b and a["cpu_ns"] and b["cpu_ns"]:
-                k = statistics.median(a["cpu_ns"]) / statistics.median(b["cpu_ns"])
-                scales.append(k)
+            if k is not None:
                 row["cpu_ns"] = [t * k for t in r["cpu_ns"]]
-                row["real_ns"] = [t * k for t in r["real_ns"]]
+                row["real_ns"] = [t * k for t in r.get("real_ns") or []]
+            else:
+                row["cpu_ns"], row["real_ns"] = [], []
             data["results"].append(row)
-        if scales:
-            variant["note"] += (f"; timed in its own process, times scaled by the stable float form's ratio "
-                                f"between the runs (x{min(scales):.2f} to x{max(scales):.2f})")
+        if student["meta"].get("handout"):
+            variant["note"] += (f"; errors over the first {max((r['rays'] for r in student['results']), default=0)} "
+                                f"rays of each family (their exact roots are shipped as data)")
+        if skipped:
+            variant["note"] += f"; not shown (the reference run has no such family): {', '.join(skipped)}"
+        if k is not None:
+            variant["note"] += (f"; timed in its own process, times scaled by the calibration loop's ratio between "
+                                f"the runs (x{k:.2f})")
+        else:
+            variant["note"] += "; not timed on the reference run's scale (no calibration in one of the runs)"
     data["variants"].append(variant)
 
 
@@ -134,10 +163,12 @@ def dominates(a: Point, b: Point) -> bool:
 
 
 def mark_pareto(pts: list[Point]) -> None:
-    by_family: dict[str, list[Point]] = {}
+    """One front per family and regime: scalar variants (one call per ray) are
+    compared with each other, vector variants (a batch per call) likewise."""
+    by_family: dict[tuple[str, str], list[Point]] = {}
     for p in pts:
         if p.timed:
-            by_family.setdefault(p.family["id"], []).append(p)
+            by_family.setdefault((p.family["id"], p.regime), []).append(p)
     for group in by_family.values():
         for p in group:
             p.dominated_by = [q.vid for q in group if q is not p and dominates(q, p)]
@@ -197,10 +228,17 @@ def peak_line(data: dict) -> str:
         return f"CPU: {m['cpu']}"
     vec = (f", {p['vector_isa']} {p['vector_gflops_f32']:.0f} GFLOP/s float / {p['vector_gflops_f64']:.0f} double"
            if p.get("vector_gflops_f32") else "")
-    return (f"CPU: {m['cpu']}, {m['cpus']} cores. One core's peak: scalar add/multiply "
+    line = (f"CPU: {m['cpu']}, {m['cpus']} cores. One core's peak: scalar add/multiply "
             f"{p['scalar_gflops_f32']:.1f} GFLOP/s{vec}; a divide takes {p['div_ns_f32']:.2f} ns (float) / "
             f"{p['div_ns_f64']:.2f} ns (double), a square root {p['sqrt_ns_f32']:.2f} / {p['sqrt_ns_f64']:.2f} ns "
             f"when many are in flight.")
+    for t in p.get("vector_targets") or []:
+        line += (f" {t['isa']} ({t['lanes_f32']} floats, {t['lanes_f64']} doubles): FMA {t['gflops_f32']:.0f} / "
+                 f"{t['gflops_f64']:.0f} GFLOP/s, per lane a divide {t['div_ns_f32']:.3f} / {t['div_ns_f64']:.3f} ns, "
+                 f"a square root {t['sqrt_ns_f32']:.3f} / {t['sqrt_ns_f64']:.3f} ns.")
+    if m.get("highway") and not p.get("vector_targets"):
+        line += f" Vector rows: {m['highway']}."
+    return line
 
 
 def subtitle(data: dict) -> str:
@@ -223,18 +261,25 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     w(f"Compiled with {m['compiler']} {m['flags']}; {m['rays']} rays per family, {m['repetitions']} timed "
       f"repetitions of {m['batch']} rays each (median [min-max] of CPU time).\n")
     w("Error: in ulps of the result type against float128, over the rays both call a hit; rays within "
-      f"{m['tangent_band']:g} r of a tangent (or {m['edge_band']:g} of an edge) are not judged.\n")
-    w("◆ on the speed/error Pareto front of its family (median time, p99 error, misclassified rays).\n")
+      f"{m['tangent_band']:g} r of a tangent (the family's band where it says so) or {m['edge_band']:g} of an "
+      "edge are not judged.\n")
+    w("◆ on the speed/error Pareto front of its family (median time, p99 error, misclassified rays); scalar and "
+      "vector variants have a front each.\n")
     header = (f"  {'':2}{'variant':<34}{'type':<15}{'ns/ray':>7} {'[min-max]':<13}{'median':>8}{'p99':>8}"
               f"{'max':>8}  {'missed':>8}{'flops':>7}{'roofl.':>7}\n")
     for fam in family_order(data):
-        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: order.get(p.vid, 99))
+        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
         if not group:
             continue
         hard = " (hard)" if fam.get("hard") else ""
-        w(f"\n{fam['label']}{hard}: {fam['description']}\n")
+        band = f" Tangent band {fam['tangent_band']:g} r." if fam.get("tangent_band") else ""
+        w(f"\n{fam['label']}{hard}: {fam['description']}.{band}\n")
         w(header)
+        regime = "scalar"
         for p in group:
+            if p.regime != regime:
+                regime = p.regime
+                w(f"  {'':2}vector: a batch of rays per call, rays as a structure of arrays (its own ◆ front)\n")
             mark = "◆" if p.pareto else " "
             span = f"[{fmt_ns(p.ns_min)}-{fmt_ns(p.ns_max)}]" if p.timed else ""
             bound = p.roofline_ns(peak)
@@ -246,16 +291,16 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
             if p.variant["group"] == "box" and p.raw.get("vs_embree_compared"):
                 w(f"      {'':34}hit distance vs Embree: median {fmt_ulps(p.raw['vs_embree_median'])}, "
                   f"p99 {fmt_ulps(p.raw['vs_embree_p99'])}, max {fmt_ulps(p.raw['vs_embree_max'])} ulps\n")
-    w("\nroofline: the least time the counted arithmetic needs on one core (adds and multiplies at the scalar peak, "
-      "divides and square roots at the divider's pace), as a share of the measured time; 100% would be the "
-      "machine's limit.\n")
+    w("\nroofline: the least time the counted arithmetic needs on one core (adds and multiplies at the peak rate, "
+      "divides and square roots at the divider's pace: scalar rates for scalar variants, the rates of their own "
+      "vectors for vector ones), as a share of the measured time; 100% would be the machine's limit.\n")
     for s in statuses:
         w(s + "\n")
     return out.getvalue()
 
 
 CSV_FIELDS = ["group", "family", "family_label", "hard", "variant", "label", "formulation", "precision",
-              "ulp_of", "rays", "in_band", "compared", "misclassified", "misclassified_share", "ulps_median",
+              "lanes", "isa", "ulp_of", "rays", "in_band", "compared", "misclassified", "misclassified_share", "ulps_median",
               "ulps_p99", "ulps_max", "ns_median", "ns_min", "ns_max", "ns_real_median", "repetitions", "flops",
               "div", "sqrt", "roofline_ns", "gflops", "pareto", "dominated_by", "vs_embree_median", "vs_embree_p99",
               "vs_embree_max"]
@@ -281,6 +326,7 @@ def csv_text(data: dict, pts: list[Point]) -> str:
             "group": p.variant["group"], "family": p.family["id"], "family_label": p.family["label"],
             "hard": int(bool(p.family.get("hard"))), "variant": p.vid, "label": p.variant["label"],
             "formulation": p.variant["formulation"], "precision": p.variant["precision"],
+            "lanes": p.lanes, "isa": p.variant.get("isa") or "",
             "ulp_of": p.variant["ulp_of"], "rays": p.raw["rays"], "in_band": p.raw["in_band"],
             "compared": p.raw["compared"], "misclassified": p.raw["misclassified"],
             "misclassified_share": num(p.misclassified_share), "ulps_median": num(p.ulps("median")),
@@ -307,13 +353,19 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
                  f"{m['repetitions']} timed repetitions of {m['batch']} rays (median, min and max of CPU time). "
                  f"Errors in ulps of the result type against float128; ◆ marks the Pareto front.")
     for fam in family_order(data):
-        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: order.get(p.vid, 99))
+        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
         if not group:
             continue
-        lines += ["", f"### {fam['label']}{' (hard)' if fam.get('hard') else ''}", "", fam["description"] + ".", "",
+        band = fam.get("tangent_band")
+        lines += ["", f"### {fam['label']}{' (hard)' if fam.get('hard') else ''}", "",
+                  fam["description"] + "." + (f" Tangent band {band:g} r." if band else ""), "",
                   "| | variant | type | ns/ray | min-max | median | p99 | max | misclassified | flops | roofline |",
                   "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|"]
+        regime = "scalar"
         for p in group:
+            if p.regime != regime:
+                regime = p.regime
+                lines.append("| | **vector**: a batch of rays per call (own front) | | | | | | | | | |")
             bound = p.roofline_ns(peak)
             pct = f"{100 * bound / p.ns_median:.0f}%" if bound and p.timed else "-"
             lines.append(
@@ -328,7 +380,7 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
 
 COLOURS = {
     "textbook": "#d62728", "half-b": "#ff7f0e", "unit-dir": "#bcbd22", "geometric": "#8c564b",
-    "stable": "#1f77b4", "kit": "#000000", "student": "#e377c2", "embree": "#2ca02c",
+    "stable": "#1f77b4", "lagrange": "#6a3d9a", "exact-float": "#17becf", "kit": "#000000", "student": "#e377c2", "embree": "#2ca02c",
     "brute force": "#1f77b4",
 }
 SHAPES = {"float": "circle", "double": "square", "float, double inside": "diamond"}
@@ -355,9 +407,11 @@ def _ticks_125(lo: float, hi: float) -> list[float]:
 def short_name(v: dict) -> str:
     """A few characters for a point's label in the plot."""
     special = {"kit": "kit", "student": "yours", "embree": "Embree", "brute force": "brute force"}
+    lanes = f" ×{v['lanes']}" if (v.get("lanes") or 1) > 1 else ""
     if v["formulation"] in special:
-        return special[v["formulation"]]
-    return v["formulation"] + {"float": " f", "double": " d", "float, double inside": " f/d"}.get(v["precision"], "")
+        return special[v["formulation"]] + lanes
+    return (v["formulation"] + {"float": " f", "double": " d", "float, double inside": " f/d"}.get(v["precision"], "")
+            + lanes)
 
 
 def _decades(lo: float, hi: float) -> tuple[int, int]:
@@ -392,7 +446,7 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
     # legend
     lx, ly = 10, 58
     for i, (name, colour) in enumerate([(k, v) for k, v in COLOURS.items() if k != "brute force"]):
-        x = lx + (i % 8) * 122
+        x = lx + (i % 10) * 98
         s.append(_marker("circle", x + 5, ly, 5, colour, colour, 1))
         label = {"kit": "kit reference", "student": "your step", "embree": "Embree"}.get(name, name)
         s.append(f'<text x="{x + 14}" y="{ly + 4}">{_esc(label)}</text>')
@@ -407,9 +461,15 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
     s.append(f'<text x="{lx + 614}" y="{ly + 4}">hollow: misclassifies some rays</text>')
     ly += 20
     s.append(f'<path d="M{lx},{ly} h24" stroke="#333" stroke-dasharray="4,3" fill="none"/>')
-    s.append(f'<text x="{lx + 30}" y="{ly + 4}">Pareto front (nothing is both faster and more accurate)</text>')
-    s.append(f'<circle cx="{lx + 380}" cy="{ly}" r="9" fill="none" stroke="#000" stroke-width="1.2"/>')
-    s.append(f'<text x="{lx + 394}" y="{ly + 4}">the kit\'s reference solution</text>')
+    s.append(f'<text x="{lx + 30}" y="{ly + 4}">scalar Pareto front (nothing faster and more accurate)</text>')
+    s.append(f'<path d="M{lx + 330},{ly} h24" stroke="#6a3d9a" stroke-width="1.2" stroke-dasharray="1.5,2.5" '
+             f'fill="none"/>')
+    s.append(f'<text x="{lx + 360}" y="{ly + 4}">vector front</text>')
+    s.append(_marker("circle", lx + 450, ly, 5, "#888", "#888", 1))
+    s.append(f'<circle cx="{lx + 450}" cy="{ly}" r="1.4" fill="#000"/>')
+    s.append(f'<text x="{lx + 460}" y="{ly + 4}">vector: a batch of rays per call</text>')
+    s.append(f'<circle cx="{lx + 680}" cy="{ly}" r="9" fill="none" stroke="#000" stroke-width="1.2"/>')
+    s.append(f'<text x="{lx + 694}" y="{ly + 4}">the kit\'s reference solution</text>')
     ly += 18
     s.append(f'<text x="{lx}" y="{ly + 4}" fill="#444">Errors below {floor} ulp are drawn at {floor}; '
              f'Embree\'s sphere error is that of its first hit only.</text>')
@@ -443,15 +503,17 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
                  f'ns per ray</text>')
         s.append(f'<text transform="translate({ox + 14},{oy + mt + ih / 2}) rotate(-90)" text-anchor="middle" '
                  f'fill="#444">p99 error, ulps</text>')
-        # the front: a staircase through its points, fastest first
-        front = sorted((p for p in group if p.pareto and not math.isinf(p.ulps("p99"))), key=lambda p: p.ns_median)
-        if front:
-            d = f"M{px(front[0].ns_median):.1f},{oy + mt}"
-            d += f" V{py(front[0].ulps('p99')):.1f}"
-            for a in front[1:]:
-                d += f" H{px(a.ns_median):.1f} V{py(a.ulps('p99')):.1f}"
-            d += f" H{ox + ml + iw}"
-            s.append(f'<path d="{d}" stroke="#333" stroke-dasharray="4,3" fill="none"/>')
+        # the fronts, scalar and vector: a staircase through each one's points, fastest first
+        for regime, colour, dash in (("scalar", "#333", "4,3"), ("vector", "#6a3d9a", "1.5,2.5")):
+            front = sorted((p for p in group if p.pareto and p.regime == regime and not math.isinf(p.ulps("p99"))),
+                           key=lambda p: p.ns_median)
+            if front:
+                d = f"M{px(front[0].ns_median):.1f},{oy + mt}"
+                d += f" V{py(front[0].ulps('p99')):.1f}"
+                for a in front[1:]:
+                    d += f" H{px(a.ns_median):.1f} V{py(a.ulps('p99')):.1f}"
+                d += f" H{ox + ml + iw}"
+                s.append(f'<path d="{d}" stroke="{colour}" stroke-width="1.2" stroke-dasharray="{dash}" fill="none"/>')
         labels: list[tuple[Point, float, float]] = []
         for p in sorted(group, key=lambda p: p.pareto):
             u = p.ulps("p99")
@@ -467,6 +529,8 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
                                     f"{fmt_ulps(u)} ulps, {fmt_share(p)} misclassified</title></"
                                     + ("rect>" if shape == "square" else "path>" if shape == "diamond"
                                        else "circle>")))
+            if p.lanes > 1:  # a dot in the middle: many rays per call
+                s.append(f'<circle cx="{px(p.ns_median):.1f}" cy="{y:.1f}" r="1.4" fill="#000"/>')
             if p.pareto or p.vid in ("kit", "kit_rect", "kit_scene", "student", "stable_f32"):
                 labels.append((p, px(p.ns_median), y))
             if p.vid in ("kit", "kit_rect", "kit_scene"):

@@ -23,11 +23,18 @@ import bench_report as report
 import common
 from common import ROOT, KitError, build_target, configure, ensure_packages, note, paint, preset_build, say
 
-# Google Benchmark is needed; Embree is optional (the comparison is skipped without it).
+# Google Benchmark is needed; Embree is optional (the comparison is skipped without it), and so is
+# Google Highway (the vector rows; Debian 12 and later have libhwy-dev, Debian 11 has none recent
+# enough): the bench installs both when it can and says what it skipped.
 common.PACKAGES["bench"] = ["libbenchmark-dev"]
 common.PACKAGES["bench-embree"] = ["libembree-dev"]
+common.PACKAGES["bench-hwy"] = ["libhwy-dev"]
 
 TARGET = "raykit_bench"
+# The instructor's benchmark; a student's handout has only bench/handout.cpp (no code that computes
+# what a step asks for) and places the student's function on the committed run.
+INSTRUCTOR = (ROOT / "bench" / "reference").is_dir()
+COMMITTED = ROOT / "docs" / "bench" / "results.json"
 DEFAULT_OUT = ROOT / "build" / "bench"
 OUTPUTS = ("results.csv", "results.json", "table.md", "plot.svg")
 
@@ -162,14 +169,52 @@ def status_lines(data: dict) -> list[str]:
         words = {"absent": "not built in", "not_started": "not started (the stub throws raykit::not_implemented)"}
         lines.append(f"{v['label']}: {words.get(v['status'], v['status'])}"
                      + (f" ({v['note']})" if v["status"] == "absent" and v["note"] else "") + ".")
+    if data["meta"].get("source"):
+        lines.append(data["meta"]["source"][0].upper() + data["meta"]["source"][1:] + ".")
     lines.append(f"Embree: {data['meta']['embree']}.")
+    if data["meta"].get("highway"):
+        lines.append(f"Vectors: {data['meta']['highway']}.")
+    return lines
+
+
+def exact(p: report.Point) -> bool:
+    """The issue's bar: p99 within 1 ulp and nothing misclassified outside the band."""
+    return p.raw["misclassified"] == 0 and p.ulps("p99") <= 1.0
+
+
+def vector_verdict(pts: list[report.Point], peak: dict) -> list[str]:
+    """The reference scalar and vectorized, and the float-only exact form, on every sphere family."""
+    lines = []
+    fams: dict[str, list[report.Point]] = {}
+    for p in pts:
+        if p.variant["group"] == "sphere" and p.timed:
+            fams.setdefault(p.family["id"], []).append(p)
+    for group in fams.values():
+        kit = next((p for p in group if p.vid == "kit"), None)
+        vec = sorted((p for p in group if p.variant["formulation"] == "lagrange" and p.lanes > 1),
+                     key=lambda p: p.ns_median)
+        eft = sorted((p for p in group if p.variant["formulation"] == "exact-float" and p.lanes > 1),
+                     key=lambda p: p.ns_median)
+        if kit is None or not vec:
+            continue
+        v = vec[0]
+        bound = v.roofline_ns(peak)
+        roof = f", {100 * bound / v.ns_median:.0f}% of its roofline" if bound else ""
+        line = (f"  {group[0].family['label']}: kit {report.fmt_ns(kit.ns_median)} ns "
+                f"({'exact' if exact(kit) else 'NOT exact'}), {v.variant['label']} {v.ns_median:.2f} ns "
+                f"({'exact' if exact(v) else 'NOT exact'}{roof}): {kit.ns_median / v.ns_median:.1f}x")
+        if eft:
+            e = eft[0]
+            line += (f"; float-only exact {e.ns_median:.2f} ns ({'exact' if exact(e) else 'NOT exact'}, "
+                     f"p99 {report.fmt_ulps(e.ulps('p99'))}, {e.ns_median / v.ns_median:.1f}x the double lanes)")
+        lines.append(line)
     return lines
 
 
 # The formulation solutions/02_general_sphere/general_sphere.cpp computes: the benchmark also times it
 # inlined into one call like every other formulation, so it can be judged on equal terms. The kit's
 # packaged function pays for two calls across libraries and its input guards on top.
-KIT_FORMULATION = "half-b_f32_in_f64"
+KIT_FORMULATION = "lagrange_f32_in_f64"
 
 
 def reference_verdict(pts: list[report.Point]) -> list[str]:
@@ -271,14 +316,20 @@ def compare(old: dict, new: dict) -> list[str]:
 def measure(args) -> dict:
     """Builds and runs raykit_bench (and the student's), returns the merged results."""
     ensure_packages("build", "bench")
+    progress = Progress()
+    run_args = ["--quick"] if args.quick else []
+    timeout = 120 if args.quick else 600
+    if not INSTRUCTOR:  # only the student's step is built: Embree and Highway are not needed
+        return measure_handout(args, progress, run_args, timeout)
+
     try:
         ensure_packages("bench-embree")
     except KitError:
         note("kit: Embree (libembree-dev) could not be installed; the comparison with Embree is skipped")
-
-    progress = Progress()
-    run_args = ["--quick"] if args.quick else []
-    timeout = 120 if args.quick else 600
+    try:
+        ensure_packages("bench-hwy")
+    except KitError:
+        note("kit: Google Highway (libhwy-dev) could not be installed; the vector rows are skipped")
 
     ref = preset_build("reference")
     progress.show("building the benchmark (build/reference)", "build")
@@ -296,6 +347,27 @@ def measure(args) -> dict:
     if data is None:
         raise KitError(f"raykit_bench {problem}", 1)
     report.merge_student(data, student, student_status or "ok", student_label)
+    return data
+
+
+def measure_handout(args, progress: Progress, run_args: list[str], timeout: float) -> dict:
+    """A handout has no bench/reference/: only the student's function is measured, and
+    placed on the committed reference run."""
+    if not COMMITTED.is_file():
+        progress.done()
+        raise KitError(f"{COMMITTED.relative_to(ROOT)} is missing: the handout's benchmark places your step on "
+                       f"that committed run", 1)
+    data = load(str(COMMITTED))
+    # The committed run holds the instructor's own "your step" (a stub): replaced by this one.
+    data["variants"] = [v for v in data["variants"] if v["id"] != "student"]
+    data["results"] = [r for r in data["results"] if r["variant"] != "student"]
+    data["meta"]["source"] = (f"every row but yours is from the committed reference run "
+                              f"({COMMITTED.relative_to(ROOT)}, measured on {data['meta']['cpu']})")
+    student, status, label = None, "not measured (--no-student)", "your step"
+    if not args.no_student:
+        student, status, label = student_subject(progress, run_args, timeout)
+    progress.done()
+    report.merge_student(data, student, status or "ok", label)
     return data
 
 
@@ -323,6 +395,12 @@ def run(args) -> int:
     if verdict:
         say(paint("The kit's reference on the hard families:", "bold"))
         for line in verdict:
+            say(line)
+    lanes = vector_verdict(pts, data.get("peak") or {})
+    if lanes:
+        say(paint("The reference, scalar (the kit's function) and vectorized (the fastest lanes), and the "
+                  "float-only exact form:", "bold"))
+        for line in lanes:
             say(line)
 
     target.mkdir(parents=True, exist_ok=True)

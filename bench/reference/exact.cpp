@@ -15,15 +15,11 @@ namespace {
 
 Vec3<quad> widen(const Vec3<float>& v) { return {quad(v.x), quad(v.y), quad(v.z)}; }
 
-Vec3<quad> cross(const Vec3<quad>& a, const Vec3<quad>& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 quad abs_q(quad x) { return x < 0 ? -x : x; }
 
 }  // namespace
 
-ExactSphere exact_sphere(const Sample<float>& s) {
+ExactSphere exact_sphere(const Sample<float>& s, double band) {
     // Every input is a float, so f = o - c and the products below are exact
     // or nearly so in 113 bits; the roots come out with a relative error far
     // below a double's ulp.
@@ -41,7 +37,7 @@ ExactSphere exact_sphere(const Sample<float>& s) {
 
     ExactSphere e;
     e.impact = static_cast<double>(sqrtq(dist2) / r);
-    e.near_tangent = std::fabs(e.impact - 1.0) <= kTangentBand;
+    e.near_tangent = std::fabs(e.impact - 1.0) <= band;
     if (disc < 0) return e;
     e.hit = true;
     const quad root = sqrtq(disc);

@@ -2,6 +2,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -53,6 +54,15 @@ std::string cpu_model() {
     return "unknown";
 }
 
+/// The median CPU time of the calibration pass, or NaN when it was not timed.
+double calibration_ns(const std::map<std::string, Timing>& timings) {
+    const auto t = timings.find(kCalibration);
+    if (t == timings.end() || t->second.cpu_ns.empty()) return std::nan("");
+    std::vector<double> v = t->second.cpu_ns;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
 std::string build_flags() {
 #ifdef RAYKIT_BENCH_FLAGS
     return RAYKIT_BENCH_FLAGS;
@@ -63,7 +73,8 @@ std::string build_flags() {
 
 }  // namespace
 
-void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<SphereData>& spheres,
+void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<simd::Target>& targets,
+                const std::vector<SphereData>& spheres,
                 const std::vector<BoxData>& boxes, const std::vector<Variant>& variants, const std::vector<Row>& rows,
                 const std::map<std::string, Timing>& timings) {
     const auto& cpu = benchmark::CPUInfo::Get();
@@ -74,21 +85,32 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
        << ", \"rays\": " << opt.rays << ", \"batch\": " << batch_size(opt.rays)
        << ", \"repetitions\": " << opt.repetitions << ", \"min_time\": " << number(opt.min_time)
        << ", \"tangent_band\": " << number(kTangentBand) << ", \"edge_band\": " << number(kEdgeBand)
-       << ", \"embree\": " << quote(embree::status()) << ", \"sphere_step\": " << kit::sphere_step()
+       << ", \"embree\": " << quote(embree::status()) << ", \"highway\": " << quote(simd::status()) << ", \"sphere_step\": " << kit::sphere_step()
        << ", \"rect_step\": " << (kit::has_rect() ? "true" : "false")
-       << ", \"scene_step\": " << (kit::has_scene() ? "true" : "false") << "},\n";
+       << ", \"scene_step\": " << (kit::has_scene() ? "true" : "false")
+       << ", \"calibration_ns\": " << number(calibration_ns(timings)) << "},\n";
     os << "  \"peak\": {\"scalar_gflops_f32\": " << number(peak.scalar_gflops_f32)
        << ", \"scalar_gflops_f64\": " << number(peak.scalar_gflops_f64)
        << ", \"vector_gflops_f32\": " << number(peak.vector_gflops_f32)
        << ", \"vector_gflops_f64\": " << number(peak.vector_gflops_f64) << ", \"vector_isa\": " << quote(peak.vector_isa)
        << ", \"div_ns_f32\": " << number(peak.div_ns_f32) << ", \"sqrt_ns_f32\": " << number(peak.sqrt_ns_f32)
        << ", \"div_ns_f64\": " << number(peak.div_ns_f64) << ", \"sqrt_ns_f64\": " << number(peak.sqrt_ns_f64)
-       << "},\n";
+       << ", \"vector_targets\": [";
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+        const simd::Target& t = targets[i];
+        os << (i ? ", " : "") << "{\"isa\": " << quote(t.name) << ", \"lanes_f32\": " << t.lanes_f32
+           << ", \"lanes_f64\": " << t.lanes_f64 << ", \"gflops_f32\": " << number(t.gflops_f32)
+           << ", \"gflops_f64\": " << number(t.gflops_f64) << ", \"div_ns_f32\": " << number(t.div_ns_f32)
+           << ", \"div_ns_f64\": " << number(t.div_ns_f64) << ", \"sqrt_ns_f32\": " << number(t.sqrt_ns_f32)
+           << ", \"sqrt_ns_f64\": " << number(t.sqrt_ns_f64) << "}";
+    }
+    os << "]},\n";
     os << "  \"families\": [\n";
     bool first = true;
     for (const auto& s : spheres) {
         os << (first ? "" : ",\n") << "    {\"id\": " << quote(s.family.id) << ", \"label\": " << quote(s.family.label)
            << ", \"group\": \"sphere\", \"hard\": " << (s.family.hard ? "true" : "false")
+           << ", \"tangent_band\": " << number(s.family.tangent_band)
            << ", \"description\": " << quote(s.family.description) << "}";
         first = false;
     }
@@ -103,6 +125,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
         os << (i ? ",\n" : "") << "    {\"id\": " << quote(v.id) << ", \"formulation\": " << quote(v.formulation)
            << ", \"label\": " << quote(v.label) << ", \"precision\": " << quote(v.precision)
            << ", \"group\": " << quote(v.group) << ", \"ulp_of\": " << (v.bits == 24 ? "\"float\"" : "\"double\"")
+           << ", \"lanes\": " << v.lanes << ", \"isa\": " << quote(v.isa)
            << ", \"status\": " << quote(v.status) << ", \"note\": " << quote(v.note) << "}";
     }
     os << "\n  ],\n  \"results\": [\n";

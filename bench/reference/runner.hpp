@@ -20,26 +20,14 @@
 #include "exact.hpp"
 #include "families.hpp"
 #include "kit.hpp"
+#include "options.hpp"
 #include "peak.hpp"
+#include "timing.hpp"
 #include "vec.hpp"
+#include "vector.hpp"
 
 namespace raykit::bench {
 
-/// What the command line asked for (see --help in main.cpp).
-struct Options {
-    std::size_t rays = 100000;   // per family, for the error pass
-    int repetitions = 15;        // timed repetitions per variant and family
-    double min_time = 0.01;      // seconds per repetition, about
-    double peak_time = 0.02;     // seconds per run of a peak kernel
-    bool subject_only = false;   // only the kit's sphere subject (the student build)
-    std::string out;             // JSON file; stdout when empty
-};
-
-/// One line per step on stderr; ./kit bench turns these into its progress display.
-inline void progress(const char* phase, std::size_t done, std::size_t total, const std::string& what) {
-    std::fprintf(stderr, "progress %s %zu %zu %s\n", phase, done, total, what.c_str());
-    std::fflush(stderr);
-}
 
 // ---- the data each family carries ------------------------------------------------
 
@@ -53,6 +41,7 @@ struct SphereData {
     std::vector<ExactSphere> exact;
     std::vector<Sample<double>> wide;    // the same samples, widened to double
     std::vector<KitSample> kit;          // the same samples as the kit's types
+    simd::Rays lanes;                    // the same samples as a structure of arrays
     const embree::Scene* embree = nullptr;
 };
 
@@ -62,6 +51,7 @@ struct BoxData {
     std::vector<Rect3> table;
     std::vector<Vec3<float>> o, d;
     std::vector<raykit::Ray> rays;
+    simd::BoxRays lanes;                 // o and d as a structure of arrays
     std::vector<ExactBoxHit> exact;
     const embree::Scene* embree = nullptr;
     const kit::RectTable* kit_table = nullptr;
@@ -92,6 +82,8 @@ struct Variant {
     std::string precision;     // "float", "double", "float, double inside"
     std::string group;         // "sphere" or "box"
     int bits = 24;             // significand bits of the result type
+    int lanes = 1;             // rays per vector operation (1: scalar, one call per ray)
+    std::string isa;           // the vector instruction set (Highway's name), or "" for scalar
     Kind kind = Kind::roots;
     std::string note;
     std::string status = "ok";  // ok, absent, not_started, threw: ...
@@ -105,6 +97,9 @@ struct Variant {
 /// with `subject_only`), and every box variant on `data`.
 std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool subject_only);
 std::vector<Variant> box_variants(const std::vector<BoxData>& data);
+/// The vector variants for every instruction set in `targets`.
+std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, const std::vector<BoxData>& boxes,
+                                     const std::vector<simd::Target>& targets);
 
 // ---- the error pass ----------------------------------------------------------------
 
@@ -124,25 +119,6 @@ ErrorStats sphere_errors(const Variant& v, std::size_t f, const SphereData& data
 /// Also measures the disagreement with `embree` (may be null) on the hit distance.
 ErrorStats box_errors(const Variant& v, std::size_t f, const BoxData& data, const Variant* embree);
 
-// ---- timing ---------------------------------------------------------------------------
-
-/// Per repetition: nanoseconds per ray, CPU time (the process's own time, so a
-/// neighbour that takes the core away does not count) and wall-clock time.
-struct Timing {
-    std::vector<double> cpu_ns, real_ns;
-};
-
-struct Job {
-    std::string name;   // variant/family
-    std::function<void()> pass;
-    std::size_t rays;
-};
-
-/// Times every job with Google Benchmark: `repetitions` runs of about
-/// `seconds` each, interleaved at random. Keyed by Job::name.
-std::map<std::string, Timing> time_jobs(const std::vector<Job>& jobs, int repetitions, double seconds,
-                                        const char* argv0);
-
 // ---- output ----------------------------------------------------------------------------
 
 struct Row {
@@ -153,7 +129,8 @@ struct Row {
 };
 
 /// Everything as one JSON document (read by tools/kitlib/bench_report.py).
-void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<SphereData>& spheres,
+void write_json(std::ostream& os, const Options& opt, const Peak& peak, const std::vector<simd::Target>& targets,
+                const std::vector<SphereData>& spheres,
                 const std::vector<BoxData>& boxes, const std::vector<Variant>& variants,
                 const std::vector<Row>& rows, const std::map<std::string, Timing>& timings);
 

@@ -35,87 +35,6 @@ using namespace raykit::bench;
 
 namespace {
 
-const char* kUsage =
-    "usage: raykit_bench [--quick | --smoke] [--rays=N] [--repetitions=N] [--min-time=SECONDS]\n"
-    "                    [--subject-only] [--out=FILE]\n"
-    "\n"
-    "Measures the error (against float128) and the speed of ray-sphere formulations,\n"
-    "the kit's own step functions and Embree, and writes the results as JSON.\n"
-    "  --quick           fewer rays and repetitions (a few seconds)\n"
-    "  --smoke           a tiny run that only checks everything works\n"
-    "  --rays=N          rays per family for the error pass (default 100000)\n"
-    "  --repetitions=N   timed repetitions per variant and family (default 15)\n"
-    "  --min-time=S      seconds each repetition runs, about (default 0.01)\n"
-    "  --subject-only    only the kit's sphere function of this build (for a student build)\n"
-    "  --out=FILE        write the JSON here (written to FILE.tmp, then renamed)\n";
-
-[[noreturn]] void usage_error(const std::string& message) {
-    std::fprintf(stderr, "raykit_bench: %s\n%s", message.c_str(), kUsage);
-    std::exit(2);
-}
-
-long parse_count(const std::string& name, const std::string& text, long lo, long hi) {
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno != 0 || v < lo || v > hi) {
-        usage_error(name + " wants a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                    ", not '" + text + "'");
-    }
-    return v;
-}
-
-double parse_seconds(const std::string& name, const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0 || v > 10) {
-        usage_error(name + " wants seconds, more than 0 and at most 10, not '" + text + "'");
-    }
-    return v;
-}
-
-Options parse(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        const auto eq = arg.find('=');
-        const std::string key = arg.substr(0, eq);
-        const std::string value = eq == std::string::npos ? "" : arg.substr(eq + 1);
-        const bool has_value = eq != std::string::npos;
-        auto need_value = [&] { if (!has_value) usage_error(key + " needs a value: " + key + "=..."); };
-        auto no_value = [&] { if (has_value) usage_error(key + " takes no value"); };
-        if (key == "--help" || key == "-h") {
-            std::fputs(kUsage, stdout);
-            std::exit(0);
-        } else if (key == "--quick") {
-            no_value();
-            o.rays = 10000, o.repetitions = 5, o.min_time = 0.004, o.peak_time = 0.005;
-        } else if (key == "--smoke") {
-            no_value();
-            o.rays = 300, o.repetitions = 1, o.min_time = 1e-4, o.peak_time = 2e-4;
-        } else if (key == "--rays") {
-            need_value();
-            o.rays = static_cast<std::size_t>(parse_count(key, value, 10, 10000000));
-        } else if (key == "--repetitions") {
-            need_value();
-            o.repetitions = static_cast<int>(parse_count(key, value, 1, 100));
-        } else if (key == "--min-time") {
-            need_value();
-            o.min_time = parse_seconds(key, value);
-        } else if (key == "--subject-only") {
-            no_value();
-            o.subject_only = true;
-        } else if (key == "--out") {
-            need_value();
-            if (value.empty()) usage_error("--out needs a file name");
-            o.out = value;
-        } else {
-            usage_error("unknown option '" + arg + "'");
-        }
-    }
-    return o;
-}
-
 // ---- setting up the families --------------------------------------------------------
 
 std::vector<SphereData> make_spheres(std::size_t n, bool with_embree) {
@@ -125,11 +44,18 @@ std::vector<SphereData> make_spheres(std::size_t n, bool with_embree) {
         SphereData d;
         d.family = std::move(f);
         for (const Sample<float>& s : d.family.samples) {
-            d.exact.push_back(exact_sphere(s));
+            d.exact.push_back(exact_sphere(s, d.family.tangent_band));
             d.wide.push_back(convert<double>(s));
             d.kit.push_back({{{s.o.x, s.o.y, s.o.z}, {s.d.x, s.d.y, s.d.z}}, {{s.c.x, s.c.y, s.c.z}, s.r}});
         }
-        if (with_embree) d.embree = embree::sphere(d.family.samples[0].c, d.family.samples[0].r);
+        d.lanes = simd::to_lanes(d.family.samples);
+        // Embree gets one scene per family: only where every ray sees the same sphere.
+        bool one_sphere = true;
+        for (const Sample<float>& s : d.family.samples) {
+            const Sample<float>& s0 = d.family.samples[0];
+            one_sphere = one_sphere && s.r == s0.r && s.c.x == s0.c.x && s.c.y == s0.c.y && s.c.z == s0.c.z;
+        }
+        if (with_embree && one_sphere) d.embree = embree::sphere(d.family.samples[0].c, d.family.samples[0].r);
         progress("setup", out.size() + 1, families.size(), d.family.id);
         out.push_back(std::move(d));
     }
@@ -174,6 +100,7 @@ std::vector<BoxData> make_boxes(std::size_t n, std::string& note) {
             b.rays.push_back({{b.o[i].x, b.o[i].y, b.o[i].z}, {b.d[i].x, b.d[i].y, b.d[i].z}});
             b.exact.push_back(exact_box(b.o[i], b.d[i], b.table.data(), static_cast<int>(b.table.size()), 0.0f));
         }
+        b.lanes = simd::to_lanes(b.o, b.d);
         if (embree::available()) b.embree = embree::quads(b.table);
         if (kit::has_rect()) b.kit_table = kit::rect_table(b.table);
     }
@@ -211,6 +138,38 @@ void probe_subject(Variant& subject, const std::vector<SphereData>& spheres) {
     }
 }
 
+/// The handout's yardstick: the exact answers for the first kExactRays rays of
+/// each sphere family, as data (bench/handout.cpp reads them; the code that
+/// computes them stays with the instructor). Written to FILE.tmp, then renamed.
+constexpr std::size_t kExactRays = 500;
+
+void write_exact(const std::string& path, const std::vector<SphereData>& spheres) {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << "# raykit bench: exact roots (float128, rounded to double) of the first rays of each family.\n"
+               "# Written by raykit_bench --write-exact from bench/reference/; read by bench/handout.cpp.\n"
+               "# per family: '= family rays fingerprint', then 'family index hit near_tangent t0 t1' per ray\n";
+        char line[160];
+        for (const SphereData& d : spheres) {
+            const std::size_t m = std::min(kExactRays, d.exact.size());
+            // The rays themselves are not stored: the handout makes them again
+            // from families.cpp, and checks this fingerprint of their inputs.
+            std::snprintf(line, sizeof line, "= %s %zu %016llx\n", d.family.id.c_str(), m,
+                          static_cast<unsigned long long>(fingerprint(d.family.samples, m)));
+            out << line;
+            for (std::size_t i = 0; i < m; ++i) {
+                const ExactSphere& e = d.exact[i];
+                std::snprintf(line, sizeof line, "%s %zu %d %d %.17g %.17g\n", d.family.id.c_str(), i, e.hit ? 1 : 0,
+                              e.near_tangent ? 1 : 0, static_cast<double>(e.t[0]), static_cast<double>(e.t[1]));
+                out << line;
+            }
+        }
+        if (!out) throw std::runtime_error("writing " + tmp + " failed");
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
+}
+
 int run(const Options& opt, const char* argv0, std::ofstream& file) {
 #if defined(__SSE2__)
     // Embree asks for flush-to-zero and denormals-are-zero; no input or result
@@ -220,6 +179,7 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
 #endif
     const bool with_embree = !opt.subject_only && embree::available();
     std::vector<SphereData> spheres = make_spheres(opt.rays, with_embree);
+    if (!opt.write_exact.empty()) write_exact(opt.write_exact, spheres);
     std::string box_note;
     std::vector<BoxData> boxes;
     if (!opt.subject_only) boxes = make_boxes(opt.rays, box_note);
@@ -228,7 +188,10 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
     for (Variant& v : variants) {
         if (v.id == "kit") probe_subject(v, spheres);
     }
+    std::vector<simd::Target> targets;
     if (!opt.subject_only) {
+        targets = simd::targets();
+        for (Variant& v : vector_variants(spheres, boxes, targets)) variants.push_back(std::move(v));
         for (Variant& v : box_variants(boxes)) variants.push_back(std::move(v));
         if (!box_note.empty()) {
             for (Variant& v : variants) {
@@ -248,7 +211,7 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
     std::size_t done = 0;
     for (std::size_t f = 0; f < spheres.size(); ++f) {
         for (const Variant& v : variants) {
-            if (v.group != "sphere" || v.status != "ok") continue;
+            if (v.group != "sphere" || v.status != "ok" || !v.applies(f)) continue;
             Row row{&v, spheres[f].family.id, sphere_errors(v, f, spheres[f])};
             count_ops(v, f, spheres[f].family.samples.size(), row);
             rows.push_back(row);
@@ -269,25 +232,29 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
         progress("error", ++done, families, boxes[f].label);
     }
 
+    jobs.push_back({kCalibration, calibration_pass, 1});
+
     // This CPU's peak, measured before and after the timing: the better of
     // the two, as a neighbour's work can only have slowed a kernel down.
     Peak peak;
     if (!opt.subject_only) {
         progress("peak", 0, 2, "");
         peak = measure_peak(opt.peak_time, 5);
+        for (simd::Target& t : targets) simd::measure(t, opt.peak_time, 5);
     }
     const std::map<std::string, Timing> timings = time_jobs(jobs, opt.repetitions, opt.min_time, argv0);
     if (!opt.subject_only) {
         progress("peak", 1, 2, "");
         peak = best_of(peak, measure_peak(opt.peak_time, 5));
+        for (simd::Target& t : targets) simd::measure(t, opt.peak_time, 5);
         progress("peak", 2, 2, "");
     }
 
     if (opt.out.empty()) {
-        write_json(std::cout, opt, peak, spheres, boxes, variants, rows, timings);
+        write_json(std::cout, opt, peak, targets, spheres, boxes, variants, rows, timings);
         return std::cout.good() ? 0 : 1;
     }
-    write_json(file, opt, peak, spheres, boxes, variants, rows, timings);
+    write_json(file, opt, peak, targets, spheres, boxes, variants, rows, timings);
     file.close();
     if (!file) {
         std::fprintf(stderr, "raykit_bench: writing %s.tmp failed\n", opt.out.c_str());
@@ -304,7 +271,7 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const Options opt = parse(argc, argv);
+    const Options opt = parse_options(argc, argv);
     // The output file is opened first, so a bad --out fails at once rather
     // than after a minute of measuring; it is written as FILE.tmp and renamed
     // at the end, so a failed run never leaves a half-written FILE.

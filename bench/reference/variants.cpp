@@ -7,10 +7,40 @@
 #include <optional>
 #include <type_traits>
 
+#include <memory>
+
 #include "formulations.hpp"
 #include "runner.hpp"
 
 namespace raykit::bench {
+
+// The formulations of lanes-inl.h on one number at a time: to count their
+// arithmetic, and the float-only exact form as a scalar variant.
+namespace lanes1 {
+#include "lanes-inl.h"
+}  // namespace lanes1
+
+namespace {
+
+template <class T>
+using Ops1 = lanes1::ScalarOps<T, float>;
+
+template <class T>
+RootsOf<T> from_lanes(const lanes1::LaneRoots<T, bool>& r) {
+    RootsOf<T> out;
+    if (r.hit) out = {2, {r.t0, r.t1}};
+    return out;
+}
+
+/// The float-only exact form, one ray per call (std::fma: a call into the C
+/// library unless the compiler may use the FMA instruction).
+template <class T>
+RAYKIT_FORMULATION RootsOf<T> exact_float(const Sample<T>& s) {
+    return from_lanes(lanes1::lanes_exact_float(Ops1<T>{}, s.o.x, s.o.y, s.o.z, s.d.x, s.d.y, s.d.z, s.c.x,
+                                                s.c.y, s.c.z, s.r));
+}
+
+}  // namespace
 
 namespace {
 
@@ -98,12 +128,19 @@ std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool s
         out.push_back(formulation<double, geometric<double>, geometric<Counted<float>>>(data, "geometric", "double"));
         out.push_back(formulation<float, stable<float>, stable<Counted<float>>>(data, "stable", "float"));
         out.push_back(formulation<double, stable<double>, stable<Counted<float>>>(data, "stable", "double"));
+        out.push_back(formulation<float, lagrange<float>, lagrange<Counted<float>>>(data, "lagrange", "float"));
+        out.push_back(formulation<double, lagrange<double>, lagrange<Counted<float>>>(data, "lagrange", "double"));
+        Variant eft = formulation<float, exact_float<float>, exact_float<Counted<float>>>(data, "exact-float", "float");
+        eft.note = "float only: float-float (error-free) f, a, h, f x d, c and discriminant; std::fma";
+        out.push_back(eft);
         for (Variant mixed : {formulation<float, in_double<half_b<double>>, half_b<Counted<float>>>(
                                   data, "half-b", ""),
                               formulation<float, in_double<stable<double>>, stable<Counted<float>>>(
                                   data, "stable", ""),
                               formulation<float, in_double<half_b_pair<double>>, half_b_pair<Counted<float>>>(
-                                  data, "half-b-pair", "")}) {
+                                  data, "half-b-pair", ""),
+                              formulation<float, in_double<lagrange<double>>, lagrange<Counted<float>>>(
+                                  data, "lagrange", "")}) {
             mixed.id = mixed.formulation + "_f32_in_f64";
             mixed.label = mixed.formulation + ", double inside";
             mixed.precision = "float, double inside";
@@ -153,6 +190,7 @@ std::vector<Variant> sphere_variants(const std::vector<SphereData>& data, bool s
         e.note = "rtcIntersect1 on one RTC_GEOMETRY_TYPE_SPHERE_POINT; only the first hit in [0, inf) is "
                  "returned, so its error is that hit's";
         if (!embree::available()) e.status = "absent";
+        e.applies = [d](std::size_t f) { return (*d)[f].embree != nullptr; };  // one sphere per family only
         e.answer = [d](std::size_t f, std::size_t i) {
             const Sample<float>& s = (*d)[f].family.samples[i];
             return from_box(embree::intersect((*d)[f].embree, s.o, s.d, 0.0f));
@@ -307,6 +345,177 @@ std::vector<Variant> box_variants(const std::vector<BoxData>& data) {
         for (std::size_t i = 0; i < n; ++i) g_out_box[i] = embree::intersect(b.embree, b.o[i], b.d[i], 0.0f);
     };
     out.push_back(e);
+    return out;
+}
+
+// ---- many rays at once ---------------------------------------------------------------
+
+namespace {
+
+// Where the vector variants' timed results go.
+std::vector<float> g_lane_t0(kBatch + simd::kPad), g_lane_t1(kBatch + simd::kPad), g_lane_hit(kBatch + simd::kPad);
+
+std::size_t padded(std::size_t n) { return (n + simd::kPad - 1) / simd::kPad * simd::kPad; }
+
+/// A formulation of lanes-inl.h on one counted ray: what every lane does.
+using LaneCount = OpCount (*)(const Sample<float>&);
+
+template <lanes1::LaneRoots<Counted<float>, bool> (*F)(const Ops1<Counted<float>>&, Counted<float>, Counted<float>,
+                                                       Counted<float>, Counted<float>, Counted<float>,
+                                                       Counted<float>, Counted<float>, Counted<float>,
+                                                       Counted<float>, Counted<float>)>
+OpCount lane_count(const Sample<float>& s) {
+    op_count() = {};
+    F(Ops1<Counted<float>>{}, s.o.x, s.o.y, s.o.z, s.d.x, s.d.y, s.d.z, s.c.x, s.c.y, s.c.z, s.r);
+    return op_count();
+}
+
+Variant sphere_lanes(const std::vector<SphereData>& data, const simd::Target& t, simd::SphereKernel kernel,
+                     const std::string& formulation, bool wide, LaneCount count) {
+    Variant v;
+    v.formulation = formulation;
+    v.group = "sphere";
+    v.lanes = wide ? t.lanes_f64 : t.lanes_f32;
+    v.isa = t.name;
+    v.precision = wide ? "float, double inside" : "float";
+    v.id = formulation + (wide ? "_f32_in_f64" : "_f32") + "_x" + std::to_string(v.lanes) + "_" + t.name;
+    v.label = formulation + ", " + std::to_string(v.lanes) + " lanes " + t.name;  // the type column says the rest
+    v.note = "Highway, " + t.name + ": " + std::to_string(v.lanes) + (wide ? " doubles" : " floats") +
+             " per vector, rays as a structure of arrays, one call per batch";
+    const auto* d = &data;
+    // The error pass reads answers one ray at a time: run the kernel once over
+    // the whole family and keep what it wrote.
+    struct Cache {
+        std::vector<std::vector<float>> t0, t1, hit;
+    };
+    auto cache = std::make_shared<Cache>();
+    cache->t0.resize(data.size()), cache->t1.resize(data.size()), cache->hit.resize(data.size());
+    v.answer = [d, kernel, cache](std::size_t f, std::size_t i) {
+        const simd::Rays& in = (*d)[f].lanes;
+        if (cache->t0[f].empty()) {
+            const std::size_t n = in.ox.size();
+            cache->t0[f].resize(n), cache->t1[f].resize(n), cache->hit[f].resize(n);
+            kernel(in, 0, n, cache->t0[f].data(), cache->t1[f].data(), cache->hit[f].data());
+        }
+        Answer a;
+        if (cache->hit[f][i] > 0) {
+            a.count = 2;
+            a.t[0] = cache->t0[f][i];
+            a.t[1] = cache->t1[f][i];
+        }
+        return a;
+    };
+    v.pass = [d, kernel](std::size_t f) {
+        const simd::Rays& in = (*d)[f].lanes;
+        kernel(in, 0, padded(batch_size(in.n)), g_lane_t0.data(), g_lane_t1.data(), g_lane_hit.data());
+    };
+    v.count = [d, count](std::size_t f, std::size_t i) { return count((*d)[f].family.samples[i]); };
+    return v;
+}
+
+}  // namespace
+
+std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, const std::vector<BoxData>& boxes,
+                                     const std::vector<simd::Target>& targets) {
+    std::vector<Variant> out;
+    using C = Ops1<Counted<float>>;
+    for (const simd::Target& t : targets) {
+        out.push_back(sphere_lanes(spheres, t, t.lagrange_f64, "lagrange", true, &lane_count<&lanes1::lanes_lagrange<C>>));
+        out.push_back(sphere_lanes(spheres, t, t.half_b_f64, "half-b", true, &lane_count<&lanes1::lanes_half_b<C>>));
+        out.push_back(sphere_lanes(spheres, t, t.half_b_f32, "half-b", false, &lane_count<&lanes1::lanes_half_b<C>>));
+        out.push_back(sphere_lanes(spheres, t, t.stable_f32, "stable", false, &lane_count<&lanes1::lanes_stable<C>>));
+        out.push_back(sphere_lanes(spheres, t, t.exact_f32, "exact-float", false,
+                                   &lane_count<&lanes1::lanes_exact_float<C>>));
+    }
+    const auto* b = &boxes;
+    for (const simd::Target& t : targets) {
+        Variant v;
+        v.formulation = "brute force";
+        v.group = "box";
+        v.kind = Kind::box;
+        v.precision = "float";
+        v.lanes = t.lanes_f32;
+        v.isa = t.name;
+        v.id = "brute_force_x" + std::to_string(v.lanes) + "_" + t.name;
+        v.label = "brute force, " + std::to_string(v.lanes) + " lanes " + t.name;
+        v.note = "the same loop over the rectangles, across rays: each lane keeps its own window";
+        const simd::BoxKernel kernel = t.box_f32;
+        struct Cache {
+            std::vector<std::vector<float>> t, rect;
+        };
+        auto cache = std::make_shared<Cache>();
+        cache->t.resize(boxes.size()), cache->rect.resize(boxes.size());
+        v.answer = [b, kernel, cache](std::size_t f, std::size_t i) {
+            const BoxData& box = (*b)[f];
+            if (cache->t[f].empty()) {
+                const std::size_t n = box.lanes.ox.size();
+                cache->t[f].resize(n), cache->rect[f].resize(n);
+                kernel(box.lanes, 0, n, box.table.data(), static_cast<int>(box.table.size()), 0.0f,
+                       cache->t[f].data(), cache->rect[f].data());
+            }
+            Answer a;
+            if (cache->rect[f][i] >= 0) {
+                a.count = 1;
+                a.t[0] = cache->t[f][i];
+                a.rect = static_cast<int>(cache->rect[f][i]);
+            }
+            return a;
+        };
+        v.pass = [b, kernel](std::size_t f) {
+            const BoxData& box = (*b)[f];
+            kernel(box.lanes, 0, padded(batch_size(box.lanes.n)), box.table.data(), static_cast<int>(box.table.size()),
+                   0.0f, g_lane_t0.data(), g_lane_hit.data());
+        };
+        out.push_back(v);
+    }
+    // Embree's packet queries on the same quads, as many rays per call as the
+    // widest vectors above hold (8 and 16 where this Embree runs them natively).
+    for (const int width : {8, 16}) {
+        Variant e;
+        e.formulation = "embree";
+        e.group = "box";
+        e.kind = Kind::box;
+        e.precision = "float";
+        e.lanes = width;
+        e.isa = "Embree";
+        e.id = "embree_quads_x" + std::to_string(width);
+        e.label = "Embree quads, rtcIntersect" + std::to_string(width);
+        e.note = "rtcIntersect" + std::to_string(width) + " on the quads of the scalar Embree row, every lane active";
+        if (!embree::packets(width)) {
+            e.status = "absent";
+            e.note = embree::available() ? "this Embree does not run packets of " + std::to_string(width) + " natively"
+                                         : embree::status();
+        }
+        struct Cache {
+            std::vector<std::vector<float>> t, rect;
+        };
+        auto cache = std::make_shared<Cache>();
+        cache->t.resize(boxes.size()), cache->rect.resize(boxes.size());
+        auto run = [b, width](std::size_t f, std::size_t end, float* t, float* rect) {
+            const BoxData& box = (*b)[f];
+            const float* const o[3] = {box.lanes.ox.data(), box.lanes.oy.data(), box.lanes.oz.data()};
+            const float* const d[3] = {box.lanes.dx.data(), box.lanes.dy.data(), box.lanes.dz.data()};
+            embree::intersect_packets(box.embree, width, o, d, 0, end, 0.0f, t, rect);
+        };
+        e.answer = [b, run, cache](std::size_t f, std::size_t i) {
+            if (cache->t[f].empty()) {
+                const std::size_t n = (*b)[f].lanes.ox.size();
+                cache->t[f].resize(n), cache->rect[f].resize(n);
+                run(f, n, cache->t[f].data(), cache->rect[f].data());
+            }
+            Answer a;
+            if (cache->rect[f][i] >= 0) {
+                a.count = 1;
+                a.t[0] = cache->t[f][i];
+                a.rect = static_cast<int>(cache->rect[f][i]);
+            }
+            return a;
+        };
+        e.pass = [b, run](std::size_t f) {
+            run(f, padded(batch_size((*b)[f].lanes.n)), g_lane_t0.data(), g_lane_hit.data());
+        };
+        out.push_back(e);
+    }
     return out;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "box.hpp"
+#include "families.hpp"
 #include "vec.hpp"
 
 namespace raykit::bench {
@@ -17,16 +18,11 @@ struct ExactSphere {
     bool hit = false;        ///< the line meets the sphere (a tangent counts)
     quad t[2] = {0, 0};      ///< the roots, sorted (when hit)
     double impact = 0;       ///< distance from the centre to the line, in radii
-    /// |impact - 1| <= kTangentBand: too close to a tangent to call hit or miss.
+    /// |impact - 1| <= the family's band: too close to a tangent to call hit or miss.
     bool near_tangent = false;
 };
 
-/// The near-tangent band, relative to the radius. Outside it a float
-/// formulation that does its job classifies every ray correctly up to a few
-/// thousand radii away (the error of the line's distance is about |f| 2^-24).
-constexpr double kTangentBand = 1e-4;
-
-ExactSphere exact_sphere(const Sample<float>& s);
+ExactSphere exact_sphere(const Sample<float>& s, double band);
 
 /// The first root in [0, inf), as a ray tracer with tmin = 0 sees it.
 bool first_hit(const ExactSphere& e, quad& t);

@@ -13,6 +13,8 @@
 //   geometric    project the centre on the ray, then Pythagoras
 //   stable       the discriminant as r^2 - (distance of the line)^2 and the
 //                root pair that never subtracts nearly equal numbers
+//   lagrange     the discriminant by Lagrange's identity, a r^2 - |f x d|^2:
+//                the squared distance of the line read as a cross product
 //   in_double    any of them on float inputs, computed in double, rounded to float
 //
 // For the stable form see E. Haines, J. Guenther and T. Akenine-Moller,
@@ -129,6 +131,26 @@ RAYKIT_FORMULATION RootsOf<T> stable(const Sample<T>& s) {
     T t1 = c / q;
     if (t1 < t0) std::swap(t0, t1);
     return {2, {t0, t1}};
+}
+
+/// The discriminant by Lagrange's identity: (f.d)^2 - (d.d)(f.f) = -|f x d|^2,
+/// so h^2 - ac = a r^2 - |f x d|^2. |f x d| / |d| is the distance of the line
+/// from the centre: this is the stable form's discriminant without the
+/// closest-point vector and without c. In double on float inputs each
+/// component of f x d is one rounding (a product of two floats is exact in
+/// double), so the discriminant cancels only near a tangent, whatever the
+/// scale: this is the kit's reference (step 02), computed in double.
+template <class T>
+RAYKIT_FORMULATION RootsOf<T> lagrange(const Sample<T>& s) {
+    using std::sqrt;
+    const Vec3<T> f = s.o - s.c;
+    const T a = dot(s.d, s.d);
+    const T h = dot(f, s.d);
+    const Vec3<T> g = cross(f, s.d);
+    const T disc = a * (s.r * s.r) - dot(g, g);
+    if (!(disc >= T(0))) return {};
+    const T root = sqrt(disc);
+    return {2, {(-h - root) / a, (-h + root) / a}};
 }
 
 /// The half-b discriminant h^2 - ac with the stable root pair q/a, c/q: the

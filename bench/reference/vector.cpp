@@ -1,0 +1,330 @@
+// Many rays at once with Google Highway. See vector.hpp.
+//
+// Highway compiles this file once per instruction set (foreach_target.h
+// includes it again for each target, inside that target's namespace and
+// compiler options); HWY_DYNAMIC_DISPATCH picks the best one this CPU runs.
+// No intrinsics are written here: Highway's portable operations only.
+
+#include "vector.hpp"
+
+#include "peak.hpp"
+
+#include <algorithm>
+
+#if RAYKIT_BENCH_HWY
+
+#include <cmath>
+#include <limits>
+
+// On x86 only the 8- and 16-float targets and the baseline are compiled: the
+// SSE ones would add build time and no row to the report.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_SSE4 | HWY_AVX3_DL)
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "vector.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace raykit::bench::simd {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+#include "lanes-inl.h"
+
+/// lanes-inl.h's operations on Highway vectors of tag D.
+template <class D>
+struct HwyOps {
+    using T = hn::TFromD<D>;
+    using V = hn::Vec<D>;
+    using M = hn::Mask<D>;
+    D d;
+    V k(double x) const { return hn::Set(d, static_cast<T>(x)); }
+    V neg(V x) const { return hn::Neg(x); }
+    V fma(V a, V b, V c) const { return hn::MulAdd(a, b, c); }
+    V sqrt(V x) const { return hn::Sqrt(x); }
+    V copysign(V mag, V sign) const { return hn::CopySign(mag, sign); }
+    V min(V a, V b) const { return hn::Min(a, b); }
+    V max(V a, V b) const { return hn::Max(a, b); }
+    M ge(V a, V b) const { return a >= b; }
+    M gt(V a, V b) const { return a > b; }
+    V select(M m, V a, V b) const { return hn::IfThenElse(m, a, b); }
+    V zero_unless(M m, V a) const { return hn::IfThenElseZero(m, a); }
+};
+
+/// Float lanes: load, compute, store, as many rays per step as a vector holds.
+template <LaneRoots<hn::Vec<hn::ScalableTag<float>>, hn::Mask<hn::ScalableTag<float>>> (*F)(
+    const HwyOps<hn::ScalableTag<float>>&, hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>,
+    hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>,
+    hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>,
+    hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>)>
+void FloatLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
+    const hn::ScalableTag<float> d;
+    const HwyOps<hn::ScalableTag<float>> o{d};
+    const std::size_t n = hn::Lanes(d);
+    for (std::size_t i = begin; i < end; i += n) {
+        const auto r = F(o, hn::LoadU(d, &in.ox[i]), hn::LoadU(d, &in.oy[i]), hn::LoadU(d, &in.oz[i]),
+                         hn::LoadU(d, &in.dx[i]), hn::LoadU(d, &in.dy[i]), hn::LoadU(d, &in.dz[i]),
+                         hn::LoadU(d, &in.cx[i]), hn::LoadU(d, &in.cy[i]), hn::LoadU(d, &in.cz[i]),
+                         hn::LoadU(d, &in.r[i]));
+        hn::StoreU(r.t0, d, t0 + i);
+        hn::StoreU(r.t1, d, t1 + i);
+        hn::StoreU(hn::IfThenElseZero(r.hit, hn::Set(d, 2.0f)), d, hit + i);
+    }
+}
+
+/// Double lanes on float rays: each float is widened exactly, the roots are
+/// rounded to float once at the end.
+template <LaneRoots<hn::Vec<hn::ScalableTag<double>>, hn::Mask<hn::ScalableTag<double>>> (*F)(
+    const HwyOps<hn::ScalableTag<double>>&, hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>,
+    hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>,
+    hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>,
+    hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>)>
+void DoubleLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
+    const hn::ScalableTag<double> dd;
+    const hn::Rebind<float, decltype(dd)> df;  // as many floats as dd has doubles
+    const HwyOps<hn::ScalableTag<double>> o{dd};
+    const std::size_t n = hn::Lanes(dd);
+    auto load = [&](const std::vector<float>& v, std::size_t i) { return hn::PromoteTo(dd, hn::LoadU(df, &v[i])); };
+    for (std::size_t i = begin; i < end; i += n) {
+        const auto r = F(o, load(in.ox, i), load(in.oy, i), load(in.oz, i), load(in.dx, i), load(in.dy, i),
+                         load(in.dz, i), load(in.cx, i), load(in.cy, i), load(in.cz, i), load(in.r, i));
+        hn::StoreU(hn::DemoteTo(df, r.t0), df, t0 + i);
+        hn::StoreU(hn::DemoteTo(df, r.t1), df, t1 + i);
+        hn::StoreU(hn::DemoteTo(df, hn::IfThenElseZero(r.hit, hn::Set(dd, 2.0))), df, hit + i);
+    }
+}
+
+/// The brute-force closest hit over the rectangles, across rays: each lane
+/// keeps its own window; the rectangle loop is the same for every lane.
+void BoxLanes(const BoxRays& in, std::size_t begin, std::size_t end, const Rect3* rects, int count, float tmin,
+              float* t_out, float* rect_out) {
+    const hn::ScalableTag<float> d;
+    const std::size_t n = hn::Lanes(d);
+    const float* o[3] = {in.ox.data(), in.oy.data(), in.oz.data()};
+    const float* dir[3] = {in.dx.data(), in.dy.data(), in.dz.data()};
+    const auto lo_t = hn::Set(d, tmin);
+    for (std::size_t i = begin; i < end; i += n) {
+        auto tmax = hn::Set(d, std::numeric_limits<float>::infinity());
+        auto best = hn::Set(d, -1.0f);
+        for (int k = 0; k < count; ++k) {
+            const Rect3& r = rects[k];
+            int u, v;
+            other_axes(r.axis, u, v);
+            const auto t = (hn::Set(d, r.offset) - hn::LoadU(d, o[r.axis] + i)) / hn::LoadU(d, dir[r.axis] + i);
+            const auto pu = hn::MulAdd(t, hn::LoadU(d, dir[u] + i), hn::LoadU(d, o[u] + i));
+            const auto pv = hn::MulAdd(t, hn::LoadU(d, dir[v] + i), hn::LoadU(d, o[v] + i));
+            // The closed window [tmin, tmax]; on a tie the rectangle listed
+            // first keeps the hit (the strict t < tmax), as in box.hpp.
+            auto in_rect = hn::And(lo_t <= t, t <= tmax);
+            in_rect = hn::And(in_rect, hn::And(hn::Set(d, r.lo[0]) <= pu, pu <= hn::Set(d, r.hi[0])));
+            in_rect = hn::And(in_rect, hn::And(hn::Set(d, r.lo[1]) <= pv, pv <= hn::Set(d, r.hi[1])));
+            const auto take = hn::And(in_rect, hn::Or(best < hn::Zero(d), t < tmax));
+            tmax = hn::IfThenElse(take, t, tmax);
+            best = hn::IfThenElse(take, hn::Set(d, static_cast<float>(k)), best);
+        }
+        hn::StoreU(hn::IfThenElseZero(best >= hn::Zero(d), tmax), d, t_out + i);
+        hn::StoreU(best, d, rect_out + i);
+    }
+}
+
+// ---- this target's limits ---------------------------------------------------------
+
+/// 12 independent chains of x = x m + k, fused: the FMA units' pace.
+template <class D>
+HWY_NOINLINE double FmaChains(D d, long iterations, double seed) {
+    using T = hn::TFromD<D>;
+    const auto m = hn::Set(d, static_cast<T>(seed)), k = hn::Set(d, static_cast<T>(1 - seed));
+    hn::Vec<D> x0 = hn::Set(d, T(1.00)), x1 = hn::Set(d, T(1.01)), x2 = hn::Set(d, T(1.02)),
+               x3 = hn::Set(d, T(1.03)), x4 = hn::Set(d, T(1.04)), x5 = hn::Set(d, T(1.05)),
+               x6 = hn::Set(d, T(1.06)), x7 = hn::Set(d, T(1.07)), x8 = hn::Set(d, T(1.08)),
+               x9 = hn::Set(d, T(1.09)), x10 = hn::Set(d, T(1.10)), x11 = hn::Set(d, T(1.11));
+    for (long it = 0; it < iterations; ++it) {
+        x0 = hn::MulAdd(x0, m, k), x1 = hn::MulAdd(x1, m, k), x2 = hn::MulAdd(x2, m, k);
+        x3 = hn::MulAdd(x3, m, k), x4 = hn::MulAdd(x4, m, k), x5 = hn::MulAdd(x5, m, k);
+        x6 = hn::MulAdd(x6, m, k), x7 = hn::MulAdd(x7, m, k), x8 = hn::MulAdd(x8, m, k);
+        x9 = hn::MulAdd(x9, m, k), x10 = hn::MulAdd(x10, m, k), x11 = hn::MulAdd(x11, m, k);
+    }
+    const auto sum = ((x0 + x1) + (x2 + x3)) + ((x4 + x5) + (x6 + x7)) + ((x8 + x9) + (x10 + x11));
+    return static_cast<double>(hn::GetLane(sum));
+}
+
+/// 8 independent chains of divides (x = m / x) or square roots (x = sqrt(x)).
+template <bool Divide, class D>
+HWY_NOINLINE double DividerChains(D d, long iterations, double seed) {
+    using T = hn::TFromD<D>;
+    const auto m = hn::Set(d, static_cast<T>(seed));
+    hn::Vec<D> x0 = hn::Set(d, T(1.0)), x1 = hn::Set(d, T(1.1)), x2 = hn::Set(d, T(1.2)),
+               x3 = hn::Set(d, T(1.3)), x4 = hn::Set(d, T(1.4)), x5 = hn::Set(d, T(1.5)),
+               x6 = hn::Set(d, T(1.6)), x7 = hn::Set(d, T(1.7));
+    for (long it = 0; it < iterations; ++it) {
+        if (Divide) {  // alternates between two values near 1
+            x0 = m / x0, x1 = m / x1, x2 = m / x2, x3 = m / x3, x4 = m / x4, x5 = m / x5, x6 = m / x6, x7 = m / x7;
+        } else {  // tends to 1 and stays there
+            x0 = hn::Sqrt(x0), x1 = hn::Sqrt(x1), x2 = hn::Sqrt(x2), x3 = hn::Sqrt(x3);
+            x4 = hn::Sqrt(x4), x5 = hn::Sqrt(x5), x6 = hn::Sqrt(x6), x7 = hn::Sqrt(x7);
+        }
+    }
+    const auto sum = ((x0 + x1) + (x2 + x3)) + ((x4 + x5) + (x6 + x7));
+    return static_cast<double>(hn::GetLane(sum));
+}
+
+/// Kernel k(d, iterations, seed): 0 FMA f32, 1 FMA f64, 2 div f32, 3 div f64,
+/// 4 sqrt f32, 5 sqrt f64. Returns a value that depends on every chain.
+double RunKernel(int k, long iterations, double seed) {
+    const hn::ScalableTag<float> f;
+    const hn::ScalableTag<double> g;
+    switch (k) {
+        case 0: return FmaChains(f, iterations, seed);
+        case 1: return FmaChains(g, iterations, seed);
+        case 2: return DividerChains<true>(f, iterations, seed);
+        case 3: return DividerChains<true>(g, iterations, seed);
+        case 4: return DividerChains<false>(f, iterations, seed);
+        default: return DividerChains<false>(g, iterations, seed);
+    }
+}
+
+void Describe(Target& t) {
+    t.name = hwy::TargetName(HWY_TARGET);
+    t.lanes_f32 = static_cast<int>(hn::Lanes(hn::ScalableTag<float>()));
+    t.lanes_f64 = static_cast<int>(hn::Lanes(hn::ScalableTag<double>()));
+    using F = HwyOps<hn::ScalableTag<float>>;
+    using G = HwyOps<hn::ScalableTag<double>>;
+    t.half_b_f32 = &FloatLanes<&lanes_half_b<F>>;
+    t.stable_f32 = &FloatLanes<&lanes_stable<F>>;
+    t.exact_f32 = &FloatLanes<&lanes_exact_float<F>>;
+    t.half_b_f64 = &DoubleLanes<&lanes_half_b<G>>;
+    t.lagrange_f64 = &DoubleLanes<&lanes_lagrange<G>>;
+    t.box_f32 = &BoxLanes;
+    t.kernels = &RunKernel;
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace raykit::bench::simd
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace raykit::bench::simd {
+
+HWY_EXPORT(Describe);
+
+namespace {
+
+using Runner = double (*)(int, long, double);
+
+volatile double g_seed = 0.999999;
+volatile double g_sink = 0;
+
+/// The best rate of kernel k: operations per nanosecond.
+double best_rate(Runner run, int k, double ops_per_iteration, double seconds, int repetitions) {
+    long n = 1000;
+    for (;;) {  // timed in this thread's CPU time, as peak.cpp does
+        const double t0 = thread_cpu_seconds();
+        g_sink = run(k, n, g_seed);
+        const double s = thread_cpu_seconds() - t0;
+        if (s > seconds / 4 || n > (1L << 40)) {
+            n = static_cast<long>(static_cast<double>(n) * std::max(1.0, seconds / std::max(s, 1e-9)));
+            break;
+        }
+        n *= 4;
+    }
+    double best = 0;
+    for (int rep = 0; rep < repetitions; ++rep) {
+        const double t0 = thread_cpu_seconds();
+        g_sink = run(k, n, g_seed);
+        const double ns = 1e9 * (thread_cpu_seconds() - t0);
+        best = std::max(best, ops_per_iteration * static_cast<double>(n) / ns);
+    }
+    return best;
+}
+
+}  // namespace
+
+std::vector<Target> targets() {
+    std::vector<Target> out;
+    Target best;
+    HWY_DYNAMIC_DISPATCH(Describe)(best);
+    out.push_back(best);
+#if (HWY_TARGETS & HWY_AVX2) && HWY_ARCH_X86
+    // The narrower vectors too, where the best ones are wider: 8 floats
+    // against 16 on the same core.
+    if ((hwy::SupportedTargets() & HWY_AVX2) && best.name != "AVX2" && best.lanes_f32 > 8) {
+        Target avx2;
+        N_AVX2::Describe(avx2);
+        out.push_back(avx2);
+    }
+#endif
+    return out;
+}
+
+void measure(Target& t, double seconds, int repetitions) {
+    const Runner run = t.kernels;
+    if (!run) return;
+    const double lf = t.lanes_f32, ld = t.lanes_f64;
+    t.gflops_f32 = std::max(t.gflops_f32, best_rate(run, 0, 12 * 2 * lf, seconds, repetitions));
+    t.gflops_f64 = std::max(t.gflops_f64, best_rate(run, 1, 12 * 2 * ld, seconds, repetitions));
+    auto per_lane_ns = [&](int k, double lanes) { return 1 / best_rate(run, k, 8 * lanes, seconds, repetitions); };
+    auto keep_min = [](double old, double now) { return old > 0 ? std::min(old, now) : now; };
+    t.div_ns_f32 = keep_min(t.div_ns_f32, per_lane_ns(2, lf));
+    t.div_ns_f64 = keep_min(t.div_ns_f64, per_lane_ns(3, ld));
+    t.sqrt_ns_f32 = keep_min(t.sqrt_ns_f32, per_lane_ns(4, lf));
+    t.sqrt_ns_f64 = keep_min(t.sqrt_ns_f64, per_lane_ns(5, ld));
+}
+
+std::string status() {
+    std::string s = "Highway " + std::to_string(HWY_MAJOR) + "." + std::to_string(HWY_MINOR) + "." +
+                    std::to_string(HWY_PATCH) + ":";
+    for (const Target& t : targets()) s += " " + t.name + " (" + std::to_string(t.lanes_f32) + " floats)";
+    return s;
+}
+
+}  // namespace raykit::bench::simd
+#endif  // HWY_ONCE
+
+#else  // no Highway
+
+namespace raykit::bench::simd {
+
+std::vector<Target> targets() { return {}; }
+void measure(Target&, double, int) {}
+std::string status() {
+    return "Highway 1.0 or later not found (Debian 12 and later: libhwy-dev); the vector rows are skipped";
+}
+
+}  // namespace raykit::bench::simd
+
+#endif  // RAYKIT_BENCH_HWY
+
+// The structure-of-arrays copies, with or without Highway.
+#if !RAYKIT_BENCH_HWY || HWY_ONCE
+namespace raykit::bench::simd {
+
+Rays to_lanes(const std::vector<Sample<float>>& samples) {
+    Rays out;
+    out.n = samples.size();
+    const std::size_t padded = (samples.size() + kPad - 1) / kPad * kPad;
+    for (std::size_t i = 0; i < padded; ++i) {
+        const Sample<float>& s = samples[std::min(i, samples.size() - 1)];
+        out.ox.push_back(s.o.x), out.oy.push_back(s.o.y), out.oz.push_back(s.o.z);
+        out.dx.push_back(s.d.x), out.dy.push_back(s.d.y), out.dz.push_back(s.d.z);
+        out.cx.push_back(s.c.x), out.cy.push_back(s.c.y), out.cz.push_back(s.c.z);
+        out.r.push_back(s.r);
+    }
+    return out;
+}
+
+BoxRays to_lanes(const std::vector<Vec3<float>>& o, const std::vector<Vec3<float>>& d) {
+    BoxRays out;
+    out.n = o.size();
+    const std::size_t padded = (o.size() + kPad - 1) / kPad * kPad;
+    for (std::size_t i = 0; i < padded; ++i) {
+        const std::size_t j = std::min(i, o.size() - 1);
+        out.ox.push_back(o[j].x), out.oy.push_back(o[j].y), out.oz.push_back(o[j].z);
+        out.dx.push_back(d[j].x), out.dy.push_back(d[j].y), out.dz.push_back(d[j].z);
+    }
+    return out;
+}
+
+}  // namespace raykit::bench::simd
+#endif
