@@ -318,8 +318,10 @@ def one_slip_folder() -> Path:
     """Steps 01-05 from the solutions, with step 04's edges excluded (`<` for `<=`)."""
     steps = load_steps()
     [rect] = [s for s in steps if s.number == "04"]
-    target = stage_on_reference(BUILD / "integrity-one-slip", rect, steps,
-                                ROOT / "tests" / "mutants" / rect.folder / "edge_excluded")
+    from cmd_mutant import write_answer
+    slip = write_answer(rect, ROOT / "tests" / "mutants" / rect.folder / "edge_excluded.patch",
+                        BUILD / "integrity-one-slip-04")
+    target = stage_on_reference(BUILD / "integrity-one-slip", rect, steps, slip)
     for s in steps:
         if not (target / s.folder).exists():
             shutil.copytree(ROOT / "solutions" / s.folder, target / s.folder)
