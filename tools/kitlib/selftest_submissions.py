@@ -35,8 +35,10 @@ def _same(found: Path, source: Path, folders: list[str]) -> list[str]:
 
 
 def check_layouts(ctx) -> str:
-    from cmd_test import expect
+    from cmd_test import expect, need_solutions
     from submissions import NotFound, locate
+
+    need_solutions()    # its uploads are made of the solutions and the fixtures
 
     steps = load_steps()
     folders = [s.folder for s in steps]
