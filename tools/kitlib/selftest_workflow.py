@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import json
 import shutil
+import zipfile
 import signal
 import subprocess
 import time
@@ -64,28 +65,41 @@ def check_batch_grading(ctx) -> str:
         for f in step.files:
             shutil.copyfile((src / step.folder / f) if (src / step.folder).is_dir() else src / f, dst / f)
     (root / "erin").mkdir()  # submitted nothing usable
+    # frank zips his whole kit; gina exports the repository: the steps at some depth.
+    nested = root / "gina" / "raykit-main" / "steps" / step.folder
+    nested.mkdir(parents=True)
+    for f in step.files:
+        shutil.copyfile(ROOT / "solutions" / step.folder / f, nested / f)
+    with zipfile.ZipFile(root / "frank.zip", "w") as z:
+        for f in step.files:
+            z.write(ROOT / "solutions" / step.folder / f, f"raykit/steps/{step.folder}/{f}")
     out, jsons = BUILD / "grade-test.csv", BUILD / "grade-test-json"
     shutil.rmtree(jsons, ignore_errors=True)
-    r = kit("grade", str(root), "--out", str(out), "--json-dir", str(jsons), timeout=900)
+    r = kit("grade", str(root), "--out", str(out), "--json-dir", str(jsons), "-j", "2", timeout=900)
     expect(r.returncode == 0, f"./kit grade exited {r.returncode}: {r.stderr[-800:]}")
     rows = {row["student"]: row for row in csv.DictReader(out.open())}
     n = step.number
-    expect(set(rows) == {"alice", "bob", "carol", "dave", "erin"}, f"CSV rows: {sorted(rows)}")
-    a, b, c, d, e = (rows[k] for k in ("alice", "bob", "carol", "dave", "erin"))
-    expect(a[f"step{n}_state"] == "done" and a[f"step{n}_basic"] == a[f"step{n}_basic_total"], f"alice: {a}")
-    expect(b[f"step{n}_state"] == "partial" and int(b[f"step{n}_basic"]) < int(b[f"step{n}_basic_total"]),
+    expect(set(rows) == {"alice", "bob", "carol", "dave", "erin", "frank", "gina"}, f"CSV rows: {sorted(rows)}")
+    a, b, c, d, e, f_, g = (rows[k] for k in ("alice", "bob", "carol", "dave", "erin", "frank", "gina"))
+    expect(a[f"step{n}_state"] == "done" and a[f"step{n}_earned"] == a[f"step{n}_maximum"], f"alice: {a}")
+    expect(b[f"step{n}_state"] == "some cases fail" and int(b[f"step{n}_earned"]) < int(b[f"step{n}_maximum"]),
            f"bob (open window): {b}")
-    expect("crashed" in c["note"] and c[f"step{n}_state"] == "partial", f"carol (crash): {c}")
-    expect("timed_out" in d["note"] and d[f"step{n}_state"] == "partial", f"dave (hang): {d}")
-    expect(e["status"] == "not graded" and "none of the step folders" in e["note"], f"erin (empty): {e}")
-    expect(float(a["score"]) > float(b["score"]) > 0, "scores do not order alice > bob > 0")
+    expect("crashed" in c["note"] and c[f"step{n}_state"] == "some cases fail", f"carol (crash): {c}")
+    expect("timed_out" in d["note"] and d[f"step{n}_state"] == "some cases fail", f"dave (hang): {d}")
+    expect(e["status"] == "no steps" and "No step files found" in e["note"], f"erin (empty): {e}")
+    for row in (f_, g):
+        expect(row[f"step{n}_state"] == "done", f"{row['student']} (zipped or nested solutions): {row}")
+    graded = [a, b, c, d, f_, g]
+    expect(len({row["maximum"] for row in graded}) == 1, "the maximum differs between students: one scale broken")
+    expect(float(a["earned"]) > float(b["earned"]) > 0, "scores do not order alice > bob > 0")
     problems = []
     for j in sorted(jsons.glob("*.json")):
         problems += [f"{j.name}: {p}" for p in validate_gradescope(json.loads(j.read_text()))]
-    expect(len(list(jsons.glob("*.json"))) == 4, "a results.json per graded student is missing")
+    expect(len(list(jsons.glob("*.json"))) == 6, "a results.json per graded student is missing")
     expect(not problems, "results.json does not follow Gradescope's fields: " + "; ".join(problems[:5]))
     shutil.rmtree(root, ignore_errors=True)
-    return "correct, wrong, crashing, looping and empty submissions: right CSV rows; results.json valid"
+    return ("correct, wrong, crashing, looping, empty, zipped and nested submissions graded two at a time: "
+            "right CSV rows on one scale; results.json valid")
 
 
 def check_watch(ctx) -> str:
