@@ -19,6 +19,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "float_text.hpp"
 #include "raykit/ray.hpp"
 #include "raykit/roots.hpp"
 #include "raykit/sphere.hpp"
@@ -26,22 +27,7 @@
 namespace raykit::grading {
 
 /// Shortest text that reads back as the same float ("2", "0.5", "1.00000012").
-inline std::string show(float x) {
-    if (std::isnan(x)) return "NaN";
-    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-    char buf[64];
-#if defined(__cpp_lib_to_chars)
-    const auto end = std::to_chars(buf, buf + sizeof buf, x).ptr;  // shortest exact text
-    return std::string(buf, end);
-#else
-    // GCC 10's library has no floating-point to_chars (Debian 11): the fewest significant digits
-    // that read back as the same float. Nine always do (a float has a 24-bit significand).
-    for (int digits = 1;; ++digits) {
-        std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(x));
-        if (digits >= 9 || std::strtof(buf, nullptr) == x) return buf;
-    }
-#endif
-}
+inline std::string show(float x) { return float_text(x); }
 
 inline std::string show(const glm::vec3& v) {
     return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";

@@ -28,6 +28,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "float_text.hpp"
 #include "raykit/camera.hpp"
 #include "raykit/canvas.hpp"
 #include "raykit/ray.hpp"
@@ -240,13 +241,7 @@ std::decay_t<T> get(Reader& r) {
 
 // ---- text, for a report that names the call that crashed ----------------------
 
-inline std::string text(float x) {
-    if (std::isnan(x)) return "NaN";
-    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-    char buf[64];
-    const auto end = std::to_chars(buf, buf + sizeof buf, x).ptr;
-    return std::string(buf, end);
-}
+inline std::string text(float x) { return float_text(x); }
 inline std::string text(int v) { return std::to_string(v); }
 inline std::string text(const std::string& s) { return "\"" + s + "\""; }
 inline std::string text(const glm::vec2& v) { return "(" + text(v.x) + ", " + text(v.y) + ")"; }
