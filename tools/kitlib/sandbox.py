@@ -76,8 +76,9 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     if wanted == "bwrap":
         raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
     if wanted in ("auto", "user") and os.geteuid() == 0:
-        return Isolation(f"user:{FIRST_UID + slot}",
-                         f"sandboxed as the unprivileged user id {FIRST_UID + slot}: it writes only a scratch "
+        uid = claim_uid(slot)
+        return Isolation(f"user:{uid}",
+                         f"sandboxed as the unprivileged user id {uid}: it writes only a scratch "
                          "folder and cannot read the kit's answers; every process it starts is ended; "
                          "the network is NOT isolated (bubblewrap could not run here)")
     if wanted == "user":
@@ -86,6 +87,32 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
         return Isolation("none", "NOT sandboxed (--isolation none): the code ran with the grader's rights")
     return Isolation("none", "NOT sandboxed: bubblewrap could not run and the kit is not root, so the "
                              "code ran with the grader's rights. Install bubblewrap, or grade as root.")
+
+
+_claimed: dict[int, object] = {}
+
+
+def claim_uid(slot: int) -> int:
+    """A sandbox user id no other grading on this machine is using.
+
+    After each case every process of the id is killed, so two gradings must never share one
+    (two instructors' runs, a batch beside a check). Each id is claimed with an exclusive lock
+    on a file, held until this process ends.
+    """
+    import fcntl
+    lock_dir = Path("/run/lock") if Path("/run/lock").is_dir() else Path(tempfile.gettempdir())
+    for uid in range(FIRST_UID + slot, FIRST_UID + 4096, 64):
+        if uid in _claimed:
+            return uid
+        f = open(lock_dir / f"raykit-sandbox-{uid}.lock", "w")
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            f.close()
+            continue
+        _claimed[uid] = f
+        return uid
+    raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
 
 
 class Scratch:
