@@ -24,6 +24,7 @@
 #include <cxxabi.h>
 
 #include "raykit/not_implemented.hpp"
+#include "fd_io.hpp"
 #include "wire.hpp"
 
 // The declarations of every step function.
@@ -37,27 +38,8 @@ namespace {
 
 using namespace raykit;
 
-bool read_exact(int fd, char* p, std::size_t n) {
-    while (n > 0) {
-        const ssize_t k = ::read(fd, p, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) return false;
-        p += k;
-        n -= static_cast<std::size_t>(k);
-    }
-    return true;
-}
-
-bool write_exact(int fd, const char* p, std::size_t n) {
-    while (n > 0) {
-        const ssize_t k = ::write(fd, p, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) return false;
-        p += k;
-        n -= static_cast<std::size_t>(k);
-    }
-    return true;
-}
+using wire::read_exact;
+using wire::write_exact;
 
 /// Decodes the arguments `f` takes, calls it, encodes what it returns.
 template <class R, class... A>

@@ -24,6 +24,7 @@
 #include <sstream>
 #include <vector>
 
+#include "fd_io.hpp"
 #include "raykit/not_implemented.hpp"
 
 namespace raykit::remote {
@@ -62,17 +63,6 @@ std::string signal_name(int sig) {
         case SIGPIPE: return "SIGPIPE";
         default: return "signal " + std::to_string(sig);
     }
-}
-
-bool write_all(int fd, const char* p, std::size_t n) {
-    while (n > 0) {
-        const ssize_t k = ::write(fd, p, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) return false;
-        p += k;
-        n -= static_cast<std::size_t>(k);
-    }
-    return true;
 }
 
 struct Settings {
@@ -337,7 +327,7 @@ std::string Child::exchange(const std::string& request, const std::string& call,
     const std::uint32_t size = static_cast<std::uint32_t>(request.size());
     std::string framed(reinterpret_cast<const char*>(&size), sizeof size);
     framed += request;
-    if (!write_all(req_, framed.data(), framed.size())) throw CallFailed(died(call));
+    if (!wire::write_exact(req_, framed.data(), framed.size())) throw CallFailed(died(call));
 
     const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                              std::chrono::duration<double>(seconds));
