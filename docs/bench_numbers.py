@@ -14,7 +14,7 @@ committed run (`./kit bench --out docs/bench`):
     python3 docs/bench_numbers.py --check    # exit 1 and name every stale block; change nothing
 
 Never edit a block by hand: the self-test ("numbers quoted from the benchmark are current",
-tools/kitlib/selftest_lectures.py) runs --check. Python 3.9, standard library only.
+tools/kitlib/selftest/lectures.py) runs --check. Python 3.9, standard library only.
 """
 
 from __future__ import annotations

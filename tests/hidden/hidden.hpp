@@ -13,7 +13,7 @@
 // aligned directions scaled by powers of two). The numerically hard rays stay in
 // the ★ robust tier, which is optional.
 //
-// These files never ship in a handout (tools/kitlib/cmd_handout.py).
+// These files never ship in a handout (tools/kitlib/commands/handout.py).
 #pragma once
 
 #include <doctest/doctest.h>

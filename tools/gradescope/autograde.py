@@ -38,7 +38,7 @@ RESULTS = AUTOGRADER / "results" / "results.json"
 PR_SET_CHILD_SUBREAPER = 36    # <linux/prctl.h>
 KIT_SECONDS = 30 * 60           # all steps; Gradescope's own limit is set per assignment
 
-sys.path.insert(0, str(SOURCE / "tools" / "kitlib"))
+sys.path.insert(0, str(SOURCE / "tools"))       # the kit's driver package, kitlib
 
 
 def failed(reason: str, name: str = "Autograder", output: str = "") -> dict:
@@ -150,7 +150,7 @@ def usable(data: object) -> str:
 
 
 def grade() -> dict:
-    from submissions import NotFound, locate
+    from kitlib.submissions import NotFound, locate
 
     work = Path(tempfile.mkdtemp(prefix="raykit-autograder-"))
     os.chmod(work, 0o755)       # the kit's sandbox may read the copy as another user

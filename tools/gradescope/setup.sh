@@ -5,7 +5,7 @@ set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 cd "$(dirname "$0")"
 # python3 runs the kit; bubblewrap isolates the graded code. The kit installs the rest itself
-# (the same packages as for students: one list, in tools/kitlib/common.py).
+# (the same packages as for students: one list, in tools/kitlib/packages.py).
 apt-get update -q
 apt-get install -y -q --no-install-recommends python3 bubblewrap
 # Build once now with the stubs, in the folder submissions are graded in, so that each

@@ -347,7 +347,7 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
     """The same numbers as the terminal table, for the docs."""
     order = {vid: i for i, vid in enumerate(variant_order(data))}
     peak = data.get("peak") or {}
-    lines = [f"<!-- written by ./kit bench; do not edit -->", "", peak_line(data), ""]
+    lines = ["<!-- written by ./kit bench; do not edit -->", "", peak_line(data), ""]
     m = data["meta"]
     lines.append(f"Compiled with GCC {m['compiler']} `{m['flags']}`; {m['rays']} rays per family; "
                  f"{m['repetitions']} timed repetitions of {m['batch']} rays (median, min and max of CPU time). "

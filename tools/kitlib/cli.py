@@ -1,76 +1,112 @@
 """raykit's command line: ./kit COMMAND [options].
 
-Each command lives in a module cmd_NAME.py with
-    HELP = "one line"
+COMMANDS is the one table of commands: their order in ./kit help, who they are for, and the module
+(kitlib/commands/NAME.py) that does the work, with
     def register(parser): ...   # add its arguments
-    def run(args) -> int: ...   # do the work, return the exit status
-and is found here by name, so adding a command touches no other file.
+    def run(args) -> int: ...   # do the work, return an exit status (kitlib/status.py)
+Only the module of the command being run is imported.
+
+The words, one meaning each: *check* runs a student's steps' cases and scores them (./kit check,
+./kit watch); *grade* checks every submission of a class into grades (./kit grade, Gradescope);
+the *self-test* is the kit testing itself (./kit test).
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
+from .common import ROOT, KitError
+from .status import FAILED, INTERRUPTED, OK, USAGE
 
-from common import KitError  # noqa: E402
+STUDENT, INSTRUCTOR = "students", "instructors"
 
-# The order of commands in ./kit help: the student's first, then the instructor's (marked as such).
-STUDENT = ["check", "watch", "hint", "reset", "render", "docs", "bench"]
-ORDER = STUDENT + ["test", "grade", "handout", "exact", "mutant"]
+
+@dataclass(frozen=True)
+class Command:
+    name: str
+    module: str         # kitlib/commands/MODULE.py
+    audience: str       # STUDENT or INSTRUCTOR
+    help: str
+
+
+COMMANDS = [
+    Command("check", "check", STUDENT, "check your steps: every case, your score, and what to do next"),
+    Command("watch", "watch", STUDENT, "check the step you work on at every save, and move on when it is done"),
+    Command("hint", "hint", STUDENT, "show the next hint for step N (first a nudge, then the formula, never the code)"),
+    Command("reset", "reset", STUDENT, "put a step's shipped stub back (your file is kept as NAME.cpp.bak-TIME)"),
+    Command("render", "render", STUDENT, "render the course's scenes to PNG, from the solutions or, with --steps, from your code"),
+    Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),
+    Command("bench", "bench", STUDENT, "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
+    Command("test", "selftest", INSTRUCTOR, "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
+    Command("grade", "grade", INSTRUCTOR, "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
+    Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
+    Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
+    Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
+    Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
+]
+
+
+def available() -> list[Command]:
+    """The commands this copy of the kit has: a handout leaves out the instructor's `exact`."""
+    here = Path(__file__).resolve().parent / "commands"
+    return [c for c in COMMANDS if (here / f"{c.module}.py").is_file()]
 
 
 class Parser(argparse.ArgumentParser):
-    def error(self, message):  # usage errors: clear message, usage, exit status 2
+    def error(self, message):  # usage errors: clear message, usage, exit status USAGE
         self.print_usage(sys.stderr)
         print(f"kit: {message}", file=sys.stderr)
-        sys.exit(2)
+        sys.exit(USAGE)
 
 
-def commands() -> dict:
-    found = {p.stem[4:]: p for p in HERE.glob("cmd_*.py")}
-    names = [n for n in ORDER if n in found] + sorted(n for n in found if n not in ORDER)
-    return {n: importlib.import_module(f"cmd_{n}") for n in names}
+def handout() -> bool:
+    return not (ROOT / "solutions").is_dir()   # a student's copy: no solutions/
 
 
-def build_parser(mods: dict) -> argparse.ArgumentParser:
-    handout = not (HERE.parents[1] / "solutions").is_dir()   # a student's copy: no solutions/
-    epilog = "Start with ./kit check." + ("" if handout else " Instructors: ./kit test verifies the whole kit.")
-    p = Parser(prog="./kit", description="raykit: a first ray tracing course kit.", epilog=epilog)
+def overview() -> str:
+    """./kit help: the commands by audience, from the table alone (no command module is imported)."""
+    lines = ["usage: ./kit COMMAND [options]    (./kit COMMAND -h: its options)", "",
+             "raykit: a first ray tracing course kit."]
+    for audience in (STUDENT, INSTRUCTOR):
+        lines += ["", f"For {audience}:"]
+        lines += [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
+    lines += ["", "Start with ./kit check." + ("" if handout() else " Instructors: ./kit test verifies the whole kit.")]
+    return "\n".join(lines)
+
+
+def build_parser(chosen: str | None) -> Parser:
+    """The parser; only `chosen`'s module is imported to add its options."""
+    p = Parser(prog="./kit", description="raykit: a first ray tracing course kit.", add_help=False)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
-    for name, mod in mods.items():
-        shown = mod.HELP
-        if name not in STUDENT and "instructor" not in shown:
-            shown = "instructors: " + shown
-        mod.register(sub.add_parser(name, help=shown, description=mod.HELP))
-    sub.add_parser("help", help="show this help")
+    for c in available():
+        shown = c.help if c.audience == STUDENT else f"{c.audience}: {c.help}"
+        sp = sub.add_parser(c.name, help=shown, description=shown)
+        if c.name == chosen:
+            importlib.import_module(f"{__package__}.commands.{c.module}").register(sp)
+    sub.add_parser("help", help="show the commands")
     return p
 
 
 def main(argv: list[str]) -> int:
-    mods = commands()
-    parser = build_parser(mods)
-    args = parser.parse_args(argv)
-    if args.command in (None, "help"):
-        parser.print_help()
-        return 0
     try:
-        return mods[args.command].run(args)
+        if not argv or argv[0] in ("help", "-h", "--help"):
+            print(overview())
+            return OK
+        commands = {c.name: c for c in available()}
+        chosen = argv[0] if argv[0] in commands else None
+        args = build_parser(chosen).parse_args(argv)
+        return importlib.import_module(f"{__package__}.commands.{commands[args.command].module}").run(args)
     except KitError as e:
         print(f"kit: {e}", file=sys.stderr)
         return e.code
     except KeyboardInterrupt:
         print("kit: interrupted", file=sys.stderr)
-        return 130
+        return INTERRUPTED
     except BrokenPipeError:  # ./kit check | head: the reader has gone, nothing left to say
-        import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+        return FAILED

@@ -23,7 +23,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from common import BUILD, ROOT
+from .common import BUILD, ROOT
 
 # User ids for the "user" isolation, one per parallel grading slot. Never in
 # /etc/passwd: nothing but the sandboxed processes ever has them.
@@ -70,7 +70,8 @@ def bwrap_works() -> bool:
 
 def install_bwrap() -> None:
     """Installs bubblewrap when it is missing and apt can; without it the isolation falls back."""
-    from common import KitError, ensure_packages, note
+    from .common import KitError, note
+    from .packages import ensure_packages
     if shutil.which("bwrap") is None:
         try:
             ensure_packages("sandbox")

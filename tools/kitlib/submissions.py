@@ -10,8 +10,8 @@ Why a copy and not the upload itself: the copy holds regular files only, each st
 names, nothing else. A symbolic link to the kit's solutions, a 2 GB file or a zip that writes
 outside its folder never reaches the build.
 
-Used by the Gradescope autograder (tools/gradescope/) and by batch grading. As a command:
-    python3 submissions.py UPLOAD WORKDIR
+Used by the Gradescope autograder (tools/gradescope/) and by batch grading. As a command (with tools/ on PYTHONPATH):
+    python3 -m kitlib.submissions UPLOAD WORKDIR
 prints the folder to grade (exit 0) or what it found and what it expected (exit 1).
 """
 
@@ -25,9 +25,8 @@ import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from common import Step, load_steps  # noqa: E402
+from .common import Step, load_steps
+from .status import FAILED, OK, USAGE
 
 MAX_FILE_BYTES = 1 << 20            # a step's source file larger than this is not a student's
 MAX_ZIP_BYTES = 200 << 20           # unpacked size of all zips of one upload together
@@ -241,17 +240,17 @@ def locate(upload: Path, work: Path, steps: list[Step] | None = None) -> Located
 def main(argv: list[str]) -> int:
     if len(argv) != 2:
         print("usage: submissions.py UPLOAD WORKDIR", file=sys.stderr)
-        return 2
+        return USAGE
     try:
         found = locate(Path(argv[0]), Path(argv[1]))
     except NotFound as e:
         print(e)
-        return 1
+        return FAILED
     print(found.steps_dir)
     print(f"found {', '.join(found.steps)} in {found.source} ({found.layout})", file=sys.stderr)
     for n in found.notes:
         print(f"note: {n}", file=sys.stderr)
-    return 0
+    return OK
 
 
 if __name__ == "__main__":

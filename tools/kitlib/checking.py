@@ -1,0 +1,277 @@
+"""Grading one build: compile the judge and the student's answers program, run the cases.
+
+The judge (a step's test program) never loads the student's code: it calls each
+step function in a child process, the answers program, which it starts itself
+(in a sandbox when the folder graded is not the student's own; see sandbox.py),
+and judges the answers it gets back. Nothing the student's code prints or writes
+reaches the verdicts. This module runs the judge, with a time limit per case as a
+backstop, and reads its verdicts.
+
+One scale: every case of every step counts, whatever state the step is in. A step
+whose code is missing or does not compile has all its cases failed; a step that
+needs another is graded on top of the reference's code for that other step where
+solutions/ is present, so one slip costs one step.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import signal
+import subprocess
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .common import Build, Step, build_target, configure, prerequisites
+from .sandbox import NONE_OWN, Isolation, Scratch
+from .status import BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
+
+CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
+STEP_SECONDS = 120.0        # backstop: all cases of one step, including restarts
+OUTPUT_LIMIT = 1 << 20      # bytes the judge itself may print (it prints nothing)
+TIERS = ("basic", "hidden", "robust")
+SCORED_TIERS = ("basic", "hidden")   # one point a case; ★ robust cases are optional, 0 points
+
+
+@dataclass
+class Case:
+    name: str
+    tier: str                   # "basic", "hidden" or "robust"
+    lecture: str                # lecture section, e.g. "4. What the discriminant says"
+    status: str = NOT_RUN     # pass fail not_started threw crashed timed_out not_run no_compile missing waiting
+    messages: list[str] = field(default_factory=list)
+    output: str = ""            # what the student's code printed during the case (trimmed)
+    output_bytes: int = 0
+
+    @property
+    def points(self) -> int:
+        return 1 if self.tier in SCORED_TIERS else 0
+
+
+@dataclass
+class StepResult:
+    step: Step
+    state: str                  # done, partial, not_started, missing, no_compile, waiting, broken
+    cases: list[Case] = field(default_factory=list)
+    detail: str = ""            # compiler errors, the missing file, the step we wait for
+    isolation: str = ""
+    seed: str = ""
+
+    def tier(self, tier: str) -> list[Case]:
+        return [c for c in self.cases if c.tier == tier]
+
+    def passed(self, tier: str) -> int:
+        return sum(c.status == PASS for c in self.tier(tier))
+
+    @property
+    def earned(self) -> int:
+        return sum(c.points for c in self.cases if c.status == PASS)
+
+    @property
+    def maximum(self) -> int:
+        return sum(c.points for c in self.cases)
+
+    def first_problem(self, tier: str = "basic") -> Case | None:
+        for c in self.tier(tier):
+            if c.status != PASS:
+                return c
+        return None
+
+    def incidents(self) -> list[Case]:
+        return [c for c in self.cases if c.status in (CRASHED, TIMED_OUT, THREW)]
+
+    def to_json(self) -> dict:
+        return {
+            "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
+            "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
+            "earned": self.earned, "maximum": self.maximum,
+            **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
+            "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
+                       "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes}
+                      for c in self.cases],
+        }
+
+
+def _read_lines(path: Path) -> list[dict]:
+    events = []
+    try:
+        text = path.read_text(errors="replace")
+    except FileNotFoundError:
+        return events
+    for line in text.splitlines():
+        try:
+            events.append(json.loads(line))
+        except json.JSONDecodeError:
+            pass            # a half-written last line from a killed process
+    return events
+
+
+def _kill(proc: subprocess.Popen) -> None:
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    proc.wait()
+
+
+def list_cases(exe: Path) -> list[Case]:
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "list.jsonl"
+        r = subprocess.run([str(exe), "--reporters=raykit", "--list-test-cases", f"--out={out}"],
+                           capture_output=True, timeout=20)
+        if r.returncode != 0:
+            raise RuntimeError(f"{exe.name} --list-test-cases failed")
+        return [Case(e["case"], e.get("suite") or "basic", e.get("lecture") or "") for e in _read_lines(out)]
+
+
+def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
+              case_seconds: float = CASE_SECONDS, step_seconds: float = STEP_SECONDS) -> None:
+    """Runs the judge `exe` over every case, filling in each Case's status and messages.
+
+    The judge is the kit's own code and limits each call to the student's code itself;
+    the limits here only guard against the judge going wrong.
+    """
+    by_name = {c.name: c for c in cases}
+    order = [c.name for c in cases]
+    deadline = time.monotonic() + step_seconds
+    done: set[str] = set()
+    full_env = dict(os.environ, **(env or {}))
+    with tempfile.TemporaryDirectory(prefix="raykit-judge-") as tmp:
+        attempt = 0
+        while len(done) < len(cases) and time.monotonic() < deadline:
+            attempt += 1
+            out = Path(tmp) / f"run{attempt}.jsonl"
+            log = Path(tmp) / f"out{attempt}.txt"
+            # doctest runs the cases in the order it lists them; resume after the last one seen.
+            first = next(i for i, n in enumerate(order) if n not in done) + 1
+            with open(log, "wb") as sink:
+                proc = subprocess.Popen([str(exe), "--reporters=raykit", f"--out={out}", f"--first={first}",
+                                         "--no-breaks=true"],
+                                        stdout=sink, stderr=sink, stdin=subprocess.DEVNULL,
+                                        start_new_session=True, env=full_env)
+                current, started_at, reason = None, time.monotonic(), None
+                seen = 0
+                while True:
+                    finished = proc.poll() is not None
+                    events = _read_lines(out)
+                    for e in events[seen:]:
+                        if e.get("event") == "start":
+                            current, started_at = e["case"], time.monotonic()
+                        elif e.get("event") == "end" and e["case"] in by_name:
+                            c = by_name[e["case"]]
+                            c.status, c.messages = e["status"], list(e.get("messages", []))
+                            c.output, c.output_bytes = e.get("output", ""), int(e.get("output_bytes", 0))
+                            done.add(c.name)
+                            current = None
+                    seen = len(events)
+                    if finished:
+                        break
+                    now = time.monotonic()
+                    if now - started_at > case_seconds or now > deadline:
+                        reason = TIMED_OUT
+                    elif log.stat().st_size > OUTPUT_LIMIT:
+                        reason = "flooded"
+                    if reason:
+                        _kill(proc)
+                        break
+                    time.sleep(0.01)
+            if current is None and reason is None and proc.returncode in (0, 1):
+                break       # a normal end (doctest exits 1 when a case failed)
+            if current is None or current not in by_name:
+                rest = [n for n in order if n not in done]
+                if not rest:
+                    break
+                current = rest[0]
+            c = by_name[current]
+            done.add(current)
+            c.status = CRASHED
+            c.messages = [f"The grader itself stopped in this case ({reason or proc.returncode}); "
+                          "this is the kit's fault, not yours: please tell your instructor."]
+        for c in cases:
+            if c.name not in done and c.status == NOT_RUN:
+                c.messages = ["Not run: the step's time ran out."]
+
+
+def submission_seed(build: Build, step: Step) -> str:
+    """The hidden cases' seed: a hash of the step's files, so one submission always meets the same inputs."""
+    h = hashlib.sha256(step.folder.encode())
+    for f in step.files:
+        p = build.steps_dir / step.folder / f
+        h.update(p.read_bytes() if p.is_file() else b"")
+    return h.hexdigest()[:8]
+
+
+def _all(cases: list[Case], status: str, message: str) -> list[Case]:
+    for c in cases:
+        c.status, c.messages = status, [message]
+    return cases
+
+
+def grade_step(build: Build, step: Step, results: dict[str, StepResult], isolation: Isolation) -> StepResult:
+    ok, out = build_target(build, step.target)
+    if not ok:
+        return StepResult(step, BROKEN, detail="the kit's test program does not build (a kit bug):\n" + out)
+    judge = build.exe(step)
+    try:
+        cases = list_cases(judge)
+    except (RuntimeError, subprocess.TimeoutExpired, OSError) as e:
+        return StepResult(step, BROKEN, detail=f"the test program could not list its cases: {e}")
+    missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
+    if missing:
+        detail = f"{step.folder}/{missing[0]} is missing"
+        return StepResult(step, MISSING, _all(cases, MISSING, detail), detail=detail)
+    if not build.reference_needs:
+        # No reference here (a student's handout): the step runs on the student's own
+        # earlier steps, so it waits until they are done.
+        for need in step.needs:
+            dep = results.get(need)
+            if dep is not None and dep.state != DONE:
+                return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"),
+                                  detail=need)
+    ok, out = build_target(build, f"answers_step{step.number}")
+    if not ok:
+        first = next((l for l in out.splitlines() if "error" in l), "")
+        return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),
+                          detail=out)
+    seed = submission_seed(build, step)
+    scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
+    try:
+        env = dict(scratch.env(), RAYKIT_SEED=seed)
+        if not isolation.sandboxed:
+            env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
+        run_cases(judge, cases, env)
+    finally:
+        scratch.close()
+    scored = [c for c in cases if c.tier == "basic"]
+    if scored and all(c.status == NOT_STARTED for c in cases if c.tier != "hidden"):
+        state = NOT_STARTED
+    elif all(c.status == PASS for c in cases if c.tier in SCORED_TIERS):
+        state = DONE
+    else:
+        state = PARTIAL
+    return StepResult(step, state, cases, isolation=isolation.description,
+                      seed=seed if any(c.tier == "hidden" for c in cases) else "")
+
+
+def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN) -> list[StepResult]:
+    """Grades `steps`; without a reference, first the steps they need (quietly, to know whether they are done)."""
+    # Configure once per build folder and set of present step files: the targets CMake makes
+    # depend on which files exist; after that, the build tool re-runs CMake when its inputs change.
+    present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
+                         if (build.steps_dir / s.folder / f).is_file())
+    stamp = build.binary_dir / "raykit-configured.txt"
+    key = f"{build.steps_dir}\n{present}\n"
+    cache = build.binary_dir / "CMakeCache.txt"
+    if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
+        configure(build)
+        stamp.write_text(key)
+    wanted = {s.number for s in steps}
+    needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
+    results: dict[str, StepResult] = {}
+    for s in all_steps:
+        if s.number in wanted or s.number in needed:
+            results[s.number] = grade_step(build, s, results, isolation)
+    return [results[s.number] for s in steps]

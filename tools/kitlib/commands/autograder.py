@@ -1,0 +1,73 @@
+"""./kit autograder OUT.zip: the zip Gradescope takes as a programming assignment's autograder."""
+
+from __future__ import annotations
+
+import os
+import stat
+import time
+import zipfile
+from pathlib import Path
+
+from ..commands.handout import kit_files
+from ..common import ROOT, KitError, say
+from ..status import FAILED, OK
+
+
+# Never in the zip: build output, git's store, Python's caches. The solutions stay: the image
+# is not visible to students, and the grader may link a later step with the reference.
+EXCLUDED = ["build", ".git"]
+AT_ROOT = {"setup.sh": "tools/gradescope/setup.sh", "run_autograder": "tools/gradescope/run_autograder"}
+
+
+def register(p) -> None:
+    p.add_argument("out", metavar="OUT.zip", help="the zip to write (replaced when it exists)")
+
+
+def excluded(rel: Path) -> bool:
+    s = rel.as_posix()
+    return any(s == e or s.startswith(e + "/") for e in EXCLUDED) or "__pycache__" in rel.parts \
+        or rel.suffix == ".pyc"
+
+
+def add(z: zipfile.ZipFile, src: Path, name: str) -> None:
+    """Adds `src` as `name`, keeping its executable bit (./kit, run_autograder) and nothing else
+    of the machine (owner, exact time): two runs on the same files differ only in dates."""
+    info = zipfile.ZipInfo(name, date_time=time.localtime(src.stat().st_mtime)[:6])
+    info.compress_type = zipfile.ZIP_DEFLATED
+    mode = 0o755 if src.stat().st_mode & stat.S_IXUSR else 0o644
+    info.external_attr = (stat.S_IFREG | mode) << 16
+    z.writestr(info, src.read_bytes())
+
+
+def run(args) -> int:
+    out = Path(args.out).expanduser()
+    if out.suffix.lower() != ".zip":
+        raise KitError(f"{args.out}: the autograder must be a .zip file (Gradescope takes nothing else)")
+    if out.is_dir():
+        raise KitError(f"{args.out}: is a folder, not a file")
+    parent = out.resolve().parent
+    if not parent.is_dir():
+        raise KitError(f"{args.out}: folder {parent} does not exist")
+    if not os.access(parent, os.W_OK):
+        raise KitError(f"{args.out}: cannot write in {parent}")
+    for name, src in AT_ROOT.items():
+        if not (ROOT / src).is_file():
+            raise KitError(f"{src} is missing: the kit is incomplete", FAILED)
+    files = sorted(rel for rel in kit_files() if not excluded(rel) and (ROOT / rel).is_file()
+                   and rel.as_posix() not in AT_ROOT)
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.partial")
+    try:
+        with zipfile.ZipFile(tmp, "w") as z:
+            for name, src in AT_ROOT.items():
+                add(z, ROOT / src, name)
+            for rel in files:
+                add(z, ROOT / rel, rel.as_posix())
+        os.replace(tmp, out)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    size = out.stat().st_size
+    say(f"wrote {out} ({len(files) + len(AT_ROOT)} files, {size / 1e6:.1f} MB)")
+    say("  Gradescope: a programming assignment, Configure Autograder, upload this zip (any Ubuntu LTS base image).")
+    say("  Students upload their steps/ folder, the NN_topic/ folders, their files, or a zip of the kit.")
+    return OK

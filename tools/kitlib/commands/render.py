@@ -1,0 +1,370 @@
+"""./kit render: pictures of the course's scenes, from the solutions or from a student's steps.
+
+Each step has its own small program in tools/render (raykit_render_stepNN), linked with that step's
+code, so a step that does not compile or is not written yet costs only its own scenes. With --steps,
+every picture is compared with the reference picture of the same size and a diff image is written
+beside it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..common import BUILD, ROOT, Build, KitError, build_target, configure, load_steps, note, paint, preset_build, resolve_steps_dir, say, submission_build
+
+from ..packages import ensure_packages
+from ..status import FAILED, OK, USAGE
+
+DEFAULT_SIZE = (256, 256)
+MAX_SIDE = 4096                 # pixels a side; raykit_render_stepNN enforces the same limit
+RENDER_SECONDS = 60.0           # one picture; a student's endless loop is stopped after this
+DOCS_IMAGES = ROOT / "docs" / "images"
+TEST_DATA = ROOT / "tests" / "05_cornell_box" / "reference_render.hpp"
+TEST_SIZE = (48, 32)
+
+# Exit statuses of raykit_render_stepNN (tools/render/tool.hpp).
+NOT_WRITTEN, THREW, CANNOT_WRITE = 3, 4, 5
+
+
+@dataclass
+class Scene:
+    name: str
+    step: str                   # the step whose code draws it
+    shadings: list[str]         # "flat" first
+    about: str
+
+    def images(self) -> list[tuple[str, str]]:
+        """(shading, file name without .png) for each picture of the scene."""
+        return [(s, self.name if s == "flat" else f"{self.name}-{s}") for s in self.shadings]
+
+
+def load_scenes() -> list[Scene]:
+    """The course's scenes, in step order, from each step's manifest: tests/NN_topic/step.json,
+    "scenes": [{"name", "shadings" ("flat" first), "about"}], drawn by tools/render/render_stepNN.cpp."""
+    scenes = []
+    for step in load_steps():
+        manifest = json.loads((ROOT / "tests" / step.folder / "step.json").read_text())
+        for entry in manifest.get("scenes", []):
+            scenes.append(Scene(entry["name"], step.number, list(entry["shadings"]), entry["about"]))
+    return scenes
+
+
+def available_scenes() -> list[Scene]:
+    """The scenes of the steps that are part of this kit (a step's manifest lists them)."""
+    return load_scenes()
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
+    if not m:
+        raise KitError(f"--size {text}: write the size as WIDTHxHEIGHT, e.g. 256x256")
+    w, h = int(m.group(1)), int(m.group(2))
+    if not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+        raise KitError(f"--size {text}: each side must be between 1 and {MAX_SIDE} pixels")
+    return w, h
+
+
+def select_scenes(names: list[str]) -> list[Scene]:
+    scenes = available_scenes()
+    if not names:
+        return scenes
+    chosen = []
+    for n in names:
+        match = [s for s in scenes if s.name == n]
+        if not match:
+            known = ", ".join(s.name for s in scenes)
+            raise KitError(f"there is no scene {n!r}; the scenes are: {known}")
+        if match[0] not in chosen:
+            chosen.append(match[0])
+    return chosen
+
+
+def prepare_out(path: Path, shown: str) -> Path:
+    """An existing or new folder that we can write in, or a clear error."""
+    if path.exists() and not path.is_dir():
+        raise KitError(f"--out {shown}: this is a file, not a folder")
+    if not path.exists():
+        try:
+            path.mkdir(parents=True)
+        except OSError as e:
+            raise KitError(f"--out {shown}: cannot create the folder ({e.strerror})") from None
+    try:
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".raykit-write-test-"):
+            pass
+    except OSError as e:
+        raise KitError(f"--out {shown}: cannot write in this folder ({e.strerror})") from None
+    return path
+
+
+# --- building and running the renderers ------------------------------------------------
+
+def renderer(build: Build, step: str) -> Path:
+    return build.binary_dir / "tools" / "render" / f"raykit_render_step{step}"
+
+
+def imgdiff(build: Build) -> Path:
+    return build.binary_dir / "tools" / "render" / "raykit_imgdiff"
+
+
+def build_renderers(build: Build, steps: list[str]) -> dict[str, str]:
+    """Builds raykit_render_stepNN for each step; returns {step: why it cannot render} for failures."""
+    configure(build)
+    all_steps = {s.number: s for s in load_steps()}
+    problems: dict[str, str] = {}
+    for nn in steps:
+        # Every program links step 05 too: its view_ray shoots the view rays (tools/render/tool.hpp).
+        chain = list(dict.fromkeys([nn] + all_steps[nn].needs + ["05"] + all_steps["05"].needs))
+        missing = [f"{all_steps[n].folder}/{f}" for n in chain for f in all_steps[n].files
+                   if not (build.steps_dir / all_steps[n].folder / f).is_file()]
+        if missing:
+            problems[nn] = f"{missing[0]} is missing"
+            continue
+        ok, out = build_target(build, f"raykit_render_step{nn}")
+        if not ok:
+            errors = [line for line in out.splitlines() if "error" in line][:3]
+            problems[nn] = "it does not compile (./kit check shows why)" + \
+                ("".join(f"\n      {e}" for e in errors) if errors else "")
+    ok, out = build_target(build, "raykit_imgdiff")
+    if not ok:
+        raise KitError(f"could not build the image comparer:\n{out[-2000:]}", FAILED)
+    return problems
+
+
+def render_one(exe: Path, scene: str, shading: str, size: tuple[int, int], target: Path) -> str | None:
+    """Renders one picture to `target`; returns None, or why it could not."""
+    tmp = target.with_name(target.name + ".tmp")
+    cmd = [str(exe), scene, shading, str(size[0]), str(size[1]), str(target)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            stdin=subprocess.DEVNULL, start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=RENDER_SECONDS)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        tmp.unlink(missing_ok=True)
+        return f"stopped after {RENDER_SECONDS:g} s: an endless loop?"
+    tmp.unlink(missing_ok=True)         # left only by a crash in the middle of writing
+    message = (err or out).strip().splitlines()
+    first = message[0] if message else ""
+    if proc.returncode == 0:
+        return None
+    if proc.returncode == NOT_WRITTEN:
+        name = re.search(r"raykit::not_implemented: (\S+)", first)
+        what = name.group(1) if name else first
+        if what == "view_ray":  # every scene shoots its rays with step 05's view_ray (tools/render/tool.hpp)
+            what += ", step 05: every picture is drawn with your own view rays"
+        return f"not written yet ({what})"
+    if proc.returncode == THREW:
+        return first
+    if proc.returncode == CANNOT_WRITE:
+        raise KitError(first or f"cannot write {target}", FAILED)
+    if proc.returncode < 0:
+        sig = -proc.returncode
+        what = signal.Signals(sig).name if sig in signal.Signals._value2member_map_ else f"signal {sig}"
+        return f"the code crashed ({what})"
+    return f"the renderer failed (exit status {proc.returncode}): {first}"
+
+
+def compare(diff_exe: Path, reference: Path, picture: Path, diff: Path) -> tuple[int, int, int]:
+    """(differing pixels, of which next to an edge of the reference, all pixels); writes `diff`."""
+    r = subprocess.run([str(diff_exe), str(reference), str(picture), str(diff)], capture_output=True,
+                       text=True, timeout=120)
+    diff.with_name(diff.name + ".tmp").unlink(missing_ok=True)
+    if r.returncode != 0:
+        raise KitError(f"could not compare {picture} with {reference}: {r.stderr.strip()}", FAILED)
+    differing, near_edge, total = (int(n) for n in r.stdout.split())
+    return differing, near_edge, total
+
+
+def render_reference(scenes: list[Scene], size: tuple[int, int], out: Path) -> dict[str, Path]:
+    """Renders the scenes with the solutions into `out`; {image name: path}."""
+    if not (ROOT / "solutions").is_dir():
+        raise KitError("this copy of the kit has no solutions/ folder. Render your own code with:\n"
+                       "  ./kit render --steps steps", USAGE)
+    build = preset_build("reference")
+    problems = build_renderers(build, sorted({s.step for s in scenes}))
+    if problems:
+        nn, why = next(iter(problems.items()))
+        raise KitError(f"the reference solution of step {nn} cannot render: {why}", FAILED)
+    written = {}
+    for scene in scenes:
+        for shading, name in scene.images():
+            path = out / f"{name}.png"
+            problem = render_one(renderer(build, scene.step), scene.name, shading, size, path)
+            if problem:
+                raise KitError(f"the reference solution could not render {name}: {problem}", FAILED)
+            written[name] = path
+    return written
+
+
+def reference_pictures(scenes: list[Scene], size: tuple[int, int]) -> dict[str, Path]:
+    """The reference pictures to compare a student's with: rendered from the solutions when this copy has
+    them, else the committed docs/images (at their size only)."""
+    if (ROOT / "solutions").is_dir():
+        folder = BUILD / "render" / "reference-cache"
+        folder.mkdir(parents=True, exist_ok=True)
+        return render_reference(scenes, size, folder)
+    if size != DEFAULT_SIZE:
+        raise KitError(f"this copy has no solutions/, so the only reference pictures are those in docs/images, "
+                       f"at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}; drop --size", USAGE)
+    return {name: DOCS_IMAGES / f"{name}.png" for s in scenes for _, name in s.images()
+            if (DOCS_IMAGES / f"{name}.png").is_file()}
+
+
+# --- the reference picture of step 05's suite ------------------------------------------------
+
+def test_data_text(rows: list[str]) -> str:
+    """tests/05_cornell_box/reference_render.hpp for the letter picture `rows`."""
+    body = "".join(f'    "{r}",\n' for r in rows)
+    return (
+        f"// The empty Cornell box at {len(rows[0])} x {len(rows)} pixels, rendered by the reference solution:\n"
+        "// one letter a pixel, W white, R red, G green, L light, . black (nothing hit).\n"
+        "// Written by ./kit render --refresh; ./kit test checks that it is up to date.\n"
+        "#pragma once\n\n"
+        "namespace cornell_reference {\n\n"
+        f"constexpr int width = {len(rows[0])};\n"
+        f"constexpr int height = {len(rows)};\n"
+        "constexpr const char* rows[height] = {\n"
+        f"{body}"
+        "};\n\n"
+        "}  // namespace cornell_reference\n")
+
+
+def fresh_test_data() -> str:
+    """step 05's reference picture, rendered now by the solutions, as the header's text."""
+    build = preset_build("reference")
+    problems = build_renderers(build, ["05"])
+    if problems:
+        raise KitError(f"the reference solution of step 05 cannot render: {problems['05']}", FAILED)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "cornell_box.txt"
+        problem = render_one(renderer(build, "05"), "cornell_box", "flat", TEST_SIZE, path)
+        if problem:
+            raise KitError(f"the reference solution could not render the Cornell box: {problem}", FAILED)
+        return test_data_text(path.read_text().splitlines())
+
+
+def write_atomically(path: Path, text: str) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    tmp.replace(path)
+
+
+# --- the command ---------------------------------------------------------------------------
+
+
+
+def register(p) -> None:
+    names = ", ".join(f"{s.name} (step {int(s.step)})" for s in available_scenes())
+    p.add_argument("scenes", nargs="*", metavar="SCENE", help=f"what to render (default: all): {names}")
+    p.add_argument("--out", metavar="DIR",
+                   help="where to write the pictures (default: build/render, or build/render/steps with --steps)")
+    p.add_argument("--size", metavar="WxH",
+                   help=f"picture size in pixels (default: {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}, at most "
+                        f"{MAX_SIDE} a side)")
+    p.add_argument("--steps", metavar="DIR",
+                   help="render with the code in DIR (e.g. steps) and write beside each picture a diff image "
+                        "marking the pixels that differ from the reference")
+    p.add_argument("--refresh", action="store_true",
+                   help="instructors: re-render the committed reference pictures (docs/images and step 05's "
+                        "test picture) with the solutions")
+
+
+def run(args) -> int:
+    ensure_packages("build")
+    if args.refresh:
+        if args.scenes or args.out or args.size or args.steps:
+            raise KitError("--refresh re-renders every committed reference picture; it takes no other option")
+        return refresh()
+    size = parse_size(args.size) if args.size else DEFAULT_SIZE
+    scenes = select_scenes(args.scenes)
+    source = resolve_steps_dir(args.steps) if args.steps else None
+    if not (ROOT / "solutions").is_dir():
+        # A student's copy of the kit: the committed pictures are the only reference.
+        if source is None:
+            raise KitError("this copy of the kit has no solutions/ folder. Render your own code with:\n"
+                           "  ./kit render --steps steps", USAGE)
+        if size != DEFAULT_SIZE:
+            raise KitError(f"this copy has no solutions/, so the only reference pictures are those in docs/images, "
+                           f"at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}; drop --size", USAGE)
+    default_out = BUILD / "render" / ("steps" if source else "")
+    out = prepare_out(Path(args.out).expanduser() if args.out else default_out, args.out or str(default_out))
+    if source is None:
+        return render_solutions(scenes, size, out)
+    return render_steps(scenes, size, out, source)
+
+
+def render_solutions(scenes: list[Scene], size: tuple[int, int], out: Path) -> int:
+    note(f"kit: rendering {len(scenes)} scene(s) at {size[0]}x{size[1]} with the reference solutions")
+    written = render_reference(scenes, size, out)
+    for name, path in written.items():
+        say(f"  {paint('✓', 'green')} {path}")
+    return OK
+
+
+def render_steps(scenes: list[Scene], size: tuple[int, int], out: Path, source: Path) -> int:
+    build = submission_build(source)
+    note(f"kit: rendering {len(scenes)} scene(s) at {size[0]}x{size[1]} with the code in {source}")
+    problems = build_renderers(build, sorted({s.step for s in scenes}))
+    references = reference_pictures(scenes, size)
+    all_good = True
+    for scene in scenes:
+        if scene.step in problems:
+            all_good = False
+            forget(out, scene)
+            say(f"  {paint('·', 'yellow')} {scene.name}: skipped, step {scene.step}: {problems[scene.step]}")
+            continue
+        for shading, name in scene.images():
+            picture = out / f"{name}.png"
+            problem = render_one(renderer(build, scene.step), scene.name, shading, size, picture)
+            if problem:
+                forget(out, scene)
+                all_good = False
+                say(f"  {paint('·', 'yellow')} {name}: skipped, step {scene.step}: {problem}")
+                continue
+            reference = references.get(name)
+            if reference is None:
+                say(f"  {paint('?', 'yellow')} {picture}  (no reference picture to compare with)")
+                continue
+            diff = out / f"{name}-diff.png"
+            differing, near_edge, total = compare(imgdiff(build), reference, picture, diff)
+            if differing == 0:
+                say(f"  {paint('✓', 'green')} {picture}  matches the reference")
+                diff.unlink(missing_ok=True)
+                continue
+            all_good = False
+            say(f"  {paint('✗', 'red')} {picture}  {differing} of {total} pixels differ from the reference, "
+                f"marked in {diff}")
+            if near_edge == differing:
+                say(f"      all of them next to an edge of the reference: rounding can do that at some sizes "
+                    f"(not at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}), and so can a camera shifted by half a pixel")
+    return OK if all_good else FAILED
+
+
+def forget(out: Path, scene: Scene) -> None:
+    """Removes a scene's pictures left by an earlier run, so that none is mistaken for this run's."""
+    for _, name in scene.images():
+        for stale in (out / f"{name}.png", out / f"{name}-diff.png"):
+            stale.unlink(missing_ok=True)
+
+
+def refresh() -> int:
+    scenes = available_scenes()
+    DOCS_IMAGES.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=BUILD if BUILD.is_dir() else None) as tmp:
+        written = render_reference(scenes, DEFAULT_SIZE, Path(tmp))
+        for name, path in written.items():
+            shutil.copyfile(path, DOCS_IMAGES / f"{name}.png.tmp")
+            (DOCS_IMAGES / f"{name}.png.tmp").replace(DOCS_IMAGES / f"{name}.png")
+            say(f"  {paint('✓', 'green')} {(DOCS_IMAGES / f'{name}.png').relative_to(ROOT)}")
+    write_atomically(TEST_DATA, fresh_test_data())
+    say(f"  {paint('✓', 'green')} {TEST_DATA.relative_to(ROOT)}")
+    return OK

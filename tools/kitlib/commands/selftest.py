@@ -1,0 +1,22 @@
+"""./kit test: the kit's self-test, for instructors and CI.
+
+Every self-test prints one line: passed with a summary, failed with the reason, or skipped with
+why; the run ends with "N passed, M failed, K skipped" and exits non-zero when anything failed.
+The self-tests live in kitlib/selftest/, one module per command or concern.
+"""
+
+from __future__ import annotations
+
+from ..packages import ensure_packages, instructor_groups
+from ..selftest.harness import HANDOUT, Context, run_all
+
+
+
+def register(p) -> None:
+    p.add_argument("--fast", action="store_true", help="skip the slow self-tests (the sanitizer build, fuzzing)")
+
+
+def run(args) -> int:
+    # The instructor's self-test uses every tool (docs, benchmark, fuzzer); a handout only builds.
+    ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
+    return run_all(Context(fast=args.fast))

@@ -1,0 +1,187 @@
+"""What ./kit check and ./kit watch print: the table of steps, the failing case with its input,
+expected and actual answer, the student's output, and what to do next."""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+from .checking import StepResult
+from .common import ROOT, Step, paint, say
+from .sandbox import NONE_OWN
+from .status import BROKEN, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
+
+HIDDEN_NOTE = ("a hidden case: random inputs of this family, drawn from the seed above; "
+               "its inputs are shown after the due date")
+
+
+def rel(path: Path) -> str:
+    try:
+        return os.path.relpath(path, Path.cwd()) if Path.cwd() in path.parents or Path.cwd() == path \
+            else str(path.relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
+def status_cell(r: StepResult) -> tuple[str, str]:
+    basic, robust = r.tier("basic"), r.tier("robust")
+    if r.state == DONE:
+        text, style = f"done  {r.passed('basic')}/{len(basic)}", "green"
+        mark = "✓"
+    elif r.state == NOT_STARTED:
+        text, style, mark = "not started", "dim", "·"
+    elif r.state == PARTIAL:
+        text, style, mark = f"{r.passed('basic')} of {len(basic)} cases", "red", "✗"
+    elif r.state == NO_COMPILE:
+        text, style, mark = "does not compile", "red", "✗"
+    elif r.state == MISSING:
+        text, style, mark = "file missing", "red", "✗"
+    elif r.state == WAITING:
+        text, style, mark = f"needs step {r.detail} first", "yellow", "…"
+    else:
+        text, style, mark = "could not be graded", "red", "✗"
+    extra = ""
+    hidden = r.tier("hidden")
+    if hidden and r.state in (DONE, PARTIAL):
+        extra += f"  hidden {r.passed('hidden')} of {len(hidden)}"
+    if robust and r.state in (DONE, PARTIAL):
+        extra += f"  ★ robust {r.passed('robust')} of {len(robust)}"
+    waiting = sum(c.status == NOT_STARTED for c in r.tier("basic"))
+    if r.state == PARTIAL and waiting:
+        extra += f"  ({waiting} not started yet)"
+    incidents = r.incidents()
+    if incidents and r.state != NOT_STARTED:
+        kinds = sorted({STATUS_WORDS[c.status] for c in incidents})
+        extra += "  (" + ", ".join(f"{k} in {sum(STATUS_WORDS[c.status] == k for c in incidents)} case(s)"
+                                   for k in kinds) + ")"
+    return paint(f"{mark} {text}", style), extra
+
+
+OUTPUT_LINES = 12
+
+
+def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> list[str]:
+    lines = [f"{indent}{paint('✗', 'red')} {paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
+    messages = case.messages if reveal or case.tier != "hidden" else [HIDDEN_NOTE]
+    for m in messages[:3]:
+        for line in m.rstrip().splitlines():
+            lines.append(f"{indent}    {line}")
+    if case.output_bytes and (reveal or case.tier != "hidden"):
+        shown = case.output.splitlines()[:OUTPUT_LINES]
+        lines.append(f"{indent}    your code printed ({case.output_bytes} bytes"
+                     + (", the first lines" if len(shown) < len(case.output.splitlines()) or
+                        len(case.output.encode()) < case.output_bytes else "") + "):")
+        lines += [f"{indent}      | {l[:200]}" for l in shown]
+    if case.lecture:
+        lines.append(f"{indent}    read      {step.lecture}, section \"{case.lecture}\"")
+    return lines
+
+
+def compile_errors(text: str, limit: int = 12) -> list[str]:
+    undefined = sorted({m.group(1) for m in re.finditer(r"undefined reference to [`'‘]([^'’]+)['’]", text)})
+    if undefined:
+        # The linker names the function, not the file: say which step function is missing.
+        out = ["The linker found no definition of:"] + [f"  {u}" for u in undefined[:limit]]
+        out.append("Each of these must be defined in the step's file with exactly this name and these "
+                   "parameter types (a typo, a missing raykit:: namespace or a changed signature?).")
+        return out
+    lines = [l for l in text.splitlines() if "error" in l or l.startswith("  ") and "^" in l]
+    errors = [l for l in text.splitlines() if "error:" in l]
+    return (errors or lines or text.splitlines()[-limit:])[:limit]
+
+
+def function_of(case) -> str:
+    """The step function a failed case called, from its message's first line (`name(...)`)."""
+    for m in case.messages:
+        hit = re.match(r"\s*(?:Your code \w+ (?:in|an exception in) )?([a-z_]+)\(", m)
+        if hit:
+            return hit.group(1)
+    return "other checks"
+
+
+def all_failures(r: StepResult, reveal: bool) -> list[str]:
+    """Every failing case of a step, grouped by the function it called (./kit check N --all)."""
+    groups: dict[str, list] = {}
+    for c in r.cases:
+        if c.status != PASS:
+            groups.setdefault(function_of(c), []).append(c)
+    out = []
+    for name, cases in groups.items():
+        out.append(paint(f"  {name}: {len(cases)} failing case(s)", "bold"))
+        for c in cases:
+            out += case_block(r.step, c, "    ", reveal=reveal)
+    return out
+
+
+def next_steps(results: list[StepResult], shown: Path) -> list[str]:
+    out: list[str] = []
+    todo = next((r for r in results if r.state != DONE), None)
+    if todo is None:
+        robust = [r for r in results if r.passed("robust") < len(r.tier("robust"))]
+        if robust:
+            r = robust[0]
+            out.append(paint("Every step you asked for is done.", "green") +
+                       f" Optional: the ★ robust cases of step {r.step.number}:")
+            c = r.first_problem("robust")
+            out += case_block(r.step, c)
+        else:
+            out.append(paint("Every step you asked for is done, robust cases included. Well done.", "green"))
+        return out
+    s = todo.step
+    out.append(paint(f"Next: step {s.number}, {s.title}", "bold"))
+    for f in s.files:
+        out.append(f"  edit      {rel(shown / s.folder / f)}")
+    out.append(f"  task      {rel(ROOT / 'steps' / s.folder / 'README.md')}")
+    out.append(f"  lecture   {s.lecture}")
+    out.append("")
+    if todo.state == NOT_STARTED:
+        out.append(f"  Read the task, then replace each not_implemented_yet(...) line in "
+                   f"{s.files[0]} with your code.")
+    elif todo.state == NO_COMPILE:
+        out.append("  The compiler stopped here:")
+        out += [f"    {l}" for l in compile_errors(todo.detail)]
+    elif todo.state == MISSING:
+        out.append(f"  {todo.detail}: put the file back (the kit's steps/ folder has the original stub).")
+    elif todo.state == WAITING:
+        out.append(f"  Step {s.number} uses your step {todo.detail}: finish that one first.")
+    elif todo.state == BROKEN:
+        out.append(f"  {todo.detail}")
+    else:
+        c = todo.first_problem("basic") or todo.first_problem("hidden")
+        if c is not None:
+            out += case_block(s, c, reveal=False)
+    out.append("")
+    out.append(f"  Then run: ./kit check {int(s.number)}")
+    return out
+
+
+def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = False, reveal: bool = False) -> None:
+    say(paint(f"raykit · grading {rel(shown)}/", "bold"))
+    say()
+    width = max(len(r.step.title) for r in results)
+    for r in results:
+        cell, extra = status_cell(r)
+        say(f"  {r.step.number}  {r.step.title.ljust(width)}  {cell}{extra}")
+    earned, maximum = sum(r.earned for r in results), sum(r.maximum for r in results)
+    say()
+    say(f"  score {earned} of {maximum}" + (f" ({100 * earned / maximum:.0f} %)" if maximum else ""))
+    seeds = sorted({r.seed for r in results if r.seed})
+    if seeds:
+        say(paint(f"  hidden cases drawn with seed {', '.join(seeds)}", "dim"))
+    isolation = next((r.isolation for r in results if r.isolation), "")
+    if isolation and isolation != NONE_OWN.description:
+        say(paint(f"  {isolation}", "yellow" if "NOT" in isolation else "dim"))
+    say()
+    if every_failure:
+        for r in results:
+            if any(c.status != PASS for c in r.cases):
+                say(paint(f"Step {r.step.number}, {r.step.title}: every failing case", "bold"))
+                for line in all_failures(r, reveal):
+                    say(line)
+                say()
+    for line in next_steps(results, shown):
+        say(line)
+    done = sum(r.state == DONE for r in results)
+    say()
+    say(paint(f"{done} of {len(results)} steps done.", "bold"))

@@ -1,0 +1,209 @@
+"""./kit test checks for ./kit bench: it runs in quick mode and its output parses.
+
+No check judges a time: the machine may be busy. The errors, though, are
+deterministic (fixed seeds, same code), so a few facts about them are checked,
+facts that only hold when the float128 yardstick and the ulp measure work.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import subprocess
+import tempfile
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from ..commands import bench as cmd_bench
+from ..common import BUILD, ROOT
+from .harness import Failed, HANDOUT, Skipped, expect, kit
+
+SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",
+                   "pbrt_e4", "pbrt_e6", "pbrt_e8", "ground_1e3", "ground_earth"}
+FORMULATIONS = {"textbook", "half-b", "unit-dir", "geometric", "stable", "lagrange"}
+
+
+def exact_everywhere(rows: dict, variant: str) -> list[str]:
+    """The families on which `variant` is not exact (p99 over 1 ulp or a ray misclassified)."""
+    bad = []
+    for fam in sorted(SPHERE_FAMILIES):
+        row = rows.get((fam, variant))
+        if row is None:
+            bad.append(f"{fam} (no row)")
+        elif int(row["misclassified"]) or _number(row, "ulps_p99") > 1.0:
+            bad.append(f"{fam} (p99 {row['ulps_p99']}, {row['misclassified']} misclassified)")
+    return bad
+
+
+def _rows(path: Path) -> dict[tuple[str, str], dict]:
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    expect(rows and set(cmd_bench.report.CSV_FIELDS) <= set(rows[0]), f"{path.name}: missing columns")
+    return {(r["family"], r["variant"]): r for r in rows}
+
+
+def _number(row: dict, key: str) -> float:
+    try:
+        return float(row[key])
+    except ValueError:
+        raise Failed(f"results.csv: {row['variant']} on {row['family']}: {key} = '{row[key]}' is not a number")
+
+
+def check_quick_run(ctx) -> str:
+    with tempfile.TemporaryDirectory() as tmp:
+        r = kit("bench", "--quick", "--out", tmp, timeout=900)
+        expect(r.returncode == 0, f"./kit bench --quick exited {r.returncode}:\n{(r.stdout + r.stderr)[-3000:]}")
+        out = Path(tmp)
+        for name in cmd_bench.OUTPUTS:
+            expect((out / name).is_file(), f"./kit bench --quick wrote no {name}")
+        expect(not list(out.glob("*.tmp")), "a temporary file was left behind")
+        rows = _rows(out / "results.csv")
+
+        # Every formulation, in float and double, on every sphere family, timed.
+        for fam in SPHERE_FAMILIES:
+            for f in FORMULATIONS:
+                for suffix in ("_f32", "_f64"):
+                    row = rows.get((fam, f + suffix))
+                    expect(row is not None, f"results.csv has no row for {f + suffix} on {fam}")
+                    ns = _number(row, "ns_median")
+                    expect(math.isfinite(ns) and ns > 0, f"{f + suffix} on {fam}: ns_median {ns}")
+                    expect(_number(row, "ulps_p99") >= 0, f"{f + suffix} on {fam}: negative error")
+        if not HANDOUT:  # a handout has no solutions/, so no reference to measure
+            expect(("typical", "kit") in rows, "the kit's reference was not measured")
+        expect(("box_camera", "brute_force") in rows, "the Cornell box was not measured")
+
+        # Facts about the errors (not the times) that a broken yardstick would miss.
+        far_text, far_stable = rows[("far_1e4", "textbook_f32")], rows[("far_1e4", "stable_f32")]
+        # (A handout reads the committed full run, where the stable form misclassifies a few rays in 10^4.)
+        expect(_number(far_text, "misclassified_share") > 0.1 and _number(far_stable, "misclassified_share") < 1e-3,
+               "1e4 radii away, the textbook form in float must misclassify many rays and the stable form almost none")
+        expect(_number(far_stable, "ulps_p99") < 10 < _number(far_text, "ulps_p99"),
+               "1e4 radii away, the stable form must stay within a few ulps and the textbook form must not")
+        rounded = _number(rows[("typical", "half-b_f32_in_f64")], "ulps_max")
+        expect(rounded <= 0.5 + 1e-3, f"a double result rounded to float must be within half an ulp, got {rounded}")
+        # At pbrt's scales h^2 - a c loses even in double; the Lagrange form does not.
+        expect(int(rows[("pbrt_e8", "half-b_f32_in_f64")]["misclassified"]) > 0,
+               "on pbrt's ranges (e = 8), half-b in double must misclassify rays")
+        bad = exact_everywhere(rows, "lagrange_f32_in_f64")
+        expect(not bad, f"the Lagrange form in double (the reference) is not exact on: {', '.join(bad)}")
+        bad = exact_everywhere(rows, "exact-float_f32")
+        expect(not bad, f"the float-only exact form is not exact on: {', '.join(bad)}")
+        expect("lanes" in next(iter(rows.values())), "results.csv has no lanes column")
+
+        # The vector rows, where Highway is there: the reference and the float-only form stay exact,
+        # and half-b in float lanes fails far away as it does one ray at a time.
+        vector = sorted({v for (_, v) in rows if v.startswith("lagrange_f32_in_f64_x")})
+        meta = json.loads((out / "results.json").read_text())["meta"]
+        if "not found" not in meta.get("highway", "not found"):
+            expect(vector, f"Highway is there ({meta['highway']}) but no vector row was measured")
+        for v in vector:
+            lanes, isa = v[len("lagrange_f32_in_f64_x"):].split("_", 1)
+            floats = f"_x{2 * int(lanes)}_{isa}"  # as many floats as doubles fit twice
+            for name in (v, "exact-float_f32" + floats):
+                bad = exact_everywhere(rows, name)
+                expect(not bad, f"{name} is not exact on: {', '.join(bad)}")
+            expect(int(rows[("far_1e4", "half-b_f32" + floats)]["misclassified"]) > 0,
+                   f"1e4 radii away, half-b in float lanes ({isa}) must misclassify rays")
+
+        data = json.loads((out / "results.json").read_text())
+        student = next(v for v in data["variants"] if v["id"] == "student")
+        if HANDOUT:
+            # A student's copy: steps/02 is whatever the student wrote; the bench must say what it is.
+            expect(isinstance(student.get("status"), str) and student["status"] != "",
+                   f"the student's step 02 has no readable status in the benchmark: '{student['status']}'")
+        else:
+            expect(student["status"] == "not_started",
+                   f"the shipped stub must show as not started in the benchmark, got '{student['status']}'")
+        if not HANDOUT:
+            expect("not started" in r.stdout, "the table does not say the student's step is not started")
+
+        svg = ET.parse(out / "plot.svg").getroot()
+        expect(svg.tag.endswith("svg"), "plot.svg is not an SVG")
+        texts = {t.text for t in svg.iter() if t.tag.endswith("text")}
+        missing = [f["label"] for f in data["families"] if not any((t or "").startswith(f["label"]) for t in texts)]
+        expect(not missing, f"plot.svg has no panel for: {', '.join(missing)}")
+
+        # Remaking the outputs from results.json measures nothing and changes nothing.
+        again = out / "again"
+        again.mkdir()
+        r2 = kit("bench", "--from", str(out / "results.json"), "--out", str(again), timeout=120)
+        expect(r2.returncode == 0, f"./kit bench --from exited {r2.returncode}: {r2.stderr[-500:]}")
+        expect((again / "results.csv").read_text() == (out / "results.csv").read_text(),
+               "./kit bench --from results.json does not remake the same results.csv")
+
+        # Comparing a run with itself: every error identical.
+        lines = cmd_bench.compare(rows_as_csv(out), rows_as_csv(again))
+        expect(f"errors identical in {len(rows)}" in lines[0], f"--compare with itself: {lines[0]}")
+    return (f"{len(rows)} rows; CSV, JSON, Markdown and SVG parse; student step 'not started'; reference and "
+            f"float-only form exact on {len(SPHERE_FAMILIES)} families ({len(vector)} vector widths)")
+
+
+def rows_as_csv(out: Path) -> dict:
+    return cmd_bench.read_csv(out / "results.csv")
+
+
+def check_bad_input(ctx) -> str:
+    # A handout builds only its own benchmark (bench/handout.cpp), with the same command line.
+    exe = BUILD / ("student" if HANDOUT else "reference") / "bench" / cmd_bench.TARGET
+    expect(exe.is_file(), f"{exe} was not built")
+    for args, words in [(["--rays=abc"], "whole number"), (["--rays=-5"], "whole number"),
+                        (["--min-time=0"], "seconds"), (["--min-time=nan"], "seconds"),
+                        (["--bogus"], "unknown option"), (["--out="], "file name"), (["--quick=3"], "no value")]:
+        r = subprocess.run([str(exe), *args], capture_output=True, text=True, timeout=30)
+        expect(r.returncode == 2, f"raykit_bench {' '.join(args)} exited {r.returncode}, expected 2")
+        expect(words in r.stderr, f"raykit_bench {' '.join(args)}: message lacks '{words}': {r.stderr[-200:]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        blocker = Path(tmp) / "file"
+        blocker.write_text("")
+        for args, words in [(["--out", str(blocker)], "not a folder"),
+                            (["--out", str(Path(tmp) / "no" / "such")], "does not exist"),
+                            (["--compare", str(Path(tmp) / "missing.csv")], "No such file"),
+                            (["--compare", str(blocker)], "not a results.csv"),
+                            (["--from", str(blocker)], "not JSON"),
+                            (["--from", str(Path(tmp) / "missing.json")], "No such file")]:
+            r = kit("bench", *args, timeout=60)
+            expect(r.returncode == 2, f"./kit bench {' '.join(args)} exited {r.returncode}, expected 2")
+            expect(words in r.stderr, f"./kit bench {' '.join(args)}: message lacks '{words}': {r.stderr[-300:]}")
+        r = subprocess.run([str(exe), "--smoke", f"--out={Path(tmp) / 'no' / 'such.json'}"], capture_output=True,
+                           text=True, timeout=120)
+        expect(r.returncode == 1 and "cannot write" in r.stderr, "an unwritable --out must fail with a message")
+    return "bad options and folders: message and exit 2, nothing written"
+
+
+def _needs_bench(check):
+    """A handout leaves bench/ out while a file of it computes a step's answer (cmd_handout.OPTIONAL_PARTS)."""
+    def run(ctx):
+        if not (ROOT / "bench" / "CMakeLists.txt").is_file():
+            raise Skipped("this copy of the kit has no bench/")
+        return check(ctx)
+    return run
+
+
+def check_handout_data(ctx) -> str:
+    """The exact roots a handout's bench judges the student with (bench/data/exact_roots.txt) are what the
+    instructor's bench computes today for the same rays."""
+    if HANDOUT:
+        raise Skipped("a handout has no instructor's bench to compare with")
+    exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
+    expect(exe.is_file(), f"{exe} was not built")
+    committed = ROOT / "bench" / "data" / "exact_roots.txt"
+    with tempfile.TemporaryDirectory() as tmp:
+        fresh = Path(tmp) / "exact_roots.txt"
+        r = subprocess.run([str(exe), "--rays=500", "--repetitions=1", "--min-time=0.0001",
+                            f"--write-exact={fresh}", f"--out={Path(tmp) / 'run.json'}"],
+                           capture_output=True, text=True, timeout=600)
+        expect(r.returncode == 0, f"raykit_bench --write-exact exited {r.returncode}: {r.stderr[-500:]}")
+        old, new = committed.read_text().splitlines(), fresh.read_text().splitlines()
+        differ = [i for i, (a, b) in enumerate(zip(old, new)) if a != b]
+        expect(len(old) == len(new) and not differ,
+               f"bench/data/exact_roots.txt is stale ({len(differ)} lines differ, first at line "
+               f"{differ[0] + 1 if differ else min(len(old), len(new)) + 1}); write it again with "
+               f"build/reference/bench/raykit_bench --rays=500 --write-exact=bench/data/exact_roots.txt")
+    return f"the handout's exact roots match the instructor's bench ({len(new)} lines)"
+
+
+def checks() -> list:
+    return [("bench runs and its output parses", _needs_bench(check_quick_run)),
+            ("bench command line errors", _needs_bench(check_bad_input)),
+            ("handout's bench data is current", _needs_bench(check_handout_data))]

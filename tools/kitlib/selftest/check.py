@@ -1,0 +1,185 @@
+"""Self-tests of ./kit check: the reference passes, the stubs are not started, case names and
+lecture pointers hold, manifests agree, the grader survives bad code, the command line refuses
+bad input with a message."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import tempfile
+from pathlib import Path
+
+from ..checking import check_steps, list_cases
+from ..common import ROOT, build_target, preset_build, submission_build, workflow
+from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
+
+
+def check_reference_builds(ctx: Context) -> str:
+    need_solutions()
+    r = workflow("reference")     # the preset's settings, without --preset (CMake 3.18)
+    tail = (r.stdout + r.stderr)[-4000:]
+    expect(r.returncode == 0, f"the reference build (preset reference) failed:\n{tail}")
+    m = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
+    expect(m is not None and int(m.group(2)) > 0, "ctest ran no test")
+    return f"warnings as errors, ctest {m.group(2)} tests"
+
+
+def check_solutions_pass(ctx: Context) -> str:
+    need_solutions()
+    ctx.reference = check_steps(preset_build("reference"), ctx.steps, ctx.steps)
+    bad = []
+    for r in ctx.reference:
+        for c in r.cases:
+            if c.status != "pass":
+                bad.append(f"step {r.step.number} [{c.tier}] {c.name}: {c.status} {' '.join(c.messages)[:300]}")
+        if r.state != "done":
+            bad.append(f"step {r.step.number}: {r.state} {r.detail[:500]}")
+    expect(not bad, "the reference solutions fail:\n  " + "\n  ".join(bad[:10]))
+    n = sum(len(r.cases) for r in ctx.reference)
+    return f"{n} cases in {len(ctx.reference)} steps, both tiers"
+
+
+def check_stubs_not_started(ctx: Context) -> str:
+    results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
+    if HANDOUT:
+        # A student's own copy: their steps may be started. The kit works if every step was graded.
+        broken = [f"step {r.step.number}: {r.detail[:300]}" for r in results if r.state == "broken"]
+        expect(not broken, "the grader could not run:\n  " + "\n  ".join(broken))
+        return "the student build grades every step (" + ", ".join(f"{r.step.number} {r.state}" for r in results) + ")"
+    bad = []
+    for r in results:
+        # A step that needs another is graded on top of the reference's answers to it.
+        if r.state != "not_started":
+            bad.append(f"step {r.step.number} is {r.state}")
+        bad += [f"step {r.step.number} case '{c.name}' is {c.status}" for c in r.cases if c.status != "not_started"]
+    expect(not bad, "a shipped stub is not graded 'not started':\n  " + "\n  ".join(bad[:10]))
+    n = sum(len(r.cases) for r in results)
+    return f"all {n} cases of the {len(results)} shipped stubs report not_implemented (a step that needs another on top of its reference)"
+
+
+def check_case_names_and_lectures(ctx: Context) -> str:
+    bad = []
+    total = 0
+    not_built: list[str] = []  # a student's step that does not compile (handout only)
+    for step in ctx.steps:
+        build = preset_build("student" if HANDOUT else "reference")
+        exe = build.exe(step)
+        if HANDOUT:
+            # A step waiting for an earlier one was not built by the grading above: build it now.
+            ok, out = build_target(build, step.target)
+            if not ok:
+                not_built.append(step.number)
+                continue
+        if not exe.exists():
+            raise Failed(f"step {step.number}: {exe} was not built")
+        lecture = ROOT / step.lecture
+        expect(lecture.is_file(), f"step {step.number}: lecture {step.lecture} is missing")
+        headings = {h.strip() for h in re.findall(r"^#+\s+(.*)$", lecture.read_text(), re.M)}
+        names = set()
+        for c in list_cases(exe):
+            total += 1
+            if re.search(r"[,;*?\[\]\\]", c.name):
+                bad.append(f"'{c.name}': , ; * ? [ ] \\ break doctest's and ctest's filters")
+            if c.name in names:
+                bad.append(f"'{c.name}' appears twice")
+            names.add(c.name)
+            if c.tier not in ("basic", "robust", "hidden"):
+                bad.append(f"'{c.name}': tier '{c.tier}' is not basic, robust or hidden")
+            if not c.lecture:
+                bad.append(f"'{c.name}' names no lecture section")
+            elif c.lecture not in headings:
+                bad.append(f"'{c.name}' points to section '{c.lecture}', not a heading of {step.lecture}")
+    expect(not bad, "\n  ".join(bad[:10]))
+    skipped = f"; step(s) {', '.join(not_built)} skipped, they do not compile" if not_built else ""
+    return f"{total} case names are filter-safe and each points to a lecture heading that exists{skipped}"
+
+
+def check_remote_lists(ctx: Context) -> str:
+    """Each step's remote.inc lists exactly the functions of its step.json, and CMake reads step.json's
+    lists (cmake/StepManifest.cmake, by regular expression) as Python's json module does."""
+    bad = []
+    for step in ctx.steps:
+        inc = ROOT / "tests" / step.folder / "remote.inc"
+        names = re.findall(r"^RAYKIT_REMOTE\([^,]+(?:<[^>]*>)?,\s*(\w+)", inc.read_text(), re.M) if inc.is_file() else []
+        if sorted(names) != sorted(step.functions):
+            bad.append(f"step {step.number}: remote.inc lists {sorted(names)}, step.json {sorted(step.functions)}")
+    cmake = ROOT / "cmake" / "StepManifest.cmake"
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "read.cmake"
+        lines = [f'include("{cmake}")']
+        for step in ctx.steps:
+            m = ROOT / "tests" / step.folder / "step.json"
+            lines += [f'raykit_manifest_list("{m}" files f)', f'raykit_manifest_list("{m}" needs n)',
+                      f'message(STATUS "{step.number}|${{f}}|${{n}}")']
+        script.write_text("\n".join(lines) + "\n")
+        r = subprocess.run(["cmake", "-P", str(script)], capture_output=True, text=True)
+        got = dict(line.strip("- ").split("|", 1)[0:1] + [line.split("|", 1)[1]]
+                   for line in (r.stdout + r.stderr).splitlines() if "|" in line)
+    for step in ctx.steps:
+        want = f"{';'.join(step.files)}|{';'.join(step.needs)}"
+        if got.get(step.number) != want:
+            bad.append(f"step {step.number}: CMake reads {got.get(step.number)!r}, json says {want!r}")
+    expect(not bad, "\n  ".join(bad))
+    return f"{len(ctx.steps)} steps: remote.inc and step.json agree, CMake reads the manifests as json does"
+
+
+def check_solution_copied_is_done(ctx: Context) -> str:
+    need_solutions()
+    r = kit("check", "--steps", "solutions")
+    expect(r.returncode == 0, f"./kit check --steps solutions exited {r.returncode}:\n{r.stdout[-2000:]}")
+    expect("done" in r.stdout, "the scoreboard does not say done")
+    return "./kit check --steps solutions: every step done, exit 0"
+
+
+FIXTURES = {
+    # folder: (state, a case status that must appear, some cases must still pass)
+    "wrong": ("partial", "fail", True),
+    "crash": ("partial", "crashed", True),
+    "hang": ("partial", "timed_out", True),
+    "throw": ("partial", "threw", True),
+    "flood": ("partial", "crashed", True),
+    "no_compile": ("no_compile", None, False),
+}
+
+
+def check_grader_fixtures(ctx: Context) -> str:
+    need_solutions()
+    steps = [s for s in ctx.steps if s.number == "01"]
+    seen = []
+    for name, (state, status, some_pass) in FIXTURES.items():
+        source = ROOT / "tests" / "fixtures" / name
+        [r] = check_steps(submission_build(source, "fixtures"), steps, ctx.steps)
+        expect(r.state == state, f"fixture {name}: graded {r.state}, expected {state}")
+        if status:
+            expect(any(c.status == status for c in r.cases), f"fixture {name}: no case is {status}")
+        if some_pass:
+            expect(r.passed("basic") > 0, f"fixture {name}: grading stopped, no other case passed")
+        seen.append(name)
+    r = kit("check", "1", "--steps", "tests/fixtures/wrong")
+    expect(r.returncode == 1, f"a wrong answer must exit 1, got {r.returncode}")
+    expect("window: a root exactly at tmin counts" in r.stdout and "section" in r.stdout,
+           "the scoreboard does not name the first failing case and its lecture section")
+    return "reported per case and graded on: " + ", ".join(seen)
+
+
+def check_command_line(ctx: Context) -> str:
+    for args, words in [(["check", "99"], "no step"), (["frobnicate"], "invalid choice"),
+                        (["check", "--steps", "/nonexistent/folder"], "no such folder"),
+                        (["check", "--bogus"], "unrecognized")]:
+        r = kit(*args, timeout=60)
+        expect(r.returncode == 2, f"./kit {' '.join(args)} exited {r.returncode}, expected 2")
+        expect(words in r.stderr, f"./kit {' '.join(args)}: message lacks '{words}': {r.stderr[-300:]}")
+    return "bad commands, options, steps and folders: message and exit 2"
+
+
+def checks() -> list:
+    return [
+        ("reference build", check_reference_builds),
+        ("solutions pass every case", check_solutions_pass),
+        ("student steps are graded" if HANDOUT else "shipped stubs are 'not started'", check_stubs_not_started),
+        ("case names and lecture pointers", check_case_names_and_lectures),
+        ("step functions and manifests", check_remote_lists),
+        ("a copied solution grades 'done'", check_solution_copied_is_done),
+        ("grader survives bad code", check_grader_fixtures),
+        ("command line errors", check_command_line),
+    ]

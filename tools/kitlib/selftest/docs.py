@@ -1,0 +1,233 @@
+"""./kit test checks for the documentation (./kit docs).
+
+- the math filter translates GitHub math as Doxygen needs it;
+- the site builds without one Doxygen warning (an undocumented declaration, a
+  parameter without words, a broken reference), has a page for every lecture
+  and task that exists, and loads nothing from the network;
+- no line of a reference solution reaches the student site (and the check can
+  see one: the instructor site has them);
+- in a real browser (headless Chromium, offline), the formulas are typeset, no
+  raw TeX is left in the text, and every image loads. Skipped with a message
+  when Chromium cannot be installed.
+"""
+
+from __future__ import annotations
+
+import html
+import importlib.util
+import re
+from pathlib import Path
+
+from ..commands import docs as cmd_docs
+from ..common import BUILD, ROOT, KitError
+from ..packages import ensure_packages
+from .harness import Failed, Skipped, expect
+
+SCREENSHOTS = BUILD / "docs" / "screenshots"
+
+
+def _math_filter():
+    spec = importlib.util.spec_from_file_location("math_filter", ROOT / "docs" / "math_filter.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def check_math_filter(ctx) -> str:
+    mf = _math_filter()
+    bad = mf.selftest()
+    expect(not bad, "docs/math_filter.py:\n  " + "\n  ".join(bad))
+    lectures = sorted((ROOT / "lectures").glob("*.md"))
+    for p in lectures:
+        text = p.read_text(encoding="utf-8")
+        out = mf.translate(text)
+        expect(out.count("\n") == text.count("\n"), f"{p.name}: the filter changed the number of lines")
+        expect(out.count("\\f[") == out.count("\\f]"), f"{p.name}: a $$ display formula is not closed")
+    return f"{len(mf.EXAMPLES)} examples, {len(lectures)} lectures keep their lines and close their formulas"
+
+
+# --- the site, as files -------------------------------------------------------------
+
+def _site(ctx, instructor: bool = False) -> "cmd_docs.Site":
+    key = "docs_instructor" if instructor else "docs_student"
+    if getattr(ctx, key, None) is None:
+        setattr(ctx, key, cmd_docs.build_site(instructor=instructor))
+    return getattr(ctx, key)
+
+
+REMOTE = re.compile(r'<(?:script|link|img|iframe|object)\b[^>]*\b(?:src|href|data)="(?:https?:)?//[^"]*"', re.I)
+LOCAL_REF = re.compile(r'<(?:img|script)\b[^>]*\bsrc="([^"#?:]+)"', re.I)
+
+
+def check_site_builds(ctx) -> str:
+    site = _site(ctx)
+    expect(not site.warnings, f"Doxygen warned {len(site.warnings)} time(s) (document the declaration, "
+           "its parameters and its return value in the header):\n  " + "\n  ".join(site.warnings[:15]))
+    c = site.content
+    wanted = {"index.html": "the front page", "namespaceraykit.html": "the API's namespace page"}
+    for sp in c.steps:
+        for path, what in ((sp.lecture, "lecture"), (sp.task, "task")):
+            if path:
+                wanted[cmd_docs.page_id(path) + ".html"] = f"the {what} of step {sp.step.number}"
+    for p in c.other_lectures + c.bench_readings:
+        wanted[cmd_docs.page_id(p) + ".html"] = p.relative_to(ROOT).as_posix()
+    for h in c.headers:
+        wanted[h.name.replace("_", "__").replace(".", "_8") + ".html"] = f"the API of {h.name}"
+    missing = [f"{what} ({name})" for name, what in wanted.items() if not (site.html / name).is_file()]
+    expect(not missing, "pages missing from the site: " + ", ".join(missing))
+    expect((site.html / "mathjax" / "es5" / "tex-svg.js").is_file(), "MathJax was not copied into the site")
+    problems = []
+    pages = sorted(site.html.glob("*.html"))
+    for page in pages:
+        text = page.read_text(encoding="utf-8", errors="replace")
+        problems += [f"{page.name} loads {m.group(0)[:120]}" for m in REMOTE.finditer(text)]
+        problems += [f"{page.name}: {m.group(1)} is not in the site" for m in LOCAL_REF.finditer(text)
+                     if not (site.html / html.unescape(m.group(1))).is_file()]
+    expect(not problems, "the site is not whole offline:\n  " + "\n  ".join(problems[:10]))
+    return f"{len(pages)} pages, no warning; {c.summary()}; nothing loaded from the network"
+
+
+# --- solutions stay out of the student site --------------------------------------------
+
+def _text_of(site_html: Path) -> str:
+    parts = []
+    for page in site_html.glob("*.html"):
+        t = re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8", errors="replace"))
+        parts.append(html.unescape(t))
+    return re.sub(r"\s+", " ", "\n".join(parts))
+
+
+def solution_fingerprints() -> list[str]:
+    """Lines of the solutions that appear nowhere in the stubs or headers: code only a solution has."""
+    shared = ""
+    for folder in (ROOT / "steps", ROOT / "include"):
+        shared += "\n".join(p.read_text(errors="replace") for p in folder.rglob("*.[ch]pp"))
+    shared = re.sub(r"\s+", " ", shared)
+    prints = []
+    for p in sorted((ROOT / "solutions").rglob("*.cpp")):
+        for line in p.read_text(errors="replace").splitlines():
+            line = re.sub(r"\s+", " ", line.strip())
+            if len(line) >= 24 and line not in shared and not line.startswith("#include"):
+                prints.append(line)
+    return prints
+
+
+def check_no_solutions(ctx) -> str:
+    if not (ROOT / "solutions").is_dir():
+        raise Skipped("needs solutions/ (this is a student handout)")
+    prints = solution_fingerprints()
+    expect(prints, "found no line that only the solutions have: the check would prove nothing")
+    student = _text_of(_site(ctx).html)
+    leaked = [p for p in prints if p in student]
+    if leaked:
+        raise Failed(f"{len(leaked)} line(s) of solutions/ are in the student site, e.g. {leaked[0]!r}")
+    expect(not (_site(ctx).html / "solutions.html").exists(), "the student site has the solutions page")
+    instructor = _site(ctx, instructor=True)
+    lacking = [p for p in prints if p not in _text_of(instructor.html)]
+    if lacking:
+        raise Failed(f"the instructor site lacks {len(lacking)} solution line(s), e.g. {lacking[0]!r}")
+    return (f"none of {len(prints)} solution-only lines in the student site; all of them in "
+            f"{cmd_docs.rel(instructor.index)}")
+
+
+# --- a real browser ---------------------------------------------------------------
+
+# Runs in the page: what a reader sees. Text inside code and inside typeset
+# formulas is not prose; anything TeX-like left elsewhere was not typeset.
+INSPECT = r"""
+(async () => {
+  if (window.MathJax && MathJax.startup && MathJax.startup.promise) await MathJax.startup.promise;
+  await Promise.all(Array.from(document.images, i => i.complete ? null :
+      new Promise(r => { i.onload = i.onerror = r; })));
+  await new Promise(r => setTimeout(r, 300));   // the side bar fills itself in after load
+  const skip = 'script, style, pre, code, .fragment, mjx-container, #nav-tree, #MSearchBox, #MSearchResultsWindow';
+  const walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+  let text = '';
+  for (let n = walker.nextNode(); n; n = walker.nextNode())
+    if (!n.parentElement.closest(skip)) text += n.nodeValue + ' ';
+  const tex = /\\f[$\[\]]|\\[()\[\]]|\$\$|\\(?:frac|mathbf|sqrt|cdot|le|ge|pm|times|min|max|begin|quad|Delta)\b|\$(?=[^\s$])[^$\n]*[^\s$\\]\$(?!\d)/g;
+  return {
+    math: document.querySelectorAll('mjx-container').length,
+    errors: Array.from(document.querySelectorAll('mjx-merror, [data-mjx-error]'),
+                       e => e.getAttribute('data-mjx-error') || e.textContent).slice(0, 5),
+    raw: (text.match(tex) || []).slice(0, 5),
+    images: document.images.length,
+    broken: Array.from(document.images).filter(i => !(i.complete && i.naturalWidth > 0))
+                 .map(i => i.getAttribute('src')),
+    title: document.title,
+  };
+})()
+"""
+
+
+def pages_to_open(site) -> list[tuple[str, str]]:
+    """(file, why): the front page, every lecture and task, the API's namespace page, the
+    benchmark, the rendered images."""
+    c = site.content
+    pages = [("index.html", "front page")]
+    for sp in c.steps:
+        pages += [(cmd_docs.page_id(sp.lecture) + ".html", f"lecture {sp.step.number}")] if sp.lecture else []
+        pages += [(cmd_docs.page_id(sp.task) + ".html", f"task {sp.step.number}")] if sp.task else []
+    pages += [(cmd_docs.page_id(p) + ".html", p.name) for p in c.other_lectures + c.bench_readings]
+    pages.append(("namespaceraykit.html", "API"))
+    if c.images:
+        pages.append(("rendered_images.html", "rendered images"))
+    return pages
+
+
+def check_browser(ctx) -> str:
+    from .. import browser
+    try:
+        ensure_packages("browser")
+    except KitError as e:
+        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
+    chromium = browser.find_chromium()
+    if chromium is None:
+        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
+    site = _site(ctx)
+    try:
+        return _check_pages(browser, chromium, site)
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
+
+
+def _check_pages(browser, chromium: str, site) -> str:
+    problems, formulas, images, shots = [], 0, 0, []
+    with browser.Browser(chromium) as b:
+        for name, why in pages_to_open(site):
+            page = site.html / name
+            source = page.read_text(encoding="utf-8", errors="replace")
+            has_math = bool(re.search(r"\\\(|\\\[", source))
+            b.open(page.as_uri())
+            r = b.evaluate(INSPECT, timeout=30)
+            offline = [u for u in b.requests if not u.startswith(("file:", "data:", "about:"))]
+            where = f"{why} ({name})"
+            if has_math and r["math"] == 0:
+                problems.append(f"{where}: has formulas but MathJax typeset none")
+            if r["raw"]:
+                problems.append(f"{where}: raw TeX left in the text: {r['raw']}")
+            if r["errors"]:
+                problems.append(f"{where}: MathJax could not read {r['errors']}")
+            if r["broken"]:
+                problems.append(f"{where}: images that do not load: {r['broken']}")
+            if offline:
+                problems.append(f"{where}: asks the network for {offline[:3]}")
+            formulas += r["math"]
+            images += r["images"] - len(r["broken"])
+            shot = SCREENSHOTS / f"{Path(name).stem}.png"
+            b.screenshot(shot)
+            shots.append(shot)
+    expect(not problems, "\n  ".join(problems))
+    lectures = sum(1 for sp in site.content.steps if sp.lecture) + len(site.content.other_lectures)
+    expect(formulas > 0, "no formula typeset on any page: the header docs have some")
+    return (f"{len(shots)} pages offline ({lectures} lectures): {formulas} formulas typeset, "
+            f"{images} images loaded; screenshots in {cmd_docs.rel(SCREENSHOTS)}")
+
+
+def checks() -> list:
+    return [
+        ("docs: math filter", check_math_filter),
+        ("docs: site builds without warnings", check_site_builds),
+        ("docs: no solution in the student site", check_no_solutions),
+        ("docs: formulas and images in a browser", check_browser),
+    ]

@@ -1,0 +1,85 @@
+"""The self-test's harness: what a self-test may raise, the context they share, and the run.
+
+A self-test is a function `fn(ctx) -> str` that returns a one-line summary when the kit does what
+it should, raises `Failed` with the reason when it does not, and raises `Skipped` with the reason
+when it does not apply here (a handout has no solutions/, --fast leaves out a slow build). Each
+module of this package lists its self-tests in `checks() -> [(name, fn)]`; `MODULES` orders the
+modules. A skip is counted as a skip, never as a pass.
+"""
+
+from __future__ import annotations
+
+import importlib
+import subprocess
+import time
+import traceback
+from dataclasses import dataclass, field
+
+from ..checking import StepResult
+from ..common import ROOT, KitError, load_steps, paint, say
+
+# The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
+MODULES = ["check", "bench", "docs", "fuzz", "handout", "hint", "integrity", "latency", "lectures",
+           "mutant", "render", "robust", "grade", "workflow", "sanitizers"]
+
+HANDOUT = not (ROOT / "solutions").is_dir()
+
+
+@dataclass
+class Context:
+    fast: bool
+    steps: list = field(default_factory=load_steps)
+    reference: list[StepResult] | None = None
+
+
+class Failed(Exception):
+    """The kit does not do what the self-test expects; the message says what happened."""
+
+
+class Skipped(Exception):
+    """The self-test does not apply here; the message says why."""
+
+
+def need_solutions() -> None:
+    if HANDOUT:
+        raise Skipped("needs solutions/ (this is a student handout)")
+
+
+def expect(condition: bool, message: str) -> None:
+    if not condition:
+        raise Failed(message)
+
+
+def kit(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    return subprocess.run([str(ROOT / "kit"), *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def selftests() -> list:
+    found = []
+    for name in MODULES:
+        found += importlib.import_module(f"{__package__}.{name}").checks()
+    return found
+
+
+def run_all(ctx: Context) -> int:
+    """Runs every self-test, one line each; the exit status is 1 when any failed."""
+    counts = {"passed": 0, "failed": 0, "skipped": 0}
+    for name, fn in selftests():
+        start = time.monotonic()
+        try:
+            detail = fn(ctx)
+            counts["passed"] += 1
+            say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
+        except Skipped as e:
+            counts["skipped"] += 1
+            say(f"{paint('-', 'dim')} {name}: skipped, {e}")
+        except (Failed, KitError) as e:
+            counts["failed"] += 1
+            say(f"{paint('✗', 'red')} {name}: {e}")
+        except Exception:  # a bug in the self-test itself: still report and go on
+            counts["failed"] += 1
+            say(f"{paint('✗', 'red')} {name}: the self-test itself failed\n{traceback.format_exc()}")
+    say()
+    say(f"selftest: {counts['passed']} passed, {counts['failed']} failed, {counts['skipped']} skipped")
+    return 1 if counts["failed"] else 0

@@ -1,0 +1,381 @@
+"""Self-test of grading's integrity: hostile submissions grade like what they answer.
+
+Each check grades submissions from tests/fixtures/hostile/ (or the stubs, a mutant,
+the solutions) the way an instructor does, `./kit check N --steps DIR --json FILE`
+in a child process, under each sandbox the machine allows (bubblewrap; a dedicated
+user id when root), and asserts on the JSON and the exit status:
+
+- forge_verdicts: rewriting every verdict file it can reach changes no verdict;
+- lingering_writer: a detached process that rewrites results.json and drops files
+  into the kit's tree and the homes is ended, and changes nothing;
+- table_of_visible_inputs: a lookup table of the visible inputs scores below the
+  reference once the hidden cases are there;
+- one scale: stubs, a one-slip submission and the solutions have one maximum, and
+  the slip in step 04 costs step 05 nothing;
+- read_answers: the solutions, build/, tests/hidden and the git objects cannot be
+  read from inside the sandbox.
+
+Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
+nothing" is measurable: the same status for every case and the same score. Each
+prints what it managed to do; that output, kept in the JSON, shows it really ran.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+from ..common import BUILD, ROOT, load_steps, stage_on_reference
+from .harness import Failed, Skipped, expect, kit, need_solutions
+
+HOSTILE = ROOT / "tests" / "fixtures" / "hostile"
+MARKER = "raykit-hostile"           # in the name of every file the hostile fixtures drop
+LINGERER = "rk-lingerer"            # the process name of lingering_writer's detached writer
+LINGER_WAIT = 3.0                   # seconds to wait after grading before looking again
+
+# (folder, steps, isolation) -> (exit status, JSON bytes, seconds): each submission is
+# graded once per run of the self-test, whichever check needs it first.
+_graded: dict[tuple[str, tuple[str, ...], str], tuple[int, bytes, float]] = {}
+
+
+def isolations() -> tuple[list[str], list[str]]:
+    """The sandboxes to grade under here, and why any other was skipped."""
+    from ..sandbox import bwrap_works
+
+    modes, skipped = [], []
+    if bwrap_works():
+        modes.append("bwrap")
+    else:
+        skipped.append("bwrap skipped: bubblewrap cannot run here (sandbox.bwrap_works() is false)")
+    if os.geteuid() == 0:
+        modes.append("user")
+    else:
+        skipped.append("user skipped: the user isolation needs root")
+    return modes, skipped
+
+
+def grade_json(folder: Path, numbers: list[str], isolation: str, json_path: Path | None = None,
+               cache: bool = True) -> tuple[int, dict, bytes, float]:
+    """`./kit check NUMBERS --steps FOLDER --json FILE --isolation ISOLATION`: exit status, JSON, its bytes, seconds."""
+
+    key = (str(folder), tuple(numbers), isolation)
+    if json_path is None and cache and key in _graded:
+        rc, raw, took = _graded[key]
+        return rc, json.loads(raw), raw, took
+    with tempfile.TemporaryDirectory(prefix="raykit-integrity-") as tmp:
+        target = json_path or Path(tmp) / "results.json"
+        start = time.monotonic()
+        r = kit("check", *[str(int(n)) for n in numbers], "--steps", str(folder), "--json", str(target),
+                "--isolation", isolation, "--quiet", timeout=1800)
+        took = time.monotonic() - start
+        if r.returncode not in (0, 1) or not target.is_file():
+            raise Failed(f"./kit check --steps {folder.name} --isolation {isolation} exited {r.returncode}: "
+                         f"{(r.stderr or r.stdout)[-800:]}")
+        raw = target.read_bytes()
+    try:
+        data = json.loads(raw)
+        ok = isinstance(data, dict) and {"score", "tests", "extra_data"} <= set(data) and "steps" in data["extra_data"]
+    except (json.JSONDecodeError, TypeError):
+        ok = False
+    if not ok:
+        raise Failed(f"{folder.name} ({isolation}): the results file is not what ./kit wrote: {raw[:200]!r}")
+    if cache:
+        _graded[key] = (r.returncode, raw, took)
+    return r.returncode, data, raw, took
+
+
+def prewarm(folders: list[Path], numbers: list[str]) -> dict[str, float]:
+    """Grades each folder under every isolation in turn, so the shared build/submission
+    is rebuilt once per folder rather than once per folder and isolation; the seconds
+    spent per isolation (builds included)."""
+    modes, _ = isolations()
+    spent = {m: 0.0 for m in modes}
+    for folder in folders:
+        for mode in modes:
+            start = time.monotonic()
+            grade_json(folder, numbers, mode)
+            spent[mode] += time.monotonic() - start
+    return spent
+
+
+def step_results(data: dict) -> dict[str, dict]:
+    return {s["step"]: s for s in data["extra_data"]["steps"]}
+
+
+def statuses(data: dict) -> list[tuple[str, str, str]]:
+    return [(s["step"], c["name"], c["status"]) for s in data["extra_data"]["steps"] for c in s["cases"]]
+
+
+def printed(data: dict) -> str:
+    return "\n".join(c["output"] for s in data["extra_data"]["steps"] for c in s["cases"])
+
+
+def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: dict, base_rc: int) -> None:
+    """The hostile fixture `name` must grade exactly like always_miss: same statuses, score, exit."""
+
+    expect(rc == base_rc == 1, f"{name} ({isolation}): exit {rc}, the plain wrong answer {base_rc}; both must be 1")
+    expect(got["score"] == base["score"],
+           f"{name} ({isolation}): scored {got['score']}, the same answers without the attack {base['score']}")
+    changed = [(a[1], a[2], b[2]) for a, b in zip(statuses(base), statuses(got)) if a != b]
+    diff = [f"{n}: {x} -> {y}" for n, x, y in changed]
+    # Hidden cases are drawn from a seed made from the submission's files, so the two meet
+    # different inputs; a never-hit answer fails or passes a family whatever the draw, so
+    # their verdicts must still agree. Say so when only they differ.
+    hidden = {c["name"] for s in base["extra_data"]["steps"] for c in s["cases"] if c["tier"] == "hidden"}
+    only_hidden = bool(changed) and all(n in hidden for n, _, _ in changed)
+    seeds = (sorted({s["seed"] for s in base["extra_data"]["steps"]}), sorted({s["seed"] for s in got["extra_data"]["steps"]}))
+    expect(statuses(got) == statuses(base) and not diff,
+           f"{name} ({isolation}): case verdicts differ from the plain wrong answer: " + "; ".join(diff[:5])
+           + (f" (only hidden cases differ, seeds {seeds[0]} and {seeds[1]}: does a never-hit answer's verdict "
+              "on that family depend on the draw?)" if only_hidden else ""))
+    expect(all(s["state"] != "done" for s in got["extra_data"]["steps"]), f"{name} ({isolation}): graded done")
+    expect(all(t["status"] == "failed" for t in got["tests"] if t["score"] == 0 and t["max_score"] > 0),
+           f"{name} ({isolation}): a test with no points is marked passed")
+
+
+def processes_named(word: str) -> list[str]:
+    """Live processes whose name or command line holds `word`."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit() or int(entry.name) == os.getpid():
+            continue
+        try:
+            comm = (entry / "comm").read_text().strip()
+            cmdline = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            state = next((l for l in (entry / "status").read_text().splitlines() if l.startswith("State:")), "")
+        except OSError:
+            continue
+        if (word in comm or word in cmdline) and "zombie" not in state:
+            found.append(f"{entry.name} {comm}")
+    return found
+
+
+def files_named(folder: Path, word: str, depth: int) -> list[Path]:
+    found = []
+    if depth < 0 or not folder.is_dir():
+        return found
+    try:
+        entries = list(folder.iterdir())
+    except OSError:
+        return found
+    for p in entries:
+        if word in p.name:
+            found.append(p)
+        if p.is_dir() and not p.is_symlink():
+            found += files_named(p, word, depth - 1)
+    return found
+
+
+def kit_tree() -> set[str]:
+    """The kit's files outside build/ (the kit writes build/ itself while grading)."""
+    out = set()
+    for dirpath, dirnames, filenames in os.walk(ROOT):
+        rel = os.path.relpath(dirpath, ROOT)
+        if rel == ".":
+            dirnames[:] = [d for d in dirnames if d != "build"]
+        out.update(os.path.join(rel, f) for f in filenames)
+    return out
+
+
+def run_modes(fn, spent: dict[str, float] | None = None) -> str:
+    """Runs fn(isolation) -> summary under every available isolation; the summaries, with the
+    seconds each isolation took (`spent`: already spent grading for it, see prewarm)."""
+
+    need_solutions()
+    modes, skipped = isolations()
+    if not modes:
+        raise Skipped("; ".join(skipped))
+    parts = []
+    for mode in modes:
+        start = time.monotonic()
+        summary = fn(mode)
+        took = time.monotonic() - start + (spent or {}).get(mode, 0.0)
+        parts.append(f"{mode}: {summary} [{took:.0f} s]")
+    return "; ".join(parts + skipped)
+
+
+# --- the checks ------------------------------------------------------------------------
+
+def check_forge_verdicts(ctx) -> str:
+    def one(mode: str) -> str:
+        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        rc, got, _, _ = grade_json(HOSTILE / "forge_verdicts", ["01"], mode)
+        out = printed(got)
+        expect("forge_verdicts:" in out,
+               f"forge_verdicts ({mode}): its output is not in the JSON; did the attack run at all?")
+        wrote = sorted({l for l in out.splitlines() if l.startswith("forge_verdicts:") and " 0 rewritten" not in l})
+        expect(not wrote, f"forge_verdicts ({mode}): the sandboxed code rewrote files: {wrote[:3]}")
+        same_as_wrong_answer("forge_verdicts", mode, got, rc, base, base_rc)
+        return f"{got['score']} of {got['extra_data']['max_score']}, as without forging"
+
+    need_solutions()
+    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "forge_verdicts"], ["01"])
+    return run_modes(one, spent)
+
+
+def check_lingering_writer(ctx) -> str:
+    home = Path(os.environ.get("HOME") or "/root")
+
+    def one(mode: str) -> str:
+        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        before = kit_tree()
+        # The Gradescope flow: results in /autograder/results, made by `mkdir -p` (0755) as root.
+        tmp = tempfile.mkdtemp(prefix="raykit-integrity-gs-")
+        try:
+            os.chmod(tmp, 0o755)
+            results = Path(tmp) / "autograder" / "results"
+            results.mkdir(parents=True)
+            target = results / "results.json"
+            rc, got, raw, _ = grade_json(HOSTILE / "lingering_writer", ["01"], mode, json_path=target)
+            expect("lingering_writer: detached a writer" in printed(got),
+                   f"lingering_writer ({mode}): its output is not in the JSON; did it run at all?")
+            time.sleep(LINGER_WAIT)
+            alive = processes_named(LINGERER)
+            after = target.read_bytes() if target.is_file() else b""
+            extra = sorted(p.name for p in results.iterdir() if p.name != "results.json")
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+        dropped = files_named(ROOT, MARKER, 3) + files_named(home, MARKER, 2) + files_named(Path("/home"), MARKER, 2)
+        new = sorted(kit_tree() - before)
+        expect(not alive, f"lingering_writer ({mode}): still running {LINGER_WAIT:g} s after grading: {alive[:5]}")
+        expect(after == raw, f"lingering_writer ({mode}): results.json changed after ./kit wrote it: {after[:200]!r}")
+        expect(not extra, f"lingering_writer ({mode}): new files beside results.json: {extra[:5]}")
+        expect(not dropped, f"lingering_writer ({mode}): files dropped into the kit or a home: "
+                            + ", ".join(str(p) for p in dropped[:5]))
+        expect(not new, f"lingering_writer ({mode}): new files in the kit's tree: {new[:5]}")
+        same_as_wrong_answer("lingering_writer", mode, got, rc, base, base_rc)
+        return "results.json byte-identical, no process left, nothing dropped"
+
+    summary = run_modes(one)
+    return summary + "; ./kit grade: " + lingering_under_batch_grading(home)
+
+
+def lingering_under_batch_grading(home: Path) -> str:
+    """`./kit grade` (its own choice of isolation): the CSV and the JSON it keeps stay as written."""
+
+    modes, _ = isolations()
+    _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], modes[0])
+    tmp = Path(tempfile.mkdtemp(prefix="raykit-integrity-batch-"))
+    try:
+        os.chmod(tmp, 0o755)
+        shutil.copytree(HOSTILE / "lingering_writer", tmp / "submissions" / "mallory")
+        csv_path, jsons = tmp / "grades.csv", tmp / "json"
+        start = time.monotonic()
+        r = kit("grade", str(tmp / "submissions"), "--out", str(csv_path), "--json-dir", str(jsons), timeout=1800)
+        took = time.monotonic() - start
+        expect(r.returncode == 0 and csv_path.is_file(), f"./kit grade exited {r.returncode}: {r.stderr[-500:]}")
+        written = {p: p.read_bytes() for p in [csv_path, *sorted(jsons.glob("*"))]}
+        time.sleep(LINGER_WAIT)
+        alive = processes_named(LINGERER)
+        changed = [p.name for p, b in written.items() if not p.is_file() or p.read_bytes() != b]
+        extra = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if MARKER in p.name)
+        row = csv_path.read_text().splitlines()
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    dropped = files_named(ROOT, MARKER, 3) + files_named(home, MARKER, 2)
+    expect(not alive, f"./kit grade: the lingering writer is still running after grading: {alive[:5]}")
+    expect(not changed, f"./kit grade: changed after it was written: {changed}")
+    expect(not extra and not dropped, f"./kit grade: files dropped: {(extra + [str(p) for p in dropped])[:5]}")
+    expect(len(row) == 2 and row[1].split(",")[1] == str(base["score"]),
+           f"./kit grade: the CSV gives {row[1:]} , the plain wrong answer scores {base['score']}")
+    return f"grades.csv and results.json unchanged, score {base['score']} as without the attack [{took:.0f} s]"
+
+
+def check_table_of_visible_inputs(ctx) -> str:
+    def one(mode: str) -> str:
+        rc, table, _, _ = grade_json(HOSTILE / "table_of_visible_inputs", ["01"], mode)
+        [step] = table["extra_data"]["steps"]
+        expect(step["basic"]["passed"] == step["basic"]["total"],
+               f"table ({mode}): passes {step['basic']['passed']} of {step['basic']['total']} visible cases; "
+               "the table no longer matches tests/01_unit_sphere, so it proves nothing: update it")
+        if not any(c["tier"] == "hidden" for c in step["cases"]):
+            raise Skipped("no hidden cases yet (the table passes every visible case: "
+                          f"{step['basic']['passed']} of {step['basic']['total']})")
+        _, reference, _, _ = grade_json(ROOT / "solutions", ["01"], mode)
+        expect(reference["score"] == reference["extra_data"]["max_score"], f"the solutions score {reference['score']}")
+        expect(table["score"] < reference["score"] and rc == 1,
+               f"table ({mode}): scores {table['score']}, the reference {reference['score']} (exit {rc})")
+        hidden = step["hidden"]
+        return f"{table['score']} < {reference['score']} (hidden {hidden['passed']} of {hidden['total']})"
+
+    return run_modes(one)
+
+
+def one_slip_folder() -> Path:
+    """Steps 01-05 from the solutions, with step 04's edges excluded (`<` for `<=`)."""
+    steps = load_steps()
+    [rect] = [s for s in steps if s.number == "04"]
+    from ..commands.mutant import write_answer
+    slip = write_answer(rect, ROOT / "tests" / "mutants" / rect.folder / "edge_excluded.patch",
+                        BUILD / "integrity-one-slip-04")
+    target = stage_on_reference(BUILD / "integrity-one-slip", rect, steps, slip)
+    for s in steps:
+        if not (target / s.folder).exists():
+            shutil.copytree(ROOT / "solutions" / s.folder, target / s.folder)
+    return target
+
+
+def check_one_scale(ctx) -> str:
+    numbers = [s.number for s in load_steps()]
+
+    def one(mode: str) -> str:
+        graded = {}
+        for name, folder in (("stubs", ROOT / "steps"), ("one slip", one_slip_folder()),
+                             ("solutions", ROOT / "solutions")):
+            _, data, _, _ = grade_json(folder, numbers, mode)
+            total = sum(t["max_score"] for t in data["tests"])
+            expect(data["extra_data"]["max_score"] == total,
+                   f"{name} ({mode}): extra_data.max_score {data['extra_data']['max_score']}, tests add up to {total}")
+            graded[name] = data
+        maxima = {n: d["extra_data"]["max_score"] for n, d in graded.items()}
+        expect(len(set(maxima.values())) == 1, f"({mode}) not one scale: maxima {maxima}")
+        per_step = {n: {k: v["maximum"] for k, v in step_results(d).items()} for n, d in graded.items()}
+        expect(per_step["stubs"] == per_step["one slip"] == per_step["solutions"],
+               f"({mode}) step maxima differ: {per_step}")
+        stubs, slip, full = (step_results(graded[n]) for n in ("stubs", "one slip", "solutions"))
+        expect(graded["stubs"]["score"] == 0, f"({mode}) the stubs score {graded['stubs']['score']}")
+        expect(graded["solutions"]["score"] == maxima["solutions"], f"({mode}) the solutions lose points")
+        expect(slip["04"]["state"] == "partial" and slip["04"]["earned"] < slip["04"]["maximum"],
+               f"({mode}) the slip in step 04 is not caught: {slip['04']['state']}")
+        expect(slip["05"]["state"] == "done" and slip["05"]["earned"] == slip["05"]["maximum"],
+               f"({mode}) a correct step 05 after a slip in 04: {slip['05']['state']}, "
+               f"{slip['05']['earned']} of {slip['05']['maximum']}")
+        others = [n for n in numbers if n != "04"]
+        expect(all(slip[n]["earned"] == full[n]["earned"] for n in others),
+               f"({mode}) the slip in step 04 cost another step points")
+        return (f"max {maxima['solutions']} for all; stubs 0, one slip {graded['one slip']['score']}, "
+                f"solutions {graded['solutions']['score']}; step 05 {slip['05']['earned']} of {slip['05']['maximum']}")
+
+    need_solutions()
+    spent = prewarm([ROOT / "steps", one_slip_folder(), ROOT / "solutions"], numbers)
+    return run_modes(one, spent)
+
+
+def check_read_answers(ctx) -> str:
+    def one(mode: str) -> str:
+        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        rc, got, _, _ = grade_json(HOSTILE / "read_answers", ["01"], mode)
+        out = printed(got)
+        expect("answer paths readable" in out,
+               f"read_answers ({mode}): its output is not in the JSON; did it run at all?")
+        leaks = sorted({l for l in out.splitlines() if "could read" in l})
+        expect(not leaks, f"read_answers ({mode}): the sandboxed code read the answers: " + "; ".join(leaks[:6]))
+        same_as_wrong_answer("read_answers", mode, got, rc, base, base_rc)
+        return "nothing readable; graded like a wrong answer"
+
+    need_solutions()
+    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "read_answers"], ["01"])
+    return run_modes(one, spent)
+
+
+def checks():
+    # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
+    return [("integrity: one scale", check_one_scale),
+            ("integrity: forged verdicts", check_forge_verdicts),
+            ("integrity: lingering writer", check_lingering_writer),
+            ("integrity: read the answers", check_read_answers),
+            ("integrity: table of the visible inputs", check_table_of_visible_inputs)]

@@ -1,0 +1,83 @@
+"""Self-test: every mutant (the reference answer with one realistic slip) is caught, by its named case.
+
+A mutant is a patch, tests/mutants/NN_topic/NAME.patch (format: cmd_mutant.py). Each one is applied
+to a fresh copy of the reference answer and goes through the path a student's work takes:
+`./kit check N --steps DIR`, where DIR holds the mutated files of its step and the reference files
+of the steps it needs. It is caught when the basic tier fails; it is caught by its named case when
+one of the cases its header names is among the failures. A patch that no longer applies, or that
+names a case the suite does not have, fails by name.
+"""
+
+from __future__ import annotations
+
+import shutil
+
+from ..commands.mutant import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
+from ..common import BUILD, load_steps
+from .harness import Failed, need_solutions
+
+MINIMUM_PER_STEP = 8
+
+
+def stray_files() -> list[str]:
+    """Anything under tests/mutants/ but the patches and the README: a full copy of a solution
+    left behind would go stale as the reference changes."""
+    return sorted(str(p.relative_to(MUTANTS)) for p in MUTANTS.rglob("*")
+                  if p.is_file() and p.suffix != ".patch" and p != MUTANTS / "README.md")
+
+
+def judge(step, path, work) -> tuple[bool, bool, list[str]]:
+    """Grades one patch: (caught, caught by a named case, the problems to report by name)."""
+    label = f"{step.folder}/{path.name}"
+    try:
+        mutant = read_patch(path, step)
+        files = apply_patch(mutant)
+    except PatchError as e:
+        return False, False, [f"{label}: {e}"]
+    problems = [] if mutant.cases else [f"{label}: its header names no case that must catch it"]
+    code, result = grade_files(step, files, work)
+    failing = failing_cases(result)
+    known = {c["name"] for c in result["cases"]} if result else set()
+    unknown = [c for c in mutant.cases if known and c not in known]
+    if unknown:
+        problems.append(f"{label}: names cases step {step.number} does not have: " + ", ".join(unknown))
+    # Caught: graded as a wrong answer (exit status 1, a basic case fails), not as a build
+    # problem or a stub, which would say nothing about the suite.
+    if not (code == 1 and result and result["state"] == "partial" and failing):
+        state = result["state"] if result else f"exit status {code}"
+        return False, False, problems + [f"{label}: not caught ({state})"]
+    named = any(c in failing for c in mutant.cases)
+    if not named and mutant.cases and not unknown:
+        problems.append(f"{label}: caught, but not by its named case(s); it fails: " + ", ".join(failing[:3]))
+    return True, named, problems
+
+
+def check_mutants(ctx) -> str:
+    need_solutions()
+    stray = stray_files()
+    if stray:
+        raise Failed("tests/mutants/ holds files that are not patches: " + ", ".join(stray))
+
+    problems, lines = [], []
+    work = BUILD / "mutant-check"
+    for step in load_steps():
+        found = patches(step)
+        if len(found) < MINIMUM_PER_STEP:
+            problems.append(f"step {step.number} has {len(found)} mutants in tests/mutants/{step.folder}/, "
+                            f"at least {MINIMUM_PER_STEP} are needed")
+        caught = by_named = 0
+        for path in found:
+            is_caught, is_named, found_problems = judge(step, path, work)
+            caught += is_caught
+            by_named += is_named
+            problems += found_problems
+        lines.append(f"step {step.number}: {len(found)} mutants, {caught} caught, {by_named} by their named case")
+    shutil.rmtree(work, ignore_errors=True)
+    table = "\n    " + "\n    ".join(lines)
+    if problems:
+        raise Failed("mutation score" + table + "\n  " + "\n  ".join(problems))
+    return "mutation score (every mutant caught by its named case)" + table
+
+
+def checks():
+    return [("mutants are caught", check_mutants)]

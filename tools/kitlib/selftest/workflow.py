@@ -1,0 +1,141 @@
+"""Self-test of the course workflow: batch grading, Gradescope JSON, watch mode."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import zipfile
+import signal
+import subprocess
+import time
+
+from ..commands.mutant import MUTANTS, write_answer
+from ..common import BUILD, ROOT, load_steps
+from .harness import Failed, expect, kit, need_solutions
+
+# Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
+# Specifications"): anything else is a mistake on our side.
+TOP_FIELDS = {"score": (int, float), "execution_time": (int, float), "output": str, "output_format": str,
+              "test_output_format": str, "test_name_format": str, "visibility": str,
+              "stdout_visibility": str, "extra_data": dict, "tests": list, "leaderboard": list}
+TEST_FIELDS = {"score": (int, float), "max_score": (int, float), "status": str, "name": str,
+               "name_format": str, "number": str, "output": str, "output_format": str, "tags": list,
+               "visibility": str, "extra_data": dict}
+VISIBILITY = {"hidden", "after_due_date", "after_published", "visible"}
+
+
+def validate_gradescope(data: dict) -> list[str]:
+    problems = []
+    for key, value in data.items():
+        if key not in TOP_FIELDS:
+            problems.append(f"unknown top-level field {key!r}")
+        elif not isinstance(value, TOP_FIELDS[key]):
+            problems.append(f"{key} has type {type(value).__name__}")
+    if "score" not in data and not all("score" in t for t in data.get("tests", [])):
+        problems.append("no score at the top nor on every test")
+    for key in ("visibility", "stdout_visibility"):
+        if key in data and data[key] not in VISIBILITY:
+            problems.append(f"{key} = {data[key]!r}")
+    for t in data.get("tests", []):
+        for key, value in t.items():
+            if key not in TEST_FIELDS:
+                problems.append(f"test field {key!r} is not documented")
+            elif not isinstance(value, TEST_FIELDS[key]):
+                problems.append(f"test {t.get('name')!r}: {key} has type {type(value).__name__}")
+        if t.get("status") not in (None, "passed", "failed"):
+            problems.append(f"test {t.get('name')!r}: status {t['status']!r}")
+        if t.get("visibility", "visible") not in VISIBILITY:
+            problems.append(f"test {t.get('name')!r}: visibility {t['visibility']!r}")
+    return problems
+
+
+def check_batch_grading(ctx) -> str:
+    need_solutions()
+    step = load_steps()[0]
+    root = BUILD / "grade-test"
+    shutil.rmtree(root, ignore_errors=True)
+    wrong = write_answer(step, MUTANTS / step.folder / "open_window.patch", BUILD / "grade-test-mutant" / step.folder)
+    sources = {"alice": ROOT / "solutions", "bob": wrong.parent,
+               "carol": ROOT / "tests/fixtures/crash", "dave": ROOT / "tests/fixtures/hang"}
+    for student, src in sources.items():
+        dst = root / student / step.folder
+        dst.mkdir(parents=True)
+        for f in step.files:
+            shutil.copyfile((src / step.folder / f) if (src / step.folder).is_dir() else src / f, dst / f)
+    (root / "erin").mkdir()  # submitted nothing usable
+    # frank zips his whole kit; gina exports the repository: the steps at some depth.
+    nested = root / "gina" / "raykit-main" / "steps" / step.folder
+    nested.mkdir(parents=True)
+    for f in step.files:
+        shutil.copyfile(ROOT / "solutions" / step.folder / f, nested / f)
+    with zipfile.ZipFile(root / "frank.zip", "w") as z:
+        for f in step.files:
+            z.write(ROOT / "solutions" / step.folder / f, f"raykit/steps/{step.folder}/{f}")
+    out, jsons = BUILD / "grade-test.csv", BUILD / "grade-test-json"
+    shutil.rmtree(jsons, ignore_errors=True)
+    r = kit("grade", str(root), "--out", str(out), "--json-dir", str(jsons), "-j", "2", timeout=900)
+    expect(r.returncode == 0, f"./kit grade exited {r.returncode}: {r.stderr[-800:]}")
+    rows = {row["student"]: row for row in csv.DictReader(out.open())}
+    n = step.number
+    expect(set(rows) == {"alice", "bob", "carol", "dave", "erin", "frank", "gina"}, f"CSV rows: {sorted(rows)}")
+    a, b, c, d, e, f_, g = (rows[k] for k in ("alice", "bob", "carol", "dave", "erin", "frank", "gina"))
+    expect(a[f"step{n}_state"] == "done" and a[f"step{n}_earned"] == a[f"step{n}_maximum"], f"alice: {a}")
+    expect(b[f"step{n}_state"] == "some cases fail" and int(b[f"step{n}_earned"]) < int(b[f"step{n}_maximum"]),
+           f"bob (open window): {b}")
+    expect("crashed" in c["note"] and c[f"step{n}_state"] == "some cases fail", f"carol (crash): {c}")
+    expect("timed_out" in d["note"] and d[f"step{n}_state"] == "some cases fail", f"dave (hang): {d}")
+    expect(e["status"] == "no steps" and "No step files found" in e["note"], f"erin (empty): {e}")
+    for row in (f_, g):
+        expect(row[f"step{n}_state"] == "done", f"{row['student']} (zipped or nested solutions): {row}")
+    graded = [a, b, c, d, f_, g]
+    expect(len({row["maximum"] for row in graded}) == 1, "the maximum differs between students: one scale broken")
+    expect(float(a["earned"]) > float(b["earned"]) > 0, "scores do not order alice > bob > 0")
+    problems = []
+    for j in sorted(jsons.glob("*.json")):
+        problems += [f"{j.name}: {p}" for p in validate_gradescope(json.loads(j.read_text()))]
+    expect(len(list(jsons.glob("*.json"))) == 6, "a results.json per graded student is missing")
+    expect(not problems, "results.json does not follow Gradescope's fields: " + "; ".join(problems[:5]))
+    shutil.rmtree(root, ignore_errors=True)
+    return ("correct, wrong, crashing, looping, empty, zipped and nested submissions graded two at a time: "
+            "right CSV rows on one scale; results.json valid")
+
+
+def check_watch(ctx) -> str:
+    need_solutions()
+    step = load_steps()[0]
+    folder = BUILD / "watch-test"
+    shutil.rmtree(folder, ignore_errors=True)
+    shutil.copytree(ROOT / "steps" / step.folder, folder / step.folder)
+    log = BUILD / "watch-test.log"
+    with open(log, "w") as sink:
+        proc = subprocess.Popen([str(ROOT / "kit"), "watch", str(int(step.number)), "--steps", str(folder)],
+                                cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        def wait_for(text: str, seconds: float) -> float:
+            start = time.monotonic()
+            while time.monotonic() - start < seconds:
+                if text in log.read_text():
+                    return time.monotonic() - start
+                if proc.poll() is not None:
+                    raise Failed(f"./kit watch exited {proc.returncode}: {log.read_text()[-500:]}")
+                time.sleep(0.05)
+            raise Failed(f"./kit watch did not show {text!r} within {seconds:g} s: {log.read_text()[-500:]}")
+
+        wait_for("not started", 300)
+        log.write_text("")
+        for f in step.files:
+            shutil.copyfile(ROOT / "solutions" / step.folder / f, folder / step.folder / f)
+        took = wait_for("done", 60)
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+    shutil.rmtree(folder, ignore_errors=True)
+    return f"an edit was regraded and shown as done {took:.1f} s after the save (rebuild included)"
+
+
+def checks():
+    return [("batch grading and Gradescope JSON", check_batch_grading), ("watch mode", check_watch)]

@@ -1,0 +1,35 @@
+"""The kit's answers in words and numbers: exit statuses, a step's states, a case's statuses.
+
+Every module uses these names; the strings are what the JSON reports, CSV files and Gradescope
+carry, so they never change meaning.
+"""
+
+# --- exit statuses of ./kit ------------------------------------------------------------
+OK = 0              # everything asked for worked (every checked step is done)
+FAILED = 1          # it ran, and something is not right yet: a case fails, a build fails
+USAGE = 2           # the command line or what it names is wrong; the message says how
+SETUP = 3           # the machine lacks a tool the kit cannot install by itself
+INTERRUPTED = 130   # Ctrl-C, as a shell reports it
+
+# --- a step's state after ./kit check ----------------------------------------------------
+DONE = "done"                   # every basic and hidden case passes
+PARTIAL = "partial"             # started, some case fails
+NOT_STARTED = "not_started"     # every case reaches the stub's not_implemented_yet
+MISSING = "missing"             # a file the step needs is not there
+NO_COMPILE = "no_compile"       # the student's files do not compile or link
+WAITING = "waiting"             # an earlier step it builds on is not done (a handout only)
+BROKEN = "broken"               # the kit itself could not check it (a kit bug)
+
+STATE_WORDS = {
+    DONE: "done", PARTIAL: "some cases fail", NOT_STARTED: "not started", MISSING: "a file is missing",
+    NO_COMPILE: "does not compile", WAITING: "waits for an earlier step", BROKEN: "could not be graded",
+}
+
+# --- a case's status -----------------------------------------------------------------------
+PASS, FAIL, THREW, CRASHED, TIMED_OUT, NOT_RUN = "pass", "fail", "threw", "crashed", "timed_out", "not_run"
+
+STATUS_WORDS = {
+    PASS: "passed", FAIL: "wrong answer", NOT_STARTED: "not started", THREW: "threw an exception",
+    CRASHED: "crashed", TIMED_OUT: "timed out", NOT_RUN: "not run", NO_COMPILE: "does not compile",
+    MISSING: "file missing", WAITING: "waits for an earlier step",
+}
