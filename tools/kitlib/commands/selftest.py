@@ -8,15 +8,21 @@ The self-tests live in kitlib/selftest/, one module per command or concern.
 from __future__ import annotations
 
 from ..packages import ensure_packages, instructor_groups
-from ..selftest.harness import HANDOUT, Context, run_all
+from ..common import KitError
+from ..selftest.harness import HANDOUT, MODULES, Context, run_all
 
 
 
 def register(p) -> None:
     p.add_argument("--fast", action="store_true", help="skip the slow self-tests (the sanitizer build, fuzzing)")
+    p.add_argument("modules", nargs="*", metavar="MODULE",
+                   help=f"run only these modules of kitlib/selftest/ (of: {', '.join(MODULES)})")
 
 
 def run(args) -> int:
     # The instructor's self-test uses every tool (docs, benchmark, fuzzer); a handout only builds.
+    unknown = [m for m in args.modules if m not in MODULES]
+    if unknown:
+        raise KitError(f"no self-test module {', '.join(unknown)}; the modules are {', '.join(MODULES)}")
     ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
-    return run_all(Context(fast=args.fast))
+    return run_all(Context(fast=args.fast), args.modules)
