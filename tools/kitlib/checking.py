@@ -256,10 +256,9 @@ def grade_step(build: Build, step: Step, results: dict[str, StepResult], isolati
                       seed=seed if any(c.tier == "hidden" for c in cases) else "")
 
 
-def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN) -> list[StepResult]:
-    """Grades `steps`; without a reference, first the steps they need (quietly, to know whether they are done)."""
-    # Configure once per build folder and set of present step files: the targets CMake makes
-    # depend on which files exist; after that, the build tool re-runs CMake when its inputs change.
+def ensure_configured(build: Build, all_steps: list[Step]) -> None:
+    """Configures `build` once per build folder and set of present step files: the targets CMake
+    makes depend on which files exist; after that, the build tool re-runs CMake when its inputs change."""
     present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
                          if (build.steps_dir / s.folder / f).is_file())
     stamp = build.binary_dir / "raykit-configured.txt"
@@ -268,6 +267,11 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
         configure(build)
         stamp.write_text(key)
+
+
+def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN) -> list[StepResult]:
+    """Checks `steps`; without a reference, first the steps they need (quietly, to know whether they are done)."""
+    ensure_configured(build, all_steps)
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     results: dict[str, StepResult] = {}

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,6 +39,7 @@ COMMANDS = [
     Command("check", "check", STUDENT, "check your steps: every case, your score, and what to do next"),
     Command("watch", "watch", STUDENT, "check the step you work on at every save, and move on when it is done"),
     Command("hint", "hint", STUDENT, "show the next hint for step N (first a nudge, then the formula, never the code)"),
+    Command("debug", "debug", STUDENT, "run one case of step N under gdb, stopped in your own function"),
     Command("reset", "reset", STUDENT, "put a step's shipped stub back (your file is kept as NAME.cpp.bak-TIME)"),
     Command("render", "render", STUDENT, "render the course's scenes to PNG, from the solutions or, with --steps, from your code"),
     Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),
@@ -58,6 +60,18 @@ def available() -> list[Command]:
 
 
 class Parser(argparse.ArgumentParser):
+    def parse_known_args(self, args=None, namespace=None):
+        # argparse reads a value that starts with '-' as an option ("--size -5x10": "expected one
+        # argument"). Glue such a value to its option, so the command says what is wrong with it.
+        takes_value = {o for a in self._actions if a.nargs is None for o in a.option_strings}
+        glued: list[str] = []
+        for token in list(sys.argv[1:] if args is None else args):
+            if glued and glued[-1] in takes_value and re.match(r"-[\d.]", token):
+                glued[-1] += "=" + token
+            else:
+                glued.append(token)
+        return super().parse_known_args(glued, namespace)
+
     def error(self, message):  # usage errors: clear message, usage, exit status USAGE
         self.print_usage(sys.stderr)
         print(f"kit: {message}", file=sys.stderr)

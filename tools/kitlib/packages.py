@@ -17,6 +17,7 @@ from .status import SETUP
 PACKAGES = {
     "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev", "pkg-config"],
     "sandbox": ["bubblewrap"],          # grading a folder the kit did not write (sandbox.py)
+    "debug": ["gdb"],                   # ./kit debug
     # ./kit bench: Google Benchmark is needed; Embree (the comparison) and Google Highway (the
     # vector rows; Debian 12 and later) are installed when they can be, and skipped with a note.
     "bench": ["libbenchmark-dev"],

@@ -114,7 +114,7 @@ def all_failures(r: StepResult, reveal: bool) -> list[str]:
     return out
 
 
-def next_steps(results: list[StepResult], shown: Path) -> list[str]:
+def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -> list[str]:
     out: list[str] = []
     todo = next((r for r in results if r.state != DONE), None)
     if todo is None:
@@ -151,13 +151,15 @@ def next_steps(results: list[StepResult], shown: Path) -> list[str]:
         c = todo.first_problem("basic") or todo.first_problem("hidden")
         if c is not None:
             out += case_block(s, c, reveal=False)
-    out.append("")
-    out.append(f"  Then run: ./kit check {int(s.number)}")
+    if not watching:   # ./kit watch re-checks by itself at every save
+        out.append("")
+        out.append(f"  Then run: ./kit check {int(s.number)}")
     return out
 
 
-def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = False, reveal: bool = False) -> None:
-    say(paint(f"raykit · grading {rel(shown)}/", "bold"))
+def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = False, reveal: bool = False,
+               watching: bool = False) -> None:
+    say(paint(f"raykit · checking {rel(shown)}/", "bold"))
     say()
     width = max(len(r.step.title) for r in results)
     for r in results:
@@ -180,8 +182,10 @@ def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = Fal
                 for line in all_failures(r, reveal):
                     say(line)
                 say()
-    for line in next_steps(results, shown):
+    for line in next_steps(results, shown, watching):
         say(line)
+    if watching:
+        return
     done = sum(r.state == DONE for r in results)
     say()
     say(paint(f"{done} of {len(results)} steps done.", "bold"))

@@ -63,12 +63,14 @@ def available_scenes() -> list[Scene]:
 
 
 def parse_size(text: str) -> tuple[int, int]:
-    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
+    m = re.fullmatch(r"\s*([+-]?\d+)\s*[xX]\s*([+-]?\d+)\s*", text)
     if not m:
         raise KitError(f"--size {text}: write the size as WIDTHxHEIGHT, e.g. 256x256")
     w, h = int(m.group(1)), int(m.group(2))
-    if not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
-        raise KitError(f"--size {text}: each side must be between 1 and {MAX_SIDE} pixels")
+    for side, value in (("width", w), ("height", h)):
+        if not 1 <= value <= MAX_SIDE:
+            raise KitError(f"--size {text}: the {side} is {value} pixels; each side must be between 1 and "
+                           f"{MAX_SIDE} pixels")
     return w, h
 
 

@@ -1,42 +1,91 @@
-"""./kit watch [N]: regrade the current step whenever a step file changes, until Ctrl-C."""
+"""./kit watch [N]: check the step being worked on at every save, until q or Ctrl-C.
+
+The screen is redrawn after each check (not appended to). The step shown is the one whose file was
+saved last; a step stays on screen until its ★ robust cases pass too, or the student presses n.
+Saves are seen by each file's size and modification time; every CONTENT_SECONDS the contents are
+compared as well, so an editor or a network folder that keeps the time stamp is noticed (and said).
+Keys: r re-check now, n next step, q quit.
+"""
 
 from __future__ import annotations
 
+import argparse
+import hashlib
+import os
+import select
 import sys
+import termios
 import time
+import tty
 from pathlib import Path
 
-from ..scoreboard import rel, scoreboard
+from ..checking import check_steps
 from ..common import ROOT, load_steps, paint, preset_build, resolve_steps_dir, say, select_steps, submission_build
 from ..packages import ensure_packages
-from ..checking import check_steps
+from ..scoreboard import rel, scoreboard
 from ..status import DONE, OK
 
+CONTENT_SECONDS = 2.0
 
 
 def register(p) -> None:
     p.add_argument("number", nargs="?", metavar="N", help="the step to start with (default: the first not done)")
     p.add_argument("--steps", metavar="DIR", help="watch the steps in DIR instead of steps/")
-    p.add_argument("--interval", type=float, default=0.25, help=argparse_hidden())
+    p.add_argument("--interval", type=float, default=0.25, help=argparse.SUPPRESS)
 
 
-def argparse_hidden():
-    import argparse
-    return argparse.SUPPRESS
+def stamps(source: Path, step) -> tuple:
+    """A step's files as (size, modification time) pairs: what a save changes."""
+    out = []
+    for f in step.files:
+        try:
+            st = (source / step.folder / f).stat()
+            out.append((st.st_size, st.st_mtime_ns))
+        except FileNotFoundError:
+            out.append(None)
+    return tuple(out)
 
 
-def snapshot(source: Path, steps) -> tuple:
-    """What changed is judged by each step file's size and modification time."""
-    state = []
-    for s in steps:
-        for f in s.files:
-            p = source / s.folder / f
-            try:
-                st = p.stat()
-                state.append((str(p), st.st_mtime_ns, st.st_size))
-            except FileNotFoundError:
-                state.append((str(p), None, None))
-    return tuple(state)
+def digest(source: Path, step) -> str:
+    h = hashlib.sha256()
+    for f in step.files:
+        try:
+            h.update((source / step.folder / f).read_bytes())
+        except OSError:
+            h.update(b"\0missing")
+    return h.hexdigest()
+
+
+class Keys:
+    """Single key presses from the terminal, without waiting (cbreak mode, restored on exit).
+    Without a terminal (a pipe), the characters written to it count the same."""
+
+    def __init__(self):
+        self.fd = sys.stdin.fileno() if sys.stdin and not sys.stdin.closed else None
+        self.saved = None
+        self.open = self.fd is not None
+
+    def __enter__(self):
+        if self.fd is not None and os.isatty(self.fd):
+            self.saved = termios.tcgetattr(self.fd)
+            tty.setcbreak(self.fd)
+        return self
+
+    def __exit__(self, *exc):
+        if self.saved is not None:
+            termios.tcsetattr(self.fd, termios.TCSADRAIN, self.saved)
+
+    def get(self, timeout: float) -> str:
+        if not self.open:
+            time.sleep(timeout)
+            return ""
+        ready, _, _ = select.select([self.fd], [], [], timeout)
+        if not ready:
+            return ""
+        data = os.read(self.fd, 1)
+        if not data:                # end of input: keep watching the files
+            self.open = False
+        return data.decode(errors="replace").lower()
 
 
 def clear() -> None:
@@ -52,32 +101,75 @@ def run(args) -> int:
     def build():
         return submission_build(source, "watch") if args.steps else preset_build("student")
 
+    def later(step):
+        return next((s for s in all_steps if s.number > step.number), None)
+
+    say(paint("./kit watch: checking your steps ...", "dim"))
     if args.number:
         current = select_steps(all_steps, [args.number])[0]
     else:
         results = check_steps(build(), all_steps, all_steps)
         current = next((r.step for r in results if r.state != DONE), all_steps[-1])
-    seen = None
-    try:
-        while True:
-            now = snapshot(source, all_steps)
-            if now != seen:
-                seen = now
-                clear()
-                say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')} · grading ...", "dim"))
-                [result] = check_steps(build(), [current], all_steps)
-                clear()
-                scoreboard([result], source)
-                if result.state == DONE:
-                    later = [s for s in all_steps if s.number > current.number]
-                    if later:
-                        say(paint(f"\nStep {current.number} is done. Moving on to step {later[0].number}.", "green"))
-                        current = later[0]
-                        seen = None
+    seen = {s.number: stamps(source, s) for s in all_steps}
+    contents = {s.number: digest(source, s) for s in all_steps}
+    last_content_look = time.monotonic()
+    blind = False
+    banner = ""
+    due = True
+    with Keys() as keys:
+        try:
+            while True:
+                if due:
+                    due = False
+                    clear()
+                    say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')} · checking ...", "dim"))
+                    [result] = check_steps(build(), [current], all_steps)
+                    robust = result.tier("robust")
+                    complete = result.state == DONE and result.passed("robust") == len(robust)
+                    if complete and later(current):
+                        banner = f"Step {current.number} is done, ★ cases included. On to step {later(current).number}."
+                        current = later(current)
+                        due = True
                         continue
-                say(paint(f"\nwatching {rel(source)}/{current.folder}/ · save a file to regrade · Ctrl-C to stop",
-                          "dim"))
-            time.sleep(args.interval)
-    except KeyboardInterrupt:
-        say("\nstopped watching.")
-        return OK
+                    clear()
+                    say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')}", "dim"))
+                    if banner:
+                        say(paint(banner, "green"))
+                        banner = ""
+                    say()
+                    scoreboard([result], source, watching=True)
+                    say()
+                    if result.state == DONE and not complete:
+                        say(paint(f"Step {current.number} is done. Its ★ cases are optional: work on them, "
+                                  "or press n for the next step.", "green"))
+                    if blind:
+                        say(paint("Saves did not change the files' time stamps here (a network folder or an "
+                                  f"editor that keeps them): the contents are compared every {CONTENT_SECONDS:g} s; "
+                                  "press r to re-check at once.", "yellow"))
+                    keys_line = "save to re-check · r re-check now · " + ("n next step · " if later(current) else "") \
+                        + "q quit"
+                    say(paint(f"watching {rel(source)}/ · {keys_line}", "dim"))
+                key = keys.get(args.interval)
+                if key == "q":
+                    break
+                if key == "r":
+                    due = True
+                elif key == "n" and later(current):
+                    current, due = later(current), True
+                for s in all_steps:               # the step whose file was saved becomes the current one
+                    now = stamps(source, s)
+                    if now != seen[s.number]:
+                        seen[s.number] = now
+                        contents[s.number] = digest(source, s)
+                        current, due = s, True
+                if time.monotonic() - last_content_look >= CONTENT_SECONDS:
+                    last_content_look = time.monotonic()
+                    for s in all_steps:
+                        d = digest(source, s)
+                        if d != contents[s.number]:
+                            contents[s.number] = d
+                            current, due, blind = s, True, True
+        except KeyboardInterrupt:
+            pass
+    say("\nstopped watching.")
+    return OK

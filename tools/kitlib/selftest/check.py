@@ -165,7 +165,8 @@ def check_grader_fixtures(ctx: Context) -> str:
 def check_command_line(ctx: Context) -> str:
     for args, words in [(["check", "99"], "no step"), (["frobnicate"], "invalid choice"),
                         (["check", "--steps", "/nonexistent/folder"], "no such folder"),
-                        (["check", "--bogus"], "unrecognized")]:
+                        (["check", "--bogus"], "unrecognized"),
+                        (["render", "--size", "-5x10"], "the width is -5 pixels")]:
         r = kit(*args, timeout=60)
         expect(r.returncode == 2, f"./kit {' '.join(args)} exited {r.returncode}, expected 2")
         expect(words in r.stderr, f"./kit {' '.join(args)}: message lacks '{words}': {r.stderr[-300:]}")

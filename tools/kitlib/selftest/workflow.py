@@ -1,4 +1,4 @@
-"""Self-test of the course workflow: batch grading, Gradescope JSON, watch mode."""
+"""Self-test of the course workflow: batch grading and Gradescope JSON."""
 
 from __future__ import annotations
 
@@ -6,13 +6,10 @@ import csv
 import json
 import shutil
 import zipfile
-import signal
-import subprocess
-import time
 
 from ..commands.mutant import MUTANTS, write_answer
 from ..common import BUILD, ROOT, load_steps
-from .harness import Failed, expect, kit, need_solutions
+from .harness import expect, kit, need_solutions
 
 # Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
 # Specifications"): anything else is a mistake on our side.
@@ -101,41 +98,5 @@ def check_batch_grading(ctx) -> str:
             "right CSV rows on one scale; results.json valid")
 
 
-def check_watch(ctx) -> str:
-    need_solutions()
-    step = load_steps()[0]
-    folder = BUILD / "watch-test"
-    shutil.rmtree(folder, ignore_errors=True)
-    shutil.copytree(ROOT / "steps" / step.folder, folder / step.folder)
-    log = BUILD / "watch-test.log"
-    with open(log, "w") as sink:
-        proc = subprocess.Popen([str(ROOT / "kit"), "watch", str(int(step.number)), "--steps", str(folder)],
-                                cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT, start_new_session=True)
-    try:
-        def wait_for(text: str, seconds: float) -> float:
-            start = time.monotonic()
-            while time.monotonic() - start < seconds:
-                if text in log.read_text():
-                    return time.monotonic() - start
-                if proc.poll() is not None:
-                    raise Failed(f"./kit watch exited {proc.returncode}: {log.read_text()[-500:]}")
-                time.sleep(0.05)
-            raise Failed(f"./kit watch did not show {text!r} within {seconds:g} s: {log.read_text()[-500:]}")
-
-        wait_for("not started", 300)
-        log.write_text("")
-        for f in step.files:
-            shutil.copyfile(ROOT / "solutions" / step.folder / f, folder / step.folder / f)
-        took = wait_for("done", 60)
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-    shutil.rmtree(folder, ignore_errors=True)
-    return f"an edit was regraded and shown as done {took:.1f} s after the save (rebuild included)"
-
-
 def checks():
-    return [("batch grading and Gradescope JSON", check_batch_grading), ("watch mode", check_watch)]
+    return [("batch grading and Gradescope JSON", check_batch_grading)]

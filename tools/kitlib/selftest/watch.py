@@ -1,0 +1,130 @@
+"""Self-test of ./kit watch, driven through a pseudo-terminal as a student's terminal would drive it:
+the screen is redrawn per check, a save is checked, the step stays until its ★ cases pass or n is
+pressed, a finished step moves on by itself, a save the time stamps miss is still seen (and said),
+r re-checks, q quits, and "Then run: ./kit check" never appears."""
+
+from __future__ import annotations
+
+import os
+import pty
+import shutil
+import subprocess
+import threading
+import time
+
+from ..common import BUILD, ROOT, load_steps
+from .harness import Failed, expect, need_solutions
+
+CLEAR = "\033[2J"
+
+
+class Screen:
+    """A child process on a pseudo-terminal, and everything it has written to it."""
+
+    def __init__(self, argv: list[str]):
+        self.master, slave = pty.openpty()
+        self.proc = subprocess.Popen(argv, cwd=ROOT, stdin=slave, stdout=slave, stderr=slave,
+                                     start_new_session=True, close_fds=True)
+        os.close(slave)
+        self.text = ""
+        self.lock = threading.Lock()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        while True:
+            try:
+                data = os.read(self.master, 65536)
+            except OSError:
+                return
+            if not data:
+                return
+            with self.lock:
+                self.text += data.decode(errors="replace")
+
+    def last(self) -> str:
+        """What the screen shows now: the text after the last clear."""
+        with self.lock:
+            return self.text.rsplit(CLEAR, 1)[-1]
+
+    def wait_for(self, words: str, seconds: float) -> float:
+        start = time.monotonic()
+        while time.monotonic() - start < seconds:
+            if words in self.last():
+                return time.monotonic() - start
+            if self.proc.poll() is not None:
+                raise Failed(f"./kit watch exited {self.proc.returncode}: {self.last()[-600:]}")
+            time.sleep(0.05)
+        raise Failed(f"./kit watch did not show {words!r} within {seconds:g} s; the screen:\n{self.last()[-800:]}")
+
+    def press(self, key: str) -> None:
+        os.write(self.master, key.encode())
+
+    def close(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+        self.proc.wait(timeout=10)
+        os.close(self.master)
+
+
+def check_watch(ctx) -> str:
+    need_solutions()
+    steps = load_steps()
+    s1, s2 = steps[0], steps[1]
+    folder = BUILD / "watch-test"
+    shutil.rmtree(folder, ignore_errors=True)
+    shutil.copytree(ROOT / "steps", folder)
+    screen = Screen([str(ROOT / "kit"), "watch", "1", "--steps", str(folder)])
+    notes = []
+    try:
+        screen.wait_for("not started", 300)
+        # A textbook answer: done, ★ cases failing, so the step stays on screen.
+        for f in s1.files:
+            shutil.copyfile(ROOT / "tests" / "fixtures" / "textbook" / s1.folder / f, folder / s1.folder / f)
+        took = screen.wait_for("press n for the next step", 120)
+        notes.append(f"save to verdict {took:.1f} s")
+        expect(f"step {s1.number}" in screen.last(), "the screen after the save is not step 01's")
+        # A save the time stamps miss: same size, the old modification time put back.
+        target = folder / s1.folder / s1.files[0]
+        st = target.stat()
+        text = target.read_text()
+        marker = text.replace(" ", "\t", 1)        # same length, one character different
+        expect(len(marker) == len(text) and marker != text, "could not make an edit of the same size")
+        target.write_text(marker)
+        os.utime(target, ns=(st.st_atime_ns, st.st_mtime_ns))
+        took = screen.wait_for("time stamps", 30)
+        notes.append(f"a save with its old time stamp seen in {took:.1f} s")
+        # n: the next step, here not started.
+        screen.press("n")
+        screen.wait_for(f"watch · step {s2.number}", 120)
+        screen.wait_for("not started", 120)
+        # A save of step 01's file while step 02 is shown brings step 01 back.
+        target.write_text(text)
+        screen.wait_for(f"watch · step {s1.number}", 120)
+        # The reference answer passes the ★ cases too: the watch moves on by itself.
+        for f in s1.files:
+            shutil.copyfile(ROOT / "solutions" / s1.folder / f, folder / s1.folder / f)
+        screen.wait_for(f"On to step {s2.number}", 120)
+        # r re-checks at once: the time on the header changes.
+        before = screen.text.count(CLEAR)
+        screen.press("r")
+        deadline = time.monotonic() + 60
+        while screen.text.count(CLEAR) < before + 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        expect(screen.text.count(CLEAR) >= before + 2, "r did not re-check (no redraw)")
+        expect("Then run: ./kit check" not in screen.text, "watch printed 'Then run: ./kit check N'")
+        expect(screen.text.count(CLEAR) >= 4, "the screen was appended to, not redrawn")
+        screen.press("q")
+        try:
+            code = screen.proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            raise Failed("q did not end ./kit watch")
+        expect(code == 0, f"q ended ./kit watch with exit status {code}")
+    finally:
+        screen.close()
+        shutil.rmtree(folder, ignore_errors=True)
+    return ("on a pseudo-terminal: redrawn per check, stays on a done step until ★ or n, moves on by "
+            "itself, r and q work, no 'Then run'; " + ", ".join(notes))
+
+
+def checks() -> list:
+    return [("watch mode", check_watch)]
