@@ -22,10 +22,12 @@ import signal
 import subprocess
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
-from .common import Build, Step, build_target, configure, prerequisites
+from .common import Build, Step, build_target, build_targets, configure, prerequisites
 from .sandbox import NONE_OWN, Isolation, Scratch
 from .status import BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
@@ -210,10 +212,31 @@ def _all(cases: list[Case], status: str, message: str) -> list[Case]:
     return cases
 
 
-def grade_step(build: Build, step: Step, results: dict[str, StepResult], isolation: Isolation) -> StepResult:
-    ok, out = build_target(build, step.target)
-    if not ok:
-        return StepResult(step, BROKEN, detail="the kit's test program does not build (a kit bug):\n" + out)
+@dataclass
+class Built:
+    """What building a step's judge and answers program gave."""
+    judge_ok: bool
+    answers_ok: bool
+    output: str                 # the build tool's output (the compiler's errors, if any)
+
+
+def build_step(build: Build, step: Step, progress: Callable[[int, int], None] | None = None) -> Built:
+    """Builds the step's judge and, when its files are all there, its answers program, in one call of
+    the build tool (both in parallel; -k 0 so the judge is built even where the student's code fails)."""
+    present = all((build.steps_dir / step.folder / f).is_file() for f in step.files)
+    targets = [step.target] + ([f"answers_step{step.number}"] if present else [])
+    ok, out = build_targets(build, targets, progress)
+    if ok:
+        return Built(True, present, out)
+    judge_ok, judge_out = build_target(build, step.target)     # a no-op when the judge was built
+    return Built(judge_ok, False, out if judge_ok else judge_out)
+
+
+def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepResult],
+               isolation: Isolation) -> StepResult:
+    """Runs a built step's cases and says what state the step is in."""
+    if not built.judge_ok:
+        return StepResult(step, BROKEN, detail="the kit's test program does not build (a kit bug):\n" + built.output)
     judge = build.exe(step)
     try:
         cases = list_cases(judge)
@@ -231,11 +254,10 @@ def grade_step(build: Build, step: Step, results: dict[str, StepResult], isolati
             if dep is not None and dep.state != DONE:
                 return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"),
                                   detail=need)
-    ok, out = build_target(build, f"answers_step{step.number}")
-    if not ok:
-        first = next((l for l in out.splitlines() if "error" in l), "")
+    if not built.answers_ok:
+        first = next((l for l in built.output.splitlines() if "error" in l), "")
         return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),
-                          detail=out)
+                          detail=built.output)
     seed = submission_seed(build, step)
     scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
     try:
@@ -262,20 +284,48 @@ def ensure_configured(build: Build, all_steps: list[Step]) -> None:
     present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
                          if (build.steps_dir / s.folder / f).is_file())
     stamp = build.binary_dir / "raykit-configured.txt"
-    key = f"{build.steps_dir}\n{present}\n"
+    key = f"{build.steps_dir}\ntools {build.tools}\n{present}\n"
     cache = build.binary_dir / "CMakeCache.txt"
     if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
         configure(build)
         stamp.write_text(key)
 
 
-def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN) -> list[StepResult]:
-    """Checks `steps`; without a reference, first the steps they need (quietly, to know whether they are done)."""
-    ensure_configured(build, all_steps)
+class Progress:
+    """What check_steps says while it works; the default says nothing (scoreboard.LiveProgress
+    shows it on a terminal)."""
+
+    def phase(self, text: str) -> None: ...
+    def building(self, step: Step, done: int, total: int) -> None: ...
+    def result(self, result: StepResult) -> None: ...
+
+
+def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN,
+                progress: Progress | None = None) -> list[StepResult]:
+    """Checks `steps`; without a reference, first the steps they need (quietly, to know whether they
+    are done).
+
+    Pipelined: while one step's cases run (in a worker thread, in course order), the next step is
+    built, so the first verdict comes after one step's build and the others follow as they build.
+    """
+    progress = progress or Progress()
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
+    order = [s for s in all_steps if s.number in wanted or s.number in needed]
+    progress.phase("configuring the build (cmake)")
+    ensure_configured(build, all_steps)
     results: dict[str, StepResult] = {}
-    for s in all_steps:
-        if s.number in wanted or s.number in needed:
-            results[s.number] = grade_step(build, s, results, isolation)
+
+    def judge(step: Step, built: Built) -> None:
+        results[step.number] = judge_step(build, step, built, results, isolation)
+        if step.number in wanted:
+            progress.result(results[step.number])
+
+    with ThreadPoolExecutor(max_workers=1) as worker:    # one worker: steps are judged in order
+        pending = []
+        for s in order:
+            built = build_step(build, s, lambda done, total, s=s: progress.building(s, done, total))
+            pending.append(worker.submit(judge, s, built))
+        for f in pending:
+            f.result()
     return [results[s.number] for s in steps]

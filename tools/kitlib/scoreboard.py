@@ -5,9 +5,12 @@ from __future__ import annotations
 
 import os
 import re
+import sys
+import threading
+import time
 from pathlib import Path
 
-from .checking import StepResult
+from .checking import Progress, StepResult
 from .common import ROOT, Step, paint, say
 from .sandbox import NONE_OWN
 from .status import BROKEN, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
@@ -157,14 +160,74 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     return out
 
 
+def header(shown: Path) -> str:
+    return paint(f"raykit · checking {rel(shown)}/", "bold")
+
+
+def title_width(steps: list[Step]) -> int:
+    return max(len(s.title) for s in steps)
+
+
+def row(r: StepResult, width: int) -> str:
+    cell, extra = status_cell(r)
+    return f"  {r.step.number}  {r.step.title.ljust(width)}  {cell}{extra}"
+
+
+class LiveProgress(Progress):
+    """The scoreboard's table, printed a row at a time as each step is checked, with what is being
+    done meanwhile on one line below it (a terminal only: the line is rewritten in place)."""
+
+    def __init__(self, shown: Path, steps: list[Step]):
+        self.width = title_width(steps)
+        self.tty = sys.stdout.isatty()
+        self.start = time.monotonic()
+        self.lock = threading.Lock()
+        self.status = ""
+        say(header(shown))
+        say()
+
+    def _draw(self, text: str) -> None:
+        if self.tty:
+            self.status = text
+            sys.stdout.write("\r\033[K" + paint(text, "dim"))
+            sys.stdout.flush()
+
+    def phase(self, text: str) -> None:
+        with self.lock:
+            self._draw(f"  {text} ...")
+
+    def building(self, step: Step, done: int, total: int) -> None:
+        with self.lock:
+            self._draw(f"  {step.number}  building the test program and your code  [{done}/{total}]"
+                       f"  {time.monotonic() - self.start:.0f} s")
+
+    def result(self, result: StepResult) -> None:
+        with self.lock:
+            if self.tty:
+                sys.stdout.write("\r\033[K")
+            say(row(result, self.width))
+            if self.tty and self.status:
+                sys.stdout.write(paint(self.status, "dim"))
+                sys.stdout.flush()
+
+    def close(self) -> None:
+        with self.lock:
+            if self.tty:
+                sys.stdout.write("\r\033[K")
+                sys.stdout.flush()
+            self.status = ""
+
+
 def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = False, reveal: bool = False,
-               watching: bool = False) -> None:
-    say(paint(f"raykit · checking {rel(shown)}/", "bold"))
-    say()
-    width = max(len(r.step.title) for r in results)
-    for r in results:
-        cell, extra = status_cell(r)
-        say(f"  {r.step.number}  {r.step.title.ljust(width)}  {cell}{extra}")
+               watching: bool = False, table_shown: bool = False) -> None:
+    """Prints the scoreboard: the table of steps (unless LiveProgress has printed it already), the
+    score, every failing case when asked, and what to do next."""
+    if not table_shown:
+        say(header(shown))
+        say()
+        width = title_width([r.step for r in results])
+        for r in results:
+            say(row(r, width))
     earned, maximum = sum(r.earned for r in results), sum(r.maximum for r in results)
     say()
     say(f"  score {earned} of {maximum}" + (f" ({100 * earned / maximum:.0f} %)" if maximum else ""))

@@ -20,7 +20,8 @@ import time
 from pathlib import Path
 
 from .. import bench_report as report
-from ..common import ROOT, Build, KitError, load_steps, build_target, configure, note, paint, preset_build, say
+from ..common import ROOT, Build, KitError, load_steps, build_target, configure, note, paint, preset_build, say, \
+    tools_build
 from ..packages import ensure_packages
 from ..status import FAILED, OK
 
@@ -137,8 +138,8 @@ def student_label(step: int) -> str:
 
 def student_subject(progress: Progress, run_args: list[str], timeout: float) -> tuple[dict | None, str, str]:
     """Builds and runs the student's sphere function. Returns (JSON, status, label)."""
-    build = preset_build("student")
-    progress.show("building your steps' benchmark (build/student)", "build-student")
+    build = tools_build(preset_build("student"))
+    progress.show("building your steps' benchmark (build/student-tools)", "build-student")
     # The bench measures step 02's sphere_roots, or step 01's until step 02 exists.
     label = student_label(2 if any(s.number == "02" for s in load_steps()) else 1)
     ok, out = build_bench(build)

@@ -11,7 +11,7 @@ from ..common import KitError, load_steps, preset_build, resolve_steps_dir, sele
 from ..gradescope import write_json
 from ..packages import ensure_packages
 from ..sandbox import NONE_OWN, choose
-from ..scoreboard import scoreboard
+from ..scoreboard import LiveProgress, scoreboard
 from ..status import DONE, FAILED, OK
 
 
@@ -31,7 +31,6 @@ def register(p) -> None:
 
 
 def run(args) -> int:
-    ensure_packages("build")
     all_steps = load_steps()
     steps = select_steps(all_steps, args.numbers)
     if args.steps:
@@ -47,12 +46,17 @@ def run(args) -> int:
         raise KitError(f"--isolation {wanted}: {e}")
     if args.json:  # fail early on a path we cannot write, before any building
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
+    # The table's heading at once, each step's row as soon as it is checked (a cold build takes a while).
+    live = None if args.quiet else LiveProgress(source, steps)
+    ensure_packages("build")
     start = time.monotonic()
-    results = check_steps(build, steps, all_steps, isolation)
+    try:
+        results = check_steps(build, steps, all_steps, isolation, live)
+    finally:
+        if live:
+            live.close()
     if args.json:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
     if not args.quiet:
-        scoreboard(results, source, args.all, args.reveal)
+        scoreboard(results, source, args.all, args.reveal, table_shown=True)
     return OK if all(r.state == DONE for r in results) else FAILED
-
-

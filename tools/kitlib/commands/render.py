@@ -18,7 +18,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..common import BUILD, ROOT, Build, KitError, build_target, configure, load_steps, note, paint, preset_build, resolve_steps_dir, say, submission_build
+from ..common import BUILD, ROOT, Build, KitError, tools_build, build_target, configure, load_steps, note, paint, preset_build, resolve_steps_dir, say, submission_build
 
 from ..packages import ensure_packages
 from ..status import FAILED, OK, USAGE
@@ -313,7 +313,7 @@ def render_solutions(scenes: list[Scene], size: tuple[int, int], out: Path) -> i
 
 
 def render_steps(scenes: list[Scene], size: tuple[int, int], out: Path, source: Path) -> int:
-    build = submission_build(source)
+    build = tools_build(submission_build(source))
     note(f"kit: rendering {len(scenes)} scene(s) at {size[0]}x{size[1]} with the code in {source}")
     problems = build_renderers(build, sorted({s.step for s in scenes}))
     references = reference_pictures(scenes, size)

@@ -145,7 +145,7 @@ def rows_as_csv(out: Path) -> dict:
 
 def check_bad_input(ctx) -> str:
     # A handout builds only its own benchmark (bench/handout.cpp), with the same command line.
-    exe = BUILD / ("student" if HANDOUT else "reference") / "bench" / cmd_bench.TARGET
+    exe = BUILD / ("student-tools" if HANDOUT else "reference") / "bench" / cmd_bench.TARGET
     expect(exe.is_file(), f"{exe} was not built")
     for args, words in [(["--rays=abc"], "whole number"), (["--rays=-5"], "whole number"),
                         (["--min-time=0"], "seconds"), (["--min-time=nan"], "seconds"),

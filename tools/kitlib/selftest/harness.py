@@ -10,7 +10,10 @@ modules. A skip is counted as a skip, never as a pass.
 from __future__ import annotations
 
 import importlib
+import os
+import pty
 import subprocess
+import threading
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -54,6 +57,59 @@ def expect(condition: bool, message: str) -> None:
 def kit(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
     return subprocess.run([str(ROOT / "kit"), *args], cwd=ROOT, capture_output=True, text=True,
                           timeout=timeout)
+
+
+CLEAR = "\033[2J"       # a terminal's "erase the screen"
+
+
+class Screen:
+    """A child process on a pseudo-terminal, and everything it has written to it."""
+
+    def __init__(self, argv: list[str]):
+        self.name = "./kit " + " ".join(argv[1:3])
+        self.started = time.monotonic()
+        self.master, slave = pty.openpty()
+        self.proc = subprocess.Popen(argv, cwd=ROOT, stdin=slave, stdout=slave, stderr=slave,
+                                     start_new_session=True, close_fds=True)
+        os.close(slave)
+        self.text = ""
+        self.lock = threading.Lock()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        while True:
+            try:
+                data = os.read(self.master, 65536)
+            except OSError:
+                return
+            if not data:
+                return
+            with self.lock:
+                self.text += data.decode(errors="replace")
+
+    def last(self) -> str:
+        """What the screen shows now: the text after the last clear."""
+        with self.lock:
+            return self.text.rsplit(CLEAR, 1)[-1]
+
+    def wait_for(self, words: str, seconds: float) -> float:
+        start = time.monotonic()
+        while time.monotonic() - start < seconds:
+            if words in self.last():
+                return time.monotonic() - start
+            if self.proc.poll() is not None:
+                raise Failed(f"{self.name} exited {self.proc.returncode}: {self.last()[-600:]}")
+            time.sleep(0.05)
+        raise Failed(f"{self.name} did not show {words!r} within {seconds:g} s; the screen:\n{self.last()[-800:]}")
+
+    def press(self, key: str) -> None:
+        os.write(self.master, key.encode())
+
+    def close(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+        self.proc.wait(timeout=10)
+        os.close(self.master)
 
 
 def selftests(modules: list[str] | None = None) -> list:

@@ -6,64 +6,12 @@ r re-checks, q quits, and "Then run: ./kit check" never appears."""
 from __future__ import annotations
 
 import os
-import pty
 import shutil
 import subprocess
-import threading
 import time
 
 from ..common import BUILD, ROOT, load_steps
-from .harness import Failed, expect, need_solutions
-
-CLEAR = "\033[2J"
-
-
-class Screen:
-    """A child process on a pseudo-terminal, and everything it has written to it."""
-
-    def __init__(self, argv: list[str]):
-        self.master, slave = pty.openpty()
-        self.proc = subprocess.Popen(argv, cwd=ROOT, stdin=slave, stdout=slave, stderr=slave,
-                                     start_new_session=True, close_fds=True)
-        os.close(slave)
-        self.text = ""
-        self.lock = threading.Lock()
-        threading.Thread(target=self._read, daemon=True).start()
-
-    def _read(self) -> None:
-        while True:
-            try:
-                data = os.read(self.master, 65536)
-            except OSError:
-                return
-            if not data:
-                return
-            with self.lock:
-                self.text += data.decode(errors="replace")
-
-    def last(self) -> str:
-        """What the screen shows now: the text after the last clear."""
-        with self.lock:
-            return self.text.rsplit(CLEAR, 1)[-1]
-
-    def wait_for(self, words: str, seconds: float) -> float:
-        start = time.monotonic()
-        while time.monotonic() - start < seconds:
-            if words in self.last():
-                return time.monotonic() - start
-            if self.proc.poll() is not None:
-                raise Failed(f"./kit watch exited {self.proc.returncode}: {self.last()[-600:]}")
-            time.sleep(0.05)
-        raise Failed(f"./kit watch did not show {words!r} within {seconds:g} s; the screen:\n{self.last()[-800:]}")
-
-    def press(self, key: str) -> None:
-        os.write(self.master, key.encode())
-
-    def close(self) -> None:
-        if self.proc.poll() is None:
-            self.proc.kill()
-        self.proc.wait(timeout=10)
-        os.close(self.master)
+from .harness import CLEAR, Failed, Screen, expect, need_solutions
 
 
 def check_watch(ctx) -> str:
