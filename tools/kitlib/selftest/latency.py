@@ -21,6 +21,7 @@ import time
 from ..common import BUILD, ROOT
 from .harness import Context, Failed, Screen, expect, need_solutions
 
+ANSI = re.compile(r"\033\[[0-9;]*[A-Za-z]")
 SLOT = "7"       # build/submission-7: a build folder of its own, emptied for the cold run
 
 
@@ -29,7 +30,7 @@ def run_check(source, *numbers: str) -> tuple[Screen, dict]:
     marks: dict[str, float] = {}
     try:
         while screen.proc.poll() is None or "end" not in marks:
-            text = screen.text
+            text = ANSI.sub("", screen.text).replace("\r", "\n")
             if "output" not in marks and text.strip():
                 marks["output"] = time.monotonic() - screen.started
             if "01" not in marks and re.search(r"^\s*01\s.*(done|cases|not started)", text, re.M):
