@@ -207,7 +207,8 @@ def compare(diff_exe: Path, reference: Path, picture: Path, diff: Path) -> Diffe
 # step 02 that change a picture at all give at least 3116 pixels of another colour; some of step 05 only
 # move edges, 12 pixels at the fewest (light_coordinates_swapped at 97x61), so no moved edge is accepted.
 # Seven of step 02's sixteen and one of step 05's thirteen leave every picture as it is (a tangent, a NaN
-# radius, a zero direction: no pixel's ray meets them); the grader catches those, the pictures cannot.
+# radius, a zero direction, an origin inside: no view ray of these scenes is such a case); the grader
+# catches those, the pictures cannot.
 # Accepted: one-level pixels only, at most 1 in 256 of the picture (0.39 %, 12 times the worst measured).
 LEVEL_SHARE = 256
 
