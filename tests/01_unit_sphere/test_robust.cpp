@@ -4,8 +4,9 @@
 // Optional. The expected roots are those of the same float inputs in 113-bit
 // precision (tests/support/exact_answers.hpp; precomputed in
 // exact_answers.cpp beside this file), compared in ulps
-// (tests/support/robust_grading.hpp). Lecture 03 explains why the textbook
-// formula fails here and how to fix it; come back to these after step 03.
+// (tests/support/robust_grading.hpp). Every case points to lecture 01,
+// section 6, which says why the textbook formula fails here and where lecture
+// 03 cures it; come back to these after step 03.
 
 #include <doctest/doctest.h>
 
@@ -43,16 +44,18 @@ void expect_accurate(const Ray& ray, int count, const std::string& why) {
     check_roots_ulps("unit_sphere_roots(ray)", show(found->ray), exact, unit_sphere_roots(found->ray), why);
 }
 
+// Says what goes wrong, not how to write the cure: the pointer to the lecture
+// section comes with every failure, and finding the cure is the exercise.
 const std::string why =
-    "Far away, h^2 and a c are nearly equal and their difference loses its digits: compute the "
-    "discriminant as a (1 - |o - (h/a) d|^2) (lecture 03, sections 5 and 6).";
+    "Seen from far away, the two terms whose difference is the discriminant are large and nearly equal: "
+    "the difference keeps few correct digits, so the roots, or whether there are any, come out wrong.";
 
 }  // namespace
 
 TEST_SUITE_BEGIN("robust");
 
 TEST_CASE("the unit sphere seen from 1000 units away" *
-          doctest::description("6. Far and grazing rays (lecture 03 sections 5 and 6)")) {
+          doctest::description("6. Far and grazing rays")) {
     for (const glm::vec3 o : {glm::vec3(600, -480, 640), glm::vec3(-3, 999, 40)}) {
         expect_accurate(shot(o, 0, 1), hits, why);
         expect_accurate(shot(o, 0.6f, 1), hits, why);
@@ -62,7 +65,7 @@ TEST_CASE("the unit sphere seen from 1000 units away" *
 }
 
 TEST_CASE("the unit sphere seen from 10000 units away" *
-          doctest::description("6. Far and grazing rays (lecture 03 sections 5 and 6)")) {
+          doctest::description("6. Far and grazing rays")) {
     for (const glm::vec3 o : {glm::vec3(6000, -4800, 6400), glm::vec3(-30, 9999, 400)}) {
         expect_accurate(shot(o, 0, 1), hits, why);
         expect_accurate(shot(o, 0.6f, 1), hits, why);
@@ -72,7 +75,7 @@ TEST_CASE("the unit sphere seen from 10000 units away" *
 }
 
 TEST_CASE("grazing rays near the silhouette of the unit sphere" *
-          doctest::description("6. Far and grazing rays (lecture 03 sections 5 and 6)")) {
+          doctest::description("6. Far and grazing rays")) {
     // 1% inside and outside the radius, from 100 and 1000 units away.
     for (const glm::vec3 o : {glm::vec3(-96, 20, 25), glm::vec3(-960, 200, 250)}) {
         expect_accurate(shot(o, 0.99f, 1), hits, why);

@@ -61,7 +61,7 @@ TEST_CASE("the centre matters: a ray through the world origin misses a sphere ce
           doctest::description("1. Moving the centre")) {
     expect_roots({{-3, 0, 0}, {1, 0, 0}}, {{0, 5, 0}, 1}, none(),
                  "The sphere is centred at (0, 5, 0); the x axis passes 5 units from it. "
-                 "Use f = o - c, not o.");
+                 "Roots here would mean the sphere was taken to be centred at the world origin.");
 }
 
 TEST_CASE("the centre matters: the roots move with the sphere" * doctest::description("1. Moving the centre")) {
@@ -73,7 +73,8 @@ TEST_CASE("the radius matters: c uses r squared" * doctest::description("2. Any 
     // f = (-6, 0, 0), r = 3: c = 36 - 9 = 27, h = -6, h^2 - c = 9.
     expect_roots({{-4, 1, 0}, {1, 0, 0}}, {{2, 1, 0}, 3}, two(3, 9),
                  "The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9. "
-                 "c is f.f - r^2 = 36 - 9; with r instead of r^2 the roots are wrong.");
+                 "Here r = 3 and r^2 = 9 differ: roots computed from r, not from its square, belong to "
+                 "another sphere.");
 }
 
 TEST_CASE("the radius matters: a small sphere" * doctest::description("2. Any radius")) {

@@ -53,16 +53,17 @@ void expect_accurate(const Ray& ray, const Sphere& sphere, int count, const std:
     check_roots_ulps("sphere_roots(ray, sphere)", input, exact, sphere_roots(found->ray, found->sphere), why);
 }
 
+// Each says what goes wrong, not how to write the cure: every failure points to
+// lecture 02, section 7, and finding the cure is the exercise.
 const std::string far_why =
-    "Far away, h^2 and a c are both about |f|^2 |d|^2 and their difference loses most of its digits: "
-    "compute the discriminant as a (r^2 - |f - (h/a) d|^2).";
+    "Far away, h^2 and a c are both about |f|^2 |d|^2: their difference, the discriminant, is small and "
+    "keeps few of its digits when computed by subtracting them.";
 const std::string scale_why =
-    "With |f| many thousand radii, h^2 and a c agree to more digits than even double holds: read the "
-    "discriminant geometrically, a r^2 - |f x d|^2 (Lagrange's identity), the cross product giving the "
-    "line's distance from the centre.";
+    "With |f| many thousand radii, h^2 and a c agree to more digits than even a double holds: no precision "
+    "is enough to subtract them, the discriminant must be had without that subtraction.";
 const std::string root_why =
-    "When one root is much smaller than the other, -h + sqrt(disc) cancels: take the root that adds terms "
-    "of the same sign, q = -(h + sign(h) sqrt(disc)), and get the other from c / q.";
+    "One root is much smaller than the other: the formula for it subtracts two nearly equal numbers and "
+    "keeps few correct digits.";
 
 }  // namespace
 

@@ -57,12 +57,14 @@ void expect_accurate(const char* call, RootsFn fn, const Sphere& s, const std::v
 const char* const shortcut = "sphere_roots_unit_dir(ray, sphere)";
 const char* const geometric = "sphere_roots_geometric(ray, sphere)";
 
+// Each says what goes wrong, not how to write the cure: the case points to the
+// section (5 or 6) that explains it, and finding the cure is the exercise.
 const std::string disc_why =
-    "h^2 and c (or |L|^2 and t_m^2) are nearly equal large numbers here and their difference loses its "
-    "digits: compute the discriminant as r^2 - |f - h d|^2.";
+    "h^2 and c (or |L|^2 and t_m^2) are nearly equal large numbers here: their difference, the "
+    "discriminant, keeps few correct digits.";
 const std::string root_why =
-    "One root is much smaller than the other and t_m - Dt cancels: take the root that adds terms of "
-    "the same sign and get the other from the product of the roots, c / q.";
+    "One root is much smaller than the other: t_m - Dt subtracts two nearly equal numbers and keeps few "
+    "correct digits.";
 
 // The scenes, each a sphere and the rays shot at it.
 const Sphere far_1e3{{600, -480, 640}, 1};

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from .checking import Progress, StepResult
 from .common import ROOT, Step, paint, say
+from .robust_line import robust_line
 from .sandbox import NONE_OWN
 from .status import BROKEN, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
 
@@ -123,11 +124,10 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     if todo is None:
         robust = [r for r in results if r.passed("robust") < len(r.tier("robust"))]
         if robust:
-            r = robust[0]
-            out.append(paint("Every step you asked for is done.", "green") +
-                       f" Optional: the ★ robust cases of step {r.step.number}:")
-            c = r.first_problem("robust")
-            out += case_block(r.step, c)
+            # Optional cases of a done step: one calm line each, the cases only on request (--all).
+            out.append(paint("Every step you asked for is done.", "green"))
+            out += [f"  step {r.step.number}: {robust_line(r)}" for r in robust]
+            out.append(paint(f"  ./kit check {int(robust[0].step.number)} --all shows these cases", "dim"))
         else:
             out.append(paint("Every step you asked for is done, robust cases included. Well done.", "green"))
         return out

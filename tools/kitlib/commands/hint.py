@@ -1,18 +1,30 @@
-"""./kit hint N: the step's hints, one more each time (a nudge first, then the formula; never code)."""
+"""./kit hint N: the step's hints, one more each time (a nudge first, then the formula; never code).
+
+The first hint given is the one about the lecture section the first failing case points to (the step's
+cases are run for that, as ./kit check N would); then the rest in their fixed order. A hint's section is
+what it cites, "(section 4)" or "(sections 2 and 3)"; a hint about another lecture's sections
+("lecture 03, sections 5 and 6") is not tied to them.
+"""
 
 from __future__ import annotations
 
 import re
 
-from ..common import BUILD, ROOT, KitError, load_steps, paint, say, select_steps
-from ..status import FAILED, OK
+from ..common import BUILD, ROOT, KitError, load_steps, note, paint, say, select_steps
+from ..status import BROKEN, DONE, FAILED, MISSING, NOT_STARTED, NO_COMPILE, OK, PARTIAL, WAITING
 
+# "section 4", "sections 5 and 6", "sections 2, 3 and 4", "section 2. The ray meets the sphere".
+SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)", re.I)
+OTHER_LECTURE = re.compile(r"lecture\s+\d+,?\s+sections?\s+\d+(?:\s*(?:,|and|to)\s*\d+)*", re.I)
 
 
 def register(p) -> None:
     p.add_argument("number", metavar="N", help="the step number")
     p.add_argument("--all", action="store_true", help="show every hint so far and the next one")
     p.add_argument("--reset", action="store_true", help="start again from the first hint")
+    p.add_argument("--no-run", action="store_true",
+                   help="do not run the step's cases to find what fails: the hints in their fixed order")
+    p.add_argument("--steps", metavar="DIR", help="look at the steps in DIR instead of steps/ (DIR is not modified)")
 
 
 def load_hints(step) -> list[str]:
@@ -23,27 +35,120 @@ def load_hints(step) -> list[str]:
     return [p.strip() for p in parts if p.strip()]
 
 
+def hint_sections(hint: str) -> set[str]:
+    """The numbers of the step's lecture sections a hint cites (another lecture's are left out)."""
+    text = OTHER_LECTURE.sub("", hint)
+    numbers: set[str] = set()
+    for m in SECTION.finditer(text):
+        bounds = re.findall(r"\d+", m.group(1))
+        if " to " in m.group(1) and len(bounds) == 2:      # "sections 4 to 6"
+            numbers.update(str(n) for n in range(int(bounds[0]), int(bounds[1]) + 1))
+        else:
+            numbers.update(bounds)
+    return numbers
+
+
+def section_of(pointer: str) -> str:
+    """A case's pointer, "4. What the discriminant says" -> "4" ("" when it has no number)."""
+    m = re.match(r"\s*(\d+)\.", pointer or "")
+    return m.group(1) if m else ""
+
+
+def choose(hints: list[str], shown: list[int], section: str) -> int | None:
+    """The next hint (1-based): the first not yet shown that cites `section`, else the first not yet shown;
+    None when every hint has been shown."""
+    unseen = [i for i in range(1, len(hints) + 1) if i not in shown]
+    if not unseen:
+        return None
+    if section:
+        tied = [i for i in unseen if section in hint_sections(hints[i - 1])]
+        if tied:
+            return tied[0]
+    return unseen[0]
+
+
+def read_state(path, count: int) -> list[int]:
+    """The hints shown so far, in the order shown ("shown 5,1"). An older kit wrote how many: "2" is [1, 2]."""
+    try:
+        text = path.read_text().strip()
+    except OSError:
+        return []
+    numbers = [int(n) for n in re.findall(r"\d+", text)]
+    if not text.startswith("shown") and len(numbers) == 1:
+        numbers = list(range(1, numbers[0] + 1))
+    return [n for n in dict.fromkeys(numbers) if 1 <= n <= count]
+
+
+def write_state(path, order: list[int]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("shown " + ",".join(map(str, order)) + "\n")
+
+
+def first_failing(step, steps_dir: str | None):
+    """The first case of `step` that fails (basic, then hidden, then ★), or None; runs the step's cases."""
+    from ..checking import check_steps          # imported here: ./kit hint --no-run builds nothing
+    from ..common import preset_build, resolve_steps_dir, submission_build
+    from ..packages import ensure_packages
+    from ..sandbox import NONE_OWN, choose as isolation_for
+    ensure_packages("build")
+    if steps_dir:  # a folder the kit did not write: the same isolation as ./kit check --steps
+        build, isolation = submission_build(resolve_steps_dir(steps_dir), "submission"), isolation_for("auto", 0)
+    else:
+        build, isolation = preset_build("student"), NONE_OWN
+    [result] = check_steps(build, [step], load_steps(), isolation)
+    if result.state not in (PARTIAL, DONE):
+        return result.state, None
+    for tier in ("basic", "hidden", "robust"):
+        case = result.first_problem(tier)
+        if case is not None:
+            return result.state, case
+    return result.state, None
+
+
 def run(args) -> int:
     [step] = select_steps(load_steps(), [args.number])
     hints = load_hints(step)
     if not hints:
         raise KitError(f"step {step.number} has no hints yet; read {step.lecture}", FAILED)
     state = BUILD / "hints" / step.number
-    shown = 0 if args.reset or not state.exists() else int(state.read_text() or 0)
     if args.reset:
         state.unlink(missing_ok=True)
         say(f"Hints for step {step.number} start again from the first.")
         return OK
-    nxt = min(shown + 1, len(hints))
-    first = 1 if args.all else nxt
-    for i in range(first, nxt + 1):
+    shown = read_state(state, len(hints))
+    case, why = None, ""
+    if not args.no_run and len(shown) < len(hints):
+        note(f"kit: running step {step.number}'s cases to see what fails (--no-run: the hints in order)")
+        try:
+            status, case = first_failing(step, args.steps)
+        except KitError:
+            raise          # a mistake the user can fix (--steps names no folder): say so
+        except Exception as e:  # a hint must still come when the grading cannot run
+            status, why = BROKEN, f"the cases could not run ({e})"
+        if case is None and not why:
+            why = {NOT_STARTED: "nothing written yet", NO_COMPILE: "the code does not compile",
+                   MISSING: "a file is missing", WAITING: "an earlier step comes first",
+                   DONE: "every case passes"}.get(status, status)
+    section = section_of(case.lecture) if case is not None else ""
+    nxt = choose(hints, shown, section)
+    last = nxt is None
+    if last:
+        nxt = shown[-1] if shown else len(hints)
+    order = shown + ([nxt] if nxt not in shown else [])
+    for i in (order if args.all else [nxt]):
         say(paint(f"Hint {i} of {len(hints)} · step {step.number}, {step.title}", "bold"))
+        if i == nxt and section and section in hint_sections(hints[i - 1]):
+            say(paint(f"(your first failing case, \"{case.name}\", points to section \"{case.lecture}\")", "dim"))
         say(hints[i - 1])
         say()
-    if nxt < len(hints):
+    if case is not None and section and not (section in hint_sections(hints[nxt - 1])):
+        say(paint(f"Your first failing case, \"{case.name}\", points to section \"{case.lecture}\" of "
+                  f"{step.lecture}; no hint left is about it.", "dim"))
+    elif why and not args.no_run:
+        say(paint(f"({why}: the hints in their order)", "dim"))
+    if len(order) < len(hints):
         say(paint(f"Run ./kit hint {int(step.number)} again for the next one.", "dim"))
     else:
         say(paint(f"That was the last hint. The lecture, {step.lecture}, has the rest.", "dim"))
-    state.parent.mkdir(parents=True, exist_ok=True)
-    state.write_text(str(nxt))
+    write_state(state, order)
     return OK

@@ -175,15 +175,80 @@ def render_one(exe: Path, scene: str, shading: str, size: tuple[int, int], targe
     return f"the renderer failed (exit status {proc.returncode}): {first}"
 
 
-def compare(diff_exe: Path, reference: Path, picture: Path, diff: Path) -> tuple[int, int, int]:
-    """(differing pixels, of which next to an edge of the reference, all pixels); writes `diff`."""
+@dataclass
+class Difference:
+    """How a picture differs from its reference, pixel by pixel (tools/render/imgdiff.cpp)."""
+    differing: int              # pixels of another colour, of the three kinds below
+    edge: int                   # the colour of a neighbour in the reference: an edge one pixel off
+    total: int                  # pixels in the picture
+    level: int                  # every channel within one level of 255: rounding of a smooth shading
+
+    @property
+    def other(self) -> int:
+        """Pixels of a colour the reference has nowhere near: never rounding."""
+        return self.differing - self.edge - self.level
+
+
+def compare(diff_exe: Path, reference: Path, picture: Path, diff: Path) -> Difference:
+    """Counts the pixels of `picture` that differ from `reference`, by kind; writes the diff image `diff`."""
     r = subprocess.run([str(diff_exe), str(reference), str(picture), str(diff)], capture_output=True,
                        text=True, timeout=120)
     diff.with_name(diff.name + ".tmp").unlink(missing_ok=True)
     if r.returncode != 0:
         raise KitError(f"could not compare {picture} with {reference}: {r.stderr.strip()}", FAILED)
-    differing, near_edge, total = (int(n) for n in r.stdout.split())
-    return differing, near_edge, total
+    return Difference(*(int(n) for n in r.stdout.split()))
+
+
+# What a correct answer may change in a picture, measured with raykit_imgdiff's counts (GCC 12): every
+# scene at 256x256, 512x384 and 97x61, drawn by correct code written four other ways than the solutions:
+# the textbook quadratic of tests/fixtures/textbook (steps 01 and 02), the half-b form in float, lecture
+# 03's rewrite in float, and a step 05 whose view rays are unit vectors built from a [-1, 1] film:
+#   - pixels one colour level off (of 255) in the normals pictures: at most 30 of 196608 (spheres-normals
+#     at 512x384) and 20 of 65536 (at 256x256), 0.031 % at most: a normal whose 8-bit value lands near
+#     a .5 rounds the other way when the hit point moves by an ulp, whatever formula found it;
+#   - edges moved by a pixel, or any other colour: none.
+# The mutants of steps 02 and 05 (tests/mutants/), drawn the same way at 256x256 and 97x61: those of
+# step 02 that change a picture at all give at least 3116 pixels of another colour; some of step 05 only
+# move edges, 12 pixels at the fewest (light_coordinates_swapped at 97x61), so no moved edge is accepted.
+# Seven of step 02's sixteen and one of step 05's thirteen leave every picture as it is (a tangent, a NaN
+# radius, a zero direction, an origin inside: no view ray of these scenes is such a case); the grader
+# catches those, the pictures cannot.
+# Accepted: one-level pixels only, at most 1 in 256 of the picture (0.39 %, 12 times the worst measured).
+LEVEL_SHARE = 256
+
+
+def level_bound(total: int) -> int:
+    """How many pixels one colour level off a correct answer may have in a picture of `total` pixels."""
+    return max(1, total // LEVEL_SHARE)
+
+
+def within_rounding(d: Difference) -> bool:
+    """Whether the differences are only what rounding does to a correct answer (see LEVEL_SHARE)."""
+    return d.other == 0 and d.edge == 0 and d.level <= level_bound(d.total)
+
+
+def verdict(d: Difference, picture: Path, reference: Path, diff: Path, accepted: bool) -> list[str]:
+    """The lines that say how `picture` differs from `reference`, and whether that is accepted."""
+    if accepted:
+        lines = [f"  {paint('✓', 'green')} {picture}  matches the reference but for {d.level} of {d.total} "
+                 f"pixels one colour level off (of 255)",
+                 f"      accepted (up to {level_bound(d.total)}): where a shading's value sits on a rounding "
+                 "boundary of the 8-bit colour, any correct float answer may tip it either way"]
+    else:
+        kinds = [f"{n} {what}" for n, what in ((d.other, "of another colour (magenta)"),
+                                               (d.edge, "an edge moved by a pixel (yellow)"),
+                                               (d.level, "one colour level off (cyan)")) if n]
+        lines = [f"  {paint('✗', 'red')} {picture}  {d.differing} of {d.total} pixels differ from the reference: "
+                 + ", ".join(kinds)]
+        if d.other == 0 and d.edge == 0:
+            lines.append(f"      more one-level pixels than rounding alone makes (at most {level_bound(d.total)}): "
+                         "a shading computed slightly differently everywhere?")
+        elif d.other == 0:
+            lines.append("      only edges moved: a camera shifted by half a pixel, or an object a little off "
+                         "(the correct answers measured never move one)")
+    lines.append(f"      reference {reference}")
+    lines.append(f"      marked in {diff}")
+    return lines
 
 
 def render_reference(scenes: list[Scene], size: tuple[int, int], out: Path) -> dict[str, Path]:
@@ -263,7 +328,6 @@ def write_atomically(path: Path, text: str) -> None:
 # --- the command ---------------------------------------------------------------------------
 
 
-
 def register(p) -> None:
     names = ", ".join(f"{s.name} (step {int(s.step)})" for s in available_scenes())
     p.add_argument("scenes", nargs="*", metavar="SCENE", help=f"what to render (default: all): {names}")
@@ -337,17 +401,15 @@ def render_steps(scenes: list[Scene], size: tuple[int, int], out: Path, source: 
                 say(f"  {paint('?', 'yellow')} {picture}  (no reference picture to compare with)")
                 continue
             diff = out / f"{name}-diff.png"
-            differing, near_edge, total = compare(imgdiff(build), reference, picture, diff)
-            if differing == 0:
+            d = compare(imgdiff(build), reference, picture, diff)
+            if d.differing == 0:
                 say(f"  {paint('✓', 'green')} {picture}  matches the reference")
                 diff.unlink(missing_ok=True)
                 continue
-            all_good = False
-            say(f"  {paint('✗', 'red')} {picture}  {differing} of {total} pixels differ from the reference, "
-                f"marked in {diff}")
-            if near_edge == differing:
-                say(f"      all of them next to an edge of the reference: rounding can do that at some sizes "
-                    f"(not at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}), and so can a camera shifted by half a pixel")
+            accepted = within_rounding(d)
+            all_good = all_good and accepted
+            for line in verdict(d, picture, reference, diff, accepted):
+                say(line)
     return OK if all_good else FAILED
 
 
