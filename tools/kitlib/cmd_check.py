@@ -9,7 +9,8 @@ import os
 import time
 from pathlib import Path
 
-from common import ROOT, Build, KitError, Step, ensure_packages, load_steps, paint, preset_build, \
+import picture
+from common import BUILD, ROOT, Build, KitError, Step, ensure_packages, load_steps, paint, preset_build, \
     resolve_steps_dir, say, select_steps, submission_build
 from grade import StepResult, grade
 from sandbox import NONE_OWN, choose
@@ -88,6 +89,8 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> lis
                      + (", the first lines" if len(shown) < len(case.output.splitlines()) or
                         len(case.output.encode()) < case.output_bytes else "") + "):")
         lines += [f"{indent}      | {l[:200]}" for l in shown]
+    if case.picture and (reveal or case.tier != "hidden"):
+        lines.append(f"{indent}    picture: {rel(Path(case.picture))}")
     if case.lecture:
         lines.append(f"{indent}    read      {step.lecture}, section \"{case.lecture}\"")
     return lines
@@ -239,6 +242,9 @@ def run(args) -> int:
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
     start = time.monotonic()
     results = grade(build, steps, all_steps, isolation)
+    if not args.quiet:      # a picture per failing sphere or rectangle case (not for class grading)
+        picture.draw_results(results, BUILD / ("pictures" if args.slot == 0 else f"pictures-{args.slot}"),
+                             args.reveal)
     if args.json:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
     if not args.quiet:
