@@ -314,7 +314,9 @@ class Panel:
     def text_at(self, x, y, label: str, colour="#222", dy=0.0, anchor="middle", size=13, weight="normal"):
         """A label at pixel (x, y), kept inside the panel."""
         x = min(max(x, self.left + 4), self.left + self.width - 4)
-        if anchor == "middle":
+        if anchor == "start":       # about 7 px a character at 12-13 px: keep the whole label inside
+            x = min(x, self.left + self.width - 4 - 7 * len(label))
+        elif anchor == "middle":
             half = 3.6 * len(label)
             x = min(max(x, self.left + half), self.left + self.width - half)
         self.items.append(f'<text x="{x:.1f}" y="{y + dy:.1f}" fill="{colour}" font-size="{size}" '
@@ -351,8 +353,8 @@ def draw_ray(panel: Panel, o2, d2, case: Case, at) -> None:
                 for t, name in ((tmin, "tmin"), (tmax, "tmax")):
                     p = at(t)
                     if math.isfinite(t) and panel.inside(p):
-                        x, y = panel.px(p)      # beside the point, clear of the answers' labels above and below
-                        panel.text_at(x + 8, y, f"{name} = {fmt(t)}", colour="#9a6b00", dy=-8, anchor="start",
+                        x, y = panel.px(p)      # above the answers' labels (expected above, got below)
+                        panel.text_at(x + 4, y, f"{name} = {fmt(t)}", colour="#9a6b00", dy=-32, anchor="start",
                                       size=12)
             else:
                 panel.notes.append(f"the window is empty: tmin = {fmt(tmin)} > tmax = {fmt(tmax)}")
@@ -424,7 +426,8 @@ def sphere_panels(case: Case, top: float) -> list:
     if w is None or norm(sub(sub(centre, o), scale(u, inner(sub(centre, o), u)))) <= 1e-12 * max(
             norm(sub(centre, o)), abs(radius), 1e-30):
         w = perpendicular(u)
-        notes.append("the ray's line passes through the centre: any plane holding it shows the same circle")
+        if norm(d) > 0:
+            notes.append("the ray's line passes through the centre: any plane holding it would do")
 
     def flat(p):
         q = sub(p, o)
@@ -561,20 +564,33 @@ def render(figure: dict, title: str) -> tuple:
     out += [f'<text x="10" y="{44 + 17 * i}" font-size="12.5" fill="#333">{escape(l)}</text>'
             for i, l in enumerate(head)]
     out += [p.svg() for p in panels]
-    out.append(f'<g font-size="12.5"><circle cx="16" cy="{legend - 4}" r="6" fill="{EXPECTED_COLOUR}"/>'
-               f'<text x="28" y="{legend}">expected</text>'
-               f'<path d="M104,{legend - 11}L118,{legend + 3}M104,{legend + 3}L118,{legend - 11}" '
-               f'stroke="{GOT_COLOUR}" stroke-width="3"/><text x="126" y="{legend}">your answer</text>'
-               + (f'<line x1="226" y1="{legend - 4}" x2="262" y2="{legend - 4}" stroke="{WINDOW_COLOUR}" '
-                  f'stroke-width="9" opacity="0.7"/><text x="270" y="{legend}">window [tmin, tmax]</text>'
-                  if case.window is not None else
-                  f'<text x="226" y="{legend}" fill="#555">roots of the whole line: no window</text>') +
-               f'<line x1="420" y1="{legend - 4}" x2="456" y2="{legend - 4}" stroke="{RAY_COLOUR}" '
-               f'stroke-width="2" marker-end="url(#arrow)"/><text x="464" y="{legend}">the ray</text></g>')
+    out.append(legend_svg(legend, case.window is not None))
     out += [f'<text x="10" y="{y + 17 * i}" font-size="12.5" fill="#8a3b00">{escape(l)}</text>'
             for i, l in enumerate(note_lines)]
     out.append("</svg>")
     return "\n".join(out) + "\n", line
+
+
+def legend_svg(y: float, window: bool) -> str:
+    """One line: the marks and what they mean, each placed after the last."""
+    keys = [(lambda x: f'<circle cx="{x + 6}" cy="{y - 4}" r="6" fill="{EXPECTED_COLOUR}"/>', "expected"),
+            (lambda x: f'<path d="M{x},{y - 11}L{x + 14},{y + 3}M{x},{y + 3}L{x + 14},{y - 11}" '
+                       f'stroke="{GOT_COLOUR}" stroke-width="3"/>', "your answer"),
+            (lambda x: f'<line x1="{x}" y1="{y - 4}" x2="{x + 30}" y2="{y - 4}" stroke="{RAY_COLOUR}" '
+                       f'stroke-width="2" marker-end="url(#arrow)"/>', "the ray")]
+    if window:
+        keys.append((lambda x: f'<line x1="{x}" y1="{y - 4}" x2="{x + 30}" y2="{y - 4}" '
+                               f'stroke="{WINDOW_COLOUR}" stroke-width="9" opacity="0.7"/>', "window [tmin, tmax]"))
+    else:
+        keys.append((lambda x: "", "roots of the whole line (no window)"))
+    out, x = ['<g font-size="12.5">'], 10
+    for mark, text in keys:
+        drawn = mark(x)
+        out.append(drawn)
+        tx = x + (38 if "line" in drawn else 20 if drawn else 0)
+        out.append(f'<text x="{tx}" y="{y}">{escape(text)}</text>')
+        x = tx + 7 * len(text) + 22
+    return "".join(out + ["</g>"])
 
 
 def shorten(text: str, n: int) -> str:
@@ -637,3 +653,42 @@ def draw_results(results, folder: Path, reveal: bool = False) -> int:
             except OSError as e:
                 c.picture, c.picture_summary = "", f"no picture: cannot write {path} ({e.strerror})"
     return written
+
+
+# --- the gallery of classic pitfalls (docs/pitfalls.md) ------------------------------------------------
+#
+# Each is a case of a step's suite, with the wrong answer the slip gives; the expected answers are the
+# suite's (the self-test checks each lies on the shape). `./kit docs` draws them, so they never go stale.
+
+INF = "inf"
+_THROUGH = {"origin": [-3, 0, 0], "direction": [1, 0, 0]}     # step 01's ray through the centre: roots 2 and 4
+_WIDE = {"axis": 2, "offset": 5, "lo": [-3, -1], "hi": [3, 1]}  # step 04's rectangle z = 5
+
+PITFALLS = [
+    ("tangent", "A tangent is a hit",
+     {"function": "intersect_unit_sphere", "ray": {"origin": [-2, 1, 0], "direction": [1, 0, 0]},
+      "window": [0, INF], "expected": 2, "got": None}),
+    ("origin-inside", "Origin inside the sphere: the hit is ahead",
+     {"function": "intersect_unit_sphere", "ray": {"origin": [0, 0, 0], "direction": [0, 0, 1]},
+      "window": [0, INF], "expected": 1, "got": -1}),
+    ("sphere-behind", "A sphere behind the ray is no hit",
+     {"function": "intersect_unit_sphere", "ray": {"origin": [3, 0, 0], "direction": [1, 0, 0]},
+      "window": [0, INF], "expected": None, "got": -4}),
+    ("window-ends", "The window is closed: a root at tmin counts",
+     {"function": "intersect_unit_sphere", "ray": _THROUGH, "window": [2, 10], "expected": 2, "got": 4}),
+    ("window-tmax", "Both roots beyond tmax: no hit",
+     {"function": "intersect_unit_sphere", "ray": _THROUGH, "window": [0, 1], "expected": None, "got": 2}),
+    ("rect-parallel", "A ray lying in the rectangle's plane is no hit",
+     {"function": "intersect_rect", "ray": {"origin": [-10, 0, 5], "direction": [1, 0, 0]}, "rect": _WIDE,
+      "window": [0, INF], "expected": None, "got": 0}),
+]
+
+
+def write_gallery(folder: Path) -> list:
+    """Draws every pitfall into folder/pitfall-<name>.svg; returns the paths."""
+    paths = []
+    for name, title, figure in PITFALLS:
+        path = folder / f"pitfall-{name}.svg"
+        write(figure, title, path)
+        paths.append(path)
+    return paths
