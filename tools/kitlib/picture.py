@@ -81,6 +81,11 @@ def fmt_vec(v) -> str:
     return "(" + ", ".join(fmt(c) for c in v) + ")"
 
 
+def fmt_point(v) -> str:
+    """A point the picture computed (o + t d, in doubles): 7 significant digits, about a float's."""
+    return "(" + ", ".join(fmt(c) if not math.isfinite(c) or c == int(c) else format(c, ".7g") for c in v) + ")"
+
+
 def add(a, b):
     return tuple(p + q for p, q in zip(a, b))
 
@@ -380,7 +385,7 @@ def mark_answers(panel: Panel, case: Case, at) -> None:
                 continue
             if not panel.inside(p):
                 if all(math.isfinite(c) for c in p):
-                    panel.notes.append(f"{who} t = {fmt(t)} is at {fmt_vec(case.point(t))}, outside the view")
+                    panel.notes.append(f"{who} t = {fmt(t)} is at {fmt_point(case.point(t))}, outside the view")
                 else:
                     panel.notes.append(f"{who} t = {fmt(t)}: no point to draw")
                 continue
@@ -539,13 +544,15 @@ def render(figure: dict, title: str) -> tuple:
     """(svg text, one-line summary) of a figure; raises PictureError when it cannot be drawn."""
     case = Case(figure)
     line = summary_of(case)
+    titles = wrap(title, 64)[:2]
     head = wrap(line, 88)
-    top = 30 + 17 * len(head) + 8
+    first = 22 + 19 * (len(titles) - 1)         # the baseline of the summary's first line, less 22
+    top = first + 30 + 17 * len(head) - 9
     panels = sphere_panels(case, top) if case.sphere is not None else rect_panels(case, top)
     notes = []
     for p in panels:
         notes += p.notes
-        notes += [f"{label}, at {fmt_vec(q)}, is far outside the view: the view shows the shape and the hits"
+        notes += [f"{label}, at {fmt_point(q)}, is far outside the view: the view shows the shape and the hits"
                   for label, q in p.off]
     notes = list(dict.fromkeys(notes))
     y = panels[-1].bottom + 26
@@ -560,8 +567,10 @@ def render(figure: dict, title: str) -> tuple:
            '<defs><marker id="arrow" viewBox="0 0 10 10" refX="8" refY="5" markerWidth="7" markerHeight="7" '
            f'orient="auto-start-reverse"><path d="M0,0L10,5L0,10z" fill="{RAY_COLOUR}"/></marker></defs>',
            f'<rect width="{WIDTH}" height="{height:.0f}" fill="white"/>',
-           f'<text x="10" y="22" font-size="15" font-weight="bold">{escape(shorten(title, 70))}</text>']
-    out += [f'<text x="10" y="{44 + 17 * i}" font-size="12.5" fill="#333">{escape(l)}</text>'
+           ]
+    out += [f'<text x="10" y="{22 + 19 * i}" font-size="15" font-weight="bold">{escape(shorten(l, 70))}</text>'
+            for i, l in enumerate(titles)]
+    out += [f'<text x="10" y="{first + 22 + 17 * i}" font-size="12.5" fill="#333">{escape(l)}</text>'
             for i, l in enumerate(head)]
     out += [p.svg() for p in panels]
     out.append(legend_svg(legend, case.window is not None))
