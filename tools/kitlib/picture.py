@@ -297,7 +297,7 @@ class Panel:
         lo, hi = max(t0, nearest - reach), min(t1, nearest + reach)
         if not lo <= hi:
             return None
-        n = 512
+        n = 200     # a chord shorter than 1/200 of the searched stretch (a corner grazed) is not drawn
         ss = [lo + (hi - lo) * i / n for i in range(n + 1)]
         flags = [self.inside(add(a, scale(b, v))) for v in ss]
         if not any(flags):
