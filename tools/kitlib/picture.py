@@ -548,7 +548,11 @@ def draw_rect(panel: Panel, corners, lo, hi) -> None:
 
 def wrap(text: str, width: int = 84) -> list:
     out, line = [], ""
-    for word in text.split():
+    # A bracket's contents stay on one line: "[0, inf]" is not broken after its comma.
+    text = re.sub(r"\[[^\]]*\]", lambda m: m.group(0).replace(" ", "\u00a0"), text)
+    for word in text.split(" "):
+        if not word:
+            continue
         if line and len(line) + 1 + len(word) > width:
             out.append(line)
             line = word
