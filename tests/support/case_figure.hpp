@@ -49,6 +49,7 @@ inline std::string json(const std::optional<float>& hit) { return hit ? json(*hi
 /// The arguments of one call, as the picture needs them.
 struct Arguments {
     bool drawable = true;
+    bool has_ray = false;         // a call without a ray (cornell_box()) draws nothing
     std::string fields;           // "ray": ..., "sphere": ... (JSON members, comma-separated)
     std::vector<float> window;    // the float arguments in order: tmin, tmax
 };
@@ -57,6 +58,7 @@ inline void add_field(Arguments& a, const std::string& member) {
     a.fields += (a.fields.empty() ? "" : ", ") + member;
 }
 inline void add(Arguments& a, const Ray& r) {
+    a.has_ray = true;
     add_field(a, "\"ray\": {\"origin\": " + json(r.origin) + ", \"direction\": " + json(r.direction) + "}");
 }
 inline void add(Arguments& a, const Sphere& s) {
@@ -93,7 +95,7 @@ void note_call(const char* function, const A&... args) {
     Arguments a;
     (add(a, args), ...);
     State& s = state();
-    if (!a.drawable || a.window.size() == 1 || a.window.size() > 2) {
+    if (!a.drawable || !a.has_ray || a.window.size() == 1 || a.window.size() > 2) {
         s.function.clear();
         s.arguments.clear();
         return;
