@@ -260,6 +260,11 @@ class Panel:
         pad_x, pad_y = 0.12 * (hi_x - lo_x), 0.12 * (hi_y - lo_y)
         self.view = (lo_x - pad_x, hi_x + pad_x, lo_y - pad_y, hi_y + pad_y)
         vw, vh = self.view[1] - self.view[0], self.view[3] - self.view[2]
+        # A shape of size 2 at 1e30 has no width in doubles (1e30 + 1 == 1e30): nothing to draw to scale.
+        if not (vw > 0 and vh > 0 and math.isfinite(vw) and math.isfinite(vh)
+                and vw > 1e-9 * max(abs(lo_x), abs(hi_x)) and vh > 1e-9 * max(abs(lo_y), abs(hi_y))):
+            raise PictureError(f"the shape, {fmt(size)} across at {fmt_point((cx, cy))} in the picture's plane, "
+                               "is too small beside its coordinates to draw to scale")
         self.left, self.top, self.width = 10.0, top + 22.0, width - 20.0
         # One scale for both axes (a circle stays round), the height kept between its limits:
         # the view grows in the short direction to fill the panel.
@@ -436,7 +441,7 @@ def extras(case: Case, at) -> list:
 def sphere_panels(case: Case, top: float) -> list:
     centre, radius = case.sphere
     o, d = case.origin, case.direction
-    if not finite(*o, *d, *centre) or math.isnan(radius):
+    if not finite(*o, *d, *centre, radius):
         raise PictureError("the ray or the sphere holds NaN or inf: there is no picture of it")
     notes = []
     u = unit(d)

@@ -129,6 +129,7 @@ DEGENERATE = [
     ("rectangle, zero direction", {"function": "intersect_rect", "ray": {"origin": [0, 0, 0], "direction": [0, 0, 0]},
                                    "rect": WIDE, "window": [0, "inf"], "expected": None, "got": 1},
      "the direction is zero"),
+    ("a unit sphere 1e30 away", sphere((0, 0, 0), (1, 0, 0), (0, "inf"), 1e30, None, (1e30, 0, 0), 1), None),
     ("NaN in the ray", sphere(("NaN", 0, 0), (1, 0, 0), (0, "inf"), None, 1), None),
     ("inf in the centre", sphere((0, 0, 0), (1, 0, 0), (0, "inf"), None, 1, ("inf", 0, 0)), None),
     ("rectangle axis 7", {"function": "intersect_rect", "ray": {"origin": [0, 0, 0], "direction": [0, 0, 1]},
