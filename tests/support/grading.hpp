@@ -19,6 +19,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "case_figure.hpp"
 #include "float_text.hpp"
 #include "raykit/ray.hpp"
 #include "raykit/roots.hpp"
@@ -79,6 +80,7 @@ inline std::string report(const std::string& call, const std::string& input,
 inline void check_roots(const std::string& call, const std::string& input,
                         const Roots& expected, const Roots& got, const std::string& why) {
     auto fail = [&](const std::string& problem) {
+        figure::note_failure(call, figure::json(expected), figure::json(got));
         FAIL_CHECK(report(call, input, show(expected), show(got), problem + (why.empty() ? "" : " " + why)));
     };
     if (got.count < 0 || got.count > 2) return fail("count must be 0, 1 or 2.");
@@ -104,7 +106,9 @@ inline void check_hit(const std::string& call, const std::string& input,
                       const std::string& why) {
     const bool ok = expected.has_value() == got.has_value() &&
                     (!expected || close(*expected, *got));
-    if (!ok) FAIL_CHECK(report(call, input, show(expected), show(got), why));
+    if (ok) return;
+    figure::note_failure(call, figure::json(expected), figure::json(got));
+    FAIL_CHECK(report(call, input, show(expected), show(got), why));
 }
 
 }  // namespace raykit::grading

@@ -9,6 +9,7 @@
 #include "raykit/render.hpp"
 #include "raykit/unit_direction.hpp"
 #include "raykit/unit_sphere.hpp"
+#include "case_figure.hpp"
 #include "remote.hpp"
 
 namespace raykit {
@@ -22,6 +23,8 @@ namespace {
 
 template <class R, class... A>
 R forward_call(const char* function, const std::tuple<A...>& args) {
+    // Noted before the call, so that a failing check can draw it (case_figure.hpp).
+    std::apply([&](const auto&... a) { figure::note_call(function, a...); }, args);
     return std::apply([&](const auto&... a) { return remote::call<R>(remote::Target::student, function, a...); },
                       args);
 }

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "case_figure.hpp"
 #include "remote.hpp"
 
 namespace {
@@ -74,6 +75,7 @@ public:
         exception_.clear();
         not_started_ = crashed_ = false;
         raykit::remote::begin_case();
+        raykit::figure::begin_case();
         out_ << "{\"event\": \"start\", \"case\": " << json_string(tc.m_name) << "}\n";
         out_.flush();
     }
@@ -150,7 +152,10 @@ private:
             out_ << (first ? "" : ", ") << json_string(exception_.c_str());
         }
         out_ << "], \"output\": " << json_string(record_.output.c_str())
-             << ", \"output_bytes\": " << record_.output_bytes << "}\n";
+             << ", \"output_bytes\": " << record_.output_bytes;
+        // The geometry of the first failing check, for its picture (case_figure.hpp).
+        if (!raykit::figure::record().empty()) out_ << ", \"figure\": " << raykit::figure::record();
+        out_ << "}\n";
         out_.flush();
         record_ = {};
     }

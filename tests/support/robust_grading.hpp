@@ -53,6 +53,7 @@ inline void log_ulps(const std::string& call, const std::string& input, std::int
 inline void check_roots_ulps(const std::string& call, const std::string& input,
                              const Roots& expected, const Roots& got, const std::string& why) {
     auto fail = [&](const std::string& problem) {
+        figure::note_failure(call, figure::json(expected), figure::json(got));
         FAIL_CHECK(report(call, input, show(expected) + "  (exact roots, rounded to float)", show(got),
                           problem + (why.empty() ? "" : " " + why)));
     };
@@ -81,16 +82,19 @@ inline void check_hit_ulps(const std::string& call, const std::string& input,
                            const std::string& why) {
     if (expected.has_value() != got.has_value()) {
         log_ulps(call, input, std::numeric_limits<std::int64_t>::max());
+        figure::note_failure(call, figure::json(expected), figure::json(got));
         FAIL_CHECK(report(call, input, show(expected), show(got), why));
         return;
     }
     if (!expected) return;
     const std::int64_t n = ulp_distance(*expected, *got);
     log_ulps(call, input, n);
-    if (n > robust_max_ulps)
+    if (n > robust_max_ulps) {
+        figure::note_failure(call, figure::json(expected), figure::json(got));
         FAIL_CHECK(report(call, input, show(expected) + "  (exact, rounded to float)", show(got),
                           "The hit is " + show_ulps(n) + " from the exact one; at most " +
                               std::to_string(robust_max_ulps) + " are allowed. " + why));
+    }
 }
 
 }  // namespace raykit::grading

@@ -47,6 +47,9 @@ class Case:
     messages: list[str] = field(default_factory=list)
     output: str = ""            # what the student's code printed during the case (trimmed)
     output_bytes: int = 0
+    figure: dict | None = None  # the geometry of the first failing check (tests/support/case_figure.hpp)
+    picture: str = ""           # its SVG (picture.py), when drawn
+    picture_summary: str = ""   # one line: what the picture shows, or why there is none
 
     @property
     def points(self) -> int:
@@ -92,7 +95,8 @@ class StepResult:
             "earned": self.earned, "maximum": self.maximum,
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
             "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
-                       "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes}
+                       "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
+                       "picture": c.picture or None, "picture_summary": c.picture_summary or None}
                       for c in self.cases],
         }
 
@@ -166,6 +170,7 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                             c = by_name[e["case"]]
                             c.status, c.messages = e["status"], list(e.get("messages", []))
                             c.output, c.output_bytes = e.get("output", ""), int(e.get("output_bytes", 0))
+                            c.figure = e.get("figure") if isinstance(e.get("figure"), dict) else None
                             done.add(c.name)
                             current = None
                     seen = len(events)

@@ -77,6 +77,10 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> lis
                      + (", the first lines" if len(shown) < len(case.output.splitlines()) or
                         len(case.output.encode()) < case.output_bytes else "") + "):")
         lines += [f"{indent}      | {l[:200]}" for l in shown]
+    if case.picture and (reveal or case.tier != "hidden"):
+        lines.append(f"{indent}    picture: {rel(Path(case.picture))}")
+    elif case.picture_summary:      # a figure that could not be drawn: say why
+        lines.append(f"{indent}    picture: none, {case.picture_summary.replace('no picture: ', '')}")
     if case.lecture:
         lines.append(f"{indent}    read      {step.lecture}, section \"{case.lecture}\"")
     return lines

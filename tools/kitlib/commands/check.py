@@ -7,7 +7,8 @@ import argparse
 import time
 
 from ..checking import check_steps
-from ..common import KitError, load_steps, preset_build, resolve_steps_dir, select_steps, submission_build
+from .. import picture
+from ..common import BUILD, KitError, load_steps, preset_build, resolve_steps_dir, select_steps, submission_build
 from ..gradescope import write_json
 from ..packages import ensure_packages
 from ..sandbox import NONE_OWN, choose
@@ -55,6 +56,9 @@ def run(args) -> int:
     finally:
         if live:
             live.close()
+    if not args.quiet:      # a picture per failing sphere or rectangle case (not for class grading)
+        picture.draw_results(results, BUILD / ("pictures" if args.slot == 0 else f"pictures-{args.slot}"),
+                             args.reveal)
     if args.json:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
     if not args.quiet:

@@ -28,6 +28,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .. import picture
 from ..common import BUILD, ROOT, KitError, Step, load_steps, note, say
 
 from ..packages import ensure_packages
@@ -41,6 +42,7 @@ AWESOME = Path("/usr/share/doxygen-awesome-css")
 # loads on demand (\color, \cancel, ...) and its menu. Nothing else is needed.
 MATHJAX_FILES = ["es5/tex-svg.js", "es5/input/tex/extensions", "es5/ui"]
 IMAGE_SUFFIXES = (".png", ".svg", ".jpg", ".jpeg")
+PITFALLS_PAGE = DOCS / "pitfalls.md"     # its pictures are drawn at each build (picture.PITFALLS)
 
 
 # --- what the site is made of ---------------------------------------------------------
@@ -205,6 +207,11 @@ def front_page(c: Content, instructor: bool) -> str:
         out += ["## More lectures", ""]
         out += [f"- \\ref {page_id(p)} \"{label(title_of(p, p.stem))}\"" for p in c.other_lectures]
         out.append("")
+    if PITFALLS_PAGE.is_file():
+        out += ["## Classic pitfalls, drawn", "",
+                f"- \\ref {page_id(PITFALLS_PAGE)} \"{label(title_of(PITFALLS_PAGE, 'Classic pitfalls'))}\": "
+                "a tangent, an origin inside, a sphere behind, the window's ends, a ray parallel to a "
+                "rectangle, drawn the way `./kit check` draws a failing case", ""]
     out += ["## The API", "",
             "Every type and function a step uses or asks you to write, with its contract: units, "
             "preconditions, the closed window \\f$t_\\min \\le t \\le t_\\max\\f$, what a tangent "
@@ -291,8 +298,11 @@ def doxyfile(out: Path, gen: Path, c: Content, instructor: bool) -> str:
     for sp in c.steps:
         inputs += [p for p in (sp.lecture, sp.task) if p]
     inputs += c.other_lectures + c.bench_readings
+    if PITFALLS_PAGE.is_file():
+        inputs.append(PITFALLS_PAGE)
     inputs += [p for p in (gen / "images.md", gen / "solutions.md") if p.is_file()]
-    image_path = [p for p in (ROOT / "lectures" / "figures", DOCS / "images", DOCS / "bench") if p.is_dir()]
+    image_path = [p for p in (ROOT / "lectures" / "figures", DOCS / "images", DOCS / "bench", gen / "pitfalls")
+                  if p.is_dir()]
     styles = [AWESOME / "doxygen-awesome.css", AWESOME / "doxygen-awesome-sidebar-only.css",
               DOCS / "raykit.css"]
     values = {
@@ -381,6 +391,8 @@ def build_site(instructor: bool = False) -> Site:
     gen.mkdir(parents=True)
     (gen / "index.md").write_text(front_page(content, instructor), encoding="utf-8")
     (gen / "namespace.dox").write_text(NAMESPACE_DOC, encoding="utf-8")
+    if PITFALLS_PAGE.is_file():
+        picture.write_gallery(gen / "pitfalls")
     if content.images:
         (gen / "images.md").write_text(images_page(content), encoding="utf-8")
     if instructor:

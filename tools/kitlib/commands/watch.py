@@ -19,8 +19,9 @@ import time
 import tty
 from pathlib import Path
 
+from .. import picture
 from ..checking import check_steps
-from ..common import ROOT, load_steps, paint, preset_build, resolve_steps_dir, say, select_steps, submission_build
+from ..common import BUILD, ROOT, load_steps, paint, preset_build, resolve_steps_dir, say, select_steps, submission_build
 from ..packages import ensure_packages
 from ..scoreboard import rel, scoreboard
 from ..status import DONE, OK
@@ -124,6 +125,7 @@ def run(args) -> int:
                     clear()
                     say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')} · checking ...", "dim"))
                     [result] = check_steps(build(), [current], all_steps)
+                    picture.draw_results([result], BUILD / "pictures", False)
                     robust = result.tier("robust")
                     complete = result.state == DONE and result.passed("robust") == len(robust)
                     if complete and later(current):

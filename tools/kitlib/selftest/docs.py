@@ -162,7 +162,7 @@ INSPECT = r"""
 
 def pages_to_open(site) -> list[tuple[str, str]]:
     """(file, why): the front page, every lecture and task, the API's namespace page, the
-    benchmark, the rendered images."""
+    benchmark, the pitfalls' gallery, the rendered images."""
     c = site.content
     pages = [("index.html", "front page")]
     for sp in c.steps:
@@ -170,6 +170,8 @@ def pages_to_open(site) -> list[tuple[str, str]]:
         pages += [(cmd_docs.page_id(sp.task) + ".html", f"task {sp.step.number}")] if sp.task else []
     pages += [(cmd_docs.page_id(p) + ".html", p.name) for p in c.other_lectures + c.bench_readings]
     pages.append(("namespaceraykit.html", "API"))
+    if cmd_docs.PITFALLS_PAGE.is_file():
+        pages.append((cmd_docs.page_id(cmd_docs.PITFALLS_PAGE) + ".html", "pitfalls, drawn"))
     if c.images:
         pages.append(("rendered_images.html", "rendered images"))
     return pages
