@@ -53,10 +53,16 @@ COMMANDS = [
 ]
 
 
+# What a student's handout offers beside the students' commands: its own self-test. Grading a
+# class, writing handouts, mutants and the autograder need the full kit (solutions/, tests/mutants/).
+IN_HANDOUT = {"test"}
+
+
 def available() -> list[Command]:
-    """The commands this copy of the kit has: a handout leaves out the instructor's `exact`."""
+    """The commands this copy of the kit has (a handout has no commands/exact.py) and offers."""
     here = Path(__file__).resolve().parent / "commands"
-    return [c for c in COMMANDS if (here / f"{c.module}.py").is_file()]
+    return [c for c in COMMANDS if (here / f"{c.module}.py").is_file()
+            and (not handout() or c.audience == STUDENT or c.name in IN_HANDOUT)]
 
 
 class Parser(argparse.ArgumentParser):
@@ -112,6 +118,9 @@ def main(argv: list[str]) -> int:
             print(overview())
             return OK
         commands = {c.name: c for c in available()}
+        if argv[0] not in commands and argv[0] in {c.name for c in COMMANDS}:
+            raise KitError(f"{argv[0]} is an instructor's command and this is a student's copy of the kit "
+                           "(no solutions/); run it in the instructor's kit")
         chosen = argv[0] if argv[0] in commands else None
         args = build_parser(chosen).parse_args(argv)
         return importlib.import_module(f"{__package__}.commands.{commands[args.command].module}").run(args)

@@ -230,6 +230,13 @@ def check_handout_grades(ctx) -> str:
                f"handout: a table without the entry a ★ case asks for is not reported:\n{r.stdout[-1500:]}")
     finally:
         data.write_text(original)
+    # ./kit help in the handout: the students' commands first, no instructor's command but the self-test.
+    r = subprocess.run([str(TARGET / "kit"), "help"], cwd=TARGET, capture_output=True, text=True, timeout=60)
+    listed = re.findall(r"^  (\w+)\s", r.stdout, re.M)
+    expect(listed[:1] == ["check"] and not {"grade", "handout", "mutant", "autograder", "exact"} & set(listed),
+           f"handout: ./kit help lists {listed}")
+    r = subprocess.run([str(TARGET / "kit"), "grade", "x"], cwd=TARGET, capture_output=True, text=True, timeout=60)
+    expect(r.returncode == 2 and "instructor's command" in r.stderr, f"handout: ./kit grade says {r.stderr[-300:]}")
     r = subprocess.run([str(TARGET / "kit"), "test", "--fast"], cwd=TARGET, capture_output=True, text=True, timeout=900)
     if r.returncode != 0:
         raise Failed(f"the handout's own ./kit test failed:\n{r.stdout[-1500:]}")
