@@ -1,4 +1,5 @@
-"""./kit debug N [CASE]: run one case of a step under gdb, stopped in the student's own function.
+"""./kit debug N [CASE]: run one case of a step under gdb, stopped in the student's own function,
+built without optimisation and with debug information.
 
 The judge (test_stepNN) never runs the student's code itself: it starts the answers program as a
 child and sends it each call. So gdb follows the child across fork and exec, then sets breakpoints
@@ -15,7 +16,7 @@ import sys
 from pathlib import Path
 
 from ..checking import check_steps, ensure_configured, list_cases, submission_seed
-from ..common import BUILD, KitError, build_target, load_steps, preset_build, resolve_steps_dir, say, \
+from ..common import BUILD, Build, KitError, build_target, load_steps, preset_build, resolve_steps_dir, say, \
     select_steps, submission_build
 from ..packages import ensure_packages
 from ..status import FAILED, OK, PASS, SETUP
@@ -67,14 +68,17 @@ def run(args) -> int:
     ensure_packages("build", "debug")
     all_steps = load_steps()
     [step] = select_steps(all_steps, [args.number])
-    build = submission_build(resolve_steps_dir(args.steps), "debug") if args.steps else preset_build("student")
+    # Its own build folder without optimisation (preset "debug"): every variable can be printed and
+    # every line stepped through; a --steps folder is staged first, as ./kit check --steps does.
+    staged = submission_build(resolve_steps_dir(args.steps), "debug") if args.steps else preset_build("student")
+    build = Build("debug", BUILD / "debug-build", staged.steps_dir, staged.shown_dir, preset="debug", tools=False)
     ensure_configured(build, all_steps)
     for target in (step.target, f"answers_step{step.number}"):
         ok, out = build_target(build, target)
         if not ok:
             raise KitError(f"step {step.number} does not build; ./kit check {int(step.number)} shows why", FAILED)
     case = pick_case(build.exe(step), args.case, build, step, all_steps)
-    script = BUILD / "debug" / f"step{step.number}.gdb"
+    script = build.binary_dir / f"step{step.number}.gdb"
     script.parent.mkdir(parents=True, exist_ok=True)
     script.write_text(gdb_script(step.functions))
     env = dict(os.environ, RAYKIT_CALL_SECONDS=NO_LIMIT_SECONDS, RAYKIT_SEED=submission_seed(build, step))
