@@ -1,4 +1,4 @@
-"""Grading one build: compile the judge and the student's answers program, run the cases.
+"""Checking one build: compile the judge and the student's answers program, run the cases.
 
 The judge (a step's test program) never loads the student's code: it calls each
 step function in a child process, the answers program, which it starts itself
@@ -195,7 +195,7 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
             c = by_name[current]
             done.add(current)
             c.status = CRASHED
-            c.messages = [f"The grader itself stopped in this case ({reason or proc.returncode}); "
+            c.messages = [f"The kit's test program itself stopped in this case ({reason or proc.returncode}); "
                           "this is the kit's fault, not yours: please tell your instructor."]
         for c in cases:
             if c.name not in done and c.status == NOT_RUN:

@@ -44,7 +44,7 @@ def status_cell(r: StepResult) -> tuple[str, str]:
     elif r.state == WAITING:
         text, style, mark = f"needs step {r.detail} first", "yellow", "…"
     else:
-        text, style, mark = "could not be graded", "red", "✗"
+        text, style, mark = "could not be checked", "red", "✗"
     extra = ""
     hidden = r.tier("hidden")
     if hidden and r.state in (DONE, PARTIAL):

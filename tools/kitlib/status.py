@@ -22,7 +22,7 @@ BROKEN = "broken"               # the kit itself could not check it (a kit bug)
 
 STATE_WORDS = {
     DONE: "done", PARTIAL: "some cases fail", NOT_STARTED: "not started", MISSING: "a file is missing",
-    NO_COMPILE: "does not compile", WAITING: "waits for an earlier step", BROKEN: "could not be graded",
+    NO_COMPILE: "does not compile", WAITING: "waits for an earlier step", BROKEN: "could not be checked",
 }
 
 # --- a case's status -----------------------------------------------------------------------

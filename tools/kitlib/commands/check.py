@@ -18,7 +18,7 @@ from ..status import DONE, FAILED, OK
 
 def register(p) -> None:
     p.add_argument("numbers", nargs="*", metavar="N", help="step numbers (default: all)")
-    p.add_argument("--steps", metavar="DIR", help="grade the steps in DIR instead of steps/ (DIR is not modified)")
+    p.add_argument("--steps", metavar="DIR", help="check the steps in DIR instead of steps/ (DIR is not modified)")
     p.add_argument("--json", metavar="FILE", help="also write the results as JSON")
     p.add_argument("--quiet", action="store_true", help="print nothing; the exit status tells")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"],
