@@ -20,7 +20,7 @@ const char* kUsage =
     "  --quick           fewer rays and repetitions (a few seconds)\n"
     "  --smoke           a tiny run that only checks everything works\n"
     "  --rays=N          rays per family for the error pass (default 50000)\n"
-    "  --repetitions=N   timed repetitions per variant and family (default 15)\n"
+    "  --repetitions=N   timed repetitions per variant and family (default 11)\n"
     "  --min-time=S      seconds each repetition runs, about (default 0.003)\n"
     "  --subject-only    only the kit's sphere function of this build (for a student build)\n"
     "  --out=FILE        write the JSON here (written to FILE.tmp, then renamed)\n"

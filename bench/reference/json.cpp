@@ -42,16 +42,27 @@ std::string numbers(const std::vector<double>& xs) {
     return s + "]";
 }
 
-std::string cpu_model() {
+/// The first value of `key` in /proc/cpuinfo, or "unknown".
+std::string cpuinfo(const std::string& key) {
     std::ifstream in("/proc/cpuinfo");
     std::string line;
     while (std::getline(in, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(colon + 2);
-        }
+        const auto colon = line.find(':');
+        if (colon == std::string::npos || line.rfind(key, 0) != 0) continue;
+        std::string name = line.substr(0, colon);
+        name.erase(name.find_last_not_of(" \t") + 1);
+        if (name == key) return colon + 2 <= line.size() ? line.substr(colon + 2) : "";
     }
     return "unknown";
+}
+
+std::string cpu_model() { return cpuinfo("model name"); }
+
+/// "family 26, model 2, stepping 1": a virtual machine's model name can hide
+/// which processor it runs on (both CPUs of the committed runs called
+/// themselves "AMD EPYC"), and a change of host changes every time.
+std::string cpu_id() {
+    return "family " + cpuinfo("cpu family") + ", model " + cpuinfo("model") + ", stepping " + cpuinfo("stepping");
 }
 
 /// The median CPU time of the calibration pass, or NaN when it was not timed.
@@ -79,7 +90,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
                 const std::map<std::string, Timing>& timings) {
     const auto& cpu = benchmark::CPUInfo::Get();
     os << "{\n  \"meta\": {";
-    os << "\"cpu\": " << quote(cpu_model()) << ", \"cpus\": " << cpu.num_cpus
+    os << "\"cpu\": " << quote(cpu_model()) << ", \"cpu_id\": " << quote(cpu_id()) << ", \"cpus\": " << cpu.num_cpus
        << ", \"mhz\": " << number(cpu.cycles_per_second / 1e6) << ", \"load_avg\": " << numbers(cpu.load_avg)
        << ", \"compiler\": " << quote(__VERSION__) << ", \"flags\": " << quote(build_flags())
        << ", \"rays\": " << opt.rays << ", \"batch\": " << batch_size(opt.rays)
@@ -102,7 +113,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
            << ", \"lanes_f64\": " << t.lanes_f64 << ", \"gflops_f32\": " << number(t.gflops_f32)
            << ", \"gflops_f64\": " << number(t.gflops_f64) << ", \"div_ns_f32\": " << number(t.div_ns_f32)
            << ", \"div_ns_f64\": " << number(t.div_ns_f64) << ", \"sqrt_ns_f32\": " << number(t.sqrt_ns_f32)
-           << ", \"sqrt_ns_f64\": " << number(t.sqrt_ns_f64) << "}";
+           << ", \"sqrt_ns_f64\": " << number(t.sqrt_ns_f64) << ", \"cvt_ns\": " << number(t.cvt_ns) << "}";
     }
     os << "]},\n";
     os << "  \"families\": [\n";
@@ -144,7 +155,7 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
                << ", \"vs_embree_p99\": " << number(e.vs_embree_p99) << ", \"vs_embree_max\": " << number(e.vs_embree_max);
         }
         os << ", \"flops\": " << (r.flops < 0 ? "null" : number(r.flops)) << ", \"div\": " << number(r.div)
-           << ", \"sqrt\": " << number(r.sqrt);
+           << ", \"sqrt\": " << number(r.sqrt) << ", \"cvt\": " << r.variant->conversions;
         if (t != timings.end()) {
             os << ", \"cpu_ns\": " << numbers(t->second.cpu_ns) << ", \"real_ns\": " << numbers(t->second.real_ns);
         } else {

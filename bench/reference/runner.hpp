@@ -84,6 +84,7 @@ struct Variant {
     int bits = 24;             // significand bits of the result type
     int lanes = 1;             // rays per vector operation (1: scalar, one call per ray)
     std::string isa;           // the vector instruction set (Highway's name), or "" for scalar
+    int conversions = 0;       // float <-> double vector conversions per ray (double lanes on float rays)
     Kind kind = Kind::roots;
     std::string note;
     std::string status = "ok";  // ok, absent, not_started, threw: ...

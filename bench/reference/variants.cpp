@@ -378,6 +378,7 @@ Variant sphere_lanes(const std::vector<SphereData>& data, const simd::Target& t,
     v.lanes = wide ? t.lanes_f64 : t.lanes_f32;
     v.isa = t.name;
     v.precision = wide ? "float, double inside" : "float";
+    v.conversions = wide ? simd::kConversions : 0;
     v.id = formulation + (wide ? "_f32_in_f64" : "_f32") + "_x" + std::to_string(v.lanes) + "_" + t.name;
     v.label = formulation + ", " + std::to_string(v.lanes) + " lanes " + t.name;  // the type column says the rest
     v.note = "Highway, " + t.name + ": " + std::to_string(v.lanes) + (wide ? " doubles" : " floats") +

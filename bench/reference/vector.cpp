@@ -170,8 +170,30 @@ HWY_NOINLINE double DividerChains(D d, long iterations, double seed) {
     return static_cast<double>(hn::GetLane(sum));
 }
 
+/// 12 independent chains of x = widen(narrow(x)): the pace of the float <->
+/// double conversions, which the double lanes on float rays need once per
+/// input and once per result. A pair per step, as neither alone can form a
+/// chain; the values stay exactly representable in float.
+template <class D>
+HWY_NOINLINE double ConvertChains(D d, long iterations, double seed) {
+    const hn::Rebind<float, D> f;  // as many floats as d has doubles
+    using T = hn::TFromD<D>;
+    const T s = static_cast<T>(static_cast<float>(seed));
+    hn::Vec<D> x0 = hn::Set(d, s), x1 = hn::Set(d, s + 1), x2 = hn::Set(d, s + 2), x3 = hn::Set(d, s + 3),
+               x4 = hn::Set(d, s + 4), x5 = hn::Set(d, s + 5), x6 = hn::Set(d, s + 6), x7 = hn::Set(d, s + 7),
+               x8 = hn::Set(d, s + 8), x9 = hn::Set(d, s + 9), x10 = hn::Set(d, s + 10), x11 = hn::Set(d, s + 11);
+    auto pair = [&](hn::Vec<D> x) { return hn::PromoteTo(d, hn::DemoteTo(f, x)); };
+    for (long it = 0; it < iterations; ++it) {
+        x0 = pair(x0), x1 = pair(x1), x2 = pair(x2), x3 = pair(x3), x4 = pair(x4), x5 = pair(x5);
+        x6 = pair(x6), x7 = pair(x7), x8 = pair(x8), x9 = pair(x9), x10 = pair(x10), x11 = pair(x11);
+    }
+    const auto sum = ((x0 + x1) + (x2 + x3)) + ((x4 + x5) + (x6 + x7)) + ((x8 + x9) + (x10 + x11));
+    return static_cast<double>(hn::GetLane(sum));
+}
+
 /// Kernel k(d, iterations, seed): 0 FMA f32, 1 FMA f64, 2 div f32, 3 div f64,
-/// 4 sqrt f32, 5 sqrt f64. Returns a value that depends on every chain.
+/// 4 sqrt f32, 5 sqrt f64, 6 float <-> double conversion pairs. Returns a
+/// value that depends on every chain.
 double RunKernel(int k, long iterations, double seed) {
     const hn::ScalableTag<float> f;
     const hn::ScalableTag<double> g;
@@ -181,7 +203,8 @@ double RunKernel(int k, long iterations, double seed) {
         case 2: return DividerChains<true>(f, iterations, seed);
         case 3: return DividerChains<true>(g, iterations, seed);
         case 4: return DividerChains<false>(f, iterations, seed);
-        default: return DividerChains<false>(g, iterations, seed);
+        case 5: return DividerChains<false>(g, iterations, seed);
+        default: return ConvertChains(g, iterations, seed);
     }
 }
 
@@ -270,6 +293,8 @@ void measure(Target& t, double seconds, int repetitions) {
     t.div_ns_f64 = keep_min(t.div_ns_f64, per_lane_ns(3, ld));
     t.sqrt_ns_f32 = keep_min(t.sqrt_ns_f32, per_lane_ns(4, lf));
     t.sqrt_ns_f64 = keep_min(t.sqrt_ns_f64, per_lane_ns(5, ld));
+    // Two conversions per chain and step.
+    t.cvt_ns = keep_min(t.cvt_ns, 1 / best_rate(run, 6, 12 * 2 * ld, seconds, repetitions));
 }
 
 std::string status() {

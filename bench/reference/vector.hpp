@@ -28,6 +28,11 @@ Rays to_lanes(const std::vector<Sample<float>>& samples);
 
 /// Roots of rays [begin, end) (multiples of kPad) into t0, t1 and hit (2 for a
 /// hit, 0 for a miss; roots 0 on a miss).
+///
+/// A kernel with double lanes widens each of the ten float arrays it reads and
+/// narrows each of the three it writes: kConversions per ray, which the flop
+/// count does not see but the roofline must (docs/bench.md, section 6).
+constexpr int kInputs = 10, kOutputs = 3, kConversions = kInputs + kOutputs;
 using SphereKernel = void (*)(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1,
                               float* hit);
 
@@ -57,6 +62,10 @@ struct Target {
     /// of a square root when many are in flight.
     double gflops_f32 = 0, gflops_f64 = 0;
     double div_ns_f32 = 0, div_ns_f64 = 0, sqrt_ns_f32 = 0, sqrt_ns_f64 = 0;
+    /// The time per lane of one conversion between float and double (a
+    /// widening or a narrowing, measured in pairs) when many are in flight:
+    /// the double lanes on float rays pay one per input and per result.
+    double cvt_ns = 0;
     /// The peak kernels measure() runs (vector.cpp: which kernel, iterations, seed).
     double (*kernels)(int kernel, long iterations, double seed) = nullptr;
 };

@@ -76,17 +76,22 @@ class Point:
         does not assume divides and roots queue for the same unit). Scalar
         variants at the scalar rates; a vector variant at the rates measured
         with its own vectors (an FMA counts two flops there, as in the count),
-        per lane."""
+        per lane. Double lanes on float rays also widen every input and narrow
+        every result, one vector conversion each at the measured conversion
+        rate: arithmetic the flop count does not see and the form cannot skip
+        (a run without conversion counts, before they were measured, gets none)."""
         flops = self.raw.get("flops")
         if flops is None or not peak:
             return None
         wide = self.variant["precision"] != "float"
         kind = "f64" if wide else "f32"
+        cvt_ns = 0.0
         if self.lanes > 1:
             target = next((t for t in peak.get("vector_targets") or [] if t["isa"] == self.variant.get("isa")), None)
             if target is None:
                 return None
             rate, div_ns, sqrt_ns = target[f"gflops_{kind}"], target[f"div_ns_{kind}"], target[f"sqrt_ns_{kind}"]
+            cvt_ns = target.get("cvt_ns") or 0.0
         else:
             rate = peak[f"scalar_gflops_{kind}"]
             div_ns = peak[f"div_ns_{kind}"]
@@ -94,7 +99,8 @@ class Point:
         if not rate:
             return None
         add_mul = flops - self.raw["div"] - self.raw["sqrt"]
-        return max(add_mul / rate, self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns)
+        return max(add_mul / rate, self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns,
+                   (self.raw.get("cvt") or 0) * cvt_ns)
 
 
 def points(data: dict) -> list[Point]:
@@ -228,14 +234,16 @@ def peak_line(data: dict) -> str:
         return f"CPU: {m['cpu']}"
     vec = (f", {p['vector_isa']} {p['vector_gflops_f32']:.0f} GFLOP/s float / {p['vector_gflops_f64']:.0f} double"
            if p.get("vector_gflops_f32") else "")
-    line = (f"CPU: {m['cpu']}, {m['cpus']} cores. One core's peak: scalar add/multiply "
+    cpu_id = f" ({m['cpu_id']})" if m.get("cpu_id") else ""
+    line = (f"CPU: {m['cpu']}{cpu_id}, {m['cpus']} cores. One core's peak: scalar add/multiply "
             f"{p['scalar_gflops_f32']:.1f} GFLOP/s{vec}; a divide takes {p['div_ns_f32']:.2f} ns (float) / "
             f"{p['div_ns_f64']:.2f} ns (double), a square root {p['sqrt_ns_f32']:.2f} / {p['sqrt_ns_f64']:.2f} ns "
             f"when many are in flight.")
     for t in p.get("vector_targets") or []:
         line += (f" {t['isa']} ({t['lanes_f32']} floats, {t['lanes_f64']} doubles): FMA {t['gflops_f32']:.0f} / "
                  f"{t['gflops_f64']:.0f} GFLOP/s, per lane a divide {t['div_ns_f32']:.3f} / {t['div_ns_f64']:.3f} ns, "
-                 f"a square root {t['sqrt_ns_f32']:.3f} / {t['sqrt_ns_f64']:.3f} ns.")
+                 f"a square root {t['sqrt_ns_f32']:.3f} / {t['sqrt_ns_f64']:.3f} ns"
+                 + (f", a float-double conversion {t['cvt_ns']:.3f} ns." if t.get("cvt_ns") else "."))
     if m.get("highway") and not p.get("vector_targets"):
         line += f" Vector rows: {m['highway']}."
     return line
@@ -292,8 +300,10 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
                 w(f"      {'':34}hit distance vs Embree: median {fmt_ulps(p.raw['vs_embree_median'])}, "
                   f"p99 {fmt_ulps(p.raw['vs_embree_p99'])}, max {fmt_ulps(p.raw['vs_embree_max'])} ulps\n")
     w("\nroofline: the least time the counted arithmetic needs on one core (adds and multiplies at the peak rate, "
-      "divides and square roots at the divider's pace: scalar rates for scalar variants, the rates of their own "
-      "vectors for vector ones), as a share of the measured time; 100% would be the machine's limit.\n")
+      "divides and square roots at the divider's pace, and for double lanes on float rays the widening of each "
+      "input and narrowing of each result at the conversion pace: scalar rates for scalar variants, the rates of "
+      "their own vectors for vector ones; the slowest of these), as a share of the measured time; 100% would be "
+      "the machine's limit.\n")
     for s in statuses:
         w(s + "\n")
     return out.getvalue()
@@ -302,7 +312,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
 CSV_FIELDS = ["group", "family", "family_label", "hard", "variant", "label", "formulation", "precision",
               "lanes", "isa", "ulp_of", "rays", "in_band", "compared", "misclassified", "misclassified_share", "ulps_median",
               "ulps_p99", "ulps_max", "ns_median", "ns_min", "ns_max", "ns_real_median", "repetitions", "flops",
-              "div", "sqrt", "roofline_ns", "gflops", "pareto", "dominated_by", "vs_embree_median", "vs_embree_p99",
+              "div", "sqrt", "cvt", "roofline_ns", "gflops", "pareto", "dominated_by", "vs_embree_median", "vs_embree_p99",
               "vs_embree_max"]
 
 
@@ -334,7 +344,7 @@ def csv_text(data: dict, pts: list[Point]) -> str:
             "ns_min": num(p.ns_min), "ns_max": num(p.ns_max),
             "ns_real_median": num(statistics.median(p.ns_real) if p.ns_real else math.nan),
             "repetitions": len(p.ns), "flops": num(flops), "div": num(p.raw.get("div")),
-            "sqrt": num(p.raw.get("sqrt")), "roofline_ns": num(bound),
+            "sqrt": num(p.raw.get("sqrt")), "cvt": num(p.raw.get("cvt")), "roofline_ns": num(bound),
             "gflops": num(flops / p.ns_median if flops is not None and p.timed else None),
             "pareto": int(p.pareto), "dominated_by": " ".join(p.dominated_by),
             "vs_embree_median": num(p.raw.get("vs_embree_median")),

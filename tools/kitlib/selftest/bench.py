@@ -203,7 +203,39 @@ def check_handout_data(ctx) -> str:
     return f"the handout's exact roots match the instructor's bench ({len(new)} lines)"
 
 
+def check_roofline_model(ctx) -> str:
+    """The roofline of a vector row takes the slowest of its resources, the float <-> double conversions of
+    double lanes on float rays included; a row without a conversion count (runs from before they were counted)
+    keeps the old bound. Made-up rates, so each term is the slowest in turn."""
+    target = {"isa": "AVX3", "gflops_f32": 200.0, "gflops_f64": 100.0, "div_ns_f32": 0.05, "div_ns_f64": 0.15,
+              "sqrt_ns_f32": 0.08, "sqrt_ns_f64": 0.25, "cvt_ns": 0.04}
+    peak = {"scalar_gflops_f32": 13.0, "scalar_gflops_f64": 13.0, "div_ns_f32": 0.7, "div_ns_f64": 1.1,
+            "sqrt_ns_f32": 1.3, "sqrt_ns_f64": 2.1, "vector_targets": [target]}
+
+    def bound(precision: str, flops: float, div: float, sqrt: float, cvt=None, lanes: int = 8) -> float:
+        raw = {"flops": flops, "div": div, "sqrt": sqrt}
+        if cvt is not None:
+            raw["cvt"] = cvt
+        variant = {"id": "x", "precision": precision, "lanes": lanes, "isa": "AVX3"}
+        return cmd_bench.report.Point(variant, {"id": "f"}, raw).roofline_ns(peak)
+
+    wide = "float, double inside"
+    cases = [  # (what, computed, expected)
+        ("conversions the slowest", bound(wide, 36, 1, 1, cvt=13), 13 * 0.04),
+        ("flops the slowest", bound(wide, 102, 1, 1, cvt=13), 100 / 100.0),
+        ("square roots the slowest", bound(wide, 36, 1, 3, cvt=1), 3 * 0.25),
+        ("no conversion count", bound(wide, 36, 1, 1), 34 / 100.0),
+        ("float lanes, no conversions", bound("float", 28, 2, 1, cvt=0, lanes=16), 25 / 200.0),
+        ("scalar: the scalar rates", bound("float", 27, 1, 1, cvt=13, lanes=1), 25 / 13.0),
+    ]
+    for what, got, want in cases:
+        expect(got is not None and abs(got - want) < 1e-9 * max(1.0, want),
+               f"roofline, {what}: {got} ns, expected {want} ns")
+    return f"{len(cases)} roofline cases: flops, divides, square roots and conversions, each the slowest in turn"
+
+
 def checks() -> list:
-    return [("bench runs and its output parses", _needs_bench(check_quick_run)),
+    return [("bench roofline model", check_roofline_model),
+            ("bench runs and its output parses", _needs_bench(check_quick_run)),
             ("bench command line errors", _needs_bench(check_bad_input)),
             ("handout's bench data is current", _needs_bench(check_handout_data))]
