@@ -450,8 +450,8 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
     s = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
          f'viewBox="0 0 {width} {height}" font-family="Helvetica, Arial, sans-serif" font-size="11">',
          f'<rect width="{width}" height="{height}" fill="white"/>',
-         f'<text x="10" y="20" font-size="15" font-weight="bold">Speed against error: ns per ray (CPU time, '
-         f'median, bar min-max) against p99 error in ulps of the result type</text>',
+         '<text x="10" y="20" font-size="15" font-weight="bold">Speed against error: ns per ray (CPU time, '
+         'median, bar min-max) against p99 error in ulps of the result type</text>',
          f'<text x="10" y="38" fill="#444">{_esc(subtitle(data))}</text>']
     # legend
     lx, ly = 10, 58
