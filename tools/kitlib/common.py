@@ -116,6 +116,16 @@ def stage_on_reference(target: Path, step: Step, steps: list[Step], files: Path)
     return target
 
 
+def writable_parent(shown: str, target: Path) -> None:
+    """Raises KitError, naming `shown` (the path as the user wrote it), when `target` cannot be
+    created: its folder is missing or not writable. Checked before any work, never after it."""
+    parent = target.resolve().parent
+    if not parent.is_dir():
+        raise KitError(f"{shown}: folder {parent} does not exist")
+    if not os.access(parent, os.W_OK):
+        raise KitError(f"{shown}: cannot write in {parent}")
+
+
 # --- builds ----------------------------------------------------------------------
 
 @dataclass

@@ -9,7 +9,7 @@ import zipfile
 from pathlib import Path
 
 from ..commands.handout import kit_files
-from ..common import ROOT, KitError, say
+from ..common import ROOT, KitError, say, writable_parent
 from ..status import FAILED, OK
 
 
@@ -45,11 +45,7 @@ def run(args) -> int:
         raise KitError(f"{args.out}: the autograder must be a .zip file (Gradescope takes nothing else)")
     if out.is_dir():
         raise KitError(f"{args.out}: is a folder, not a file")
-    parent = out.resolve().parent
-    if not parent.is_dir():
-        raise KitError(f"{args.out}: folder {parent} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise KitError(f"{args.out}: cannot write in {parent}")
+    writable_parent(args.out, out)
     for name, src in AT_ROOT.items():
         if not (ROOT / src).is_file():
             raise KitError(f"{src} is missing: the kit is incomplete", FAILED)

@@ -16,7 +16,6 @@ part: when a file of bench/ outside bench/reference/ still computes an answer, b
 from __future__ import annotations
 
 import io
-import os
 import re
 import shutil
 import subprocess
@@ -24,7 +23,7 @@ import tokenize
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..common import ROOT, KitError, load_steps, note, say
+from ..common import ROOT, KitError, load_steps, note, say, writable_parent
 from ..status import FAILED, OK
 
 
@@ -333,18 +332,14 @@ def run(args) -> int:
     target = Path(args.dir).expanduser()
     if target.exists() and (not target.is_dir() or any(target.iterdir())):
         raise KitError(f"{args.dir}: exists and is not an empty folder; choose a new one")
-    parent = target.resolve().parent
-    if not parent.is_dir():
-        raise KitError(f"{args.dir}: folder {parent} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise KitError(f"{args.dir}: cannot write in {parent}")
+    writable_parent(args.dir, target)
     inside = ROOT == target.resolve() or ROOT in target.resolve().parents
     if inside and (ROOT / "build") not in target.resolve().parents:
         raise KitError(f"{args.dir}: a handout cannot live inside the kit")
     steps_files = student_steps(args.from_working_tree, args.committed)
     check_no_answers(steps_files)
 
-    staging = parent / f".{target.name}.partial"
+    staging = target.resolve().parent / f".{target.name}.partial"
     shutil.rmtree(staging, ignore_errors=True)
     dropped: list[str] = []
     try:
