@@ -15,8 +15,6 @@ using namespace raykit::grading;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
-
 Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
 Roots none() { return Roots{}; }

@@ -18,7 +18,6 @@ using namespace raykit::grading;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
 constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
 
 Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }

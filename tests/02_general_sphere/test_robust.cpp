@@ -23,7 +23,6 @@ using namespace raykit::grading;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
 constexpr int miss = 0, hits = 2;
 
 // The ray from o through target, its direction scaled by `scale` (in float).

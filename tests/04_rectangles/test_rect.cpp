@@ -18,7 +18,6 @@ using namespace raykit::grading;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
 constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
 
 std::string show(const Rect& r) {

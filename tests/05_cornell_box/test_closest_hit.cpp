@@ -16,8 +16,6 @@ using namespace raykit::grading;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
-
 // A 2 x 2 square across the z axis in the plane z = `z`, hit by the ray below.
 Object square(const std::string& name, float z, float half = 1.0f) {
     return Object{name, Rect{2, z, {-half, -half}, {half, half}}, Color{0.5f, 0.5f, 0.5f}};

@@ -20,8 +20,6 @@ using namespace raykit::grading;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
-
 // The empty Cornell box as lecture 05 section 3 tabulates it, built here so
 // that these cases depend on find_intersection alone, not on cornell_box().
 Scene box() {

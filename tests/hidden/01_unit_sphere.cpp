@@ -9,7 +9,7 @@ using namespace raykit::hidden;
 
 namespace {
 
-const Sphere unit{{0, 0, 0}, 1};
+const glm::vec3 sphere_centre{0, 0, 0};   // the unit sphere's
 
 // Each family makes a ray; the reference says what the answer is.
 template <class MakeRay>
@@ -61,14 +61,14 @@ TEST_SUITE_BEGIN("hidden");
 TEST_CASE("unit_sphere_roots on random rays that pass through the sphere" *
           doctest::description("4. What the discriminant says")) {
     roots_family("01 through", [](Draw& d) {
-        return aimed(d.around(unit.center, 1.5f, 10), d.around(unit.center, 0, 0.7f), d.uniform(0.1f, 8));
+        return aimed(d.around(sphere_centre, 1.5f, 10), d.around(sphere_centre, 0, 0.7f), d.uniform(0.1f, 8));
     }, "A random ray aimed well inside the sphere: two roots.");
 }
 
 TEST_CASE("unit_sphere_roots on random rays that miss the sphere" *
           doctest::description("4. What the discriminant says")) {
     roots_family("01 miss", [](Draw& d) {
-        const glm::vec3 o = d.around(unit.center, 2, 10);
+        const glm::vec3 o = d.around(sphere_centre, 2, 10);
         // Aim at a point beside the sphere, perpendicular to the line of sight.
         const glm::vec3 side = glm::normalize(glm::cross(o, d.direction()));
         return aimed(o, d.uniform(1.3f, 3) * side, d.uniform(0.1f, 8));
@@ -78,9 +78,9 @@ TEST_CASE("unit_sphere_roots on random rays that miss the sphere" *
 TEST_CASE("unit_sphere_roots from random origins inside the sphere and behind it" *
           doctest::description("4. What the discriminant says")) {
     roots_family("01 inside behind", [](Draw& d) {
-        if (d.coin()) return Ray{d.around(unit.center, 0, 0.8f), d.uniform(0.1f, 8) * d.direction()};
-        const glm::vec3 o = d.around(unit.center, 1.5f, 10);
-        return aimed(o, 2.0f * o - d.around(unit.center, 0, 0.6f), d.uniform(0.1f, 8));  // pointing away
+        if (d.coin()) return Ray{d.around(sphere_centre, 0, 0.8f), d.uniform(0.1f, 8) * d.direction()};
+        const glm::vec3 o = d.around(sphere_centre, 1.5f, 10);
+        return aimed(o, 2.0f * o - d.around(sphere_centre, 0, 0.6f), d.uniform(0.1f, 8));  // pointing away
     }, "Roots behind the origin are roots too: this function knows nothing of windows.");
 }
 
@@ -93,13 +93,13 @@ TEST_CASE("unit_sphere_roots on exact tangents and axis rays" *
 TEST_CASE("unit_sphere_roots on degenerate input" * doctest::description("2. The ray meets the sphere")) {
     // The basic tier's degenerate input: a zero direction, from anywhere (NaN and
     // infinity are the ★ tier's: they are not drawn here).
-    roots_family("01 degenerate", [](Draw& d) { return Ray{d.around(unit.center, 0, 5), {0, 0, 0}}; },
+    roots_family("01 degenerate", [](Draw& d) { return Ray{d.around(sphere_centre, 0, 5), {0, 0, 0}}; },
                  "With d = 0 there is no line to intersect: no roots.");
 }
 
 TEST_CASE("intersect_unit_sphere with random windows" * doctest::description("5. The closest root in a window")) {
     window_family("01 windows", [](Draw& d, float& tmin, float& tmax) {
-        const Ray ray = aimed(d.around(unit.center, 0, 10), d.around(unit.center, 0, 0.7f), d.uniform(0.1f, 8));
+        const Ray ray = aimed(d.around(sphere_centre, 0, 10), d.around(sphere_centre, 0, 0.7f), d.uniform(0.1f, 8));
         const Roots r = remote::reference<Roots>("unit_sphere_roots", ray);
         // Window ends well away from the roots (a tenth of their gap), on either side.
         const float lo = r.count ? r.t[0] : -1, hi = r.count ? r.t[1] : 1, gap = 0.1f * (hi - lo) + 0.01f;

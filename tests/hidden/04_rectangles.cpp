@@ -9,7 +9,7 @@ using namespace raykit::hidden;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
+using raykit::grading::inf;
 
 struct Input {
     Ray ray;

@@ -12,7 +12,7 @@ using namespace raykit::hidden;
 
 namespace {
 
-constexpr float inf = std::numeric_limits<float>::infinity();
+using raykit::grading::inf;
 
 Rect random_rect(Draw& d) {
     Rect r{};

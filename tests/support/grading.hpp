@@ -17,6 +17,8 @@
 #include <string>
 
 #include <glm/vec2.hpp>
+#include <limits>
+
 #include <glm/vec3.hpp>
 
 #include "case_figure.hpp"
@@ -26,6 +28,10 @@
 #include "raykit/sphere.hpp"
 
 namespace raykit::grading {
+
+/// Infinity, the open end of a window (one definition for every suite of a judge: its files are
+/// compiled as one translation unit in the student's build).
+inline constexpr float inf = std::numeric_limits<float>::infinity();
 
 /// Shortest text that reads back as the same float ("2", "0.5", "1.00000012").
 inline std::string show(float x) { return float_text(x); }
