@@ -234,7 +234,7 @@ def configure(build: Build, quiet: bool = True) -> None:
     and its own steps folder). Works from CMake 3.18: no --preset."""
     generator, _, variables = preset_settings(build.preset or "base")
     variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
-    variables["RAYKIT_TOOLS"] = "ON" if build.tools else "OFF"
+    variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
     gen = []
     if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
         generator = None              # CMake's default (Makefiles) rather than a failure

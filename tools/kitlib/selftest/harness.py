@@ -65,11 +65,11 @@ CLEAR = "\033[2J"       # a terminal's "erase the screen"
 class Screen:
     """A child process on a pseudo-terminal, and everything it has written to it."""
 
-    def __init__(self, argv: list[str]):
+    def __init__(self, argv: list[str], cwd=ROOT):
         self.name = "./kit " + " ".join(argv[1:3])
         self.started = time.monotonic()
         self.master, slave = pty.openpty()
-        self.proc = subprocess.Popen(argv, cwd=ROOT, stdin=slave, stdout=slave, stderr=slave,
+        self.proc = subprocess.Popen(argv, cwd=cwd, stdin=slave, stdout=slave, stderr=slave,
                                      start_new_session=True, close_fds=True)
         os.close(slave)
         self.text = ""

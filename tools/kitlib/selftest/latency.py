@@ -1,7 +1,7 @@
 """Self-test: the kit's own latencies, as a student meets them, on a pseudo-terminal.
 
-- first output: a cold `./kit check --steps DIR --isolation none` (as a student checks their own
-  steps/; its build folder from nothing) until it prints;
+- first output: a cold `./kit check` in a handout whose steps/ hold the solutions (its build folder
+  from nothing), until it prints;
 - first verdict: the same run, until step 01's row shows its verdict;
 - cold check: the same run, until it ends (every step configured, built and checked);
 - edit to verdict: step 01's file changed, `./kit check 1` again, until it ends.
@@ -20,17 +20,16 @@ import shutil
 import time
 
 from ..common import BUILD, ROOT
-from .harness import Context, Failed, Screen, expect, need_solutions
+from .harness import Context, Failed, Screen, expect, kit, need_solutions
 
 ANSI = re.compile(r"\033\[[0-9;]*[A-Za-z]")
-SLOT = "7"       # build/submission-7: a build folder of its own, emptied for the cold run
+HANDOUT_DIR = BUILD / "latency-handout"
 
 
-def run_check(source, *numbers: str) -> tuple[Screen, dict]:
-    # --isolation none: what a student meets checking their own steps/ (no sandbox; the sandboxes
-    # are the integrity self-tests' business).
-    screen = Screen([str(ROOT / "kit"), "check", *numbers, "--steps", str(source), "--slot", SLOT,
-                     "--isolation", "none"])
+def run_check(kit_dir, *args: str) -> tuple[Screen, dict]:
+    """`kit_dir`/kit check ARGS on a pseudo-terminal; the times of its first output, of step 01's
+    verdict and of its end."""
+    screen = Screen([str(kit_dir / "kit"), "check", *args], cwd=kit_dir)
     marks: dict[str, float] = {}
     try:
         while screen.proc.poll() is None or "end" not in marks:
@@ -51,28 +50,31 @@ def run_check(source, *numbers: str) -> tuple[Screen, dict]:
 
 
 def check_latency(ctx: Context) -> str:
+    """Measured where students run the kit: a handout (no solutions/, so no hidden cases and no
+    reference build), its steps/ filled in with the solutions, its build folder from nothing."""
     need_solutions()
-    source = BUILD / "latency-src"
-    shutil.rmtree(source, ignore_errors=True)
-    shutil.copytree(ROOT / "solutions", source)
-    shutil.rmtree(BUILD / f"submission-{SLOT}", ignore_errors=True)
-    shutil.rmtree(BUILD / f"submission-{SLOT}-src", ignore_errors=True)
+    shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
+    r = kit("handout", str(HANDOUT_DIR), "--committed", timeout=600)
+    expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
+    for step in ctx.steps:
+        for f in step.files:
+            shutil.copyfile(ROOT / "solutions" / step.folder / f, HANDOUT_DIR / "steps" / step.folder / f)
     load = os.getloadavg()[0]
-    screen, cold = run_check(source)
+    screen, cold = run_check(HANDOUT_DIR)
     expect(screen.proc.returncode == 0, f"the cold check of the solutions exited {screen.proc.returncode}:\n"
            f"{screen.text[-1500:]}")
     expect("01" in cold, "step 01's row never showed a verdict")
     expect("building the test program" in screen.text, "no progress line while building")
     # An edit: a comment changes the file, so the step is rebuilt and checked again.
     step = ctx.steps[0]
-    f = source / step.folder / step.files[0]
+    f = HANDOUT_DIR / "steps" / step.folder / step.files[0]
     f.write_text(f.read_text() + "\n// edited\n")
-    screen, edit = run_check(source, "1")
+    screen, edit = run_check(HANDOUT_DIR, "1")
     expect(screen.proc.returncode == 0, f"step 01 after the edit exited {screen.proc.returncode}")
-    shutil.rmtree(source, ignore_errors=True)
-    return (f"cold ./kit check on a terminal: first output {cold['output']:.2f} s (goal 1), step 01's "
-            f"verdict {cold['01']:.1f} s (goal 8), all steps {cold['end']:.1f} s (goal 15); edit to verdict "
-            f"{edit['end']:.1f} s (goal 1.5); load average {load:.1f} at the start")
+    shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
+    return (f"a student's cold ./kit check in a handout, on a terminal: first output {cold['output']:.2f} s "
+            f"(goal 1), step 01's verdict {cold['01']:.1f} s (goal 8), all steps {cold['end']:.1f} s (goal 15); "
+            f"edit to verdict {edit['end']:.1f} s (goal 1.5); load average {load:.1f} at the start")
 
 
 def checks() -> list:
