@@ -50,7 +50,7 @@ def _number(row: dict, key: str) -> float:
         raise Failed(f"results.csv: {row['variant']} on {row['family']}: {key} = '{row[key]}' is not a number")
 
 
-def check_quick_run(ctx) -> str:
+def selftest_quick_run(ctx) -> str:
     with tempfile.TemporaryDirectory() as tmp:
         r = kit("bench", "--quick", "--out", tmp, timeout=900)
         expect(r.returncode == 0, f"./kit bench --quick exited {r.returncode}:\n{(r.stdout + r.stderr)[-3000:]}")
@@ -143,7 +143,7 @@ def rows_as_csv(out: Path) -> dict:
     return cmd_bench.read_csv(out / "results.csv")
 
 
-def check_bad_input(ctx) -> str:
+def selftest_bad_input(ctx) -> str:
     # A handout builds only its own benchmark (bench/handout.cpp), with the same command line.
     exe = BUILD / ("student-tools" if HANDOUT else "reference") / "bench" / cmd_bench.TARGET
     expect(exe.is_file(), f"{exe} was not built")
@@ -180,7 +180,7 @@ def _needs_bench(check):
     return run
 
 
-def check_handout_data(ctx) -> str:
+def selftest_handout_data(ctx) -> str:
     """The exact roots a handout's bench judges the student with (bench/data/exact_roots.txt) are what the
     instructor's bench computes today for the same rays."""
     if HANDOUT:
@@ -203,7 +203,7 @@ def check_handout_data(ctx) -> str:
     return f"the handout's exact roots match the instructor's bench ({len(new)} lines)"
 
 
-def check_roofline_model(ctx) -> str:
+def selftest_roofline_model(ctx) -> str:
     """The roofline of a vector row takes the slowest of its resources, the float <-> double conversions of
     double lanes on float rays included; a row without a conversion count (runs from before they were counted)
     keeps the old bound. Made-up rates, so each term is the slowest in turn."""
@@ -234,8 +234,8 @@ def check_roofline_model(ctx) -> str:
     return f"{len(cases)} roofline cases: flops, divides, square roots and conversions, each the slowest in turn"
 
 
-def checks() -> list:
-    return [("bench roofline model", check_roofline_model),
-            ("bench runs and its output parses", _needs_bench(check_quick_run)),
-            ("bench command line errors", _needs_bench(check_bad_input)),
-            ("handout's bench data is current", _needs_bench(check_handout_data))]
+def selftests() -> list:
+    return [("bench roofline model", selftest_roofline_model),
+            ("bench runs and its output parses", _needs_bench(selftest_quick_run)),
+            ("bench command line errors", _needs_bench(selftest_bad_input)),
+            ("handout's bench data is current", _needs_bench(selftest_handout_data))]

@@ -14,7 +14,7 @@ from ..common import ROOT, build_target, preset_build, submission_build, workflo
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 
 
-def check_reference_builds(ctx: Context) -> str:
+def selftest_reference_builds(ctx: Context) -> str:
     need_solutions()
     r = workflow("reference")     # the preset's settings, without --preset (CMake 3.18)
     tail = (r.stdout + r.stderr)[-4000:]
@@ -24,7 +24,7 @@ def check_reference_builds(ctx: Context) -> str:
     return f"warnings as errors, ctest {m.group(2)} tests"
 
 
-def check_solutions_pass(ctx: Context) -> str:
+def selftest_solutions_pass(ctx: Context) -> str:
     need_solutions()
     ctx.reference = check_steps(preset_build("reference"), ctx.steps, ctx.steps)
     bad = []
@@ -39,7 +39,7 @@ def check_solutions_pass(ctx: Context) -> str:
     return f"{n} cases in {len(ctx.reference)} steps, both tiers"
 
 
-def check_stubs_not_started(ctx: Context) -> str:
+def selftest_stubs_not_started(ctx: Context) -> str:
     results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
     if HANDOUT:
         # A student's own copy: their steps may be started. The kit works if every step was graded.
@@ -57,7 +57,7 @@ def check_stubs_not_started(ctx: Context) -> str:
     return f"all {n} cases of the {len(results)} shipped stubs report not_implemented (a step that needs another on top of its reference)"
 
 
-def check_case_names_and_lectures(ctx: Context) -> str:
+def selftest_case_names_and_lectures(ctx: Context) -> str:
     bad = []
     total = 0
     not_built: list[str] = []  # a student's step that does not compile (handout only)
@@ -94,7 +94,7 @@ def check_case_names_and_lectures(ctx: Context) -> str:
     return f"{total} case names are filter-safe and each points to a lecture heading that exists{skipped}"
 
 
-def check_remote_lists(ctx: Context) -> str:
+def selftest_remote_lists(ctx: Context) -> str:
     """Each step's remote.inc lists exactly the functions of its step.json, and CMake reads step.json's
     lists (cmake/StepManifest.cmake, by regular expression) as Python's json module does."""
     bad = []
@@ -123,7 +123,7 @@ def check_remote_lists(ctx: Context) -> str:
     return f"{len(ctx.steps)} steps: remote.inc and step.json agree, CMake reads the manifests as json does"
 
 
-def check_solution_copied_is_done(ctx: Context) -> str:
+def selftest_solution_copied_is_done(ctx: Context) -> str:
     need_solutions()
     r = kit("check", "--steps", "solutions")
     expect(r.returncode == 0, f"./kit check --steps solutions exited {r.returncode}:\n{r.stdout[-2000:]}")
@@ -142,7 +142,7 @@ FIXTURES = {
 }
 
 
-def check_grader_fixtures(ctx: Context) -> str:
+def selftest_grader_fixtures(ctx: Context) -> str:
     need_solutions()
     steps = [s for s in ctx.steps if s.number == "01"]
     seen = []
@@ -162,7 +162,7 @@ def check_grader_fixtures(ctx: Context) -> str:
     return "reported per case and graded on: " + ", ".join(seen)
 
 
-def check_command_line(ctx: Context) -> str:
+def selftest_command_line(ctx: Context) -> str:
     for args, words in [(["check", "99"], "no step"), (["frobnicate"], "invalid choice"),
                         (["check", "--steps", "/nonexistent/folder"], "no such folder"),
                         (["check", "--bogus"], "unrecognized"),
@@ -173,14 +173,14 @@ def check_command_line(ctx: Context) -> str:
     return "bad commands, options, steps and folders: message and exit 2"
 
 
-def checks() -> list:
+def selftests() -> list:
     return [
-        ("reference build", check_reference_builds),
-        ("solutions pass every case", check_solutions_pass),
-        ("student steps are graded" if HANDOUT else "shipped stubs are 'not started'", check_stubs_not_started),
-        ("case names and lecture pointers", check_case_names_and_lectures),
-        ("step functions and manifests", check_remote_lists),
-        ("a copied solution grades 'done'", check_solution_copied_is_done),
-        ("grader survives bad code", check_grader_fixtures),
-        ("command line errors", check_command_line),
+        ("reference build", selftest_reference_builds),
+        ("solutions pass every case", selftest_solutions_pass),
+        ("student steps are graded" if HANDOUT else "shipped stubs are 'not started'", selftest_stubs_not_started),
+        ("case names and lecture pointers", selftest_case_names_and_lectures),
+        ("step functions and manifests", selftest_remote_lists),
+        ("a copied solution grades 'done'", selftest_solution_copied_is_done),
+        ("grader survives bad code", selftest_grader_fixtures),
+        ("command line errors", selftest_command_line),
     ]

@@ -12,7 +12,7 @@ from .harness import Skipped, expect, kit, need_solutions
 CASE = "window: a root exactly at tmin counts"
 
 
-def check_debug(ctx) -> str:
+def selftest_debug(ctx) -> str:
     need_solutions()   # tests/fixtures/ is not in a handout
     if shutil.which("gdb") is None:
         raise Skipped("gdb is not installed (apt-get install gdb)")
@@ -30,5 +30,5 @@ def check_debug(ctx) -> str:
     return "gdb stops in the student's intersect_unit_sphere(tmin=2, tmax=10); unknown and ambiguous case names refused"
 
 
-def checks() -> list:
-    return [("debugging a case under gdb", check_debug)]
+def selftests() -> list:
+    return [("debugging a case under gdb", selftest_debug)]

@@ -33,7 +33,7 @@ def _math_filter():
     return module
 
 
-def check_math_filter(ctx) -> str:
+def selftest_math_filter(ctx) -> str:
     mf = _math_filter()
     bad = mf.selftest()
     expect(not bad, "docs/math_filter.py:\n  " + "\n  ".join(bad))
@@ -59,7 +59,7 @@ REMOTE = re.compile(r'<(?:script|link|img|iframe|object)\b[^>]*\b(?:src|href|dat
 LOCAL_REF = re.compile(r'<(?:img|script)\b[^>]*\bsrc="([^"#?:]+)"', re.I)
 
 
-def check_site_builds(ctx) -> str:
+def selftest_site_builds(ctx) -> str:
     site = _site(ctx)
     expect(not site.warnings, f"Doxygen warned {len(site.warnings)} time(s) (document the declaration, "
            "its parameters and its return value in the header):\n  " + "\n  ".join(site.warnings[:15]))
@@ -112,7 +112,7 @@ def solution_fingerprints() -> list[str]:
     return prints
 
 
-def check_no_solutions(ctx) -> str:
+def selftest_no_solutions(ctx) -> str:
     if not (ROOT / "solutions").is_dir():
         raise Skipped("needs solutions/ (this is a student handout)")
     prints = solution_fingerprints()
@@ -177,7 +177,7 @@ def pages_to_open(site) -> list[tuple[str, str]]:
     return pages
 
 
-def check_browser(ctx) -> str:
+def selftest_browser(ctx) -> str:
     from .. import browser
     try:
         ensure_packages("browser")
@@ -226,10 +226,10 @@ def _check_pages(browser, chromium: str, site) -> str:
             f"{images} images loaded; screenshots in {cmd_docs.rel(SCREENSHOTS)}")
 
 
-def checks() -> list:
+def selftests() -> list:
     return [
-        ("docs: math filter", check_math_filter),
-        ("docs: site builds without warnings", check_site_builds),
-        ("docs: no solution in the student site", check_no_solutions),
-        ("docs: formulas and images in a browser", check_browser),
+        ("docs: math filter", selftest_math_filter),
+        ("docs: site builds without warnings", selftest_site_builds),
+        ("docs: no solution in the student site", selftest_no_solutions),
+        ("docs: formulas and images in a browser", selftest_browser),
     ]

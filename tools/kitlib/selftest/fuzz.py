@@ -12,7 +12,7 @@ from .harness import Failed, Skipped, expect, need_solutions
 SECONDS_PER_TARGET = 15
 
 
-def check_fuzz(ctx) -> str:
+def selftest_fuzz(ctx) -> str:
     need_solutions()
     if ctx.fast:
         raise Skipped("--fast")
@@ -43,5 +43,5 @@ def check_fuzz(ctx) -> str:
     return f"{SECONDS_PER_TARGET} s each, no finding: " + ", ".join(runs) + " inputs"
 
 
-def checks():
-    return [("fuzzing the reference solutions", check_fuzz)]
+def selftests():
+    return [("fuzzing the reference solutions", selftest_fuzz)]

@@ -35,7 +35,7 @@ def _same(found: Path, source: Path, folders: list[str]) -> list[str]:
     return problems + [f"{e}: not a step file, copied" for e in extra]
 
 
-def check_layouts(ctx) -> str:
+def selftest_layouts(ctx) -> str:
     from ..submissions import NotFound, locate
 
     need_solutions()    # its uploads are made of the solutions and the fixtures
@@ -115,5 +115,5 @@ def check_layouts(ctx) -> str:
     return f"{len(uploads)} layouts found, links and a zip escape refused, an empty upload explained"
 
 
-def checks():
-    return [("uploads: step files found at any depth, only they", check_layouts)]
+def selftests():
+    return [("uploads: step files found at any depth, only they", selftest_layouts)]

@@ -3,7 +3,7 @@
 A self-test is a function `fn(ctx) -> str` that returns a one-line summary when the kit does what
 it should, raises `Failed` with the reason when it does not, and raises `Skipped` with the reason
 when it does not apply here (a handout has no solutions/, --fast leaves out a slow build). Each
-module of this package lists its self-tests in `checks() -> [(name, fn)]`; `MODULES` orders the
+module of this package lists its self-tests in `selftests() -> [(name, fn)]`; `MODULES` orders the
 modules. A skip is counted as a skip, never as a pass.
 """
 
@@ -112,10 +112,10 @@ class Screen:
         os.close(self.master)
 
 
-def selftests(modules: list[str] | None = None) -> list:
+def collect(modules: list[str] | None = None) -> list:
     found = []
     for name in modules or MODULES:
-        found += importlib.import_module(f"{__package__}.{name}").checks()
+        found += importlib.import_module(f"{__package__}.{name}").selftests()
     return found
 
 
@@ -123,7 +123,7 @@ def run_all(ctx: Context, modules: list[str] | None = None) -> int:
     """Runs the self-tests of `modules` (default: all), one line each; the exit status is FAILED
     when any failed."""
     counts = {"passed": 0, "failed": 0, "skipped": 0}
-    for name, fn in selftests(modules):
+    for name, fn in collect(modules):
         start = time.monotonic()
         try:
             detail = fn(ctx)

@@ -11,7 +11,7 @@ from .harness import Failed, expect, kit, need_solutions
 CODE = re.compile(r";\s*$|[{}]|\bfor\s*\(|\bif\s*\(", re.M)
 
 
-def check_hints(ctx) -> str:
+def selftest_hints(ctx) -> str:
     counts = []
     for step in load_steps():
         hints = load_hints(step)
@@ -30,7 +30,7 @@ def check_hints(ctx) -> str:
     return "hints per step: " + ", ".join(map(str, counts)) + "; one more per call; no code in any"
 
 
-def check_hint_choice(ctx) -> str:
+def selftest_hint_choice(ctx) -> str:
     """The first hint is the one about the section of the first failing case, then the fixed order."""
 
     hints = ["a (section 2)", "b (sections 3 and 4)", "c (section 4)", "d (lecture 03, section 5)", "e"]
@@ -44,7 +44,7 @@ def check_hint_choice(ctx) -> str:
     return f"{len(cases)} choices as intended"
 
 
-def check_hint_looks_at_failure(ctx) -> str:
+def selftest_hint_looks_at_failure(ctx) -> str:
     """A step 01 whose window is open fails a case of section 5: the first hint is the window's, not hint 1."""
     import shutil
     import tempfile
@@ -78,6 +78,6 @@ def check_hint_looks_at_failure(ctx) -> str:
     return f"an open window fails in section 5: hint {tied[0]} first, then 1, 2"
 
 
-def checks():
-    return [("hints", check_hints), ("hint order: what fails first", check_hint_choice),
-            ("hint looks at the failing case", check_hint_looks_at_failure)]
+def selftests():
+    return [("hints", selftest_hints), ("hint order: what fails first", selftest_hint_choice),
+            ("hint looks at the failing case", selftest_hint_looks_at_failure)]

@@ -200,7 +200,7 @@ def run_modes(fn, spent: dict[str, float] | None = None) -> str:
 
 # --- the checks ------------------------------------------------------------------------
 
-def check_forge_verdicts(ctx) -> str:
+def selftest_forge_verdicts(ctx) -> str:
     def one(mode: str) -> str:
         base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
         rc, got, _, _ = grade_json(HOSTILE / "forge_verdicts", ["01"], mode)
@@ -217,7 +217,7 @@ def check_forge_verdicts(ctx) -> str:
     return run_modes(one, spent)
 
 
-def check_lingering_writer(ctx) -> str:
+def selftest_lingering_writer(ctx) -> str:
     home = Path(os.environ.get("HOME") or "/root")
 
     def one(mode: str) -> str:
@@ -285,7 +285,7 @@ def lingering_under_batch_grading(home: Path) -> str:
     return f"grades.csv and results.json unchanged, score {base['score']} as without the attack [{took:.0f} s]"
 
 
-def check_table_of_visible_inputs(ctx) -> str:
+def selftest_table_of_visible_inputs(ctx) -> str:
     def one(mode: str) -> str:
         rc, table, _, _ = grade_json(HOSTILE / "table_of_visible_inputs", ["01"], mode)
         [step] = table["extra_data"]["steps"]
@@ -319,7 +319,7 @@ def one_slip_folder() -> Path:
     return target
 
 
-def check_one_scale(ctx) -> str:
+def selftest_one_scale(ctx) -> str:
     numbers = [s.number for s in load_steps()]
 
     def one(mode: str) -> str:
@@ -355,7 +355,7 @@ def check_one_scale(ctx) -> str:
     return run_modes(one, spent)
 
 
-def check_read_answers(ctx) -> str:
+def selftest_read_answers(ctx) -> str:
     def one(mode: str) -> str:
         base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
         rc, got, _, _ = grade_json(HOSTILE / "read_answers", ["01"], mode)
@@ -372,10 +372,10 @@ def check_read_answers(ctx) -> str:
     return run_modes(one, spent)
 
 
-def checks():
+def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
-    return [("integrity: one scale", check_one_scale),
-            ("integrity: forged verdicts", check_forge_verdicts),
-            ("integrity: lingering writer", check_lingering_writer),
-            ("integrity: read the answers", check_read_answers),
-            ("integrity: table of the visible inputs", check_table_of_visible_inputs)]
+    return [("integrity: one scale", selftest_one_scale),
+            ("integrity: forged verdicts", selftest_forge_verdicts),
+            ("integrity: lingering writer", selftest_lingering_writer),
+            ("integrity: read the answers", selftest_read_answers),
+            ("integrity: table of the visible inputs", selftest_table_of_visible_inputs)]

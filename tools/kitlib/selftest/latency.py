@@ -49,7 +49,7 @@ def run_check(kit_dir, *args: str) -> tuple[Screen, dict]:
     return screen, marks
 
 
-def check_latency(ctx: Context) -> str:
+def selftest_latency(ctx: Context) -> str:
     """Measured where students run the kit: a handout (no solutions/, so no hidden cases and no
     reference build), its steps/ filled in with the solutions, its build folder from nothing."""
     need_solutions()
@@ -77,5 +77,5 @@ def check_latency(ctx: Context) -> str:
             f"edit to verdict {edit['end']:.1f} s (goal 1.5); load average {load:.1f} at the start")
 
 
-def checks() -> list:
-    return [("latency figures", check_latency)]
+def selftests() -> list:
+    return [("latency figures", selftest_latency)]

@@ -31,7 +31,7 @@ def _generator():
     return module
 
 
-def check_bench_numbers(ctx) -> str:
+def selftest_bench_numbers(ctx) -> str:
     if not GENERATOR.is_file() or not (ROOT / "docs" / "bench" / "results.json").is_file():
         raise Skipped("no docs/bench_numbers.py or no committed benchmark run here")
     bn = _generator()
@@ -74,7 +74,7 @@ def check_bench_numbers(ctx) -> str:
 SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)(?:\. ([A-Z][^)\n]*))?", re.I)
 
 
-def check_hint_sections(ctx) -> str:
+def selftest_hint_sections(ctx) -> str:
     bad, seen = [], 0
     for step in load_steps():
         hints = ROOT / "tests" / step.folder / "hints.md"
@@ -100,6 +100,6 @@ def check_hint_sections(ctx) -> str:
     return f"{seen} section pointers in the hints name sections that exist"
 
 
-def checks():
-    return [("numbers quoted from the benchmark are current", check_bench_numbers),
-            ("hints point to lecture sections that exist", check_hint_sections)]
+def selftests():
+    return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
+            ("hints point to lecture sections that exist", selftest_hint_sections)]

@@ -52,7 +52,7 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
     return True, named, problems
 
 
-def check_mutants(ctx) -> str:
+def selftest_mutants(ctx) -> str:
     need_solutions()
     stray = stray_files()
     if stray:
@@ -79,5 +79,5 @@ def check_mutants(ctx) -> str:
     return "mutation score (every mutant caught by its named case)" + table
 
 
-def checks():
-    return [("mutants are caught", check_mutants)]
+def selftests():
+    return [("mutants are caught", selftest_mutants)]

@@ -49,7 +49,7 @@ def grade_json(steps_dir: Path, report: Path):
     return r, result
 
 
-def check_failing_case(ctx) -> str:
+def selftest_failing_case(ctx) -> str:
     from ..commands.mutant import MUTANTS, write_answer
 
     need_solutions()
@@ -138,7 +138,7 @@ DEGENERATE = [
 ]
 
 
-def check_degenerate(ctx) -> str:
+def selftest_degenerate(ctx) -> str:
     folder = WORK / "degenerate"
     shutil.rmtree(folder, ignore_errors=True)
     drawn = refused = 0
@@ -174,7 +174,7 @@ def check_degenerate(ctx) -> str:
     return f"{drawn} degenerate figures drawn, {refused} refused with a reason, none crashed"
 
 
-def check_gallery(ctx) -> str:
+def selftest_gallery(ctx) -> str:
     for name, title, f in picture.PITFALLS:
         case = picture.Case(f)
         for t in case.expected["ts"]:
@@ -204,7 +204,7 @@ def check_gallery(ctx) -> str:
     return f"{len(paths)} pitfalls drawn, their expected hits on the shapes, each shown in docs/pitfalls.md"
 
 
-def checks():
-    return [("pictures: a failing case", check_failing_case),
-            ("pictures: degenerate input", check_degenerate),
-            ("pictures: the pitfall gallery", check_gallery)]
+def selftests():
+    return [("pictures: a failing case", selftest_failing_case),
+            ("pictures: degenerate input", selftest_degenerate),
+            ("pictures: the pitfall gallery", selftest_gallery)]

@@ -15,7 +15,7 @@ from .harness import expect, kit, need_solutions
 WRONG_05 = ROOT / "tests" / "fixtures" / "cornell_wrong"
 
 
-def check_pictures_current(ctx) -> str:
+def selftest_pictures_current(ctx) -> str:
     """docs/images and step 05's test picture are what the solutions render today."""
     need_solutions()  # these render with, or against, the reference solutions
     scenes = cmd_render.available_scenes()
@@ -38,7 +38,7 @@ def check_pictures_current(ctx) -> str:
     return f"{len(fresh)} pictures in docs/images and step 05's 48x32 picture match a fresh render"
 
 
-def check_wrong_cornell(ctx) -> str:
+def selftest_wrong_cornell(ctx) -> str:
     """A step 05 that keeps the last hit fails its cases and shows in a diff image."""
     need_solutions()  # these render with, or against, the reference solutions
     all_steps = load_steps()
@@ -61,7 +61,7 @@ def check_wrong_cornell(ctx) -> str:
     return f"{len(failed)} cases fail, and the diff image marks {m.group(1)} of {m.group(2)} pixels"
 
 
-def check_render_skips(ctx) -> str:
+def selftest_render_skips(ctx) -> str:
     """Stubs and crashing code are reported and skipped, and leave no picture."""
     need_solutions()  # these render with, or against, the reference solutions
     seen = []
@@ -88,7 +88,7 @@ def check_render_skips(ctx) -> str:
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 
 
-def check_rounding_rule(ctx) -> str:
+def selftest_rounding_rule(ctx) -> str:
     """The rule of what a correct answer may change, on the counts measured (cmd_render.LEVEL_SHARE)."""
     D = cmd_render.Difference
     cases = [  # (differing, edge, total, level), accepted?
@@ -113,7 +113,7 @@ def _steps_folder(work: Path, own: dict[str, Path]) -> Path:
     return work
 
 
-def check_render_tolerance(ctx) -> str:
+def selftest_render_tolerance(ctx) -> str:
     """A textbook step 02 renders as accepted; single pixels show in the diff; real slips still fail."""
     need_solutions()  # these render with, or against, the reference solutions
     from cmd_mutant import MUTANTS, write_answer
@@ -160,7 +160,7 @@ def check_render_tolerance(ctx) -> str:
     return summary + "; mutants " + ", ".join(caught) + " still fail"
 
 
-def check_render_arguments(ctx) -> str:
+def selftest_render_arguments(ctx) -> str:
     need_solutions()  # these render with, or against, the reference solutions
     with tempfile.TemporaryDirectory() as tmp:
         a_file = Path(tmp) / "a_file"
@@ -186,12 +186,12 @@ def check_render_arguments(ctx) -> str:
     return f"{len(cases)} bad commands: a clear message, exit 2, nothing written"
 
 
-def checks() -> list:
+def selftests() -> list:
     return [
-        ("reference pictures are current", check_pictures_current),
-        ("a wrong step 05 fails and shows in a diff", check_wrong_cornell),
-        ("render skips what cannot be drawn", check_render_skips),
-        ("render: what rounding may change", check_rounding_rule),
-        ("render accepts a textbook step 02, not a slip", check_render_tolerance),
-        ("render command line errors", check_render_arguments),
+        ("reference pictures are current", selftest_pictures_current),
+        ("a wrong step 05 fails and shows in a diff", selftest_wrong_cornell),
+        ("render skips what cannot be drawn", selftest_render_skips),
+        ("render: what rounding may change", selftest_rounding_rule),
+        ("render accepts a textbook step 02, not a slip", selftest_render_tolerance),
+        ("render command line errors", selftest_render_arguments),
     ]

@@ -15,7 +15,7 @@ from .harness import Failed, expect, kit, need_solutions
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 
 
-def check_textbook_fails_robust(ctx) -> str:
+def selftest_textbook_fails_robust(ctx) -> str:
     need_solutions()   # a handout has neither solutions/ nor tests/fixtures/
     steps = load_steps()
     chosen = [s for s in steps if (TEXTBOOK / s.folder).is_dir()]
@@ -43,5 +43,5 @@ def check_textbook_fails_robust(ctx) -> str:
     return "textbook formula: " + "; ".join(summary)
 
 
-def checks():
-    return [("robust tier catches the textbook formula", check_textbook_fails_robust)]
+def selftests():
+    return [("robust tier catches the textbook formula", selftest_textbook_fails_robust)]

@@ -20,7 +20,7 @@ from .harness import expect, kit, need_solutions
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 
 # Phrases that hand over the cure instead of naming the trouble. Each matched a message before the
-# messages were rewritten (the samples in check_no_cure_in_messages), and none of the lecture pointers.
+# messages were rewritten (the samples in selftest_no_cure_in_messages), and none of the lecture pointers.
 CURES = [
     ("compute ... as <formula>", re.compile(r"\bcompute\b[^.:]*\bas\b", re.I)),
     ("the length of a difference or cross product, |f - ...| or |f x d|",
@@ -53,7 +53,7 @@ def cures(text: str) -> list[str]:
     return [what for what, pattern in CURES if pattern.search(text)]
 
 
-def check_no_cure_in_messages(ctx) -> str:
+def selftest_no_cure_in_messages(ctx) -> str:
     for sample in SAMPLES:
         expect(cures(sample), f"the check finds no cure in a message that gives one: {sample!r}")
     files = sorted(p for d in ("tests/0*", "tests/hidden", "tests/support") for p in ROOT.glob(f"{d}/*.[ch]pp")
@@ -78,7 +78,7 @@ def check_no_cure_in_messages(ctx) -> str:
     return f"{seen} messages in {len(files)} files: none writes the cure, every section named exists"
 
 
-def check_one_section_each(ctx) -> str:
+def selftest_one_section_each(ctx) -> str:
     """Every case's pointer names one section: a heading used as a pointer names no other sections."""
 
     bad, n = [], 0
@@ -96,7 +96,7 @@ def check_one_section_each(ctx) -> str:
     return f"{n} pointers, one section each"
 
 
-def check_words(ctx) -> str:
+def selftest_words(ctx) -> str:
     cases = [("lectures/03-unit-direction.md", ["5. Cancellation in the discriminant", "6. Cancellation in the roots",
                                                 "5. Cancellation in the discriminant"], "lecture 03, sections 5 and 6"),
              ("lectures/01-unit-sphere.md", ["6. Far and grazing rays"], "lecture 01, section 6"),
@@ -108,7 +108,7 @@ def check_words(ctx) -> str:
     return f"{len(cases)} section lists in words"
 
 
-def check_done_step_is_calm(ctx) -> str:
+def selftest_done_step_is_calm(ctx) -> str:
     """The textbook step 01 is done and fails its 3 ★ cases: one line, no case; --all shows them."""
 
     need_solutions()  # the fixture's steps are graded on top of the reference
@@ -126,8 +126,8 @@ def check_done_step_is_calm(ctx) -> str:
     return f"done: '{line.group(1)}' and no case; --all shows the {failing}"
 
 
-def checks():
-    return [("★ lines: sections in words", check_words),
-            ("★ pointers: one section each", check_one_section_each),
-            ("messages name the trouble, not the cure", check_no_cure_in_messages),
-            ("a done step shows its ★ cases in one line", check_done_step_is_calm)]
+def selftests():
+    return [("★ lines: sections in words", selftest_words),
+            ("★ pointers: one section each", selftest_one_section_each),
+            ("messages name the trouble, not the cure", selftest_no_cure_in_messages),
+            ("a done step shows its ★ cases in one line", selftest_done_step_is_calm)]

@@ -9,7 +9,7 @@ from ..common import workflow
 from .harness import Context, Skipped, expect, need_solutions
 
 
-def check_sanitizers(ctx: Context) -> str:
+def selftest_sanitizers(ctx: Context) -> str:
     need_solutions()
     if ctx.fast:
         raise Skipped("--fast leaves out the sanitizer build")
@@ -21,5 +21,5 @@ def check_sanitizers(ctx: Context) -> str:
     return f"ASan + UBSan, {m.group(2)} tests, no finding"
 
 
-def checks() -> list:
-    return [("sanitizers", check_sanitizers)]
+def selftests() -> list:
+    return [("sanitizers", selftest_sanitizers)]

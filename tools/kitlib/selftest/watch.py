@@ -14,7 +14,7 @@ from ..common import BUILD, ROOT, load_steps
 from .harness import CLEAR, Failed, Screen, expect, need_solutions
 
 
-def check_watch(ctx) -> str:
+def selftest_watch(ctx) -> str:
     need_solutions()
     steps = load_steps()
     s1, s2 = steps[0], steps[1]
@@ -74,5 +74,5 @@ def check_watch(ctx) -> str:
             "itself, r and q work, no 'Then run'; " + ", ".join(notes))
 
 
-def checks() -> list:
-    return [("watch mode", check_watch)]
+def selftests() -> list:
+    return [("watch mode", selftest_watch)]

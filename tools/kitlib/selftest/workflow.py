@@ -47,7 +47,7 @@ def validate_gradescope(data: dict) -> list[str]:
     return problems
 
 
-def check_batch_grading(ctx) -> str:
+def selftest_batch_grading(ctx) -> str:
     need_solutions()
     step = load_steps()[0]
     root = BUILD / "grade-test"
@@ -98,5 +98,5 @@ def check_batch_grading(ctx) -> str:
             "right CSV rows on one scale; results.json valid")
 
 
-def checks():
-    return [("batch grading and Gradescope JSON", check_batch_grading)]
+def selftests():
+    return [("batch grading and Gradescope JSON", selftest_batch_grading)]
