@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..commands import bench as cmd_bench
 from ..common import BUILD, ROOT
+from ..status import NOT_STARTED
 from .harness import Failed, HANDOUT, Skipped, expect, kit
 
 SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",
@@ -113,7 +114,7 @@ def selftest_quick_run(ctx) -> str:
             expect(isinstance(student.get("status"), str) and student["status"] != "",
                    f"the student's step 02 has no readable status in the benchmark: '{student['status']}'")
         else:
-            expect(student["status"] == "not_started",
+            expect(student["status"] == NOT_STARTED,
                    f"the shipped stub must show as not started in the benchmark, got '{student['status']}'")
         if not HANDOUT:
             expect("not started" in r.stdout, "the table does not say the student's step is not started")

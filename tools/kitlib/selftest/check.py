@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ..checking import check_steps, list_cases
 from ..common import ROOT, build_target, preset_build, submission_build, workflow
+from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 
 
@@ -32,7 +33,7 @@ def selftest_solutions_pass(ctx: Context) -> str:
         for c in r.cases:
             if c.status != "pass":
                 bad.append(f"step {r.step.number} [{c.tier}] {c.name}: {c.status} {' '.join(c.messages)[:300]}")
-        if r.state != "done":
+        if r.state != DONE:
             bad.append(f"step {r.step.number}: {r.state} {r.detail[:500]}")
     expect(not bad, "the reference solutions fail:\n  " + "\n  ".join(bad[:10]))
     n = sum(len(r.cases) for r in ctx.reference)
@@ -43,15 +44,15 @@ def selftest_stubs_not_started(ctx: Context) -> str:
     results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
     if HANDOUT:
         # A student's own copy: their steps may be started. The kit works if every step was graded.
-        broken = [f"step {r.step.number}: {r.detail[:300]}" for r in results if r.state == "broken"]
+        broken = [f"step {r.step.number}: {r.detail[:300]}" for r in results if r.state == BROKEN]
         expect(not broken, "the grader could not run:\n  " + "\n  ".join(broken))
         return "the student build grades every step (" + ", ".join(f"{r.step.number} {r.state}" for r in results) + ")"
     bad = []
     for r in results:
         # A step that needs another is graded on top of the reference's answers to it.
-        if r.state != "not_started":
+        if r.state != NOT_STARTED:
             bad.append(f"step {r.step.number} is {r.state}")
-        bad += [f"step {r.step.number} case '{c.name}' is {c.status}" for c in r.cases if c.status != "not_started"]
+        bad += [f"step {r.step.number} case '{c.name}' is {c.status}" for c in r.cases if c.status != NOT_STARTED]
     expect(not bad, "a shipped stub is not graded 'not started':\n  " + "\n  ".join(bad[:10]))
     n = sum(len(r.cases) for r in results)
     return f"all {n} cases of the {len(results)} shipped stubs report not_implemented (a step that needs another on top of its reference)"
@@ -133,12 +134,12 @@ def selftest_solution_copied_is_done(ctx: Context) -> str:
 
 FIXTURES = {
     # folder: (state, a case status that must appear, some cases must still pass)
-    "wrong": ("partial", "fail", True),
-    "crash": ("partial", "crashed", True),
-    "hang": ("partial", "timed_out", True),
-    "throw": ("partial", "threw", True),
-    "flood": ("partial", "crashed", True),
-    "no_compile": ("no_compile", None, False),
+    "wrong": (PARTIAL, FAIL, True),
+    "crash": (PARTIAL, CRASHED, True),
+    "hang": (PARTIAL, TIMED_OUT, True),
+    "throw": (PARTIAL, THREW, True),
+    "flood": (PARTIAL, CRASHED, True),
+    "no_compile": (NO_COMPILE, None, False),
 }
 
 

@@ -30,6 +30,7 @@ import time
 from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
+from ..status import DONE, PARTIAL
 from .harness import Failed, Skipped, expect, kit, need_solutions
 
 HOSTILE = ROOT / "tests" / "fixtures" / "hostile"
@@ -132,7 +133,7 @@ def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: di
            f"{name} ({isolation}): case verdicts differ from the plain wrong answer: " + "; ".join(diff[:5])
            + (f" (only hidden cases differ, seeds {seeds[0]} and {seeds[1]}: does a never-hit answer's verdict "
               "on that family depend on the draw?)" if only_hidden else ""))
-    expect(all(s["state"] != "done" for s in got["extra_data"]["steps"]), f"{name} ({isolation}): graded done")
+    expect(all(s["state"] != DONE for s in got["extra_data"]["steps"]), f"{name} ({isolation}): graded done")
     expect(all(t["status"] == "failed" for t in got["tests"] if t["score"] == 0 and t["max_score"] > 0),
            f"{name} ({isolation}): a test with no points is marked passed")
 
@@ -339,9 +340,9 @@ def selftest_one_scale(ctx) -> str:
         stubs, slip, full = (step_results(graded[n]) for n in ("stubs", "one slip", "solutions"))
         expect(graded["stubs"]["score"] == 0, f"({mode}) the stubs score {graded['stubs']['score']}")
         expect(graded["solutions"]["score"] == maxima["solutions"], f"({mode}) the solutions lose points")
-        expect(slip["04"]["state"] == "partial" and slip["04"]["earned"] < slip["04"]["maximum"],
+        expect(slip["04"]["state"] == PARTIAL and slip["04"]["earned"] < slip["04"]["maximum"],
                f"({mode}) the slip in step 04 is not caught: {slip['04']['state']}")
-        expect(slip["05"]["state"] == "done" and slip["05"]["earned"] == slip["05"]["maximum"],
+        expect(slip["05"]["state"] == DONE and slip["05"]["earned"] == slip["05"]["maximum"],
                f"({mode}) a correct step 05 after a slip in 04: {slip['05']['state']}, "
                f"{slip['05']['earned']} of {slip['05']['maximum']}")
         others = [n for n in numbers if n != "04"]

@@ -14,6 +14,7 @@ import shutil
 
 from ..commands.mutant import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 from ..common import BUILD, load_steps
+from ..status import PARTIAL
 from .harness import Failed, need_solutions
 
 MINIMUM_PER_STEP = 8
@@ -43,7 +44,7 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
         problems.append(f"{label}: names cases step {step.number} does not have: " + ", ".join(unknown))
     # Caught: graded as a wrong answer (exit status 1, a basic case fails), not as a build
     # problem or a stub, which would say nothing about the suite.
-    if not (code == 1 and result and result["state"] == "partial" and failing):
+    if not (code == 1 and result and result["state"] == PARTIAL and failing):
         state = result["state"] if result else f"exit status {code}"
         return False, False, problems + [f"{label}: not caught ({state})"]
     named = any(c in failing for c in mutant.cases)

@@ -10,6 +10,7 @@ from pathlib import Path
 from ..commands import render as cmd_render
 from ..common import BUILD, ROOT, load_steps, preset_build, submission_build
 from ..checking import check_steps
+from ..status import DONE, PARTIAL
 from .harness import expect, kit, need_solutions
 
 WRONG_05 = ROOT / "tests" / "fixtures" / "cornell_wrong"
@@ -44,8 +45,8 @@ def selftest_wrong_cornell(ctx) -> str:
     all_steps = load_steps()
     steps = [s for s in all_steps if s.number in ("04", "05")]
     r04, r05 = check_steps(submission_build(WRONG_05, "fixtures"), steps, all_steps)
-    expect(r04.state == "done", f"the fixture's (correct) step 04 is graded {r04.state}")
-    expect(r05.state == "partial", f"the fixture's step 05 is graded {r05.state}, expected partial")
+    expect(r04.state == DONE, f"the fixture's (correct) step 04 is graded {r04.state}")
+    expect(r05.state == PARTIAL, f"the fixture's step 05 is graded {r05.state}, expected partial")
     failed = {c.name for c in r05.cases if c.status == "fail"}
     for must in ("two objects on one ray with the near one listed first", "a tie goes to the object listed first",
                  "the Cornell box at 48 by 32 pixels matches the reference render"):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from ..common import ROOT, load_steps, submission_build
 from ..checking import check_steps
+from ..status import DONE
 from .harness import Failed, expect, kit, need_solutions
 
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
@@ -25,7 +26,7 @@ def selftest_textbook_fails_robust(ctx) -> str:
     for r in results:
         basic, robust = r.tier("basic"), r.tier("robust")
         where = f"textbook step {r.step.number}"
-        expect(r.state == "done", f"{where}: graded {r.state}, expected done (it is a correct answer)")
+        expect(r.state == DONE, f"{where}: graded {r.state}, expected done (it is a correct answer)")
         problem = r.first_problem("basic")
         expect(problem is None, f"{where}: basic case '{problem.name if problem else ''}' does not pass")
         expect(bool(robust), f"{where}: step {r.step.number} has no robust tier")

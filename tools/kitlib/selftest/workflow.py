@@ -9,6 +9,7 @@ import zipfile
 
 from ..commands.mutant import MUTANTS, write_answer
 from ..common import BUILD, ROOT, load_steps
+from ..status import DONE
 from .harness import expect, kit, need_solutions
 
 # Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
@@ -77,14 +78,14 @@ def selftest_batch_grading(ctx) -> str:
     n = step.number
     expect(set(rows) == {"alice", "bob", "carol", "dave", "erin", "frank", "gina"}, f"CSV rows: {sorted(rows)}")
     a, b, c, d, e, f_, g = (rows[k] for k in ("alice", "bob", "carol", "dave", "erin", "frank", "gina"))
-    expect(a[f"step{n}_state"] == "done" and a[f"step{n}_earned"] == a[f"step{n}_maximum"], f"alice: {a}")
+    expect(a[f"step{n}_state"] == DONE and a[f"step{n}_earned"] == a[f"step{n}_maximum"], f"alice: {a}")
     expect(b[f"step{n}_state"] == "some cases fail" and int(b[f"step{n}_earned"]) < int(b[f"step{n}_maximum"]),
            f"bob (open window): {b}")
     expect("crashed" in c["note"] and c[f"step{n}_state"] == "some cases fail", f"carol (crash): {c}")
     expect("timed_out" in d["note"] and d[f"step{n}_state"] == "some cases fail", f"dave (hang): {d}")
     expect(e["status"] == "no steps" and "No step files found" in e["note"], f"erin (empty): {e}")
     for row in (f_, g):
-        expect(row[f"step{n}_state"] == "done", f"{row['student']} (zipped or nested solutions): {row}")
+        expect(row[f"step{n}_state"] == DONE, f"{row['student']} (zipped or nested solutions): {row}")
     graded = [a, b, c, d, f_, g]
     expect(len({row["maximum"] for row in graded}) == 1, "the maximum differs between students: one scale broken")
     expect(float(a["earned"]) > float(b["earned"]) > 0, "scores do not order alice > bob > 0")
