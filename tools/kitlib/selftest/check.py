@@ -5,12 +5,13 @@ bad input with a message."""
 from __future__ import annotations
 
 import re
+import shutil
 import subprocess
 import tempfile
 from pathlib import Path
 
 from ..checking import check_steps, list_cases
-from ..common import ROOT, build_target, preset_build, submission_build, workflow
+from ..common import BUILD, ROOT, build_target, preset_build, submission_build, workflow
 from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 
@@ -174,6 +175,63 @@ def selftest_command_line(ctx: Context) -> str:
     return "bad commands, options, steps and folders: message and exit 2"
 
 
+def selftest_student_loop(ctx: Context) -> str:
+    """What a student meets in a handout, as issue 13's trial did it: a printing slip shows its
+    output under the case; two slips in two functions, --all lists both; a crash names the call and
+    the signal; a function missing at link time is named; ./kit reset keeps the student's file."""
+    need_solutions()
+    where = BUILD / "loop-handout"
+    shutil.rmtree(where, ignore_errors=True)
+    r = kit("handout", str(where), "--committed", timeout=600)
+    expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
+    step = ctx.steps[0]
+    mine = where / "steps" / step.folder / step.files[0]
+    fixtures = ROOT / "tests" / "fixtures"
+    wrong = (fixtures / "wrong" / step.folder / step.files[0]).read_text()
+
+    def check(text: str, *args: str) -> subprocess.CompletedProcess:
+        mine.write_text(text)
+        return subprocess.run([str(where / "kit"), "check", "1", *args], cwd=where, capture_output=True,
+                              text=True, timeout=600)
+
+    head = "std::optional<float> intersect_unit_sphere(const Ray& ray, float tmin, float tmax) {\n"
+    expect(head in wrong, "tests/fixtures/wrong no longer has the line this self-test edits")
+    r = check(wrong.replace(head, head + '    std::printf("raykit-debug tmin=%g\\n", tmin);\n', 1))
+    expect(r.returncode == 1 and "your code printed (" in r.stdout and "| raykit-debug tmin=" in r.stdout,
+           f"printf output is not shown under the failing case:\n{r.stdout[-1500:]}")
+    tangent = "if (disc == 0.0f) return {1, "
+    expect(tangent in wrong, "tests/fixtures/wrong no longer has the tangent line this self-test edits")
+    two = wrong.replace(tangent, "if (disc == 0.0f) return {2, ", 1)
+    r = check(two, "--all")
+    groups = dict(re.findall(r"^\s+(\w+): (\d+) failing case", r.stdout, re.M))
+    expect({"unit_sphere_roots", "intersect_unit_sphere"} <= set(groups),
+           f"--all does not list both slips by function (found {groups}):\n{r.stdout[-1500:]}")
+    r = check(two)
+    expect(len(re.findall(r"^\s+✗ .*\[", r.stdout, re.M)) == 1,
+           f"without --all, another case than the first failing one is shown:\n{r.stdout[-1500:]}")
+    r = check((fixtures / "crash" / step.folder / step.files[0]).read_text())
+    expect(re.search(r"crashed in intersect_unit_sphere\(ray\{origin .*SIGSEGV", r.stdout) is not None,
+           f"a crash does not name the call and the signal:\n{r.stdout[-1500:]}")
+    solution = (ROOT / "solutions" / step.folder / step.files[0]).read_text()
+    r = check(solution.replace("intersect_unit_sphere(const Ray&", "intersect_unit_spher(const Ray&", 1))
+    expect("no definition of" in r.stdout and "raykit::intersect_unit_sphere(" in r.stdout,
+           f"a missing function is not named:\n{r.stdout[-1500:]}")
+    # ./kit reset: refuses without a terminal, then keeps the student's file and puts the stub back.
+    mine.write_text(two)
+    reset = subprocess.run([str(where / "kit"), "reset", "1"], cwd=where, capture_output=True, text=True,
+                           stdin=subprocess.DEVNULL, timeout=60)
+    expect(reset.returncode == 2 and "--yes" in reset.stderr, f"reset without a terminal: {reset.stderr[-300:]}")
+    reset = subprocess.run([str(where / "kit"), "reset", "1", "--yes"], cwd=where, capture_output=True,
+                           text=True, timeout=60)
+    kept = list(mine.parent.glob(mine.name + ".bak-*"))
+    stub = (where / "tools" / "stubs" / step.folder / step.files[0]).read_text()
+    expect(reset.returncode == 0 and len(kept) == 1 and kept[0].read_text() == two and mine.read_text() == stub,
+           f"./kit reset 1 --yes: {reset.stdout[-400:]} kept {[k.name for k in kept]}")
+    shutil.rmtree(where, ignore_errors=True)
+    return ("in a handout: printf shown under the case, two slips listed by --all, a crash named with its "
+            "call and signal, a missing function named, reset keeps the student's file")
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -184,4 +242,5 @@ def selftests() -> list:
         ("a copied solution grades 'done'", selftest_solution_copied_is_done),
         ("grader survives bad code", selftest_grader_fixtures),
         ("command line errors", selftest_command_line),
+        ("the student's loop in a handout", selftest_student_loop),
     ]
