@@ -8,7 +8,8 @@ import tempfile
 from pathlib import Path
 
 from ..commands import render as cmd_render
-from ..common import BUILD, ROOT, load_steps, preset_build, submission_build
+from ..commands.mutant import MUTANTS, write_answer
+from ..common import BUILD, ROOT, load_steps, preset_build, submission_build, tools_build
 from ..checking import check_steps
 from ..status import DONE, PARTIAL
 from .harness import expect, kit, need_solutions
@@ -117,8 +118,6 @@ def _steps_folder(work: Path, own: dict[str, Path]) -> Path:
 def selftest_render_tolerance(ctx) -> str:
     """A textbook step 02 renders as accepted; single pixels show in the diff; real slips still fail."""
     need_solutions()  # these render with, or against, the reference solutions
-    from cmd_mutant import MUTANTS, write_answer
-
     steps = {s.number: s for s in load_steps()}
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="render-tolerance-"))
     try:
@@ -137,7 +136,7 @@ def selftest_render_tolerance(ctx) -> str:
             expect(refs and all(Path(p).is_file() for p in refs), f"no reference picture's path printed:\n{r.stdout}")
             # Rings: the diff image marks many more pixels than differ. Compare it with the diff of the
             # reference with itself (the backdrop alone) to count the marked pixels.
-            diff_exe = cmd_render.imgdiff(submission_build(textbook))
+            diff_exe = cmd_render.imgdiff(tools_build(submission_build(textbook)))
             backdrop, marked = work / "backdrop.png", out / "spheres-normals-diff.png"
             cmd_render.compare(diff_exe, Path(refs[0]), Path(refs[0]), backdrop)
             marks = cmd_render.compare(diff_exe, backdrop, marked, work / "marks.png").differing
