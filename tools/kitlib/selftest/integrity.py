@@ -28,6 +28,7 @@ import shutil
 import tempfile
 import time
 from pathlib import Path
+from typing import Callable
 
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
 from ..status import DONE, PARTIAL
@@ -201,16 +202,24 @@ def run_modes(fn, spent: dict[str, float] | None = None) -> str:
 
 # --- the checks ------------------------------------------------------------------------
 
+def attack(name: str, mode: str, ran: str, harm: Callable[[str], bool], what: str) -> dict:
+    """Checks the hostile step 01 `name` under `mode`: its output holds `ran` (the attack ran), no
+    line of it shows `harm` (what it says it did: `what`), and it is scored as always_miss, a plain
+    wrong answer, is. Returns its results.json."""
+    base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+    rc, got, _, _ = grade_json(HOSTILE / name, ["01"], mode)
+    out = printed(got)
+    expect(ran in out, f"{name} ({mode}): its output is not in the JSON; did the attack run at all?")
+    harmed = sorted({l for l in out.splitlines() if harm(l)})
+    expect(not harmed, f"{name} ({mode}): the sandboxed code {what}: " + "; ".join(harmed[:6]))
+    same_as_wrong_answer(name, mode, got, rc, base, base_rc)
+    return got
+
+
 def selftest_forge_verdicts(ctx) -> str:
     def one(mode: str) -> str:
-        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
-        rc, got, _, _ = grade_json(HOSTILE / "forge_verdicts", ["01"], mode)
-        out = printed(got)
-        expect("forge_verdicts:" in out,
-               f"forge_verdicts ({mode}): its output is not in the JSON; did the attack run at all?")
-        wrote = sorted({l for l in out.splitlines() if l.startswith("forge_verdicts:") and " 0 rewritten" not in l})
-        expect(not wrote, f"forge_verdicts ({mode}): the sandboxed code rewrote files: {wrote[:3]}")
-        same_as_wrong_answer("forge_verdicts", mode, got, rc, base, base_rc)
+        got = attack("forge_verdicts", mode, "forge_verdicts:",
+                     lambda l: l.startswith("forge_verdicts:") and " 0 rewritten" not in l, "rewrote files")
         return f"{got['score']} of {got['extra_data']['max_score']}, as without forging"
 
     need_solutions()
@@ -358,14 +367,7 @@ def selftest_one_scale(ctx) -> str:
 
 def selftest_read_answers(ctx) -> str:
     def one(mode: str) -> str:
-        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
-        rc, got, _, _ = grade_json(HOSTILE / "read_answers", ["01"], mode)
-        out = printed(got)
-        expect("answer paths readable" in out,
-               f"read_answers ({mode}): its output is not in the JSON; did it run at all?")
-        leaks = sorted({l for l in out.splitlines() if "could read" in l})
-        expect(not leaks, f"read_answers ({mode}): the sandboxed code read the answers: " + "; ".join(leaks[:6]))
-        same_as_wrong_answer("read_answers", mode, got, rc, base, base_rc)
+        attack("read_answers", mode, "answer paths readable", lambda l: "could read" in l, "read the answers")
         return "nothing readable; graded like a wrong answer"
 
     need_solutions()
