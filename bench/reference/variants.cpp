@@ -414,6 +414,37 @@ Variant sphere_lanes(const std::vector<SphereData>& data, const simd::Target& t,
     return v;
 }
 
+/// A whole-batch box query: `run(f, end, t, rect)` answers rays [0, end) of family f.
+using BoxRun = std::function<void(std::size_t f, std::size_t end, float* t, float* rect)>;
+
+/// The answer and the timed pass of a whole-batch box query. The error pass reads answers one ray at
+/// a time: `run` goes once over the whole family and what it wrote is kept.
+void set_box_answers(Variant& v, const std::vector<BoxData>& boxes, BoxRun run) {
+    struct Cache {
+        std::vector<std::vector<float>> t, rect;
+    };
+    auto cache = std::make_shared<Cache>();
+    cache->t.resize(boxes.size()), cache->rect.resize(boxes.size());
+    const auto* b = &boxes;
+    v.answer = [b, run, cache](std::size_t f, std::size_t i) {
+        if (cache->t[f].empty()) {
+            const std::size_t n = (*b)[f].lanes.ox.size();
+            cache->t[f].resize(n), cache->rect[f].resize(n);
+            run(f, n, cache->t[f].data(), cache->rect[f].data());
+        }
+        Answer a;
+        if (cache->rect[f][i] >= 0) {
+            a.count = 1;
+            a.t[0] = cache->t[f][i];
+            a.rect = static_cast<int>(cache->rect[f][i]);
+        }
+        return a;
+    };
+    v.pass = [b, run](std::size_t f) {
+        run(f, padded(batch_size((*b)[f].lanes.n)), g_lane_t0.data(), g_lane_hit.data());
+    };
+}
+
 }  // namespace
 
 std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, const std::vector<BoxData>& boxes,
@@ -441,32 +472,10 @@ std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, con
         v.label = "brute force, " + std::to_string(v.lanes) + " lanes " + t.name;
         v.note = "the same loop over the rectangles, across rays: each lane keeps its own window";
         const simd::BoxKernel kernel = t.box_f32;
-        struct Cache {
-            std::vector<std::vector<float>> t, rect;
-        };
-        auto cache = std::make_shared<Cache>();
-        cache->t.resize(boxes.size()), cache->rect.resize(boxes.size());
-        v.answer = [b, kernel, cache](std::size_t f, std::size_t i) {
+        set_box_answers(v, boxes, [b, kernel](std::size_t f, std::size_t end, float* t_out, float* rect) {
             const BoxData& box = (*b)[f];
-            if (cache->t[f].empty()) {
-                const std::size_t n = box.lanes.ox.size();
-                cache->t[f].resize(n), cache->rect[f].resize(n);
-                kernel(box.lanes, 0, n, box.table.data(), static_cast<int>(box.table.size()), 0.0f,
-                       cache->t[f].data(), cache->rect[f].data());
-            }
-            Answer a;
-            if (cache->rect[f][i] >= 0) {
-                a.count = 1;
-                a.t[0] = cache->t[f][i];
-                a.rect = static_cast<int>(cache->rect[f][i]);
-            }
-            return a;
-        };
-        v.pass = [b, kernel](std::size_t f) {
-            const BoxData& box = (*b)[f];
-            kernel(box.lanes, 0, padded(batch_size(box.lanes.n)), box.table.data(), static_cast<int>(box.table.size()),
-                   0.0f, g_lane_t0.data(), g_lane_hit.data());
-        };
+            kernel(box.lanes, 0, end, box.table.data(), static_cast<int>(box.table.size()), 0.0f, t_out, rect);
+        });
         out.push_back(v);
     }
     // Embree's packet queries on the same quads, as many rays per call as the
@@ -487,34 +496,12 @@ std::vector<Variant> vector_variants(const std::vector<SphereData>& spheres, con
             e.note = embree::available() ? "this Embree does not run packets of " + std::to_string(width) + " natively"
                                          : embree::status();
         }
-        struct Cache {
-            std::vector<std::vector<float>> t, rect;
-        };
-        auto cache = std::make_shared<Cache>();
-        cache->t.resize(boxes.size()), cache->rect.resize(boxes.size());
-        auto run = [b, width](std::size_t f, std::size_t end, float* t, float* rect) {
+        set_box_answers(e, boxes, [b, width](std::size_t f, std::size_t end, float* t, float* rect) {
             const BoxData& box = (*b)[f];
             const float* const o[3] = {box.lanes.ox.data(), box.lanes.oy.data(), box.lanes.oz.data()};
             const float* const d[3] = {box.lanes.dx.data(), box.lanes.dy.data(), box.lanes.dz.data()};
             embree::intersect_packets(box.embree, width, o, d, 0, end, 0.0f, t, rect);
-        };
-        e.answer = [b, run, cache](std::size_t f, std::size_t i) {
-            if (cache->t[f].empty()) {
-                const std::size_t n = (*b)[f].lanes.ox.size();
-                cache->t[f].resize(n), cache->rect[f].resize(n);
-                run(f, n, cache->t[f].data(), cache->rect[f].data());
-            }
-            Answer a;
-            if (cache->rect[f][i] >= 0) {
-                a.count = 1;
-                a.t[0] = cache->t[f][i];
-                a.rect = static_cast<int>(cache->rect[f][i]);
-            }
-            return a;
-        };
-        e.pass = [b, run](std::size_t f) {
-            run(f, padded(batch_size((*b)[f].lanes.n)), g_lane_t0.data(), g_lane_hit.data());
-        };
+        });
         out.push_back(e);
     }
     return out;
