@@ -24,37 +24,67 @@ struct LaneRoots {
     M hit;
 };
 
-/// The half-b form: t = (-h -+ sqrt(h^2 - a c)) / a, c = f.f - r^2.
+/// A quadratic a t^2 + 2 h t + c reduced to what its roots need: h, the
+/// quarter discriminant D/4 = h^2 - a c, and a or 1/a (as each formulation
+/// says). The double-lane kernels (vector.cpp) compute it for a block of rays
+/// in one pass and the roots in a second; a single lane runs both in a row.
+template <class V>
+struct Quadratic {
+    V h, disc, scale;
+};
+
+/// The half-b form's quadratic: c = f.f - r^2 and D/4 = h^2 - a c; scale = a.
 template <class O, class V = typename O::V>
-LaneRoots<V, typename O::M> lanes_half_b(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
-                                         V r) {
+Quadratic<V> half_b_quadratic(const O&, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz, V r) {
     const V fx = ox - cx, fy = oy - cy, fz = oz - cz;
     const V a = dx * dx + dy * dy + dz * dz;
     const V h = fx * dx + fy * dy + fz * dz;
     const V c = fx * fx + fy * fy + fz * fz - r * r;
-    const V disc = h * h - a * c;
-    const auto hit = o.ge(disc, o.k(0));
-    const V root = o.sqrt(o.zero_unless(hit, disc));
-    return {o.zero_unless(hit, (o.neg(h) - root) / a), o.zero_unless(hit, (root - h) / a), hit};
+    return {h, h * h - a * c, a};
 }
 
-/// The Lagrange-identity discriminant a r^2 - |f x d|^2, then as half-b
-/// (the kit's reference, step 02, when run in double).
+/// t = (-h -+ sqrt(D/4)) / a, with scale = a: two divides.
 template <class O, class V = typename O::V>
-LaneRoots<V, typename O::M> lanes_lagrange(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
-                                           V r) {
+LaneRoots<V, typename O::M> roots_over(const O& o, const Quadratic<V>& q) {
+    const auto hit = o.ge(q.disc, o.k(0));
+    const V root = o.sqrt(o.zero_unless(hit, q.disc));
+    return {o.zero_unless(hit, (o.neg(q.h) - root) / q.scale), o.zero_unless(hit, (root - q.h) / q.scale), hit};
+}
+
+/// The half-b form: t = (-h -+ sqrt(h^2 - a c)) / a, c = f.f - r^2.
+template <class O, class V = typename O::V>
+LaneRoots<V, typename O::M> lanes_half_b(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
+                                         V r) {
+    return roots_over(o, half_b_quadratic(o, ox, oy, oz, dx, dy, dz, cx, cy, cz, r));
+}
+
+/// The Lagrange-identity discriminant a r^2 - |f x d|^2; scale = 1/a.
+template <class O, class V = typename O::V>
+Quadratic<V> lagrange_quadratic(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz, V r) {
     const V fx = ox - cx, fy = oy - cy, fz = oz - cz;
     const V a = dx * dx + dy * dy + dz * dz;
     const V h = fx * dx + fy * dy + fz * dz;
     const V gx = fy * dz - fz * dy, gy = fz * dx - fx * dz, gz = fx * dy - fy * dx;
-    const V disc = a * (r * r) - (gx * gx + gy * gy + gz * gz);
-    const auto hit = o.ge(disc, o.k(0));
-    const V root = o.sqrt(o.zero_unless(hit, disc));
-    // One divide and two multiplies instead of two divides: the divider is
-    // this form's bottleneck in vectors, and in double the extra rounding is
-    // far below the float result's half ulp.
-    const V inv_a = o.k(1) / a;
-    return {o.zero_unless(hit, (o.neg(h) - root) * inv_a), o.zero_unless(hit, (root - h) * inv_a), hit};
+    // One divide here and two multiplies in roots_times() instead of two
+    // divides: the divider is this form's bottleneck in vectors, and in
+    // double the extra rounding is far below the float result's half ulp.
+    return {h, a * (r * r) - (gx * gx + gy * gy + gz * gz), o.k(1) / a};
+}
+
+/// t = (-h -+ sqrt(D/4)) * (1/a), with scale = 1/a.
+template <class O, class V = typename O::V>
+LaneRoots<V, typename O::M> roots_times(const O& o, const Quadratic<V>& q) {
+    const auto hit = o.ge(q.disc, o.k(0));
+    const V root = o.sqrt(o.zero_unless(hit, q.disc));
+    return {o.zero_unless(hit, (o.neg(q.h) - root) * q.scale), o.zero_unless(hit, (root - q.h) * q.scale), hit};
+}
+
+/// The Lagrange-identity discriminant, then as half-b (the kit's reference,
+/// step 02, when run in double).
+template <class O, class V = typename O::V>
+LaneRoots<V, typename O::M> lanes_lagrange(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
+                                           V r) {
+    return roots_times(o, lagrange_quadratic(o, ox, oy, oz, dx, dy, dz, cx, cy, cz, r));
 }
 
 /// The stable float form of formulations.hpp: closest-point discriminant and

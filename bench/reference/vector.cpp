@@ -53,6 +53,22 @@ struct HwyOps {
     V zero_unless(M m, V a) const { return hn::IfThenElseZero(m, a); }
 };
 
+/// Rays per block: the kernels take the input pointers once per block, and
+/// the double lanes' two passes (below) keep a block's quadratics (3 doubles
+/// a ray, 1.5 KiB) in the first-level cache between them.
+constexpr std::size_t kBlock = 64;
+
+/// The ten input arrays from ray b on, as plain pointers. Indexing the
+/// vectors of Rays in the loop costs general registers the loop does not
+/// have: the compiler kept some pointers in vector registers and moved them
+/// back on every step (GCC 12, Highway's AVX3 and AVX2 targets).
+struct Inputs {
+    const float *ox, *oy, *oz, *dx, *dy, *dz, *cx, *cy, *cz, *r;
+    Inputs(const Rays& in, std::size_t b)
+        : ox(&in.ox[b]), oy(&in.oy[b]), oz(&in.oz[b]), dx(&in.dx[b]), dy(&in.dy[b]), dz(&in.dz[b]),
+          cx(&in.cx[b]), cy(&in.cy[b]), cz(&in.cz[b]), r(&in.r[b]) {}
+};
+
 /// Float lanes: load, compute, store, as many rays per step as a vector holds.
 template <LaneRoots<hn::Vec<hn::ScalableTag<float>>, hn::Mask<hn::ScalableTag<float>>> (*F)(
     const HwyOps<hn::ScalableTag<float>>&, hn::Vec<hn::ScalableTag<float>>, hn::Vec<hn::ScalableTag<float>>,
@@ -63,36 +79,75 @@ void FloatLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, f
     const hn::ScalableTag<float> d;
     const HwyOps<hn::ScalableTag<float>> o{d};
     const std::size_t n = hn::Lanes(d);
-    for (std::size_t i = begin; i < end; i += n) {
-        const auto r = F(o, hn::LoadU(d, &in.ox[i]), hn::LoadU(d, &in.oy[i]), hn::LoadU(d, &in.oz[i]),
-                         hn::LoadU(d, &in.dx[i]), hn::LoadU(d, &in.dy[i]), hn::LoadU(d, &in.dz[i]),
-                         hn::LoadU(d, &in.cx[i]), hn::LoadU(d, &in.cy[i]), hn::LoadU(d, &in.cz[i]),
-                         hn::LoadU(d, &in.r[i]));
-        hn::StoreU(r.t0, d, t0 + i);
-        hn::StoreU(r.t1, d, t1 + i);
-        hn::StoreU(hn::IfThenElseZero(r.hit, hn::Set(d, 2.0f)), d, hit + i);
+    for (std::size_t b = begin; b < end; b += kBlock) {
+        const std::size_t size = std::min(kBlock, end - b);  // a multiple of kPad, so of n
+        const Inputs p(in, b);
+        for (std::size_t j = 0; j < size; j += n) {
+            const auto r = F(o, hn::LoadU(d, p.ox + j), hn::LoadU(d, p.oy + j), hn::LoadU(d, p.oz + j),
+                             hn::LoadU(d, p.dx + j), hn::LoadU(d, p.dy + j), hn::LoadU(d, p.dz + j),
+                             hn::LoadU(d, p.cx + j), hn::LoadU(d, p.cy + j), hn::LoadU(d, p.cz + j),
+                             hn::LoadU(d, p.r + j));
+            hn::StoreU(r.t0, d, t0 + b + j);
+            hn::StoreU(r.t1, d, t1 + b + j);
+            hn::StoreU(hn::IfThenElseZero(r.hit, hn::Set(d, 2.0f)), d, hit + b + j);
+        }
     }
 }
 
+using DoubleTag = hn::ScalableTag<double>;
+using DoubleV = hn::Vec<DoubleTag>;
+using DoubleOps = HwyOps<DoubleTag>;
+/// A formulation's first stage (lanes-inl.h: half_b_quadratic, lagrange_quadratic) ...
+using QuadraticStage = Quadratic<DoubleV> (*)(const DoubleOps&, DoubleV, DoubleV, DoubleV, DoubleV, DoubleV,
+                                              DoubleV, DoubleV, DoubleV, DoubleV, DoubleV);
+/// ... and its second (roots_over, roots_times).
+using RootStage = LaneRoots<DoubleV, hn::Mask<DoubleTag>> (*)(const DoubleOps&, const Quadratic<DoubleV>&);
+
 /// Double lanes on float rays: each float is widened exactly, the roots are
 /// rounded to float once at the end.
-template <LaneRoots<hn::Vec<hn::ScalableTag<double>>, hn::Mask<hn::ScalableTag<double>>> (*F)(
-    const HwyOps<hn::ScalableTag<double>>&, hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>,
-    hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>,
-    hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>,
-    hn::Vec<hn::ScalableTag<double>>, hn::Vec<hn::ScalableTag<double>>)>
+///
+/// With kTwoPasses, two passes over each block split at the quadratic: the
+/// first widens the ten inputs and computes h, D/4 and the scale, the second
+/// takes the square root and the roots and narrows them. The results are
+/// those of one pass, bit for bit. Which is faster depends on where the
+/// divides fall (measured with 8 lanes, AVX3, in docs/bench.md, section 6):
+/// the Lagrange form, with its one divide in the first stage and the square
+/// root in the second, took 0.82-0.84 ns a ray in one pass and 0.77-0.80 in
+/// two; half-b, with both divides next to the square root, 0.74-0.75 in one
+/// and 0.82-0.84 in two.
+template <QuadraticStage Q, RootStage R, bool kTwoPasses>
 void DoubleLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
-    const hn::ScalableTag<double> dd;
-    const hn::Rebind<float, decltype(dd)> df;  // as many floats as dd has doubles
-    const HwyOps<hn::ScalableTag<double>> o{dd};
+    const DoubleTag dd;
+    const hn::Rebind<float, DoubleTag> df;  // as many floats as dd has doubles
+    const DoubleOps o{dd};
     const std::size_t n = hn::Lanes(dd);
-    auto load = [&](const std::vector<float>& v, std::size_t i) { return hn::PromoteTo(dd, hn::LoadU(df, &v[i])); };
-    for (std::size_t i = begin; i < end; i += n) {
-        const auto r = F(o, load(in.ox, i), load(in.oy, i), load(in.oz, i), load(in.dx, i), load(in.dy, i),
-                         load(in.dz, i), load(in.cx, i), load(in.cy, i), load(in.cz, i), load(in.r, i));
-        hn::StoreU(hn::DemoteTo(df, r.t0), df, t0 + i);
-        hn::StoreU(hn::DemoteTo(df, r.t1), df, t1 + i);
-        hn::StoreU(hn::DemoteTo(df, hn::IfThenElseZero(r.hit, hn::Set(dd, 2.0))), df, hit + i);
+    HWY_ALIGN double q[3][kBlock];  // h, D/4, scale: addressed from the stack pointer
+    for (std::size_t b = begin; b < end; b += kBlock) {
+        const std::size_t size = std::min(kBlock, end - b);  // a multiple of kPad, so of n
+        const Inputs p(in, b);
+        auto quadratic = [&](std::size_t j) {
+            auto load = [&](const float* x) { return hn::PromoteTo(dd, hn::LoadU(df, x + j)); };
+            return Q(o, load(p.ox), load(p.oy), load(p.oz), load(p.dx), load(p.dy), load(p.dz), load(p.cx),
+                     load(p.cy), load(p.cz), load(p.r));
+        };
+        auto store = [&](std::size_t j, const LaneRoots<DoubleV, hn::Mask<DoubleTag>>& z) {
+            hn::StoreU(hn::DemoteTo(df, z.t0), df, t0 + b + j);
+            hn::StoreU(hn::DemoteTo(df, z.t1), df, t1 + b + j);
+            hn::StoreU(hn::DemoteTo(df, hn::IfThenElseZero(z.hit, hn::Set(dd, 2.0))), df, hit + b + j);
+        };
+        if (!kTwoPasses) {
+            for (std::size_t j = 0; j < size; j += n) store(j, R(o, quadratic(j)));
+            continue;
+        }
+        for (std::size_t j = 0; j < size; j += n) {
+            const Quadratic<DoubleV> z = quadratic(j);
+            hn::Store(z.h, dd, &q[0][j]);
+            hn::Store(z.disc, dd, &q[1][j]);
+            hn::Store(z.scale, dd, &q[2][j]);
+        }
+        for (std::size_t j = 0; j < size; j += n) {
+            store(j, R(o, {hn::Load(dd, &q[0][j]), hn::Load(dd, &q[1][j]), hn::Load(dd, &q[2][j])}));
+        }
     }
 }
 
@@ -217,8 +272,8 @@ void Describe(Target& t) {
     t.half_b_f32 = &FloatLanes<&lanes_half_b<F>>;
     t.stable_f32 = &FloatLanes<&lanes_stable<F>>;
     t.exact_f32 = &FloatLanes<&lanes_exact_float<F>>;
-    t.half_b_f64 = &DoubleLanes<&lanes_half_b<G>>;
-    t.lagrange_f64 = &DoubleLanes<&lanes_lagrange<G>>;
+    t.half_b_f64 = &DoubleLanes<&half_b_quadratic<G>, &roots_over<G>, false>;
+    t.lagrange_f64 = &DoubleLanes<&lagrange_quadratic<G>, &roots_times<G>, true>;
     t.box_f32 = &BoxLanes;
     t.kernels = &RunKernel;
 }
