@@ -53,15 +53,18 @@ struct HwyOps {
     V zero_unless(M m, V a) const { return hn::IfThenElseZero(m, a); }
 };
 
-/// Rays per block: the kernels take the input pointers once per block, and
-/// the double lanes' two passes (below) keep a block's quadratics (3 doubles
-/// a ray, 1.5 KiB) in the first-level cache between them.
+/// Rays per block of the double lanes' two passes (below): a block's
+/// quadratics (3 doubles a ray, 1.5 KiB) stay in the first-level cache
+/// between them.
 constexpr std::size_t kBlock = 64;
 
-/// The ten input arrays from ray b on, as plain pointers. Indexing the
-/// vectors of Rays in the loop costs general registers the loop does not
-/// have: the compiler kept some pointers in vector registers and moved them
-/// back on every step (GCC 12, Highway's AVX3 and AVX2 targets).
+/// The ten input arrays from ray b on, as plain pointers, taken once per call
+/// or block. Indexing the vectors of Rays in the loop costs general registers
+/// the loop does not have: the compiler kept some pointers in vector
+/// registers and moved them back on every step (GCC 12, Highway's AVX3 and
+/// AVX2 targets). Taken once, the double lanes with 8 lanes went from
+/// 0.85-0.89 to 0.80 ns a ray and the stable float form with 16 from 0.55 to
+/// 0.47, in a test of 4096 rays repeated.
 struct Inputs {
     const float *ox, *oy, *oz, *dx, *dy, *dz, *cx, *cy, *cz, *r;
     Inputs(const Rays& in, std::size_t b)
@@ -79,18 +82,16 @@ void FloatLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, f
     const hn::ScalableTag<float> d;
     const HwyOps<hn::ScalableTag<float>> o{d};
     const std::size_t n = hn::Lanes(d);
-    for (std::size_t b = begin; b < end; b += kBlock) {
-        const std::size_t size = std::min(kBlock, end - b);  // a multiple of kPad, so of n
-        const Inputs p(in, b);
-        for (std::size_t j = 0; j < size; j += n) {
-            const auto r = F(o, hn::LoadU(d, p.ox + j), hn::LoadU(d, p.oy + j), hn::LoadU(d, p.oz + j),
-                             hn::LoadU(d, p.dx + j), hn::LoadU(d, p.dy + j), hn::LoadU(d, p.dz + j),
-                             hn::LoadU(d, p.cx + j), hn::LoadU(d, p.cy + j), hn::LoadU(d, p.cz + j),
-                             hn::LoadU(d, p.r + j));
-            hn::StoreU(r.t0, d, t0 + b + j);
-            hn::StoreU(r.t1, d, t1 + b + j);
-            hn::StoreU(hn::IfThenElseZero(r.hit, hn::Set(d, 2.0f)), d, hit + b + j);
-        }
+    const Inputs p(in, begin);
+    t0 += begin, t1 += begin, hit += begin;
+    for (std::size_t j = 0; j < end - begin; j += n) {
+        const auto r = F(o, hn::LoadU(d, p.ox + j), hn::LoadU(d, p.oy + j), hn::LoadU(d, p.oz + j),
+                         hn::LoadU(d, p.dx + j), hn::LoadU(d, p.dy + j), hn::LoadU(d, p.dz + j),
+                         hn::LoadU(d, p.cx + j), hn::LoadU(d, p.cy + j), hn::LoadU(d, p.cz + j),
+                         hn::LoadU(d, p.r + j));
+        hn::StoreU(r.t0, d, t0 + j);
+        hn::StoreU(r.t1, d, t1 + j);
+        hn::StoreU(hn::IfThenElseZero(r.hit, hn::Set(d, 2.0f)), d, hit + j);
     }
 }
 
@@ -110,11 +111,10 @@ using RootStage = LaneRoots<DoubleV, hn::Mask<DoubleTag>> (*)(const DoubleOps&, 
 /// first widens the ten inputs and computes h, D/4 and the scale, the second
 /// takes the square root and the roots and narrows them. The results are
 /// those of one pass, bit for bit. Which is faster depends on where the
-/// divides fall (measured with 8 lanes, AVX3, in docs/bench.md, section 6):
-/// the Lagrange form, with its one divide in the first stage and the square
-/// root in the second, took 0.82-0.84 ns a ray in one pass and 0.77-0.80 in
-/// two; half-b, with both divides next to the square root, 0.74-0.75 in one
-/// and 0.82-0.84 in two.
+/// divides fall (8 lanes, AVX3, the test above): the Lagrange form, with its
+/// one divide in the first stage and the square root in the second, took
+/// 0.80 ns a ray in one pass and 0.77-0.79 in two; half-b, with both divides
+/// beside the square root, 0.75-0.79 in one and 0.83 in two.
 template <QuadraticStage Q, RootStage R, bool kTwoPasses>
 void DoubleLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
     const DoubleTag dd;
