@@ -59,12 +59,10 @@ struct HwyOps {
 constexpr std::size_t kBlock = 64;
 
 /// The ten input arrays from ray b on, as plain pointers, taken once per call
-/// or block. Indexing the vectors of Rays in the loop costs general registers
-/// the loop does not have: the compiler kept some pointers in vector
-/// registers and moved them back on every step (GCC 12, Highway's AVX3 and
-/// AVX2 targets). Taken once, the double lanes with 8 lanes went from
-/// 0.85-0.89 to 0.80 ns a ray and the stable float form with 16 from 0.55 to
-/// 0.47, in a test of 4096 rays repeated.
+/// or block. A loop that indexes the vectors of Rays reloads 9 of the 10
+/// pointers from the Rays object on every step (GCC 12, Highway's AVX3 and
+/// AVX2 targets): the stable float form with 16 lanes took 0.52-0.56 ns a ray
+/// that way and takes 0.45-0.46 now, in a test of 4096 rays repeated.
 struct Inputs {
     const float *ox, *oy, *oz, *dx, *dy, *dz, *cx, *cy, *cz, *r;
     Inputs(const Rays& in, std::size_t b)
@@ -110,11 +108,13 @@ using RootStage = LaneRoots<DoubleV, hn::Mask<DoubleTag>> (*)(const DoubleOps&, 
 /// With kTwoPasses, two passes over each block split at the quadratic: the
 /// first widens the ten inputs and computes h, D/4 and the scale, the second
 /// takes the square root and the roots and narrows them. The results are
-/// those of one pass, bit for bit. Which is faster depends on where the
-/// divides fall (8 lanes, AVX3, the test above): the Lagrange form, with its
-/// one divide in the first stage and the square root in the second, took
-/// 0.80 ns a ray in one pass and 0.77-0.79 in two; half-b, with both divides
-/// beside the square root, 0.75-0.79 in one and 0.83 in two.
+/// those of one pass, bit for bit. Which is faster depends on the form (8
+/// lanes, AVX3, the test above). The Lagrange form took 0.80-0.81 ns a ray in
+/// one pass, whose loop is one general register short and moves two pointers
+/// back from vector registers on every step, and 0.76-0.77 in two, where
+/// neither loop does and each chain from load to store is half as long.
+/// Half-b, whose two divides fall beside the square root in the second pass,
+/// took 0.75-0.79 in one and 0.83 in two.
 template <QuadraticStage Q, RootStage R, bool kTwoPasses>
 void DoubleLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
     const DoubleTag dd;
