@@ -66,8 +66,9 @@ constexpr std::size_t kBlock = 64;
 struct Inputs {
     const float *ox, *oy, *oz, *dx, *dy, *dz, *cx, *cy, *cz, *r;
     Inputs(const Rays& in, std::size_t b)
-        : ox(&in.ox[b]), oy(&in.oy[b]), oz(&in.oz[b]), dx(&in.dx[b]), dy(&in.dy[b]), dz(&in.dz[b]),
-          cx(&in.cx[b]), cy(&in.cy[b]), cz(&in.cz[b]), r(&in.r[b]) {}
+        : ox(in.ox.data() + b), oy(in.oy.data() + b), oz(in.oz.data() + b), dx(in.dx.data() + b),
+          dy(in.dy.data() + b), dz(in.dz.data() + b), cx(in.cx.data() + b), cy(in.cy.data() + b),
+          cz(in.cz.data() + b), r(in.r.data() + b) {}  // data() + b: valid for an empty range at the end too
 };
 
 /// Float lanes: load, compute, store, as many rays per step as a vector holds.
