@@ -62,7 +62,7 @@ constexpr std::size_t kBlock = 64;
 /// or block. A loop that indexes the vectors of Rays reloads 9 of the 10
 /// pointers from the Rays object on every step (GCC 12, Highway's AVX3 and
 /// AVX2 targets): the stable float form with 16 lanes took 0.52-0.56 ns a ray
-/// that way and takes 0.45-0.46 now, in a test of 4096 rays repeated.
+/// that way and takes 0.44-0.48 now, in a test of 4096 rays repeated.
 struct Inputs {
     const float *ox, *oy, *oz, *dx, *dy, *dz, *cx, *cy, *cz, *r;
     Inputs(const Rays& in, std::size_t b)
@@ -110,9 +110,9 @@ using RootStage = LaneRoots<DoubleV, hn::Mask<DoubleTag>> (*)(const DoubleOps&, 
 /// first widens the ten inputs and computes h, D/4 and the scale, the second
 /// takes the square root and the roots and narrows them. The results are
 /// those of one pass, bit for bit. Which is faster depends on the form (8
-/// lanes, AVX3, the test above). The Lagrange form took 0.80-0.81 ns a ray in
+/// lanes, AVX3, the test above). The Lagrange form took 0.80-0.84 ns a ray in
 /// one pass, whose loop is one general register short and moves two pointers
-/// back from vector registers on every step, and 0.76-0.77 in two, where
+/// back from vector registers on every step, and 0.75-0.78 in two, where
 /// neither loop does and each chain from load to store is half as long.
 /// Half-b, whose two divides fall beside the square root in the second pass,
 /// took 0.75-0.79 in one and 0.83 in two.
