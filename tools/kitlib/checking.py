@@ -223,18 +223,19 @@ class Built:
     judge_ok: bool
     answers_ok: bool
     output: str                 # the build tool's output (the compiler's errors, if any)
+    missing: list[str] = field(default_factory=list)    # the step's files not there when it was built
 
 
 def build_step(build: Build, step: Step, progress: Callable[[int, int], None] | None = None) -> Built:
     """Builds the step's judge and, when its files are all there, its answers program, in one call of
     the build tool (both in parallel; -k 0 so the judge is built even where the student's code fails)."""
-    present = all((build.steps_dir / step.folder / f).is_file() for f in step.files)
-    targets = [step.target] + ([f"answers_step{step.number}"] if present else [])
+    missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
+    targets = [step.target] + ([] if missing else [f"answers_step{step.number}"])
     ok, out = build_targets(build, targets, progress)
     if ok:
-        return Built(True, present, out)
+        return Built(True, not missing, out, missing)
     judge_ok, judge_out = build_target(build, step.target)     # a no-op when the judge was built
-    return Built(judge_ok, False, out if judge_ok else judge_out)
+    return Built(judge_ok, False, out if judge_ok else judge_out, missing)
 
 
 def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepResult],
@@ -247,9 +248,8 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         cases = list_cases(judge)
     except (RuntimeError, subprocess.TimeoutExpired, OSError) as e:
         return StepResult(step, BROKEN, detail=f"the test program could not list its cases: {e}")
-    missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
-    if missing:
-        detail = f"{step.folder}/{missing[0]} is missing"
+    if built.missing:
+        detail = f"{step.folder}/{built.missing[0]} is missing"
         return StepResult(step, MISSING, _all(cases, MISSING, detail), detail=detail)
     if not build.reference_needs:
         # No reference here (a student's handout): the step runs on the student's own
