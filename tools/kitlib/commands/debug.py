@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 from ..checking import check_steps, ensure_configured, list_cases, submission_seed
-from ..common import BUILD, Build, KitError, build_target, load_steps, preset_build, resolve_steps_dir, say, \
+from ..common import BUILD, Build, KitError, build_targets, load_steps, preset_build, resolve_steps_dir, say, \
     select_steps, submission_build
 from ..packages import ensure_packages
 from ..status import FAILED, OK, PASS, SETUP
@@ -73,10 +73,9 @@ def run(args) -> int:
     staged = submission_build(resolve_steps_dir(args.steps), "debug") if args.steps else preset_build("student")
     build = Build("debug", BUILD / "debug-build", staged.steps_dir, staged.shown_dir, preset="debug", tools=False)
     ensure_configured(build, all_steps)
-    for target in (step.target, f"answers_step{step.number}"):
-        ok, out = build_target(build, target)
-        if not ok:
-            raise KitError(f"step {step.number} does not build; ./kit check {int(step.number)} shows why", FAILED)
+    ok, _ = build_targets(build, [step.target, f"answers_step{step.number}"])
+    if not ok:
+        raise KitError(f"step {step.number} does not build; ./kit check {int(step.number)} shows why", FAILED)
     case = pick_case(build.exe(step), args.case, build, step, all_steps)
     script = build.binary_dir / f"step{step.number}.gdb"
     script.parent.mkdir(parents=True, exist_ok=True)
