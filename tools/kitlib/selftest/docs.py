@@ -21,7 +21,7 @@ from pathlib import Path
 from ..commands import docs as cmd_docs
 from ..common import BUILD, ROOT, KitError
 from ..packages import ensure_packages
-from .harness import Failed, Skipped, expect
+from .harness import Failed, Skipped, expect, need_solutions
 
 SCREENSHOTS = BUILD / "docs" / "screenshots"
 
@@ -113,8 +113,7 @@ def solution_fingerprints() -> list[str]:
 
 
 def selftest_no_solutions(ctx) -> str:
-    if not (ROOT / "solutions").is_dir():
-        raise Skipped("needs solutions/ (this is a student handout)")
+    need_solutions()
     prints = solution_fingerprints()
     expect(prints, "found no line that only the solutions have: the check would prove nothing")
     student = _text_of(_site(ctx).html)
