@@ -179,7 +179,7 @@ def exact(p: report.Point) -> bool:
 def vector_verdict(pts: list[report.Point], peak: dict) -> list[str]:
     """The reference scalar and vectorized, and the float-only exact form, on every sphere family."""
     lines: list[str] = []
-    shares: list[float | None] = []
+    shares: list[float] = []
     speedups: list[float] = []
     fams: dict[str, list[report.Point]] = {}
     for p in pts:
@@ -195,20 +195,22 @@ def vector_verdict(pts: list[report.Point], peak: dict) -> list[str]:
             continue
         v = vec[0]
         bound = v.roofline_ns(peak)
-        roof = f", {100 * bound / v.ns_median:.1f} % of its roofline" if bound else ""
+        speedup = kit.ns_median / v.ns_median
+        speedups.append(speedup)
+        roof = ""
+        if bound:
+            shares.append(100 * bound / v.ns_median)
+            roof = f", {shares[-1]:.1f} % of its roofline"
         line = (f"  {group[0].family['label']}: kit {report.fmt_ns(kit.ns_median)} ns "
                 f"({'exact' if exact(kit) else 'NOT exact'}), {v.variant['label']} {v.ns_median:.2f} ns "
-                f"({'exact' if exact(v) else 'NOT exact'}{roof}): {kit.ns_median / v.ns_median:.1f}x")
+                f"({'exact' if exact(v) else 'NOT exact'}{roof}): {speedup:.1f}x")
         if eft:
             e = eft[0]
             line += (f"; float-only exact {e.ns_median:.2f} ns ({'exact' if exact(e) else 'NOT exact'}, "
                      f"p99 {report.fmt_ulps(e.ulps('p99'))}, {e.ns_median / v.ns_median:.1f}x the double lanes)")
         lines.append(line)
-        shares.append(100 * bound / v.ns_median if bound else None)
-        speedups.append(kit.ns_median / v.ns_median)
     if speedups:
-        known = [x for x in shares if x is not None]
-        share = f", {min(known):.1f} to {max(known):.1f} % of its roofline" if known else ""
+        share = f", {min(shares):.1f} to {max(shares):.1f} % of its roofline" if shares else ""
         lines.append(f"  over {len(speedups)} families: the vectorized reference runs {min(speedups):.1f} to "
                      f"{max(speedups):.1f} times the scalar function's rays per second{share}")
     return lines
