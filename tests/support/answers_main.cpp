@@ -73,6 +73,10 @@ int main() {
     // Line-buffered: what the student prints reaches the judge by the end of the
     // call that printed it, even when a later line crashes.
     std::setvbuf(stdout, nullptr, _IOLBF, 1 << 12);
+    // An empty frame first: "ready". The judge times each call from here, so neither the sandbox's
+    // start nor the program's own is counted against a call.
+    const std::uint32_t ready = 0;
+    if (!write_exact(3, reinterpret_cast<const char*>(&ready), sizeof ready)) return 2;
     std::string request;
     for (;;) {
         std::uint32_t size = 0;

@@ -15,8 +15,13 @@
 //   RAYKIT_REFERENCE_ANSWERS  the reference's answers program, for hidden cases
 //   RAYKIT_ISOLATION          none | bwrap | user:UID   (default none)
 //   RAYKIT_SCRATCH            the one folder the child may write (default: a new one)
-//   RAYKIT_HIDE               ':'-separated folders the child must not see (bwrap)
-//   RAYKIT_CALL_SECONDS       the time limit of one call (default 2)
+//   RAYKIT_SANDBOX_ARGV       the wrapper before the program (bubblewrap's options), 0x1f-separated
+//   RAYKIT_SANDBOX_EXE        the answers program's path inside the wrapper (bubblewrap binds it there)
+//   RAYKIT_SANDBOX_UID        the user id to take before the wrapper starts (0: none)
+//   RAYKIT_SANDBOX_CGROUPS    ':'-separated control group folders to join
+//   RAYKIT_SANDBOX_LIMITS     "ADDRESS_SPACE PROCESSES FILE_SIZE CPU_SECONDS" (rlimits)
+//   RAYKIT_CALL_SECONDS       the CPU-time limit of one call (default 2; wall-clock backstop 4x)
+// All of them come from tools/kitlib/sandbox.py, the one place the boundary is defined.
 #pragma once
 
 #include <cstddef>

@@ -95,7 +95,8 @@ public:
         if (crashed_) return;
         record_ = raykit::remote::end_case();
         const char* status = "pass";
-        if (record_.incident.status == "crashed" || record_.incident.status == "timed_out") {
+        if (record_.incident.status == "crashed" || record_.incident.status == "timed_out" ||
+            record_.incident.status == "grader_error") {
             // The call that failed is named in the incident's message; the
             // exception that carried it out of the case adds nothing.
             status = record_.incident.status.c_str();

@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from .common import Build, Step, build_target, build_targets, configure, prerequisites
+from .common import Build, Step, build_target, build_targets, configure, prerequisites, printable
 from .sandbox import NONE_OWN, Isolation, Scratch
-from .status import BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
+from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
 CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
 STEP_SECONDS = 120.0        # backstop: all cases of one step, including restarts
@@ -168,9 +168,7 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                             current, started_at = e["case"], time.monotonic()
                         elif e.get("event") == "end" and e["case"] in by_name:
                             c = by_name[e["case"]]
-                            c.status, c.messages = e["status"], list(e.get("messages", []))
-                            c.output, c.output_bytes = e.get("output", ""), int(e.get("output_bytes", 0))
-                            c.figure = e.get("figure") if isinstance(e.get("figure"), dict) else None
+                            _take(c, e)
                             done.add(c.name)
                             current = None
                     seen = len(events)
@@ -200,6 +198,40 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
         for c in cases:
             if c.name not in done and c.status == NOT_RUN:
                 c.messages = ["Not run: the step's time ran out."]
+
+
+def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str]) -> None:
+    """A case that timed out is run once more, on its own, before it is failed: a loaded machine,
+    a slow first start, must not fail correct code. The second verdict is the one kept."""
+    for c in cases:
+        if c.status != TIMED_OUT:
+            continue
+        again = Case(c.name, c.tier, c.lecture)
+        with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
+            out = Path(tmp) / "run.jsonl"
+            try:
+                subprocess.run([str(exe), "--reporters=raykit", f"--out={out}", f"--test-case={c.name}",
+                                "--no-breaks=true"], stdin=subprocess.DEVNULL, capture_output=True,
+                               timeout=CASE_SECONDS, env=dict(os.environ, **env), start_new_session=True)
+            except subprocess.TimeoutExpired:
+                continue
+            for e in _read_lines(out):
+                if e.get("event") == "end" and e.get("case") == c.name:
+                    _take(again, e)
+        if again.status != NOT_RUN:
+            again.messages = list(again.messages)
+            if again.status == TIMED_OUT:
+                again.messages.append("(It timed out twice: the case was run again on its own.)")
+            c.status, c.messages, c.output, c.output_bytes, c.figure = (
+                again.status, again.messages, again.output, again.output_bytes, again.figure)
+
+
+def _take(c: Case, e: dict) -> None:
+    """A case's verdict from the judge's end event; what came from the student's code is data."""
+    c.status = str(e.get("status", NOT_RUN))
+    c.messages = [printable(str(m)) for m in e.get("messages", [])]
+    c.output, c.output_bytes = printable(str(e.get("output", ""))), int(e.get("output_bytes", 0))
+    c.figure = e.get("figure") if isinstance(e.get("figure"), dict) else None
 
 
 def submission_seed(build: Build, step: Step) -> str:
@@ -270,8 +302,14 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         if not isolation.sandboxed:
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
         run_cases(judge, cases, env)
+        rerun_timeouts(judge, cases, env)
     finally:
         scratch.close()
+    failed_sandbox = [c for c in cases if c.status == GRADER_ERROR]
+    if failed_sandbox:
+        return StepResult(step, BROKEN, cases, isolation=isolation.description,
+                          detail="the grader's sandbox could not start, so this step was not graded "
+                                 "(the grader's fault, not the student's): " + failed_sandbox[0].messages[0])
     scored = [c for c in cases if c.tier == "basic"]
     if scored and all(c.status == NOT_STARTED for c in cases if c.tier != "hidden"):
         state = NOT_STARTED
@@ -289,7 +327,7 @@ def ensure_configured(build: Build, all_steps: list[Step]) -> None:
     present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
                          if (build.steps_dir / s.folder / f).is_file())
     stamp = build.binary_dir / "raykit-configured.txt"
-    key = f"{build.steps_dir}\ntools {build.tools}\n{present}\n"
+    key = f"{build.steps_dir}\ntools {build.tools}\nboundary {build.boundary}\n{present}\n"
     cache = build.binary_dir / "CMakeCache.txt"
     if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
         configure(build)
@@ -314,6 +352,8 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     built, so the first verdict comes after one step's build and the others follow as they build.
     """
     progress = progress or Progress()
+    if build.boundary:
+        build.spec = isolation.spec()
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     order = [s for s in all_steps if s.number in wanted or s.number in needed]

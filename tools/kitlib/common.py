@@ -46,6 +46,25 @@ def note(text: str) -> None:
     print(paint(text, "dim"), file=sys.stderr, flush=True)
 
 
+# C0 controls but tab and newline, DEL, and the C1 controls (U+0080-U+009F): an escape sequence
+# in a student's output could clear the instructor's screen, forge a score or write the clipboard.
+_CONTROLS = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+
+
+def printable(text: str) -> str:
+    """`text` from outside the kit (a student's output, exception text, compiler diagnostics, a
+    student's name) as data: control characters shown as visible escapes, never sent raw."""
+    return _CONTROLS.sub(lambda m: f"\\x{ord(m.group()):02x}", text.replace("\r\n", "\n"))
+
+
+def csv_cell(value):
+    """A CSV cell a spreadsheet shows as text: one that starts with = + - @, a tab or a carriage
+    return gets a leading apostrophe (the OWASP advice on CSV injection). Numbers pass as they are."""
+    if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
+        return "'" + value
+    return value
+
+
 # --- steps -------------------------------------------------------------------
 
 @dataclass
@@ -141,6 +160,10 @@ class Build:
     # targets (RAYKIT_TOOLS). A build that only checks steps leaves them out: its configure takes
     # about 1 s instead of 8 (measured here), which a student waits for on a cold ./kit check.
     tools: bool = True
+    # A submission's build: the student's files are compiled and linked inside the trust boundary
+    # (RAYKIT_BOUNDARY; sandbox.py), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
+    boundary: bool = False
+    spec: str = ""
 
     @property
     def reference_needs(self) -> bool:
@@ -196,7 +219,7 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
                     shutil.copyfile(src, dst)
             elif dst.exists():
                 dst.unlink()
-    return Build(slot, BUILD / slot, staging, source, tools=False)
+    return Build(slot, BUILD / slot, staging, source, tools=False, boundary=True)
 
 
 def preset_settings(name: str) -> tuple[str | None, Path, dict[str, str]]:
@@ -235,6 +258,8 @@ def configure(build: Build, quiet: bool = True) -> None:
     generator, _, variables = preset_settings(build.preset or "base")
     variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
+    variables["RAYKIT_BOUNDARY"] = "ON" if build.boundary else "OFF"
+    variables["RAYKIT_PYTHON"] = sys.executable
     gen = []
     if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
         generator = None              # CMake's default (Makefiles) rather than a failure
@@ -277,8 +302,9 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     cmd = ["cmake", "--build", str(build.binary_dir), "--target", *targets]
     if len(targets) > 1 and (build.binary_dir / "build.ninja").is_file():
         cmd += ["--", "-k", "0"]
+    env = dict(os.environ, RAYKIT_BOUNDARY_SPEC=build.spec) if build.boundary and build.spec else None
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            errors="replace")
+                            errors="replace", env=env)
     lines = []
     for line in proc.stdout:
         lines.append(line)
@@ -289,4 +315,4 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     out = "".join(lines)
     if build.steps_dir != build.shown_dir:
         out = out.replace(str(build.steps_dir), str(build.shown_dir))
-    return proc.returncode == 0, out
+    return proc.returncode == 0, printable(out)

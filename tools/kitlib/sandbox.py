@@ -1,71 +1,264 @@
-"""Where a student's code runs while it is graded: the isolation the kit can get here.
+"""The trust boundary: where a student's code is compiled and run while it is graded.
 
-The judge (a step's test program) starts the student's answers program itself
-(tests/support/remote.cpp); this module chooses how, prepares the one folder the
-student's code may write, and says in words what was done:
+One object, `Isolation`, holds everything that keeps graded code apart, and every path from a
+student's file to a process goes through it:
 
-- bwrap: bubblewrap, where namespaces are allowed — a read-only view of the machine
-  with the kit, the homes and /tmp hidden, no network, its own PID namespace (every
-  process it starts is ended with the case), an unprivileged user id;
-- user: when bubblewrap cannot run but the kit runs as root (a Docker container, as
-  on Gradescope) — a dedicated unprivileged user id, which can write only its scratch
-  folder, cannot read the kit's answers, and whose every process is ended with the case;
-- none: neither is possible (say so plainly), or the student grades their own steps.
+- the compile and the link of the student's answers program (CMake calls `tools/kitlib/launch.py`
+  for them, which calls `Isolation.run_tool`): the sources are copied into a fresh folder with the
+  kit's public headers beside them, and the compiler runs inside the boundary, where nothing else
+  of the kit can be read — not solutions/, the hidden cases, the mutants, .git, the reference's
+  objects, nor other students' folders;
+- the run of that program by the judge (tests/support/remote.cpp), which gets from `run_env()`
+  the same wrapper, user id, limits and control group.
+
+The modes, best first:
+- bwrap: bubblewrap, where namespaces are allowed. A read-only view of the machine with the kit,
+  the homes, /tmp, /var/tmp, /dev/shm, /run and the autograder's folders hidden, one writable
+  folder, no network, its own PID namespace. When the kit runs as root it first takes a dedicated
+  user id, so the sandbox's real user owns nothing (bubblewrap started by root would otherwise map
+  its unprivileged user to real uid 0, which still owns every root-owned file and socket);
+- user: bubblewrap cannot run but the kit is root (a Docker container, as on Gradescope): the same
+  dedicated user id without namespaces. It reads only world-readable files, the kit's own are made
+  unreadable to it, and every process of that id is ended after each case. The network stays open;
+- none: the student checks their own steps (the code runs as they do), or nothing else is possible,
+  which the report says in capitals.
+
+Limits (`Limits`, defaults for a 2-core machine with 2 GiB a grading slot; RAYKIT_LIMITS overrides
+them, e.g. "compile_seconds=10,memory_mb=512"): rlimits everywhere (they work in containers), and a
+control group on top where the kit can make one (cgroup v2, or v1 as on a plain Debian host run as
+root), which also bounds the memory of tmpfs files and lets a timeout end every process at once.
 """
 
 from __future__ import annotations
 
+import json
 import os
+import resource
 import shutil
+import signal
 import stat
 import subprocess
+import sys
 import tempfile
-from dataclasses import dataclass
+import time
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from .common import BUILD, ROOT
 
-# User ids for the "user" isolation, one per parallel grading slot. Never in
-# /etc/passwd: nothing but the sandboxed processes ever has them.
+# User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
+# sandboxed processes ever has them.
 FIRST_UID = 64000
 
-# What the sandboxed code must not read even where the machine is readable: the
-# kit (solutions, the hidden cases' sources, the reference answers programs), and
-# the kit's git history, whose objects hold every committed solution. (In a git
-# worktree .git is a file and the objects live in another checkout's folder, which
-# the kit does not change: grade from a plain clone or a copy without .git.)
-SECRET_PARTS = ["solutions", "tests/hidden", "tests/mutants", "build", ".git"]
+# What stays readable to the user isolation in the kit: the public headers (which the compile copies
+# anyway). Every other top-level entry of the kit loses its rights for "others" while grading.
+PUBLIC_PARTS = {"include"}
+
+# Folders hidden from bubblewrap's view (each that exists, as an empty tmpfs), beside the kit,
+# build/ and $HOME: temporary folders, sockets (/run holds dbus's and docker's), homes, the
+# autograder's files (/autograder/source is the kit on Gradescope, /grade on PrairieLearn).
+HIDDEN = ["/tmp", "/var/tmp", "/dev/shm", "/run", "/var/run", "/home", "/root", "/autograder", "/grade",
+          "/mnt", "/media", "/srv"]
+
+MiB = 1 << 20
+
+
+@dataclass
+class Limits:
+    """What graded code may use. Compile: one compile or link of the student's files. Run: the
+    answers program and what it starts. The call limit (remote.cpp, RAYKIT_CALL_SECONDS) is apart."""
+
+    compile_seconds: float = 60.0       # wall time of one compile or link, then its processes are killed
+    compile_memory_mb: int = 1536       # address space of each compiler process (RLIMIT_AS)
+    run_memory_mb: int = 1024           # address space of each process of the answers program
+    memory_mb: int = 2048               # the slot's control group, when there is one (all of the above)
+    processes: int = 64                 # processes and threads at once (RLIMIT_NPROC or pids.max)
+    file_mb: int = 16                   # any one file written (RLIMIT_FSIZE)
+    scratch_mb: int = 64                # the run's writable folder in all (bubblewrap: a sized tmpfs)
+    cpu_seconds: int = 60               # CPU time of any one process (RLIMIT_CPU)
+    output_kb: int = 32                 # what a compile may print, kept for the report
+
+    @classmethod
+    def from_env(cls) -> "Limits":
+        limits = cls()
+        text = os.environ.get("RAYKIT_LIMITS", "")
+        for item in filter(None, (p.strip() for p in text.split(","))):
+            key, _, value = item.partition("=")
+            if not hasattr(limits, key):
+                raise ValueError(f"RAYKIT_LIMITS: no limit {key!r}; the limits are "
+                                 + ", ".join(asdict(limits)))
+            setattr(limits, key, type(getattr(limits, key))(value))
+        return limits
+
+    def words(self) -> str:
+        return (f"compile {self.compile_seconds:g} s and {self.compile_memory_mb} MiB a process; run "
+                f"{self.run_memory_mb} MiB a process, {self.processes} processes, files of at most "
+                f"{self.file_mb} MiB, scratch {self.scratch_mb} MiB, {self.cpu_seconds} s of CPU a process")
 
 
 @dataclass
 class Isolation:
-    mode: str           # "bwrap", "user:UID" or "none"
-    description: str    # one line for the report
+    mode: str                   # "bwrap", "user:UID" or "none"
+    description: str            # one line for the report
+    uid: int = 0                # the dedicated user id the code runs as (0: none taken)
+    limits: Limits = field(default_factory=Limits)
+    cgroups: list[str] = field(default_factory=list)    # control group folders the code is put in
+    own: bool = False           # the student's own steps: no boundary at all
 
     @property
     def sandboxed(self) -> bool:
         return self.mode != "none"
 
+    # --- the spec the launcher reads back (tools/kitlib/launch.py) -------------------------
+    def spec(self) -> str:
+        return json.dumps({"mode": self.mode, "uid": self.uid, "limits": asdict(self.limits),
+                           "cgroups": self.cgroups, "description": self.description})
 
-NONE_OWN = Isolation("none", "not sandboxed (your own steps: the code runs as you)")
+    @classmethod
+    def from_spec(cls, text: str) -> "Isolation":
+        d = json.loads(text)
+        return cls(d["mode"], d["description"], d["uid"], Limits(**d["limits"]), d["cgroups"])
+
+    # --- processes inside the boundary ------------------------------------------------------
+    def wrapper(self, ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
+                tmpfs: list[tuple[str, int]] = ()) -> list[str]:
+        """The argv prefix that starts a command inside the boundary: bubblewrap's options, or
+        nothing. `ro` and `rw` bind host folders (or files) at the paths given; `tmpfs` adds sized
+        empty folders."""
+        if self.mode != "bwrap":
+            return []
+        argv = ["bwrap", "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc"]
+        hidden = list(HIDDEN) + [str(ROOT), str(BUILD)]
+        home = os.environ.get("HOME")
+        if home:
+            hidden.append(home)
+        done: list[str] = []
+        for h in hidden:
+            p = Path(h)
+            if any(h == d or h.startswith(d.rstrip("/") + "/") for d in done):
+                continue
+            if p.is_symlink() or not p.is_dir():
+                continue            # /var/run is a link to /run on Debian: hiding /run hides both
+            argv += ["--tmpfs", h]
+            done.append(h)
+        for host, inside in ro:
+            argv += ["--ro-bind", str(host), inside]
+        for host, inside in rw:
+            argv += ["--bind", str(host), inside]
+        for inside, size in tmpfs:
+            if bwrap_sizes():
+                argv += ["--size", str(size)]
+            argv += ["--tmpfs", inside]
+        argv += ["--chdir", chdir, "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
+                 "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--"]
+        return argv
+
+    def preexec(self, memory_mb: int):
+        """What a child does between fork and exec to enter the boundary: its own process group,
+        the control group, the rlimits, then the dedicated user id (last: joining a control group
+        and lowering limits need the rights it drops)."""
+        limits, uid, cgroups = self.limits, self.uid, list(self.cgroups)
+
+        def enter() -> None:
+            os.setpgid(0, 0)
+            for group in cgroups:
+                try:
+                    Path(group, "cgroup.procs").write_text(str(os.getpid()))
+                except OSError:
+                    pass
+            for res, value in ((resource.RLIMIT_AS, memory_mb * MiB), (resource.RLIMIT_CORE, 0),
+                               (resource.RLIMIT_FSIZE, limits.file_mb * MiB),
+                               (resource.RLIMIT_CPU, limits.cpu_seconds)):
+                resource.setrlimit(res, (value, value))
+            if uid:
+                os.setgroups([])
+                os.setgid(uid)
+                os.setuid(uid)
+                resource.setrlimit(resource.RLIMIT_NPROC, (limits.processes, limits.processes))
+
+        return enter
+
+    def run_env(self, answers: Path, scratch: Path) -> dict[str, str]:
+        """The environment that tells the judge (remote.cpp) how to start the answers program: the
+        same wrapper, user id, limits and control groups as the compile had."""
+        inside = "/tmp/raykit/answers" if self.mode == "bwrap" else str(answers)
+        work = "/tmp/raykit/scratch" if self.mode == "bwrap" else str(scratch)
+        sized = self.mode == "bwrap" and bwrap_sizes()
+        prefix = self.wrapper([(answers, inside)], [] if sized else [(scratch, work)], work,
+                              [(work, self.limits.scratch_mb * MiB)] if sized else [])
+        limits = self.limits
+        return {"RAYKIT_ISOLATION": self.mode, "RAYKIT_ANSWERS": str(answers), "RAYKIT_SANDBOX_EXE": inside,
+                "RAYKIT_SCRATCH": str(scratch), "RAYKIT_SANDBOX_ARGV": "\x1f".join(prefix),
+                "RAYKIT_SANDBOX_UID": str(self.uid),
+                "RAYKIT_SANDBOX_CGROUPS": ":".join(self.cgroups),
+                "RAYKIT_SANDBOX_LIMITS": f"{limits.run_memory_mb * MiB} {limits.processes} "
+                                         f"{limits.file_mb * MiB} {limits.cpu_seconds}"}
+
+    # --- the compile and the link -----------------------------------------------------------
+    def run_tool(self, kind: str, argv: list[str], cwd: Path) -> int:
+        """Runs one compile (`kind` "compile") or link ("link") command of the student's answers
+        program inside the boundary, as CMake gave it; its outputs are copied to where CMake wants
+        them only when they are regular files. Returns the exit status; prints the diagnostics."""
+        work = Path(tempfile.mkdtemp(prefix="raykit-build-"))
+        try:
+            return _run_tool(self, kind, argv, cwd, work)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+
+    def close(self) -> None:
+        for group in self.cgroups:
+            kill_cgroup(Path(group))
+            try:
+                os.rmdir(group)
+            except OSError:
+                pass
+        if self.uid:
+            kill_uid(self.uid)
+            clean_uid_files(self.uid)
+
+
+NONE_OWN = Isolation("none", "not sandboxed (your own steps: the code runs as you)", own=True)
 
 _probe: dict[str, bool] = {}
 
 
-def bwrap_works() -> bool:
-    if "bwrap" not in _probe:
+def bwrap_sizes() -> bool:
+    """Whether this bubblewrap knows --size (0.5 and later; Debian 11 has 0.4.1)."""
+    if "size" not in _probe:
+        try:
+            r = subprocess.run(["bwrap", "--help"], capture_output=True, text=True, timeout=10)
+            _probe["size"] = "--size" in r.stdout + r.stderr
+        except (OSError, subprocess.TimeoutExpired):
+            _probe["size"] = False
+    return _probe["size"]
+
+
+def _drop_to(uid: int):
+    def drop() -> None:
+        os.setgroups([])
+        os.setgid(uid)
+        os.setuid(uid)
+    return drop
+
+
+def bwrap_works(uid: int | None = None) -> bool:
+    """Whether bubblewrap starts here as the sandbox will start it: as `uid` when the kit is root
+    (the first sandbox id by default), else as the kit's own user."""
+    if uid is None and os.geteuid() == 0:
+        uid = FIRST_UID
+    key = f"bwrap{uid}"
+    if key not in _probe:
         ok = False
         if shutil.which("bwrap"):
             try:
-                r = subprocess.run(["bwrap", "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc",
-                                    "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
-                                    "--die-with-parent", "--cap-drop", "ALL", "true"],
-                                   capture_output=True, timeout=20)
+                probe = Isolation("bwrap", "", uid or 0).wrapper([], [], "/")
+                r = subprocess.run(probe + ["true"], capture_output=True, timeout=20,
+                                   preexec_fn=_drop_to(uid) if uid else None)
                 ok = r.returncode == 0
             except (OSError, subprocess.TimeoutExpired):
                 ok = False
-        _probe["bwrap"] = ok
-    return _probe["bwrap"]
+        _probe[key] = ok
+    return _probe[key]
 
 
 def install_bwrap() -> None:
@@ -81,25 +274,36 @@ def install_bwrap() -> None:
 
 def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     """The isolation for a folder the kit did not write: `wanted` is auto, bwrap, user or none."""
+    limits = Limits.from_env()
+    root = os.geteuid() == 0
+    uid = claim_uid(slot) if root and wanted != "none" else 0
     if wanted in ("auto", "bwrap"):
         install_bwrap()
-    if wanted in ("auto", "bwrap") and bwrap_works():
-        return Isolation("bwrap", "sandboxed with bubblewrap: read-only system, kit hidden, no network, "
-                                  "own process namespace, unprivileged user")
-    if wanted == "bwrap":
+    if wanted in ("auto", "bwrap") and bwrap_works(uid or None):
+        iso = Isolation("bwrap", "sandboxed with bubblewrap: read-only system, kit hidden, no network, "
+                                 "own process namespace, " + (f"user id {uid}" if uid else "your user id"),
+                        uid, limits)
+    elif wanted == "bwrap":
         raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
-    if wanted in ("auto", "user") and os.geteuid() == 0:
-        uid = claim_uid(slot)
-        return Isolation(f"user:{uid}",
-                         f"sandboxed as the unprivileged user id {uid}: it writes only a scratch "
-                         "folder and cannot read the kit's answers; every process it starts is ended; "
-                         "the network is NOT isolated (bubblewrap could not run here)")
-    if wanted == "user":
+    elif wanted in ("auto", "user") and root:
+        iso = Isolation(f"user:{uid}", f"sandboxed as the unprivileged user id {uid}: it reads no file of the "
+                                       "kit but its headers and writes only a scratch folder; every process "
+                                       "it starts is ended; the network is NOT isolated (bubblewrap could "
+                                       "not run here)", uid, limits)
+        hide_secrets()
+    elif wanted == "user":
         raise RuntimeError("the user isolation needs the kit to run as root")
-    if wanted == "none":
-        return Isolation("none", "NOT sandboxed (--isolation none): the code ran with the grader's rights")
-    return Isolation("none", "NOT sandboxed: bubblewrap could not run and the kit is not root, so the "
-                             "code ran with the grader's rights. Install bubblewrap, or grade as root.")
+    elif wanted == "none":
+        return Isolation("none", "NOT sandboxed (--isolation none): the code ran with the grader's rights",
+                         0, limits)
+    else:
+        return Isolation("none", "NOT sandboxed: bubblewrap could not run and the kit is not root, so the "
+                                 "code ran with the grader's rights. Install bubblewrap, or grade as root.",
+                         0, limits)
+    iso.cgroups = make_cgroups(slot, limits)
+    iso.description += "; limits: " + limits.words() + (
+        "; in a control group of " + f"{limits.memory_mb} MiB" if iso.cgroups else "; rlimits only (no control group here)")
+    return iso
 
 
 _claimed: dict[int, object] = {}
@@ -137,37 +341,356 @@ class Scratch:
         self.answers = None
         if answers is not None and answers.is_file():
             self.answers = self.path / "answers"
-            shutil.copy2(answers, self.answers)
-            os.chmod(self.answers, 0o755)
-        if isolation.mode.startswith("user:"):
-            uid = int(isolation.mode[5:])
-            os.chown(self.path, uid, uid)
+            copy_regular(answers, self.answers, 0o755)
+        if isolation.uid:
+            os.chown(self.path, isolation.uid, isolation.uid)
             os.chmod(self.path, 0o700)
             if self.answers is not None:
-                os.chown(self.answers, uid, uid)
-            hide_secrets()
+                os.chown(self.answers, isolation.uid, isolation.uid)
 
     def env(self) -> dict[str, str]:
-        hidden = [str(ROOT), str(BUILD)]
-        home = os.environ.get("HOME")
-        if home:
-            hidden.append(home)
-        return {"RAYKIT_ISOLATION": self.isolation.mode, "RAYKIT_SCRATCH": str(self.path),
-                "RAYKIT_HIDE": ":".join(hidden), "RAYKIT_ANSWERS": str(self.answers or "")}
+        if not self.isolation.sandboxed or self.answers is None:
+            return {"RAYKIT_ISOLATION": "none", "RAYKIT_SCRATCH": str(self.path),
+                    "RAYKIT_ANSWERS": str(self.answers or "")}
+        return self.isolation.run_env(self.answers, self.path)
 
     def close(self) -> None:
+        if self.isolation.uid:
+            kill_uid(self.isolation.uid)
+            clean_uid_files(self.isolation.uid)
         shutil.rmtree(self.path, ignore_errors=True)
 
 
 def hide_secrets() -> None:
-    """Under the user isolation, the answers must not be readable by other users.
+    """Under the user isolation, nothing of the kit but its headers may be readable by others.
 
-    Takes read and search rights from 'others' on the kit's secret folders (the kit
-    runs as root here, and nothing but the sandbox is 'other').
+    Takes read, write and search rights from 'others' on every top-level entry of the kit but
+    include/ (the kit runs as root here, and nothing but the sandbox is 'other'). The compile
+    reads the headers from its own copy, so the kit's folder itself need not be reachable.
     """
-    for part in SECRET_PARTS:
-        p = ROOT / part
-        if p.is_dir():
-            mode = p.stat().st_mode
-            if mode & (stat.S_IROTH | stat.S_IXOTH):
-                os.chmod(p, mode & ~(stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH))
+    for p in ROOT.iterdir():
+        if p.name in PUBLIC_PARTS or p.is_symlink():
+            continue
+        mode = p.stat().st_mode
+        if mode & (stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH):
+            os.chmod(p, mode & ~(stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH))
+
+
+# --- processes ---------------------------------------------------------------------------------
+
+def _proc_ids() -> list[int]:
+    try:
+        return [int(e) for e in os.listdir("/proc") if e.isdigit()]
+    except OSError:
+        return []
+
+
+def _status_field(pid: int, name: str) -> str:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith(name + ":"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return ""
+
+
+def kill_uid(uid: int) -> None:
+    """Ends every process whose real user id is `uid`: a helper that takes the id and signals all
+    it may signal (kill -1), repeated while any is left (a fork between two rounds)."""
+    if not uid or os.geteuid() != 0:
+        return
+    for _ in range(20):
+        left = [p for p in _proc_ids() if _status_field(p, "Uid").split()[:1] == [str(uid)]]
+        if not left:
+            return
+        pid = os.fork()
+        if pid == 0:
+            try:
+                os.setgroups([])
+                os.setgid(uid)
+                os.setuid(uid)
+                os.kill(-1, signal.SIGKILL)
+            finally:
+                os._exit(0)
+        os.waitpid(pid, 0)
+        time.sleep(0.02)
+
+
+def session_of(pid: int) -> int:
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+        return int(text[text.rfind(")") + 2:].split()[3])
+    except (OSError, ValueError, IndexError):
+        return -1
+
+
+def kill_session(sid: int) -> int:
+    """Ends every process of session `sid` (a child started with start_new_session has sid = its
+    pid; cmake, ninja and the compilers it starts inherit it), repeated until none is left.
+    Returns how many were signalled."""
+    ended = 0
+    if sid <= 1:
+        return 0
+    for _ in range(50):
+        left = [p for p in _proc_ids() if p != os.getpid() and session_of(p) == sid]
+        if not left:
+            break
+        for p in left:
+            try:
+                os.kill(p, signal.SIGKILL)
+                ended += 1
+            except OSError:
+                pass
+        time.sleep(0.02)
+    return ended
+
+
+def clean_uid_files(uid: int) -> None:
+    """Removes what the sandbox's user id left in the shared temporary folders (the user isolation
+    can write /tmp, /var/tmp and /dev/shm like any user)."""
+    if not uid or os.geteuid() != 0:
+        return
+    for top in ("/tmp", "/var/tmp", "/dev/shm"):
+        try:
+            entries = list(os.scandir(top))
+        except OSError:
+            continue
+        for e in entries:
+            try:
+                if e.stat(follow_symlinks=False).st_uid != uid:
+                    continue
+                if e.is_dir(follow_symlinks=False):
+                    shutil.rmtree(e.path, ignore_errors=True)
+                else:
+                    os.unlink(e.path)
+            except OSError:
+                pass
+
+
+# --- control groups ----------------------------------------------------------------------------
+
+def make_cgroups(slot: int, limits: Limits) -> list[str]:
+    """Control groups for one grading slot, where the kit can make them: cgroup v2 (memory.max,
+    pids.max) or v1 (memory and pids hierarchies). [] when neither can be made (not root, a
+    read-only tree in a container): the rlimits still apply."""
+    if os.geteuid() != 0 or os.environ.get("RAYKIT_NO_CGROUP") == "1":
+        return []
+    name = f"raykit-slot{slot}-{os.getpid()}"
+    base = Path("/sys/fs/cgroup")
+    made: list[str] = []
+    try:
+        if (base / "cgroup.controllers").is_file():          # v2, unified
+            wanted = {"memory", "pids"}
+            enabled = set((base / "cgroup.subtree_control").read_text().split())
+            if not wanted <= enabled:
+                return []
+            group = base / name
+            group.mkdir()
+            made.append(str(group))
+            (group / "memory.max").write_text(str(limits.memory_mb * MiB))
+            (group / "pids.max").write_text(str(limits.processes * 2))
+            return made
+        for controller, settings in (("memory", {"memory.limit_in_bytes": limits.memory_mb * MiB}),
+                                     ("pids", {"pids.max": limits.processes * 2})):
+            top = base / controller
+            if not (top / "cgroup.procs").is_file():
+                continue
+            group = top / name
+            group.mkdir()
+            made.append(str(group))
+            for key, value in settings.items():
+                (group / key).write_text(str(value))
+            if controller == "memory" and (group / "memory.memsw.limit_in_bytes").is_file():
+                try:
+                    (group / "memory.memsw.limit_in_bytes").write_text(str(limits.memory_mb * MiB))
+                except OSError:
+                    pass
+        if not any("/memory/" in g for g in made):
+            raise OSError("no memory controller")
+        return made
+    except OSError:
+        for g in made:
+            try:
+                os.rmdir(g)
+            except OSError:
+                pass
+        return []
+
+
+def kill_cgroup(group: Path) -> None:
+    for _ in range(50):
+        try:
+            pids = [int(p) for p in (group / "cgroup.procs").read_text().split()]
+        except (OSError, ValueError):
+            return
+        if not pids:
+            return
+        for p in pids:
+            try:
+                os.kill(p, signal.SIGKILL)
+            except OSError:
+                pass
+        time.sleep(0.02)
+
+
+# --- files leaving the boundary ----------------------------------------------------------------
+
+def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB) -> None:
+    """Copies `src` to `dst` only when it is a regular file (opened without following a link) of
+    at most `limit` bytes: what the student's side wrote never makes the kit read another file."""
+    fd = os.open(src, os.O_RDONLY | os.O_NOFOLLOW)
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise OSError(f"{src.name} is not a regular file")
+        if st.st_size > limit:
+            raise OSError(f"{src.name} is larger than {limit // MiB} MiB")
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        tmp = dst.with_name(f".{dst.name}.{os.getpid()}.tmp")
+        with open(tmp, "wb") as out:
+            while True:
+                chunk = os.read(fd, 1 << 20)
+                if not chunk:
+                    break
+                out.write(chunk)
+        os.chmod(tmp, mode)
+        os.replace(tmp, dst)
+    finally:
+        os.close(fd)
+
+
+def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path) -> int:
+    from .common import printable
+    limits = iso.limits
+    os.chmod(work, 0o750)
+    if iso.uid:
+        os.chown(work, 0, iso.uid)          # the sandbox's group may read, nobody else may enter
+    (work / "in").mkdir()
+    out = work / "out"
+    out.mkdir()
+    if iso.uid:
+        os.chown(out, iso.uid, iso.uid)
+    shutil.copytree(ROOT / "include", work / "include")
+    inside = work                         # the same paths inside bubblewrap: W is bound at W
+    mapping: list[tuple[str, str]] = [(str(work / "include"), str(ROOT / "include"))]
+    new = list(argv)
+    copies: list[tuple[Path, Path, int]] = []   # (from out/, to where CMake wants it, mode)
+
+    def real(p: str) -> Path:
+        path = Path(p)
+        return path if path.is_absolute() else cwd / path
+
+    i = 0
+    while i < len(new):
+        a = new[i]
+        if a in ("-o", "-MF") and i + 1 < len(new):
+            target = real(new[i + 1])
+            local = out / (target.name if a == "-o" else target.name + ".d")
+            new[i + 1] = str(local)
+            copies.append((local, target, 0o755 if kind == "link" and a == "-o" else 0o644))
+            i += 2
+            continue
+        for flag in ("-I", "-isystem"):
+            if a == flag and i + 1 < len(new) and Path(new[i + 1]).resolve() == (ROOT / "include").resolve():
+                new[i + 1] = str(work / "include")
+            elif a.startswith(flag) and a != flag and a[len(flag):] and \
+                    Path(a[len(flag):]).resolve() == (ROOT / "include").resolve():
+                new[i] = flag + str(work / "include")
+        i += 1
+    if kind == "compile":
+        src = real(new[new.index("-c") + 1])
+        step_dir = src.parent
+        local_dir = work / "src" / step_dir.name
+        local_dir.mkdir(parents=True)
+        for f in step_dir.iterdir():              # the step's own files: what it may include
+            if f.is_file() and not f.is_symlink():
+                copy_regular(f, local_dir / f.name, limit=4 * MiB)
+        new[new.index("-c") + 1] = str(local_dir / src.name)
+        mapping.append((str(local_dir), str(step_dir)))
+    else:
+        for j, a in enumerate(new):
+            if j == 0 or a.startswith("-") or not (a.endswith(".o") or a.endswith(".a")):
+                continue
+            if j > 0 and new[j - 1] == "-o":
+                continue
+            p = real(a)
+            if p.is_file():
+                local = work / "in" / f"{j}_{p.name}"
+                copy_regular(p, local)
+                new[j] = str(local)
+    env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "LANG": "C.UTF-8", "HOME": str(out), "TMPDIR": str(out)}
+    prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out))
+    memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
+    start = time.monotonic()
+    proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory))
+    kept = bytearray()
+    total = 0
+    timed_out = False
+    os.set_blocking(proc.stdout.fileno(), False)
+    while True:
+        try:
+            chunk = proc.stdout.read(65536)
+        except BlockingIOError:
+            chunk = None
+        if chunk:
+            total += len(chunk)
+            room = limits.output_kb * 1024 - len(kept)
+            if room > 0:
+                kept += chunk[:room]
+            continue
+        if proc.poll() is not None and chunk == b"":
+            break
+        if proc.poll() is not None and chunk is None:
+            time.sleep(0.01)
+            continue
+        if time.monotonic() - start > limits.compile_seconds:
+            timed_out = True
+            break
+        time.sleep(0.01)
+    _end_group(proc)
+    proc.wait()
+    text = kept.decode("utf-8", "replace")
+    for local, shown in mapping:
+        text = text.replace(local, shown)
+    text = printable(text)
+    if total > len(kept):
+        text += f"\n(the compiler printed {total} bytes; the first {len(kept)} are shown)\n"
+    status = proc.returncode
+    if timed_out:
+        text += (f"\nraykit: the {kind} of your code took over {limits.compile_seconds:g} s and was "
+                 "stopped (the limit of one compile).\n")
+        status = 1
+    elif status != 0 and status < 0:
+        text += (f"\nraykit: the {kind} of your code was stopped by signal {-status} (limits: "
+                 f"{limits.compile_memory_mb} MiB of memory, {limits.cpu_seconds} s of CPU).\n")
+    elif status != 0 and ("memory exhausted" in text or "Cannot allocate memory" in text):
+        text += f"\nraykit: the compiler ran out of the {memory} MiB it may use.\n"
+    if status == 0:
+        for local, target, mode in copies:
+            try:
+                if local.name.endswith(".d") and local.is_file():
+                    body = local.read_bytes()[:4 * MiB].decode("utf-8", "replace")
+                    for loc, shown in mapping:
+                        body = body.replace(loc, shown)
+                    target.parent.mkdir(parents=True, exist_ok=True)
+                    target.write_text(body)
+                else:
+                    copy_regular(local, target, mode)
+            except OSError as e:
+                text += f"\nraykit: the {kind} made no usable {target.name} ({e}).\n"
+                status = 1
+    sys.stdout.write(text)
+    sys.stdout.flush()
+    return 0 if status == 0 else 1
+
+
+def _end_group(proc: subprocess.Popen) -> None:
+    """Ends the compile's process group (what the compiler driver started). Not the user id's or the
+    control group's other processes: the build runs compiles in parallel under one id. Whatever
+    a compile could leave is ended with the submission (Isolation.close)."""
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except OSError:
+        pass

@@ -27,9 +27,10 @@ STATE_WORDS = {
 
 # --- a case's status -----------------------------------------------------------------------
 PASS, FAIL, THREW, CRASHED, TIMED_OUT, NOT_RUN = "pass", "fail", "threw", "crashed", "timed_out", "not_run"
+GRADER_ERROR = "grader_error"   # the sandbox could not start: the grader's fault, the step is not graded
 
 STATUS_WORDS = {
     PASS: "passed", FAIL: "wrong answer", NOT_STARTED: "not started", THREW: "threw an exception",
     CRASHED: "crashed", TIMED_OUT: "timed out", NOT_RUN: "not run", NO_COMPILE: "does not compile",
-    MISSING: "file missing", WAITING: "waits for an earlier step",
+    MISSING: "file missing", WAITING: "waits for an earlier step", GRADER_ERROR: "not graded (the grader's sandbox failed)",
 }

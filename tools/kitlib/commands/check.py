@@ -8,7 +8,9 @@ import time
 
 from ..checking import check_steps
 from .. import picture
-from ..common import BUILD, KitError, load_steps, preset_build, resolve_steps_dir, select_steps, submission_build
+from ..common import (BUILD, KitError, load_steps, note, preset_build, printable, resolve_steps_dir, select_steps,
+                      submission_build)
+from ..submissions import NotFound, locate
 from ..gradescope import write_json
 from ..packages import ensure_packages
 from ..sandbox import NONE_OWN, choose
@@ -35,11 +37,22 @@ def run(args) -> int:
     all_steps = load_steps()
     steps = select_steps(all_steps, args.numbers)
     if args.steps:
-        source = resolve_steps_dir(args.steps)
+        # One file finder for every folder the kit did not write (here, ./kit grade, the
+        # autograders): it copies regular files only, so a link to the kit's answers never
+        # reaches the build, and it caps the files and the time it spends.
+        shown = resolve_steps_dir(args.steps)
+        try:
+            found = locate(shown, BUILD / f"check-upload-{args.slot}", all_steps)
+        except NotFound as e:
+            raise KitError(f"--steps {args.steps}: {e}")
+        for n in found.notes:
+            note(f"kit: {printable(n)}")
+        source = found.steps_dir
         build = submission_build(source, "submission" if args.slot == 0 else f"submission-{args.slot}")
+        build.shown_dir = display = shown
     else:
         build = preset_build("student")
-        source = build.steps_dir
+        source = display = build.steps_dir
     wanted = args.isolation or ("auto" if args.steps else "none")
     try:
         isolation = NONE_OWN if wanted == "none" and not args.steps else choose(wanted, args.slot)
@@ -48,7 +61,7 @@ def run(args) -> int:
     if args.json:  # fail early on a path we cannot write, before any building
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
     # The table's heading at once, each step's row as soon as it is checked (a cold build takes a while).
-    live = None if args.quiet else LiveProgress(source, steps)
+    live = None if args.quiet else LiveProgress(display, steps)
     ensure_packages("build")
     start = time.monotonic()
     try:
@@ -56,11 +69,12 @@ def run(args) -> int:
     finally:
         if live:
             live.close()
+        isolation.close()       # every process the graded code left, its control group, its files
     if not args.quiet:      # a picture per failing sphere or rectangle case (not for class grading)
         picture.draw_results(results, BUILD / ("pictures" if args.slot == 0 else f"pictures-{args.slot}"),
                              args.reveal)
     if args.json:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
     if not args.quiet:
-        scoreboard(results, source, args.all, args.reveal, table_shown=True)
+        scoreboard(results, display, args.all, args.reveal, table_shown=True)
     return OK if all(r.state == DONE for r in results) else FAILED
