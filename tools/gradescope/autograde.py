@@ -10,9 +10,14 @@ Called by run_autograder (this folder), from the kit unpacked in /autograder/sou
 
 Why the detour through a private file: student code runs while the kit works. Anything it
 writes to results/ is overwritten at the end, and no process of it outlives the grading to
-forge the file afterwards: the kit runs in its own PID namespace where the system allows one
-(the kernel ends the namespace with the kit), and this process is a child subreaper, so a
-process that detached itself (fork, setsid) is handed to us and killed before we write.
+forge the file afterwards: the kit ends every process of the sandbox after each case (its own
+PID namespace under bubblewrap, its own user id otherwise), the kit runs in a session of its
+own, which is ended with it, and this process is a child subreaper, so a process that detached
+itself (fork, setsid) is handed to us and killed before we write.
+
+No PID namespace around the kit: `unshare --pid` without its own /proc made bubblewrap fail
+inside it ("open /proc/N/ns/ns failed", shown to students as their own timeouts) and made the
+judge's clean-up look up namespace-local PIDs in the outer /proc.
 
 Every path out of here writes a valid results.json: no step files, a kit that fails or hangs,
 a JSON file that is not Gradescope's; each becomes a failed test that says why.
@@ -53,19 +58,6 @@ def write_results(data: dict) -> None:
     tmp = RESULTS.with_name(f".results.{os.getpid()}.tmp")
     tmp.write_text(json.dumps(data, indent=2, ensure_ascii=False))
     os.replace(tmp, RESULTS)
-
-
-def pid_namespace_works() -> bool:
-    """True when `unshare` may start a PID namespace here (root on a normal host or in a chroot;
-    often not in a Docker container, which is what Gradescope runs). No --mount-proc: in a
-    chroot the root is no mount point and unshare cannot make its mounts private."""
-    if shutil.which("unshare") is None:
-        return False
-    try:
-        r = subprocess.run(["unshare", "--pid", "--fork", "--kill-child", "true"], capture_output=True, timeout=20)
-    except (OSError, subprocess.TimeoutExpired):
-        return False
-    return r.returncode == 0
 
 
 def become_subreaper() -> bool:
@@ -112,9 +104,6 @@ def end_descendants() -> int:
 
 def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
     cmd = [str(SOURCE / "kit"), "check", "--steps", str(steps_dir), "--json", str(json_path), "--quiet"]
-    if os.environ.get("RAYKIT_AUTOGRADER_NO_PIDNS") != "1" and pid_namespace_works():
-        # The kit is process 1 of its namespace: when it ends, the kernel kills all that is left.
-        cmd = ["unshare", "--pid", "--fork", "--kill-child"] + cmd
     with tempfile.TemporaryFile() as log:
         proc = subprocess.Popen(cmd, cwd=SOURCE, stdout=log, stderr=log, stdin=subprocess.DEVNULL,
                                 start_new_session=True)
@@ -127,6 +116,8 @@ def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
         except ProcessLookupError:
             pass
         proc.wait()
+        from kitlib.sandbox import kill_session
+        kill_session(proc.pid)                      # and in its session (cmake, ninja, compilers)
         stray = end_descendants()                   # and whatever left it (we are its subreaper)
         log.seek(0)
         text = log.read().decode("utf-8", "replace")
@@ -152,8 +143,7 @@ def usable(data: object) -> str:
 def grade() -> dict:
     from kitlib.submissions import NotFound, locate
 
-    work = Path(tempfile.mkdtemp(prefix="raykit-autograder-"))
-    os.chmod(work, 0o755)       # the kit's sandbox may read the copy as another user
+    work = Path(tempfile.mkdtemp(prefix="raykit-autograder-"))     # 0700: the sandbox reads its own copies
     try:
         try:
             found = locate(SUBMISSION, work / "upload")

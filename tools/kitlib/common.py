@@ -312,6 +312,8 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
         if m and progress:
             progress(int(m.group(1)), int(m.group(2)))
     proc.wait()
+    if build.boundary:      # the launcher's own command lines say nothing to a student
+        lines = [l for l in lines if "tools/kitlib/launch.py" not in l]
     out = "".join(lines)
     if build.steps_dir != build.shown_dir:
         out = out.replace(str(build.steps_dir), str(build.shown_dir))

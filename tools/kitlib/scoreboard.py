@@ -94,8 +94,9 @@ def compile_errors(text: str, limit: int = 12) -> list[str]:
         out.append("Each of these must be defined in the step's file with exactly this name and these "
                    "parameter types (a typo, a missing raykit:: namespace or a changed signature?).")
         return out
-    lines = [l for l in text.splitlines() if "error" in l or l.startswith("  ") and "^" in l]
-    errors = [l for l in text.splitlines() if "error:" in l]
+    lines = [l for l in text.splitlines() if "error" in l.lower() or l.startswith("  ") and "^" in l]
+    # The compiler's and the assembler's errors, and what the sandbox says of a stopped compile.
+    errors = [l for l in text.splitlines() if "error:" in l.lower() or l.startswith("raykit: ")]
     return (errors or lines or text.splitlines()[-limit:])[:limit]
 
 

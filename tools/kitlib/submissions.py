@@ -21,6 +21,8 @@ import os
 import shutil
 import stat
 import sys
+import threading
+import time
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,6 +35,25 @@ MAX_ZIP_BYTES = 200 << 20           # unpacked size of all zips of one upload to
 MAX_ZIP_ENTRIES = 20000
 ZIP_DEPTH = 2                       # a zip inside a zip is unpacked; deeper ones are not
 SKIPPED_DIRS = {"__MACOSX", ".git", "build", "node_modules", "__pycache__"}
+MAX_UPLOAD_FILES = 20000            # files and folders looked at in all, zips' entries included
+MAX_UPLOAD_SECONDS = 20.0           # time spent looking
+
+_budget = threading.local()         # per locate() call: ./kit grade runs several at once
+
+
+def _spend(n: int = 1) -> None:
+    """Counts `n` more files or folders looked at; NotFound once the upload's budget is spent (a
+    682 KB upload of nested zips of empty entries unpacks to 200,000 files: bytes are no measure)."""
+    b = getattr(_budget, "value", None)
+    if b is None:
+        return
+    b[0] -= n
+    if b[0] < 0:
+        raise NotFound(f"The upload holds more than {MAX_UPLOAD_FILES} files and folders (zips' entries "
+                       "included), so it was not read. Upload your steps/ folder or its .cpp files only.")
+    if time.monotonic() > b[1]:
+        raise NotFound(f"Reading the upload took over {MAX_UPLOAD_SECONDS:g} s, so it was not read. "
+                       "Upload your steps/ folder or its .cpp files only.")
 
 
 class NotFound(Exception):
@@ -64,6 +85,7 @@ def _unzip(archive: Path, into: Path, budget: list[int]) -> list[str]:
             if len(infos) > MAX_ZIP_ENTRIES:
                 return [f"{archive.name}: {len(infos)} entries, more than the {MAX_ZIP_ENTRIES} read"]
             for info in infos:
+                _spend()
                 name = info.filename.replace("\\", "/")
                 parts = [p for p in name.split("/") if p not in ("", ".")]
                 mode = info.external_attr >> 16
@@ -93,6 +115,7 @@ def _unzip(archive: Path, into: Path, budget: list[int]) -> list[str]:
 def _walk(top: Path):
     """Folders under `top` (itself included), never following links, skipping tool folders."""
     for here, dirs, _files in os.walk(top, followlinks=False):
+        _spend(1 + len(dirs) + len(_files))
         dirs[:] = sorted(d for d in dirs if d not in SKIPPED_DIRS and not d.startswith("."))
         yield Path(here)
 
@@ -173,6 +196,14 @@ def locate(upload: Path, work: Path, steps: list[Step] | None = None) -> Located
     and it is steps/ the student wrote. Without step folders, step files found anywhere by name
     (each file name belongs to one step) are used. Raises NotFound when there is neither.
     """
+    _budget.value = [MAX_UPLOAD_FILES, time.monotonic() + MAX_UPLOAD_SECONDS]
+    try:
+        return _locate(upload, work, steps)
+    finally:
+        _budget.value = None
+
+
+def _locate(upload: Path, work: Path, steps: list[Step] | None) -> Located:
     steps = steps if steps is not None else load_steps()
     upload, work = upload.resolve(), work.resolve()   # so that a link is only ever inside the upload
     shutil.rmtree(work, ignore_errors=True)

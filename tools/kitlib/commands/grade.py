@@ -17,8 +17,9 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
-from ..common import BUILD, ROOT, KitError, load_steps, say
+from ..common import BUILD, ROOT, KitError, csv_cell, load_steps, printable, say
 from ..packages import ensure_packages
+from ..sandbox import kill_session, kill_uid
 from ..submissions import NotFound, locate
 from ..status import OK
 
@@ -54,12 +55,31 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         found = locate(folder, BUILD / f"grade-upload-{slot}", steps)
     except NotFound as e:
         return dict(row, status="no steps", note=str(e)[:300])
+    uid_file = BUILD / f"grade-uid-{slot}"
+    uid_file.unlink(missing_ok=True)
+    # Its own session: on a timeout, every process of it (cmake, ninja, the compilers) is ended,
+    # and so is every process of the sandbox's user id, so nothing outlives its submission.
+    proc = subprocess.Popen([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--json", str(report),
+                             "--quiet", "--slot", str(slot), "--isolation", isolation],
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
+                            start_new_session=True, env=dict(os.environ, RAYKIT_UID_FILE=str(uid_file)))
     try:
-        r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--json", str(report), "--quiet",
-                            "--slot", str(slot), "--isolation", isolation],
-                           cwd=ROOT, capture_output=True, text=True, timeout=SUBMISSION_SECONDS)
+        _, stderr = proc.communicate(timeout=SUBMISSION_SECONDS)
+        timed_out = False
     except subprocess.TimeoutExpired:
+        timed_out = True
+    kill_session(proc.pid)
+    if proc.poll() is None:
+        proc.kill()
+    if timed_out:
+        proc.communicate()
+    try:
+        kill_uid(int(uid_file.read_text()))
+    except (OSError, ValueError):
+        pass
+    if timed_out:
         return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s")
+    r = subprocess.CompletedProcess(proc.args, proc.returncode, "", stderr)
     if not report.exists():
         message = (r.stderr.strip().splitlines() or ["no result"])[-1]
         return dict(row, status="not graded", note=message.removeprefix("kit: "))
@@ -123,7 +143,7 @@ def run(args) -> int:
         if json_dir is not None and report.exists():
             (json_dir / f"{row['student']}.json").write_text(report.read_text())
         done[0] += 1
-        print(f"[{done[0]}/{len(folders)}] {folder.name}: {row.get('status')} "
+        print(f"[{done[0]}/{len(folders)}] {printable(folder.name)}: {row.get('status')} "
               f"{row.get('earned', '')}/{row.get('maximum', '')}", file=sys.stderr, flush=True)
         return row
 
@@ -135,13 +155,13 @@ def run(args) -> int:
     text = io.StringIO()
     writer = csv.DictWriter(text, fieldnames=columns(steps), restval="")
     writer.writeheader()
-    writer.writerows(rows)
+    writer.writerows([{k: csv_cell(v) for k, v in r.items()} for r in rows])   # formulas stay text
     tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
     tmp.write_text(text.getvalue())
     tmp.replace(out)
     say(f"graded {len(rows)} submissions in {time.monotonic() - start:.0f} s: {out}")
-    width = max(len(r["student"]) for r in rows)
+    width = max(len(printable(r["student"])) for r in rows)
     for r in rows:
-        say(f"  {r['student'].ljust(width)}  {str(r.get('earned', '-')).rjust(4)} / {str(r.get('maximum', '-')).ljust(4)} "
-            f"{r.get('status', '')}  {r.get('note', '')}")
+        say(f"  {printable(r['student']).ljust(width)}  {str(r.get('earned', '-')).rjust(4)} / {str(r.get('maximum', '-')).ljust(4)} "
+            f"{r.get('status', '')}  {printable(str(r.get('note', '')))}")
     return OK
