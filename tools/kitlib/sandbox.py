@@ -49,6 +49,8 @@ from .common import BUILD, ROOT
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
 # sandboxed processes ever has them.
 FIRST_UID = 64000
+UID_CLAIMS = 32                 # ids FIRST_UID + slot + 64 k, k < UID_CLAIMS, run the code
+COMPILE_UID_OFFSET = 64 * UID_CLAIMS    # and each one's compile runs as that id + this
 
 # What stays readable to the user isolation in the kit: the public headers (which the compile copies
 # anyway). Every other top-level entry of the kit loses its rights for "others" while grading.
@@ -61,6 +63,7 @@ HIDDEN = ["/tmp", "/var/tmp", "/dev/shm", "/run", "/var/run", "/home", "/root", 
           "/mnt", "/media", "/srv"]
 
 MiB = 1 << 20
+HIDDEN_TMPFS_BYTES = 4 * MiB        # each hidden folder's tmpfs, where bubblewrap can size one
 
 
 @dataclass
@@ -101,6 +104,9 @@ class Isolation:
     mode: str                   # "bwrap", "user:UID" or "none"
     description: str            # one line for the report
     uid: int = 0                # the dedicated user id the code runs as (0: none taken)
+    # The compile's own id: the judge ends every process of `uid` after each case, while the next
+    # step's compile may be running (the build is pipelined), so the two never share one.
+    compile_uid: int = 0
     limits: Limits = field(default_factory=Limits)
     cgroups: list[str] = field(default_factory=list)    # control group folders the code is put in
     own: bool = False           # the student's own steps: no boundary at all
@@ -111,13 +117,14 @@ class Isolation:
 
     # --- the spec the launcher reads back (tools/kitlib/launch.py) -------------------------
     def spec(self) -> str:
-        return json.dumps({"mode": self.mode, "uid": self.uid, "limits": asdict(self.limits),
+        return json.dumps({"mode": self.mode, "uid": self.uid, "compile_uid": self.compile_uid,
+                           "limits": asdict(self.limits),
                            "cgroups": self.cgroups, "description": self.description})
 
     @classmethod
     def from_spec(cls, text: str) -> "Isolation":
         d = json.loads(text)
-        return cls(d["mode"], d["description"], d["uid"], Limits(**d["limits"]), d["cgroups"])
+        return cls(d["mode"], d["description"], d["uid"], d["compile_uid"], Limits(**d["limits"]), d["cgroups"])
 
     # --- processes inside the boundary ------------------------------------------------------
     def wrapper(self, ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
@@ -139,6 +146,8 @@ class Isolation:
                 continue
             if p.is_symlink() or not p.is_dir():
                 continue            # /var/run is a link to /run on Debian: hiding /run hides both
+            if bwrap_sizes():       # an empty folder, and no room to fill memory through it
+                argv += ["--size", str(HIDDEN_TMPFS_BYTES)]
             argv += ["--tmpfs", h]
             done.append(h)
         for host, inside in ro:
@@ -153,11 +162,11 @@ class Isolation:
                  "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--"]
         return argv
 
-    def preexec(self, memory_mb: int):
+    def preexec(self, memory_mb: int, uid: int):
         """What a child does between fork and exec to enter the boundary: its own process group,
-        the control group, the rlimits, then the dedicated user id (last: joining a control group
-        and lowering limits need the rights it drops)."""
-        limits, uid, cgroups = self.limits, self.uid, list(self.cgroups)
+        the control group, the rlimits, then the dedicated user id `uid` (last: joining a control
+        group and lowering limits need the rights it drops)."""
+        limits, cgroups = self.limits, list(self.cgroups)
 
         def enter() -> None:
             os.setpgid(0, 0)
@@ -212,9 +221,10 @@ class Isolation:
                 os.rmdir(group)
             except OSError:
                 pass
-        if self.uid:
-            kill_uid(self.uid)
-            clean_uid_files(self.uid)
+        for uid in (self.uid, self.compile_uid):
+            if uid:
+                kill_uid(uid)
+                clean_uid_files(uid)
 
 
 NONE_OWN = Isolation("none", "not sandboxed (your own steps: the code runs as you)", own=True)
@@ -300,6 +310,7 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
         return Isolation("none", "NOT sandboxed: bubblewrap could not run and the kit is not root, so the "
                                  "code ran with the grader's rights. Install bubblewrap, or grade as root.",
                          0, limits)
+    iso.compile_uid = uid + COMPILE_UID_OFFSET if uid else 0
     iso.cgroups = make_cgroups(slot, limits)
     iso.description += "; limits: " + limits.words() + (
         "; in a control group of " + f"{limits.memory_mb} MiB" if iso.cgroups else "; rlimits only (no control group here)")
@@ -318,7 +329,7 @@ def claim_uid(slot: int) -> int:
     """
     import fcntl
     lock_dir = Path("/run/lock") if Path("/run/lock").is_dir() else Path(tempfile.gettempdir())
-    for uid in range(FIRST_UID + slot, FIRST_UID + 4096, 64):
+    for uid in range(FIRST_UID + slot % 64, FIRST_UID + COMPILE_UID_OFFSET, 64):
         if uid in _claimed:
             return uid
         f = open(lock_dir / f"raykit-sandbox-{uid}.lock", "w")
@@ -568,14 +579,15 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
 def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path) -> int:
     from .common import printable
     limits = iso.limits
+    uid = iso.compile_uid
     os.chmod(work, 0o750)
-    if iso.uid:
-        os.chown(work, 0, iso.uid)          # the sandbox's group may read, nobody else may enter
+    if uid:
+        os.chown(work, 0, uid)              # the sandbox's group may read, nobody else may enter
     (work / "in").mkdir()
     out = work / "out"
     out.mkdir()
-    if iso.uid:
-        os.chown(out, iso.uid, iso.uid)
+    if uid:
+        os.chown(out, uid, uid)
     shutil.copytree(ROOT / "include", work / "include")
     inside = work                         # the same paths inside bubblewrap: W is bound at W
     mapping: list[tuple[str, str]] = [(str(work / "include"), str(ROOT / "include")), (str(out) + "/", "")]
@@ -629,7 +641,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
     start = time.monotonic()
     proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory))
+                            stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory, uid))
     kept = bytearray()
     total = 0
     timed_out = False
