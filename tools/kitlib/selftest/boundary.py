@@ -373,15 +373,29 @@ def grade_class(subs: Path, extra: list[str] = (), limits: str = "") -> dict[str
     return {row["student"]: row for row in csv.DictReader(out.open())}
 
 
+AUTOGRADER = Path(tempfile.gettempdir()) / "raykit-selftest-autograder"
+
+
 def gradescope(upload: Path) -> dict:
-    """The Gradescope flow as its documentation describes it: /autograder/source (here a link to
-    the kit), the upload in submission/, run_autograder as root, results/results.json read."""
-    ag = WORK / "autograder"
-    shutil.rmtree(ag, ignore_errors=True)
-    ag.mkdir(parents=True)
-    (ag / "source").symlink_to(ROOT)
+    """The Gradescope flow as its documentation describes it: the zip of `./kit autograder`
+    unpacked in source/ (once per self-test run; its build folder kept between uploads, as an
+    image's is), the upload in submission/, run_autograder as root, results/results.json read."""
+    ag = AUTOGRADER
+    if not (ag / "source" / "kit").is_file():
+        shutil.rmtree(ag, ignore_errors=True)
+        ag.mkdir(parents=True)
+        r = subprocess.run([str(ROOT / "kit"), "autograder", str(ag / "autograder.zip")], cwd=ROOT,
+                           capture_output=True, text=True, timeout=600)
+        expect(r.returncode == 0, f"./kit autograder failed: {r.stderr[-400:]}")
+        with zipfile.ZipFile(ag / "autograder.zip") as z:
+            z.extractall(ag / "source")
+        for f in (ag / "source").rglob("*"):
+            if f.is_file() and (f.name in ("kit", "run_autograder", "setup.sh") or f.suffix == ".py"):
+                f.chmod(0o755)
+    shutil.rmtree(ag / "submission", ignore_errors=True)
+    shutil.rmtree(ag / "results", ignore_errors=True)
     shutil.copytree(upload, ag / "submission")
-    r = subprocess.run(["bash", str(ROOT / "tools" / "gradescope" / "run_autograder")], cwd=ag,
+    r = subprocess.run(["bash", str(ag / "source" / "run_autograder")], cwd=ag,
                        env=dict(os.environ, RAYKIT_AUTOGRADER_ROOT=str(ag)), capture_output=True, text=True,
                        timeout=3600)
     try:
