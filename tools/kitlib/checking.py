@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from .common import Build, Step, build_target, build_targets, configure, prerequisites, printable
+from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable
 from .sandbox import NONE_OWN, Isolation, Scratch
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
@@ -321,6 +321,78 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
                       seed=seed if any(c.tier == "hidden" for c in cases) else "")
 
 
+# --- untouched steps: no build ---------------------------------------------------------------
+# A step whose files are byte for byte the shipped stubs is "not started" without a compile: its
+# state comes from the content. tests/stubs.json records the stubs' hashes, tests/NN_topic/cases.json
+# each judge's visible cases and tests/hidden/cases.json the hidden ones (not in a handout), so that
+# such a step still has its cases and its points on the one scale. `./kit check --record` writes
+# them; the self-test fails when they are stale.
+STUBS_FILE = ROOT / "tests" / "stubs.json"
+HIDDEN_CASES_FILE = ROOT / "tests" / "hidden" / "cases.json"
+
+
+def file_hash(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def untouched(build: Build, step: Step) -> bool:
+    try:
+        stubs = json.loads(STUBS_FILE.read_text())
+    except (OSError, ValueError):
+        return False
+    for f in step.files:
+        p = build.steps_dir / step.folder / f
+        key = f"{step.folder}/{f}"
+        if key not in stubs or not p.is_file() or file_hash(p) != stubs[key]:
+            return False
+    return True
+
+
+def hidden_cases_here() -> bool:
+    """Whether the judges hold hidden cases: the reference and tests/hidden/ are here."""
+    return (ROOT / "solutions").is_dir() and (ROOT / "tests" / "hidden").is_dir()
+
+
+def recorded_cases(step: Step) -> list[Case] | None:
+    """The cases the step's judge lists, as recorded; None when there is no record."""
+    try:
+        visible = json.loads((ROOT / "tests" / step.folder / "cases.json").read_text())
+        hidden = json.loads(HIDDEN_CASES_FILE.read_text()).get(step.number, []) if hidden_cases_here() else []
+    except (OSError, ValueError):
+        return None
+    return [Case(c["name"], c["tier"], c.get("lecture", "")) for c in visible + hidden]
+
+
+def untouched_result(step: Step, cases: list[Case], results: dict[str, StepResult], build: Build) -> StepResult:
+    if not build.reference_needs:
+        for need in step.needs:
+            dep = results.get(need)
+            if dep is not None and dep.state != DONE:
+                return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"), detail=need)
+    for c in cases:
+        c.status, c.messages = NOT_STARTED, ["not started: the step's files are the shipped stubs "
+                                             "(each function is still not_implemented_yet)"]
+    return StepResult(step, NOT_STARTED, cases)
+
+
+def record(build: Build, steps: list[Step]) -> list[Path]:
+    """Writes tests/stubs.json from steps/ and every case list from the built judges (`build` must
+    have the hidden cases, i.e. solutions/ present). Returns the files written."""
+    stubs = {f"{s.folder}/{f}": file_hash(ROOT / "steps" / s.folder / f) for s in steps for f in s.files}
+    written = [STUBS_FILE]
+    STUBS_FILE.write_text(json.dumps(stubs, indent=1, sort_keys=True) + "\n")
+    hidden: dict[str, list] = {}
+    for s in steps:
+        cases = list_cases(build.exe(s))
+        entry = lambda c: {"name": c.name, "tier": c.tier, "lecture": c.lecture}   # noqa: E731
+        target = ROOT / "tests" / s.folder / "cases.json"
+        target.write_text(json.dumps([entry(c) for c in cases if c.tier != "hidden"], indent=1) + "\n")
+        written.append(target)
+        hidden[s.number] = [entry(c) for c in cases if c.tier == "hidden"]
+    HIDDEN_CASES_FILE.write_text(json.dumps(hidden, indent=1, sort_keys=True) + "\n")
+    return written + [HIDDEN_CASES_FILE]
+
+
 def ensure_configured(build: Build, all_steps: list[Step]) -> None:
     """Configures `build` once per build folder and set of present step files: the targets CMake
     makes depend on which files exist; after that, the build tool re-runs CMake when its inputs change."""
@@ -357,19 +429,29 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     order = [s for s in all_steps if s.number in wanted or s.number in needed]
-    progress.phase("configuring the build (cmake)")
-    ensure_configured(build, all_steps)
+    quick = {}
+    for s in order:
+        cases = recorded_cases(s) if untouched(build, s) else None
+        if cases is not None:
+            quick[s.number] = cases
     results: dict[str, StepResult] = {}
+    if len(quick) < len(order):
+        progress.phase("configuring the build (cmake)")
+        ensure_configured(build, all_steps)
 
-    def judge(step: Step, built: Built) -> None:
-        results[step.number] = judge_step(build, step, built, results, isolation)
+    def judge(step: Step, built: Built | None) -> None:
+        if built is None:
+            results[step.number] = untouched_result(step, quick[step.number], results, build)
+        else:
+            results[step.number] = judge_step(build, step, built, results, isolation)
         if step.number in wanted:
             progress.result(results[step.number])
 
     with ThreadPoolExecutor(max_workers=1) as worker:    # one worker: steps are judged in order
         pending = []
         for s in order:
-            built = build_step(build, s, lambda done, total, s=s: progress.building(s, done, total))
+            built = None if s.number in quick else \
+                build_step(build, s, lambda done, total, s=s: progress.building(s, done, total))
             pending.append(worker.submit(judge, s, built))
         for f in pending:
             f.result()

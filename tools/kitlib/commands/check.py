@@ -8,7 +8,7 @@ import time
 
 from ..checking import check_steps
 from .. import picture
-from ..common import (BUILD, KitError, load_steps, note, preset_build, printable, resolve_steps_dir, select_steps,
+from ..common import (BUILD, ROOT, KitError, build_targets, load_steps, say, note, preset_build, printable, resolve_steps_dir, select_steps,
                       submission_build)
 from ..submissions import NotFound, locate
 from ..gradescope import write_json
@@ -30,10 +30,31 @@ def register(p) -> None:
                    help="Gradescope visibility of the hidden cases in --json (default: after_due_date)")
     p.add_argument("--reveal", action="store_true", help="show the inputs of failed hidden cases (instructors)")
     p.add_argument("--all", action="store_true", help="list every failing case of the steps, grouped by function")
+    p.add_argument("--record", action="store_true",
+                   help="instructors: record the stubs' hashes and every judge's cases (tests/stubs.json, "
+                        "tests/NN_topic/cases.json), so untouched steps are checked without a build")
     p.add_argument("--slot", type=int, default=0, help=argparse.SUPPRESS)  # ./kit grade -j: build folder and sandbox
 
 
+def record_cases() -> int:
+    from ..checking import ensure_configured, hidden_cases_here, record
+    if not hidden_cases_here():
+        raise KitError("--record needs solutions/ and tests/hidden/ (the instructor's copy)")
+    ensure_packages("build")
+    steps = load_steps()
+    build = preset_build("student")
+    ensure_configured(build, steps)
+    ok, out = build_targets(build, [s.target for s in steps])
+    if not ok:
+        raise KitError(f"the judges do not build:\n{out[-2000:]}", FAILED)
+    for path in record(build, steps):
+        say(f"wrote {path.relative_to(ROOT)}")
+    return OK
+
+
 def run(args) -> int:
+    if args.record:
+        return record_cases()
     all_steps = load_steps()
     steps = select_steps(all_steps, args.numbers)
     if args.steps:

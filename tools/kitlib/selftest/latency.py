@@ -51,11 +51,23 @@ def run_check(kit_dir, *args: str) -> tuple[Screen, dict]:
 
 def selftest_latency(ctx: Context) -> str:
     """Measured where students run the kit: a handout (no solutions/, so no hidden cases and no
-    reference build), its steps/ filled in with the solutions, its build folder from nothing."""
+    reference build), its build folder from nothing: first with the stubs as shipped (a newcomer's
+    first check), then with step 01 written (its first verdict), then every step written."""
     need_solutions()
     shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
     r = kit("handout", str(HANDOUT_DIR), "--committed", timeout=600)
     expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
+    screen, fresh = run_check(HANDOUT_DIR)
+    expect("not started" in screen.text and "Next: step 01" in ANSI.sub("", screen.text),
+           f"a newcomer's first check does not say what to do next:\n{screen.text[-800:]}")
+    expect(not (HANDOUT_DIR / "build" / "student" / "CMakeCache.txt").exists(),
+           "the untouched stubs were built: their state should come from tests/stubs.json")
+    first = ctx.steps[0]
+    for f in first.files:
+        shutil.copyfile(ROOT / "solutions" / first.folder / f, HANDOUT_DIR / "steps" / first.folder / f)
+    screen, one = run_check(HANDOUT_DIR, "1")
+    expect(screen.proc.returncode == 0, f"step 01 written: exit {screen.proc.returncode}:\n{screen.text[-800:]}")
+    shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
     for step in ctx.steps:
         for f in step.files:
             shutil.copyfile(ROOT / "solutions" / step.folder / f, HANDOUT_DIR / "steps" / step.folder / f)
@@ -72,10 +84,47 @@ def selftest_latency(ctx: Context) -> str:
     screen, edit = run_check(HANDOUT_DIR, "1")
     expect(screen.proc.returncode == 0, f"step 01 after the edit exited {screen.proc.returncode}")
     shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
-    return (f"a student's cold ./kit check in a handout, on a terminal: first output {cold['output']:.2f} s "
-            f"(goal 1), step 01's verdict {cold['01']:.1f} s (goal 8), all steps {cold['end']:.1f} s (goal 15); "
-            f"edit to verdict {edit['end']:.1f} s (goal 1.5); load average {load:.1f} at the start")
+    return (f"a student's ./kit check in a handout, on a terminal: a newcomer's first check (the stubs) "
+            f"{fresh['end']:.2f} s (goal 2); step 01 written, its first verdict cold {one['end']:.1f} s (goal 6); "
+            f"all steps written, cold: first output {cold['output']:.2f} s (goal 1), step 01's verdict "
+            f"{cold['01']:.1f} s, all steps {cold['end']:.1f} s (goal 10); edit to verdict {edit['end']:.1f} s "
+            f"(goal 1); load average {load:.1f} at the start")
+
+
+def selftest_recorded(ctx: Context) -> str:
+    """tests/stubs.json holds the committed stubs' hashes, and each tests/NN_topic/cases.json (with
+    tests/hidden/cases.json) the cases its judge lists: else an untouched step would be scored on
+    a stale list. `./kit check --record` writes them."""
+    need_solutions()
+    import json
+    import subprocess
+    from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, ensure_configured, file_hash, list_cases
+    from ..common import build_targets, preset_build
+    stubs = json.loads(STUBS_FILE.read_text())
+    stale = []
+    for step in ctx.steps:
+        for f in step.files:
+            rel = f"steps/{step.folder}/{f}"
+            shown = subprocess.run(["git", "show", f"HEAD:{rel}"], cwd=ROOT, capture_output=True)
+            data = shown.stdout if shown.returncode == 0 else (ROOT / rel).read_bytes()
+            import hashlib
+            if stubs.get(f"{step.folder}/{f}") != hashlib.sha256(data).hexdigest():
+                stale.append(rel)
+    build = preset_build("student")
+    ensure_configured(build, ctx.steps)
+    ok, out = build_targets(build, [s.target for s in ctx.steps])
+    expect(ok, f"the judges do not build: {out[-500:]}")
+    hidden = json.loads(HIDDEN_CASES_FILE.read_text())
+    for step in ctx.steps:
+        listed = [(c.name, c.tier, c.lecture) for c in list_cases(build.exe(step))]
+        visible = json.loads((ROOT / "tests" / step.folder / "cases.json").read_text())
+        recorded = [(c["name"], c["tier"], c["lecture"]) for c in visible + hidden.get(step.number, [])]
+        if sorted(listed) != sorted(recorded):
+            stale.append(f"tests/{step.folder}/cases.json")
+    del file_hash
+    expect(not stale, "stale: " + ", ".join(stale) + ". Run ./kit check --record and commit what it writes.")
+    return f"the stubs' hashes and {len(ctx.steps)} case lists are current"
 
 
 def selftests() -> list:
-    return [("latency figures", selftest_latency)]
+    return [("recorded stubs and case lists", selftest_recorded), ("latency figures", selftest_latency)]
