@@ -62,7 +62,7 @@ def strip(text: str, stub: set) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _sim(args: list[str], files: list[Path], timeout: float = 300) -> str:
+def _sim(args: list[str], files: list, timeout: float = 300) -> str:
     r = subprocess.run(["sim_c++", *args, "-i"], input="\n".join(str(f) for f in files) + "\n",
                        capture_output=True, text=True, timeout=timeout)
     return r.stdout
@@ -102,23 +102,40 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step], shown:
                     who[str(path)] = name
                     paths.append(path)
                     texts[(name, key)] = text
-                if len(paths) < 2:
+                students = [p for p in paths if who[str(p)] != REFERENCE]
+                refs = [p for p in paths if who[str(p)] == REFERENCE]
+                if not students:
                     continue
-                percent: dict[tuple, int] = {}
-                for line in _sim(["-p", "-s", "-t", "1"], paths).splitlines():
-                    m = _PERCENT.match(line.strip())
-                    if m and m.group(1) in who and m.group(3) in who:
-                        percent[(who[m.group(1)], who[m.group(3)])] = int(m.group(2))
-                present = [who[str(p)] for p in paths if who[str(p)] != REFERENCE]
-                like = {n for n in present if percent.get((n, REFERENCE), 0) >= REFERENCE_LIKE}
+                # How much of each file is the reference's material: every file against the reference alone.
+                of_ref = {}
+                if refs:
+                    for line in _sim(["-p", "-S", "-t", "1"], students + ["/"] + refs).splitlines():
+                        m = _PERCENT.match(line.strip())
+                        if m and m.group(1) in who:
+                            of_ref[who[m.group(1)]] = int(m.group(2))
+                present = [who[str(p)] for p in students]
+                like = {n for n in present if of_ref.get(n, 0) >= REFERENCE_LIKE}
                 result.reference_like[key] = sorted(like)
                 for n in present:
                     like_by_student.setdefault(n, []).append(n in like)
-                for i, a in enumerate(present):
-                    for b in present[i + 1:]:
-                        ab, ba = percent.get((a, b), 0), percent.get((b, a), 0)
-                        if min(ab, ba) == 0 or (a in like and b in like):
-                            continue
+                # The candidates: sim_c++ -a names, for each file, the files its runs are found in (fast, but
+                # each run is credited to one file); each candidate pair is then measured on its own (-a -e).
+                path_of = {who[str(p)]: p for p in students}
+                candidates = set()
+                for line in _sim(["-p", "-a", "-s", "-t", str(SHOWN)], students).splitlines():
+                    m = _PERCENT.match(line.strip())
+                    if m and m.group(1) in who and m.group(3) in who:
+                        a, b = sorted((who[m.group(1)], who[m.group(3)]))
+                        if a != b and not (a in like and b in like):
+                            candidates.add((a, b))
+                for a, b in sorted(candidates):
+                    both = {}
+                    for line in _sim(["-p", "-a", "-e", "-s", "-t", "1"], [path_of[a], path_of[b]]).splitlines():
+                        m = _PERCENT.match(line.strip())
+                        if m and m.group(1) in who:
+                            both[who[m.group(1)]] = int(m.group(2))
+                    ab, ba = both.get(a, 0), both.get(b, 0)
+                    if min(ab, ba) > 0:
                         shares.setdefault((a, b), {})[key] = (ab, ba)
         result.compared = len(like_by_student)
         result.copies = sorted(n for n, flags in like_by_student.items() if flags and all(flags))
