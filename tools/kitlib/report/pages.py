@@ -78,7 +78,7 @@ def draw_case(case: dict, title: str) -> str:
         svg, line = picture.render(figure, title)
     except (picture.PictureError, KeyError, TypeError, ValueError, ZeroDivisionError):
         return ""
-    return f"<figure>{svg_img(svg, line)}<figcaption>{e(line)}</figcaption></figure>"
+    return f"<figure>{svg_img(svg, line)}</figure>"      # the picture says in words what it shows
 
 
 # --- what the class did ----------------------------------------------------------------------------
@@ -412,12 +412,15 @@ def student_page(st, steps, matches: dict) -> str:
                 body.append(f"<li>Step {e(number)}: your failing cases fit none of the slips the kit knows.</li>")
                 continue
             how = "exactly" if m.kind == "exact" else f"nearly ({m.distance} case{'s' if m.distance > 1 else ''} differ)"
-            for s in m.signatures:
-                body.append(f"<li>Step {e(number)}: fits {how}: {e(s.slip)} (lecture section: {e(s.lecture)})</li>")
+            if len(m.signatures) > 1:
+                how += f", as do {len(m.signatures)} slips that fail the same cases"
+            slips = "; or: ".join(f"{e(s.slip)} (lecture section: {e(s.lecture)})" for s in m.signatures)
+            body.append(f"<li>Step {e(number)}: fits {how}: {slips}</li>")
         body.append("</ul>")
     for res in st.steps():
         state = res.get("state")
-        bad = [c for c in res.get("cases", []) if c.get("status") != PASS]
+        tiers = {"basic": 0, "hidden": 1, "robust": 2}
+        bad = sorted((c for c in res.get("cases", []) if c.get("status") != PASS), key=lambda c: tiers.get(c.get("tier"), 3))
         if state == NO_COMPILE:
             body.append(f"<h2>Step {e(res['step'])}: does not compile</h2><pre>{e(res.get('detail', '')[:4000])}</pre>")
             continue

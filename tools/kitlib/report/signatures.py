@@ -67,7 +67,10 @@ def compute(progress=print) -> dict:
                 continue
             _, result = grade_files(step, files, work)
             fails = failing_cases(result)
-            lectures = Counter(c["lecture"] for c in (result or {}).get("cases", []) if c["name"] in fails)
+            # Its lecture section: that of the cases its patch names (made for this slip), else the most common.
+            cases = (result or {}).get("cases", [])
+            lectures = (Counter(c["lecture"] for c in cases if c["name"] in mutant.cases and c["name"] in fails)
+                        or Counter(c["lecture"] for c in cases if c["name"] in fails))
             entries[key] = {"step": step.number, "slip": mutant.slip,
                             "lecture": lectures.most_common(1)[0][0] if lectures else "",
                             "fails": fails, "fingerprint": fingerprint(step, path)}
@@ -121,13 +124,13 @@ class Match:
 
 
 def match(fails: frozenset, signatures: list[Signature]) -> Match:
-    """The mutants of the step whose signature is nearest the failing basic cases."""
+    """The mutants of the step whose signature is nearest the failing basic cases: all those at the
+    smallest distance, when it is 0 (exact) or small beside the sets (near), else none."""
     if not signatures or not fails:
         return Match("none", 0, [])
     best = min(len(fails ^ s.fails) for s in signatures)
     nearest = [s for s in signatures if len(fails ^ s.fails) == best]
     if best == 0:
         return Match("exact", 0, nearest)
-    limit = max(1, int(NEAR_SHARE * max(len(fails | s.fails) for s in nearest)))
     nearest = [s for s in nearest if best <= max(1, int(NEAR_SHARE * len(fails | s.fails))) and fails & s.fails]
-    return Match("near", best, nearest) if nearest and best <= limit else Match("none", best, [])
+    return Match("near", best, nearest) if nearest else Match("none", best, [])

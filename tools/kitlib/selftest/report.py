@@ -139,7 +139,7 @@ def _make_class(root: Path) -> dict:
     put(who, s1, sol(s1)), put(who, s2, stub(s2))
     plan["odd"].append(who)
     who = name("nocompile")
-    put(who, s1, ROOT / "tests" / "fixtures" / "no_compile"), put(who, s2, sol(s2))
+    put(who, s1, ROOT / "tests" / "fixtures" / "no_compile" / s1.folder), put(who, s2, sol(s2))
     plan["odd"].append(who)
     textbook = ROOT / "tests" / "fixtures" / "textbook"
     own, disguised = name("own"), name("other")
@@ -219,7 +219,7 @@ def selftest_class_report(ctx) -> str:
     one = next(iter(plan["two"]))
     one_page = out / "students" / f"{next(s.page for s in g.students if s.name == one)}.html"
     text = one_page.read_text(encoding="utf-8")
-    expect(text.count("fits exactly") >= 2, f"{one}'s page does not name both slips")
+    expect(text.count("fits exactly") >= 2 and text.count("<li>Step") >= 2, f"{one}'s page does not name both slips")
 
     shots = _browser(out / "index.html", one_page)
     return (f"40 students graded and reported in {elapsed:.0f} s ({report_line.strip() or 'report time not printed'}); "
