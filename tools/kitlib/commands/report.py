@@ -78,8 +78,15 @@ def write_report(folder: Path, out: Path) -> int:
     writable_parent(f"--out {out}", out)
     if out.exists() and not out.is_dir():
         raise KitError(f"--out {out}: is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise KitError(f"--out {out}: cannot make the folder ({e.strerror})")
     start = time.monotonic()
-    summary = build(folder, out)
+    try:
+        summary = build(folder, out)
+    except OSError as e:
+        raise KitError(f"--out {out}: cannot write the report ({e.strerror}: {e.filename})")
     say(f"wrote {out / 'index.html'} and {summary['students']} student pages in {time.monotonic() - start:.1f} s")
     for note in summary["notes"]:
         say(f"  note: {note}")
