@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 from ..common import BUILD, ROOT, KitError, load_steps, say, writable_parent
+from ..packages import ensure_packages
 from ..status import FAILED, OK
 
 
@@ -82,6 +83,10 @@ def write_report(folder: Path, out: Path) -> int:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise KitError(f"--out {out}: cannot make the folder ({e.strerror})")
+    try:    # sim_c++ and matplotlib: without them the report says what it left out, and goes on
+        ensure_packages("report")
+    except KitError as e:
+        say(f"  note: {str(e).splitlines()[0]}")
     start = time.monotonic()
     try:
         summary = build(folder, out)
