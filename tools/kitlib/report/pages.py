@@ -404,9 +404,9 @@ def student_page(st, steps, matches: dict) -> str:
     body.append("<h2>Scoreboard</h2><table><tr><th>step</th><th>state</th><th>points</th><th>★ robust</th></tr>"
                 + "".join(rows) + "</table>")
     if matches:
-        body.append(f'<h2>Slips that fit your failing cases</h2><p class="note">This is not a verdict: the kit '
-                    f"knows some common slips and which cases each one fails. Your failing cases look like the "
-                    f"slip below; it may be something else. Read the lecture section it names.</p><ul>")
+        body.append('<h2>Slips that fit your failing cases</h2><p class="note">This is not a verdict: the kit '
+                    "knows some common slips and which cases each one fails. Your failing cases look like the "
+                    "slip below; it may be something else. Read the lecture section it names.</p><ul>")
         for number, (fails, m) in sorted(matches.items()):
             if m.kind == "none":
                 body.append(f"<li>Step {e(number)}: your failing cases fit none of the slips the kit knows.</li>")

@@ -172,7 +172,7 @@ def _scores_in(index: str) -> dict:
 
 def selftest_class_report(ctx) -> str:
     need_solutions()
-    from ..report import pages, signatures  # noqa: F401 (imports fail here, not in the child)
+    from ..report import signatures
     plan = _make_class(WORK / "class")
     out = WORK / "report"
     shutil.rmtree(out, ignore_errors=True)
