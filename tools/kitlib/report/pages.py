@@ -45,7 +45,8 @@ pre{background:#f6f6f6;padding:.4rem;overflow-x:auto;font-size:.8rem;white-space
 .pair{display:grid;grid-template-columns:1fr 1fr;gap:.5rem}.pair pre{white-space:pre;font-size:.72rem}
 .state-done{color:#2e7d32}.state-partial{color:#9a6700}.state-no_compile{color:#c62828}
 figure{margin:.5rem 0;display:inline-block;vertical-align:top}figcaption{font-size:.8rem;color:#555;max-width:600px}
-img.chart{max-width:100%}nav a{margin-right:.8rem}
+img.chart{max-width:100%}.cards{display:grid;grid-template-columns:repeat(auto-fill,minmax(30rem,1fr));gap:1rem}
+.cards img{width:100%;height:auto}nav a{margin-right:.8rem}
 @media print{nav{display:none}h2{page-break-before:auto}.pair pre,pre{font-size:.65rem}}
 """
 
@@ -242,11 +243,13 @@ def build(folder: Path, out: Path) -> dict:
     # random draws, and fails more often for having more of them; it is in the tables below).
     top = sorted((r for r in case_rows if r[5] and r[4] == "basic"), key=lambda r: (-r[0], r[1].number, r[3]))[:MOST_FAILED]
     if top:
-        body.append("<h3>The most-failed basic cases</h3>")
+        body.append("<h3>The most-failed basic cases</h3><p>Each picture is the case as one of the students who fail "
+                    "it answered it (“your answer” is that student's).</p><div class=\"cards\">")
         for r in top:
             drawn = draw_case(r[7], f"Step {r[1].number} · {r[3]}") if r[7] else ""
-            body.append(f"<div><p><b>Step {e(r[1].number)} · {e(r[3])}</b> ({e(r[4])}, {e(r[2])}): failed by "
+            body.append(f"<div><p><b>Step {e(r[1].number)} · {e(r[3])}</b> ({e(r[2])}): failed by "
                         f"{r[5]} of {r[6]} ({100 * r[0]:.0f} %).</p>{drawn or '<p>(no picture for this case)</p>'}</div>")
+        body.append("</div>")
     for s in steps:
         mine = [r for r in case_rows if r[1] is s]
         if not mine:
