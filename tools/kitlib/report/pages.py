@@ -16,7 +16,7 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 from .. import picture
-from ..common import load_steps
+from ..common import load_steps, prerequisites
 from ..scoreboard import HIDDEN_NOTE
 from ..status import (BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
                       STATUS_WORDS, THREW, TIMED_OUT, WAITING)
@@ -303,11 +303,21 @@ def build(folder: Path, out: Path) -> dict:
     else:
         body.append("<p>No student's failing cases fit a slip.</p>")
     if unmatched:
-        body.append("<h3>Patterns that fit no slip</h3><table><tr><th>step</th><th>students</th><th>failing basic cases</th></tr>")
+        body.append("<h3>Patterns that fit no slip</h3><p>A student marked * has an earlier step this one builds on "
+                    "that is not done: the pattern may come from there. Two slips in one step fit no single mutant.</p>"
+                    "<table><tr><th>step</th><th>students</th><th>failing basic cases</th></tr>")
+        step_of = {s.number: s for s in steps}
+
+        def upstream(name: str, number: str) -> str:
+            st = names[name]
+            needs = prerequisites(step_of[number], steps) if number in step_of else []
+            return "*" if any((st.step(p.number) or {}).get("state") != DONE for p in needs) else ""
+
         for (number, fails), who in sorted(unmatched.items(), key=lambda kv: (kv[0][0], -len(kv[1]))):
             shown = sorted(fails)
             cases = "<br>".join(e(c) for c in shown[:12]) + (f"<br>… and {len(shown) - 12} more" if len(shown) > 12 else "")
-            body.append(f"<tr><td>{e(number)}</td><td>{', '.join(link(names[n]) for n in who)}</td><td>{cases}</td></tr>")
+            body.append(f"<tr><td>{e(number)}</td><td>{', '.join(link(names[n]) + upstream(n, number) for n in who)}</td>"
+                        f"<td>{cases}</td></tr>")
         body.append("</table>")
 
     # 4. incidents
