@@ -40,11 +40,12 @@ class Signature:
 
 
 def fingerprint(step: Step, patch: Path) -> str:
-    """A hash of what a mutant's signature depends on: its patch, the step's reference files and tests."""
+    """A hash of what a mutant's signature depends on: its patch, the step's reference files and tests
+    (tests/NN_topic/, its Markdown aside)."""
     h = hashlib.sha256(patch.read_bytes())
     for folder in (ROOT / "solutions" / step.folder, ROOT / "tests" / step.folder):
         for p in sorted(folder.rglob("*")) if folder.is_dir() else []:
-            if p.is_file():
+            if p.is_file() and p.suffix != ".md":      # a hint or a README changes no case
                 h.update(str(p.relative_to(ROOT)).encode() + b"\0" + p.read_bytes())
     return h.hexdigest()[:16]
 
