@@ -96,7 +96,8 @@ class StepResult:
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
             "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                        "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
-                       "picture": c.picture or None, "picture_summary": c.picture_summary or None}
+                       "picture": c.picture or None, "picture_summary": c.picture_summary or None,
+                       "figure": c.figure or None}   # the geometry, so ./kit report can draw the case
                       for c in self.cases],
         }
 

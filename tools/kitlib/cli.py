@@ -46,6 +46,7 @@ COMMANDS = [
     Command("bench", "bench", STUDENT, "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
     Command("test", "selftest", INSTRUCTOR, "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
     Command("grade", "grade", INSTRUCTOR, "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
+    Command("report", "report", INSTRUCTOR, "the class report of a grading (offline HTML): scores, failed cases, slips, incidents, similar work"),
     Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
     Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
     Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),

@@ -37,6 +37,7 @@ def register(p) -> None:
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"], default="auto",
                    help="how the graded code is kept apart (default: auto)")
     p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results.json (Gradescope format) here")
+    p.add_argument("--report", metavar="DIR", help="also write the class report (./kit report) in DIR, the grading in DIR/grading/")
 
 
 def columns(steps) -> list[str]:
@@ -117,7 +118,7 @@ def run(args) -> int:
         raise KitError(f"--out {args.out}: cannot write a file there")
     if not os.access(out.parent.resolve(), os.W_OK):
         raise KitError(f"--out {args.out}: folder is not writable")
-    json_dir = Path(args.json_dir) if args.json_dir else None
+    json_dir = Path(args.json_dir) if args.json_dir else Path(args.report) / "grading" / "json" if args.report else None
     if json_dir is not None:
         json_dir.mkdir(parents=True, exist_ok=True)
     steps = load_steps()
@@ -164,4 +165,7 @@ def run(args) -> int:
     for r in rows:
         say(f"  {printable(r['student']).ljust(width)}  {str(r.get('earned', '-')).rjust(4)} / {str(r.get('maximum', '-')).ljust(4)} "
             f"{r.get('status', '')}  {printable(str(r.get('note', '')))}")
+    if args.report:     # the class report, from the grading just saved (commands/report.py)
+        from .report import from_grade
+        return from_grade(args, out, json_dir)
     return OK

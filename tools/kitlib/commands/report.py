@@ -1,0 +1,112 @@
+"""./kit report GRADING_DIR: the class report of a saved grading, offline HTML.
+
+    ./kit grade SUBMISSIONS --report DIR      grades, saves the grading in DIR/grading/, writes DIR/index.html
+    ./kit report GRADING_DIR --out DIR        the report of a saved grading (grades.csv, json/, files/)
+    ./kit report --signatures                 grades every mutant, writes tests/mutants/signatures.json
+
+DIR/index.html is for the instructor: scores, cases by failure rate, the slips the mutant library
+recognises, incidents, similar submissions. DIR/students/NAME.html is one student's own page, which
+names no other student. Everything is in the files: no script, font or picture is fetched.
+"""
+
+from __future__ import annotations
+
+import shutil
+import time
+from pathlib import Path
+
+from ..common import BUILD, ROOT, KitError, load_steps, say, writable_parent
+from ..packages import ensure_packages
+from ..status import FAILED, OK
+
+
+def register(p) -> None:
+    p.add_argument("grading", metavar="GRADING_DIR", nargs="?",
+                   help="a saved grading: grades.csv, json/ (./kit grade --json-dir) and, for the similarity "
+                        "section, files/ (written by ./kit grade --report)")
+    p.add_argument("--out", metavar="DIR", help="the report's folder (default: build/report)")
+    p.add_argument("--submissions", metavar="DIR",
+                   help="the class's uploads, to compare the submissions (saved into GRADING_DIR/files/)")
+    p.add_argument("--signatures", action="store_true",
+                   help="grade every mutant of tests/mutants/ and write tests/mutants/signatures.json")
+
+
+def run(args) -> int:
+    if args.signatures:
+        if args.grading:
+            raise KitError("--signatures takes no GRADING_DIR")
+        if not (ROOT / "solutions").is_dir():
+            raise KitError("the signatures are computed from solutions/, which this copy of the kit does not have")
+        from ..report import signatures
+        start = time.monotonic()
+        data = signatures.compute(lambda line: say("  " + line))
+        signatures.write(data)
+        say(f"wrote {signatures.FILE.relative_to(ROOT)}: {len(data['mutants'])} mutants in "
+            f"{time.monotonic() - start:.0f} s")
+        for p in data["problems"]:
+            say(f"  not recorded: {p}")
+        return FAILED if data["problems"] else OK
+    if not args.grading:
+        raise KitError("give a saved grading folder (./kit report GRADING_DIR) or --signatures")
+    folder = Path(args.grading)
+    out = Path(args.out) if args.out else BUILD / "report"
+    if args.submissions:
+        submissions = Path(args.submissions)
+        if not submissions.is_dir():
+            raise KitError(f"--submissions {args.submissions}: no such folder")
+        from ..report.grading import load
+        names = [s.name for s in load(folder).students]
+        save_submissions(submissions, names, folder)
+    return write_report(folder, out)
+
+
+def uploads(submissions: Path) -> dict[str, Path]:
+    """Each upload of the class by the student's name, as ./kit grade names them."""
+    return {(p.stem if p.is_file() else p.name): p for p in sorted(submissions.iterdir())
+            if not p.name.startswith(".") and (p.is_dir() or (p.is_file() and p.suffix.lower() == ".zip"))}
+
+
+def save_submissions(submissions: Path, names: list[str], folder: Path) -> None:
+    from ..report.grading import save_files
+    found = uploads(submissions)
+    for note in save_files({n: found[n] for n in names if n in found}, load_steps(), folder / "files",
+                           BUILD / "report-upload"):
+        say(f"  {note}")
+
+
+def write_report(folder: Path, out: Path) -> int:
+    from ..report.pages import build
+    writable_parent(f"--out {out}", out)
+    if out.exists() and not out.is_dir():
+        raise KitError(f"--out {out}: is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise KitError(f"--out {out}: cannot make the folder ({e.strerror})")
+    try:    # sim_c++ and matplotlib: without them the report says what it left out, and goes on
+        ensure_packages("report")
+    except KitError as e:
+        say(f"  note: {str(e).splitlines()[0]}")
+    start = time.monotonic()
+    try:
+        summary = build(folder, out)
+    except OSError as e:
+        raise KitError(f"--out {out}: cannot write the report ({e.strerror}: {e.filename})")
+    say(f"wrote {out / 'index.html'} and {summary['students']} student pages in {time.monotonic() - start:.1f} s")
+    for note in summary["notes"]:
+        say(f"  note: {note}")
+    return OK
+
+
+def from_grade(args, csv_path: Path, json_dir: Path) -> int:
+    """./kit grade --report DIR: keeps the grading in DIR/grading/ and writes the report in DIR."""
+    out = Path(args.report)
+    grading = out / "grading"
+    (grading / "json").mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(csv_path, grading / "grades.csv")
+    if json_dir.resolve() != (grading / "json").resolve():
+        for p in json_dir.glob("*.json"):
+            shutil.copyfile(p, grading / "json" / p.name)
+    from ..report.grading import load
+    save_submissions(Path(args.submissions), [s.name for s in load(grading).students], grading)
+    return write_report(grading, out)

@@ -1,0 +1,130 @@
+"""A saved grading, read back: the CSV of ./kit grade and each student's results JSON.
+
+A grading folder holds grades.csv (or one other .csv), the students' JSON in json/ (STUDENT.json, the
+Gradescope format of ./kit check --json), and, when the submissions were given, the step files each
+one was graded on in files/STUDENT/NN_topic/ (for the similarity section).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+import shutil
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..common import KitError, Step
+
+
+@dataclass
+class Student:
+    name: str
+    row: dict                           # the CSV row
+    data: dict | None = None            # the results JSON, when the submission was graded
+    page: str = ""                      # students/<page>.html
+
+    @property
+    def earned(self):
+        return _number(self.row.get("earned"))
+
+    @property
+    def maximum(self):
+        return _number(self.row.get("maximum"))
+
+    def steps(self) -> list[dict]:
+        return (self.data or {}).get("extra_data", {}).get("steps", [])
+
+    def step(self, number: str) -> dict | None:
+        return next((s for s in self.steps() if s.get("step") == number), None)
+
+
+@dataclass
+class Grading:
+    folder: Path
+    csv_path: Path
+    students: list[Student]
+    files: Path | None                  # files/STUDENT/NN_topic/..., or None
+    problems: list[str] = field(default_factory=list)     # disagreements between the CSV and the JSON
+
+
+def _number(text):
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        return None
+    return int(value) if value == int(value) else value
+
+
+def page_name(name: str, used: set) -> str:
+    base = re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("._") or "student"
+    page, n = base, 2
+    while page.lower() in used:
+        page, n = f"{base}_{n}", n + 1
+    used.add(page.lower())
+    return page
+
+
+def load(folder: Path) -> Grading:
+    if not folder.is_dir():
+        raise KitError(f"{folder}: no such folder (a saved grading: grades.csv and json/)")
+    csv_path = folder / "grades.csv"
+    if not csv_path.is_file():
+        found = sorted(folder.glob("*.csv"))
+        if len(found) != 1:
+            raise KitError(f"{folder}: holds {'no' if not found else len(found)} .csv files; a saved grading "
+                           "holds grades.csv (./kit grade --out) and json/ (./kit grade --json-dir)")
+        csv_path = found[0]
+    json_dir = folder / "json" if (folder / "json").is_dir() else folder
+    try:
+        with csv_path.open(newline="") as f:
+            rows = list(csv.DictReader(f))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise KitError(f"{csv_path}: cannot read it ({e})")
+    if not rows or "student" not in rows[0] or "earned" not in rows[0]:
+        raise KitError(f"{csv_path}: not a CSV of ./kit grade (no student and earned columns, or no rows)")
+    students, problems, used = [], [], set()
+    for row in rows:
+        s = Student(row["student"], row)
+        path = json_dir / f"{s.name}.json"
+        if path.is_file():
+            try:
+                s.data = json.loads(path.read_text())
+                s.data["extra_data"]["steps"]
+            except (OSError, ValueError, KeyError, TypeError) as e:
+                problems.append(f"{path.name}: not a results JSON of ./kit check ({type(e).__name__}); left out")
+                s.data = None
+        if s.data is not None and (s.data.get("score") != s.earned or
+                                   s.data["extra_data"].get("max_score") != s.maximum):
+            problems.append(f"{s.name}: the CSV says {s.earned} / {s.maximum}, the JSON "
+                            f"{s.data.get('score')} / {s.data['extra_data'].get('max_score')}")
+        if s.data is None and s.earned is not None:
+            problems.append(f"{s.name}: graded in the CSV, but {path.name} is missing: no details")
+        s.page = page_name(s.name, used)
+        students.append(s)
+    files = folder / "files" if (folder / "files").is_dir() else None
+    return Grading(folder, csv_path, students, files, problems)
+
+
+def save_files(students: dict[str, Path], steps: list[Step], target: Path, work: Path) -> list[str]:
+    """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/."""
+    from ..submissions import NotFound, locate
+
+    notes = []
+    shutil.rmtree(target, ignore_errors=True)
+    for name, upload in students.items():
+        try:
+            found = locate(upload, work, steps)
+        except NotFound:
+            continue
+        except Exception as e:          # an upload the grading already reported on: no files, say so
+            notes.append(f"{name}: its files could not be read ({e})")
+            continue
+        for s in steps:
+            for f in s.files:
+                src = found.steps_dir / s.folder / f
+                if src.is_file():
+                    (target / name / s.folder).mkdir(parents=True, exist_ok=True)
+                    shutil.copyfile(src, target / name / s.folder / f)
+    shutil.rmtree(work, ignore_errors=True)
+    return notes
