@@ -351,10 +351,16 @@
     const pts = [[state.ox, state.oy], [state.ox + state.dx, state.oy + state.dy]];
     const r = Number.isFinite(state.r) && state.r > 0 ? state.r : 0;
     pts.push([state.cx - r, state.cy - r], [state.cx + r, state.cy + r]);
+    // The window's ends too, when they are finite and not far beyond the rest.
+    const near = Math.hypot(state.ox - state.cx, state.oy - state.cy) + r + Math.hypot(state.dx, state.dy);
+    for (const t of [state.tmin, state.tmax]) {
+      const px = state.ox + t * state.dx, py = state.oy + t * state.dy;
+      if (Number.isFinite(px) && Number.isFinite(py) && Math.hypot(px - state.ox, py - state.oy) < 4 * near) pts.push([px, py]);
+    }
     let xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
     if (zoom === "sphere") { xs = [state.cx - 1.6 * r, state.cx + 1.6 * r]; ys = [state.cy - 1.6 * r, state.cy + 1.6 * r]; }
     const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
-    const span = Math.max((x1 - x0) / (W - 80), (y1 - y0) / (H - 80), 1e-30);
+    const span = Math.max((x1 - x0) / (W - 160), (y1 - y0) / (H - 100), 1e-30);
     view = { cx: (x0 + x1) / 2, cy: (y0 + y1) / 2, scale: 1 / span };
     if (!Number.isFinite(view.scale) || !Number.isFinite(view.cx) || !Number.isFinite(view.cy)) view = { cx: 0, cy: 0, scale: 60 };
   }
