@@ -267,26 +267,38 @@ def ensure_docs_tools() -> None:
         raise KitError("doxygen is not on the PATH; install it: sudo apt-get install doxygen", SETUP)
 
 
-def mathjax_root() -> Path:
-    """The MathJax package, installed once into build/docs/npm at the version docs/package-lock.json pins."""
+def npm_package(name: str, needed: str, what: str) -> Path:
+    """A package of docs/package.json (MathJax, reveal.js), installed once into build/docs/npm at the
+    versions docs/package-lock.json pins; `needed` is a file it must have."""
     lock = json.loads((DOCS / "package-lock.json").read_text())
-    version = lock["packages"]["node_modules/mathjax"]["version"]
-    root = NPM_DIR / "node_modules" / "mathjax"
-    try:
-        if json.loads((root / "package.json").read_text())["version"] == version:
-            return root
-    except (OSError, ValueError, KeyError):
-        pass
+    wanted = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
+              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+    root = NPM_DIR / "node_modules" / name
+
+    def installed(pkg: str) -> str | None:
+        try:
+            return json.loads((NPM_DIR / "node_modules" / pkg / "package.json").read_text())["version"]
+        except (OSError, ValueError, KeyError):
+            return None
+
+    if all(installed(p) == v for p, v in wanted.items()) and (root / needed).is_file():
+        return root
     NPM_DIR.mkdir(parents=True, exist_ok=True)
     for f in ("package.json", "package-lock.json"):
         shutil.copyfile(DOCS / f, NPM_DIR / f)
-    note(f"kit: installing MathJax {version} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
+    versions = ", ".join(f"{p} {v}" for p, v in sorted(wanted.items()))
+    note(f"kit: installing {versions} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
     r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
                        cwd=NPM_DIR, capture_output=True, text=True)
-    if r.returncode != 0 or not (root / "es5" / "tex-svg.js").is_file():
-        raise KitError("npm could not install MathJax, which typesets the formulas "
+    if r.returncode != 0 or not (root / needed).is_file():
+        raise KitError(f"npm could not install {name}, which {what} "
                        f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
     return root
+
+
+def mathjax_root() -> Path:
+    """The MathJax package, installed once into build/docs/npm at the version docs/package-lock.json pins."""
+    return npm_package("mathjax", "es5/tex-svg.js", "typesets the formulas")
 
 
 def doxyfile(out: Path, gen: Path, c: Content, instructor: bool) -> str:
