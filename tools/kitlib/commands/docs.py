@@ -43,6 +43,11 @@ AWESOME = Path("/usr/share/doxygen-awesome-css")
 MATHJAX_FILES = ["es5/tex-svg.js", "es5/input/tex/extensions", "es5/ui"]
 IMAGE_SUFFIXES = (".png", ".svg", ".jpg", ".jpeg")
 PITFALLS_PAGE = DOCS / "pitfalls.md"     # its pictures are drawn at each build (picture.PITFALLS)
+LAB = DOCS / "lab"                      # the ray-sphere lab, copied into the site as lab/ (not its check/)
+SLIDES = ROOT / "lectures" / "slides"   # the decks, built into the site as slides/ (commands/slides.py)
+# Links the lectures and task pages make to the lab and the decks, as the site's pages reach them.
+SITE_LINKS = [(re.compile(r'href="(?:\.\./)+docs/lab/index\.html"'), 'href="lab/index.html"'),
+              (re.compile(r'href="(?:\.\./)*(?:lectures/)?slides/(\d\d-[\w-]+)\.md"'), r'href="slides/\1.html"')]
 
 
 # --- what the site is made of ---------------------------------------------------------
@@ -212,6 +217,17 @@ def front_page(c: Content, instructor: bool) -> str:
                 f"- \\ref {page_id(PITFALLS_PAGE)} \"{label(title_of(PITFALLS_PAGE, 'Classic pitfalls'))}\": "
                 "a tangent, an origin inside, a sphere behind, the window's ends, a ray parallel to a "
                 "rectangle, drawn the way `./kit check` draws a failing case", ""]
+    if LAB.is_dir() or SLIDES.is_dir():
+        out += ["## Play and present", ""]
+        if LAB.is_dir():
+            out.append('- <a href="lab/index.html">The ray–sphere lab</a>: drag the ray and the sphere (or type '
+                       "them, or move them with the arrow keys) and watch the roots, the window and lecture 03's "
+                       "figure; every formula in float32 and in double, with its error in ulps against the exact "
+                       "roots; presets from the graded cases")
+        if SLIDES.is_dir():
+            out.append('- <a href="slides/index.html">The slide decks</a>: one per lecture, for presenting '
+                       "(S shows the speaker notes); `./kit slides --pdf` also prints them")
+        out.append("")
     out += ["## The API", "",
             "Every type and function a step uses or asks you to write, with its contract: units, "
             "preconditions, the closed window \\f$t_\\min \\le t \\le t_\\max\\f$, what a tangent "
@@ -365,6 +381,8 @@ def finish_html(site: Path, mathjax: Path) -> None:
         text = page.read_text(encoding="utf-8")
         # Figures get their caption as alt text, for screen readers and broken links.
         new = IMG_WITHOUT_ALT.sub(caption_as_alt, SVG_OBJECT.sub(svg_as_img, POLYFILL.sub("", text)))
+        for pattern, target in SITE_LINKS:
+            new = pattern.sub(target, new)
         if new != text:
             page.write_text(new, encoding="utf-8")
     for rel in MATHJAX_FILES:
@@ -419,6 +437,11 @@ def build_site(instructor: bool = False) -> Site:
             raise KitError("doxygen failed:\n" + "\n".join((r.stdout + r.stderr).splitlines()[-20:]
                                                             + warnings[:20]), FAILED)
         finish_html(work / "html", mathjax)
+        if LAB.is_dir():
+            shutil.copytree(LAB, work / "html" / "lab", ignore=shutil.ignore_patterns("check"))
+        if SLIDES.is_dir():
+            from .slides import build as build_decks
+            build_decks(work / "html" / "slides")
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
         raise
