@@ -419,7 +419,10 @@
     ex.t.slice(0, ex.count === 1 ? 1 : 2).forEach((t, i) => {
       const x = sx(state.ox + t * state.dx), y = sy(state.oy + t * state.dy);
       el("circle", { cx: x, cy: y, r: 5, class: t === hit ? "root hit" : "root" });
-      el("text", { x: x + 8, y: y - 8 - 14 * i, class: "label root-label" }, undefined, `t${ex.count === 1 ? "" : i} = ${fmt(t)}`);
+      // t0 below and before its point, t1 above and after: apart even on a short chord
+      el("text", i === 0 ? { x: x - 8, y: y + 20, "text-anchor": "end", class: "label root-label" }
+                         : { x: x + 8, y: y - 10, class: "label root-label" },
+         undefined, `t${ex.count === 1 ? "" : i} = ${fmt(t)}`);
     });
     if (hit !== null) {
       const x = sx(state.ox + hit * state.dx), y = sy(state.oy + hit * state.dy);
@@ -513,7 +516,7 @@
     $("#case-name").textContent = p.kase;
     $("#case-section").textContent = p.section;
     set(p.s);
-    zoom = name.startsWith("far") ? "sphere" : "fit";
+    zoom = Math.hypot(state.ox - state.cx, state.oy - state.cy) > 50 * state.r ? "sphere" : "fit";   // far: look at the sphere
     $("#zoom").value = zoom;
     update(true);
     return name;

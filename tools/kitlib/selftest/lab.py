@@ -232,6 +232,46 @@ def selftest_lab(ctx) -> str:
             f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
 
 
+def selftest_lab_keyboard(ctx) -> str:
+    """Without a mouse: Tab reaches a handle, the arrow keys move it, typing sets a value exactly."""
+    browser, chromium = _browser()
+
+    def key(b, name: str, code: int) -> None:
+        for kind in ("rawKeyDown", "keyUp"):
+            b.call("Input.dispatchKeyEvent", session=True, type=kind, key=name, code=name,
+                   windowsVirtualKeyCode=code)
+
+    try:
+        with browser.Browser(chromium, 1280, 1000) as b:
+            errors = attach_log(b)
+            b.open((LAB / "index.html").as_uri())
+            b.evaluate("raykitLab.load('two-hits')")
+            before = b.evaluate("raykitLab.inputs()")
+            b.evaluate("document.querySelector('#handle-centre').focus()")
+            key(b, "ArrowUp", 38)
+            key(b, "ArrowRight", 39)
+            after = b.evaluate("raykitLab.inputs()")
+            expect(after["cy"] > before["cy"] and after["cx"] > before["cx"],
+                   f"the arrow keys did not move the focused centre handle: {before} -> {after}")
+            expect(after["ox"] == before["ox"], "the arrow keys moved a handle that was not selected")
+            # Typing: the radius field, a value that is not a float, shown rounded to float32.
+            b.evaluate("(() => { const i = document.querySelector('#in-r'); i.focus(); i.value = '0.1';"
+                       " i.dispatchEvent(new Event('input')); })()")
+            shown = b.evaluate("document.querySelector('#f32-r').textContent")
+            expect(shown == "0.100000001", f"typing r = 0.1 shows {shown!r} as its float32, not 0.100000001")
+            # Tab order: from the origin handle, Tab reaches the direction's tip.
+            b.evaluate("document.querySelector('#handle-origin').focus()")
+            key(b, "Tab", 9)
+            focused = b.evaluate("document.activeElement && document.activeElement.id")
+            expect(focused == "handle-tip", f"Tab from the origin handle went to {focused!r}")
+            expect(not errors, f"console errors: {errors[:3]}")
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
+    return ("arrow keys move the focused handle (centre: "
+            f"({before['cx']:g}, {before['cy']:g}) -> ({after['cx']:.3g}, {after['cy']:.3g})), Tab walks the handles, "
+            "typed r = 0.1 shows its float32 0.100000001")
+
+
 def selftest_lab_catches(ctx) -> str:
     """A lab whose textbook discriminant skips a rounding (a fused multiply-add) must fail the check."""
     need_solutions()
@@ -259,5 +299,6 @@ def selftest_lab_catches(ctx) -> str:
 def selftests() -> list:
     return [
         ("lab: every preset's numbers against the C++ reference", selftest_lab),
+        ("lab: works from the keyboard", selftest_lab_keyboard),
         ("lab: a wrong float32 formula is caught", selftest_lab_catches),
     ]
