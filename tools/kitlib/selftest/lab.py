@@ -233,7 +233,7 @@ def selftest_lab(ctx) -> str:
 
 
 def selftest_lab_keyboard(ctx) -> str:
-    """Without a mouse: Tab reaches a handle, the arrow keys move it, typing sets a value exactly."""
+    """Without a mouse: Tab reaches a handle, the arrow keys move it, typing sets a value exactly; and a drag."""
     browser, chromium = _browser()
 
     def key(b, name: str, code: int) -> None:
@@ -264,10 +264,21 @@ def selftest_lab_keyboard(ctx) -> str:
             key(b, "Tab", 9)
             focused = b.evaluate("document.activeElement && document.activeElement.id")
             expect(focused == "handle-tip", f"Tab from the origin handle went to {focused!r}")
+            # And with a mouse: drag the radius handle 40 px to the right.
+            b.evaluate("raykitLab.load('two-hits')")
+            x, y = b.evaluate("(() => { const r = document.querySelector('#handle-radius').getBoundingClientRect();"
+                              " return [r.left + r.width / 2, r.top + r.height / 2]; })()")
+            r0 = b.evaluate("raykitLab.inputs().r")
+            for kind, px, buttons in (("mousePressed", x, 1), ("mouseMoved", x + 20, 1), ("mouseMoved", x + 40, 1),
+                                      ("mouseReleased", x + 40, 0)):
+                b.call("Input.dispatchMouseEvent", session=True, type=kind, x=px, y=y, button="left",
+                       buttons=buttons, clickCount=1)
+            r1 = b.evaluate("raykitLab.inputs().r")
+            expect(r1 > r0, f"dragging the radius handle 40 px outwards left r at {r0} (now {r1})")
             expect(not errors, f"console errors: {errors[:3]}")
     except browser.BrowserError as e:
         raise Failed(f"headless Chromium: {e}") from None
-    return ("arrow keys move the focused handle (centre: "
+    return (f"a drag of the radius handle sets r {r0:g} -> {r1:.4g}; arrow keys move the focused handle (centre: "
             f"({before['cx']:g}, {before['cy']:g}) -> ({after['cx']:.3g}, {after['cy']:.3g})), Tab walks the handles, "
             "typed r = 0.1 shows its float32 0.100000001")
 
@@ -299,6 +310,6 @@ def selftest_lab_catches(ctx) -> str:
 def selftests() -> list:
     return [
         ("lab: every preset's numbers against the C++ reference", selftest_lab),
-        ("lab: works from the keyboard", selftest_lab_keyboard),
+        ("lab: works from the keyboard, and by dragging", selftest_lab_keyboard),
         ("lab: a wrong float32 formula is caught", selftest_lab_catches),
     ]
