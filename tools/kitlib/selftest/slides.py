@@ -6,7 +6,7 @@
 - in Chromium at 1280x720, offline: every slide of every deck is shown, and every element of it must lie
   inside the slide's 1280x720 box, no element may scroll (a table or code wider than its box), MathJax
   must have typeset the formulas with no error and no raw TeX left; no console error, no request to
-  the network. A screenshot of each slide lands in build/slides/screenshots/;
+  the network. A screenshot of each slide lands in build/slides-screenshots/;
 - the measure can fail: a deck with a slide too long for the box must be caught.
 """
 
@@ -21,7 +21,7 @@ from ..commands import slides as cmd_slides
 from ..packages import ensure_packages
 from .harness import Failed, Skipped, expect
 
-SCREENSHOTS = BUILD / "slides" / "screenshots"
+SCREENSHOTS = BUILD / "slides-screenshots"     # beside the decks: ./kit slides replaces build/slides whole
 
 MEASURE = """(() => {
   const box = document.querySelector('.reveal .slides').getBoundingClientRect();
