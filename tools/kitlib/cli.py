@@ -50,6 +50,7 @@ COMMANDS = [
     Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
     Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
     Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
+    Command("slides", "slides", INSTRUCTOR, "write a slide deck per lecture (lectures/slides/) as offline HTML, --pdf also PDF"),
     Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
 ]
 

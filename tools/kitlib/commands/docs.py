@@ -43,6 +43,11 @@ AWESOME = Path("/usr/share/doxygen-awesome-css")
 MATHJAX_FILES = ["es5/tex-svg.js", "es5/input/tex/extensions", "es5/ui"]
 IMAGE_SUFFIXES = (".png", ".svg", ".jpg", ".jpeg")
 PITFALLS_PAGE = DOCS / "pitfalls.md"     # its pictures are drawn at each build (picture.PITFALLS)
+LAB = DOCS / "lab"                      # the ray-sphere lab, copied into the site as lab/ (not its check/)
+SLIDES = ROOT / "lectures" / "slides"   # the decks, built into the site as slides/ (commands/slides.py)
+# Links the lectures and task pages make to the lab and the decks, as the site's pages reach them.
+SITE_LINKS = [(re.compile(r'href="(?:\.\./)+docs/lab/index\.html"'), 'href="lab/index.html"'),
+              (re.compile(r'href="(?:\.\./)*(?:lectures/)?slides/(\d\d-[\w-]+)\.md"'), r'href="slides/\1.html"')]
 
 
 # --- what the site is made of ---------------------------------------------------------
@@ -212,6 +217,17 @@ def front_page(c: Content, instructor: bool) -> str:
                 f"- \\ref {page_id(PITFALLS_PAGE)} \"{label(title_of(PITFALLS_PAGE, 'Classic pitfalls'))}\": "
                 "a tangent, an origin inside, a sphere behind, the window's ends, a ray parallel to a "
                 "rectangle, drawn the way `./kit check` draws a failing case", ""]
+    if LAB.is_dir() or SLIDES.is_dir():
+        out += ["## Play and present", ""]
+        if LAB.is_dir():
+            out.append('- <a href="lab/index.html">The ray–sphere lab</a>: drag the ray and the sphere (or type '
+                       "them, or move them with the arrow keys) and watch the roots, the window and lecture 03's "
+                       "figure; every formula in float32 and in double, with its error in ulps against the exact "
+                       "roots; presets from the graded cases")
+        if SLIDES.is_dir():
+            out.append('- <a href="slides/index.html">The slide decks</a>: one per lecture, for presenting '
+                       "(S shows the speaker notes); `./kit slides --pdf` also prints them")
+        out.append("")
     out += ["## The API", "",
             "Every type and function a step uses or asks you to write, with its contract: units, "
             "preconditions, the closed window \\f$t_\\min \\le t \\le t_\\max\\f$, what a tangent "
@@ -267,26 +283,38 @@ def ensure_docs_tools() -> None:
         raise KitError("doxygen is not on the PATH; install it: sudo apt-get install doxygen", SETUP)
 
 
-def mathjax_root() -> Path:
-    """The MathJax package, installed once into build/docs/npm at the version docs/package-lock.json pins."""
+def npm_package(name: str, needed: str, what: str) -> Path:
+    """A package of docs/package.json (MathJax, reveal.js), installed once into build/docs/npm at the
+    versions docs/package-lock.json pins; `needed` is a file it must have."""
     lock = json.loads((DOCS / "package-lock.json").read_text())
-    version = lock["packages"]["node_modules/mathjax"]["version"]
-    root = NPM_DIR / "node_modules" / "mathjax"
-    try:
-        if json.loads((root / "package.json").read_text())["version"] == version:
-            return root
-    except (OSError, ValueError, KeyError):
-        pass
+    wanted = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
+              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+    root = NPM_DIR / "node_modules" / name
+
+    def installed(pkg: str) -> str | None:
+        try:
+            return json.loads((NPM_DIR / "node_modules" / pkg / "package.json").read_text())["version"]
+        except (OSError, ValueError, KeyError):
+            return None
+
+    if all(installed(p) == v for p, v in wanted.items()) and (root / needed).is_file():
+        return root
     NPM_DIR.mkdir(parents=True, exist_ok=True)
     for f in ("package.json", "package-lock.json"):
         shutil.copyfile(DOCS / f, NPM_DIR / f)
-    note(f"kit: installing MathJax {version} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
+    versions = ", ".join(f"{p} {v}" for p, v in sorted(wanted.items()))
+    note(f"kit: installing {versions} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
     r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
                        cwd=NPM_DIR, capture_output=True, text=True)
-    if r.returncode != 0 or not (root / "es5" / "tex-svg.js").is_file():
-        raise KitError("npm could not install MathJax, which typesets the formulas "
+    if r.returncode != 0 or not (root / needed).is_file():
+        raise KitError(f"npm could not install {name}, which {what} "
                        f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
     return root
+
+
+def mathjax_root() -> Path:
+    """The MathJax package, installed once into build/docs/npm at the version docs/package-lock.json pins."""
+    return npm_package("mathjax", "es5/tex-svg.js", "typesets the formulas")
 
 
 def doxyfile(out: Path, gen: Path, c: Content, instructor: bool) -> str:
@@ -353,6 +381,8 @@ def finish_html(site: Path, mathjax: Path) -> None:
         text = page.read_text(encoding="utf-8")
         # Figures get their caption as alt text, for screen readers and broken links.
         new = IMG_WITHOUT_ALT.sub(caption_as_alt, SVG_OBJECT.sub(svg_as_img, POLYFILL.sub("", text)))
+        for pattern, target in SITE_LINKS:
+            new = pattern.sub(target, new)
         if new != text:
             page.write_text(new, encoding="utf-8")
     for rel in MATHJAX_FILES:
@@ -407,6 +437,11 @@ def build_site(instructor: bool = False) -> Site:
             raise KitError("doxygen failed:\n" + "\n".join((r.stdout + r.stderr).splitlines()[-20:]
                                                             + warnings[:20]), FAILED)
         finish_html(work / "html", mathjax)
+        if LAB.is_dir():
+            shutil.copytree(LAB, work / "html" / "lab", ignore=shutil.ignore_patterns("check"))
+        if SLIDES.is_dir():
+            from .slides import build as build_decks
+            build_decks(work / "html" / "slides")
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
         raise

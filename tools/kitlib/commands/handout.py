@@ -35,6 +35,9 @@ EXCLUDED = [
     "tests/support/reference_roots.hpp",                   # the exact roots: a handout has the data instead
     "bench/reference",                                     # the benchmark's formulations and exact answers
     "tools/kitlib/commands/exact.py",                      # regenerates that data from the solutions
+    "docs/lab/check",                                      # the lab's C++ check: a textbook root function
+    # docs/lab/lab.js ships on purpose: the lab is for students. It is JavaScript, which no step can link
+    # and the scan does not read, and every formula it evaluates is printed in lectures 01-03.
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
 ]

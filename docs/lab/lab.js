@@ -1,0 +1,541 @@
+// The ray-sphere lab: a 2D cross-section (the plane through the ray and the centre) whose handles
+// can be dragged, typed and moved with the arrow keys, and the numbers of every formula of lectures
+// 01-03, in float32 and in double, with their error in ulps against the exact roots of the same
+// float inputs.
+//
+// Float32 arithmetic: Math.fround after every operation, which is what C++ computes for float
+// without FMA contraction (-ffp-contract=off): each +, -, *, / and sqrt of two floats is correctly
+// rounded, and rounding the exact double result of a float operation to float gives the correctly
+// rounded float result (double has more than 2 * 24 + 2 bits).
+//
+// Exact roots: every input is a float, a dyadic rational m 2^e, so a, h and c' are integers times a
+// common power of two, and so is the discriminant h^2 - a c'. BigInt holds them exactly. A root
+// (-h -+ sqrt(D)) / a is irrational in general; its nearest float is found by comparing the root
+// exactly with the midpoints between floats (squaring both sides: integers only).
+"use strict";
+
+(function () {
+  const F = Math.fround;
+
+  // --- floats as bits, ordered as in tests/support/ulps.hpp ----------------------------------------
+  const buf = new DataView(new ArrayBuffer(8));
+  function bitsOf(x) { buf.setFloat32(0, x); return buf.getInt32(0); }
+  function fromBits(b) { buf.setInt32(0, b | 0); return buf.getFloat32(0); }
+  function hexBits(x) { return "0x" + (bitsOf(x) >>> 0).toString(16).padStart(8, "0"); }
+  const INT32_MIN = -2147483648;
+  function ordered(x) { const b = bitsOf(x); return b >= 0 ? b : INT32_MIN - b; }
+  function fromOrdered(n) { return fromBits(n >= 0 ? n : INT32_MIN - n); }
+  // ulp_distance(a, b) of tests/support/ulps.hpp; Infinity for NaN (the C++ gives int64's max).
+  function ulps(a, b) {
+    if (Number.isNaN(a) || Number.isNaN(b)) return Infinity;
+    return Math.abs(ordered(a) - ordered(b));
+  }
+
+  // --- exact arithmetic on floats --------------------------------------------------------------------
+  // A finite float as [m, e] with x = m 2^e, m a BigInt.
+  function dyadic(x) {
+    if (x === 0) return [0n, 0];
+    buf.setFloat64(0, x);
+    const hi = buf.getUint32(0), lo = buf.getUint32(4);
+    const sign = hi >>> 31 ? -1n : 1n;
+    const bexp = (hi >>> 20) & 0x7ff;
+    let m = (BigInt(hi & 0xfffff) << 32n) | BigInt(lo);
+    let e;
+    if (bexp === 0) { e = -1074; } else { m |= 1n << 52n; e = bexp - 1075; }
+    return [sign * m, e];
+  }
+  const babs = (x) => (x < 0n ? -x : x);
+  const bsign = (x) => (x > 0n ? 1 : x < 0n ? -1 : 0);
+
+  // The exact quadratic of |o + t d - c|^2 = r^2 for float inputs (z = 0 in the plane), as
+  // integers A, H, C, D = H^2 - A C with a = A 2^(2E) etc.: the roots (-H -+ sqrt D) / A.
+  function exactQuadratic(s) {
+    const vals = [s.ox, s.oy, s.dx, s.dy, s.cx, s.cy, s.r].map(dyadic);
+    let E = Infinity;
+    for (const [m, e] of vals) if (m !== 0n) E = Math.min(E, e);
+    if (E === Infinity) E = 0;
+    const I = vals.map(([m, e]) => m << BigInt(e - E));
+    const [ox, oy, dx, dy, cx, cy, r] = I;
+    const fx = ox - cx, fy = oy - cy;
+    const A = dx * dx + dy * dy, H = fx * dx + fy * dy, C = fx * fx + fy * fy - r * r;
+    return { A, H, C, D: H * H - A * C, E };
+  }
+
+  // The sign of root - m, with root = (-H + sg sqrt D) / A (A > 0, D >= 0) and m = M 2^k exactly.
+  function compareRoot(q, sg, M, k) {
+    // root - m has the sign of sg sqrt(D) - (m A + H); scale by 2^max(0,-k) to stay integer.
+    let R, D = q.D;
+    if (k >= 0) R = (M << BigInt(k)) * q.A + q.H;
+    else { const s = BigInt(-k); R = M * q.A + (q.H << s); D = D << (2n * s); }
+    const sq = bsign(D - R * R);        // sign of sqrt(D) - |R|
+    if (sg > 0) return R < 0n ? 1 : sq;
+    return R > 0n ? -1 : -sq;
+  }
+  function compareRootFloat(q, sg, x) {       // sign of root - x for a float x
+    if (x === Infinity) return -1;
+    if (x === -Infinity) return 1;
+    const [m, e] = dyadic(x);
+    return compareRoot(q, sg, m, e);
+  }
+  function midpoint(x, y) {               // (x + y) / 2 exactly, as [M, k]
+    const [m1, e1] = dyadic(x), [m2, e2] = dyadic(y);
+    const e = Math.min(e1, e2);
+    return [(m1 << BigInt(e1 - e)) + (m2 << BigInt(e2 - e)), e - 1];
+  }
+  // The float nearest the root (ties to even), starting from a guess.
+  function roundRoot(q, sg, guess) {
+    let n = ordered(F(Number.isFinite(guess) ? guess : 0));
+    const MAXO = ordered(3.4028234663852886e38);
+    const clampO = (v) => Math.max(-MAXO, Math.min(MAXO, v));
+    // Bracket: lo <= root <= hi with floats lo, hi, by galloping, then bisect.
+    let step = 1, lo, hi;
+    if (compareRootFloat(q, sg, fromOrdered(n)) >= 0) {
+      lo = n; hi = clampO(n + step);
+      while (hi < MAXO && compareRootFloat(q, sg, fromOrdered(hi)) > 0) { lo = hi; step *= 2; hi = clampO(hi + step); }
+    } else {
+      hi = n; lo = clampO(n - step);
+      while (lo > -MAXO && compareRootFloat(q, sg, fromOrdered(lo)) < 0) { hi = lo; step *= 2; lo = clampO(lo - step); }
+    }
+    while (hi - lo > 1) {
+      const mid = Math.floor((lo + hi) / 2);
+      if (compareRootFloat(q, sg, fromOrdered(mid)) >= 0) lo = mid; else hi = mid;
+    }
+    if (lo === hi) return fromOrdered(lo);
+    const a = fromOrdered(lo), b = fromOrdered(hi);
+    if (compareRootFloat(q, sg, a) === 0) return a;
+    const [M, k] = midpoint(a, b);
+    const c = compareRoot(q, sg, M, k);
+    if (c < 0) return a;
+    if (c > 0) return b;
+    return (ordered(a) & 1) === 0 ? a : b;    // a tie: the even one
+  }
+  const P2 = (e) => Math.pow(2, e);
+  function exactRoots(s) {
+    const q = exactQuadratic(s);
+    const out = { q, count: 0, t: [], a: Number(q.A) * P2(2 * q.E), h: Number(q.H) * P2(2 * q.E),
+                  c: Number(q.C) * P2(2 * q.E), d4: Number(q.D) * P2(4 * q.E) };
+    if (!(s.r > 0) || !Number.isFinite(s.r) || q.A <= 0n || q.D < 0n) return out;
+    // A double guess; the rounding above makes it exact.
+    const a = Number(q.A), h = Number(q.H), sd = Math.sqrt(Number(q.D));
+    const scaleGuess = (v) => (Number.isFinite(v) ? v : 0);
+    if (q.D === 0n) { out.count = 1; const t = roundRoot(q, 1, scaleGuess(-h / a)); out.t = [t, t]; return out; }
+    out.count = 2;
+    out.t = [roundRoot(q, -1, scaleGuess((-h - sd) / a)), roundRoot(q, 1, scaleGuess((-h + sd) / a))];
+    return out;
+  }
+
+  // --- the formulas, in float32 (R = fround) or double (R = identity) -------------------------------
+  // Vectors are 3D with z = 0, the same operations in the same order as the C++ with glm::vec3.
+  const id = (x) => x;
+  function vec(R, s) {
+    return { o: [s.ox, s.oy, 0], d: [s.dx, s.dy, 0], c: [s.cx, s.cy, 0], r: s.r };
+  }
+  function sub3(R, u, v) { return [R(u[0] - v[0]), R(u[1] - v[1]), R(u[2] - v[2])]; }
+  function dot3(R, u, v) { return R(R(R(u[0] * v[0]) + R(u[1] * v[1])) + R(u[2] * v[2])); }
+  function scale3(R, k, v) { return [R(k * v[0]), R(k * v[1]), R(k * v[2])]; }
+  function cross3(R, u, v) {
+    return [R(R(u[1] * v[2]) - R(v[1] * u[2])), R(R(u[2] * v[0]) - R(v[2] * u[0])),
+            R(R(u[0] * v[1]) - R(v[0] * u[1]))];
+  }
+  function copysign(x, y) { return (y < 0 || Object.is(y, -0)) ? -Math.abs(x) : Math.abs(x); }
+  function countOf(disc) { return disc > 0 ? 2 : disc === 0 ? 1 : 0; }   // NaN: 0
+  function sorted(t0, t1) {
+    if (Number.isNaN(t0) || Number.isNaN(t1)) return null;
+    return t0 > t1 ? [t1, t0] : [t0, t1];
+  }
+  function result(a, h, c, d4, count, t) {
+    if (count === 0 || t === null) return { a, h, c, d4, count: 0, t: [] };
+    return { a, h, c, d4, count, t };
+  }
+
+  // Lecture 01: b = 2 f.d, b^2 - 4 a c', t = (-b -+ sqrt(b^2 - 4 a c')) / 2a.
+  function textbook(R, s) {
+    const v = vec(R, s), f = sub3(R, v.o, v.c);
+    const a = dot3(R, v.d, v.d);
+    const b = R(2 * dot3(R, f, v.d));
+    const c = R(dot3(R, f, f) - R(v.r * v.r));
+    const disc = R(R(b * b) - R(R(4 * a) * c));
+    const h = R(b / 2), d4 = R(disc / 4);
+    if (!(a > 0) || !(s.r > 0)) return result(a, h, c, d4, 0, null);
+    const n = countOf(disc);
+    if (n === 0) return result(a, h, c, d4, 0, null);
+    const sq = R(Math.sqrt(disc)), den = R(2 * a);
+    if (n === 1) { const t = R(R(-b) / den); return result(a, h, c, d4, 1, [t, t]); }
+    return result(a, h, c, d4, 2, sorted(R(R(-b - sq) / den), R(R(-b + sq) / den)));
+  }
+  // Lecture 01, section 3: the half b, h = f.d, D/4 = h^2 - a c', t = (-h -+ sqrt(D/4)) / a.
+  function halfB(R, s) {
+    const v = vec(R, s), f = sub3(R, v.o, v.c);
+    const a = dot3(R, v.d, v.d), h = dot3(R, f, v.d);
+    const c = R(dot3(R, f, f) - R(v.r * v.r));
+    const d4 = R(R(h * h) - R(a * c));
+    if (!(a > 0) || !(s.r > 0)) return result(a, h, c, d4, 0, null);
+    const n = countOf(d4);
+    if (n === 0) return result(a, h, c, d4, 0, null);
+    if (n === 1) { const t = R(R(-h) / a); return result(a, h, c, d4, 1, [t, t]); }
+    const sq = R(Math.sqrt(d4));
+    return result(a, h, c, d4, 2, sorted(R(R(-h - sq) / a), R(R(-h + sq) / a)));
+  }
+  // Lecture 03, sections 5 and 6: D/4 = a (r^2 - |f - (h/a) d|^2), then q = -(h + sign(h) sqrt),
+  // t = q / a and c' / q.
+  function rewrite(R, s) {
+    const v = vec(R, s), f = sub3(R, v.o, v.c);
+    const a = dot3(R, v.d, v.d), h = dot3(R, f, v.d);
+    const c = R(dot3(R, f, f) - R(v.r * v.r));
+    if (!(a > 0) || !(s.r > 0)) return result(a, h, c, NaN, 0, null);
+    const leg = sub3(R, f, scale3(R, R(h / a), v.d));
+    const d4 = R(a * R(R(v.r * v.r) - dot3(R, leg, leg)));
+    const n = countOf(d4);
+    if (n === 0) return result(a, h, c, d4, 0, null);
+    if (n === 1) { const t = R(R(-h) / a); return result(a, h, c, d4, 1, [t, t]); }
+    const qq = R(-R(h + copysign(R(Math.sqrt(d4)), h)));
+    return result(a, h, c, d4, 2, sorted(R(qq / a), R(c / qq)));
+  }
+  // The reference's form (solutions/02): Lagrange's identity D/4 = a r^2 - |f x d|^2, then
+  // t = (-h -+ sqrt(D/4)) / a. The reference computes it in double.
+  function lagrange(R, s) {
+    const v = vec(R, s), f = sub3(R, v.o, v.c);
+    const a = dot3(R, v.d, v.d), h = dot3(R, f, v.d);
+    const c = R(dot3(R, f, f) - R(v.r * v.r));
+    if (!(a > 0) || !(s.r > 0)) return result(a, h, c, NaN, 0, null);
+    const g = cross3(R, f, v.d);
+    const d4 = R(R(a * R(v.r * v.r)) - dot3(R, g, g));
+    const n = countOf(d4);
+    if (n === 0) return result(a, h, c, d4, 0, null);
+    if (n === 1) { const t = R(R(-h) / a); return result(a, h, c, d4, 1, [t, t]); }
+    const sq = R(Math.sqrt(d4));
+    return result(a, h, c, d4, 2, sorted(R(R(-h - sq) / a), R(R(-h + sq) / a)));
+  }
+  const FORMS = [
+    { id: "textbook", name: "textbook", where: "lecture 01, §3", fn: textbook },
+    { id: "halfb", name: "half b", where: "lecture 01, §3", fn: halfB },
+    { id: "rewrite", name: "leg + root pair", where: "lecture 03, §5–6", fn: rewrite },
+    { id: "lagrange", name: "reference (f × d)", where: "lecture 03, §5; solutions/02", fn: lagrange },
+  ];
+
+  // --- presets: the graded cases (in the plane of the drawing) --------------------------------------
+  // The far and grazing cases of tests/01_unit_sphere/test_robust.cpp aim from a 3D origin; here the
+  // origin is put in the plane at the same distance, and the ray passes the centre at the same offset.
+  function shot2d(ox, oy, missBy, length) {
+    const n = Math.hypot(ox, oy), sx = -oy / n, sy = ox / n;     // at right angles to o
+    const wx = missBy * sx - ox, wy = missBy * sy - oy, w = Math.hypot(wx, wy);
+    return { ox, oy, dx: length * wx / w, dy: length * wy / w };
+  }
+  const UNIT = { cx: 0, cy: 0, r: 1 };
+  const THROUGH = { ox: -3, oy: 0, dx: 1, dy: 0 };
+  const PRESETS = [
+    { id: "two-hits", title: "Two hits through the centre", kase: "two hits: a ray through the centre enters at t = 2 and leaves at t = 4",
+      section: "Lecture 01, §4. What the discriminant says", s: { ...THROUGH, ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "tangent", title: "Tangent", kase: "one hit: a tangent ray touches the sphere once",
+      section: "Lecture 01, §4. What the discriminant says", s: { ox: -2, oy: 1, dx: 1, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "inside", title: "Origin inside", kase: "origin inside but off centre",
+      section: "Lecture 01, §3. The quadratic's coefficients", s: { ox: 0.5, oy: 0, dx: 1, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "behind", title: "Sphere behind", kase: "sphere behind the ray: both roots negative",
+      section: "Lecture 01, §5. The closest root in a window", s: { ox: 3, oy: 0, dx: 1, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "at-tmin", title: "A root exactly at tmin", kase: "window: a root exactly at tmin counts",
+      section: "Lecture 01, §5. The closest root in a window", s: { ...THROUGH, ...UNIT, tmin: 2, tmax: 10 } },
+    { id: "before-tmin", title: "Near root before tmin", kase: "window: the near root before tmin gives the far root",
+      section: "Lecture 01, §5. The closest root in a window", s: { ...THROUGH, ...UNIT, tmin: 3, tmax: 10 } },
+    { id: "far-1000", title: "1000 radii away", kase: "the unit sphere seen from 1000 units away (★, in the plane)",
+      section: "Lecture 01, §6. Far and grazing rays; lecture 03, §5", s: { ...shot2d(600, -800, 0.6, 1), ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "far-10000", title: "10⁴ radii away", kase: "the unit sphere seen from 10000 units away (★, in the plane)",
+      section: "Lecture 01, §6. Far and grazing rays; lecture 03, §5", s: { ...shot2d(6000, -8000, 0.6, 1), ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "grazing", title: "Grazing", kase: "grazing rays near the silhouette of the unit sphere (★, in the plane)",
+      section: "Lecture 01, §6. Far and grazing rays; lecture 03, §5", s: { ...shot2d(-960, 200, 0.99, 1), ...UNIT, tmin: 0, tmax: Infinity } },
+    { id: "near-root", title: "Tiny root beside a big one", kase: "a tiny root beside a large one (lecture 03's example, in the plane)",
+      section: "Lecture 03, §6. Cancellation in the roots", s: { ox: 0.5, oy: 1001, dx: 0, dy: -1, cx: 0, cy: 0, r: 1000, tmin: 0, tmax: Infinity } },
+    { id: "zero-direction", title: "Zero direction", kase: "a zero direction is no ray: no roots",
+      section: "Lecture 01, §2. The ray meets the sphere", s: { ox: 0.5, oy: 0, dx: 0, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
+  ];
+
+  // --- state ----------------------------------------------------------------------------------------
+  const FIELDS = ["ox", "oy", "dx", "dy", "cx", "cy", "r", "tmin", "tmax"];
+  const state = {};          // the float32 inputs
+  let view = { cx: 0, cy: 0, scale: 60 };   // world point at the picture's centre, pixels per unit
+  let zoom = "fit";
+  const W = 640, H = 440;
+  const $ = (sel) => document.querySelector(sel);
+
+  function fmt(x) {
+    if (x === undefined) return "";
+    if (Number.isNaN(x)) return "NaN";
+    if (x === Infinity) return "inf";
+    if (x === -Infinity) return "-inf";
+    if (Object.is(x, -0)) return "-0";
+    return String(Number(x.toPrecision(9)));     // 9 digits: every float32 reads back to itself
+  }
+  function fmtD(x) {           // a double, 17 digits
+    if (!Number.isFinite(x) || x === 0) return fmt(x);
+    return String(Number(x.toPrecision(17)));
+  }
+  function parse(text) {
+    const t = text.trim().toLowerCase().replace(/\s+/g, "").replace("∞", "inf");
+    if (t === "inf" || t === "+inf" || t === "infinity") return Infinity;
+    if (t === "-inf" || t === "-infinity") return -Infinity;
+    if (!/^[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$/.test(t)) return NaN;
+    return Number(t);
+  }
+
+  function set(values, fromTyping) {
+    for (const k of FIELDS) if (k in values) state[k] = F(values[k]);
+    for (const k of FIELDS) {
+      const input = $(`#in-${k}`);
+      if (!fromTyping || document.activeElement !== input) input.value = fmt(state[k]);
+      input.removeAttribute("aria-invalid");
+      $(`#f32-${k}`).textContent = fmt(state[k]);
+      $(`#f32-${k}`).title = `float32 bits ${hexBits(state[k])}`;
+    }
+    update();
+  }
+
+  // --- the numbers ----------------------------------------------------------------------------------
+  function cell(id, text, cls) {
+    for (const el of document.querySelectorAll(`[data-cell="${id}"]`)) {
+      el.textContent = text;
+      el.className = cls || "";
+    }
+  }
+  function compute() {
+    const ex = exactRoots(state);
+    const out = { exact: ex, forms: {} };
+    for (const form of FORMS) {
+      out.forms[form.id] = { f32: form.fn(F, state), f64: form.fn(id, state) };
+    }
+    return out;
+  }
+  function closestInWindow(roots) {
+    for (const t of roots.t.slice(0, roots.count === 1 ? 1 : 2)) if (state.tmin <= t && t <= state.tmax) return t;
+    return null;
+  }
+  function showNumbers(res) {
+    const ex = res.exact;
+    cell("exact-a", fmtD(ex.a)); cell("exact-h", fmtD(ex.h)); cell("exact-c", fmtD(ex.c)); cell("exact-d4", fmtD(ex.d4));
+    cell("exact-count", String(ex.count));
+    cell("exact-t0", ex.count ? fmt(ex.t[0]) : "—"); cell("exact-t1", ex.count ? fmt(ex.t[1]) : "—");
+    const hit = closestInWindow(ex);
+    cell("exact-hit", hit === null ? "no hit" : fmt(hit));
+    for (const form of FORMS) {
+      for (const p of ["f32", "f64"]) {
+        const r = res.forms[form.id][p], key = `${form.id}-${p}`;
+        const show = p === "f32" ? fmt : fmtD;
+        cell(`${key}-a`, show(r.a)); cell(`${key}-h`, show(r.h)); cell(`${key}-c`, show(r.c)); cell(`${key}-d4`, show(r.d4));
+        cell(`${key}-count`, String(r.count), r.count === ex.count ? "" : "bad");
+        for (const i of [0, 1]) {
+          if (!r.count) { cell(`${key}-t${i}`, "—"); cell(`${key}-u${i}`, "—"); continue; }
+          const t = F(r.t[i]);            // a kit function returns float: the double forms round at the end
+          cell(`${key}-t${i}`, fmt(t));
+          if (r.count !== ex.count) { cell(`${key}-u${i}`, "count differs", "bad"); continue; }
+          const u = ulps(t, ex.t[i]);
+          cell(`${key}-u${i}`, u === Infinity ? "NaN" : String(u), u > 16 ? "bad" : u > 1 ? "warn" : "good");
+        }
+      }
+    }
+    const far = Math.hypot(state.ox - state.cx, state.oy - state.cy) / (state.r || 1);
+    $("#distance").textContent = `|f| / r = ${fmt(F(far))}`;
+  }
+
+  // --- the picture ----------------------------------------------------------------------------------
+  const NS = "http://www.w3.org/2000/svg";
+  const sx = (x) => W / 2 + (x - view.cx) * view.scale;
+  const sy = (y) => H / 2 - (y - view.cy) * view.scale;
+  const wx = (px) => view.cx + (px - W / 2) / view.scale;
+  const wy = (py) => view.cy - (py - H / 2) / view.scale;
+  function el(tag, attrs, parent, text) {
+    const e = document.createElementNS(NS, tag);
+    for (const k in attrs) e.setAttribute(k, attrs[k]);
+    if (text !== undefined) e.textContent = text;
+    (parent || $("#scene-layer")).appendChild(e);
+    return e;
+  }
+  function fit() {
+    const pts = [[state.ox, state.oy], [state.ox + state.dx, state.oy + state.dy]];
+    const r = Number.isFinite(state.r) && state.r > 0 ? state.r : 0;
+    pts.push([state.cx - r, state.cy - r], [state.cx + r, state.cy + r]);
+    // The window's ends too, when they are finite and not far beyond the rest.
+    const near = Math.hypot(state.ox - state.cx, state.oy - state.cy) + r + Math.hypot(state.dx, state.dy);
+    for (const t of [state.tmin, state.tmax]) {
+      const px = state.ox + t * state.dx, py = state.oy + t * state.dy;
+      if (Number.isFinite(px) && Number.isFinite(py) && Math.hypot(px - state.ox, py - state.oy) < 4 * near) pts.push([px, py]);
+    }
+    let xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
+    if (zoom === "sphere") { xs = [state.cx - 1.6 * r, state.cx + 1.6 * r]; ys = [state.cy - 1.6 * r, state.cy + 1.6 * r]; }
+    const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
+    const span = Math.max((x1 - x0) / (W - 160), (y1 - y0) / (H - 100), 1e-30);
+    view = { cx: (x0 + x1) / 2, cy: (y0 + y1) / 2, scale: 1 / span };
+    if (!Number.isFinite(view.scale) || !Number.isFinite(view.cx) || !Number.isFinite(view.cy)) view = { cx: 0, cy: 0, scale: 60 };
+  }
+  // The ray's points for t in [t0, t1], clipped to the picture.
+  function raySegment(t0, t1) {
+    const len = Math.hypot(state.dx, state.dy);
+    if (!(len > 0)) return null;
+    const reach = (Math.hypot(W, H) / view.scale + Math.hypot(state.ox - view.cx, state.oy - view.cy)) / len;
+    const a = Math.max(t0, -reach), b = Math.min(t1, reach);
+    if (!(a <= b)) return null;
+    return [sx(state.ox + a * state.dx), sy(state.oy + a * state.dy), sx(state.ox + b * state.dx), sy(state.oy + b * state.dy)];
+  }
+  function draw(res) {
+    const g = $("#scene-layer");
+    while (g.firstChild) g.removeChild(g.firstChild);
+    const ex = res.exact;
+    const pr = Math.max(state.r * view.scale, 2);
+    // the sphere
+    el("circle", { cx: sx(state.cx), cy: sy(state.cy), r: Number.isFinite(pr) ? pr : 0, class: "sphere" });
+    el("circle", { cx: sx(state.cx), cy: sy(state.cy), r: 3, class: "centre-dot" });
+    // the whole line, then the window [tmin, tmax] on it
+    const line = raySegment(-Infinity, Infinity);
+    if (line) el("line", { x1: line[0], y1: line[1], x2: line[2], y2: line[3], class: "line" });
+    const ray = raySegment(0, Infinity);
+    if (ray) el("line", { x1: ray[0], y1: ray[1], x2: ray[2], y2: ray[3], class: "ray" });
+    const win = raySegment(state.tmin, state.tmax);
+    if (win) el("line", { x1: win[0], y1: win[1], x2: win[2], y2: win[3], class: "window" });
+    // lecture 03's figure: L = c - o, the closest point at t_m, l_m at a right angle, the half chord dt
+    const a = state.dx * state.dx + state.dy * state.dy;
+    if (a > 0) {
+      const len = Math.sqrt(a), ux = state.dx / len, uy = state.dy / len;
+      const Lx = state.cx - state.ox, Ly = state.cy - state.oy;
+      const tmLen = Lx * ux + Ly * uy;                // t_m as a length along the unit direction
+      const px = state.ox + tmLen * ux, py = state.oy + tmLen * uy;
+      el("line", { x1: sx(state.ox), y1: sy(state.oy), x2: sx(state.cx), y2: sy(state.cy), class: "fig-L" });
+      el("line", { x1: sx(state.cx), y1: sy(state.cy), x2: sx(px), y2: sy(py), class: "fig-lm" });
+      const lm = Math.hypot(state.cx - px, state.cy - py);
+      // the right angle at the closest point
+      if (lm * view.scale > 14) {
+        const k = 9 / view.scale, nx = (state.cx - px) / lm, ny = (state.cy - py) / lm;
+        const q1 = [px - ux * k, py - uy * k], q3 = [px + nx * k, py + ny * k], q2 = [q1[0] + nx * k, q1[1] + ny * k];
+        el("polyline", { points: `${sx(q1[0])},${sy(q1[1])} ${sx(q2[0])},${sy(q2[1])} ${sx(q3[0])},${sy(q3[1])}`, class: "fig-right" });
+      }
+      el("circle", { cx: sx(px), cy: sy(py), r: 3.5, class: "fig-point" });
+      el("text", { x: sx(px) + 6, y: sy(py) + 16, class: "label" }, undefined, "t_m");
+      el("text", { x: (sx(px) + sx(state.cx)) / 2 + 6, y: (sy(py) + sy(state.cy)) / 2, class: "label" }, undefined, "ℓ_m");
+      el("text", { x: (sx(state.ox) + sx(state.cx)) / 2 - 10, y: (sy(state.oy) + sy(state.cy)) / 2 - 8, class: "label dim" }, undefined, "L");
+      if (ex.count > 0) {
+        const dt = Math.sqrt(Math.max(state.r * state.r - lm * lm, 0));
+        el("line", { x1: sx(px), y1: sy(py), x2: sx(px + dt * ux), y2: sy(py + dt * uy), class: "fig-dt" });
+        el("text", { x: sx(px + dt * ux / 2) + 4, y: sy(py + dt * uy / 2) - 8, class: "label" }, undefined, "Δt");
+      }
+    }
+    // the roots and the hit
+    const hit = closestInWindow(ex);
+    ex.t.slice(0, ex.count === 1 ? 1 : 2).forEach((t, i) => {
+      const x = sx(state.ox + t * state.dx), y = sy(state.oy + t * state.dy);
+      el("circle", { cx: x, cy: y, r: 5, class: t === hit ? "root hit" : "root" });
+      // t0 below and before its point, t1 above and after: apart even on a short chord
+      el("text", i === 0 ? { x: x - 8, y: y + 20, "text-anchor": "end", class: "label root-label" }
+                         : { x: x + 8, y: y - 10, class: "label root-label" },
+         undefined, `t${ex.count === 1 ? "" : i} = ${fmt(t)}`);
+    });
+    if (hit !== null) {
+      const x = sx(state.ox + hit * state.dx), y = sy(state.oy + hit * state.dy);
+      el("circle", { cx: x, cy: y, r: 10, class: "hit-ring" });
+    }
+    placeHandles();
+  }
+
+  // --- handles: drag, type, or move with the arrow keys -------------------------------------------------
+  const HANDLES = {
+    origin: { name: "ray origin o", get: () => [state.ox, state.oy], put: (x, y) => ({ ox: x, oy: y }) },
+    tip: { name: "direction tip o + d", get: () => [state.ox + state.dx, state.oy + state.dy], put: (x, y) => ({ dx: x - state.ox, dy: y - state.oy }) },
+    centre: { name: "sphere centre c", get: () => [state.cx, state.cy], put: (x, y) => ({ cx: x, cy: y }) },
+    radius: { name: "radius handle", get: () => [state.cx + state.r, state.cy], put: (x, y) => ({ r: Math.max(Math.hypot(x - state.cx, y - state.cy), 1e-6) }) },
+  };
+  let selected = "origin";
+  function placeHandles() {
+    for (const k in HANDLES) {
+      const h = $(`#handle-${k}`), [x, y] = HANDLES[k].get();
+      h.setAttribute("cx", Number.isFinite(sx(x)) ? sx(x) : -100);
+      h.setAttribute("cy", Number.isFinite(sy(y)) ? sy(y) : -100);
+      h.setAttribute("aria-label", `${HANDLES[k].name} at (${fmt(x)}, ${fmt(y)}); arrow keys move it`);
+      h.classList.toggle("selected", k === selected);
+    }
+    $("#handle-line").setAttribute("x1", sx(state.ox)); $("#handle-line").setAttribute("y1", sy(state.oy));
+    $("#handle-line").setAttribute("x2", sx(state.ox + state.dx)); $("#handle-line").setAttribute("y2", sy(state.oy + state.dy));
+  }
+  function moveHandle(k, x, y) {
+    set(HANDLES[k].put(x, y));
+  }
+  function select(k) {
+    selected = k;
+    $("#selected").textContent = HANDLES[k].name;
+    placeHandles();
+  }
+  function update(refit) {
+    if (refit) fit();
+    const res = compute();
+    lastResult = res;
+    showNumbers(res);
+    draw(res);
+  }
+  let lastResult = null;
+
+  function setupHandles() {
+    const svg = $("#scene");
+    let dragging = null;
+    const toWorld = (ev) => {
+      const box = svg.getBoundingClientRect();
+      return [wx((ev.clientX - box.left) * W / box.width), wy((ev.clientY - box.top) * H / box.height)];
+    };
+    for (const k in HANDLES) {
+      const h = $(`#handle-${k}`);
+      h.addEventListener("pointerdown", (ev) => { dragging = k; select(k); h.setPointerCapture(ev.pointerId); h.focus(); ev.preventDefault(); });
+      h.addEventListener("pointermove", (ev) => { if (dragging === k) { const [x, y] = toWorld(ev); moveHandle(k, x, y); } });
+      h.addEventListener("pointerup", () => { dragging = null; update(true); });
+      h.addEventListener("focus", () => select(k));
+      h.addEventListener("keydown", (ev) => {
+        const step = (ev.shiftKey ? 10 : ev.altKey ? 0.1 : 1) * 8 / view.scale;
+        const dirs = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, 1], ArrowDown: [0, -1] };
+        if (!(ev.key in dirs)) return;
+        ev.preventDefault();
+        const [x, y] = HANDLES[k].get();
+        moveHandle(k, x + dirs[ev.key][0] * step, y + dirs[ev.key][1] * step);
+      });
+    }
+  }
+  function setupInputs() {
+    for (const k of FIELDS) {
+      const input = $(`#in-${k}`);
+      input.addEventListener("input", () => {
+        const v = parse(input.value);
+        if (Number.isNaN(v) && input.value.trim().toLowerCase() !== "nan") { input.setAttribute("aria-invalid", "true"); return; }
+        set({ [k]: v }, true);
+      });
+      input.addEventListener("change", () => { set({}); update(true); });
+    }
+    $("#zoom").addEventListener("change", (ev) => { zoom = ev.target.value; update(true); });
+    const list = $("#presets");
+    for (const p of PRESETS) {
+      const b = document.createElement("button");
+      b.type = "button"; b.textContent = p.title; b.dataset.preset = p.id;
+      b.addEventListener("click", () => loadPreset(p.id));
+      list.appendChild(b);
+    }
+  }
+  function loadPreset(name) {
+    const p = PRESETS.find((q) => q.id === name);
+    if (!p) throw new Error(`no preset ${name}`);
+    for (const b of document.querySelectorAll("#presets button")) b.setAttribute("aria-pressed", String(b.dataset.preset === name));
+    $("#case-name").textContent = p.kase;
+    $("#case-section").textContent = p.section;
+    set(p.s);
+    zoom = Math.hypot(state.ox - state.cx, state.oy - state.cy) > 50 * state.r ? "sphere" : "fit";   // far: look at the sphere
+    $("#zoom").value = zoom;
+    update(true);
+    return name;
+  }
+
+  // What the self-test (tools/kitlib/selftest/lab.py) and the curious read: the page's state.
+  window.raykitLab = {
+    presets: PRESETS.map((p) => p.id),
+    load: loadPreset,
+    forms: FORMS.map((f) => f.id),
+    inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
+    exactRoots, ulps, hexBits,
+  };
+
+  document.addEventListener("DOMContentLoaded", () => {
+    setupInputs();
+    setupHandles();
+    const wanted = (location.hash || "").slice(1);
+    loadPreset(PRESETS.some((p) => p.id === wanted) ? wanted : "two-hits");
+    document.body.dataset.ready = "1";
+  });
+})();

@@ -1,0 +1,315 @@
+"""Self-test of the ray-sphere lab (docs/lab/), in headless Chromium.
+
+For each preset the page is loaded and its numbers are read from what it shows (the float32 inputs
+beside the fields, the roots and ulps in the table, all printed with 9 digits, which read back to the
+same float). A small C++ program (docs/lab/check/lab_check.cpp, built with -ffp-contract=off, linked
+with the reference solution of step 02) gets the same float inputs and answers:
+  - the page's exact roots equal the 113-bit roots of tests/support/reference_roots.hpp rounded to
+    float, and the reference solution's sphere_roots, value for value (the count, and each root to 0
+    ulps: +0 and -0 are the same root);
+  - the page's float32 textbook roots equal, bit for bit, the C++ textbook function's;
+  - the page's ulps equal tests/support/ulps.hpp's ulp_distance between those roots.
+Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
+The checks can fail: a copy of the page whose textbook discriminant skips one float rounding (what a
+fused multiply-add does) must be caught on the far preset.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import struct
+import subprocess
+from pathlib import Path
+
+from ..common import BUILD, ROOT, KitError
+from ..packages import ensure_packages
+from .harness import Failed, Skipped, expect, need_solutions
+
+LAB = ROOT / "docs" / "lab"
+CHECK_SOURCE = LAB / "check" / "lab_check.cpp"
+OUT = BUILD / "lab"
+SCREENSHOTS = OUT / "screenshots"
+INPUTS = ["ox", "oy", "dx", "dy", "cx", "cy", "r"]
+
+
+def f32(text: str) -> float:
+    """The float32 a printed number reads back to (9 digits identify a float32)."""
+    t = text.strip()
+    value = {"inf": math.inf, "-inf": -math.inf, "-0": -0.0}.get(t)
+    if value is None:
+        try:
+            value = float(t)
+        except ValueError:
+            raise Failed(f"the page shows {text!r} where a number belongs") from None
+    return struct.unpack("<f", struct.pack("<f", value))[0]
+
+
+def bits(x: float) -> int:
+    return struct.unpack("<I", struct.pack("<f", x))[0]
+
+
+def from_bits(b: int) -> float:
+    return struct.unpack("<f", struct.pack("<I", b))[0]
+
+
+def ordered(x: float) -> int:        # tests/support/ulps.hpp's ordered_bits
+    b = struct.unpack("<i", struct.pack("<f", x))[0]
+    return b if b >= 0 else -(2 ** 31) - b
+
+
+def build_check() -> Path:
+    exe = OUT / "lab_check"
+    sources = [CHECK_SOURCE, ROOT / "solutions" / "02_general_sphere" / "general_sphere.cpp",
+               ROOT / "tests" / "support" / "reference_roots.hpp", ROOT / "tests" / "support" / "ulps.hpp"]
+    if exe.is_file() and all(exe.stat().st_mtime >= s.stat().st_mtime for s in sources):
+        return exe
+    OUT.mkdir(parents=True, exist_ok=True)
+    cmd = ["c++", "-std=c++17", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
+           f"-I{ROOT / 'include'}", f"-I{ROOT / 'tests' / 'support'}", str(sources[0]), str(sources[1]),
+           "-o", str(exe)]
+    r = subprocess.run(["nice", "-n", "10", *cmd], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise Failed(f"lab_check.cpp does not build:\n{(r.stdout + r.stderr)[-1500:]}")
+    return exe
+
+
+def cxx_answers(exe: Path, cases: dict[str, dict]) -> dict[str, dict]:
+    lines = [" ".join([name] + [f"{bits(c['inputs'][k]):08x}" for k in INPUTS]) for name, c in cases.items()]
+    r = subprocess.run([str(exe)], input="\n".join(lines) + "\n", capture_output=True, text=True, timeout=60)
+    if r.returncode != 0:
+        raise Failed(f"lab_check exited {r.returncode}: {r.stderr.strip()}")
+    out = {}
+    for line in r.stdout.splitlines():
+        head, sol, book, ul = line.split(" | ")
+        name, _, n, t0, t1 = head.split()
+        parts = {"exact": (n, t0, t1)}
+        for label, text in (("solution", sol), ("textbook", book)):
+            _, n2, a, b = text.split()
+            parts[label] = (n2, a, b)
+        answers = {k: {"count": int(v[0]), "t": [from_bits(int(v[1], 16)), from_bits(int(v[2], 16))]}
+                   for k, v in parts.items()}
+        answers["ulps"] = [int(u) for u in ul.split()[1:]]
+        out[name] = answers
+    return out
+
+
+READ = """(() => {
+  const text = (sel) => { const e = document.querySelector(sel); return e ? e.textContent : null; };
+  const cell = (id) => text(`[data-cell="${id}"]`);
+  const out = { inputs: {}, exact: {}, textbook: {}, others: {} };
+  for (const k of %s) out.inputs[k] = text(`#f32-${k}`);
+  out.exact = { count: cell('exact-count'), t0: cell('exact-t0'), t1: cell('exact-t1') };
+  out.textbook = { count: cell('textbook-f32-count'), t0: cell('textbook-f32-t0'), t1: cell('textbook-f32-t1'),
+                   u0: cell('textbook-f32-u0'), u1: cell('textbook-f32-u1') };
+  out.caseName = text('#case-name'); out.section = text('#case-section');
+  out.svg = document.querySelectorAll('#scene-layer *').length;
+  return out;
+})()""" % (str(INPUTS),)
+
+
+def attach_log(b) -> list[str]:
+    """Every console message of level error and every uncaught exception, from now on."""
+    errors: list[str] = []
+    original = b._dispatch
+
+    def dispatch(message: dict) -> None:
+        method, p = message.get("method"), message.get("params", {})
+        if method == "Runtime.exceptionThrown":
+            d = p.get("exceptionDetails", {})
+            errors.append(d.get("exception", {}).get("description") or d.get("text", "exception"))
+        elif method == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):
+            errors.append(" ".join(str(a.get("value", a.get("description", ""))) for a in p.get("args", [])))
+        elif method == "Log.entryAdded" and p.get("entry", {}).get("level") == "error":
+            errors.append(p["entry"].get("text", "log error"))
+        original(message)
+
+    b._dispatch = dispatch
+    b.call("Runtime.enable", session=True)
+    b.call("Log.enable", session=True)
+    return errors
+
+
+def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
+    """Loads `page` and each of its presets; the numbers it shows, and the problems seen."""
+    problems = []
+    errors = attach_log(b)
+    b.open(page.as_uri())
+    expect(b.evaluate("document.body.dataset.ready") == "1", f"{page}: the lab did not start")
+    presets = b.evaluate("raykitLab.presets")
+    cases = {}
+    for name in presets:
+        b.evaluate(f"raykitLab.load({name!r})")
+        shown = b.evaluate(READ)
+        if not shown["caseName"] or not shown["section"] or "ecture" not in shown["section"]:
+            problems.append(f"{name}: the preset names no case or lecture section")
+        if shown["svg"] < 2:
+            problems.append(f"{name}: the picture has nothing drawn")
+        c = {"inputs": {k: f32(v) for k, v in shown["inputs"].items()}}
+        c["exact"] = {"count": int(shown["exact"]["count"]),
+                      "t": [f32(shown["exact"][k]) for k in ("t0", "t1")] if shown["exact"]["t0"] != "—" else []}
+        tb = shown["textbook"]
+        c["textbook"] = {"count": int(tb["count"]), "t": [f32(tb[k]) for k in ("t0", "t1")] if tb["t0"] != "—" else [],
+                         "ulps": [tb["u0"], tb["u1"]]}
+        cases[name] = c
+        if shots:
+            b.screenshot(SCREENSHOTS / f"{name}.png")
+    offline = [u for u in b.requests if not u.startswith(("file:", "data:", "about:"))]
+    if offline:
+        problems.append(f"asks the network for {offline[:3]}")
+    if errors:
+        problems.append(f"console errors: {errors[:3]}")
+    return cases, problems
+
+
+def compare(cases: dict, cxx: dict) -> tuple[list[str], int]:
+    problems, roots = [], 0
+    for name, page in cases.items():
+        want = cxx[name]
+        ex = page["exact"]
+        for ref in ("exact", "solution"):
+            w = want[ref]
+            if ex["count"] != w["count"]:
+                problems.append(f"{name}: the page's exact count {ex['count']}, {ref} {w['count']}")
+                continue
+            n = {0: 0, 1: 1, 2: 2}[w["count"]]
+            for i in range(n):
+                if ordered(ex["t"][i]) != ordered(w["t"][i]):
+                    problems.append(f"{name}: exact t{i} is {ex['t'][i]!r} on the page, {w['t'][i]!r} from the "
+                                    f"{'113-bit reference_roots.hpp' if ref == 'exact' else 'reference solution'}")
+                roots += ref == "exact"
+        tb, wb = page["textbook"], want["textbook"]
+        if tb["count"] != wb["count"]:
+            problems.append(f"{name}: the float32 textbook count is {tb['count']} on the page, {wb['count']} in C++")
+        else:
+            for i in range(wb["count"]):
+                if bits(tb["t"][i]) != bits(wb["t"][i]):
+                    problems.append(f"{name}: the float32 textbook t{i} is {tb['t'][i]!r} "
+                                    f"(0x{bits(tb['t'][i]):08x}) on the page, {wb['t'][i]!r} "
+                                    f"(0x{bits(wb['t'][i]):08x}) in C++ with -ffp-contract=off")
+            u = want["ulps"]
+            if wb["count"] and u[0] >= 0:
+                shown = tb["ulps"]
+                if shown != [str(u[0]), str(u[1])]:
+                    problems.append(f"{name}: the page shows {shown} ulps for the textbook roots, ulps.hpp says {u}")
+    return problems, roots
+
+
+def _browser():
+    from .. import browser
+    try:
+        ensure_packages("browser")
+    except KitError as e:
+        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
+    chromium = browser.find_chromium()
+    if chromium is None:
+        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
+    return browser, chromium
+
+
+def selftest_lab(ctx) -> str:
+    need_solutions()
+    if not CHECK_SOURCE.is_file():
+        raise Skipped("docs/lab/check/ is not here (a handout leaves it out)")
+    browser, chromium = _browser()
+    exe = build_check()
+    try:
+        with browser.Browser(chromium, 1280, 1000) as b:
+            cases, problems = read_presets(b, LAB / "index.html", shots=True)
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
+    cxx = cxx_answers(exe, cases)
+    found, roots = compare(cases, cxx)
+    problems += found
+    expect(len(cases) >= 9, f"only {len(cases)} presets")
+    expect(not problems, "\n  ".join(problems))
+    far = cases.get("far-10000")
+    note = ""
+    if far and far["textbook"]["count"] != far["exact"]["count"]:
+        note = f"; at 10^4 radii the float32 textbook finds {far['textbook']['count']} root(s), the exact {far['exact']['count']}"
+    return (f"{len(cases)} presets, {roots} exact roots equal reference_roots.hpp and the reference solution, "
+            f"float32 textbook roots bit for bit as C++ -ffp-contract=off, ulps as ulps.hpp{note}; "
+            f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
+
+
+def selftest_lab_keyboard(ctx) -> str:
+    """Without a mouse: Tab reaches a handle, the arrow keys move it, typing sets a value exactly; and a drag."""
+    browser, chromium = _browser()
+
+    def key(b, name: str, code: int) -> None:
+        for kind in ("rawKeyDown", "keyUp"):
+            b.call("Input.dispatchKeyEvent", session=True, type=kind, key=name, code=name,
+                   windowsVirtualKeyCode=code)
+
+    try:
+        with browser.Browser(chromium, 1280, 1000) as b:
+            errors = attach_log(b)
+            b.open((LAB / "index.html").as_uri())
+            b.evaluate("raykitLab.load('two-hits')")
+            before = b.evaluate("raykitLab.inputs()")
+            b.evaluate("document.querySelector('#handle-centre').focus()")
+            key(b, "ArrowUp", 38)
+            key(b, "ArrowRight", 39)
+            after = b.evaluate("raykitLab.inputs()")
+            expect(after["cy"] > before["cy"] and after["cx"] > before["cx"],
+                   f"the arrow keys did not move the focused centre handle: {before} -> {after}")
+            expect(after["ox"] == before["ox"], "the arrow keys moved a handle that was not selected")
+            # Typing: the radius field, a value that is not a float, shown rounded to float32.
+            b.evaluate("(() => { const i = document.querySelector('#in-r'); i.focus(); i.value = '0.1';"
+                       " i.dispatchEvent(new Event('input')); })()")
+            shown = b.evaluate("document.querySelector('#f32-r').textContent")
+            expect(shown == "0.100000001", f"typing r = 0.1 shows {shown!r} as its float32, not 0.100000001")
+            # Tab order: from the origin handle, Tab reaches the direction's tip.
+            b.evaluate("document.querySelector('#handle-origin').focus()")
+            key(b, "Tab", 9)
+            focused = b.evaluate("document.activeElement && document.activeElement.id")
+            expect(focused == "handle-tip", f"Tab from the origin handle went to {focused!r}")
+            # And with a mouse: drag the radius handle 40 px to the right.
+            b.evaluate("raykitLab.load('two-hits')")
+            x, y = b.evaluate("(() => { const r = document.querySelector('#handle-radius').getBoundingClientRect();"
+                              " return [r.left + r.width / 2, r.top + r.height / 2]; })()")
+            r0 = b.evaluate("raykitLab.inputs().r")
+            for kind, px, buttons in (("mousePressed", x, 1), ("mouseMoved", x + 20, 1), ("mouseMoved", x + 40, 1),
+                                      ("mouseReleased", x + 40, 0)):
+                b.call("Input.dispatchMouseEvent", session=True, type=kind, x=px, y=y, button="left",
+                       buttons=buttons, clickCount=1)
+            r1 = b.evaluate("raykitLab.inputs().r")
+            expect(r1 > r0, f"dragging the radius handle 40 px outwards left r at {r0} (now {r1})")
+            expect(not errors, f"console errors: {errors[:3]}")
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
+    return (f"a drag of the radius handle sets r {r0:g} -> {r1:.4g}; arrow keys move the focused handle (centre: "
+            f"({before['cx']:g}, {before['cy']:g}) -> ({after['cx']:.3g}, {after['cy']:.3g})), Tab walks the handles, "
+            "typed r = 0.1 shows its float32 0.100000001")
+
+
+def selftest_lab_catches(ctx) -> str:
+    """A lab whose textbook discriminant skips a rounding (a fused multiply-add) must fail the check."""
+    need_solutions()
+    if not CHECK_SOURCE.is_file():
+        raise Skipped("docs/lab/check/ is not here (a handout leaves it out)")
+    browser, chromium = _browser()
+    exe = build_check()
+    wrong = OUT / "wrong-lab"
+    shutil.rmtree(wrong, ignore_errors=True)
+    shutil.copytree(LAB, wrong, ignore=shutil.ignore_patterns("check"))
+    js = (wrong / "lab.js").read_text(encoding="utf-8")
+    fused = js.replace("const disc = R(R(b * b) - R(R(4 * a) * c));", "const disc = R(b * b - R(4 * a) * c);")
+    expect(fused != js, "docs/lab/lab.js no longer has the textbook's discriminant line this test changes")
+    (wrong / "lab.js").write_text(fused, encoding="utf-8")
+    try:
+        with browser.Browser(chromium, 1280, 1000) as b:
+            cases, _ = read_presets(b, wrong / "index.html", shots=False)
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
+    found, _ = compare(cases, cxx_answers(exe, cases))
+    expect(any("textbook" in p for p in found), "a lab that fuses the textbook discriminant passed the check")
+    return f"a lab with a fused textbook discriminant fails: {found[0]}"
+
+
+def selftests() -> list:
+    return [
+        ("lab: every preset's numbers against the C++ reference", selftest_lab),
+        ("lab: works from the keyboard, and by dragging", selftest_lab_keyboard),
+        ("lab: a wrong float32 formula is caught", selftest_lab_catches),
+    ]
