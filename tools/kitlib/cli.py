@@ -50,6 +50,8 @@ COMMANDS = [
     Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
     Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
     Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
+    Command("classroom", "classroom", INSTRUCTOR, "write GitHub Classroom's autograding workflow into a handout (partial credit per case)"),
+    Command("prairielearn", "prairielearn", INSTRUCTOR, "write PrairieLearn questions, the grader's entry point and its Docker image"),
 ]
 
 
