@@ -70,7 +70,7 @@ def workflow(steps, timeout: int = 15) -> str:
         "    - name: Install the packages",
         f"      run: sudo apt-get update -q && sudo apt-get install -y -q --no-install-recommends {packages}",
         "    - name: Check every step",
-        f"      run: ./kit check --json {RESULTS} || true",
+        f"      run: mkdir -p build && (./kit check --json {RESULTS} || true)",
     ]
     for s, i in zip(steps, ids):
         lines += [

@@ -24,7 +24,7 @@ from ..status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
 MODULES = ["check", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "latency", "lectures",
-           "mutant", "render", "pictures", "robust", "robust_line", "grade", "workflow", "watch", "sanitizers"]
+           "mutant", "render", "pictures", "robust", "robust_line", "grade", "workflow", "watch", "reach", "sanitizers"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
 
