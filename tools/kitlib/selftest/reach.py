@@ -5,6 +5,12 @@
     real autograding-grading-reporter from ../shared/third_party/, npm-installed into build/), for the
     stubs, one slip and the solutions: its "Points X/Y" and its console table's total equal the kit's own
     score; every `with:` key is among the action's action.yml inputs, and a wrong key is caught.
+  - prairielearn: ./kit prairielearn's info.json files validate against PrairieLearn's real
+    infoQuestion.json schema (python3-jsonschema), each question's editors name the step's files and its
+    entry point the grader in serverFilesCourse; tools/prairielearn/grade.py on a /grade-like folder
+    writes results.json that passes tools/prairielearn/check_results.py (externalGraderCommon.ts's
+    rules): the solutions score 1 on every step, the stubs 0, one slip in between with the picture of a
+    failing case, a compile error 0 with its diagnostic; both checkers are shown to catch a wrong file.
 Needs ../shared/third_party/ (skipped without it: a user's clone has none), node and npm, and Debian's
 python3-yaml (/usr/bin/python3). The full form, in a Debian 13 root as a user with sudo, is by hand:
 tools/portability/reach (its docstring).
@@ -13,6 +19,7 @@ tools/portability/reach (its docstring).
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -117,5 +124,97 @@ def selftest_classroom(ctx) -> str:
     return "the real reporter's Points equal the kit's score: " + ", ".join(seen)
 
 
+PL_SCHEMA = ("prairielearn", "apps", "prairielearn", "src", "schemas", "schemas", "infoQuestion.json")
+
+
+def _checker():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("pl_check_results", ROOT / "tools/prairielearn/check_results.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def pl_grade(step, files: dict[str, str], name: str) -> dict:
+    """Grades `files` as PrairieLearn's job would (GRADE/student/NAME), returns results.json, checked."""
+    grade = WORK / "pl-jobs" / f"{name}-{step.number}"
+    shutil.rmtree(grade, ignore_errors=True)
+    (grade / "student").mkdir(parents=True)
+    for f, text in files.items():
+        (grade / "student" / f).write_text(text)
+    r = subprocess.run([str(ROOT / "tools/prairielearn/grade.py"), step.number, str(grade)],
+                       capture_output=True, text=True, timeout=900)
+    expect(r.returncode == 0, f"{name} step {step.number}: grade.py exited {r.returncode}: {r.stderr[-1500:]}")
+    raw = (grade / "results" / "results.json").read_bytes()
+    problems = _checker().results_problems(raw)
+    expect(not problems, f"{name} step {step.number}: results.json: {'; '.join(problems)[:1500]}")
+    return json.loads(raw)
+
+
+def selftest_prairielearn(ctx) -> str:
+    need_solutions()
+    schema = need_third_party(*PL_SCHEMA)
+    need_system_python("jsonschema")
+    out = WORK / "prairielearn"
+    shutil.rmtree(out, ignore_errors=True)
+    r = kit("prairielearn", str(out))
+    expect(r.returncode == 0, f"./kit prairielearn failed: {r.stdout}{r.stderr}")
+    infos = sorted(out.glob("questions/raykit/*/info.json"))
+    expect(len(infos) == len(ctx.steps), f"{len(infos)} info.json files for {len(ctx.steps)} steps")
+    bad_info = WORK / "bad-info.json"
+    bad_info.write_text(json.dumps({**json.loads(infos[0].read_text()), "uuid": "raykit-01",
+                                    "externalGradingOptions": {"image": "x", "timeout": "60"}}))
+    v = subprocess.run([SYSTEM_PYTHON, str(ROOT / "tools/prairielearn/check_results.py"), "info", str(schema),
+                        *map(str, infos), str(bad_info)], capture_output=True, text=True)
+    found = json.loads(v.stdout or "{}")
+    expect(len(found.get(str(bad_info), [])) >= 2, f"the schema check missed a bad uuid and timeout: {v.stdout}{v.stderr}")
+    wrong = {f: p for f, p in found.items() if p and f != str(bad_info)}
+    expect(not wrong, f"info.json against infoQuestion.json: {wrong}")
+    for step in ctx.steps:
+        q = out / "questions" / "raykit" / step.folder
+        editors = re.findall(r'<pl-file-editor file-name="([^"]+)" source-file-name="([^"]+)"', (q / "question.html").read_text())
+        expect(sorted(e[0] for e in editors) == sorted(step.files) and all((q / e[1]).is_file() for e in editors),
+               f"step {step.number}: question.html's editors {editors}, the step's files {step.files}")
+        entry = (q / "tests" / "grade.py").read_text()
+        grader = re.search(r'"/grade/serverFilesCourse/(raykit/[^"]+)"', entry)
+        expect(grader and (out / "serverFilesCourse" / grader.group(1)).is_file(),
+               f"step {step.number}: tests/grade.py runs no grader of serverFilesCourse/: {entry}")
+    expect((out / "serverFilesCourse/raykit/solutions").is_dir(), "serverFilesCourse/raykit/ has no solutions/ (no hidden cases)")
+    # The results checker catches what PrairieLearn rejects.
+    checker = _checker()
+    for wrong_file in ('{"score": "1"}', '{"score": 1.5}', '{"score": 1, "tests": [{"name": "a", "points": 1}]}',
+                       '{"score": 0, "images": ["http://x/a.png"]}', "{" + '"output": "' + "x" * 1_000_001 + '"}'):
+        expect(checker.results_problems(wrong_file.encode()), f"check_results passed a bad file: {wrong_file[:80]}")
+    read = lambda folder, step: {f: (ROOT / folder / step.folder / f).read_text() for f in step.files}
+    scores = {}
+    for step in ctx.steps:
+        full = pl_grade(step, read("solutions", step), "solutions")
+        expect(full["score"] == 1, f"step {step.number}: the solutions score {full['score']}: {full['message']}")
+        stub = pl_grade(step, read("steps", step), "stubs")
+        expect(stub["score"] == 0, f"step {step.number}: the stubs score {stub['score']}: {stub['message']}")
+        scores[step.number] = (full["score"], stub["score"])
+    first = ctx.steps[0]
+    folder, name = SLIP
+    slipped = WORK / "pl-slip"
+    shutil.rmtree(slipped, ignore_errors=True)
+    (slipped / folder).mkdir(parents=True)
+    for f in first.files:
+        shutil.copyfile(ROOT / "solutions" / folder / f, slipped / folder / f)
+    fill_patch = subprocess.run(["patch", "-s", "-p3", "-d", str(slipped / folder), "-i",
+                                 str(ROOT / "tests/mutants" / folder / f"{name}.patch")], capture_output=True, text=True)
+    expect(fill_patch.returncode == 0, f"the mutant {name} does not apply: {fill_patch.stderr}")
+    slip = pl_grade(first, {f: (slipped / folder / f).read_text() for f in first.files}, "slip")
+    expect(0 < slip["score"] < 1, f"one slip scores {slip['score']}, not between 0 and 1")
+    expect(slip.get("images") and slip["images"][0]["url"].startswith("data:image/svg+xml;base64,"),
+           "one slip: no picture of its first failing visible case")
+    broken = {f: t.replace("return", "retrun", 1) for f, t in read("solutions", first).items()}
+    nc = pl_grade(first, broken, "no-compile")
+    expect(nc["score"] == 0 and nc.get("gradable", True) and "error" in nc["message"],
+           f"a compile error: score {nc['score']}, message {nc['message']!r}")
+    return (f"{len(infos)} info.json valid; solutions 1, stubs 0 on every step; one slip {slip['score']:.3f} "
+            f"({len(slip['tests'])} tests, a picture); compile error 0: {nc['message'].splitlines()[-1][:60]}")
+
+
 def selftests():
-    return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom)]
+    return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
+            ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn)]
