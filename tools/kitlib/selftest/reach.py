@@ -11,6 +11,10 @@
     writes results.json that passes tools/prairielearn/check_results.py (externalGraderCommon.ts's
     rules): the solutions score 1 on every step, the stubs 0, one slip in between with the picture of a
     failing case, a compile error 0 with its diagnostic; both checkers are shown to catch a wrong file.
+  - noapt: without apt or dpkg, packages.ensure_packages looks in a Homebrew-like prefix: GLM and
+    doctest found there (and the prefix passed to CMake in CMAKE_PREFIX_PATH), stb not needed by the
+    check but named for ./kit render, doctest removed is named with `brew install doctest`. The full
+    form (a Debian root without apt, clang and libc++) is by hand: tools/portability/reach noapt.
 Needs ../shared/third_party/ (skipped without it: a user's clone has none), node and npm, and Debian's
 python3-yaml (/usr/bin/python3). The full form, in a Debian 13 root as a user with sudo, is by hand:
 tools/portability/reach (its docstring).
@@ -215,6 +219,38 @@ def selftest_prairielearn(ctx) -> str:
             f"({len(slip['tests'])} tests, a picture); compile error 0: {nc['message'].splitlines()[-1][:60]}")
 
 
+def selftest_noapt(ctx) -> str:
+    import os
+    from unittest import mock
+    from .. import packages
+    from ..common import KitError
+    prefix = WORK / "homebrew"
+    shutil.rmtree(prefix, ignore_errors=True)
+    for name in ("glm", "doctest"):
+        (prefix / "lib/cmake" / name).mkdir(parents=True)
+        (prefix / "lib/cmake" / name / f"{name}Config.cmake").write_text("# a stand-in: only its place is probed\n")
+    env = {"CMAKE_PREFIX_PATH": "", "PKG_CONFIG_LIBDIR": str(prefix / "none"), "PKG_CONFIG_PATH": ""}
+
+    def attempt(*groups):
+        with mock.patch.object(packages, "has_apt", lambda: False), \
+                mock.patch.object(packages, "PREFIXES", [str(prefix)]), mock.patch.dict(os.environ, env):
+            try:
+                packages.ensure_packages(*groups)
+                return "", os.environ.get("CMAKE_PREFIX_PATH", "")
+            except KitError as e:
+                return str(e), ""
+    error, path = attempt("build")
+    expect(not error and path == str(prefix), f"GLM and doctest in {prefix}: {error or 'CMAKE_PREFIX_PATH=' + path}")
+    error, _ = attempt("build", "render")
+    expect("stb" in error and "vcpkg install stb" in error, f"./kit render without stb: {error!r}")
+    shutil.rmtree(prefix / "lib/cmake/doctest")
+    error, _ = attempt("build")
+    expect("brew install doctest" in error and "glm" not in error.split("\n")[1],
+           f"doctest removed: the message should name brew install doctest only: {error!r}")
+    return f"found in a Homebrew-like prefix; stb needed only by render; then: {error.splitlines()[1].strip()}"
+
+
 def selftests():
     return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
-            ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn)]
+            ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
+            ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt)]
