@@ -58,6 +58,12 @@ def simulate(repo: Path, reporter: Path, install: bool = False) -> dict:
     if len(jobs) != 1:
         problems.append(f"{len(jobs)} jobs, Classroom's form has one")
     job = next(iter(jobs.values()))
+    wanted = {"checks": "write", "actions": "read", "contents": "read"}   # what Classroom's form asks
+    if (wf.get("permissions") or {}) != wanted:
+        problems.append(f"permissions {wf.get('permissions')}, Classroom's form has {wanted}")
+    triggers = wf.get("on", wf.get(True))   # YAML 1.1 reads a bare `on` as true
+    if "push" not in (triggers or []):
+        problems.append(f"not run on push: on {triggers}")
     if job.get("runs-on") != "ubuntu-latest":
         problems.append(f"runs-on {job.get('runs-on')}")
     known = {"classroom-resources/autograding-grading-reporter": action_inputs(reporter / "action.yml")}
