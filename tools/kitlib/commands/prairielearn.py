@@ -77,8 +77,10 @@ def info_json(step, image: str, timeout: int) -> dict:
 
 def question_html(step) -> str:
     task = (ROOT / "steps" / step.folder / "README.md").read_text()
-    # The kit's commands are not there in PrairieLearn: "Save & Grade" checks the step.
-    task = re.sub(r"```\n\./kit check \d+\n```", "then press **Save & Grade**.", task)
+    # The task is the kit's: where it says ./kit check (hint, debug), PrairieLearn has Save & Grade.
+    task = ("Here, \"Save & Grade\" does what the task below calls ./kit check: every case, and for the\n"
+            "first failing one its input, the expected and actual answer, and a picture of it. (./kit hint\n"
+            "and ./kit debug are in the kit's own copy, not here.)\n\n" + task)
     # The task as text in a <pl-code> block: PrairieLearn's own example shows entities decoded there,
     # while how <markdown> treats C++'s <float> and & inside code spans is not documented.
     parts = ["<pl-question-panel>", '<pl-code language="markdown">', html.escape(task, quote=False), "</pl-code>"]
