@@ -52,6 +52,8 @@ COMMANDS = [
     Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
     Command("slides", "slides", INSTRUCTOR, "write a slide deck per lecture (lectures/slides/) as offline HTML, --pdf also PDF"),
     Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
+    Command("classroom", "classroom", INSTRUCTOR, "write GitHub Classroom's autograding workflow into a handout (partial credit per case)"),
+    Command("prairielearn", "prairielearn", INSTRUCTOR, "write PrairieLearn questions, the grader's entry point and its Docker image"),
 ]
 
 

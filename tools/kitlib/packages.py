@@ -1,4 +1,12 @@
-"""The Debian packages the kit needs, in one table, and their installation with apt-get."""
+"""The packages the kit needs, in one table, and their installation with apt-get.
+
+PACKAGES names them as Debian does, per group. Where there is no apt or dpkg (macOS with Homebrew, a
+Linux without apt, MSYS2), OTHER_MANAGERS gives each Debian name's Homebrew, vcpkg and MSYS2 names and
+how to find it installed: the kit looks wherever CMake can (CMAKE_PREFIX_PATH, the Homebrew prefixes
+/opt/homebrew and /usr/local, MacPorts' /opt/local, /usr, pkg-config), installs nothing, names what is
+missing with `brew install ...` (then the vcpkg and MSYS2 names), and passes the prefixes it found to
+CMake in CMAKE_PREFIX_PATH. stb is needed only by ./kit render ("render" group), never by ./kit check.
+"""
 
 from __future__ import annotations
 
@@ -7,6 +15,7 @@ import re
 import shutil
 import subprocess
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from .common import KitError, note
@@ -16,6 +25,7 @@ from .status import SETUP
 # missing (apt-get, non-interactive, with sudo when not root).
 PACKAGES = {
     "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev", "pkg-config"],
+    "render": ["libstb-dev", "pkg-config"],   # ./kit render's PNG writer (in "build" too where apt is)
     "sandbox": ["bubblewrap"],          # grading a folder the kit did not write (sandbox.py)
     "debug": ["gdb"],                   # ./kit debug
     # ./kit bench: Google Benchmark is needed; Embree (the comparison) and Google Highway (the
@@ -36,6 +46,115 @@ PACKAGES = {
 def instructor_groups() -> list[str]:
     """Every group ./kit test uses: all of them, Node.js only where npm is missing."""
     return [g for g in PACKAGES if g != "node" or shutil.which("npm") is None]
+
+
+@dataclass(frozen=True)
+class Elsewhere:
+    """A Debian package as other package managers name it, and how to see it is installed."""
+    brew: str           # Homebrew formula ("" when it has none)
+    vcpkg: str          # vcpkg port ("" for a tool vcpkg does not ship)
+    msys2: str          # MSYS2 (UCRT64) package
+    probe: str          # "tool:NAME|NAME", "compiler", "cmake:PACKAGE" (a CMake config), "header:PATH"
+    render_only: bool = False   # needed by ./kit render, not by ./kit check
+
+
+OTHER_MANAGERS = {
+    "cmake": Elsewhere("cmake", "", "mingw-w64-ucrt-x86_64-cmake", "tool:cmake"),
+    "ninja-build": Elsewhere("ninja", "", "mingw-w64-ucrt-x86_64-ninja", "tool:ninja|make"),
+    "g++": Elsewhere("", "", "mingw-w64-ucrt-x86_64-gcc", "compiler"),   # macOS: xcode-select --install
+    "libglm-dev": Elsewhere("glm", "glm", "mingw-w64-ucrt-x86_64-glm", "cmake:glm"),
+    "doctest-dev": Elsewhere("doctest", "doctest", "mingw-w64-ucrt-x86_64-doctest", "cmake:doctest"),
+    "libstb-dev": Elsewhere("", "stb", "mingw-w64-ucrt-x86_64-stb", "header:stb/stb_image_write.h", True),
+    "pkg-config": Elsewhere("pkgconf", "", "mingw-w64-ucrt-x86_64-pkgconf", "tool:pkg-config|pkgconf", True),
+}
+# Where CMake and Homebrew put packages, searched after $CMAKE_PREFIX_PATH, in this order.
+PREFIXES = ["/opt/homebrew", "/usr/local", "/opt/local", "/usr"]
+
+
+def has_apt() -> bool:
+    return shutil.which("dpkg-query") is not None and shutil.which("apt-get") is not None
+
+
+def prefixes() -> list[Path]:
+    found = [Path(p) for p in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep) if p]
+    if os.environ.get("HOMEBREW_PREFIX"):
+        found.append(Path(os.environ["HOMEBREW_PREFIX"]))
+    return [p for p in dict.fromkeys(found + [Path(p) for p in PREFIXES]) if p.is_dir()]
+
+
+def cmake_config_prefix(package: str) -> Path | None:
+    """The prefix holding `package`'s CMake config file, where find_package(CONFIG) looks
+    (<prefix>/{lib,lib64,lib/<arch>,share}/cmake/<name>*/ and <prefix>/share/<name>*/)."""
+    names = {f"{package}Config.cmake", f"{package.lower()}-config.cmake"}
+    for prefix in prefixes():
+        for pattern in ("lib/cmake/*/", "lib64/cmake/*/", "lib/*/cmake/*/", "share/cmake/*/", "share/*/cmake/",
+                        "share/*/", "lib/cmake/"):
+            for folder in prefix.glob(pattern):
+                if folder.name.lower().startswith(package.lower()) or pattern.endswith("cmake/"):
+                    if any((folder / n).is_file() for n in names):
+                        return prefix
+    return None
+
+
+def probe(elsewhere: Elsewhere) -> Path | bool:
+    kind, _, what = elsewhere.probe.partition(":")
+    if kind == "tool":
+        return any(shutil.which(t) for t in what.split("|"))
+    if kind == "compiler":
+        cxx = os.environ.get("CXX", "")
+        return bool(cxx and shutil.which(cxx.split()[0])) or any(shutil.which(c) for c in ("c++", "g++", "clang++"))
+    if kind == "cmake":
+        return cmake_config_prefix(what) or False
+    if kind == "header":
+        for prefix in prefixes():
+            if (prefix / "include" / what).is_file():
+                return prefix
+        return shutil.which("pkg-config") is not None and subprocess.run(
+            ["pkg-config", "--exists", "stb"], capture_output=True).returncode == 0
+    raise ValueError(elsewhere.probe)
+
+
+def install_hint(missing: list[str]) -> str:
+    """The commands that install `missing` (Debian names) with Homebrew, then vcpkg and MSYS2."""
+    rows = [OTHER_MANAGERS[n] for n in missing]
+    lines = []
+    brew = [r.brew for r in rows if r.brew]
+    if brew:
+        lines.append(f"  brew install {' '.join(brew)}")
+    if "g++" in missing:
+        lines.append("  a C++17 compiler: on macOS xcode-select --install (Apple clang); elsewhere g++ or clang++")
+    if any(not r.brew and r.vcpkg for r in rows):
+        lines.append("  (" + ", ".join(n for n, r in zip(missing, rows) if not r.brew and r.vcpkg)
+                     + ": no Homebrew formula; vcpkg has one, or copy its headers into a prefix's include/)")
+    vcpkg = [r.vcpkg for r in rows if r.vcpkg]
+    if vcpkg:
+        lines.append(f"  or vcpkg: vcpkg install {' '.join(vcpkg)} (and set CMAKE_PREFIX_PATH to its installed/<triplet>)")
+    lines.append(f"  or MSYS2: pacman -S {' '.join(r.msys2 for r in rows)}")
+    return "\n".join(lines)
+
+
+def ensure_elsewhere(names: list[str]) -> None:
+    """Without apt: finds the packages of `names`, installs nothing, names what is missing, and
+    puts the prefixes where the libraries were found into CMAKE_PREFIX_PATH for CMake."""
+    missing, found = [], []
+    for name in names:
+        row = OTHER_MANAGERS.get(name)
+        if row is None:
+            continue            # a Debian-only extra (the sandbox, the docs): its command says so
+        where = probe(row)
+        if not where:
+            missing.append(name)
+        elif isinstance(where, Path) and str(where) not in ("/usr", "/"):
+            found.append(str(where))
+    if found:
+        current = [p for p in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep) if p]
+        os.environ["CMAKE_PREFIX_PATH"] = os.pathsep.join(dict.fromkeys(current + found))
+    if missing:
+        words = ", ".join(OTHER_MANAGERS[n].brew or OTHER_MANAGERS[n].vcpkg or n for n in missing)
+        raise KitError(f"the kit needs {words}, and there is no apt here to install "
+                       f"{'it' if len(missing) == 1 else 'them'}. Install with:\n{install_hint(missing)}\n"
+                       f"then run ./kit again (looked for in $CMAKE_PREFIX_PATH, {', '.join(PREFIXES)} "
+                       "and pkg-config)", SETUP)
 
 
 def missing_packages(names: list[str]) -> list[str]:
@@ -92,6 +211,11 @@ def ensure_packages(*groups: str) -> None:
     names: list[str] = []
     for g in groups:
         names += [n for n in PACKAGES[g] if n not in names]
+    if not has_apt():   # macOS, or a Linux without apt: look, never install; stb only for render
+        render = "render" in groups
+        ensure_elsewhere([n for n in names if n not in OTHER_MANAGERS or render
+                          or not OTHER_MANAGERS[n].render_only])
+        return
     missing = missing_packages(names)
     if not missing:
         return

@@ -345,7 +345,7 @@ def register(p) -> None:
 
 
 def run(args) -> int:
-    ensure_packages("build")
+    ensure_packages("build", "render")   # stb: needed by render only (packages.py)
     if args.refresh:
         if args.scenes or args.out or args.size or args.steps:
             raise KitError("--refresh re-renders every committed reference picture; it takes no other option")

@@ -1,0 +1,256 @@
+"""Self-test: the kit where courses grade: GitHub Classroom, PrairieLearn, a machine without apt.
+
+  - classroom: a handout with ./kit classroom's workflow, run as the runner would
+    (tools/classroom/simulate.py: every `run:` step in the repository with only PATH and HOME, then the
+    real autograding-grading-reporter from ../shared/third_party/, npm-installed into build/), for the
+    stubs, one slip and the solutions: its "Points X/Y" and its console table's total equal the kit's own
+    score; every `with:` key is among the action's action.yml inputs, and a wrong key is caught.
+  - prairielearn: ./kit prairielearn's info.json files validate against PrairieLearn's real
+    infoQuestion.json schema (python3-jsonschema), each question's editors name the step's files and its
+    entry point the grader in serverFilesCourse; tools/prairielearn/grade.py on a /grade-like folder
+    writes results.json that passes tools/prairielearn/check_results.py (externalGraderCommon.ts's
+    rules): the solutions score 1 on every step, the stubs 0, one slip in between with the picture of a
+    failing case, a compile error 0 with its diagnostic; both checkers are shown to catch a wrong file.
+  - noapt: without apt or dpkg, packages.ensure_packages looks in a Homebrew-like prefix: GLM and
+    doctest found there (and the prefix passed to CMake in CMAKE_PREFIX_PATH), stb not needed by the
+    check but named for ./kit render, doctest removed is named with `brew install doctest`. The full
+    form (a Debian root without apt, clang and libc++) is by hand: tools/portability/reach noapt.
+Needs ../shared/third_party/ (skipped without it: a user's clone has none), node and npm, and Debian's
+python3-yaml (/usr/bin/python3). The full form, in a Debian 13 root as a user with sudo, is by hand:
+tools/portability/reach (its docstring).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+from ..common import BUILD, ROOT, load_steps
+from .harness import Failed, Skipped, expect, kit, need_solutions
+
+THIRD_PARTY = ROOT.parent / "shared" / "third_party"
+WORK = BUILD / "reach"
+SYSTEM_PYTHON = "/usr/bin/python3"      # Debian's, which sees python3-yaml and python3-jsonschema
+SLIP = ("01_unit_sphere", "a_assumed_one")   # the one-slip repository: step 01 with this mutant
+
+
+def need_third_party(*parts: str) -> Path:
+    path = THIRD_PARTY.joinpath(*parts)
+    if not path.exists():
+        raise Skipped(f"needs {path} (the real clients' files; a user's clone has none)")
+    return path
+
+
+def need_system_python(*modules: str) -> None:
+    probe = subprocess.run([SYSTEM_PYTHON, "-c", "import " + ", ".join(modules)], capture_output=True)
+    if probe.returncode != 0:
+        raise Skipped(f"needs {SYSTEM_PYTHON} with {', '.join(modules)} (Debian: "
+                      + " ".join(f"python3-{m}" for m in modules) + ")")
+
+
+def make_handout(target: Path) -> Path:
+    shutil.rmtree(target, ignore_errors=True)
+    r = kit("handout", str(target))
+    expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-500:]}{r.stderr[-1500:]}")
+    return target
+
+
+def fill(steps_dir: Path, form: str) -> None:
+    """Puts the stubs back (they are the handout's), the solutions, or the solutions with one slip."""
+    for step in load_steps():
+        for f in step.files:
+            src = ROOT / ("steps" if form == "stubs" else "solutions") / step.folder / f
+            shutil.copyfile(src, steps_dir / step.folder / f)
+    if form == "slip":
+        folder, name = SLIP
+        patch = ROOT / "tests" / "mutants" / folder / f"{name}.patch"
+        r = subprocess.run(["patch", "-s", "-p3", "-d", str(steps_dir / folder), "-i", str(patch)],
+                           capture_output=True, text=True)
+        expect(r.returncode == 0, f"the mutant {folder}/{name} does not apply: {r.stdout}{r.stderr}")
+
+
+def reporter() -> Path:
+    src = need_third_party("github-classroom", "autograding-grading-reporter")
+    if not shutil.which("node") or not shutil.which("npm"):
+        raise Skipped("needs node and npm (Debian: nodejs npm) to run the real reporter")
+    copy = WORK / "reporter"
+    if not (copy / "node_modules" / "@actions" / "core").is_dir():
+        shutil.rmtree(copy, ignore_errors=True)
+        shutil.copytree(src, copy)
+        r = subprocess.run(["npm", "install", "--omit=dev", "--no-audit", "--no-fund"], cwd=copy,
+                           capture_output=True, text=True, timeout=300)
+        if r.returncode != 0:
+            raise Skipped(f"npm install of the reporter failed (no registry?): {r.stderr.strip()[-300:]}")
+    return copy
+
+
+def simulate(repo: Path, rep: Path) -> dict:
+    r = subprocess.run([SYSTEM_PYTHON, str(ROOT / "tools/classroom/simulate.py"), str(repo), str(rep)],
+                       capture_output=True, text=True, timeout=1200)
+    expect(r.returncode == 0, f"simulate.py failed: {r.stderr[-1500:]}")
+    return json.loads(r.stdout)
+
+
+def selftest_classroom(ctx) -> str:
+    need_solutions()
+    need_system_python("yaml")
+    rep = reporter()
+    # A wrong `with:` key is caught (so the real check below can fail).
+    bad = WORK / "bad-workflow"
+    (bad / ".github/workflows").mkdir(parents=True, exist_ok=True)
+    (bad / ".github/workflows/classroom.yml").write_text(
+        "jobs:\n  j:\n    runs-on: ubuntu-latest\n    steps:\n"
+        "    - uses: classroom-resources/autograding-grading-reporter@v1\n"
+        "      with:\n        runners: a\n        max-score: 3\n")
+    expect(any("max-score" in p for p in simulate(bad, rep)["problems"]),
+           "a reporter step with an unknown with: key (max-score) was not caught")
+    repo = make_handout(WORK / "classroom-repo")
+    r = kit("classroom", str(repo))
+    expect(r.returncode == 0, f"./kit classroom failed: {r.stdout}{r.stderr}")
+    seen = []
+    for form in ("stubs", "slip", "complete"):
+        fill(repo / "steps", form)
+        got = simulate(repo, rep)
+        expect(not got["problems"], f"{form}: " + "; ".join(got["problems"])[:2000])
+        results = json.loads((repo / "build/classroom-results.json").read_text())
+        kit_score = (results["score"], results["extra_data"]["max_score"])
+        expect((got["points"], got["max"]) == kit_score,
+               f"{form}: the reporter says {got['notice']!r}, the kit {kit_score[0]}/{kit_score[1]}")
+        expect(got["table"] == [got["points"], got["max"]],
+               f"{form}: the reporter's table totals {got['table']}, its notice {got['notice']!r}")
+        seen.append(f"{form} {got['points']:g}/{got['max']:g}")
+    scores = [float(s.split()[1].split("/")[0]) for s in seen]
+    expect(scores[0] == 0 and 0 < scores[1] < scores[2] and scores[2] == float(seen[2].split("/")[1]),
+           f"stubs, one slip, solutions should read 0, between, full: {', '.join(seen)}")
+    return "the real reporter's Points equal the kit's score: " + ", ".join(seen)
+
+
+PL_SCHEMA = ("prairielearn", "apps", "prairielearn", "src", "schemas", "schemas", "infoQuestion.json")
+
+
+def _checker():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("pl_check_results", ROOT / "tools/prairielearn/check_results.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def pl_grade(step, files: dict[str, str], name: str) -> dict:
+    """Grades `files` as PrairieLearn's job would (GRADE/student/NAME), returns results.json, checked."""
+    grade = WORK / "pl-jobs" / f"{name}-{step.number}"
+    shutil.rmtree(grade, ignore_errors=True)
+    (grade / "student").mkdir(parents=True)
+    for f, text in files.items():
+        (grade / "student" / f).write_text(text)
+    r = subprocess.run([str(ROOT / "tools/prairielearn/grade.py"), step.number, str(grade)],
+                       capture_output=True, text=True, timeout=900)
+    expect(r.returncode == 0, f"{name} step {step.number}: grade.py exited {r.returncode}: {r.stderr[-1500:]}")
+    raw = (grade / "results" / "results.json").read_bytes()
+    problems = _checker().results_problems(raw)
+    expect(not problems, f"{name} step {step.number}: results.json: {'; '.join(problems)[:1500]}")
+    return json.loads(raw)
+
+
+def selftest_prairielearn(ctx) -> str:
+    need_solutions()
+    schema = need_third_party(*PL_SCHEMA)
+    need_system_python("jsonschema")
+    out = WORK / "prairielearn"
+    shutil.rmtree(out, ignore_errors=True)
+    r = kit("prairielearn", str(out))
+    expect(r.returncode == 0, f"./kit prairielearn failed: {r.stdout}{r.stderr}")
+    infos = sorted(out.glob("questions/raykit/*/info.json"))
+    expect(len(infos) == len(ctx.steps), f"{len(infos)} info.json files for {len(ctx.steps)} steps")
+    bad_info = WORK / "bad-info.json"
+    bad_info.write_text(json.dumps({**json.loads(infos[0].read_text()), "uuid": "raykit-01",
+                                    "externalGradingOptions": {"image": "x", "timeout": "60"}}))
+    v = subprocess.run([SYSTEM_PYTHON, str(ROOT / "tools/prairielearn/check_results.py"), "info", str(schema),
+                        *map(str, infos), str(bad_info)], capture_output=True, text=True)
+    found = json.loads(v.stdout or "{}")
+    expect(len(found.get(str(bad_info), [])) >= 2, f"the schema check missed a bad uuid and timeout: {v.stdout}{v.stderr}")
+    wrong = {f: p for f, p in found.items() if p and f != str(bad_info)}
+    expect(not wrong, f"info.json against infoQuestion.json: {wrong}")
+    for step in ctx.steps:
+        q = out / "questions" / "raykit" / step.folder
+        editors = re.findall(r'<pl-file-editor file-name="([^"]+)" source-file-name="([^"]+)"', (q / "question.html").read_text())
+        expect(sorted(e[0] for e in editors) == sorted(step.files) and all((q / e[1]).is_file() for e in editors),
+               f"step {step.number}: question.html's editors {editors}, the step's files {step.files}")
+        entry = (q / "tests" / "grade.py").read_text()
+        grader = re.search(r'"/grade/serverFilesCourse/(raykit/[^"]+)"', entry)
+        expect(grader and (out / "serverFilesCourse" / grader.group(1)).is_file(),
+               f"step {step.number}: tests/grade.py runs no grader of serverFilesCourse/: {entry}")
+    expect((out / "serverFilesCourse/raykit/solutions").is_dir(), "serverFilesCourse/raykit/ has no solutions/ (no hidden cases)")
+    # The results checker catches what PrairieLearn rejects.
+    checker = _checker()
+    for wrong_file in ('{"score": "1"}', '{"score": 1.5}', '{"score": 1, "tests": [{"name": "a", "points": 1}]}',
+                       '{"score": 0, "images": ["http://x/a.png"]}', "{" + '"output": "' + "x" * 1_000_001 + '"}'):
+        expect(checker.results_problems(wrong_file.encode()), f"check_results passed a bad file: {wrong_file[:80]}")
+    read = lambda folder, step: {f: (ROOT / folder / step.folder / f).read_text() for f in step.files}
+    scores = {}
+    for step in ctx.steps:
+        full = pl_grade(step, read("solutions", step), "solutions")
+        expect(full["score"] == 1, f"step {step.number}: the solutions score {full['score']}: {full['message']}")
+        stub = pl_grade(step, read("steps", step), "stubs")
+        expect(stub["score"] == 0, f"step {step.number}: the stubs score {stub['score']}: {stub['message']}")
+        scores[step.number] = (full["score"], stub["score"])
+    first = ctx.steps[0]
+    folder, name = SLIP
+    slipped = WORK / "pl-slip"
+    shutil.rmtree(slipped, ignore_errors=True)
+    (slipped / folder).mkdir(parents=True)
+    for f in first.files:
+        shutil.copyfile(ROOT / "solutions" / folder / f, slipped / folder / f)
+    fill_patch = subprocess.run(["patch", "-s", "-p3", "-d", str(slipped / folder), "-i",
+                                 str(ROOT / "tests/mutants" / folder / f"{name}.patch")], capture_output=True, text=True)
+    expect(fill_patch.returncode == 0, f"the mutant {name} does not apply: {fill_patch.stderr}")
+    slip = pl_grade(first, {f: (slipped / folder / f).read_text() for f in first.files}, "slip")
+    expect(0 < slip["score"] < 1, f"one slip scores {slip['score']}, not between 0 and 1")
+    expect(slip.get("images") and slip["images"][0]["url"].startswith("data:image/svg+xml;base64,"),
+           "one slip: no picture of its first failing visible case")
+    broken = {f: t.replace("return", "retrun", 1) for f, t in read("solutions", first).items()}
+    nc = pl_grade(first, broken, "no-compile")
+    expect(nc["score"] == 0 and nc.get("gradable", True) and "error" in nc["message"],
+           f"a compile error: score {nc['score']}, message {nc['message']!r}")
+    return (f"{len(infos)} info.json valid; solutions 1, stubs 0 on every step; one slip {slip['score']:.3f} "
+            f"({len(slip['tests'])} tests, a picture); compile error 0: {nc['message'].splitlines()[-1][:60]}")
+
+
+def selftest_noapt(ctx) -> str:
+    import os
+    from unittest import mock
+    from .. import packages
+    from ..common import KitError
+    prefix = WORK / "homebrew"
+    shutil.rmtree(prefix, ignore_errors=True)
+    for name in ("glm", "doctest"):
+        (prefix / "lib/cmake" / name).mkdir(parents=True)
+        (prefix / "lib/cmake" / name / f"{name}Config.cmake").write_text("# a stand-in: only its place is probed\n")
+    env = {"CMAKE_PREFIX_PATH": "", "PKG_CONFIG_LIBDIR": str(prefix / "none"), "PKG_CONFIG_PATH": ""}
+
+    def attempt(*groups):
+        with mock.patch.object(packages, "has_apt", lambda: False), \
+                mock.patch.object(packages, "PREFIXES", [str(prefix)]), mock.patch.dict(os.environ, env):
+            try:
+                packages.ensure_packages(*groups)
+                return "", os.environ.get("CMAKE_PREFIX_PATH", "")
+            except KitError as e:
+                return str(e), ""
+    error, path = attempt("build")
+    expect(not error and path == str(prefix), f"GLM and doctest in {prefix}: {error or 'CMAKE_PREFIX_PATH=' + path}")
+    error, _ = attempt("build", "render")
+    expect("stb" in error and "vcpkg install stb" in error, f"./kit render without stb: {error!r}")
+    shutil.rmtree(prefix / "lib/cmake/doctest")
+    error, _ = attempt("build")
+    expect("brew install doctest" in error and "glm" not in error.split("\n")[1],
+           f"doctest removed: the message should name brew install doctest only: {error!r}")
+    return f"found in a Homebrew-like prefix; stb needed only by render; then: {error.splitlines()[1].strip()}"
+
+
+def selftests():
+    return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
+            ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
+            ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt)]
