@@ -182,7 +182,12 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
     std::string home = "HOME=" + dir;
     char path[] = "PATH=/usr/bin:/bin";
     char lang[] = "LANG=C.UTF-8";
-    char* envp[] = {path, lang, home.data(), nullptr};
+    // For a student's own check, whose files are built with the sanitizers (RAYKIT_CHECK_SANITIZE):
+    // stop at the first finding, with a stack, on abort() too (GLM's asserts), no leak check at exit.
+    char asan[] = "ASAN_OPTIONS=halt_on_error=1:abort_on_error=0:exitcode=86:handle_abort=1:detect_leaks=0:"
+                  "print_summary=1:allocator_may_return_null=1";
+    char ubsan[] = "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:exitcode=86";
+    char* envp[] = {path, lang, home.data(), asan, ubsan, nullptr};
     std::fflush(nullptr);
     const pid_t pid = ::fork();
     if (pid != 0) return pid;
@@ -417,6 +422,43 @@ void Child::reap_leftovers() {
     ::closedir(proc);
 }
 
+/// What a sanitizer or an assert said, from the output of the answers program: its one-line reason
+/// and the first line of the student's own code on its stack (not GLM's, the kit's or the system's),
+/// or "" when the output holds no such report.
+std::string sanitizer_finding(const std::string& out) {
+    std::istringstream lines(out);
+    std::string line, reason, where;
+    auto own = [](const std::string& l) {
+        for (const char* kit : {"/glm/", "/include/c++/", "/usr/include/", "answers_main", "wire.hpp", "libsanitizer",
+                                "/raykit/not_implemented"})
+            if (l.find(kit) != std::string::npos) return false;
+        return l.find(".cpp:") != std::string::npos;
+    };
+    while (std::getline(lines, line)) {
+        std::size_t at;
+        if (reason.empty() && (at = line.find("runtime error: ")) != std::string::npos) {
+            reason = "UndefinedBehaviorSanitizer: " + line.substr(at + 15);
+            const std::string file = line.substr(0, at);
+            if (own(file)) where = file.substr(0, file.find_last_of(':'));
+        } else if (reason.empty() && (at = line.find("ERROR: AddressSanitizer: ")) != std::string::npos) {
+            reason = "AddressSanitizer: " + line.substr(at + 25);
+            if (const std::size_t on = reason.find(" on address"); on != std::string::npos) reason.resize(on);
+        } else if (reason.empty() && line.find("Assertion") != std::string::npos && line.find("failed") != std::string::npos) {
+            at = line.find("Assertion");
+            reason = "an assert in the kit's headers failed: " + line.substr(at);
+        } else if (!reason.empty() && where.empty() && line.find(" in ") != std::string::npos && own(line)) {
+            where = line.substr(line.find_last_of(' ') + 1);     // FILE:LINE (and :COLUMN, from some compilers)
+        }
+    }
+    if (reason.empty()) return "";
+    if (where.size() > 0) {
+        const std::size_t slash = where.find_last_of('/');
+        const std::size_t steps = where.rfind("/steps/");
+        where = steps != std::string::npos ? where.substr(steps + 1) : slash != std::string::npos ? where.substr(slash + 1) : where;
+    }
+    return reason + (where.empty() ? "" : " (your code, " + where + ")");
+}
+
 std::string Child::died(const std::string& call) {
     int status = 0;
     pid_t got = 0;
@@ -436,6 +478,8 @@ std::string Child::died(const std::string& call) {
     }
     if (got == pid_) pid_ = -1;
     stop();
+    const std::string finding = sanitizer_finding(output);
+    if (!finding.empty()) return "Your code has undefined behaviour in " + call + ": " + finding + ".";
     return "Your code crashed in " + call + ": " + how + ".";
 }
 

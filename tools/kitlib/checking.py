@@ -400,7 +400,8 @@ def ensure_configured(build: Build, all_steps: list[Step]) -> None:
     present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
                          if (build.steps_dir / s.folder / f).is_file())
     stamp = build.binary_dir / "raykit-configured.txt"
-    key = f"{build.steps_dir}\ntools {build.tools}\nboundary {build.boundary}\n{present}\n"
+    key = (f"{build.steps_dir}\ntools {build.tools}\nboundary {build.boundary}\n"
+           f"sanitize {build.sanitize_student}\n{present}\n")
     cache = build.binary_dir / "CMakeCache.txt"
     if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
         configure(build)

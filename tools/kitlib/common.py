@@ -164,6 +164,8 @@ class Build:
     # (RAYKIT_BOUNDARY; sandbox.py), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
     boundary: bool = False
     spec: str = ""
+    # A student's own check: their files under ASan, UBSan and GLM's asserts (RAYKIT_CHECK_SANITIZE).
+    sanitize_student: bool = False
 
     @property
     def reference_needs(self) -> bool:
@@ -176,7 +178,8 @@ class Build:
 
 def preset_build(name: str) -> Build:
     steps_dir = ROOT / ("steps" if name == "student" else "solutions")
-    return Build(name, BUILD / name, steps_dir, steps_dir, preset=name, tools=name != "student")
+    return Build(name, BUILD / name, steps_dir, steps_dir, preset=name, tools=name != "student",
+                 sanitize_student=name == "student" and os.environ.get("RAYKIT_NO_CHECK_SANITIZE") != "1")
 
 
 def tools_build(build: Build) -> Build:
@@ -259,6 +262,7 @@ def configure(build: Build, quiet: bool = True) -> None:
     variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
     variables["RAYKIT_BOUNDARY"] = "ON" if build.boundary else "OFF"
+    variables["RAYKIT_CHECK_SANITIZE"] = "ON" if build.sanitize_student and not build.tools else "OFF"
     variables["RAYKIT_PYTHON"] = sys.executable
     gen = []
     if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
