@@ -442,7 +442,7 @@ std::string sanitizer_finding(const std::string& out) {
             if (own(file)) where = file.substr(0, file.find_last_of(':'));
         } else if (reason.empty() && (at = line.find("ERROR: AddressSanitizer: ")) != std::string::npos) {
             reason = "AddressSanitizer: " + line.substr(at + 25);
-            if (const std::size_t on = reason.find(" on address"); on != std::string::npos) reason.resize(on);
+            if (const std::size_t on = reason.find(" on "); on != std::string::npos) reason.resize(on);
         } else if (reason.empty() && line.find("Assertion") != std::string::npos && line.find("failed") != std::string::npos) {
             at = line.find("Assertion");
             reason = "an assert in the kit's headers failed: " + line.substr(at);
@@ -479,6 +479,8 @@ std::string Child::died(const std::string& call) {
     if (got == pid_) pid_ = -1;
     stop();
     const std::string finding = sanitizer_finding(output);
+    if (finding.rfind("AddressSanitizer: SEGV", 0) == 0)    // a bad access the sanitizer only saw land
+        return "Your code crashed in " + call + ": it was killed by SIGSEGV, a bad memory access (" + finding + ").";
     if (!finding.empty()) return "Your code has undefined behaviour in " + call + ": " + finding + ".";
     return "Your code crashed in " + call + ": " + how + ".";
 }
