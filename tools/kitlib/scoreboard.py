@@ -78,7 +78,9 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> lis
                         len(case.output.encode()) < case.output_bytes else "") + "):")
         lines += [f"{indent}      | {l[:200]}" for l in shown]
     if case.picture and (reveal or case.tier != "hidden"):
-        lines.append(f"{indent}    picture: {rel(Path(case.picture))}")
+        # The picture draws the first failing call: say so when the text lists more than one.
+        which = " of the first call above" if sum(1 for m in case.messages if m.strip()) > 1 else ""
+        lines.append(f"{indent}    picture{which}: {rel(Path(case.picture))}")
     elif case.picture_summary:      # a figure that could not be drawn: say why
         lines.append(f"{indent}    picture: none, {case.picture_summary.replace('no picture: ', '')}")
     if case.lecture:
