@@ -232,6 +232,32 @@ def selftest_student_loop(ctx: Context) -> str:
             "call and signal, a missing function named, reset keeps the student's file")
 
 
+def selftest_all_and_piped(ctx: Context) -> str:
+    """`./kit check N --all` lists the basic cases first and marks each ★ case after them; with its
+    output in a pipe, `./kit check` prints its progress as plain lines (no carriage return, no escape)."""
+    need_solutions()
+    import time
+    from .pictures import TEXTBOOK_02
+    folder = BUILD / "selftest-check-all" / "02_general_sphere"
+    folder.mkdir(parents=True, exist_ok=True)
+    # The float textbook formula fails ★ cases; a tangent taken for a miss fails basic ones. A new
+    # comment each run makes the build do something, so its progress has something to say.
+    text = TEXTBOOK_02.replace("if (!(disc >= 0)) return {};", "if (!(disc > 0)) return {};")
+    (folder / "general_sphere.cpp").write_text(f"// {time.time()}\n" + text)
+    r = kit("check", "2", "--steps", str(folder.parent), "--all")
+    lines = r.stdout.split("\nNext: ")[0].splitlines()      # the --all list, not the next case shown
+    cases = [(i, l) for i, l in enumerate(lines) if re.match(r"^\s+✗ ", l)]
+    starred = [i for i, l in cases if "★" in l]
+    plain = [i for i, l in cases if "★" not in l]
+    expect(bool(starred) and bool(plain), f"--all lists no ★ case, or no basic one:\n{r.stdout[-2000:]}")
+    expect(max(plain) < min(starred), f"--all lists a basic case after a ★ one:\n{r.stdout[-2000:]}")
+    expect("\r" not in r.stdout and "\033[" not in r.stdout,
+           f"./kit check into a pipe moves the cursor:\n{r.stdout[:600]!r}")
+    expect(re.search(r"^\s+02\s+building the test program", r.stdout, re.M) is not None,
+           f"./kit check into a pipe prints no progress line while it builds:\n{r.stdout[:800]}")
+    return f"--all: {len(plain)} basic case(s) first, {len(starred)} ★ case(s) after, marked; piped progress plain"
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -243,4 +269,5 @@ def selftests() -> list:
         ("grader survives bad code", selftest_grader_fixtures),
         ("command line errors", selftest_command_line),
         ("the student's loop in a handout", selftest_student_loop),
+        ("--all marks ★ cases; piped progress", selftest_all_and_piped),
     ]
