@@ -627,6 +627,7 @@ def sphere_panels(case: Case, top: float) -> list:
     core += [at(t) for t in case.expected["ts"] if math.isfinite(t)]
     panel = Panel(title, core, extras(case, at), top)
     panel.notes += notes
+    panel.shape, panel.ray = ("circle", c2, r if radius > 0 else 0.0), ((0.0, 0.0), (dn, 0.0), at)
     cx, cy = panel.px(c2)
     if radius > 0:
         panel.items.append(f'<circle cx="{cx:.2f}" cy="{cy:.2f}" r="{r * panel.scale:.2f}" fill="#e8eef7" '
@@ -674,6 +675,7 @@ def rect_panels(case: Case, top: float) -> list:
     if norm(d2) == 0:
         front.notes.append("face on, the ray is a point: it runs along the plane's normal")
     draw_ray(front, o2, d2, case, face)
+    front.shape, front.ray = ("rect", corners, None), (o2, d2, face)
     rect_labels(front, corners, lo, hi)
     panels.append(front)
     # Side on: horizontal along the ray's in-plane direction h, vertical along the normal.
@@ -768,6 +770,98 @@ def render(figure: dict, title: str) -> tuple:
     return "\n".join(out) + "\n", line
 
 
+def render_all(figure: dict, title: str) -> tuple:
+    """(svg, summary, sketch): the picture, its line, and its first view in characters (sketch)."""
+    case = Case(figure)
+    svg, line = render(figure, title)
+    panels = sphere_panels(case, 0.0) if case.sphere is not None else rect_panels(case, 0.0)
+    return svg, line, sketch(panels[0], case)
+
+
+SKETCH_COLUMNS, SKETCH_ROWS = 52, 12
+
+
+def sketch(panel: Panel, case: Case) -> list:
+    """The panel's view in characters, for a terminal with no picture viewer: the shape's outline #,
+    the ray (t >= 0) as - | / \\ by its slope and its line behind the origin as '.', the window's
+    stretch as = when the ray is level, the origin o, the centre +, the expected answers E, the
+    student's X (* where both fall in one character). A character is about twice as tall as wide, so
+    a cell is 1 by 2 of the view's units, and a circle stays round."""
+    x0, x1, y0, y1 = panel.view
+    cols, rows = SKETCH_COLUMNS, SKETCH_ROWS
+    cell = max((x1 - x0) / cols, (y1 - y0) / (2 * rows))
+    mx, my = (x0 + x1) / 2, (y0 + y1) / 2
+    left, top = mx - cell * cols / 2, my + cell * rows      # the grid's top left corner, in the view
+    grid = [[" "] * cols for _ in range(rows)]
+
+    def cell_of(p):
+        if not finite(*p):
+            return None
+        i, j = math.floor((p[0] - left) / cell), math.floor((top - p[1]) / (2 * cell))
+        return (i, j) if 0 <= i < cols and 0 <= j < rows else None
+
+    def put(p, ch, over=" "):
+        at = cell_of(p)
+        if at is not None and grid[at[1]][at[0]] in over:
+            grid[at[1]][at[0]] = ch
+
+    kind, where, size = panel.shape
+    for j in range(rows):           # the outline: the cells the boundary crosses
+        for i in range(cols):
+            bx0, bx1 = left + i * cell, left + (i + 1) * cell
+            by1, by0 = top - j * 2 * cell, top - (j + 1) * 2 * cell
+            if kind == "circle" and size > 0:
+                cx, cy = where
+                near = math.hypot(max(bx0 - cx, 0, cx - bx1), max(by0 - cy, 0, cy - by1))
+                far = max(math.hypot(x - cx, y - cy) for x in (bx0, bx1) for y in (by0, by1))
+                if near <= size <= far:
+                    grid[j][i] = "#"
+            elif kind == "rect":
+                (ax, ay), (cx, cy) = where[0], where[2]
+                lo_x, hi_x, lo_y, hi_y = min(ax, cx), max(ax, cx), min(ay, cy), max(ay, cy)
+                overlaps = bx0 <= hi_x and lo_x <= bx1 and by0 <= hi_y and lo_y <= by1
+                inside = lo_x < bx0 and bx1 < hi_x and lo_y < by0 and by1 < hi_y
+                if overlaps and not inside:
+                    grid[j][i] = "#"
+    o2, d2, at = panel.ray
+    moving = norm(d2) > 0
+    ray_char = "(none: the direction is zero)"
+    if moving:
+        slope = d2[1] / d2[0] * 0.5 if d2[0] != 0 else math.inf   # rows per column, a row 2 units
+        ray_char = "-" if abs(slope) < 0.3 else "|" if abs(slope) > 2.5 else "/" if slope > 0 else "\\"
+        span = panel.clip(o2, d2, -math.inf, math.inf)
+        if span is not None:
+            a, b = span
+            count = 6 * (cols + rows)
+            window = case.window if case.window is not None and case.window[0] <= case.window[1] else None
+            for k in range(count + 1):
+                t = a + (b - a) * k / count
+                if t < 0:
+                    put(at(t), ".")
+                elif window and window[0] <= t <= window[1] and ray_char == "-":
+                    put(at(t), "=", over=" .")
+                else:
+                    put(at(t), ray_char, over=" .")
+    if kind == "circle":
+        put(where, "+", over=" .-|/\\=")
+    marks: dict = {}
+    for who, a in (("E", case.expected), ("X", case.got)):
+        for t in a["ts"]:
+            c = cell_of(at(t)) if math.isfinite(t) else None
+            if c is not None:
+                marks[c] = "*" if marks.get(c, who) != who else who
+    c = cell_of(at(0.0))
+    if c is not None:
+        grid[c[1]][c[0]] = "o"
+    for (i, j), ch in marks.items():
+        grid[j][i] = ch
+    lines = ["      |" + "".join(r) + "|" for r in grid]
+    shape = "# the sphere, + its centre" if kind == "circle" else "# the rectangle, face on"
+    window = "; = the window" if case.window is not None and moving and ray_char == "-" else ""
+    return (["      +" + "-" * cols + "+"] + lines + ["      +" + "-" * cols + "+",
+            f"      {shape}; o the origin; the ray {ray_char}{window}; E expected, X yours, * both in one character"])
+
+
 def legend_svg(y: float, window: bool) -> tuple:
     """(svg, height): the marks and what they mean, each placed after the last, on as many lines as
     the width needs."""
@@ -805,10 +899,13 @@ def slug(name: str) -> str:
     return (s[:80].rstrip("-") or "case")
 
 
-def write(figure: dict, title: str, path: Path) -> str:
+def write(figure: dict, title: str, path: Path, sketch_out: list | None = None) -> str:
     """Writes the picture to `path` whole (a temporary file renamed), returns its summary.
-    Raises PictureError when it cannot be drawn, OSError when it cannot be written."""
-    svg, line = render(figure, title)
+    Raises PictureError when it cannot be drawn, OSError when it cannot be written. `sketch_out`, a
+    list, receives the picture's first view in characters (sketch)."""
+    svg, line, lines = render_all(figure, title)
+    if sketch_out is not None:
+        sketch_out[:] = lines
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
@@ -856,7 +953,9 @@ def draw_results(results, folder: Path, reveal: bool = False) -> int:
             path = step_dir / f"{name}.svg"
             title = f"Step {r.step.number} · {c.name}"
             try:
-                c.picture_summary = write(figure, title, path)
+                drawn: list = []
+                c.picture_summary = write(figure, title, path, drawn)
+                c.sketch = drawn            # the picture in characters, for the terminal
                 c.picture = str(path)
                 written += 1
             except PictureError as e:

@@ -65,7 +65,9 @@ def status_cell(r: StepResult) -> tuple[str, str]:
 OUTPUT_LINES = 12
 
 
-def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> list[str]:
+def case_block(step: Step, case, indent: str = "  ", reveal: bool = True, drawing: bool = False) -> list[str]:
+    """A failing case: its name, messages, output, picture and lecture section; with `drawing`, the
+    picture in characters too (picture.sketch), for a terminal with no picture viewer."""
     star = "★ " if case.tier == "robust" else ""
     lines = [f"{indent}{paint('✗', 'red')} {star}{paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
     messages = case.messages if reveal or case.tier != "hidden" else [HIDDEN_NOTE]
@@ -82,6 +84,8 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> lis
         # The picture draws the first failing call: say so when the text lists more than one.
         which = " of the first call above" if sum(1 for m in case.messages if m.strip()) > 1 else ""
         lines.append(f"{indent}    picture{which}: {rel(Path(case.picture))}")
+        if drawing and getattr(case, "sketch", None):
+            lines += [indent + line for line in case.sketch]
     elif case.picture_summary:      # a figure that could not be drawn: say why
         lines.append(f"{indent}    picture: none, {case.picture_summary.replace('no picture: ', '')}")
     if case.lecture:
@@ -164,7 +168,7 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     else:
         c = todo.first_problem("basic") or todo.first_problem("hidden")
         if c is not None:
-            out += case_block(s, c, reveal=False)
+            out += case_block(s, c, reveal=False, drawing=True)
     if not watching:   # ./kit watch re-checks by itself at every save
         out.append("")
         out.append(f"  Then run: ./kit check {int(s.number)}")

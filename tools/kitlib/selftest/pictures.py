@@ -2,6 +2,7 @@
 
 - a wrong step 01 (a mutant: the far root tried first) graded as a student's work: the failing case's
   SVG exists, parses as XML, and holds the expected t as a green label and the student's as a red one;
+  the terminal shows it in characters too (picture.sketch: the origin o, E expected, X the answer);
   `./kit check` prints its path and --json carries it with its summary. The reference, graded the same
   way, leaves no picture behind (so the check cannot pass on stale files);
 - picture.py on degenerate figures (a ray through the centre, a zero direction, an infinite tmax, NaN
@@ -72,6 +73,12 @@ def selftest_failing_case(ctx) -> str:
     expect(path.resolve().is_relative_to(BUILD.resolve()), f"{path} is not under build/")
     expect(f"picture: {path.relative_to(ROOT)}" in r.stdout or "picture: build/pictures/step01/" in r.stdout,
            "./kit check 1 does not print the picture's path under the failing case")
+    # The picture in characters too, under the case (a terminal with no picture viewer): the ray's row
+    # holds the expected answer E and the student's X, inside the frame.
+    sketch = [l for l in r.stdout.splitlines() if re.match(r"^\s+\|.*\|$", l)]
+    expect(len(sketch) == picture.SKETCH_ROWS and any("E" in l and "X" in l and "o" in l for l in sketch)
+           and "# the sphere" in r.stdout,
+           f"./kit check 1 draws no picture in characters with o, E and X under the case:\n{r.stdout[-2500:]}")
     summary = case.get("picture_summary") or ""
     expect("expected a hit at t = 2" in summary and "got a hit at t = 4" in summary and "window [0, inf]" in summary,
            f"the picture's summary does not say what it shows: {summary!r}")
