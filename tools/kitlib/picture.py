@@ -797,7 +797,8 @@ def sketch(panel: Panel, case: Case) -> list:
     def cell_of(p):
         if not finite(*p):
             return None
-        i, j = math.floor((p[0] - left) / cell), math.floor((top - p[1]) / (2 * cell))
+        across, down = p[0] - left, top - p[1]
+        i, j = math.floor(across / cell), math.floor(down / (2 * cell))
         return (i, j) if 0 <= i < cols and 0 <= j < rows else None
 
     def put(p, ch, over=" "):

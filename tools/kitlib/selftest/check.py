@@ -242,7 +242,8 @@ def selftest_all_and_piped(ctx: Context) -> str:
     folder.mkdir(parents=True, exist_ok=True)
     # The float textbook formula fails ★ cases; a tangent taken for a miss fails basic ones. A new
     # comment each run makes the build do something, so its progress has something to say.
-    text = TEXTBOOK_02.replace("if (!(disc >= 0)) return {};", "if (!(disc > 0)) return {};")
+    text = TEXTBOOK_02.read_text().replace("disc < 0.0f) return {};", "disc <= 0.0f) return {};")
+    expect("disc <= 0.0f" in text, f"{TEXTBOOK_02} has changed: the slip of a tangent taken for a miss is not made")
     (folder / "general_sphere.cpp").write_text(f"// {time.time()}\n" + text)
     r = kit("check", "2", "--steps", str(folder.parent), "--all")
     lines = r.stdout.split("\nNext: ")[0].splitlines()      # the --all list, not the next case shown
@@ -258,6 +259,38 @@ def selftest_all_and_piped(ctx: Context) -> str:
     return f"--all: {len(plain)} basic case(s) first, {len(starred)} ★ case(s) after, marked; piped progress plain"
 
 
+def selftest_handout_pointers(ctx: Context) -> str:
+    """A lecture's pointer to a file a handout lacks (lecture 03's appendix: solutions/, the exact-root
+    header, the reference build, the textbook fixtures) says, in the handout, that the instructor's
+    copy has it; pointers to files a handout has are left as they are."""
+    need_solutions()
+    from ..commands import handout
+    shipped = {r.as_posix() for r in handout.kit_files() if not handout.excluded(r)}
+    folders = {"/".join(f.split("/")[:i]) for f in shipped for i in range(1, f.count("/") + 1)}
+
+    def has(rel: str) -> bool:
+        return rel in shipped or rel in folders
+
+    marked, dangling = 0, []
+    for lecture in sorted((ROOT / "lectures").glob("*.md")):
+        text, n = handout.mark_missing_pointers(lecture.read_text(), has)
+        marked += n
+        for line in text.splitlines():
+            for span in re.finditer(r"`([^`\n]+)`(.{0,%d})" % len(handout.INSTRUCTOR_ONLY), line):
+                paths = handout._POINTER.findall(span.group(1))
+                lacking = [q for q in paths if q.startswith("build/reference")
+                           or (not q.startswith("build/") and not has(q.rstrip("/.")))]
+                if lacking and span.group(2) != handout.INSTRUCTOR_ONLY:
+                    dangling.append(f"{lecture.name}: `{span.group(1)}`")
+    appendix, n = handout.mark_missing_pointers((ROOT / "lectures" / "03-appendix.md").read_text(), has)
+    expect(f"`tests/support/reference_roots.hpp`{handout.INSTRUCTOR_ONLY}" in appendix,
+           "lecture 03's appendix still points a handout's reader to tests/support/reference_roots.hpp unmarked")
+    expect(not dangling, "a handout's lecture points to a file it lacks: " + "; ".join(dangling[:4]))
+    again, twice = handout.mark_missing_pointers(appendix, has)
+    expect(twice == 0 and again == appendix, "marking a lecture twice adds the note twice")
+    return f"{marked} pointer(s) to files a handout lacks marked as the instructor's, none left unmarked"
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -270,4 +303,5 @@ def selftests() -> list:
         ("command line errors", selftest_command_line),
         ("the student's loop in a handout", selftest_student_loop),
         ("--all marks ★ cases; piped progress", selftest_all_and_piped),
+        ("a handout's lectures point to what it has", selftest_handout_pointers),
     ]

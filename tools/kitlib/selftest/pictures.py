@@ -268,31 +268,9 @@ OFF_WRAPPERS = {
     "std::optional<float>": "const std::optional<float> h = reference_{name}({args}); "
                             "return h ? std::optional<float>(*h + 0.5f) : std::optional<float>(1.0f);",
 }
-TEXTBOOK_02 = """// Step 02 as the textbook writes it, in float: the ★ cases fail by a few ulps or a flipped count.
-#include "raykit/general_sphere.hpp"
-#include <cmath>
-#include <glm/geometric.hpp>
-namespace raykit {
-Roots sphere_roots(const Ray& ray, const Sphere& sphere) {
-    if (!(sphere.radius > 0.0f && std::isfinite(sphere.radius))) return {};
-    const glm::vec3 f = ray.origin - sphere.center;
-    const float a = glm::dot(ray.direction, ray.direction);
-    if (!(a > 0.0f && std::isfinite(a))) return {};
-    const float b = 2 * glm::dot(f, ray.direction);
-    const float disc = b * b - 4 * a * (glm::dot(f, f) - sphere.radius * sphere.radius);
-    if (!(disc >= 0)) return {};
-    if (disc == 0) return {1, {-b / (2 * a), -b / (2 * a)}};
-    const float s = std::sqrt(disc);
-    return {2, {(-b - s) / (2 * a), (-b + s) / (2 * a)}};
-}
-std::optional<float> intersect_sphere(const Ray& ray, const Sphere& sphere, float tmin, float tmax) {
-    const Roots r = sphere_roots(ray, sphere);
-    for (int i = 0; i < r.count; ++i)
-        if (tmin <= r.t[i] && r.t[i] <= tmax) return r.t[i];
-    return std::nullopt;
-}
-}  // namespace raykit
-"""
+# The textbook formula in float (a fixture: never in a handout): its ★ cases fail by a few ulps or a
+# flipped count.
+TEXTBOOK_02 = ROOT / "tests" / "fixtures" / "textbook" / "02_general_sphere" / "general_sphere.cpp"
 
 
 def write_off(folder: Path) -> None:
@@ -350,7 +328,7 @@ def selftest_labels(ctx) -> str:
     off, textbook = folder / "off", folder / "textbook"
     write_off(off)
     (textbook / "02_general_sphere").mkdir(parents=True)
-    (textbook / "02_general_sphere" / "general_sphere.cpp").write_text(TEXTBOOK_02)
+    shutil.copyfile(TEXTBOOK_02, textbook / "02_general_sphere" / "general_sphere.cpp")
     drawn = {}
     for steps_dir, numbers in ((off, ["1", "2", "3", "4"]), (textbook, ["2"])):
         report = folder / f"{steps_dir.name}.json"
