@@ -926,7 +926,8 @@ def pictures_folder(build: Path, steps_dir=None, slot: int = 0) -> Path:
     replaces the pictures of the student's steps, nor those of a third folder."""
     if not steps_dir:
         return build / ("pictures" if slot == 0 else f"pictures-{slot}")
-    return build / "pictures-of" / slug(str(Path(steps_dir).resolve()))[-80:].strip("-")
+    name = re.sub(r"[^a-z0-9]+", "-", str(Path(steps_dir).resolve()).lower()).strip("-")
+    return build / "pictures-of" / (name[-80:].strip("-") or "steps")      # the path's end tells folders apart
 
 
 def draw_results(results, folder: Path, reveal: bool = False) -> int:
