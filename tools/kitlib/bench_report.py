@@ -249,12 +249,18 @@ def peak_line(data: dict) -> str:
     return line
 
 
+def compiler_text(meta: dict) -> str:
+    """"GCC 12.2.0": the compiler's __VERSION__, named. GCC's is the bare number; Clang's names itself."""
+    v = str(meta.get("compiler", "")).strip()
+    return f"GCC {v}" if v[:1].isdigit() else v
+
+
 def subtitle(data: dict) -> str:
     """One short line under the plot's title: the machine and the settings."""
     m, p = data["meta"], data.get("peak") or {}
     peak = (f"; one core's peak {p['scalar_gflops_f32']:.1f} GFLOP/s scalar, {p['vector_gflops_f32']:.0f} with "
             f"{p['vector_isa']} (float)" if p.get("scalar_gflops_f32") and p.get("vector_gflops_f32") else "")
-    return (f"{m['cpu']}{peak}; GCC {m['compiler']} {m['flags']}; {m['rays']} rays per family, "
+    return (f"{m['cpu']}{peak}; {compiler_text(m)} {m['flags']}; {m['rays']} rays per family, "
             f"{m['repetitions']} repetitions")
 
 
@@ -266,7 +272,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     w = out.write
     m = data["meta"]
     w(f"{peak_line(data)}\n")
-    w(f"Compiled with {m['compiler']} {m['flags']}; {m['rays']} rays per family, {m['repetitions']} timed "
+    w(f"Compiled with {compiler_text(m)} {m['flags']}; {m['rays']} rays per family, {m['repetitions']} timed "
       f"repetitions of {m['batch']} rays each (median [min-max] of CPU time).\n")
     w("Error: in ulps of the result type against float128, over the rays both call a hit; rays within "
       f"{m['tangent_band']:g} r of a tangent (the family's band where it says so) or {m['edge_band']:g} of an "
@@ -307,6 +313,38 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     for s in statuses:
         w(s + "\n")
     return out.getvalue()
+
+
+def student_summary(data: dict, pts: list[Point]) -> list[str]:
+    """A few lines after the tables: the student's step on each family, its rank among the scalar
+    variants by speed and by p99 error, its time beside the kit's reference (variant "kit"), whether
+    it is on the front; then its worst error. Empty when the student's step was not measured."""
+    mine = {p.family["id"]: p for p in pts if p.vid == "student"}
+    if not mine:
+        return []
+    label = next((v["label"] for v in data["variants"] if v["id"] == "student"), "your step")
+    out = [f"{label}, in short (rank among the scalar variants of each family, 1 the best):"]
+    width = max(len(f["label"]) for f in data["families"] if f["id"] in mine)
+    for fam in family_order(data):
+        p = mine.get(fam["id"])
+        if p is None:
+            continue
+        rivals = [q for q in pts if q.family["id"] == fam["id"] and q.regime == "scalar"]
+        kit = next((q for q in rivals if q.vid == "kit"), None)
+        timed = [q for q in rivals if q.timed]
+        speed = (f"{fmt_ns(p.ns_median)} ns/ray, rank {1 + sum(q.ns_median < p.ns_median for q in timed)} of "
+                 f"{len(timed)}" if p.timed else "not timed")
+        if kit is not None and kit.timed and p.timed:
+            speed += f" (the kit's {fmt_ns(kit.ns_median)})"
+        error = (f"p99 {fmt_ulps(p.ulps('p99'))} ulps, rank {1 + sum(q.ulps('p99') < p.ulps('p99') for q in rivals)} "
+                 f"of {len(rivals)}" + (f" (the kit's {fmt_ulps(kit.ulps('p99'))})" if kit is not None else ""))
+        missed = f", {fmt_share(p)} of the rays misclassified" if p.raw.get("misclassified") else ""
+        out.append(f"  {'◆' if p.pareto else ' '} {fam['label']:<{width}}  {speed}; {error}{missed}")
+    worst = max(mine.values(), key=lambda p: p.ulps("max"))
+    out.append(f"  worst error: {fmt_ulps(worst.ulps('max'))} ulps, on {worst.family['label']}"
+               + (f"; {sum(p.raw.get('misclassified', 0) for p in mine.values())} rays misclassified in all"
+                  if any(p.raw.get("misclassified") for p in mine.values()) else "; no ray misclassified"))
+    return out
 
 
 CSV_FIELDS = ["group", "family", "family_label", "hard", "variant", "label", "formulation", "precision",
@@ -359,7 +397,7 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
     peak = data.get("peak") or {}
     lines = ["<!-- written by ./kit bench; do not edit -->", "", peak_line(data), ""]
     m = data["meta"]
-    lines.append(f"Compiled with GCC {m['compiler']} `{m['flags']}`; {m['rays']} rays per family; "
+    lines.append(f"Compiled with {compiler_text(m)} `{m['flags']}`; {m['rays']} rays per family; "
                  f"{m['repetitions']} timed repetitions of {m['batch']} rays (median, min and max of CPU time). "
                  f"Errors in ulps of the result type against float128; ◆ marks the Pareto front.")
     for fam in family_order(data):

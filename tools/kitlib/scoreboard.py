@@ -65,8 +65,11 @@ def status_cell(r: StepResult) -> tuple[str, str]:
 OUTPUT_LINES = 12
 
 
-def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> list[str]:
-    lines = [f"{indent}{paint('✗', 'red')} {paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
+def case_block(step: Step, case, indent: str = "  ", reveal: bool = True, drawing: bool = False) -> list[str]:
+    """A failing case: its name, messages, output, picture and lecture section; with `drawing`, the
+    picture in characters too (picture.sketch), for a terminal with no picture viewer."""
+    star = "★ " if case.tier == "robust" else ""
+    lines = [f"{indent}{paint('✗', 'red')} {star}{paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
     messages = case.messages if reveal or case.tier != "hidden" else [HIDDEN_NOTE]
     for m in messages[:3]:
         for line in m.rstrip().splitlines():
@@ -78,7 +81,11 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True) -> lis
                         len(case.output.encode()) < case.output_bytes else "") + "):")
         lines += [f"{indent}      | {l[:200]}" for l in shown]
     if case.picture and (reveal or case.tier != "hidden"):
-        lines.append(f"{indent}    picture: {rel(Path(case.picture))}")
+        # The picture draws the first failing call: say so when the text lists more than one.
+        which = " of the first call above" if sum(1 for m in case.messages if m.strip()) > 1 else ""
+        lines.append(f"{indent}    picture{which}: {rel(Path(case.picture))}")
+        if drawing and getattr(case, "sketch", None):
+            lines += [indent + line for line in case.sketch]
     elif case.picture_summary:      # a figure that could not be drawn: say why
         lines.append(f"{indent}    picture: none, {case.picture_summary.replace('no picture: ', '')}")
     if case.lecture:
@@ -110,16 +117,20 @@ def function_of(case) -> str:
 
 
 def all_failures(r: StepResult, reveal: bool) -> list[str]:
-    """Every failing case of a step, grouped by the function it called (./kit check N --all)."""
-    groups: dict[str, list] = {}
-    for c in r.cases:
-        if c.status != PASS:
-            groups.setdefault(function_of(c), []).append(c)
+    """Every failing case of a step (./kit check N --all): the basic and hidden cases first, then the
+    optional ★ robust ones under a heading of their own, each marked ★; grouped by the function called."""
     out = []
-    for name, cases in groups.items():
-        out.append(paint(f"  {name}: {len(cases)} failing case(s)", "bold"))
-        for c in cases:
-            out += case_block(r.step, c, "    ", reveal=reveal)
+    for tiers, heading in ((("basic", "hidden"), ""), (("robust",), "★ robust cases (optional)")):
+        groups: dict[str, list] = {}
+        for c in r.cases:
+            if c.status != PASS and c.tier in tiers:
+                groups.setdefault(function_of(c), []).append(c)
+        if groups and heading:
+            out.append(paint(f"  {heading}", "bold"))
+        for name, cases in groups.items():
+            out.append(paint(f"  {name}: {len(cases)} failing {'★ ' if heading else ''}case(s)", "bold"))
+            for c in cases:
+                out += case_block(r.step, c, "    ", reveal=reveal)
     return out
 
 
@@ -158,7 +169,7 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     else:
         c = todo.first_problem("basic") or todo.first_problem("hidden")
         if c is not None:
-            out += case_block(s, c, reveal=False)
+            out += case_block(s, c, reveal=False, drawing=True)
     if not watching:   # ./kit watch re-checks by itself at every save
         out.append("")
         out.append(f"  Then run: ./kit check {int(s.number)}")
@@ -180,7 +191,11 @@ def row(r: StepResult, width: int) -> str:
 
 class LiveProgress(Progress):
     """The scoreboard's table, printed a row at a time as each step is checked, with what is being
-    done meanwhile on one line below it (a terminal only: the line is rewritten in place)."""
+    done meanwhile on one line below it: on a terminal the line is rewritten in place; into a file or
+    a pipe, plain lines (no cursor movement), one per phase and one per step built, repeated at most
+    every PLAIN_EVERY seconds while a build goes on."""
+
+    PLAIN_EVERY = 10.0
 
     def __init__(self, shown: Path, steps: list[Step]):
         self.width = title_width(steps)
@@ -188,14 +203,21 @@ class LiveProgress(Progress):
         self.start = time.monotonic()
         self.lock = threading.Lock()
         self.status = ""
+        self.plain_last = ("", -1e9)     # the last plain line's kind and its time
         say(header(shown))
         say()
 
-    def _draw(self, text: str) -> None:
+    def _draw(self, text: str, kind: str = "") -> None:
         if self.tty:
             self.status = text
             sys.stdout.write("\r\033[K" + paint(text, "dim"))
             sys.stdout.flush()
+            return
+        kind = kind or text
+        now = time.monotonic()
+        if kind != self.plain_last[0] or now - self.plain_last[1] >= self.PLAIN_EVERY:
+            self.plain_last = (kind, now)
+            say(text)
 
     def phase(self, text: str) -> None:
         with self.lock:
@@ -204,7 +226,7 @@ class LiveProgress(Progress):
     def building(self, step: Step, done: int, total: int) -> None:
         with self.lock:
             self._draw(f"  {step.number}  building the test program and your code  [{done}/{total}]"
-                       f"  {time.monotonic() - self.start:.0f} s")
+                       f"  {time.monotonic() - self.start:.0f} s", kind=f"build {step.number}")
 
     def result(self, result: StepResult) -> None:
         with self.lock:

@@ -9,10 +9,15 @@
 //   LEVEL  every channel within one level (of 255) of the reference: a smooth
 //          shading (the normals) whose value sits near a rounding boundary of
 //          the 8-bit conversion, which any correct float answer may cross;
-//   EDGE   not LEVEL, but the colour of a neighbour in the reference: an edge
-//          one pixel off, which rounding can cause where a ray grazes an
+//   EDGE   not LEVEL, but the colour of a neighbour in the reference, and the
+//          reference's own colour there is still beside it in the image: an
+//          edge one pixel off, which rounding can cause where a ray grazes an
 //          object (and so can a camera shifted by half a pixel);
-//   other  DIFFERING - LEVEL - EDGE: a colour the reference has nowhere near.
+//   other  DIFFERING - LEVEL - EDGE: a colour the reference has nowhere near,
+//          or a whole region of another colour: a light that is missing is
+//          drawn in the ceiling's colour, which the reference has next to the
+//          light's border, but the light's colour is nowhere beside it in the
+//          image, so no edge moved there: the region is gone.
 // The caller (./kit render) decides how many of the first two kinds a correct
 // answer may have; here they are only counted.
 //
@@ -51,14 +56,19 @@ Kind classify(const Image& reference, const Image& image, int i, int j) {
     const unsigned char* p = image.pixel(i, j);
     if (same_colour(r, p)) return Kind::same;
     if (within_one_level(r, p)) return Kind::level;
+    // An edge moved by a pixel: the image's colour is a neighbour's in the reference, and the
+    // reference's colour here is a neighbour's in the image (the region it belongs to is still there,
+    // a pixel over). Only the first holds where a region is missing or added whole.
+    bool taken = false, kept = false;
     for (int dj = -1; dj <= 1; ++dj) {
         for (int di = -1; di <= 1; ++di) {
             const int ni = i + di, nj = j + dj;
             if (ni < 0 || nj < 0 || ni >= reference.width || nj >= reference.height) continue;
-            if (same_colour(reference.pixel(ni, nj), p)) return Kind::edge;
+            taken = taken || same_colour(reference.pixel(ni, nj), p);
+            kept = kept || same_colour(image.pixel(ni, nj), r);
         }
     }
-    return Kind::other;
+    return taken && kept ? Kind::edge : Kind::other;
 }
 
 void paint(unsigned char* d, Kind kind) {

@@ -408,6 +408,13 @@ def run(args) -> int:
         for line in lanes:
             say(line)
 
+    summary = report.student_summary(data, pts)
+    if summary:
+        say()
+        say(paint(summary[0], "bold"))
+        for line in summary[1:]:
+            say(line)
+
     target.mkdir(parents=True, exist_ok=True)
     outputs = {"results.json": json.dumps(data, indent=1) + "\n", "results.csv": report.csv_text(data, pts),
                "table.md": report.markdown_table(data, pts), "plot.svg": report.plot_svg(data, pts)}

@@ -328,6 +328,36 @@ def check_no_answers(steps_files: dict[str, bytes]) -> None:
                                f"stubs only", FAILED)
 
 
+# A path in a lecture's code span: `solutions/02_general_sphere/general_sphere.cpp`,
+# `RAYKIT_SHOW_ULPS=1 build/reference/test_step02 -ts=robust`.
+_POINTER = re.compile(r"(?<![\w/.])((?:solutions|tests|tools|build|bench|include|docs|lectures|steps|cmake)/[\w./-]*)")
+_SPAN = re.compile(r"`([^`\n]+)`")
+INSTRUCTOR_ONLY = ", in the instructor's copy of the kit only"
+
+
+def mark_missing_pointers(text: str, has) -> tuple[str, int]:
+    """A lecture for the handout: each code span naming a file or folder the handout lacks (`has(rel)`
+    is False; build/reference/ never exists in one) is followed by INSTRUCTOR_ONLY, so a student
+    does not look for it. Returns (text, how many spans were marked)."""
+    marked = 0
+
+    def missing(path: str) -> bool:
+        rel = path.rstrip("/.")
+        return rel.startswith("build/reference") or (not rel.startswith("build/") and not has(rel))
+
+    def one(m: re.Match) -> str:
+        nonlocal marked
+        after = m.string[m.end():m.end() + len(INSTRUCTOR_ONLY)]
+        if after == INSTRUCTOR_ONLY or not any(missing(p) for p in _POINTER.findall(m.group(1))):
+            return m.group(0)
+        marked += 1
+        return m.group(0) + INSTRUCTOR_ONLY
+    out = []
+    for line in text.splitlines(keepends=True):     # not inside $...$ formulas: lines only, spans in them
+        out.append(_SPAN.sub(one, line) if "`" in line else line)
+    return "".join(out), marked
+
+
 def run(args) -> int:
     if not (ROOT / "solutions").is_dir():
         raise KitError("this is a student handout (it has no solutions/): ./kit handout runs in the "
@@ -358,6 +388,13 @@ def run(args) -> int:
             else:
                 shutil.copy2(ROOT / rel, dst)
             count += 1
+        # The lectures' pointers to files a handout lacks say where those files are.
+        shipped = {r.as_posix() for r in kit_files() if not excluded(r)} | set(steps_files)
+        folders = {"/".join(f.split("/")[:i]) for f in shipped for i in range(1, f.count("/") + 1)}
+        for lecture in sorted((staging / "lectures").glob("*.md")):
+            text, marked = mark_missing_pointers(lecture.read_text(), lambda rel: rel in shipped or rel in folders)
+            if marked:
+                lecture.write_text(text)
         for rel, data in steps_files.items():
             (staging / rel).parent.mkdir(parents=True, exist_ok=True)
             (staging / rel).write_bytes(data)

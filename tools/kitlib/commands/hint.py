@@ -1,7 +1,10 @@
 """./kit hint N: the step's hints, one more each time (a nudge first, then the formula; never code).
 
 The first hint given is the one about the lecture section the first failing case points to (the step's
-cases are run for that, as ./kit check N would); then the rest in their fixed order. A hint's section is
+cases are run for that, as ./kit check N would); of two hints about that section, the one that names
+the function the case called comes before one that names none, and one about another function of the
+step comes last (a tie in find_intersection gets the strict-comparison hint, not the listing order's).
+Then the rest in their fixed order. A hint's section is
 what it cites, "(section 4)" or "(sections 2 and 3)"; a hint about another lecture's sections
 ("lecture 03, sections 5 and 6") is not tied to them.
 """
@@ -10,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from ..common import BUILD, ROOT, KitError, load_steps, note, paint, say, select_steps
+from ..common import BUILD, ROOT, KitError, load_steps, paint, say, select_steps
 from ..status import BROKEN, DONE, FAILED, MISSING, NOT_STARTED, NO_COMPILE, OK, PARTIAL, WAITING
 
 # "section 4", "sections 5 and 6", "sections 2, 3 and 4", "section 2. The ray meets the sphere".
@@ -54,16 +57,24 @@ def section_of(pointer: str) -> str:
     return m.group(1) if m else ""
 
 
-def choose(hints: list[str], shown: list[int], section: str) -> int | None:
-    """The next hint (1-based): the first not yet shown that cites `section`, else the first not yet shown;
-    None when every hint has been shown."""
+def names(hint: str, functions) -> set:
+    return {f for f in functions if re.search(rf"\b{re.escape(f)}\b", hint)}
+
+
+def choose(hints: list[str], shown: list[int], section: str, function: str = "", functions=()) -> int | None:
+    """The next hint (1-based): of those not yet shown that cite `section`, the first that names
+    `function` (the failing case's), else the first that names none of the step's `functions`, else
+    the first; with none citing it, the first not yet shown. None when every hint has been shown."""
     unseen = [i for i in range(1, len(hints) + 1) if i not in shown]
     if not unseen:
         return None
     if section:
         tied = [i for i in unseen if section in hint_sections(hints[i - 1])]
         if tied:
-            return tied[0]
+            def rank(i):
+                named = names(hints[i - 1], functions)
+                return 0 if function in named else 1 if not named else 2
+            return min(tied, key=lambda i: (rank(i) if function else 0, i))
     return unseen[0]
 
 
@@ -116,9 +127,15 @@ def run(args) -> int:
         say(f"Hints for step {step.number} start again from the first.")
         return OK
     shown = read_state(state, len(hints))
+    if len(shown) == len(hints) and not args.all:
+        say(paint(f"No hint is left: you have seen all {len(hints)} hints of step {step.number}. The lecture, "
+                  f"{step.lecture}, has the rest; ./kit hint {int(step.number)} --all shows them again, "
+                  f"--reset starts over.", "dim"))
+        return OK
     case, why = None, ""
     if not args.no_run and len(shown) < len(hints):
-        note(f"kit: running step {step.number}'s cases to see what fails (--no-run: the hints in order)")
+        # On stdout, as the hint is: piped or redirected, the two keep their order.
+        say(paint(f"kit: running step {step.number}'s cases to see what fails (--no-run: the hints in order)", "dim"))
         try:
             status, case = first_failing(step, args.steps)
         except KitError:
@@ -130,7 +147,9 @@ def run(args) -> int:
                    MISSING: "a file is missing", WAITING: "an earlier step comes first",
                    DONE: "every case passes"}.get(status, status)
     section = section_of(case.lecture) if case is not None else ""
-    nxt = choose(hints, shown, section)
+    from ..scoreboard import function_of
+    function = function_of(case) if case is not None else ""
+    nxt = choose(hints, shown, section, function, step.functions)
     last = nxt is None
     if last:
         nxt = shown[-1] if shown else len(hints)
@@ -147,7 +166,9 @@ def run(args) -> int:
     elif why and not args.no_run:
         say(paint(f"({why}: the hints in their order)", "dim"))
     if len(order) < len(hints):
-        say(paint(f"Run ./kit hint {int(step.number)} again for the next one.", "dim"))
+        left = len(hints) - len(order)
+        say(paint(f"{left} hint{'s' if left > 1 else ''} left: run ./kit hint {int(step.number)} again for the next one.",
+                  "dim"))
     else:
         say(paint(f"That was the last hint. The lecture, {step.lecture}, has the rest.", "dim"))
     write_state(state, order)

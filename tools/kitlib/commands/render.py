@@ -159,11 +159,16 @@ def render_one(exe: Path, scene: str, shading: str, size: tuple[int, int], targe
     if proc.returncode == 0:
         return None
     if proc.returncode == NOT_WRITTEN:
-        name = re.search(r"raykit::not_implemented: (\S+)", first)
+        name = re.search(r"raykit::not_implemented: (\w+)", first)
         what = name.group(1) if name else first
-        if what == "view_ray":  # every scene shoots its rays with step 05's view_ray (tools/render/tool.hpp)
-            what += ", step 05: every picture is drawn with your own view rays"
-        return f"not written yet ({what})"
+        # Name the step that is missing, which need not be the scene's: every program draws with step
+        # 05's view_ray and render (tools/render/tool.hpp, render_step04.cpp).
+        owner = next((s for s in load_steps() if what in s.functions), None)
+        if owner is None:
+            return f"not written yet ({what})"
+        return (f"step {owner.number}'s {what} is not written yet ({owner.folder}/)"
+                + (": every picture is drawn with your step 05's view rays and render loop"
+                   if owner.number == "05" else ""))
     if proc.returncode == THREW:
         return first
     if proc.returncode == CANNOT_WRITE:
@@ -235,7 +240,8 @@ def verdict(d: Difference, picture: Path, reference: Path, diff: Path, accepted:
                  f"      accepted (up to {level_bound(d.total)}): where a shading's value sits on a rounding "
                  "boundary of the 8-bit colour, any correct float answer may tip it either way"]
     else:
-        kinds = [f"{n} {what}" for n, what in ((d.other, "of another colour (magenta)"),
+        kinds = [f"{n} {what}" for n, what in ((d.other, "of another colour (magenta): a region drawn in "
+                                                "another colour, missing or added, not a moved edge"),
                                                (d.edge, "an edge moved by a pixel (yellow)"),
                                                (d.level, "one colour level off (cyan)")) if n]
         lines = [f"  {paint('✗', 'red')} {picture}  {d.differing} of {d.total} pixels differ from the reference: "
@@ -386,7 +392,7 @@ def render_steps(scenes: list[Scene], size: tuple[int, int], out: Path, source: 
         if scene.step in problems:
             all_good = False
             forget(out, scene)
-            say(f"  {paint('·', 'yellow')} {scene.name}: skipped, step {scene.step}: {problems[scene.step]}")
+            say(f"  {paint('·', 'yellow')} {scene.name}: skipped, {skip_text(scene, problems[scene.step])}")
             continue
         for shading, name in scene.images():
             picture = out / f"{name}.png"
@@ -394,7 +400,7 @@ def render_steps(scenes: list[Scene], size: tuple[int, int], out: Path, source: 
             if problem:
                 forget(out, scene)
                 all_good = False
-                say(f"  {paint('·', 'yellow')} {name}: skipped, step {scene.step}: {problem}")
+                say(f"  {paint('·', 'yellow')} {name}: skipped, {skip_text(scene, problem)}")
                 continue
             reference = references.get(name)
             if reference is None:
@@ -411,6 +417,11 @@ def render_steps(scenes: list[Scene], size: tuple[int, int], out: Path, source: 
             for line in verdict(d, picture, reference, diff, accepted):
                 say(line)
     return OK if all_good else FAILED
+
+
+def skip_text(scene: Scene, problem: str) -> str:
+    """Why a scene is skipped, the step at fault first: the problem's own when it names one."""
+    return problem if problem.startswith("step ") else f"step {scene.step}: {problem}"
 
 
 def forget(out: Path, scene: Scene) -> None:

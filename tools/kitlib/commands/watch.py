@@ -94,6 +94,18 @@ def clear() -> None:
         print("\033[2J\033[H", end="")
 
 
+def banner_text(passed: list, current) -> str:
+    """"Step 01 is done, ★ cases included. On to step 02.", naming the steps found done already after
+    it: the first step of `passed` is the one the save (or key) had checked."""
+    first, rest = passed[0], passed[1:]
+    text = f"Step {first.number} is done, ★ cases included."
+    if len(rest) == 1:
+        text += f" Step {rest[0].number} was done already."
+    elif rest:
+        text += f" Steps {rest[0].number} to {rest[-1].number} were done already."
+    return text + f" On to step {current.number}."
+
+
 def run(args) -> int:
     ensure_packages("build")
     all_steps = load_steps()
@@ -116,6 +128,7 @@ def run(args) -> int:
     last_content_look = time.monotonic()
     blind = False
     banner = ""
+    passed: list = []       # the steps found complete one after another since the last save or key
     due = True
     with Keys() as keys:
         try:
@@ -125,14 +138,19 @@ def run(args) -> int:
                     clear()
                     say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')} · checking ...", "dim"))
                     [result] = check_steps(build(), [current], all_steps)
-                    picture.draw_results([result], BUILD / "pictures", False)
+                    picture.draw_results([result], picture.pictures_folder(BUILD, args.steps and source), False)
                     robust = result.tier("robust")
                     complete = result.state == DONE and result.passed("robust") == len(robust)
                     if complete and later(current):
-                        banner = f"Step {current.number} is done, ★ cases included. On to step {later(current).number}."
+                        # On to the next step; one already done is passed over, and the banner names
+                        # the step that was checked for the save first, not the last one passed over.
+                        passed.append(current)
                         current = later(current)
                         due = True
                         continue
+                    if passed:
+                        banner = banner_text(passed, current)
+                        passed = []
                     clear()
                     say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')}", "dim"))
                     if banner:

@@ -235,8 +235,32 @@ def selftest_roofline_model(ctx) -> str:
     return f"{len(cases)} roofline cases: flops, divides, square roots and conversions, each the slowest in turn"
 
 
+def selftest_student_summary(ctx) -> str:
+    """After the tables, a short summary of the student's step: one line per family (rank by speed
+    and by p99 error, the kit's figures beside), its worst error; the compiler named ("GCC 12.2.0").
+    From the committed run (docs/bench/results.json) with the textbook float rows as the student's."""
+    data = json.loads((ROOT / "docs" / "bench" / "results.json").read_text())
+    data["results"] = [r for r in data["results"] if r["variant"] != "student"]
+    data["results"] += [dict(r, variant="student") for r in data["results"] if r["variant"] == "textbook_f32"]
+    families = {r["family"] for r in data["results"] if r["variant"] == "student"}
+    with tempfile.TemporaryDirectory() as tmp:
+        source = Path(tmp) / "in.json"
+        source.write_text(json.dumps(data))
+        r = kit("bench", "--from", str(source), "--out", str(Path(tmp) / "out"))
+    expect(r.returncode == 0, f"./kit bench --from exited {r.returncode}:\n{(r.stdout + r.stderr)[-1500:]}")
+    tail = r.stdout.split(", in short (rank among the scalar variants")[-1]
+    lines = [l for l in tail.splitlines() if "ns/ray, rank" in l and "the kit's" in l]
+    expect(", in short" in r.stdout and len(lines) == len(families) and "worst error:" in tail,
+           f"no summary of the student's step with a line per family ({len(families)}):\n{r.stdout[-2000:]}")
+    compiler = str(data["meta"]["compiler"])
+    expect(not compiler[:1].isdigit() or f"Compiled with GCC {compiler}" in r.stdout,
+           f"the table does not name the compiler: 'Compiled with {compiler}'")
+    return f"the student's step summed up in {len(lines)} family lines and its worst error; 'GCC {compiler}'"
+
+
 def selftests() -> list:
     return [("bench roofline model", selftest_roofline_model),
+            ("bench: the student's summary", selftest_student_summary),
             ("bench runs and its output parses", _needs_bench(selftest_quick_run)),
             ("bench command line errors", _needs_bench(selftest_bad_input)),
             ("handout's bench data is current", _needs_bench(selftest_handout_data))]

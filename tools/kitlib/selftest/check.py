@@ -232,6 +232,65 @@ def selftest_student_loop(ctx: Context) -> str:
             "call and signal, a missing function named, reset keeps the student's file")
 
 
+def selftest_all_and_piped(ctx: Context) -> str:
+    """`./kit check N --all` lists the basic cases first and marks each ★ case after them; with its
+    output in a pipe, `./kit check` prints its progress as plain lines (no carriage return, no escape)."""
+    need_solutions()
+    import time
+    from .pictures import TEXTBOOK_02
+    folder = BUILD / "selftest-check-all" / "02_general_sphere"
+    folder.mkdir(parents=True, exist_ok=True)
+    # The float textbook formula fails ★ cases; a tangent taken for a miss fails basic ones. A new
+    # comment each run makes the build do something, so its progress has something to say.
+    text = TEXTBOOK_02.read_text().replace("disc < 0.0f) return {};", "disc <= 0.0f) return {};")
+    expect("disc <= 0.0f" in text, f"{TEXTBOOK_02} has changed: the slip of a tangent taken for a miss is not made")
+    (folder / "general_sphere.cpp").write_text(f"// {time.time()}\n" + text)
+    r = kit("check", "2", "--steps", str(folder.parent), "--all")
+    lines = r.stdout.split("\nNext: ")[0].splitlines()      # the --all list, not the next case shown
+    cases = [(i, l) for i, l in enumerate(lines) if re.match(r"^\s+✗ ", l)]
+    starred = [i for i, l in cases if "★" in l]
+    plain = [i for i, l in cases if "★" not in l]
+    expect(bool(starred) and bool(plain), f"--all lists no ★ case, or no basic one:\n{r.stdout[-2000:]}")
+    expect(max(plain) < min(starred), f"--all lists a basic case after a ★ one:\n{r.stdout[-2000:]}")
+    expect("\r" not in r.stdout and "\033[" not in r.stdout,
+           f"./kit check into a pipe moves the cursor:\n{r.stdout[:600]!r}")
+    expect(re.search(r"^\s+02\s+building the test program", r.stdout, re.M) is not None,
+           f"./kit check into a pipe prints no progress line while it builds:\n{r.stdout[:800]}")
+    return f"--all: {len(plain)} basic case(s) first, {len(starred)} ★ case(s) after, marked; piped progress plain"
+
+
+def selftest_handout_pointers(ctx: Context) -> str:
+    """A lecture's pointer to a file a handout lacks (lecture 03's appendix: solutions/, the exact-root
+    header, the reference build, the textbook fixtures) says, in the handout, that the instructor's
+    copy has it; pointers to files a handout has are left as they are."""
+    need_solutions()
+    from ..commands import handout
+    shipped = {r.as_posix() for r in handout.kit_files() if not handout.excluded(r)}
+    folders = {"/".join(f.split("/")[:i]) for f in shipped for i in range(1, f.count("/") + 1)}
+
+    def has(rel: str) -> bool:
+        return rel in shipped or rel in folders
+
+    marked, dangling = 0, []
+    for lecture in sorted((ROOT / "lectures").glob("*.md")):
+        text, n = handout.mark_missing_pointers(lecture.read_text(), has)
+        marked += n
+        for line in text.splitlines():
+            for span in re.finditer(r"`([^`\n]+)`(.{0,%d})" % len(handout.INSTRUCTOR_ONLY), line):
+                paths = handout._POINTER.findall(span.group(1))
+                lacking = [q for q in paths if q.startswith("build/reference")
+                           or (not q.startswith("build/") and not has(q.rstrip("/.")))]
+                if lacking and span.group(2) != handout.INSTRUCTOR_ONLY:
+                    dangling.append(f"{lecture.name}: `{span.group(1)}`")
+    appendix, n = handout.mark_missing_pointers((ROOT / "lectures" / "03-appendix.md").read_text(), has)
+    expect(f"`tests/support/reference_roots.hpp`{handout.INSTRUCTOR_ONLY}" in appendix,
+           "lecture 03's appendix still points a handout's reader to tests/support/reference_roots.hpp unmarked")
+    expect(not dangling, "a handout's lecture points to a file it lacks: " + "; ".join(dangling[:4]))
+    again, twice = handout.mark_missing_pointers(appendix, has)
+    expect(twice == 0 and again == appendix, "marking a lecture twice adds the note twice")
+    return f"{marked} pointer(s) to files a handout lacks marked as the instructor's, none left unmarked"
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -243,4 +302,6 @@ def selftests() -> list:
         ("grader survives bad code", selftest_grader_fixtures),
         ("command line errors", selftest_command_line),
         ("the student's loop in a handout", selftest_student_loop),
+        ("--all marks ★ cases; piped progress", selftest_all_and_piped),
+        ("a handout's lectures point to what it has", selftest_handout_pointers),
     ]

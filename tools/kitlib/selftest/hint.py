@@ -41,7 +41,20 @@ def selftest_hint_choice(ctx) -> str:
                             f"expected {want}")
     expect(hint_sections("(sections 4 to 6, and lecture 03, sections 7 and 8)") == {"4", "5", "6"},
            "the sections a hint cites are read wrong")
-    return f"{len(cases)} choices as intended"
+    # Two hints about the failing section: the one naming the failing function first, then one naming
+    # none, one about another function last. Step 05's tie in find_intersection (section 4): the
+    # strict-comparison hint, not the listing-order one, which names no function.
+    named = ["a (section 4)", "render does it (section 4)", "find_hit does it (section 4)"]
+    functions = ["render", "find_hit"]
+    for function, want in (("find_hit", 3), ("render", 2), ("other", 1), ("", 1)):
+        got = choose(named, [], "4", function, functions)
+        expect(got == want, f"a failure of {function or '(no function)'} in section 4 gives hint {got}, expected {want}")
+    step5 = next(s for s in load_steps() if s.number == "05")
+    hints5 = load_hints(step5)
+    got = choose(hints5, [], "4", "find_intersection", step5.functions)
+    expect(got is not None and "find_intersection" in hints5[got - 1],
+           f"step 05's tie in find_intersection gets hint {got}: {hints5[(got or 1) - 1][:80]!r}")
+    return f"{len(cases) + 5} choices as intended (step 05's tie: hint {got}, about find_intersection)"
 
 
 def selftest_hint_looks_at_failure(ctx) -> str:
@@ -65,6 +78,9 @@ def selftest_hint_looks_at_failure(ctx) -> str:
                                       "cannot tell the two orders apart")
         kit("hint", n, "--reset")
         first, second = kit("hint", n, "--steps", str(work)), kit("hint", n, "--steps", str(work))
+        running, shown = first.stdout.find("kit: running step"), first.stdout.find("Hint ")
+        expect(0 <= running < shown, "piped, ./kit hint does not print 'kit: running step ...' before the hint:\n"
+               + first.stdout[:400])
         expect(first.returncode == 0 and f"Hint {tied[0]} of {len(hints)}" in first.stdout
                and "points to section \"5." in first.stdout,
                f"with the window open (a case of section 5 fails), ./kit hint {n} gave:\n{first.stdout}{first.stderr}")
@@ -75,9 +91,29 @@ def selftest_hint_looks_at_failure(ctx) -> str:
     finally:
         kit("hint", n, "--reset")
         shutil.rmtree(work, ignore_errors=True)
-    return f"an open window fails in section 5: hint {tied[0]} first, then 1, 2"
+    return f"an open window fails in section 5: hint {tied[0]} first, then 1, 2; piped, the progress line first"
+
+
+def selftest_hint_end(ctx) -> str:
+    """Once every hint is shown: "No hint is left", the hints not printed again, no "run again"."""
+    step = load_steps()[0]
+    n, count = str(int(step.number)), len(load_hints(step))
+    kit("hint", n, "--reset")
+    try:
+        runs = [kit("hint", n, "--no-run") for _ in range(count + 1)]
+    finally:
+        kit("hint", n, "--reset")
+    again = [i + 1 for i, r in enumerate(runs) if "again for the next one" in r.stdout]
+    expect(again == list(range(1, count)), f"'run ./kit hint {n} again' printed after runs {again} of {count + 1} "
+           f"({count} hints)")
+    expect("That was the last hint" in runs[count - 1].stdout, "the last hint does not say it is the last")
+    end = runs[count]
+    expect(end.returncode == 0 and "No hint is left" in end.stdout and "Hint " not in end.stdout,
+           f"./kit hint {n} after all {count} hints:\n{end.stdout}")
+    return f"{count} hints, 'again' after the first {count - 1} only, then 'No hint is left'"
 
 
 def selftests():
     return [("hints", selftest_hints), ("hint order: what fails first", selftest_hint_choice),
-            ("hint looks at the failing case", selftest_hint_looks_at_failure)]
+            ("hint looks at the failing case", selftest_hint_looks_at_failure),
+            ("hint: the end", selftest_hint_end)]

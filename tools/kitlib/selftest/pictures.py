@@ -2,12 +2,18 @@
 
 - a wrong step 01 (a mutant: the far root tried first) graded as a student's work: the failing case's
   SVG exists, parses as XML, and holds the expected t as a green label and the student's as a red one;
+  the terminal shows it in characters too (picture.sketch: the origin o, E expected, X the answer);
   `./kit check` prints its path and --json carries it with its summary. The reference, graded the same
   way, leaves no picture behind (so the check cannot pass on stale files);
 - picture.py on degenerate figures (a ray through the centre, a zero direction, an infinite tmax, NaN
   answers and inputs, huge numbers, garbage): a picture or a PictureError that says why, never a crash;
 - the gallery of pitfalls (docs/pitfalls.md): every expected hit of the table lies on its shape, every
-  picture is drawn, and the page shows each one.
+  picture is drawn, and the page shows each one;
+- every picture the suite can produce (each sphere and rectangle case of steps 01-04 failed at its
+  first check by a submission whose every answer is off, a float textbook step 02 whose ★ answers are
+  a few ulps off, and the figures above): no two labels overlap, none leaves the picture or its
+  panel; and the exact geometry: pbrt's far ray that misses is drawn outside the circle, and a
+  note says in words what a fraction of a pixel cannot show.
 """
 
 from __future__ import annotations
@@ -67,8 +73,14 @@ def selftest_failing_case(ctx) -> str:
     expect(path.resolve().is_relative_to(BUILD.resolve()), f"{path} is not under build/")
     expect(f"picture: {path.relative_to(ROOT)}" in r.stdout or "picture: build/pictures/step01/" in r.stdout,
            "./kit check 1 does not print the picture's path under the failing case")
+    # The picture in characters too, under the case (a terminal with no picture viewer): the ray's row
+    # holds the expected answer E and the student's X, inside the frame.
+    sketch = [l for l in r.stdout.splitlines() if re.match(r"^\s+\|.*\|$", l)]
+    expect(len(sketch) == picture.SKETCH_ROWS and any("E" in l and "X" in l and "o" in l for l in sketch)
+           and "# the sphere" in r.stdout,
+           f"./kit check 1 draws no picture in characters with o, E and X under the case:\n{r.stdout[-2500:]}")
     summary = case.get("picture_summary") or ""
-    expect("expected t=2" in summary and "got t=4" in summary and "window [0, inf]" in summary,
+    expect("expected a hit at t = 2" in summary and "got a hit at t = 4" in summary and "window [0, inf]" in summary,
            f"the picture's summary does not say what it shows: {summary!r}")
     found = labels(path)
     expect("t = 2" in found.get(picture.EXPECTED_COLOUR, []), f"{path}: no expected label 't = 2' (green)")
@@ -77,11 +89,19 @@ def selftest_failing_case(ctx) -> str:
     drawn = sum(1 for c in result["cases"] if c.get("picture"))
     leaked = [c["name"] for c in result["cases"] if c["tier"] == "hidden" and c.get("picture")]
     expect(not leaked, "a hidden case's picture (its inputs) is shown without --reveal: " + ", ".join(leaked))
-    # The reference graded the same way: every case passes, and no picture of the last run is left.
-    right = WORK / "right" / step.folder
-    shutil.rmtree(right.parent, ignore_errors=True)
-    shutil.copytree(ROOT / "solutions" / step.folder, right)
+    # Checking another folder leaves the student's own pictures alone (each folder has its own).
+    expect(path.resolve().is_relative_to(picture.pictures_folder(BUILD, wrong.parent).resolve()),
+           f"./kit check --steps {wrong.parent} drew into {path.parent}, not that folder's own pictures folder")
+    own = BUILD / "pictures" / "step01" / "the-students-own.svg"
+    own.parent.mkdir(parents=True, exist_ok=True)
+    own.write_text("<svg/>")
+    # The reference graded in the same folder: every case passes, and no picture of the last run is left.
+    right = wrong
+    for f in step.files:
+        shutil.copyfile(ROOT / "solutions" / step.folder / f, right / f)
     r2, result2 = grade_json(right.parent, WORK / "right.json")
+    expect(own.is_file(), f"./kit check --steps DIR deleted {own}, a picture of the student's own steps")
+    own.unlink()
     expect(r2.returncode == 0 and "picture:" not in r2.stdout, "./kit check 1 on the reference prints a picture")
     left = sorted(path.parent.glob("*.svg"))
     expect(not left, f"pictures of the last run are left in {path.parent}: {', '.join(p.name for p in left)}")
@@ -204,7 +224,137 @@ def selftest_gallery(ctx) -> str:
     return f"{len(paths)} pitfalls drawn, their expected hits on the shapes, each shown in docs/pitfalls.md"
 
 
+def label_problems(path: Path) -> list:
+    """What is wrong with the labels of an SVG: two that overlap, one outside the picture, or outside
+    the panel (clip rectangle) it is drawn in. Boxes from picture.text_box, the drawing's own measure."""
+    root = ET.parse(path).getroot()
+    width, height = float(root.get("width")), float(root.get("height"))
+    clips = {c.get("id"): c.find(SVG + "rect") for c in root.iter(SVG + "clipPath")}
+    boxes, problems = [], []
+
+    def visit(node, clip, size):
+        size = float(node.get("font-size", size))
+        ref = re.fullmatch(r"url\(#(\w+)\)", node.get("clip-path", ""))
+        if ref:
+            r = clips[ref.group(1)]
+            clip = (float(r.get("x")), float(r.get("y")), float(r.get("x")) + float(r.get("width")),
+                    float(r.get("y")) + float(r.get("height")))
+        if node.tag == SVG + "text":
+            text = "".join(node.itertext())
+            box = picture.text_box(float(node.get("x")), float(node.get("y")), text, size,
+                                   node.get("text-anchor", "start"), node.get("font-weight") == "bold")
+            frame = clip or (0, 0, width, height)
+            if not (frame[0] <= box[0] and box[2] <= frame[2] and frame[1] <= box[1] and box[3] <= frame[3]):
+                problems.append(f"{text!r} leaves {'its panel' if clip else 'the picture'}")
+            for other, b in boxes:
+                if picture.overlap(box, b):
+                    problems.append(f"{text!r} overlaps {other!r}")
+            boxes.append((text, box))
+        for child in node:
+            visit(child, clip, size)
+
+    visit(root, None, 16.0)
+    return problems
+
+
+# A submission whose every answer is off: each sphere and rectangle case fails at its first check, so
+# its figure is drawn. The reference's code with its functions renamed, and wrappers that move each
+# answer: a root or hit 0.5 further, a miss made a hit at t = 1.
+OFF_HEADERS = {"01": "raykit/unit_sphere.hpp", "02": "raykit/general_sphere.hpp",
+               "03": "raykit/unit_direction.hpp", "04": "raykit/rect.hpp"}
+OFF_WRAPPERS = {
+    "Roots": "Roots r = reference_{name}({args}); if (r.count == 0) return Roots{{2, {{1.0f, 2.0f}}}}; "
+             "r.t[0] += 0.5f; r.t[1] += 0.5f; return r;",
+    "std::optional<float>": "const std::optional<float> h = reference_{name}({args}); "
+                            "return h ? std::optional<float>(*h + 0.5f) : std::optional<float>(1.0f);",
+}
+# The textbook formula in float (a fixture: never in a handout): its ★ cases fail by a few ulps or a
+# flipped count.
+TEXTBOOK_02 = ROOT / "tests" / "fixtures" / "textbook" / "02_general_sphere" / "general_sphere.cpp"
+
+
+def write_off(folder: Path) -> None:
+    """Steps 01-04 of the reference, every answer moved (OFF_WRAPPERS)."""
+    for step in load_steps():
+        if step.number not in OFF_HEADERS:
+            continue
+        remote = (ROOT / "tests" / step.folder / "remote.inc").read_text()
+        functions = re.findall(r"RAYKIT_REMOTE\(([^,]+(?:<[^>]*>)?), (\w+), \(([^)]*)\), \(([^)]*)\)\)", remote)
+        expect(bool(functions), f"no function found in tests/{step.folder}/remote.inc")
+        text = [f'#include "{OFF_HEADERS[step.number]}"', "#include <optional>"]
+        text += [f"#define {name} reference_{name}" for _, name, _, _ in functions]
+        for f in step.files:
+            text.append((ROOT / "solutions" / step.folder / f).read_text())
+        text += [f"#undef {name}" for _, name, _, _ in functions]
+        text.append("namespace raykit {")
+        for ret, name, params, args in functions:
+            text.append(f"{ret} {name}({params}) {{ {OFF_WRAPPERS[ret].format(name=name, args=args)} }}")
+        text.append("}  // namespace raykit")
+        out = folder / step.folder / step.files[0]
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text("\n".join(text) + "\n")
+
+
+def far_miss_figure() -> dict:
+    """pbrt's far ray that misses the tiny sphere by 6.5e-6 (tests/02_general_sphere/test_robust.cpp),
+    the float inputs as the judge sends them: their shortest text."""
+    return sphere((30000, -40000, 120000), (-30000.008, 40000.01, -120000.01), None, roots(0),
+                  roots(1, 0.9999999, 0.9999999), (0, 0, 0), 0.01)
+
+
+def selftest_labels(ctx) -> str:
+    need_solutions()
+    folder = WORK / "labels"
+    shutil.rmtree(folder, ignore_errors=True)
+    # The exact geometry first: the miss drawn as a miss, the thin gap said in words.
+    case = picture.Case(far_miss_figure())
+    x, y, y2 = picture.line_and_centre(case.origin, case.direction, case.sphere[0])
+    radius = case.sphere[1]
+    expect(y > radius and y2 > picture.Fraction(radius) ** 2,
+           f"pbrt's far miss: the line is drawn {y!r} from the centre, inside the radius {radius!r}")
+    path = folder / "far-miss.svg"
+    summary = picture.write(far_miss_figure(), "far miss", path)
+    texts = " ".join(t for ts in labels(path).values() for t in ts)
+    expect("outside the radius: it misses" in texts, f"{path}: no note that the ray misses by less than a pixel")
+    expect("expected no roots, got 1 root: t = 0.9999999" in summary, f"the far miss's caption: {summary!r}")
+    # Every picture the kit draws: the degenerate figures, the gallery, and the suite's cases.
+    pictures = [path]
+    for name, figure, must_hold in DEGENERATE:
+        if must_hold is not None:
+            p = folder / "degenerate" / (picture.slug(name) + ".svg")
+            picture.write(figure, name, p)
+            pictures.append(p)
+    pictures += picture.write_gallery(folder / "gallery")
+    off, textbook = folder / "off", folder / "textbook"
+    write_off(off)
+    (textbook / "02_general_sphere").mkdir(parents=True)
+    shutil.copyfile(TEXTBOOK_02, textbook / "02_general_sphere" / "general_sphere.cpp")
+    drawn = {}
+    for steps_dir, numbers in ((off, ["1", "2", "3", "4"]), (textbook, ["2"])):
+        report = folder / f"{steps_dir.name}.json"
+        r = kit("check", *numbers, "--steps", str(steps_dir), "--reveal", "--json", str(report))
+        expect(report.is_file(), f"./kit check {' '.join(numbers)} --steps {steps_dir}: no JSON (exit "
+               f"{r.returncode}): {r.stdout[-800:]}{r.stderr[-800:]}")
+        cases = [c for s in json.loads(report.read_text())["extra_data"]["steps"] for c in s["cases"]]
+        failed_figures = [c for c in cases if c.get("picture_summary") and not c.get("picture")
+                          and not re.search(r"holds NaN or inf|axis is not 0, 1 or 2", c["picture_summary"])]
+        expect(not failed_figures, "a case's figure was not drawn: " + "; ".join(
+            f"{c['name']}: {c['picture_summary']}" for c in failed_figures[:3]))
+        drawn[steps_dir.name] = [Path(c["picture"]) for c in cases if c.get("picture")]
+        pictures += drawn[steps_dir.name]
+    expect(len(drawn["off"]) >= 40, f"the all-wrong submission drew {len(drawn['off'])} pictures, not one per "
+           "sphere and rectangle case")
+    expect(all(str(picture.pictures_folder(BUILD, off)) in str(p) for p in drawn["off"]),
+           "./kit check --steps DIR does not draw into DIR's own pictures folder")
+    problems = [f"{p.name}: {why}" for p in pictures for why in label_problems(p)]
+    expect(not problems, f"{len(problems)} label problem(s): " + "; ".join(problems[:6]))
+    return (f"{len(pictures)} pictures ({len(drawn['off'])} of an all-wrong steps 01-04, {len(drawn['textbook'])} "
+            "of a float textbook step 02): no label overlaps another or leaves its panel; pbrt's far miss "
+            "drawn outside the circle, its 0.1-pixel gap said in words")
+
+
 def selftests():
     return [("pictures: a failing case", selftest_failing_case),
+            ("pictures: every picture's labels", selftest_labels),
             ("pictures: degenerate input", selftest_degenerate),
             ("pictures: the pitfall gallery", selftest_gallery)]

@@ -1,6 +1,7 @@
 """Self-test of ./kit watch, driven through a pseudo-terminal as a student's terminal would drive it:
 the screen is redrawn per check, a save is checked, the step stays until its ★ cases pass or n is
-pressed, a finished step moves on by itself, a save the time stamps miss is still seen (and said),
+pressed, a finished step moves on by itself (its banner naming the step checked, not a step done
+already that it passed over), a save the time stamps miss is still seen (and said),
 r re-checks, q quits, and "Then run: ./kit check" never appears."""
 
 from __future__ import annotations
@@ -48,10 +49,19 @@ def selftest_watch(ctx) -> str:
         # A save of step 01's file while step 02 is shown brings step 01 back.
         target.write_text(text)
         screen.wait_for(f"watch · step {s1.number}", 120)
-        # The reference answer passes the ★ cases too: the watch moves on by itself.
+        # The reference answer passes the ★ cases too: the watch moves on by itself, past step 02 done
+        # already, and the banner names the step it checked for the save, 01, not the step passed over.
+        s3 = steps[2]
+        for f in s2.files:
+            shutil.copyfile(ROOT / "solutions" / s2.folder / f, folder / s2.folder / f)
+        screen.wait_for(f"Step {s2.number} is done, ★ cases included. On to step {s3.number}", 180)
         for f in s1.files:
             shutil.copyfile(ROOT / "solutions" / s1.folder / f, folder / s1.folder / f)
-        screen.wait_for(f"On to step {s2.number}", 120)
+        banner = f"Step {s1.number} is done, ★ cases included. Step {s2.number} was done already. On to step {s3.number}"
+        try:
+            screen.wait_for(banner, 120)
+        except Failed:
+            raise Failed(f"the banner does not name step {s1.number}, the step saved:\n{screen.last()[-600:]}")
         # r re-checks at once: the time on the header changes.
         before = screen.text.count(CLEAR)
         screen.press("r")
