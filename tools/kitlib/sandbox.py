@@ -616,6 +616,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
                     Path(a[len(flag):]).resolve() == (ROOT / "include").resolve():
                 new[i] = flag + str(work / "include")
         i += 1
+    local_dir = work / "src"
     if kind == "compile":
         src = real(new[new.index("-c") + 1])
         step_dir = src.parent
@@ -640,6 +641,9 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "LANG": "C.UTF-8", "HOME": str(out), "TMPDIR": str(out)}
     prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out))
     memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
+    cached = ObjectCache(new, work, local_dir) if kind == "compile" else None
+    if cached is not None and cached.fetch(out):
+        return _finish(kind, iso, cached.text, 0, False, 0, mapping, copies, memory)
     start = time.monotonic()
     proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory, uid))
@@ -670,12 +674,23 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     _end_group(proc)
     proc.wait()
     text = kept.decode("utf-8", "replace")
+    if cached is not None and proc.returncode == 0 and not timed_out:
+        cached.store(out, text)
+    return _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
+
+
+def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, total: int,
+            mapping: list[tuple[str, str]], copies: list[tuple[Path, Path, int]], memory: int) -> int:
+    """The compile's or link's diagnostics, as the student's own, and its outputs copied back."""
+    from .common import printable
+    limits = iso.limits
+    kept = text.encode()
+    total = max(total, len(kept))
     for local, shown in mapping:
         text = text.replace(local, shown)
     text = printable(text)
     if total > len(kept):
         text += f"\n(the compiler printed {total} bytes; the first {len(kept)} are shown)\n"
-    status = proc.returncode
     if timed_out:
         text += (f"\nraykit: the {kind} of your code took over {limits.compile_seconds:g} s and was "
                  "stopped (the limit of one compile).\n")
@@ -702,6 +717,74 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     sys.stdout.write(text)
     sys.stdout.flush()
     return 0 if status == 0 else 1
+
+
+class ObjectCache:
+    """Compiled objects by content: the same files compiled the same way (copies of the stubs or of
+    a solution across a class) are compiled once per build/ folder. The key holds the command (the
+    private folder's name aside), every file of the step's folder, the kit's headers and the
+    compiler's identity; an entry is written by the grader from a compile that succeeded inside the
+    boundary, and read only by the grader. RAYKIT_NO_OBJCACHE=1 turns it off."""
+
+    ROOT_DIR = BUILD / "objcache"
+
+    def __init__(self, argv: list[str], work: Path, src: Path):
+        self.work = str(work)
+        self.text = ""
+        self.dir: Path | None = None
+        if os.environ.get("RAYKIT_NO_OBJCACHE") == "1":
+            return
+        import hashlib
+        h = hashlib.sha256(b"raykit-objcache-1\0")
+        h.update(json.dumps([a.replace(self.work, "@W@") for a in argv]).encode())
+        try:
+            st = os.stat(shutil.which(argv[0]) or argv[0])
+            h.update(f"{argv[0]} {st.st_size} {st.st_mtime_ns}".encode())
+            for folder in (src, work / "include"):
+                for f in sorted(folder.rglob("*")):
+                    if f.is_file():
+                        h.update(str(f.relative_to(work)).encode() + b"\0" + f.read_bytes() + b"\0")
+        except OSError:
+            return
+        key = h.hexdigest()
+        self.dir = self.ROOT_DIR / key[:2] / key
+
+    def fetch(self, out: Path) -> bool:
+        if self.dir is None or not (self.dir / "done").is_file():
+            return False
+        try:
+            for f in self.dir.iterdir():
+                if f.name in ("done", "text"):
+                    continue
+                data = f.read_bytes()
+                if f.name.endswith(".d"):
+                    data = data.replace(b"@W@", self.work.encode())
+                (out / f.name).write_bytes(data)
+            self.text = (self.dir / "text").read_text().replace("@W@", self.work)
+        except OSError:
+            return False
+        return True
+
+    def store(self, out: Path, text: str) -> None:
+        if self.dir is None or self.dir.exists():
+            return
+        tmp = self.dir.with_name(f".{self.dir.name}.{os.getpid()}")
+        try:
+            tmp.mkdir(parents=True)
+            for f in out.iterdir():
+                st = f.lstat()
+                if not stat.S_ISREG(st.st_mode) or st.st_size > 64 * MiB:
+                    continue
+                if f.suffix in (".o", ".d"):
+                    data = f.read_bytes()
+                    if f.suffix == ".d":
+                        data = data.replace(self.work.encode(), b"@W@")
+                    (tmp / f.name).write_bytes(data)
+            (tmp / "text").write_text(text.replace(self.work, "@W@"))
+            (tmp / "done").write_text("")
+            os.rename(tmp, self.dir)
+        except OSError:
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _end_group(proc: subprocess.Popen) -> None:
