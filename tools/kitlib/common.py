@@ -306,7 +306,13 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     cmd = ["cmake", "--build", str(build.binary_dir), "--target", *targets]
     if len(targets) > 1 and (build.binary_dir / "build.ninja").is_file():
         cmd += ["--", "-k", "0"]
-    env = dict(os.environ, RAYKIT_BOUNDARY_SPEC=build.spec) if build.boundary and build.spec else None
+    env = None
+    if build.boundary:
+        # Built outside a check (./kit debug --steps, which runs the code under gdb with your rights
+        # anyway): the boundary's copy and limits, without a sandbox.
+        from .sandbox import Isolation, Limits
+        spec = build.spec or Isolation("none", "not sandboxed", limits=Limits.from_env()).spec()
+        env = dict(os.environ, RAYKIT_BOUNDARY_SPEC=spec)
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             errors="replace", env=env)
     lines = []
