@@ -24,9 +24,11 @@ import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from fractions import Fraction
 from pathlib import Path
 from typing import Callable
 
+from . import course as course_file
 from .common import Build, Step, build_target, build_targets, configure, prerequisites
 from .sandbox import NONE_OWN, Isolation, Scratch
 from .status import BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
@@ -51,9 +53,17 @@ class Case:
     picture: str = ""           # its SVG (picture.py), when drawn
     picture_summary: str = ""   # one line: what the picture shows, or why there is none
 
+    share: Fraction | None = None   # its exact points on the course's scale (set by StepResult)
+
     @property
-    def points(self) -> int:
-        return 1 if self.tier in SCORED_TIERS else 0
+    def group(self) -> str:
+        """core, degenerate, hidden or robust (the rule: kitlib/course.py)."""
+        return course_file.load().group(self.tier, self.name)
+
+    @property
+    def points(self) -> Fraction:
+        """What passing this case is worth, exactly (course.json; the default: 1, and 0 for the ★ tier)."""
+        return self.share if self.share is not None else course_file.load().weight(self.group)
 
 
 @dataclass
@@ -65,6 +75,12 @@ class StepResult:
     isolation: str = ""
     seed: str = ""
 
+    def __post_init__(self) -> None:
+        # The step's points shared among its cases by their groups' weights, once, exactly.
+        course = course_file.load()
+        for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases])):
+            c.share = share
+
     def tier(self, tier: str) -> list[Case]:
         return [c for c in self.cases if c.tier == tier]
 
@@ -72,12 +88,16 @@ class StepResult:
         return sum(c.status == PASS for c in self.tier(tier))
 
     @property
-    def earned(self) -> int:
-        return sum(c.points for c in self.cases if c.status == PASS)
+    def earned(self) -> Fraction:
+        """Exact; a step that does not compile has every case failed, so it earns 0."""
+        return sum((c.points for c in self.cases if c.status == PASS), Fraction(0))
 
     @property
-    def maximum(self) -> int:
-        return sum(c.points for c in self.cases)
+    def maximum(self) -> Fraction:
+        """Exact, and the same whatever state the step is in: the step's points in course.json."""
+        if not self.cases:
+            return course_file.load().points.get(self.step.number) or Fraction(0)
+        return sum((c.points for c in self.cases), Fraction(0))
 
     def first_problem(self, tier: str = "basic") -> Case | None:
         for c in self.tier(tier):
@@ -92,9 +112,11 @@ class StepResult:
         return {
             "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
             "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
-            "earned": self.earned, "maximum": self.maximum,
+            "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
+            "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
-            "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
+            "cases": [{"name": c.name, "tier": c.tier, "group": c.group, "points": course_file.exact_text(c.points),
+                       "lecture": c.lecture, "status": c.status,
                        "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                        "picture": c.picture or None, "picture_summary": c.picture_summary or None}
                       for c in self.cases],

@@ -45,6 +45,7 @@ COMMANDS = [
     Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),
     Command("bench", "bench", STUDENT, "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
     Command("test", "selftest", INSTRUCTOR, "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
+    Command("course", "course", INSTRUCTOR, "print the course's scale (course.json): steps, case groups, points, the Gradescope total"),
     Command("grade", "grade", INSTRUCTOR, "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
     Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
     Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),

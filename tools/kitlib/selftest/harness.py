@@ -23,7 +23,7 @@ from ..common import ROOT, KitError, load_steps, paint, say
 from ..status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
-MODULES = ["check", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "latency", "lectures",
+MODULES = ["check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "latency", "lectures",
            "mutant", "render", "pictures", "robust", "robust_line", "grade", "workflow", "watch", "sanitizers"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
