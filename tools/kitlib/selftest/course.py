@@ -152,7 +152,50 @@ def selftest_reveal(ctx) -> str:
             meta.write_text(json.dumps(dict(due, created_at="2026-04-01T00:00:00Z")))
             got = reveal_options(meta)
             expect(got == ["--hidden-visibility", "hidden"], f"a course that never reveals passes {got}")
-    return "before the due date: hidden; after: --reveal; an extension and a broken file: hidden"
+    # autograde.py passes them on: its ./kit check command, with a due date passed.
+    with tempfile.TemporaryDirectory() as tmp:
+        Path(tmp, "submission_metadata.json").write_text(json.dumps(dict(due, created_at="2026-03-03T00:00:00Z")))
+        cmd = autograde_command(Path(tmp))
+        expect("--reveal" in cmd and cmd[cmd.index("--hidden-visibility") + 1] == "after_due_date",
+               f"autograde.py after the due date runs {' '.join(cmd[1:])}")
+    return "before the due date: hidden; after: --reveal (autograde.py passes it); an extension, a broken file: hidden"
+
+
+def autograde_command(root: Path) -> list[str]:
+    """The ./kit command autograde.py would run with `root` as /autograder (its process is not started)."""
+    import importlib.util
+    import os
+
+    class Stop(Exception):
+        pass
+
+    saved = os.environ.get("RAYKIT_AUTOGRADER_ROOT")
+    os.environ["RAYKIT_AUTOGRADER_ROOT"] = str(root)
+    try:
+        spec = importlib.util.spec_from_file_location("raykit_autograde_probe", ROOT / "tools/gradescope/autograde.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        if saved is None:
+            os.environ.pop("RAYKIT_AUTOGRADER_ROOT")
+        else:
+            os.environ["RAYKIT_AUTOGRADER_ROOT"] = saved
+    seen: list[list[str]] = []
+
+    def popen(cmd, **kw):
+        seen.append(list(cmd))
+        raise Stop()
+
+    module.pid_namespace_works = lambda: False
+    module.subprocess.Popen, real = popen, module.subprocess.Popen
+    try:
+        module.run_kit(root / "steps", root / "results.json")
+    except Stop:
+        pass
+    finally:
+        module.subprocess.Popen = real
+    expect(bool(seen), "autograde.py's run_kit started no ./kit")
+    return seen[0]
 
 
 def selftest_course_table(ctx) -> str:
