@@ -218,8 +218,60 @@ def selftest_course_table(ctx) -> str:
     return f"./kit course: {2 * len(ctx.steps)} by default, {20 * len(ctx.steps)} weighted (a core case 40/3)"
 
 
+def selftest_roster(ctx) -> str:
+    """./kit grade --roster: every student on the roster, submitted or not, id columns first; a folder
+    on no one's line; a skipped duplicate named in full; the long CSV. Only step 01 is compiled."""
+    import csv
+    import shutil
+
+    from ..common import BUILD
+    from .harness import need_solutions
+    need_solutions()
+    step = ctx.steps[0]
+    root = BUILD / "course-roster"
+    shutil.rmtree(root, ignore_errors=True)
+    subs = root / "submissions"
+    for f in step.files:    # alice: loose files, the same file twice (the second is left out)
+        for where in ("a", "b"):
+            (subs / "alice" / where).mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(ROOT / "solutions" / step.folder / f, subs / "alice" / where / f)
+    (subs / "bob").mkdir()          # bob: an empty upload
+    (subs / "zed").mkdir()          # zed: on no one's line
+    roster = root / "roster.csv"
+    roster.write_text("Student ID;E-mail;Login\n1001;alice@uni.example;Alice\n1002;bob@uni.example;bob\n"
+                      "1003;carol@uni.example;carol\n")
+    out = root / "grades.csv"
+    r = kit("grade", str(subs), "--roster", str(roster), "--out", str(out), "-j", "1", timeout=900)
+    expect(r.returncode == 0, f"./kit grade --roster exited {r.returncode}: {r.stderr[-600:]}")
+    table = list(csv.reader(out.open()))
+    header, rows = table[0], {row[2] or row[3]: dict(zip(table[0], row)) for row in table[1:]}
+    expect(header[:4] == ["Student ID", "E-mail", "Login", "submission"], f"the CSV starts {header[:5]}")
+    expect(sorted(rows) == ["Alice", "bob", "carol", "zed"], f"the CSV's students: {sorted(rows)}")
+    a, b, c, z = rows["Alice"], rows["bob"], rows["carol"], rows["zed"]
+    n = step.number
+    expect(a["submission"] == "alice" and a[f"step{n}_earned"] == a[f"step{n}_maximum"] != "" and a["earned"] == a[f"step{n}_earned"],
+           f"alice (step {n} solved): {a}")
+    expect(c["status"] == "not submitted" and c["earned"] == "0" and c["maximum"] == a["maximum"], f"carol (nothing): {c}")
+    expect(b["status"] == "no steps" and b["earned"] == "0" and "No step files found" in b["note"], f"bob (empty): {b}")
+    expect(z["Student ID"] == "" and z["note"].startswith("not on the roster"), f"zed (not on the roster): {z}")
+    dup = f"a second {step.files[0]}, left out (graded: a/{step.files[0]})"
+    expect(dup in a["note"], f"alice's note does not say, whole, {dup!r}: {a['note']!r}")
+    for words in ("not submitted (1): carol", "graded but not matched: zed", "files left out (1): alice"):
+        expect(words in r.stdout, f"the summary does not say {words!r}:\n{r.stdout[-600:]}")
+    cases = list(csv.DictReader((root / "grades-cases.csv").open()))
+    mine = [row for row in cases if row["submission"] == "alice"]
+    firsts = [row for row in mine if row["step"] == n]
+    expect(mine and all(row["Student ID"] == "1001" for row in mine) and firsts
+           and all(row["status"] == "pass" and row["earned"] == row["points"] for row in firsts),
+           f"the cases CSV has {len(mine)} rows for alice, step {n}'s: {firsts[:2]}")
+    shutil.rmtree(root, ignore_errors=True)
+    return (f"4 roster rows (id columns first; carol not submitted, 0 of {a['maximum']}; zed on no line); "
+            f"the duplicate named whole; {len(mine)} case rows for alice")
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
-            ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table)]
+            ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
+            ("course: a roster", selftest_roster)]
