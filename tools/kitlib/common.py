@@ -239,6 +239,7 @@ def configure(build: Build, quiet: bool = True) -> None:
     if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
         generator = None              # CMake's default (Makefiles) rather than a failure
     cache = build.binary_dir / "CMakeCache.txt"
+    from .relocate import forget_moved_build; forget_moved_build(build.binary_dir)    # noqa: E702 a moved kit
     if generator and not cache.is_file():
         gen = ["-G", generator]       # an existing build folder keeps the generator it has
     cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,

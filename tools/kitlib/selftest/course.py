@@ -269,9 +269,48 @@ def selftest_roster(ctx) -> str:
             f"the duplicate named whole; {len(mine)} case rows for alice")
 
 
+def selftest_moved_kit(ctx) -> str:
+    """A build folder configured at one path and used at another (a moved or copied kit) is built
+    again, not CMake's "CMakeCache.txt directory ... is different"; outside build/: one line."""
+    import contextlib
+    import io
+    import shutil
+
+    from ..common import BUILD, Build, configure
+    from ..relocate import forget_moved_build
+    first, moved = BUILD / "course-moved-a", BUILD / "course-moved-b"
+    for d in (first, moved):
+        shutil.rmtree(d, ignore_errors=True)
+    configure(Build("student", first, ROOT / "steps", ROOT / "steps", preset="student", tools=False))
+    first.rename(moved)
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(said):
+            configure(Build("student", moved, ROOT / "steps", ROOT / "steps", preset="student", tools=False))
+    except KitError as e:
+        raise Failed(f"a moved build folder does not configure: {str(e).splitlines()[0]}")
+    cache = (moved / "CMakeCache.txt").read_text()
+    expect(f"CMAKE_CACHEFILE_DIR:INTERNAL={moved}" in cache, "the moved build folder's cache still names the old path")
+    expect("moved or copied" in said.getvalue(), f"no line says why it is built again: {said.getvalue()!r}")
+    shutil.rmtree(moved, ignore_errors=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        elsewhere = Path(tmp) / "build"
+        elsewhere.mkdir()
+        (elsewhere / "CMakeCache.txt").write_text(f"CMAKE_CACHEFILE_DIR:INTERNAL=/old/kit/build\n"
+                                                  f"CMAKE_HOME_DIRECTORY:INTERNAL=/old/kit\n")
+        try:
+            forget_moved_build(elsewhere)
+        except KitError as e:
+            expect("\n" not in str(e) and "rm -r" in str(e) and (elsewhere / "CMakeCache.txt").is_file(),
+                   f"outside build/: {e}")
+        else:
+            raise Failed("a foreign build folder outside build/ is taken as this kit's")
+    return "a build folder moved to another path is configured again (one line says so); outside build/: one line"
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
-            ("course: a roster", selftest_roster)]
+            ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit)]
