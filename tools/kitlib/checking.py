@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Callable
 
 from . import course as course_file
+from . import waits
 from .common import Build, Step, build_target, build_targets, configure, prerequisites
 from .sandbox import NONE_OWN, Isolation, Scratch
 from .status import BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
@@ -275,12 +276,10 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         return StepResult(step, MISSING, _all(cases, MISSING, detail), detail=detail)
     if not build.reference_needs:
         # No reference here (a student's handout): the step runs on the student's own
-        # earlier steps, so it waits until they are done.
-        for need in step.needs:
-            dep = results.get(need)
-            if dep is not None and dep.state != DONE:
-                return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"),
-                                  detail=need)
+        # earlier steps, so the cases that call them wait until they are done (waits.py).
+        need = waits.waits_whole(step, results)
+        if need:
+            return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"), detail=need)
     if not built.answers_ok:
         first = next((l for l in built.output.splitlines() if "error" in l), "")
         return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),
@@ -301,8 +300,10 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = DONE
     else:
         state = PARTIAL
-    return StepResult(step, state, cases, isolation=isolation.description,
-                      seed=seed if any(c.tier == "hidden" for c in cases) else "")
+    if not build.reference_needs:
+        state = waits.wait_on_needs(step, cases, results, state)
+    return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
+                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "")
 
 
 def ensure_configured(build: Build, all_steps: list[Step]) -> None:

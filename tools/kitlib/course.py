@@ -58,6 +58,7 @@ class Course:
     reveal_after_due_date: bool = True
     decimals: int = 2
     limits: dict[str, float] = field(default_factory=lambda: dict(LIMITS))
+    hidden_cases: dict[str, int] = field(default_factory=dict)    # a handout's record of them (./kit handout)
     source: str = "the default scale"
 
     def group(self, tier: str, name: str) -> str:
@@ -142,7 +143,12 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
     """A Course from the decoded JSON `data`, for the steps numbered `steps`; KitError on bad input."""
     course = Course(source=where)
     data = _object(data, where)
-    _known(data, {"about", "steps", "groups", "hidden", "rounding", "time_limits"}, where)
+    _known(data, {"about", "steps", "groups", "hidden", "rounding", "time_limits", "hidden_cases"}, where)
+    counts = _object(data.get("hidden_cases", {}), f"{where} hidden_cases")
+    for number, n in counts.items():
+        if number not in steps or isinstance(n, bool) or not isinstance(n, int) or n < 0:
+            raise KitError(f"{where} hidden_cases: {number!r}: {json.dumps(n)} is not a step and a count")
+        course.hidden_cases[number] = n
     for number, entry in _object(data.get("steps", {}), f"{where} steps").items():
         if number not in steps:
             raise KitError(f"{where} steps: no step {number!r} in this kit (steps: {', '.join(steps)})")
@@ -211,6 +217,45 @@ def load() -> Course:
         from .common import load_steps
         _LOADED = read(COURSE_FILE, [s.number for s in load_steps()])
     return _LOADED
+
+
+HIDDEN_SOURCES = ROOT / "tests" / "hidden"
+
+
+def hidden_counts(course: Course | None = None) -> dict[str, int]:
+    """How many hidden cases each step has: counted in tests/hidden/ (the instructor's kit), else
+    as the handout recorded them in its course.json (a handout has no hidden cases)."""
+    if HIDDEN_SOURCES.is_dir():
+        from .common import load_steps
+        return {s.number: len(re.findall(r"^TEST_CASE\(", p.read_text(), re.M))
+                for s in load_steps() for p in [HIDDEN_SOURCES / f"{s.folder}.cpp"] if p.is_file()}
+    return dict((course or load()).hidden_cases)
+
+
+def handout_text() -> str:
+    """course.json as a handout ships it: with the count of hidden cases it leaves out, so the
+    student's scoreboard can say what the course grade adds."""
+    data = json.loads(COURSE_FILE.read_text()) if COURSE_FILE.is_file() else {}
+    data["hidden_cases"] = hidden_counts()
+    return json.dumps(data, indent=2, ensure_ascii=False) + "\n"
+
+
+def score_line(results) -> str:
+    """The scoreboard's total. The instructor's kit: the score on the course's scale. A handout,
+    which has no hidden cases: what it can check, and what the course grade adds."""
+    course = load()
+    earned = sum((r.earned for r in results), Fraction(0))
+    maximum = sum((r.maximum for r in results), Fraction(0))
+    has_hidden = any(c.tier == "hidden" for r in results for c in r.cases)
+    if has_hidden or HIDDEN_SOURCES.is_dir():
+        pct = f" ({float(100 * earned / maximum):.0f} %)" if maximum else ""
+        return f"  score {course.shown(earned)} of {course.shown(maximum)}{pct}"
+    visible = [c for r in results for c in r.cases if c.tier == "basic" and not course.optional(c.group)]
+    passed = sum(c.status == "pass" for c in visible)
+    hidden = sum(n for k, n in hidden_counts(course).items() if k in {r.step.number for r in results})
+    more = (f"{hidden} hidden cases" if course.hidden_enabled and hidden else "")
+    return (f"  visible {passed} of {len(visible)}; the course grade also counts " + (more + " and " if more else "")
+            + "weights the steps as your instructor set")
 
 
 def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, str]]]]) -> list[str]:

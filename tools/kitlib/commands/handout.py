@@ -23,6 +23,7 @@ import tokenize
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import course as course_file
 from ..common import ROOT, KitError, load_steps, note, say, writable_parent
 from ..status import FAILED, OK
 
@@ -352,6 +353,8 @@ def run(args) -> int:
             if rel.as_posix() == "README.md":
                 dst.write_text(strip_instructor_parts((ROOT / rel).read_text()))
                 shutil.copymode(ROOT / rel, dst)
+            elif rel.as_posix() == "course.json":    # with the hidden cases' count (kitlib/course.py)
+                dst.write_text(course_file.handout_text())
             else:
                 shutil.copy2(ROOT / rel, dst)
             count += 1

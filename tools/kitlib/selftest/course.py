@@ -308,9 +308,41 @@ def selftest_moved_kit(ctx) -> str:
     return "a build folder moved to another path is configured again (one line says so); outside build/: one line"
 
 
+def selftest_step_without_its_need(ctx) -> str:
+    """In a handout, step 05's camera cases are checked while step 04 is not done; the cases that
+    call step 04's function wait for the student's own, naming it."""
+    from .. import waits
+    from ..status import NOT_STARTED, WAITING
+    five = next((s for s in ctx.steps if s.needs and waits.runs_without(s)), None)
+    if five is None:
+        raise Failed("no step lists the sections that run without the step it needs (step.json runs_without)")
+    need = five.needs[0]
+    free = waits.runs_without(five)[need]
+    before = next(s for s in ctx.steps if s.number == need)
+    pending = {need: StepResult(before, PARTIAL, [])}
+    expect(waits.waits_whole(five, pending) == "", f"step {five.number} still waits whole for step {need}")
+    cases = [Case("the camera", "basic", free[0], status=FAIL, messages=["view_ray(...) wrong"]),
+             Case("the closest hit", "basic", "4. The closest hit", status=FAIL, messages=["find_intersection(...)"]),
+             Case("a hit", "basic", "4. The closest hit", status=PASS)]
+    state = waits.wait_on_needs(five, cases, pending, PARTIAL)
+    expect([c.status for c in cases] == [FAIL, WAITING, PASS] and state == PARTIAL,
+           f"step {five.number} with step {need} not done: {[c.status for c in cases]}, state {state}")
+    names = ", ".join(before.functions)
+    expect(names and names in cases[1].messages[0], f"the waiting case does not name {names}: {cases[1].messages}")
+    cases[0].status = PASS
+    cases[1].status = NOT_STARTED
+    state = waits.wait_on_needs(five, cases, pending, PARTIAL)
+    expect(state == WAITING, f"only waiting cases left: state {state}, not waiting")
+    expect(waits.wait_on_needs(five, cases, {need: StepResult(before, DONE, [])}, PARTIAL) == PARTIAL,
+           "a done step still makes its needers wait")
+    return (f"step {five.number} without step {need}: {len(free)} sections run ({', '.join(free)}); the others "
+            f"wait for {names}")
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
-            ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit)]
+            ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
+            ("course: step 05 runs without step 04", selftest_step_without_its_need)]
