@@ -14,7 +14,7 @@ from ..checking import Case, StepResult
 from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
-from .harness import Failed, expect, kit
+from .harness import Failed, expect, kit, need_solutions
 
 STEPS = ["01", "02"]
 WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
@@ -103,6 +103,7 @@ def selftest_bad_course_files(ctx) -> str:
             expect(words in str(e), f"{json.dumps(data)}: the message {str(e)!r} does not say {words!r}")
         else:
             raise Failed(f"{json.dumps(data)} is accepted as a course file")
+    need_solutions()    # ./kit course is an instructor's command
     with tempfile.TemporaryDirectory() as tmp:
         broken = Path(tmp) / "course.json"
         broken.write_text('{"steps": {"01": {"points": 3},}}')
@@ -153,6 +154,7 @@ def selftest_reveal(ctx) -> str:
             got = reveal_options(meta)
             expect(got == ["--hidden-visibility", "hidden"], f"a course that never reveals passes {got}")
     # autograde.py passes them on: its ./kit check command, with a due date passed.
+    need_solutions()    # tools/gradescope/ is the instructor's
     with tempfile.TemporaryDirectory() as tmp:
         Path(tmp, "submission_metadata.json").write_text(json.dumps(dict(due, created_at="2026-03-03T00:00:00Z")))
         cmd = autograde_command(Path(tmp))
@@ -199,6 +201,7 @@ def autograde_command(root: Path) -> list[str]:
 
 
 def selftest_course_table(ctx) -> str:
+    need_solutions()    # ./kit course is an instructor's command
     with tempfile.TemporaryDirectory() as tmp:
         weighted = Path(tmp) / "weighted.json"
         steps = {s.number: {"points": 20} for s in ctx.steps}
@@ -225,7 +228,6 @@ def selftest_roster(ctx) -> str:
     import shutil
 
     from ..common import BUILD
-    from .harness import need_solutions
     need_solutions()
     step = ctx.steps[0]
     root = BUILD / "course-roster"
@@ -308,6 +310,27 @@ def selftest_moved_kit(ctx) -> str:
     return "a build folder moved to another path is configured again (one line says so); outside build/: one line"
 
 
+def selftest_handout_wording(ctx) -> str:
+    """The scoreboard's total: in a handout (no hidden cases), what it checks and what the course adds."""
+    handout = course_file.parse({"hidden_cases": {"01": 7, "02": 6}}, STEPS)
+    saved = course_file.HIDDEN_SOURCES
+    try:
+        course_file.HIDDEN_SOURCES = Path("/nonexistent/tests/hidden")
+        with course_file.using(handout):
+            rs = results({"01": (PARTIAL, ONE_CORE_WRONG[:4] + [PASS, PASS]), "02": (DONE, [PASS] * 4 + [PASS] * 2)})
+            for r in rs:        # a handout has no hidden cases
+                r.cases = [c for c in r.cases if c.tier != "hidden"]
+            line = course_file.score_line(rs)
+    finally:
+        course_file.HIDDEN_SOURCES = saved
+    want = "visible 7 of 8; the course grade also counts 13 hidden cases and weights the steps as your instructor set"
+    expect(line.strip() == want, f"a handout's total says {line.strip()!r}, not {want!r}")
+    with course_file.using(course_file.Course()):
+        line = course_file.score_line(results({"01": (PARTIAL, ONE_CORE_WRONG)}))
+    expect(line.strip() == "score 4 of 5 (80 %)", f"the instructor's total says {line.strip()!r}")
+    return f"handout: {want!r}; with hidden cases: 'score 4 of 5 (80 %)'"
+
+
 def selftest_step_without_its_need(ctx) -> str:
     """In a handout, step 05's camera cases are checked while step 04 is not done; the cases that
     call step 04's function wait for the student's own, naming it."""
@@ -345,4 +368,5 @@ def selftests():
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
-            ("course: step 05 runs without step 04", selftest_step_without_its_need)]
+            ("course: step 05 runs without step 04", selftest_step_without_its_need),
+            ("course: a handout's total line", selftest_handout_wording)]
