@@ -94,8 +94,8 @@ def overview() -> str:
     lines = ["usage: ./kit COMMAND [options]    (./kit COMMAND -h: its options)", "",
              "raykit: a first ray tracing course kit."]
     for audience in (STUDENT, INSTRUCTOR):
-        lines += ["", f"For {audience}:"]
-        lines += [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
+        listed = [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
+        lines += ["", f"For {audience}:"] + listed if listed else []     # a handout: no instructors' part
     lines += ["", "Start with ./kit check." + ("" if handout() else " Instructors: ./kit test verifies the whole kit.")]
     return "\n".join(lines)
 
