@@ -262,7 +262,7 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     """The lines of ./kit course: per step (number, title, [(tier, name)]), the cases per group and
     their points, and the total to enter in Gradescope."""
     lines = [f"Course scale from {course.source}", ""]
-    head = f"  {'step':<28}" + "".join(f"{g:>14}" for g in GROUPS) + f"{'points':>10}"
+    head = f"  {'step':<36}" + "".join(f"{g:>15}" for g in GROUPS) + f"{'points':>9}"
     lines += [head, "  " + "-" * (len(head) - 2)]
     total = Fraction(0)
     for number, title, cases in cases_by_step:
@@ -270,13 +270,19 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
         shares = course.shares(number, groups)
         cells = []
         for g in GROUPS:
-            n = groups.count(g)
-            pts = sum((p for p, gg in zip(shares, groups) if gg == g), Fraction(0))
-            cell = f"{n} ×0 ★" if n and course.optional(g) else (f"{n}: {exact_text(pts)}" if n else "-")
-            cells.append(f"{cell:>14}")
+            mine = [p for p, gg in zip(shares, groups) if gg == g]
+            if not mine:
+                cell = "-"
+            elif course.optional(g):
+                cell = f"{len(mine)} × 0 ★"
+            else:
+                cell = f"{len(mine)} × {exact_text(mine[0])}"
+            cells.append(f"{cell:>15}")
         step_max = sum(shares, Fraction(0))
         total += step_max
-        lines.append(f"  {(number + ' ' + title)[:28]:<28}" + "".join(cells) + f"{exact_text(step_max):>10}")
+        lines.append(f"  {(number + ' ' + title)[:36]:<36}" + "".join(cells) + f"{course.shown(step_max):>9}")
+    lines.append("")
+    lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing)")
     lines.append("")
     weights = ", ".join(f"{g} {exact_text(course.weight(g))}" + (" (optional, like ★)" if course.optional(g) else "")
                         for g in GROUPS)

@@ -268,6 +268,8 @@ def run(args) -> int:
                      (p.is_dir() or (p.is_file() and p.suffix.lower() == ".zip")))
     if not folders:
         raise KitError(f"{args.submissions}: holds no submission folders or .zip files")
+    global SUBMISSION_SECONDS      # the course's limit for one submission (course.json time_limits)
+    SUBMISSION_SECONDS = int(course_file.load().limits["submission_seconds"])
     roster = None
     if args.roster:
         roster = read_roster(Path(args.roster), [f.stem if f.is_file() else f.name for f in folders], args.roster_key)

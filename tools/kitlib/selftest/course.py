@@ -216,7 +216,7 @@ def selftest_course_table(ctx) -> str:
         expect(default.returncode == 0 and want in default.stdout, f"./kit course: {default.stdout[-300:]}{default.stderr}")
         got = kit("course", "--file", str(weighted), "--results", str(fake))
         want = f"(the assignment's points): {20 * len(ctx.steps)}"
-        expect(got.returncode == 0 and want in got.stdout and "1: 40/3" in got.stdout and "1: 20/3" in got.stdout,
+        expect(got.returncode == 0 and want in got.stdout and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
                f"./kit course --file (20 points a step): {got.stdout[-400:]}{got.stderr}")
     return f"./kit course: {2 * len(ctx.steps)} by default, {20 * len(ctx.steps)} weighted (a core case 40/3)"
 
