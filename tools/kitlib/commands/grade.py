@@ -71,6 +71,14 @@ def csv_safe(cell) -> str:
     return text
 
 
+def _decimal(exact: str) -> str:
+    """A case's exact points ("10/23") as a decimal of 6 places at most (a spreadsheet reads 10/23
+    as a date); the totals are rounded from the exact sum, not from these."""
+    f = Fraction(exact)
+    d = (course_file.Decimal(f.numerator) / f.denominator).quantize(course_file.Decimal("0.000001"))
+    return format(d.normalize(), "f")
+
+
 def _number(text: str) -> bool:
     try:
         float(text)
@@ -220,8 +228,8 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     share = 100 * exact / maximum if maximum else None
     row["percent"] = f"{course_file.Decimal(share.numerator) / share.denominator:.1f}" if share is not None else ""
     row["_cases"] = [{"step": s["step"], "case": c["name"], "tier": c["tier"], "group": c.get("group", ""),
-                      "status": c["status"], "points": c.get("points", ""),
-                      "earned": c.get("points", "") if c["status"] == "pass" else "0"}
+                      "status": c["status"], "points": _decimal(c.get("points", "0")),
+                      "earned": _decimal(c.get("points", "0")) if c["status"] == "pass" else "0"}
                      for s in extra["steps"] for c in s["cases"]]
     by_number = {s["step"]: s for s in data["extra_data"]["steps"]}
     row["status"] = "complete" if all(s["state"] == DONE for s in by_number.values()) else "incomplete"
