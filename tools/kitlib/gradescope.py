@@ -124,8 +124,9 @@ def _when(text) -> datetime | None:
 
 
 def due_date(metadata: dict) -> datetime | None:
-    """The last due date that applies: the assignment's late due date, else its due date, or a
-    student's own later one (an extension) from metadata["users"]."""
+    """The last date anyone may submit: the assignment's late due date, else its due date (the fields
+    Gradescope documents), or a later one in a users[] entry's "assignment" (not documented; read if
+    there)."""
     dates = []
     for a in [metadata.get("assignment")] + [u.get("assignment") for u in metadata.get("users") or []
                                              if isinstance(u, dict)]:
