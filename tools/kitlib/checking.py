@@ -290,7 +290,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         env = dict(scratch.env(), RAYKIT_SEED=seed)
         if not isolation.sandboxed:
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
-        run_cases(judge, cases, env)
+        run_cases(judge, cases, env, *course_file.load().case_limits())     # course.json time_limits
     finally:
         scratch.close()
     scored = [c for c in cases if c.tier == "basic"]

@@ -21,7 +21,11 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     visibility (hidden, after_due_date, after_published, visible);
                                     whether failed hidden cases show their inputs after the due date.
   "rounding": {"decimals": D}       the total is rounded once, at the end, to D decimals (half up).
-  "time_limits": {"case_seconds", "step_seconds", "submission_seconds", "autograder_seconds"}
+  "time_limits": {"case_seconds", "step_seconds", "submission_seconds"}
+                                    the judge's backstop per case and per step (./kit check), and one
+                                    submission of ./kit grade. (Each call of the student's code has
+                                    its own 2 s limit in the judge; Gradescope's run: KIT_SECONDS in
+                                    tools/gradescope/autograde.py.)
 
 Points are exact fractions (fractions.Fraction) from the file to the total: no float noise. A
 step's maximum is its points whatever state it is in, so every student has the same maximum; a
@@ -42,7 +46,7 @@ from .common import ROOT, KitError
 COURSE_FILE = ROOT / "course.json"
 GROUPS = ("core", "degenerate", "hidden", "robust")
 VISIBILITIES = ("hidden", "after_due_date", "after_published", "visible")
-LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600, "autograder_seconds": 1800}
+LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600}
 DEGENERATE_NAMES = ["NaN", "infinite", "infinity", "zero direction", "radius of zero", "degenerate",
                     "empty window", "empty rectangle", "overflow"]
 
@@ -99,6 +103,10 @@ class Course:
         """`value` rounded once, half up, to the course's decimals."""
         exact = Decimal(value.numerator) / Decimal(value.denominator)
         return exact.quantize(Decimal(1).scaleb(-self.decimals), rounding=ROUND_HALF_UP)
+
+    def case_limits(self) -> tuple[float, float]:
+        """The judge's backstops: seconds per case, per step."""
+        return self.limits["case_seconds"], self.limits["step_seconds"]
 
     def shown(self, value: Fraction) -> str:
         """`value` for people: whole numbers as they are, others rounded once."""
