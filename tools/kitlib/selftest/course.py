@@ -362,6 +362,19 @@ def selftest_step_without_its_need(ctx) -> str:
             f"wait for {names}")
 
 
+def selftest_launch_json(ctx) -> str:
+    """.vscode/launch.json's list of steps is written from the steps (./kit handout does), so a step
+    added by CONTRIBUTING's recipe appears there with nothing else to edit."""
+    need_solutions()
+    from ..commands.handout import launch_json
+    text = (ROOT / ".vscode" / "launch.json").read_text()
+    stale = text.replace('"options": [', '"options": ["00", ', 1)
+    got = launch_json(stale)
+    want = json.dumps([s.number for s in ctx.steps])
+    expect(f'"options": {want}' in got and '"00"' not in got, f"launch.json is not rewritten to {want}: {got[-300:]}")
+    return f"launch.json's steps written from step.json: {want}"
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
@@ -369,4 +382,5 @@ def selftests():
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),
-            ("course: a handout's total line", selftest_handout_wording)]
+            ("course: a handout's total line", selftest_handout_wording),
+            ("course: launch.json from the steps", selftest_launch_json)]
