@@ -40,6 +40,7 @@ AUTOGRADER = Path(os.environ.get("RAYKIT_AUTOGRADER_ROOT", "/autograder"))
 SOURCE = AUTOGRADER / "source"
 SUBMISSION = AUTOGRADER / "submission"
 RESULTS = AUTOGRADER / "results" / "results.json"
+METADATA = AUTOGRADER / "submission_metadata.json"     # the due dates; read for the reveal
 PR_SET_CHILD_SUBREAPER = 36    # <linux/prctl.h>
 KIT_SECONDS = 30 * 60           # all steps; Gradescope's own limit is set per assignment
 
@@ -104,6 +105,8 @@ def end_descendants() -> int:
 
 def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
     cmd = [str(SOURCE / "kit"), "check", "--steps", str(steps_dir), "--json", str(json_path), "--quiet"]
+    from kitlib.gradescope import reveal_options    # course.json's visibility; --reveal after the due date
+    cmd += reveal_options(METADATA)
     with tempfile.TemporaryFile() as log:
         proc = subprocess.Popen(cmd, cwd=SOURCE, stdout=log, stderr=log, stdin=subprocess.DEVNULL,
                                 start_new_session=True)

@@ -24,9 +24,12 @@ import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from fractions import Fraction
 from pathlib import Path
 from typing import Callable
 
+from . import course as course_file
+from . import waits
 from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable
 from .sandbox import NONE_OWN, Isolation, Scratch
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
@@ -51,9 +54,17 @@ class Case:
     picture: str = ""           # its SVG (picture.py), when drawn
     picture_summary: str = ""   # one line: what the picture shows, or why there is none
 
+    share: Fraction | None = None   # its exact points on the course's scale (set by StepResult)
+
     @property
-    def points(self) -> int:
-        return 1 if self.tier in SCORED_TIERS else 0
+    def group(self) -> str:
+        """core, degenerate, hidden or robust (the rule: kitlib/course.py)."""
+        return course_file.load().group(self.tier, self.name)
+
+    @property
+    def points(self) -> Fraction:
+        """What passing this case is worth, exactly (course.json; the default: 1, and 0 for the ★ tier)."""
+        return self.share if self.share is not None else course_file.load().weight(self.group)
 
 
 @dataclass
@@ -65,6 +76,12 @@ class StepResult:
     isolation: str = ""
     seed: str = ""
 
+    def __post_init__(self) -> None:
+        # The step's points shared among its cases by their groups' weights, once, exactly.
+        course = course_file.load()
+        for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases])):
+            c.share = share
+
     def tier(self, tier: str) -> list[Case]:
         return [c for c in self.cases if c.tier == tier]
 
@@ -72,12 +89,16 @@ class StepResult:
         return sum(c.status == PASS for c in self.tier(tier))
 
     @property
-    def earned(self) -> int:
-        return sum(c.points for c in self.cases if c.status == PASS)
+    def earned(self) -> Fraction:
+        """Exact; a step that does not compile has every case failed, so it earns 0."""
+        return sum((c.points for c in self.cases if c.status == PASS), Fraction(0))
 
     @property
-    def maximum(self) -> int:
-        return sum(c.points for c in self.cases)
+    def maximum(self) -> Fraction:
+        """Exact, and the same whatever state the step is in: the step's points in course.json."""
+        if not self.cases:
+            return course_file.load().points.get(self.step.number) or Fraction(0)
+        return sum((c.points for c in self.cases), Fraction(0))
 
     def first_problem(self, tier: str = "basic") -> Case | None:
         for c in self.tier(tier):
@@ -92,9 +113,11 @@ class StepResult:
         return {
             "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
             "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
-            "earned": self.earned, "maximum": self.maximum,
+            "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
+            "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
-            "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
+            "cases": [{"name": c.name, "tier": c.tier, "group": c.group, "points": course_file.exact_text(c.points),
+                       "lecture": c.lecture, "status": c.status,
                        "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                        "picture": c.picture or None, "picture_summary": c.picture_summary or None,
                        "figure": c.figure or None}   # the geometry, so ./kit report can draw the case
@@ -286,12 +309,10 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         return StepResult(step, MISSING, _all(cases, MISSING, detail), detail=detail)
     if not build.reference_needs:
         # No reference here (a student's handout): the step runs on the student's own
-        # earlier steps, so it waits until they are done.
-        for need in step.needs:
-            dep = results.get(need)
-            if dep is not None and dep.state != DONE:
-                return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"),
-                                  detail=need)
+        # earlier steps, so the cases that call them wait until they are done (waits.py).
+        need = waits.waits_whole(step, results)
+        if need:
+            return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"), detail=need)
     if not built.answers_ok:
         first = next((l for l in built.output.splitlines() if "error" in l), "")
         return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),
@@ -302,7 +323,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         env = dict(scratch.env(), RAYKIT_SEED=seed)
         if not isolation.sandboxed:
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
-        run_cases(judge, cases, env)
+        run_cases(judge, cases, env, *course_file.load().case_limits())     # course.json time_limits
         rerun_timeouts(judge, cases, env)
     finally:
         scratch.close()
@@ -318,8 +339,10 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = DONE
     else:
         state = PARTIAL
-    return StepResult(step, state, cases, isolation=isolation.description,
-                      seed=seed if any(c.tier == "hidden" for c in cases) else "")
+    if not build.reference_needs:
+        state = waits.wait_on_needs(step, cases, results, state)
+    return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
+                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "")
 
 
 # --- untouched steps: no build ---------------------------------------------------------------
@@ -365,11 +388,7 @@ def recorded_cases(step: Step) -> list[Case] | None:
 
 
 def untouched_result(step: Step, cases: list[Case], results: dict[str, StepResult], build: Build) -> StepResult:
-    if not build.reference_needs:
-        for need in step.needs:
-            dep = results.get(need)
-            if dep is not None and dep.state != DONE:
-                return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"), detail=need)
+    """Not started, whatever the steps it needs: nothing of it is written yet."""
     for c in cases:
         c.status, c.messages = NOT_STARTED, ["not started: the step's files are the shipped stubs "
                                              "(each function is still not_implemented_yet)"]

@@ -45,6 +45,7 @@ COMMANDS = [
     Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),
     Command("bench", "bench", STUDENT, "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
     Command("test", "selftest", INSTRUCTOR, "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
+    Command("course", "course", INSTRUCTOR, "print the course's scale (course.json): steps, case groups, points, the Gradescope total"),
     Command("grade", "grade", INSTRUCTOR, "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
     Command("report", "report", INSTRUCTOR, "the class report of a grading (offline HTML): scores, failed cases, slips, incidents, similar work"),
     Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
@@ -97,8 +98,8 @@ def overview() -> str:
     lines = ["usage: ./kit COMMAND [options]    (./kit COMMAND -h: its options)", "",
              "raykit: a first ray tracing course kit."]
     for audience in (STUDENT, INSTRUCTOR):
-        lines += ["", f"For {audience}:"]
-        lines += [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
+        listed = [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
+        lines += ["", f"For {audience}:"] + listed if listed else []     # a handout: no instructors' part
     lines += ["", "Start with ./kit check." + ("" if handout() else " Instructors: ./kit test verifies the whole kit.")]
     return "\n".join(lines)
 

@@ -57,14 +57,6 @@ def printable(text: str) -> str:
     return _CONTROLS.sub(lambda m: f"\\x{ord(m.group()):02x}", text.replace("\r\n", "\n"))
 
 
-def csv_cell(value):
-    """A CSV cell a spreadsheet shows as text: one that starts with = + - @, a tab or a carriage
-    return gets a leading apostrophe (the OWASP advice on CSV injection). Numbers pass as they are."""
-    if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
-        return "'" + value
-    return value
-
-
 # --- steps -------------------------------------------------------------------
 
 @dataclass
@@ -268,6 +260,7 @@ def configure(build: Build, quiet: bool = True) -> None:
     if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
         generator = None              # CMake's default (Makefiles) rather than a failure
     cache = build.binary_dir / "CMakeCache.txt"
+    from .relocate import forget_moved_build; forget_moved_build(build.binary_dir)    # noqa: E702 a moved kit
     if generator and not cache.is_file():
         gen = ["-G", generator]       # an existing build folder keeps the generator it has
     cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,

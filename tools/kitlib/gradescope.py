@@ -1,68 +1,162 @@
-"""The results of ./kit check in Gradescope's autograder format (results.json), for --json."""
+"""The results of ./kit check in Gradescope's autograder format (results.json), for --json.
+
+On the course's scale (course.json, kitlib/course.py): points are exact fractions; each test shows
+its case's points rounded for display, and the top-level `score` (which Gradescope takes instead of
+the tests' sum) is the exact total rounded once, at the end.
+
+What Gradescope's documented fields allow (gradescope-autograders.readthedocs.io, specs): a test
+has score, max_score, status ("passed" or "failed" only: no "informational" or "skipped" status),
+name, number, output, output_format, tags, visibility, extra_data. So:
+  - the optional cases (the ★ tier, and any group of weight 0) are one test per step with
+    max_score 0 and status "passed" whatever they gave (informational: never shown as a failure),
+    its output listing the ones that fail;
+  - a step that does not compile (or misses a file, or waits for another) is one failed test
+    worth the step's points, carrying the diagnostic; its cases are "not run", not 44 failures.
+"""
 
 from __future__ import annotations
 
 import json
 import os
+from datetime import datetime, timezone
+from fractions import Fraction
 from pathlib import Path
 
+from . import course as course_file
 from .checking import StepResult
 from .common import KitError
-from .scoreboard import HIDDEN_NOTE
-from .status import PASS, STATE_WORDS, STATUS_WORDS
+from .scoreboard import HIDDEN_NOTE, compile_errors
+from .status import MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
+
+UNRUN_STATES = (NO_COMPILE, MISSING, WAITING)
 
 
-def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str = "after_due_date",
+def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
+    hidden = c.tier == "hidden"
+    lines = [STATUS_WORDS.get(c.status, c.status)]
+    if c.status != PASS:
+        lines += [HIDDEN_NOTE] if hidden and not reveal else c.messages[:3]
+        if c.output_bytes and not (hidden and not reveal):
+            lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:2000]}")
+        if c.lecture:
+            lines.append(f"Read {r.step.lecture}, section \"{c.lecture}\".")
+    return lines
+
+
+def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
                reveal: bool = False) -> dict:
-    """The results in Gradescope's autograder format (results.json).
-
-    One test per case, on one scale: every basic and hidden case is worth one point,
-    whatever state its step is in (a step that does not compile fails all its cases,
-    with the compiler's first error); a ★ robust case has max_score 0 (optional).
-    """
+    """The results in Gradescope's autograder format (results.json); hidden_visibility None: the
+    course file's."""
+    course = course_file.load()
+    visibility = hidden_visibility or course.hidden_visibility
     tests = []
     for r in results:
         s = r.step
-        for i, c in enumerate(r.cases, 1):
-            hidden = c.tier == "hidden"
-            lines = [STATUS_WORDS.get(c.status, c.status)]
-            if c.status != PASS:
-                lines += [HIDDEN_NOTE] if hidden and not reveal else c.messages[:3]
-                if c.output_bytes and not (hidden and not reveal):
-                    lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:2000]}")
-                if c.lecture:
-                    lines.append(f"Read {s.lecture}, section \"{c.lecture}\".")
+        cases = [c for c in r.cases if c.tier != "hidden" or course.hidden_enabled]
+        scored = [c for c in cases if c.points > 0]
+        optional = [c for c in cases if c.points == 0]
+        if r.state in UNRUN_STATES and cases:
+            detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
+            tests.append({
+                "name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
+                "number": f"{int(s.number)}.0",
+                "score": 0, "max_score": course.number(r.maximum), "status": "failed", "visibility": "visible",
+                "output": f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()[:8000],
+                "tags": [f"step{s.number}", r.state]})
+            continue
+        for i, c in enumerate(scored, 1):
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
             tests.append({
                 "name": f"Step {s.number}{mark} · {c.name}",
                 "number": f"{int(s.number)}.{i}",
-                "score": c.points * int(c.status == PASS),
-                "max_score": c.points,
+                "score": course.number(c.points if c.status == PASS else Fraction(0)),
+                "max_score": course.number(c.points),
                 "status": "passed" if c.status == PASS else "failed",
-                "visibility": hidden_visibility if hidden else "visible",
-                "output": "\n".join(lines),
-                "tags": [f"step{s.number}", c.tier],
+                "visibility": visibility if c.tier == "hidden" else "visible",
+                "output": "\n".join(_case_lines(r, c, reveal)),
+                "tags": [f"step{s.number}", c.tier, c.group],
             })
-        if not r.cases:  # the kit's own test program failed: say so, worth nothing
+        if optional:
+            passed = sum(c.status == PASS for c in optional)
+            groups = sorted({"★ tier" if c.group == "robust" else c.group for c in optional})
+            lines = [f"Optional, worth no points ({', '.join(groups)}): {passed} of {len(optional)} pass."]
+            for c in optional:
+                if c.status != PASS:
+                    lines += [f"✗ {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
+            tests.append({
+                "name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
+                "number": f"{int(s.number)}.{len(scored) + 1}",
+                "score": 0, "max_score": 0, "status": "passed", "visibility": "visible",
+                "output": "\n".join(lines)[:8000], "tags": [f"step{s.number}", "optional"]})
+        if not r.cases:  # the kit's own test program failed: say so
             tests.append({"name": f"Step {s.number} · {s.title}", "number": s.number, "score": 0,
-                          "max_score": 0, "status": "failed", "visibility": "visible",
+                          "max_score": course.number(r.maximum), "status": "failed", "visibility": "visible",
                           "output": f"{STATE_WORDS[r.state]}. {r.detail[:4000]}".strip(),
                           "tags": [f"step{s.number}"]})
-    score = sum(t["score"] for t in tests)
-    maximum = sum(t["max_score"] for t in tests)
-    summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, {r.earned} of {r.maximum}" for r in results]
+    exact = sum((r.earned for r in results), Fraction(0))
+    maximum = sum((r.maximum for r in results), Fraction(0))
+    summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, {course_file.exact_text(r.earned)} of "
+               f"{course_file.exact_text(r.maximum)}" for r in results]
+    summary.append(f"score {course.shown(exact)} of {course_file.exact_text(maximum)} (exact "
+                   f"{course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)")
     seeds = sorted({r.seed for r in results if r.seed})
     if seeds:
         summary.append(f"hidden cases seed {', '.join(seeds)}")
     isolation = next((r.isolation for r in results if r.isolation), "")
     if isolation:
         summary.append(f"graded code: {isolation}")
-    return {"score": score, "execution_time": round(elapsed, 3), "output": "\n".join(summary),
+    return {"score": float(course.rounded(exact)) if exact.denominator != 1 else exact.numerator,
+            "execution_time": round(elapsed, 3), "output": "\n".join(summary),
             "visibility": "visible", "stdout_visibility": "hidden", "tests": tests,
-            "extra_data": {"max_score": maximum, "steps": [r.to_json() for r in results]}}
+            "extra_data": {"max_score": course.number(maximum), "score_exact": course_file.exact_text(exact),
+                           "max_score_exact": course_file.exact_text(maximum), "rounding": course.decimals,
+                           "steps": [r.to_json() for r in results]}}
 
 
-def write_json(path: str, results: list[StepResult], elapsed: float, hidden_visibility: str = "after_due_date",
+def _when(text) -> datetime | None:
+    if not isinstance(text, str) or not text:
+        return None
+    try:
+        t = datetime.fromisoformat(text.replace("Z", "+00:00"))
+    except ValueError:
+        return None
+    return t if t.tzinfo else t.replace(tzinfo=timezone.utc)
+
+
+def due_date(metadata: dict) -> datetime | None:
+    """The last date anyone may submit: the assignment's late due date, else its due date (the fields
+    Gradescope documents), or a later one in a users[] entry's "assignment" (not documented; read if
+    there)."""
+    dates = []
+    for a in [metadata.get("assignment")] + [u.get("assignment") for u in metadata.get("users") or []
+                                             if isinstance(u, dict)]:
+        if isinstance(a, dict):
+            d = _when(a.get("late_due_date")) or _when(a.get("due_date"))
+            if d:
+                dates.append(d)
+    return max(dates) if dates else None
+
+
+def reveal_options(metadata_path: Path, now: datetime | None = None) -> list[str]:
+    """The ./kit check options Gradescope's run passes, from /autograder/submission_metadata.json and
+    course.json: --hidden-visibility always, --reveal when the course reveals after the due date and
+    the submission was made after it (a missing or unreadable file: no reveal)."""
+    course = course_file.load()
+    options = ["--hidden-visibility", course.hidden_visibility]
+    try:
+        metadata = json.loads(metadata_path.read_text())
+    except (OSError, ValueError):
+        return options
+    if not isinstance(metadata, dict):
+        return options
+    due = due_date(metadata)
+    made = _when(metadata.get("created_at")) or now or datetime.now(timezone.utc)
+    if course.reveal_after_due_date and due is not None and made > due:
+        options.append("--reveal")
+    return options
+
+
+def write_json(path: str, results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
                reveal: bool = False) -> None:
     target = Path(path)
     if not target.parent.is_dir():

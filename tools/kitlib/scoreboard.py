@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 from .checking import Progress, StepResult
+from .course import score_line as course_score_line
 from .common import ROOT, Step, paint, say
 from .robust_line import robust_line
 from .sandbox import NONE_OWN
@@ -255,9 +256,8 @@ def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = Fal
         width = title_width([r.step for r in results])
         for r in results:
             say(row(r, width))
-    earned, maximum = sum(r.earned for r in results), sum(r.maximum for r in results)
     say()
-    say(f"  score {earned} of {maximum}" + (f" ({100 * earned / maximum:.0f} %)" if maximum else ""))
+    say(course_score_line(results))     # kitlib/course.py: the course's scale, or a handout's visible part
     seeds = sorted({r.seed for r in results if r.seed})
     if seeds:
         say(paint(f"  hidden cases drawn with seed {', '.join(seeds)}", "dim"))

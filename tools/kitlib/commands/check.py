@@ -25,9 +25,9 @@ def register(p) -> None:
     p.add_argument("--quiet", action="store_true", help="print nothing; the exit status tells")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"],
                    help="how the graded code is kept apart (default: auto with --steps, none for your own steps/)")
-    p.add_argument("--hidden-visibility", default="after_due_date",
+    p.add_argument("--hidden-visibility", default=None,  # None: course.json's hidden.visibility
                    choices=["hidden", "after_due_date", "after_published", "visible"],
-                   help="Gradescope visibility of the hidden cases in --json (default: after_due_date)")
+                   help="Gradescope visibility of the hidden cases in --json (default: course.json's)")
     p.add_argument("--reveal", action="store_true", help="show the inputs of failed hidden cases (instructors)")
     p.add_argument("--all", action="store_true", help="list every failing case of the steps, grouped by function")
     p.add_argument("--record", action="store_true",

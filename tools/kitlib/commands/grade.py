@@ -10,14 +10,19 @@ import csv
 import io
 import json
 import os
+import re
 import subprocess
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 
+from .. import course as course_file
+
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
-from ..common import BUILD, ROOT, KitError, csv_cell, load_steps, printable, say
+from ..common import BUILD, ROOT, KitError, load_steps, printable, say
 from ..packages import ensure_packages
 from ..sandbox import kill_session, kill_uid
 from ..submissions import NotFound, locate
@@ -38,14 +43,164 @@ def register(p) -> None:
                    help="how the graded code is kept apart (default: auto)")
     p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results.json (Gradescope format) here")
     p.add_argument("--report", metavar="DIR", help="also write the class report (./kit report) in DIR, the grading in DIR/grading/")
+    p.add_argument("--roster", metavar="CSV",
+                   help="the class list (any columns, one naming each student's folder or .zip): one row per "
+                        "student on it, submitted or not, its columns first")
+    p.add_argument("--roster-key", metavar="COLUMN",
+                   help="the roster's column that names the folder or .zip (default: the one that matches most)")
+    p.add_argument("--cases", metavar="FILE",
+                   help="the long CSV, one row per student and case (default: OUT with -cases before .csv)")
 
 
 def columns(steps) -> list[str]:
+    """The grades CSV: the total rounded once (course.json's decimals) and exact, then each step."""
     cols = ["student", "earned", "maximum", "percent", "status"]
     for s in steps:
         cols += [f"step{s.number}_state", f"step{s.number}_earned", f"step{s.number}_maximum",
                  f"step{s.number}_robust", f"step{s.number}_robust_total"]
-    return cols + ["isolation", "note"]
+    return cols + ["earned_exact", "isolation", "note"]
+
+
+CASE_COLUMNS = ["submission", "step", "case", "tier", "group", "status", "points", "earned"]
+
+
+def csv_safe(cell) -> str:
+    """One cell as written to a CSV: the one call point where the cells of both CSV files pass.
+    A text a spreadsheet would run as a formula (=, +, -, @, tab, CR first) gets a leading '."""
+    text = "" if cell is None else str(cell)
+    if text[:1] in ("=", "+", "-", "@", "\t", "\r") and not _number(text):
+        return "'" + text
+    return text
+
+
+def _decimal(exact: str) -> str:
+    """A case's exact points ("10/23") as a decimal of 6 places at most (a spreadsheet reads 10/23
+    as a date); the totals are rounded from the exact sum, not from these."""
+    f = Fraction(exact)
+    d = (course_file.Decimal(f.numerator) / f.denominator).quantize(course_file.Decimal("0.000001"))
+    return format(d.normalize(), "f")
+
+
+def _number(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def csv_text(cols: list[str], rows: list[dict]) -> str:
+    text = io.StringIO()
+    writer = csv.writer(text)
+    writer.writerow([csv_safe(c) for c in cols])
+    for r in rows:
+        writer.writerow([csv_safe(r.get(c, "")) for c in cols])
+    return text.getvalue()
+
+
+def write_file(out: Path, text: str) -> None:
+    """Written whole or not at all: a temporary file beside it, then renamed."""
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(text)
+        tmp.replace(out)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)
+        raise KitError(f"{out}: cannot write it ({e.strerror})")
+
+
+@dataclass
+class Roster:
+    columns: list[str]
+    rows: list[dict]
+    key: str
+
+
+def _norm(name: str) -> str:
+    return " ".join(name.strip().lower().split())
+
+
+def read_roster(path: Path, names: list[str], key: str | None = None) -> Roster:
+    """The class list at `path` (a CSV with a header, separated by , ; or tab); `key` is the column
+    that names each student's folder or .zip, by default the one matching most of `names`."""
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise KitError(f"--roster {path}: no such file")
+    except (OSError, UnicodeDecodeError) as e:
+        raise KitError(f"--roster {path}: cannot read it as UTF-8 text ({e.__class__.__name__})")
+    try:
+        dialect = csv.Sniffer().sniff(text[:4096], delimiters=",;\t")
+    except csv.Error:
+        dialect = csv.excel
+    rows = list(csv.reader(io.StringIO(text), dialect))
+    rows = [r for r in rows if any(cell.strip() for cell in r)]
+    if len(rows) < 2:
+        raise KitError(f"--roster {path}: expected a header line and one line per student")
+    header = [h.strip() for h in rows[0]]
+    if any(not h for h in header) or len(set(header)) != len(header):
+        raise KitError(f"--roster {path}: every column needs a name of its own in the header line ({rows[0]})")
+    kit_columns = set(CASE_COLUMNS) | {"student", "earned", "maximum", "percent", "status", "earned_exact",
+                                       "isolation", "note"}
+    clash = next((c for c in header if c in kit_columns or re.match(r"step\d\d_", c)), None)
+    if clash:
+        raise KitError(f"--roster {path}: the column {clash!r} is one the kit writes; rename it")
+    students = []
+    for n, r in enumerate(rows[1:], 2):
+        if len(r) > len(header):
+            raise KitError(f"--roster {path}: line {n} has {len(r)} cells, the header {len(header)}")
+        students.append({h: (r[i].strip() if i < len(r) else "") for i, h in enumerate(header)})
+    wanted = {_norm(n) for n in names}
+    if key is not None:
+        if key not in header:
+            raise KitError(f"--roster-key {key}: no such column in {path} (columns: {', '.join(header)})")
+    else:
+        exact = set(names)
+        rank = {h: (sum(_norm(s[h]) in wanted for s in students), sum(s[h] in exact for s in students))
+                for h in header}
+        key = max(header, key=lambda h: rank[h])
+        if not rank[key][0]:
+            raise KitError(f"--roster {path}: no column names a submission folder or .zip (e.g. "
+                           f"{', '.join(sorted(names)[:3])}); say which with --roster-key COLUMN")
+        tied = [h for h in header if rank[h] == rank[key]]
+        if len(tied) > 1:
+            raise KitError(f"--roster {path}: the columns {', '.join(map(repr, tied))} match the folders "
+                           "equally well; say which with --roster-key COLUMN")
+    seen: dict[str, int] = {}
+    for s in students:
+        k = _norm(s[key])
+        if k and k in seen:
+            raise KitError(f"--roster {path}: {s[key]!r} is listed twice in column {key!r}")
+        seen[k] = 1
+    return Roster(header, students, key)
+
+
+def with_roster(roster: Roster, rows: list[dict], steps) -> tuple[list[str], list[dict], list[str], list[str]]:
+    """The grades table with the roster: its columns first, one row per student on it (a student
+    with no folder gets status "not submitted" and 0), then the folders on no one's line. Returns
+    the columns, the rows, the students not submitted and the folders not on the roster."""
+    cols = roster.columns + ["submission"] + columns(steps)[1:]
+    by_name = {_norm(r["student"]): r for r in rows}
+    maxima = {r.get("maximum") for r in rows if r.get("maximum") not in (None, "")}
+    maximum = maxima.pop() if len(maxima) == 1 else ""
+    out, missing, matched = [], [], set()
+    for s in roster.rows:
+        r = by_name.get(_norm(s[roster.key])) if s[roster.key] else None
+        if r is None:
+            missing.append(s[roster.key] or "(a line with no " + roster.key + ")")
+            out.append(dict(s, submission="", earned=0, maximum=maximum, percent="0.0" if maximum else "",
+                            status="not submitted",
+                            note=f"no folder or .zip named {s[roster.key]!r}" if s[roster.key] else
+                            f"no {roster.key} on the roster"))
+        else:
+            matched.add(_norm(r["student"]))
+            out.append(dict({k: v for k, v in r.items() if k != "student"}, **s, submission=r["student"]))
+    unknown = [r["student"] for r in rows if _norm(r["student"]) not in matched]
+    for r in rows:
+        if _norm(r["student"]) not in matched:
+            out.append(dict({k: v for k, v in r.items() if k != "student"}, submission=r["student"],
+                            note="not on the roster" + ("; " + r["note"] if r.get("note") else "")))
+    return cols, out, missing, unknown
 
 
 def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str = "auto") -> dict:
@@ -55,7 +210,7 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     try:
         found = locate(folder, BUILD / f"grade-upload-{slot}", steps)
     except NotFound as e:
-        return dict(row, status="no steps", note=str(e)[:300])
+        return dict(row, status="no steps", note=str(e))
     uid_file = BUILD / f"grade-uid-{slot}"
     uid_file.unlink(missing_ok=True)
     # Its own session: on a timeout, every process of it (cmake, ninja, the compilers) is ended,
@@ -85,9 +240,18 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         message = (r.stderr.strip().splitlines() or ["no result"])[-1]
         return dict(row, status="not graded", note=message.removeprefix("kit: "))
     data = json.loads(report.read_text())
-    row["earned"] = data["score"]
-    row["maximum"] = data["extra_data"]["max_score"]
-    row["percent"] = f"{100 * row['earned'] / row['maximum']:.1f}" if row["maximum"] else ""
+    course = course_file.load()
+    extra = data["extra_data"]
+    exact = Fraction(extra.get("score_exact", data["score"]))
+    maximum = Fraction(extra.get("max_score_exact", extra["max_score"]))
+    row["earned"], row["earned_exact"] = course.shown(exact), course_file.exact_text(exact)
+    row["maximum"] = course.shown(maximum)
+    share = 100 * exact / maximum if maximum else None
+    row["percent"] = f"{course_file.Decimal(share.numerator) / share.denominator:.1f}" if share is not None else ""
+    row["_cases"] = [{"step": s["step"], "case": c["name"], "tier": c["tier"], "group": c.get("group", ""),
+                      "status": c["status"], "points": _decimal(c.get("points", "0")),
+                      "earned": _decimal(c.get("points", "0")) if c["status"] == "pass" else "0"}
+                     for s in extra["steps"] for c in s["cases"]]
     by_number = {s["step"]: s for s in data["extra_data"]["steps"]}
     row["status"] = "complete" if all(s["state"] == DONE for s in by_number.values()) else "incomplete"
     row["isolation"] = next((s["isolation"] for s in by_number.values() if s.get("isolation")), "")
@@ -97,13 +261,15 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         if res is None:
             continue
         row[f"step{s.number}_state"] = STATE_WORDS.get(res["state"], res["state"])
-        row[f"step{s.number}_earned"] = res["earned"]
-        row[f"step{s.number}_maximum"] = res["maximum"]
+        row[f"step{s.number}_earned"] = course.shown(Fraction(res.get("earned_exact", res["earned"])))
+        row[f"step{s.number}_maximum"] = course.shown(Fraction(res.get("maximum_exact", res["maximum"])))
         row[f"step{s.number}_robust"] = res["robust"]["passed"]
         row[f"step{s.number}_robust_total"] = res["robust"]["total"]
         bad = sorted({c["status"] for c in res["cases"] if c["status"] in (CRASHED, TIMED_OUT, THREW)})
         if bad:
             notes.append(f"step {s.number}: {' '.join(bad)}")
+    if found.notes:     # what the upload had that was not graded, whole
+        notes.append("left out: " + "; ".join(found.notes))
     row["note"] = "; ".join(notes)
     return row
 
@@ -131,6 +297,16 @@ def run(args) -> int:
                      (p.is_dir() or (p.is_file() and p.suffix.lower() == ".zip")))
     if not folders:
         raise KitError(f"{args.submissions}: holds no submission folders or .zip files")
+    global SUBMISSION_SECONDS      # the course's limit for one submission (course.json time_limits)
+    SUBMISSION_SECONDS = int(course_file.load().limits["submission_seconds"])
+    roster = None
+    if args.roster:
+        roster = read_roster(Path(args.roster), [f.stem if f.is_file() else f.name for f in folders], args.roster_key)
+    elif args.roster_key:
+        raise KitError("--roster-key names a column of --roster CSV: give the roster too")
+    cases_out = Path(args.cases) if args.cases else out.with_name(out.stem + "-cases" + (out.suffix or ".csv"))
+    if cases_out.resolve() == out.resolve() or cases_out.is_dir() or not cases_out.parent.resolve().is_dir():
+        raise KitError(f"--cases {cases_out}: cannot write the cases CSV there")
     start = time.monotonic()
     BUILD.mkdir(exist_ok=True)
     jobs = max(1, min(args.jobs, len(folders)))
@@ -153,18 +329,40 @@ def run(args) -> int:
         by_slot = [[(i, f) for i, f in enumerate(folders) if i % jobs == k] for k in range(jobs)]
         rows_by_slot = list(pool.map(lambda items: [one(item) for item in items], by_slot))
     rows = sorted((r for slot_rows in rows_by_slot for r in slot_rows), key=lambda r: r["student"])
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=columns(steps), restval="")
-    writer.writeheader()
-    writer.writerows([{k: csv_cell(v) for k, v in r.items()} for r in rows])   # formulas stay text
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
-    tmp.write_text(text.getvalue())
-    tmp.replace(out)
-    say(f"graded {len(rows)} submissions in {time.monotonic() - start:.0f} s: {out}")
-    width = max(len(printable(r["student"])) for r in rows)
+    case_rows = [dict(c, submission=r["student"], student=r["student"]) for r in rows for c in r.pop("_cases", [])]
+    # No blank score: a submission that could not be graded scores 0 of the one maximum; its status says why.
+    maxima = {r["maximum"] for r in rows if r.get("maximum") not in (None, "")}
     for r in rows:
-        say(f"  {printable(r['student']).ljust(width)}  {str(r.get('earned', '-')).rjust(4)} / {str(r.get('maximum', '-')).ljust(4)} "
+        if r.get("earned") in (None, "") and len(maxima) == 1:
+            r.update(earned=0, maximum=next(iter(maxima)), percent="0.0")
+    cols, missing, unknown = columns(steps), [], []
+    if roster is not None:
+        cols, rows, missing, unknown = with_roster(roster, rows, steps)
+        ids = {r["submission"]: {k: r.get(k, "") for k in roster.columns} for r in rows if r.get("submission")}
+        case_rows = [dict(ids.get(c["submission"], {}), **c) for c in case_rows]
+    id_cols = roster.columns if roster is not None else []
+    write_file(out, csv_text(cols, rows))
+    write_file(cases_out, csv_text(id_cols + CASE_COLUMNS, case_rows))
+    say(f"graded {len(folders)} submissions in {time.monotonic() - start:.0f} s: {out} (cases: {cases_out})")
+    shown = [r.get("submission", r.get("student", "")) or r.get(roster.key, "") if roster else r["student"]
+             for r in rows]
+    shown = [printable(str(n)) for n in shown]
+    width = max(len(n) for n in shown)
+    for n, r in zip(shown, rows):
+        say(f"  {n.ljust(width)}  {str(r.get('earned', '-')).rjust(6)} / {str(r.get('maximum', '-')).ljust(6)} "
             f"{r.get('status', '')}  {printable(str(r.get('note', '')))}")
+    skipped = [r for r in rows if r.get("note") and "left out" in r["note"]]
+    if missing:
+        say(f"not submitted ({len(missing)}): {printable(', '.join(missing))}")
+    if unknown:
+        say(f"on no one's roster line ({len(unknown)}), graded but not matched: {printable(', '.join(unknown))}")
+    if skipped:
+        say(f"uploads with files left out ({len(skipped)}): "
+            + printable(", ".join(r.get("submission") or r.get("student", "") for r in skipped)) + " (see their note)")
+    not_graded = [r.get("submission") or r.get("student", "") for r in rows
+                  if r.get("status") in ("no steps", "not graded", "timed out")]
+    if not_graded:
+        say(f"not graded ({len(not_graded)}): {printable(', '.join(not_graded))}")
     if args.report:     # the class report, from the grading just saved (commands/report.py)
         from .report import from_grade
         return from_grade(args, out, json_dir)

@@ -16,6 +16,7 @@ part: when a file of bench/ outside bench/reference/ still computes an answer, b
 from __future__ import annotations
 
 import io
+import json
 import re
 import shutil
 import subprocess
@@ -23,6 +24,7 @@ import tokenize
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import course as course_file
 from ..common import ROOT, KitError, load_steps, note, say, writable_parent
 from ..status import FAILED, OK
 
@@ -39,6 +41,7 @@ EXCLUDED = [
     # docs/lab/lab.js ships on purpose: the lab is for students. It is JavaScript, which no step can link
     # and the scan does not read, and every formula it evaluates is printed in lectures 01-03.
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
+    "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
 ]
 # Optional parts dropped whole when a file in them still computes an answer (see the module's comment).
@@ -234,6 +237,39 @@ def kit_files() -> list[Path]:
     return [p.relative_to(ROOT) for p in ROOT.rglob("*") if p.is_file()]
 
 
+def student_side() -> set[Path]:
+    """The driver's Python files a handout ships (relative to the kit): cli.py, __main__.py, the
+    students' commands' modules, and every module they import, found in their import statements
+    (ast, relative imports, at any depth of the code). The self-test, the instructor's commands and
+    what only they import stay out."""
+    import ast
+    from ..cli import COMMANDS, STUDENT
+    pkg = ROOT / "tools" / "kitlib"
+    todo = [pkg / "cli.py", pkg / "__main__.py", pkg / "__init__.py", pkg / "commands" / "__init__.py"]
+    todo += [pkg / "commands" / f"{c.module}.py" for c in COMMANDS if c.audience == STUDENT]
+    seen: set[Path] = set()
+    while todo:
+        path = todo.pop()
+        if path in seen or not path.is_file():
+            continue
+        seen.add(path)
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if not isinstance(node, ast.ImportFrom) or not node.level:
+                continue
+            base = path.parent
+            for _ in range(node.level - 1):
+                base = base.parent
+            mod = base.joinpath(*node.module.split(".")) if node.module else base
+            todo += [mod.with_suffix(".py"), mod / "__init__.py"] + [mod / f"{a.name}.py" for a in node.names]
+    return {p.relative_to(ROOT) for p in seen}
+
+
+def launch_json(text: str) -> str:
+    """.vscode/launch.json with its list of steps written from tests/NN_topic/step.json."""
+    options = json.dumps([s.number for s in load_steps()])
+    return re.sub(r'("id": "step",[^\n]*"options": )\[[^\]]*\]', lambda m: m.group(1) + options, text)
+
+
 def excluded(rel: Path, extra: list[str] = ()) -> bool:
     s = rel.as_posix()
     return any(s == e or s.startswith(e + "/") for e in list(EXCLUDED) + list(extra)) or "__pycache__" in rel.parts
@@ -377,14 +413,21 @@ def run(args) -> int:
     dropped: list[str] = []
     try:
         count = 0
+        driver = student_side()
         for rel in kit_files():
             if excluded(rel) or rel.parts[0] == "steps" or not (ROOT / rel).is_file():
                 continue
+            if rel.parts[:2] == ("tools", "kitlib") and rel.suffix == ".py" and rel not in driver:
+                continue        # the instructor's side of the driver (selftest/, grade, mutant, ...)
             dst = staging / rel
             dst.parent.mkdir(parents=True, exist_ok=True)
             if rel.as_posix() == "README.md":
                 dst.write_text(strip_instructor_parts((ROOT / rel).read_text()))
                 shutil.copymode(ROOT / rel, dst)
+            elif rel.as_posix() == "course.json":    # with the hidden cases' count (kitlib/course.py)
+                dst.write_text(course_file.handout_text())
+            elif rel.as_posix() == ".vscode/launch.json":    # its list of steps, from the steps
+                dst.write_text(launch_json((ROOT / rel).read_text()))
             else:
                 shutil.copy2(ROOT / rel, dst)
             count += 1

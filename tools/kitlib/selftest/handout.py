@@ -15,6 +15,7 @@ Four checks:
 from __future__ import annotations
 
 import os
+import json
 import re
 import shutil
 import subprocess
@@ -230,19 +231,31 @@ def selftest_handout_grades(ctx) -> str:
                f"handout: a table without the entry a ★ case asks for is not reported:\n{r.stdout[-1500:]}")
     finally:
         data.write_text(original)
-    # ./kit help in the handout: the students' commands first, no instructor's command but the self-test.
+    # ./kit help in the handout: the students' commands, no instructor's command (the self-test included).
+    from ..cli import COMMANDS, INSTRUCTOR, STUDENT
     r = subprocess.run([str(TARGET / "kit"), "help"], cwd=TARGET, capture_output=True, text=True, timeout=60)
     listed = re.findall(r"^  (\w+)\s", r.stdout, re.M)
-    expect(listed[:1] == ["check"] and not {"grade", "handout", "mutant", "autograder", "exact"} & set(listed),
-           f"handout: ./kit help lists {listed}")
-    r = subprocess.run([str(TARGET / "kit"), "grade", "x"], cwd=TARGET, capture_output=True, text=True, timeout=60)
-    expect(r.returncode == 2 and "instructor's command" in r.stderr, f"handout: ./kit grade says {r.stderr[-300:]}")
-    r = subprocess.run([str(TARGET / "kit"), "test", "--fast"], cwd=TARGET, capture_output=True, text=True, timeout=900)
-    if r.returncode != 0:
-        raise Failed(f"the handout's own ./kit test failed:\n{r.stdout[-1500:]}")
+    students = [c.name for c in COMMANDS if c.audience == STUDENT]
+    expect(listed == students and "instructors" not in r.stdout,
+           f"handout: ./kit help lists {listed}, not the students' commands {students} alone")
+    for c in (c for c in COMMANDS if c.audience == INSTRUCTOR):
+        r = subprocess.run([str(TARGET / "kit"), c.name, "x"], cwd=TARGET, capture_output=True, text=True, timeout=60)
+        expect(r.returncode == 2 and "instructor's command" in r.stderr, f"handout: ./kit {c.name} says {r.stderr[-300:]}")
+    # Only the student's side of the driver: no self-test, no instructor's command, no autograder.
+    shipped = {p.relative_to(TARGET).as_posix() for p in TARGET.rglob("*") if p.is_file()}
+    instructor = [p for p in shipped if p.startswith(("tools/kitlib/selftest/", "tools/gradescope/", "tools/portability/"))
+                  or p in {f"tools/kitlib/commands/{c.module}.py" for c in COMMANDS if c.audience == INSTRUCTOR}]
+    expect(not instructor, f"handout: ships the instructor's {sorted(instructor)[:4]}")
+    from ..commands.handout import SCAN_PATTERNS
+    planted = [(p, pat.name) for p in sorted(shipped) if not p.startswith("steps/") for pat in SCAN_PATTERNS
+               if pat.example in (TARGET / p).read_text(errors="replace")]     # steps/ holds the solutions now
+    expect(not planted, f"handout: {planted[:1]} ships a scan example (a line of step code)")
+    launch = json.loads(re.sub(r"^\s*//.*$", "", (TARGET / ".vscode" / "launch.json").read_text(), flags=re.M))
+    options = next(i["options"] for i in launch["inputs"] if i["id"] == "step")
+    expect(options == [s.number for s in steps], f"handout: launch.json offers steps {options}")
     shutil.rmtree(TARGET, ignore_errors=True)
     return (f"stubs not started, {mutant.stem} caught, solutions done with {robust} ★ cases from the data, "
-            f"textbook step 02 ★ {textbook_score}, a stale entry reported; its ./kit test passes")
+            f"textbook step 02 ★ {textbook_score}, a stale entry reported; only the students' side ships")
 
 
 def selftest_exact_data_fresh(ctx) -> str:

@@ -23,9 +23,9 @@ from ..common import ROOT, KitError, load_steps, paint, say
 from ..status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
-MODULES = ["check", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "boundary", "latency",
-           "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report", "workflow",
-           "watch", "reach", "sanitizers", "lab", "slides"]
+MODULES = ["check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "boundary",
+           "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report",
+           "workflow", "watch", "reach", "sanitizers", "lab", "slides"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
 

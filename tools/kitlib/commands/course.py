@@ -1,0 +1,53 @@
+"""./kit course: the course's scale (course.json, read by kitlib/course.py) as a table: each step's
+cases per group, their points, and the total to enter in Gradescope."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from .. import course as course_file
+from ..common import BUILD, KitError, load_steps, preset_build, say
+from ..status import FAILED, OK
+
+
+def register(p) -> None:
+    p.add_argument("--file", metavar="FILE", help="read this course file instead of course.json (to try a scale)")
+    p.add_argument("--results", metavar="FILE",
+                   help="take the cases from a results.json of ./kit check --json instead of building the test programs")
+
+
+def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str]]]:
+    try:
+        data = json.loads(path.read_text())
+        found = {s["step"]: [(c["tier"], c["name"]) for c in s["cases"]] for s in data["extra_data"]["steps"]}
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise KitError(f"--results {path}: not a results.json of ./kit check --json ({e.__class__.__name__})")
+    return found
+
+
+def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
+    """Builds only the steps' test programs (no student code) and lists their cases."""
+    from ..checking import ensure_configured, list_cases
+    from ..common import build_targets
+    from ..packages import ensure_packages
+    ensure_packages("build")
+    build = preset_build("student")
+    BUILD.mkdir(exist_ok=True)
+    ensure_configured(build, steps)
+    ok, out = build_targets(build, [s.target for s in steps])
+    if not ok:
+        raise KitError("the steps' test programs do not build:\n" + out[-3000:], FAILED)
+    return {s.number: [(c.tier, c.name) for c in list_cases(build.exe(s))] for s in steps}
+
+
+def run(args) -> int:
+    steps = load_steps()
+    numbers = [s.number for s in steps]
+    course = course_file.read(Path(args.file), numbers) if args.file else course_file.load()
+    if args.file and not Path(args.file).is_file():
+        raise KitError(f"--file {args.file}: no such file")
+    found = cases_from_results(Path(args.results), steps) if args.results else cases_from_build(steps)
+    for line in course_file.table(course, [(s.number, s.title, found.get(s.number, [])) for s in steps]):
+        say(line)
+    return OK

@@ -1,0 +1,328 @@
+"""The course's scale: course.json at the kit's root, read and checked here.
+
+course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
+
+  "steps":  {"NN": {"points": P}}   the points of step NN. P is an integer, a decimal ("2.5") or a
+                                    fraction ("41/3"); null means "one point per unit of weight", the
+                                    sum of its cases' weights (the default: one point per case).
+  "groups": {"core" | "degenerate" | "hidden" | "robust": {"weight": W}}
+                                    every case belongs to exactly one group, by this rule:
+                                      - a case of the ★ tier (doctest suite "robust") is "robust";
+                                      - a case of the hidden tier (suite "hidden") is "hidden";
+                                      - a basic case whose name contains one of "degenerate"'s
+                                        "names" (whole words, any case: "NaN", "zero direction",
+                                        "radius of zero", ...) is "degenerate";
+                                      - every other case is "core".
+                                    A step's P points are shared among its cases in proportion to
+                                    their weights. Weight 0 makes a group optional: its cases are
+                                    run and shown like the ★ tier, worth nothing.
+  "hidden": {"enabled": true|false, "visibility": V, "reveal_after_due_date": true|false}
+                                    hidden cases counted or left out; V is their Gradescope
+                                    visibility (hidden, after_due_date, after_published, visible);
+                                    whether failed hidden cases show their inputs after the due date.
+  "rounding": {"decimals": D}       the total is rounded once, at the end, to D decimals (half up).
+  "time_limits": {"case_seconds", "step_seconds", "submission_seconds"}
+                                    the judge's backstop per case and per step (./kit check), and one
+                                    submission of ./kit grade. (Each call of the student's code has
+                                    its own 2 s limit in the judge; Gradescope's run: KIT_SECONDS in
+                                    tools/gradescope/autograde.py.)
+
+Points are exact fractions (fractions.Fraction) from the file to the total: no float noise. A
+step's maximum is its points whatever state it is in, so every student has the same maximum; a
+step that does not compile has all its cases failed and earns 0 of its points.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass, field
+from decimal import ROUND_HALF_UP, Decimal
+from fractions import Fraction
+from pathlib import Path
+
+from .common import ROOT, KitError
+
+COURSE_FILE = ROOT / "course.json"
+GROUPS = ("core", "degenerate", "hidden", "robust")
+VISIBILITIES = ("hidden", "after_due_date", "after_published", "visible")
+LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600}
+DEGENERATE_NAMES = ["NaN", "infinite", "infinity", "zero direction", "radius of zero", "degenerate",
+                    "empty window", "empty rectangle", "overflow"]
+
+
+@dataclass
+class Course:
+    points: dict[str, Fraction | None] = field(default_factory=dict)     # step number -> points (None: auto)
+    weights: dict[str, Fraction] = field(default_factory=lambda: {"core": Fraction(1), "degenerate": Fraction(1),
+                                                                  "hidden": Fraction(1), "robust": Fraction(0)})
+    degenerate_names: list[str] = field(default_factory=lambda: list(DEGENERATE_NAMES))
+    hidden_enabled: bool = True
+    hidden_visibility: str = "after_due_date"
+    reveal_after_due_date: bool = True
+    decimals: int = 2
+    limits: dict[str, float] = field(default_factory=lambda: dict(LIMITS))
+    hidden_cases: dict[str, int] = field(default_factory=dict)    # a handout's record of them (./kit handout)
+    source: str = "the default scale"
+
+    def group(self, tier: str, name: str) -> str:
+        """The group of a case of `tier` named `name` (the rule in this module's docstring)."""
+        if tier == "robust":
+            return "robust"
+        if tier == "hidden":
+            return "hidden"
+        for word in self.degenerate_names:
+            if re.search(r"(?<!\w)" + re.escape(word) + r"(?!\w)", name, re.IGNORECASE):
+                return "degenerate"
+        return "core"
+
+    def weight(self, group: str) -> Fraction:
+        if group == "hidden" and not self.hidden_enabled:
+            return Fraction(0)
+        return self.weights.get(group, Fraction(0))
+
+    def optional(self, group: str) -> bool:
+        """Worth nothing: run and shown like the ★ tier."""
+        return self.weight(group) == 0
+
+    def shares(self, step: str, groups: list[str]) -> list[Fraction]:
+        """The exact points of each case of step `step`, given the cases' groups in order."""
+        weights = [self.weight(g) for g in groups]
+        total = sum(weights, Fraction(0))
+        points = self.points.get(step)
+        if points is None:
+            return weights
+        if total == 0:
+            return [Fraction(0)] * len(groups)
+        return [points * w / total for w in weights]
+
+    def step_maximum(self, step: str, groups: list[str]) -> Fraction:
+        return sum(self.shares(step, groups), Fraction(0))
+
+    def rounded(self, value: Fraction) -> Decimal:
+        """`value` rounded once, half up, to the course's decimals."""
+        exact = Decimal(value.numerator) / Decimal(value.denominator)
+        return exact.quantize(Decimal(1).scaleb(-self.decimals), rounding=ROUND_HALF_UP)
+
+    def case_limits(self) -> tuple[float, float]:
+        """The judge's backstops: seconds per case, per step."""
+        return self.limits["case_seconds"], self.limits["step_seconds"]
+
+    def shown(self, value: Fraction) -> str:
+        """`value` for people: whole numbers as they are, others rounded once."""
+        return exact_text(value) if value.denominator == 1 else str(self.rounded(value))
+
+    def number(self, value: Fraction) -> int | float:
+        """`value` for JSON: an int when whole, else the rounded decimal as a float."""
+        return value.numerator if value.denominator == 1 else float(self.rounded(value))
+
+
+def exact_text(value: Fraction) -> str:
+    return str(value.numerator) if value.denominator == 1 else f"{value.numerator}/{value.denominator}"
+
+
+def _fraction(value, where: str, allow_none: bool = False) -> Fraction | None:
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise KitError(f"{where}: {json.dumps(value)} is not a number (write 3, \"2.5\" or \"41/3\")")
+    try:
+        f = Fraction(str(value).strip())
+    except (ValueError, ZeroDivisionError):
+        raise KitError(f"{where}: {json.dumps(value)} is not a number (write 3, \"2.5\" or \"41/3\")")
+    if f < 0:
+        raise KitError(f"{where}: {value} is negative; points and weights are 0 or more")
+    return f
+
+
+def _known(data: dict, keys, where: str) -> None:
+    unknown = sorted(set(data) - set(keys))
+    if unknown:
+        raise KitError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(sorted(keys))})")
+
+
+def _object(value, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise KitError(f"{where}: expected a JSON object {{...}}, found {type(value).__name__}")
+    return value
+
+
+def parse(data, steps: list[str], where: str = "course.json") -> Course:
+    """A Course from the decoded JSON `data`, for the steps numbered `steps`; KitError on bad input."""
+    course = Course(source=where)
+    data = _object(data, where)
+    _known(data, {"about", "steps", "groups", "hidden", "rounding", "time_limits", "hidden_cases"}, where)
+    counts = _object(data.get("hidden_cases", {}), f"{where} hidden_cases")
+    for number, n in counts.items():
+        if number not in steps or isinstance(n, bool) or not isinstance(n, int) or n < 0:
+            raise KitError(f"{where} hidden_cases: {number!r}: {json.dumps(n)} is not a step and a count")
+        course.hidden_cases[number] = n
+    for number, entry in _object(data.get("steps", {}), f"{where} steps").items():
+        if number not in steps:
+            raise KitError(f"{where} steps: no step {number!r} in this kit (steps: {', '.join(steps)})")
+        entry = _object(entry, f"{where} steps.{number}")
+        _known(entry, {"points"}, f"{where} steps.{number}")
+        course.points[number] = _fraction(entry.get("points"), f"{where} steps.{number}.points", allow_none=True)
+    for name, entry in _object(data.get("groups", {}), f"{where} groups").items():
+        if name not in GROUPS:
+            raise KitError(f"{where} groups: unknown group {name!r} (groups: {', '.join(GROUPS)})")
+        entry = _object(entry, f"{where} groups.{name}")
+        _known(entry, {"weight", "names"} if name == "degenerate" else {"weight"}, f"{where} groups.{name}")
+        if "weight" in entry:
+            course.weights[name] = _fraction(entry["weight"], f"{where} groups.{name}.weight")
+        if "names" in entry:
+            names = entry["names"]
+            if not isinstance(names, list) or not all(isinstance(n, str) and n.strip() for n in names):
+                raise KitError(f"{where} groups.degenerate.names: expected a list of words, e.g. [\"NaN\"]")
+            course.degenerate_names = [n.strip() for n in names]
+    hidden = _object(data.get("hidden", {}), f"{where} hidden")
+    _known(hidden, {"enabled", "visibility", "reveal_after_due_date"}, f"{where} hidden")
+    for key in ("enabled", "reveal_after_due_date"):
+        if key in hidden and not isinstance(hidden[key], bool):
+            raise KitError(f"{where} hidden.{key}: expected true or false, found {json.dumps(hidden[key])}")
+    course.hidden_enabled = hidden.get("enabled", True)
+    course.reveal_after_due_date = hidden.get("reveal_after_due_date", True)
+    course.hidden_visibility = hidden.get("visibility", "after_due_date")
+    if course.hidden_visibility not in VISIBILITIES:
+        raise KitError(f"{where} hidden.visibility: {json.dumps(course.hidden_visibility)} is not one of "
+                       f"Gradescope's: {', '.join(VISIBILITIES)}")
+    rounding = _object(data.get("rounding", {}), f"{where} rounding")
+    _known(rounding, {"decimals"}, f"{where} rounding")
+    decimals = rounding.get("decimals", 2)
+    if isinstance(decimals, bool) or not isinstance(decimals, int) or not 0 <= decimals <= 6:
+        raise KitError(f"{where} rounding.decimals: expected a whole number from 0 to 6, found {json.dumps(decimals)}")
+    course.decimals = decimals
+    limits = _object(data.get("time_limits", {}), f"{where} time_limits")
+    _known(limits, set(LIMITS), f"{where} time_limits")
+    for key, value in limits.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 24 * 3600:
+            raise KitError(f"{where} time_limits.{key}: expected seconds above 0, found {json.dumps(value)}")
+        course.limits[key] = float(value)
+    return course
+
+
+def read(path: Path, steps: list[str]) -> Course:
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        return Course(source="the default scale (no course.json)")
+    except OSError as e:
+        raise KitError(f"{path}: cannot read it ({e.strerror})")
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise KitError(f"{path.name}: not valid JSON at line {e.lineno}, column {e.colno}: {e.msg}")
+    return parse(data, steps, path.name)
+
+
+_LOADED: Course | None = None
+
+
+def load() -> Course:
+    """The kit's course.json (cached); the default scale when there is none (a student's handout)."""
+    global _LOADED
+    if _LOADED is None:
+        from .common import load_steps
+        _LOADED = read(COURSE_FILE, [s.number for s in load_steps()])
+    return _LOADED
+
+
+HIDDEN_SOURCES = ROOT / "tests" / "hidden"
+
+
+def hidden_counts(course: Course | None = None) -> dict[str, int]:
+    """How many hidden cases each step has: counted in tests/hidden/ (the instructor's kit), else
+    as the handout recorded them in its course.json (a handout has no hidden cases)."""
+    if HIDDEN_SOURCES.is_dir():
+        from .common import load_steps
+        return {s.number: len(re.findall(r"^TEST_CASE\(", p.read_text(), re.M))
+                for s in load_steps() for p in [HIDDEN_SOURCES / f"{s.folder}.cpp"] if p.is_file()}
+    return dict((course or load()).hidden_cases)
+
+
+def handout_text() -> str:
+    """course.json as a handout ships it: with the count of hidden cases it leaves out, so the
+    student's scoreboard can say what the course grade adds."""
+    data = json.loads(COURSE_FILE.read_text()) if COURSE_FILE.is_file() else {}
+    data["hidden_cases"] = hidden_counts()
+    return json.dumps(data, indent=2, ensure_ascii=False) + "\n"
+
+
+def score_line(results) -> str:
+    """The scoreboard's total. The instructor's kit: the score on the course's scale. A handout,
+    which has no hidden cases: what it can check, and what the course grade adds."""
+    course = load()
+    earned = sum((r.earned for r in results), Fraction(0))
+    maximum = sum((r.maximum for r in results), Fraction(0))
+    has_hidden = any(c.tier == "hidden" for r in results for c in r.cases)
+    if has_hidden or HIDDEN_SOURCES.is_dir():
+        pct = f" ({float(100 * earned / maximum):.0f} %)" if maximum else ""
+        return f"  score {course.shown(earned)} of {course.shown(maximum)}{pct}"
+    visible = [c for r in results for c in r.cases if c.tier == "basic" and not course.optional(c.group)]
+    passed = sum(c.status == "pass" for c in visible)
+    hidden = sum(n for k, n in hidden_counts(course).items() if k in {r.step.number for r in results})
+    more = (f"{hidden} hidden cases" if course.hidden_enabled and hidden else "")
+    return (f"  visible {passed} of {len(visible)}; the course grade also counts " + (more + " and " if more else "")
+            + "weights the steps as your instructor set")
+
+
+def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, str]]]]) -> list[str]:
+    """The lines of ./kit course: per step (number, title, [(tier, name)]), the cases per group and
+    their points, and the total to enter in Gradescope."""
+    lines = [f"Course scale from {course.source}", ""]
+    head = f"  {'step':<36}" + "".join(f"{g:>15}" for g in GROUPS) + f"{'points':>9}"
+    lines += [head, "  " + "-" * (len(head) - 2)]
+    total = Fraction(0)
+    for number, title, cases in cases_by_step:
+        groups = [course.group(t, n) for t, n in cases]
+        shares = course.shares(number, groups)
+        cells = []
+        for g in GROUPS:
+            mine = [p for p, gg in zip(shares, groups) if gg == g]
+            if not mine:
+                cell = "-"
+            elif course.optional(g):
+                cell = f"{len(mine)} × 0 ★"
+            else:
+                cell = f"{len(mine)} × {exact_text(mine[0])}"
+            cells.append(f"{cell:>15}")
+        step_max = sum(shares, Fraction(0))
+        total += step_max
+        lines.append(f"  {(number + ' ' + title)[:36]:<36}" + "".join(cells) + f"{course.shown(step_max):>9}")
+    lines.append("")
+    lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing)")
+    lines.append("")
+    weights = ", ".join(f"{g} {exact_text(course.weight(g))}" + (" (optional, like ★)" if course.optional(g) else "")
+                        for g in GROUPS)
+    lines.append(f"  group weights: {weights}")
+    auto = [n for n, _, _ in cases_by_step if course.points.get(n) is None]
+    if auto:
+        lines.append(f"  steps {', '.join(auto)}: one point per unit of weight (points: null), so their points "
+                     "change when a case is added; give them points to fix the total")
+    lines.append(f"  hidden cases: {'counted' if course.hidden_enabled else 'left out'}, Gradescope visibility "
+                 f"{course.hidden_visibility}, inputs revealed after the due date: "
+                 f"{'yes' if course.reveal_after_due_date else 'no'}")
+    lines.append(f"  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
+    lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
+                 f"{course.decimals} decimals (half up)")
+    lines.append("")
+    lines.append(f"  Total to enter in Gradescope (the assignment's points): {exact_text(total)}"
+                 + (f" = {course.rounded(total)}" if total.denominator != 1 else ""))
+    return lines
+
+
+class using:
+    """`with using(course):` makes `course` the one load() gives (a self-test's scale), then puts
+    the previous one back."""
+
+    def __init__(self, course: Course):
+        self.course, self.saved = course, None
+
+    def __enter__(self) -> Course:
+        global _LOADED
+        self.saved, _LOADED = _LOADED, self.course
+        return self.course
+
+    def __exit__(self, *exc) -> None:
+        global _LOADED
+        _LOADED = self.saved

@@ -1,0 +1,386 @@
+"""Self-test: the course's scale (course.json, kitlib/course.py): exact totals for a default, a
+weighted and an optional-group course, a step that does not compile, bad course files, the
+Gradescope view (one ★ test, one test per non-compiling step) and the reveal after the due date."""
+
+from __future__ import annotations
+
+import json
+import tempfile
+from fractions import Fraction
+from pathlib import Path
+
+from .. import course as course_file
+from ..checking import Case, StepResult
+from ..common import ROOT, KitError, Step
+from ..gradescope import gradescope, reveal_options
+from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
+from .harness import Failed, expect, kit, need_solutions
+
+STEPS = ["01", "02"]
+WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
+            "groups": {"core": {"weight": 2}, "degenerate": {"weight": 1}, "hidden": {"weight": 1},
+                       "robust": {"weight": 0}},
+            "rounding": {"decimals": 2}}
+
+
+def toy_step(number: str) -> Step:
+    return Step(folder=f"{number}_toy", title="a toy step", files=["toy.cpp"], needs=[], lecture="lectures/toy.md")
+
+
+def toy_cases(statuses: list[str]) -> list[Case]:
+    """3 core, 1 degenerate (by name), 1 hidden, 2 ★ cases, given their statuses in that order."""
+    spec = [("basic", "two hits"), ("basic", "one hit"), ("basic", "no hit"), ("basic", "a NaN origin is no hit"),
+            ("hidden", "random rays"), ("robust", "far away"), ("robust", "grazing")]
+    return [Case(n, t, "", status=s, messages=[] if s == PASS else ["expected 2, got 3"])
+            for (t, n), s in zip(spec, statuses)]
+
+
+ALL = [PASS] * 7
+ONE_CORE_WRONG = [FAIL] + [PASS] * 6
+
+
+def results(statuses_by_step: dict[str, tuple[str, list[str]]]) -> list[StepResult]:
+    return [StepResult(toy_step(n), state, toy_cases(st)) for n, (state, st) in statuses_by_step.items()]
+
+
+def selftest_default_scale(ctx) -> str:
+    default = course_file.read(ROOT / "course.json", [s.number for s in ctx.steps])
+    expect(default.points and all(p is None for p in default.points.values()),
+           "course.json does not leave every step at one point per case (points: null)")
+    expect([default.weight(g) for g in course_file.GROUPS] == [1, 1, 1, 0],
+           f"course.json's weights are not 1 1 1 0: {[str(default.weight(g)) for g in course_file.GROUPS]}")
+    with course_file.using(default):
+        rs = results({"01": (DONE, ALL), "02": (PARTIAL, ONE_CORE_WRONG)})
+        got = [(r.earned, r.maximum) for r in rs]
+        expect(got == [(5, 5), (4, 5)], f"one point a case: expected 5 of 5 and 4 of 5, got {got}")
+        expect(all(isinstance(r.earned, Fraction) for r in rs), "points are not exact fractions")
+        groups = [c.group for c in rs[0].cases]
+        expect(groups == ["core"] * 3 + ["degenerate", "hidden", "robust", "robust"],
+               f"the group rule puts the toy cases in {groups}")
+    return "course.json is one point per case (5 of 5, 4 of 5), ★ 0; a NaN case is degenerate"
+
+
+def selftest_weighted(ctx) -> str:
+    weighted = course_file.parse(WEIGHTED, STEPS)
+    with course_file.using(weighted):
+        full = results({"01": (DONE, ALL), "02": (DONE, ALL)})
+        slip = results({"01": (PARTIAL, ONE_CORE_WRONG), "02": (NO_COMPILE, [NO_COMPILE] * 7)})
+        # Step 01: 10 points over weights 2+2+2+1+1 = 8: a core case is 10*2/8 = 5/2, exact.
+        expect([r.maximum for r in full] == [10, Fraction(15, 2)] == [r.maximum for r in slip],
+               f"the maxima are {[str(r.maximum) for r in full]} and {[str(r.maximum) for r in slip]}, "
+               "not 10 and 15/2 for every student")
+        expect(full[0].cases[0].points == Fraction(5, 2) and full[0].cases[3].points == Fraction(5, 4),
+               f"a core case is worth {full[0].cases[0].points}, a degenerate {full[0].cases[3].points} "
+               "(expected 5/2 and 5/4)")
+        expect(slip[0].earned == Fraction(15, 2), f"one wrong core case leaves {slip[0].earned} of 10, not 15/2")
+        expect(slip[1].earned == 0, f"a step that does not compile earns {slip[1].earned}, not 0")
+        expect(weighted.rounded(Fraction(2, 3)) == course_file.Decimal("0.67"), "2/3 does not round to 0.67")
+        view = gradescope(slip, 1.0)
+        expect(view["score"] == 7.5 and view["extra_data"]["max_score"] == 17.5,
+               f"Gradescope gets {view['score']} of {view['extra_data']['max_score']}, not 7.5 of 17.5")
+    optional = course_file.parse(dict(WEIGHTED, groups={"degenerate": {"weight": 0}}), STEPS)
+    with course_file.using(optional):
+        r = results({"01": (PARTIAL, [PASS] * 3 + [FAIL] + [PASS] * 3)})
+        expect(r[0].earned == r[0].maximum == 10, f"a failed case of an optional group costs points: "
+               f"{r[0].earned} of {r[0].maximum}")
+        view = gradescope(r, 1.0)
+        star = [t for t in view["tests"] if "optional" in t["tags"]]
+        expect(len(star) == 1 and star[0]["status"] == "passed" and star[0]["max_score"] == 0
+               and "a NaN origin" in star[0]["output"],
+               f"the optional cases are not one passed 0-point test naming the failed one: {star}")
+    return "10 and 15/2 points for every student, a core case 5/2, a slip 15/2, no compile 0, optional group free"
+
+
+def selftest_bad_course_files(ctx) -> str:
+    bad = [({"steps": {"01": {"points": "ten"}}}, "steps.01.points"), ({"groups": {"core": {"weight": -1}}}, "negative"),
+           ({"steps": {"09": {"points": 1}}}, "no step '09'"), ({"groups": {"bonus": {}}}, "unknown group"),
+           ({"hidden": {"visibility": "soon"}}, "hidden.visibility"), ({"rounding": {"decimals": 1.5}}, "decimals"),
+           ({"time_limits": {"case_seconds": 0}}, "case_seconds"), ({"step": {}}, "unknown key 'step'"), ([], "object")]
+    for data, words in bad:
+        try:
+            course_file.parse(data, STEPS)
+        except KitError as e:
+            expect(words in str(e), f"{json.dumps(data)}: the message {str(e)!r} does not say {words!r}")
+        else:
+            raise Failed(f"{json.dumps(data)} is accepted as a course file")
+    need_solutions()    # ./kit course is an instructor's command
+    with tempfile.TemporaryDirectory() as tmp:
+        broken = Path(tmp) / "course.json"
+        broken.write_text('{"steps": {"01": {"points": 3},}}')
+        r = kit("course", "--file", str(broken))
+        expect(r.returncode == 2 and "line 1" in r.stderr and "Traceback" not in r.stderr,
+               f"./kit course on broken JSON: exit {r.returncode}, {r.stderr.strip()[-200:]}")
+    return f"{len(bad)} bad course files refused with the key named; broken JSON: one line, exit 2"
+
+
+def selftest_gradescope_views(ctx) -> str:
+    default = course_file.Course()
+    with course_file.using(default):
+        rs = results({"01": (NO_COMPILE, [NO_COMPILE] * 7), "02": (PARTIAL, ONE_CORE_WRONG)})
+        rs[0].detail = "toy.cpp:3:1: error: expected ';' before '}' token\n"
+        view = gradescope(rs, 1.0)
+        one = [t for t in view["tests"] if "step01" in t["tags"]]
+        expect(len(one) == 1 and one[0]["status"] == "failed" and one[0]["max_score"] == 5
+               and "expected ';'" in one[0]["output"] and "not run" in one[0]["output"],
+               f"a step that does not compile is not one failed 5-point test with the diagnostic: {one}")
+        two = [t for t in view["tests"] if "step02" in t["tags"]]
+        star = [t for t in two if "optional" in t["tags"]]
+        expect(len(two) == 6 and len(star) == 1 and star[0]["status"] == "passed",
+               f"step 02 gives {len(two)} tests ({len(star)} optional): expected 5 scored and one ★ test")
+        expect(view["score"] == 4 and view["extra_data"]["max_score"] == 10 == sum(t["max_score"] for t in view["tests"]),
+               f"score {view['score']} of {view['extra_data']['max_score']}, expected 4 of 10")
+    return "no compile: 1 failed test with the diagnostic; ★: 1 passed 0-point test; 4 of 10"
+
+
+def selftest_reveal(ctx) -> str:
+    due = {"assignment": {"due_date": "2026-03-01T23:59:00.000000-05:00", "late_due_date": None}}
+    with tempfile.TemporaryDirectory() as tmp:
+        meta = Path(tmp) / "submission_metadata.json"
+        seen = []
+        for made, want in (("2026-03-01T20:00:00-05:00", False), ("2026-03-02T09:00:00-05:00", True)):
+            meta.write_text(json.dumps(dict(due, created_at=made)))
+            got = "--reveal" in reveal_options(meta)
+            expect(got == want, f"a submission made {made} (due {due['assignment']['due_date']}): reveal {got}")
+            seen.append(got)
+        late = dict(due, created_at="2026-03-02T09:00:00-05:00",
+                    users=[{"assignment": {"due_date": "2026-03-05T23:59:00-05:00"}}])
+        meta.write_text(json.dumps(late))
+        expect("--reveal" not in reveal_options(meta), "a student with an extension sees hidden inputs before it ends")
+        meta.write_text("{not json")
+        expect("--reveal" not in reveal_options(meta), "an unreadable submission_metadata.json reveals")
+        no_reveal = course_file.parse({"hidden": {"reveal_after_due_date": False, "visibility": "hidden"}}, STEPS)
+        with course_file.using(no_reveal):
+            meta.write_text(json.dumps(dict(due, created_at="2026-04-01T00:00:00Z")))
+            got = reveal_options(meta)
+            expect(got == ["--hidden-visibility", "hidden"], f"a course that never reveals passes {got}")
+    # autograde.py passes them on: its ./kit check command, with a due date passed.
+    need_solutions()    # tools/gradescope/ is the instructor's
+    with tempfile.TemporaryDirectory() as tmp:
+        Path(tmp, "submission_metadata.json").write_text(json.dumps(dict(due, created_at="2026-03-03T00:00:00Z")))
+        cmd = autograde_command(Path(tmp))
+        expect("--reveal" in cmd and cmd[cmd.index("--hidden-visibility") + 1] == "after_due_date",
+               f"autograde.py after the due date runs {' '.join(cmd[1:])}")
+    return "before the due date: hidden; after: --reveal (autograde.py passes it); an extension, a broken file: hidden"
+
+
+def autograde_command(root: Path) -> list[str]:
+    """The ./kit command autograde.py would run with `root` as /autograder (its process is not started)."""
+    import importlib.util
+    import os
+
+    class Stop(Exception):
+        pass
+
+    saved = os.environ.get("RAYKIT_AUTOGRADER_ROOT")
+    os.environ["RAYKIT_AUTOGRADER_ROOT"] = str(root)
+    try:
+        spec = importlib.util.spec_from_file_location("raykit_autograde_probe", ROOT / "tools/gradescope/autograde.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        if saved is None:
+            os.environ.pop("RAYKIT_AUTOGRADER_ROOT")
+        else:
+            os.environ["RAYKIT_AUTOGRADER_ROOT"] = saved
+    seen: list[list[str]] = []
+
+    def popen(cmd, **kw):
+        seen.append(list(cmd))
+        raise Stop()
+
+    module.pid_namespace_works = lambda: False
+    module.subprocess.Popen, real = popen, module.subprocess.Popen
+    try:
+        module.run_kit(root / "steps", root / "results.json")
+    except Stop:
+        pass
+    finally:
+        module.subprocess.Popen = real
+    expect(bool(seen), "autograde.py's run_kit started no ./kit")
+    return seen[0]
+
+
+def selftest_course_table(ctx) -> str:
+    need_solutions()    # ./kit course is an instructor's command
+    with tempfile.TemporaryDirectory() as tmp:
+        weighted = Path(tmp) / "weighted.json"
+        steps = {s.number: {"points": 20} for s in ctx.steps}
+        weighted.write_text(json.dumps(dict(WEIGHTED, steps=steps)))
+        fake = Path(tmp) / "results.json"
+        fake.write_text(json.dumps({"extra_data": {"steps": [
+            {"step": s.number, "cases": [{"tier": t, "name": n} for t, n in
+                                         [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]}
+            for s in ctx.steps]}}))
+        default = kit("course", "--results", str(fake))
+        want = f"Total to enter in Gradescope (the assignment's points): {2 * len(ctx.steps)}"
+        expect(default.returncode == 0 and want in default.stdout, f"./kit course: {default.stdout[-300:]}{default.stderr}")
+        got = kit("course", "--file", str(weighted), "--results", str(fake))
+        want = f"(the assignment's points): {20 * len(ctx.steps)}"
+        expect(got.returncode == 0 and want in got.stdout and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
+               f"./kit course --file (20 points a step): {got.stdout[-400:]}{got.stderr}")
+    return f"./kit course: {2 * len(ctx.steps)} by default, {20 * len(ctx.steps)} weighted (a core case 40/3)"
+
+
+def selftest_roster(ctx) -> str:
+    """./kit grade --roster: every student on the roster, submitted or not, id columns first; a folder
+    on no one's line; a skipped duplicate named in full; the long CSV. Only step 01 is compiled."""
+    import csv
+    import shutil
+
+    from ..common import BUILD
+    need_solutions()
+    step = ctx.steps[0]
+    root = BUILD / "course-roster"
+    shutil.rmtree(root, ignore_errors=True)
+    subs = root / "submissions"
+    for f in step.files:    # alice: loose files, the same file twice (the second is left out)
+        for where in ("a", "b"):
+            (subs / "alice" / where).mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(ROOT / "solutions" / step.folder / f, subs / "alice" / where / f)
+    (subs / "bob").mkdir()          # bob: an empty upload
+    (subs / "zed").mkdir()          # zed: on no one's line
+    roster = root / "roster.csv"
+    roster.write_text("Student ID;E-mail;Login\n1001;alice@uni.example;Alice\n1002;bob@uni.example;bob\n"
+                      "1003;carol@uni.example;carol\n")
+    out = root / "grades.csv"
+    r = kit("grade", str(subs), "--roster", str(roster), "--out", str(out), "-j", "1", timeout=900)
+    expect(r.returncode == 0, f"./kit grade --roster exited {r.returncode}: {r.stderr[-600:]}")
+    table = list(csv.reader(out.open()))
+    header, rows = table[0], {row[2] or row[3]: dict(zip(table[0], row)) for row in table[1:]}
+    expect(header[:4] == ["Student ID", "E-mail", "Login", "submission"], f"the CSV starts {header[:5]}")
+    expect(sorted(rows) == ["Alice", "bob", "carol", "zed"], f"the CSV's students: {sorted(rows)}")
+    a, b, c, z = rows["Alice"], rows["bob"], rows["carol"], rows["zed"]
+    n = step.number
+    expect(a["submission"] == "alice" and a[f"step{n}_earned"] == a[f"step{n}_maximum"] != "" and a["earned"] == a[f"step{n}_earned"],
+           f"alice (step {n} solved): {a}")
+    expect(c["status"] == "not submitted" and c["earned"] == "0" and c["maximum"] == a["maximum"], f"carol (nothing): {c}")
+    expect(b["status"] == "no steps" and b["earned"] == "0" and "No step files found" in b["note"], f"bob (empty): {b}")
+    expect(z["Student ID"] == "" and z["note"].startswith("not on the roster"), f"zed (not on the roster): {z}")
+    dup = f"a second {step.files[0]}, left out (graded: a/{step.files[0]})"
+    expect(dup in a["note"], f"alice's note does not say, whole, {dup!r}: {a['note']!r}")
+    for words in ("not submitted (1): carol", "graded but not matched: zed", "files left out (1): alice"):
+        expect(words in r.stdout, f"the summary does not say {words!r}:\n{r.stdout[-600:]}")
+    cases = list(csv.DictReader((root / "grades-cases.csv").open()))
+    mine = [row for row in cases if row["submission"] == "alice"]
+    firsts = [row for row in mine if row["step"] == n]
+    expect(mine and all(row["Student ID"] == "1001" for row in mine) and firsts
+           and all(row["status"] == "pass" and row["earned"] == row["points"] for row in firsts),
+           f"the cases CSV has {len(mine)} rows for alice, step {n}'s: {firsts[:2]}")
+    shutil.rmtree(root, ignore_errors=True)
+    return (f"4 roster rows (id columns first; carol not submitted, 0 of {a['maximum']}; zed on no line); "
+            f"the duplicate named whole; {len(mine)} case rows for alice")
+
+
+def selftest_moved_kit(ctx) -> str:
+    """A build folder configured at one path and used at another (a moved or copied kit) is built
+    again, not CMake's "CMakeCache.txt directory ... is different"; outside build/: one line."""
+    import contextlib
+    import io
+    import shutil
+
+    from ..common import BUILD, Build, configure
+    from ..relocate import forget_moved_build
+    first, moved = BUILD / "course-moved-a", BUILD / "course-moved-b"
+    for d in (first, moved):
+        shutil.rmtree(d, ignore_errors=True)
+    configure(Build("student", first, ROOT / "steps", ROOT / "steps", preset="student", tools=False))
+    first.rename(moved)
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(said):
+            configure(Build("student", moved, ROOT / "steps", ROOT / "steps", preset="student", tools=False))
+    except KitError as e:
+        raise Failed(f"a moved build folder does not configure: {str(e).splitlines()[0]}")
+    cache = (moved / "CMakeCache.txt").read_text()
+    expect(f"CMAKE_CACHEFILE_DIR:INTERNAL={moved}" in cache, "the moved build folder's cache still names the old path")
+    expect("moved or copied" in said.getvalue(), f"no line says why it is built again: {said.getvalue()!r}")
+    shutil.rmtree(moved, ignore_errors=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        elsewhere = Path(tmp) / "build"
+        elsewhere.mkdir()
+        (elsewhere / "CMakeCache.txt").write_text(f"CMAKE_CACHEFILE_DIR:INTERNAL=/old/kit/build\n"
+                                                  f"CMAKE_HOME_DIRECTORY:INTERNAL=/old/kit\n")
+        try:
+            forget_moved_build(elsewhere)
+        except KitError as e:
+            expect("\n" not in str(e) and "rm -r" in str(e) and (elsewhere / "CMakeCache.txt").is_file(),
+                   f"outside build/: {e}")
+        else:
+            raise Failed("a foreign build folder outside build/ is taken as this kit's")
+    return "a build folder moved to another path is configured again (one line says so); outside build/: one line"
+
+
+def selftest_handout_wording(ctx) -> str:
+    """The scoreboard's total: in a handout (no hidden cases), what it checks and what the course adds."""
+    handout = course_file.parse({"hidden_cases": {"01": 7, "02": 6}}, STEPS)
+    saved = course_file.HIDDEN_SOURCES
+    try:
+        course_file.HIDDEN_SOURCES = Path("/nonexistent/tests/hidden")
+        with course_file.using(handout):
+            rs = results({"01": (PARTIAL, ONE_CORE_WRONG[:4] + [PASS, PASS]), "02": (DONE, [PASS] * 4 + [PASS] * 2)})
+            for r in rs:        # a handout has no hidden cases
+                r.cases = [c for c in r.cases if c.tier != "hidden"]
+            line = course_file.score_line(rs)
+    finally:
+        course_file.HIDDEN_SOURCES = saved
+    want = "visible 7 of 8; the course grade also counts 13 hidden cases and weights the steps as your instructor set"
+    expect(line.strip() == want, f"a handout's total says {line.strip()!r}, not {want!r}")
+    with course_file.using(course_file.Course()):
+        line = course_file.score_line(results({"01": (PARTIAL, ONE_CORE_WRONG)}))
+    expect(line.strip() == "score 4 of 5 (80 %)", f"the instructor's total says {line.strip()!r}")
+    return f"handout: {want!r}; with hidden cases: 'score 4 of 5 (80 %)'"
+
+
+def selftest_step_without_its_need(ctx) -> str:
+    """In a handout, step 05's camera cases are checked while step 04 is not done; the cases that
+    call step 04's function wait for the student's own, naming it."""
+    from .. import waits
+    from ..status import NOT_STARTED, WAITING
+    five = next((s for s in ctx.steps if s.needs and waits.runs_without(s)), None)
+    if five is None:
+        raise Failed("no step lists the sections that run without the step it needs (step.json runs_without)")
+    need = five.needs[0]
+    free = waits.runs_without(five)[need]
+    before = next(s for s in ctx.steps if s.number == need)
+    pending = {need: StepResult(before, PARTIAL, [])}
+    expect(waits.waits_whole(five, pending) == "", f"step {five.number} still waits whole for step {need}")
+    cases = [Case("the camera", "basic", free[0], status=FAIL, messages=["view_ray(...) wrong"]),
+             Case("the closest hit", "basic", "4. The closest hit", status=FAIL, messages=["find_intersection(...)"]),
+             Case("a hit", "basic", "4. The closest hit", status=PASS)]
+    state = waits.wait_on_needs(five, cases, pending, PARTIAL)
+    expect([c.status for c in cases] == [FAIL, WAITING, PASS] and state == PARTIAL,
+           f"step {five.number} with step {need} not done: {[c.status for c in cases]}, state {state}")
+    names = ", ".join(before.functions)
+    expect(names and names in cases[1].messages[0], f"the waiting case does not name {names}: {cases[1].messages}")
+    cases[0].status = PASS
+    cases[1].status = NOT_STARTED
+    state = waits.wait_on_needs(five, cases, pending, PARTIAL)
+    expect(state == WAITING, f"only waiting cases left: state {state}, not waiting")
+    expect(waits.wait_on_needs(five, cases, {need: StepResult(before, DONE, [])}, PARTIAL) == PARTIAL,
+           "a done step still makes its needers wait")
+    return (f"step {five.number} without step {need}: {len(free)} sections run ({', '.join(free)}); the others "
+            f"wait for {names}")
+
+
+def selftest_launch_json(ctx) -> str:
+    """.vscode/launch.json's list of steps is written from the steps (./kit handout does), so a step
+    added by CONTRIBUTING's recipe appears there with nothing else to edit."""
+    need_solutions()
+    from ..commands.handout import launch_json
+    text = (ROOT / ".vscode" / "launch.json").read_text()
+    stale = text.replace('"options": [', '"options": ["00", ', 1)
+    got = launch_json(stale)
+    want = json.dumps([s.number for s in ctx.steps])
+    expect(f'"options": {want}' in got and '"00"' not in got, f"launch.json is not rewritten to {want}: {got[-300:]}")
+    return f"launch.json's steps written from step.json: {want}"
+
+
+def selftests():
+    return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
+            ("course: bad course files", selftest_bad_course_files),
+            ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
+            ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
+            ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
+            ("course: step 05 runs without step 04", selftest_step_without_its_need),
+            ("course: a handout's total line", selftest_handout_wording),
+            ("course: launch.json from the steps", selftest_launch_json)]
