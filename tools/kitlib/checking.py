@@ -31,7 +31,7 @@ from typing import Callable
 from . import course as course_file
 from . import waits
 from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable
-from .sandbox import NONE_OWN, Isolation, Scratch
+from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
 CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
@@ -313,6 +313,10 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         need = waits.waits_whole(step, results)
         if need:
             return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"), detail=need)
+    if not built.answers_ok and SANDBOX_FAILED in built.output:
+        line = next(l for l in built.output.splitlines() if SANDBOX_FAILED in l)
+        return StepResult(step, BROKEN, _all(cases, GRADER_ERROR, line), isolation=isolation.description,
+                          detail="not graded, the grader's fault, not the student's: " + line.removeprefix("raykit: "))
     if not built.answers_ok:
         first = next((l for l in built.output.splitlines() if "error" in l), "")
         return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),

@@ -129,7 +129,7 @@ class Isolation:
 
     # --- processes inside the boundary ------------------------------------------------------
     def wrapper(self, ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
-                tmpfs: list[tuple[str, int]] = ()) -> list[str]:
+                tmpfs: list[tuple[str, int]] = (), use: str = "") -> list[str]:
         """The argv prefix that starts a command inside the boundary: bubblewrap's options, or
         nothing. `ro` and `rw` bind host folders (or files) at the paths given; `tmpfs` adds sized
         empty folders."""
@@ -159,6 +159,8 @@ class Isolation:
             if bwrap_sizes():
                 argv += ["--size", str(size)]
             argv += ["--tmpfs", inside]
+        if use and os.environ.get("RAYKIT_BREAK_SANDBOX") == use:   # the self-test: a sandbox that cannot start
+            argv += ["--ro-bind", "/nonexistent-raykit-selftest", "/nonexistent-raykit-selftest"]
         argv += ["--chdir", chdir, "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
                  "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--"]
         return argv
@@ -195,7 +197,7 @@ class Isolation:
         work = "/tmp/raykit/scratch" if self.mode == "bwrap" else str(scratch)
         sized = self.mode == "bwrap" and bwrap_sizes()
         prefix = self.wrapper([(answers, inside)], [] if sized else [(scratch, work)], work,
-                              [(work, self.limits.scratch_mb * MiB)] if sized else [])
+                              [(work, self.limits.scratch_mb * MiB)] if sized else [], use="run")
         limits = self.limits
         return {"RAYKIT_ISOLATION": self.mode, "RAYKIT_ANSWERS": str(answers), "RAYKIT_SANDBOX_EXE": inside,
                 "RAYKIT_SCRATCH": str(scratch), "RAYKIT_SANDBOX_ARGV": "\x1f".join(prefix),
@@ -639,7 +641,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
                 copy_regular(p, local)
                 new[j] = str(local)
     env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "LANG": "C.UTF-8", "HOME": str(out), "TMPDIR": str(out)}
-    prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out))
+    prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out), use=kind)
     memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
     cached = ObjectCache(new, work, local_dir) if kind == "compile" else None
     if cached is not None and cached.fetch(out):
@@ -674,6 +676,11 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     _end_group(proc)
     proc.wait()
     text = kept.decode("utf-8", "replace")
+    if proc.returncode != 0 and not timed_out and prefix and not _starts(prefix, iso, out, env, uid):
+        # Not the student's compile error: the sandbox itself does not start (checked with a program
+        # that does nothing). The kit reports the step as not graded, the grader's fault.
+        sys.stdout.write(f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n")
+        return 1
     if cached is not None and proc.returncode == 0 and not timed_out:
         cached.store(out, text)
     return _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
@@ -717,6 +724,20 @@ def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, 
     sys.stdout.write(text)
     sys.stdout.flush()
     return 0 if status == 0 else 1
+
+
+SANDBOX_FAILED = "raykit: the grader's sandbox could not start"
+
+
+def _starts(prefix: list[str], iso: Isolation, cwd: Path, env: dict[str, str], uid: int) -> bool:
+    """Whether the sandbox starts /bin/true as it was to start the compiler."""
+    true = "/bin/true" if os.path.exists("/bin/true") else "/usr/bin/true"
+    try:
+        r = subprocess.run(prefix + [true], cwd=cwd, env=env, stdin=subprocess.DEVNULL, capture_output=True,
+                           timeout=30, preexec_fn=iso.preexec(iso.limits.compile_memory_mb, uid))
+        return r.returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
 
 
 class ObjectCache:

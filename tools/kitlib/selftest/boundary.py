@@ -296,7 +296,32 @@ def selftest_lingering_child(ctx) -> str:
         no_leftovers(f"lingering_child ({mode})")
         return f"{len(seen)} children seen, the longest-lived {longest:.2f} s"
 
-    return run_modes(one)
+    summary = run_modes(one)
+    if os.geteuid() == 0:
+        watched: dict[str, list[float]] = {}
+        done = threading.Event()
+
+        def sample() -> None:
+            while not done.is_set():
+                now = time.monotonic()
+                for p in processes_named("rk-lingerchild"):
+                    watched.setdefault(p.split()[0], [now, now])[1] = now
+                time.sleep(0.05)
+
+        watcher = threading.Thread(target=sample, daemon=True)
+        watcher.start()
+        try:
+            data = gradescope(HOSTILE / "lingering_child")
+        finally:
+            done.set()
+            watcher.join()
+        longest = max((b - a for a, b in watched.values()), default=0.0)
+        expect(longest < 3.0, f"lingering_child (Gradescope): a child lived {longest:.1f} s")
+        expect("lingering_child: started one" in json.dumps(data) or watched,
+               "lingering_child (Gradescope): did not run (no output, no child seen)")
+        no_leftovers("lingering_child (Gradescope)")
+        summary += f"; Gradescope flow: the longest-lived child {longest:.2f} s"
+    return summary
 
 
 # --- output, links, uploads -----------------------------------------------------------------
@@ -421,6 +446,35 @@ def selftest_gradescope_repeatable(ctx) -> str:
     return f"{runs} runs: {scores}, ./kit grade {graded:g}" + ("" if FULL else " (5 runs with RAYKIT_SELFTEST_FULL=1)")
 
 
+def selftest_sandbox_failure(ctx) -> str:
+    """A sandbox that cannot start (RAYKIT_BREAK_SANDBOX gives bubblewrap a path that does not
+    exist, at the compile or at the run) is the grader's error: the step is not graded, and no case
+    reads as the student's timeout, crash or compile error."""
+    need_solutions()
+    from ..sandbox import bwrap_works
+    if not bwrap_works():
+        raise Skipped("bubblewrap cannot run here")
+    parts = []
+    for where in ("compile", "run"):
+        slot = 8
+        shutil.rmtree(BUILD / f"submission-{slot}", ignore_errors=True)
+        env = dict(os.environ, RAYKIT_BREAK_SANDBOX=where, RAYKIT_NO_OBJCACHE="1")
+        target = WORK / "broken.json"
+        target.unlink(missing_ok=True)
+        subprocess.run([str(ROOT / "kit"), "check", "1", "--steps", str(ROOT / "solutions"), "--json", str(target),
+                        "--isolation", "bwrap", "--slot", str(slot), "--quiet"], cwd=ROOT, capture_output=True,
+                       timeout=900, env=env)
+        shutil.rmtree(BUILD / f"submission-{slot}", ignore_errors=True)
+        shutil.rmtree(BUILD / f"submission-{slot}-src", ignore_errors=True)
+        expect(target.is_file(), f"a sandbox that cannot start at the {where}: no results")
+        [step] = json.loads(target.read_text())["extra_data"]["steps"]
+        statuses = {c["status"] for c in step["cases"]}
+        expect(step["state"] == "broken" and statuses == {"grader_error"} and "grader" in step["detail"],
+               f"a sandbox that cannot start at the {where}: {step['state']}, {statuses}, {step['detail'][:200]!r}")
+        parts.append(f"at the {where}: not graded, the grader's fault")
+    return "; ".join(parts)
+
+
 def selftest_load(ctx) -> str:
     """The reference, its build folder from nothing, graded beside two busy loops: the maximum."""
     need_solutions()
@@ -454,4 +508,5 @@ def selftests():
             ("boundary: output is data", selftest_output_is_data),
             ("boundary: links and zip bombs", selftest_links_and_uploads),
             ("boundary: the Gradescope flow is repeatable", selftest_gradescope_repeatable),
+            ("boundary: a sandbox that cannot start", selftest_sandbox_failure),
             ("boundary: load never fails correct code", selftest_load)]
