@@ -32,13 +32,29 @@ import zipfile
 from pathlib import Path
 
 from ..common import BUILD, ROOT
-from ..sandbox import COMPILE_UID_OFFSET, FIRST_UID, Limits
+from ..sandbox import COMPILE_UID_OFFSET, Limits
 from ..status import NO_COMPILE
 from .harness import Failed, Skipped, expect, need_solutions
 from .integrity import HOSTILE, isolations, one_slip_folder, printed, processes_named, run_modes, step_results
 
 FULL = os.environ.get("RAYKIT_SELFTEST_FULL") == "1"
 WORK = BUILD / "selftest-boundary"
+UID_FILE = WORK / "claimed-uid"
+claimed: set[int] = set()       # the sandbox user ids this self-test's gradings took (not another run's)
+
+
+def note_uid(path: Path = UID_FILE) -> None:
+    try:
+        uid = int(path.read_text())
+    except (OSError, ValueError):
+        return
+    claimed.update({uid, uid + COMPILE_UID_OFFSET})
+
+
+def with_uid_file(env: dict | None) -> dict:
+    WORK.mkdir(parents=True, exist_ok=True)
+    UID_FILE.unlink(missing_ok=True)
+    return dict(env or os.environ, RAYKIT_UID_FILE=str(UID_FILE))
 
 
 def check(folder: Path, numbers: list[str], mode: str, limits: str = "", slot: int = 0,
@@ -48,12 +64,13 @@ def check(folder: Path, numbers: list[str], mode: str, limits: str = "", slot: i
     WORK.mkdir(parents=True, exist_ok=True)
     target = WORK / f"results-{os.getpid()}-{slot}.json"
     target.unlink(missing_ok=True)
-    env = dict(os.environ, RAYKIT_LIMITS=limits) if limits else None
+    env = with_uid_file(dict(os.environ, RAYKIT_LIMITS=limits) if limits else None)
     start = time.monotonic()
     r = subprocess.run([str(ROOT / "kit"), "check", *[str(int(n)) for n in numbers], "--steps", str(folder),
                         "--json", str(target), "--isolation", mode, "--slot", str(slot)] + (["--quiet"] if quiet else []),
                        cwd=ROOT, capture_output=True, text=True, timeout=1800, env=env, errors="replace")
     took = time.monotonic() - start
+    note_uid()
     if not target.is_file():
         raise Failed(f"./kit check --steps {folder.name} ({mode}) exited {r.returncode} without results: "
                      f"{(r.stderr or r.stdout)[-600:]}")
@@ -74,7 +91,7 @@ def templated(name: str) -> Path:
 
 
 def sandbox_processes() -> list[str]:
-    """Live processes of any sandbox user id (run or compile)."""
+    """Live processes of the sandbox user ids this self-test's gradings took (run or compile)."""
     found = []
     for entry in Path("/proc").iterdir():
         if not entry.name.isdigit():
@@ -85,7 +102,7 @@ def sandbox_processes() -> list[str]:
             continue
         uid = int(re.search(r"^Uid:\s+(\d+)", status, re.M).group(1))
         state = re.search(r"^State:\s+(\S)", status, re.M).group(1)
-        if FIRST_UID <= uid < FIRST_UID + 2 * COMPILE_UID_OFFSET and state != "Z":
+        if uid in claimed and state != "Z":
             found.append(f"{entry.name} uid {uid} {(entry / 'comm').read_text().strip()}")
     return found
 
@@ -394,6 +411,8 @@ def grade_class(subs: Path, extra: list[str] = (), limits: str = "") -> dict[str
     env = dict(os.environ, RAYKIT_LIMITS=limits) if limits else None
     r = subprocess.run([str(ROOT / "kit"), "grade", str(subs), "--out", str(out), *extra], cwd=ROOT,
                        capture_output=True, text=True, timeout=3600, env=env, errors="replace")
+    for f in BUILD.glob("grade-uid-*"):
+        note_uid(f)
     expect(r.returncode == 0 and out.is_file(), f"./kit grade {subs.name} exited {r.returncode}: {r.stderr[-500:]}")
     return {row["student"]: row for row in csv.DictReader(out.open())}
 
@@ -421,8 +440,9 @@ def gradescope(upload: Path) -> dict:
     shutil.rmtree(ag / "results", ignore_errors=True)
     shutil.copytree(upload, ag / "submission")
     r = subprocess.run(["bash", str(ag / "source" / "run_autograder")], cwd=ag,
-                       env=dict(os.environ, RAYKIT_AUTOGRADER_ROOT=str(ag)), capture_output=True, text=True,
-                       timeout=3600)
+                       env=with_uid_file(dict(os.environ, RAYKIT_AUTOGRADER_ROOT=str(ag))), capture_output=True,
+                       text=True, timeout=3600)
+    note_uid()
     try:
         return json.loads((ag / "results" / "results.json").read_text())
     except (OSError, ValueError) as e:
