@@ -414,13 +414,23 @@ def _status_field(pid: int, name: str) -> str:
     return ""
 
 
+def _owned_by(pid: int, uid: int) -> bool:
+    """Whether process `pid` is alive (not a zombie waiting for its parent) with real user id `uid`."""
+    try:
+        text = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
+    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").strip().startswith("Z")
+
+
 def kill_uid(uid: int) -> None:
     """Ends every process whose real user id is `uid`: a helper that takes the id and signals all
     it may signal (kill -1), repeated while any is left (a fork between two rounds)."""
     if not uid or os.geteuid() != 0:
         return
     for _ in range(20):
-        left = [p for p in _proc_ids() if _status_field(p, "Uid").split()[:1] == [str(uid)]]
+        left = [p for p in _proc_ids() if _owned_by(p, uid)]
         if not left:
             return
         pid = os.fork()
