@@ -341,6 +341,10 @@ def claim_uid(slot: int) -> int:
         except OSError:
             f.close()
             continue
+        if _in_use(uid):            # a grading that does not share our lock files (another root
+            fcntl.flock(f, fcntl.LOCK_UN)   # file system on the same kernel) is using it
+            f.close()
+            continue
         _claimed[uid] = f
         if os.environ.get("RAYKIT_UID_FILE"):      # ./kit grade ends this id's processes on a timeout
             try:
@@ -349,6 +353,14 @@ def claim_uid(slot: int) -> int:
                 pass
         return uid
     raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
+
+
+def _in_use(uid: int) -> bool:
+    ids = {uid, uid + COMPILE_UID_OFFSET}
+    for p in _proc_ids():
+        if any(_owned_by(p, i) for i in ids):
+            return True
+    return False
 
 
 class Scratch:
