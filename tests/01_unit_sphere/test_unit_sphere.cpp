@@ -107,6 +107,17 @@ TEST_CASE("origin on the surface looking out: the other root is behind" *
                  "The origin is on the sphere, and the line's other crossing is (0, 0, -1), at t = -2.");
 }
 
+TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots({{1, 0, 0}, {0, 1, 0}}, one(0),
+                 "The origin (1, 0, 0) is on the sphere (c = 0) and d is perpendicular to it (h = o.d = 0): "
+                 "h^2 - a c = 0 exactly, a tangent touching at t = 0. The root pair q = -(h + sign(h) sqrt(disc)) "
+                 "is 0 here, so c / q is 0/0: a tangent needs its own branch, never the pair.");
+    expect_roots({{0, 0, -1}, {3, 4, 0}}, one(0),
+                 "o = (0, 0, -1) is on the sphere and d = (3, 4, 0) is perpendicular to o: "
+                 "h = 0 and c = 0, one root t = 0, not NaN.");
+}
+
 TEST_CASE("sphere behind the ray: both roots negative" *
           doctest::description("5. The closest root in a window")) {
     expect_roots({{3, 0, 0}, {1, 0, 0}}, two(-4, -2),
@@ -152,6 +163,12 @@ TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root
 
 TEST_CASE("window: a tangent is a hit" * doctest::description("5. The closest root in a window")) {
     expect_hit({{-2, 1, 0}, {1, 0, 0}}, 0, inf, 2.0f, "A tangent touches the sphere: it is a hit at t = 2.");
+}
+
+TEST_CASE("window: an origin on the surface with a tangent direction is a hit at t = 0" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{1, 0, 0}, {0, 1, 0}}, 0, inf, 0.0f,
+               "The ray starts on the sphere and touches it there: the root t = 0 is at tmin = 0, a hit.");
 }
 
 TEST_CASE("window: the near root before tmin gives the far root" *

@@ -149,6 +149,18 @@ TEST_CASE("origin on the surface looking out: the other root is behind" *
                  "The origin is the sphere's top (5, -2, 5); the line's other crossing, z = 1, is at t = -2.");
 }
 
+TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{5, -2, 5}, {2, 0, 0}}, ball, one(0),
+                 "The origin is the sphere's top (5, -2, 5), so f = (0, 0, 2) and c' = f.f - r^2 = 0; d is "
+                 "perpendicular to f, so h = f.d = 0. The discriminant h^2 - a c' is exactly 0: one root, "
+                 "t = 0. The root pair q = -(h + sign(h) sqrt(disc)) is 0 here, so c'/q is 0/0: a tangent "
+                 "needs its own branch, never the pair.");
+    expect_roots({{3, -2, 3}, {0, 3, -4}}, ball, one(0),
+                 "o = (3, -2, 3) is on the sphere (f = (-2, 0, 0)) and d = (0, 3, -4) is perpendicular to f: "
+                 "h = 0 and c' = 0, one root t = 0, not NaN.");
+}
+
 TEST_CASE("sphere behind the ray: both roots negative" *
           doctest::description("5. The closest root in a window")) {
     expect_roots({{9, -2, 3}, {1, 0, 0}}, ball, two(-6, -2),
@@ -205,6 +217,12 @@ TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root
 
 TEST_CASE("window: a tangent is a hit" * doctest::description("5. The closest root in a window")) {
     expect_hit({{1, 0, 3}, {2, 0, 0}}, ball, 0, inf, 2.0f, "A tangent touches the sphere: it is a hit at t = 2.");
+}
+
+TEST_CASE("window: an origin on the surface with a tangent direction is a hit at t = 0" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{5, -2, 5}, {2, 0, 0}}, ball, 0, inf, 0.0f,
+               "The ray starts on the sphere's top and touches it there: the root t = 0 is at tmin = 0, a hit.");
 }
 
 TEST_CASE("window: the near root before tmin gives the far root" *

@@ -55,6 +55,11 @@ const Ray offset{{2.9f, -6, 4}, {0, 1, 0}};
 const Ray tangent{{2, 0.5f, 0}, {0, 0, 1}};
 // A line 2 from the centre: a miss.
 const Ray passing{{2, 1, 0}, {0, 0, 1}};
+// The origin on the surface, 1.5 along +x from the centre: f = (1.5, 0, 0), c = 0.
+const glm::vec3 on_surface{3.5f, -1, 4};
+const Ray surface_tangent{on_surface, {0, 1, 0}};  // h = 0: one root, t = 0
+const Ray surface_in{on_surface, {-1, 0, 0}};      // roots 0 and 3
+const Ray surface_out{on_surface, {1, 0, 0}};      // roots -3 and 0
 // A diagonal unit direction (1, 2, 2) / 3 from 6 units before the centre.
 const Ray diagonal{{0, -5, 0}, glm::normalize(glm::vec3(1, 2, 2))};
 
@@ -102,6 +107,24 @@ TEST_CASE("shortcut: a diagonal unit direction" * doctest::description("1. When 
                     "The centre is 6 units along the ray, so the roots are 6 -+ 1.5; with |d| = 1, t is a distance.");
 }
 
+TEST_CASE("shortcut: origin on the surface with a tangent direction is one root at t = 0" *
+          doctest::description("1. When the direction has length 1")) {
+    expect_shortcut(surface_tangent, ball, one(0),
+                    "The origin is on the sphere (c = f.f - r^2 = 0) and d is perpendicular to f (h = 0): "
+                    "h^2 - c = 0, one root t = 0. The root pair q = -(h + sign(h) sqrt(h^2 - c)) is 0 here, "
+                    "so c / q is 0/0: a tangent needs its own branch, never the pair.");
+}
+
+TEST_CASE("shortcut: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {
+    expect_shortcut(surface_in, ball, two(0, 3),
+                    "c = 0 (the origin is on the sphere) and h = -1.5: t = 1.5 -+ 1.5, so 0 and 3.");
+}
+
+TEST_CASE("shortcut: origin on the surface heading out" * doctest::description("3. Ahead, behind and inside")) {
+    expect_shortcut(surface_out, ball, two(-3, 0),
+                    "c = 0 and h = 1.5: t = -1.5 -+ 1.5, so -3 behind and 0 at the origin.");
+}
+
 TEST_CASE("shortcut: a radius of zero or less is no sphere" *
           doctest::description("1. When the direction has length 1")) {
     expect_shortcut(ahead, {{2, -1, 4}, 0}, none(), "A radius of 0 describes no sphere: no roots.");
@@ -145,6 +168,25 @@ TEST_CASE("geometric: a line 2 from the centre misses" * doctest::description("2
 TEST_CASE("geometric: a diagonal unit direction" * doctest::description("2. The same roots from a drawing")) {
     expect_geometric(diagonal, ball, two(4.5f, 7.5f),
                      "L = (2, 4, 4), t_m = L.d = 6 and l_m = 0: t = 6 -+ 1.5.");
+}
+
+TEST_CASE("geometric: origin on the surface with a tangent direction is one root at t = 0" *
+          doctest::description("2. The same roots from a drawing")) {
+    expect_geometric(surface_tangent, ball, one(0),
+                     "L = (-1.5, 0, 0), t_m = L.d = 0 and l_m^2 = 2.25 = r^2: Dt = 0, one root t = t_m = 0. "
+                     "Taking the small root as (|L|^2 - r^2) / (t_m + sign(t_m) Dt) divides 0 by 0 here: a "
+                     "tangent needs its own branch.");
+}
+
+TEST_CASE("geometric: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {
+    expect_geometric(surface_in, ball, two(0, 3),
+                     "t_m = 1.5 and l_m = 0, Dt = 1.5: t = 0 and t = 3.");
+}
+
+TEST_CASE("geometric: origin on the surface heading out" * doctest::description("3. Ahead, behind and inside")) {
+    expect_geometric(surface_out, ball, two(-3, 0),
+                     "t_m = -1.5 and l_m = 0, Dt = 1.5: t = -3 and t = 0. The centre is behind, yet t = 0 is "
+                     "a root.");
 }
 
 TEST_CASE("geometric: a radius of zero or less is no sphere" *

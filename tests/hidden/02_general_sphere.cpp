@@ -86,6 +86,17 @@ TEST_CASE("sphere_roots on exact tangents and axis rays" * doctest::description(
                  "An axis-aligned ray at height r touches the sphere once; at height 0 it goes through the centre.");
 }
 
+TEST_CASE("sphere_roots from origins on the surface: tangent and heading in and out" *
+          doctest::description("4. The roots and the discriminant")) {
+    roots_family("02 surface", [](Draw& d) {
+        const Sphere s{{static_cast<float>(d.integer(-20, 20)), static_cast<float>(d.integer(-20, 20)),
+                        static_cast<float>(d.integer(-20, 20))},
+                       static_cast<float>(d.integer(1, 3))};
+        return Input{surface_ray(d, s.center, s.radius, d.integer(0, 2), false), s};
+    }, "The origin is on the sphere (c' = 0): a direction perpendicular to f (h = 0) touches it once at "
+       "t = 0; any other has the roots 0 and -2h/a. Never a NaN root from c'/q with q = 0.");
+}
+
 TEST_CASE("sphere_roots with no sphere or no ray" * doctest::description("6. No sphere and no ray")) {
     roots_family("02 degenerate", [](Draw& d) {
         Input in{aimed(d.around({0, 0, 0}, 2, 20), {0, 0, 0}, 1), {{0, 0, 0}, 1}};
