@@ -15,6 +15,8 @@ using namespace raykit::grading;
 
 namespace {
 
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
+
 Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
 Roots none() { return Roots{}; }
@@ -151,6 +153,28 @@ TEST_CASE("a zero direction is no ray: no roots" * doctest::description("2. The 
                  "With d = 0 the quadratic's a is 0: there is no line to intersect. Report count 0 (and no NaN).");
 }
 
+TEST_CASE("a ray holding NaN is no ray: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-3, not_a_number, 0}, {1, 0, 0}}, none(),
+                 "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a "
+                 "NaN root (a test for a == 0 alone lets NaN through: NaN < 0 and NaN == 0 are both false).");
+    expect_roots({{-3, 0, 0}, {1, not_a_number, 0}}, none(),
+                 "The direction's y is NaN: a, h and the discriminant are NaN. Report count 0, never a NaN root.");
+}
+
+TEST_CASE("a ray holding infinity is no ray: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-inf, 0, 0}, {1, 0, 0}}, none(),
+                 "The origin is at x = -inf: o.d and o.o are infinite and the discriminant is inf - inf = NaN. "
+                 "The header says such a ray counts as a miss: count 0, never a NaN root.");
+    expect_roots({{-3, 0, 0}, {inf, 0, 0}}, none(),
+                 "The direction is infinite, so a = d.d is inf and every root is inf / inf = NaN. Count 0.");
+}
+
+TEST_CASE("a direction so long that d.d overflows: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-3, 0, 0}, {2e19f, 0, 0}}, none(),
+                 "|d| = 2e19 is a float, but a = d.d = 4e38 is beyond the largest float (3.4e38) and becomes inf. "
+                 "The header says such a ray counts as a miss: check that a is finite, not only that it is not 0.");
+}
+
 // ---- intersect_unit_sphere: the closest root in a closed window --------------
 
 TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
@@ -169,6 +193,11 @@ TEST_CASE("window: an origin on the surface with a tangent direction is a hit at
           doctest::description("5. The closest root in a window")) {
     expect_hit({{1, 0, 0}, {0, 1, 0}}, 0, inf, 0.0f,
                "The ray starts on the sphere and touches it there: the root t = 0 is at tmin = 0, a hit.");
+}
+
+TEST_CASE("window: a ray holding NaN is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-3, 0, not_a_number}, {1, 0, 0}}, -inf, inf, std::nullopt,
+               "The ray counts as a miss (no roots), so there is no hit even in the window [-inf, inf].");
 }
 
 TEST_CASE("window: the near root before tmin gives the far root" *

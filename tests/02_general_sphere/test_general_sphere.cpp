@@ -205,6 +205,39 @@ TEST_CASE("a radius that is NaN or infinite is no sphere: no roots" *
                  "An infinite radius describes no sphere: report no roots.");
 }
 
+TEST_CASE("a ray holding NaN is no ray: no roots" * doctest::description("6. No sphere and no ray")) {
+    expect_roots({{-1, not_a_number, 3}, {2, 0, 0}}, ball, none(),
+                 "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a "
+                 "NaN root (a test for a == 0 alone lets NaN through: NaN < 0 and NaN == 0 are both false).");
+    expect_roots({{-1, -2, 3}, {2, 0, not_a_number}}, ball, none(),
+                 "The direction's z is NaN: a, h and the discriminant are NaN. Report count 0, never a NaN root.");
+    expect_roots(through_centre, {{5, not_a_number, 3}, 2}, none(),
+                 "The centre's y is NaN, so f = o - centre holds NaN: no sphere to meet. Count 0.");
+}
+
+TEST_CASE("a ray holding infinity is no ray: no roots" * doctest::description("6. No sphere and no ray")) {
+    expect_roots({{-inf, -2, 3}, {2, 0, 0}}, ball, none(),
+                 "The origin is at x = -inf: f.d and f.f are infinite and the discriminant is inf - inf = NaN. "
+                 "The header says such a ray counts as a miss: count 0, never a NaN root.");
+    expect_roots({{-1, -2, 3}, {inf, 0, 0}}, ball, none(),
+                 "The direction is infinite, so a = d.d is inf and every root is inf / inf = NaN. Count 0.");
+    expect_roots(through_centre, {{inf, -2, 3}, 2}, none(),
+                 "The centre is at x = inf: no sphere a finite ray could meet. Count 0.");
+}
+
+TEST_CASE("a direction so long that d.d overflows float: no roots or the true roots and never NaN" *
+          doctest::description("6. No sphere and no ray")) {
+    // The header allows either answer: count 0 (a float a = d.d is inf), or the roots
+    // 2e-19 and 4e-19 (a computed in double, as the reference does). Never NaN.
+    const Ray ray{{-1, -2, 3}, {2e19f, 0, 0}};
+    const Roots got = sphere_roots(ray, ball);
+    if (got.count != 0)
+        check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(ball), two(2e-19f, 4e-19f), got,
+                    "|d| = 2e19 is a float, but d.d = 4e38 is beyond the largest float (3.4e38): in float a is "
+                    "inf and the roots become inf / inf = NaN. The header allows count 0 here (check that a is "
+                    "finite, not only that it is not 0), or the true roots from a wider type.");
+}
+
 // ---- intersect_sphere: the closest root in a closed window -----------------------
 
 TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
@@ -223,6 +256,11 @@ TEST_CASE("window: an origin on the surface with a tangent direction is a hit at
           doctest::description("5. The closest root in a window")) {
     expect_hit({{5, -2, 5}, {2, 0, 0}}, ball, 0, inf, 0.0f,
                "The ray starts on the sphere's top and touches it there: the root t = 0 is at tmin = 0, a hit.");
+}
+
+TEST_CASE("window: a ray holding NaN is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-1, -2, not_a_number}, {2, 0, 0}}, ball, -inf, inf, std::nullopt,
+               "The ray counts as a miss (no roots), so there is no hit even in the window [-inf, inf].");
 }
 
 TEST_CASE("window: the near root before tmin gives the far root" *

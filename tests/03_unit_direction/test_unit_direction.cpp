@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 
+#include <limits>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -23,6 +24,8 @@ using namespace raykit;
 using namespace raykit::grading;
 
 namespace {
+
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
 
 Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
@@ -125,6 +128,21 @@ TEST_CASE("shortcut: origin on the surface heading out" * doctest::description("
                     "c = 0 and h = 1.5: t = -1.5 -+ 1.5, so -3 behind and 0 at the origin.");
 }
 
+TEST_CASE("shortcut: a ray holding NaN is a miss" * doctest::description("1. When the direction has length 1")) {
+    expect_shortcut({{2, not_a_number, 0}, {0, 0, 1}}, ball, none(),
+        "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a NaN root.");
+    expect_shortcut({{2, -1, 0}, {0, not_a_number, 1}}, ball, none(),
+        "The direction holds NaN (it is no unit vector, but the header still asks for count 0, never a NaN root).");
+    expect_shortcut(ahead, {{2, -1, not_a_number}, 1.5f}, none(), "The centre's z is NaN: no sphere to meet. Count 0.");
+}
+
+TEST_CASE("shortcut: a ray holding infinity is a miss" * doctest::description("1. When the direction has length 1")) {
+    expect_shortcut({{2, -1, -inf}, {0, 0, 1}}, ball, none(),
+        "The origin is at z = -inf: the values that decide the roots are inf - inf = NaN. The header says "
+        "such a ray counts as a miss: count 0, never a NaN root.");
+    expect_shortcut(ahead, {{2, -1, inf}, 1.5f}, none(), "The centre is at z = inf: no sphere a finite ray could meet. Count 0.");
+}
+
 TEST_CASE("shortcut: a radius of zero or less is no sphere" *
           doctest::description("1. When the direction has length 1")) {
     expect_shortcut(ahead, {{2, -1, 4}, 0}, none(), "A radius of 0 describes no sphere: no roots.");
@@ -187,6 +205,21 @@ TEST_CASE("geometric: origin on the surface heading out" * doctest::description(
     expect_geometric(surface_out, ball, two(-3, 0),
                      "t_m = -1.5 and l_m = 0, Dt = 1.5: t = -3 and t = 0. The centre is behind, yet t = 0 is "
                      "a root.");
+}
+
+TEST_CASE("geometric: a ray holding NaN is a miss" * doctest::description("2. The same roots from a drawing")) {
+    expect_geometric({{2, not_a_number, 0}, {0, 0, 1}}, ball, none(),
+        "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a NaN root.");
+    expect_geometric({{2, -1, 0}, {0, not_a_number, 1}}, ball, none(),
+        "The direction holds NaN (it is no unit vector, but the header still asks for count 0, never a NaN root).");
+    expect_geometric(ahead, {{2, -1, not_a_number}, 1.5f}, none(), "The centre's z is NaN: no sphere to meet. Count 0.");
+}
+
+TEST_CASE("geometric: a ray holding infinity is a miss" * doctest::description("2. The same roots from a drawing")) {
+    expect_geometric({{2, -1, -inf}, {0, 0, 1}}, ball, none(),
+        "The origin is at z = -inf: the values that decide the roots are inf - inf = NaN. The header says "
+        "such a ray counts as a miss: count 0, never a NaN root.");
+    expect_geometric(ahead, {{2, -1, inf}, 1.5f}, none(), "The centre is at z = inf: no sphere a finite ray could meet. Count 0.");
 }
 
 TEST_CASE("geometric: a radius of zero or less is no sphere" *

@@ -113,6 +113,23 @@ TEST_CASE("unit_sphere_roots on degenerate input" * doctest::description("2. The
                  "With d = 0 there is no line to intersect: no roots.");
 }
 
+TEST_CASE("unit_sphere_roots on rays holding NaN or infinity or whose d.d overflows" *
+          doctest::description("2. The ray meets the sphere")) {
+    // The expected answer is the header's rule, count 0, not the reference's.
+    Draw draw("01 contract");
+    for (int i = 0; i < draws; ++i) {
+        Ray ray = aimed(draw.around(sphere_centre, 1.5f, 10), draw.around(sphere_centre, 0, 0.7f), draw.uniform(0.1f, 8));
+        spoil(draw, ray, nullptr, i % 3, true);
+        const Roots got = unit_sphere_roots(ray);
+        if (!agree(Roots{}, got)) {
+            grading::check_roots("unit_sphere_roots(ray)", input_note(i, grading::show(ray)), Roots{}, got,
+                                 "A ray holding NaN or infinity, or whose d.d overflows, counts as a miss "
+                                 "(unit_sphere.hpp): count 0, never a NaN root.");
+            return;
+        }
+    }
+}
+
 TEST_CASE("intersect_unit_sphere with random windows" * doctest::description("5. The closest root in a window")) {
     window_family("01 windows", [](Draw& d, float& tmin, float& tmax) {
         const Ray ray = aimed(d.around(sphere_centre, 0, 10), d.around(sphere_centre, 0, 0.7f), d.uniform(0.1f, 8));

@@ -56,14 +56,20 @@ Input surface_input(Draw& d) {
 void family(const char* function, const char* family, int kind) {
     Draw draw(family);
     for (int i = 0; i < draws; ++i) {
-        const Input in = kind < 4 ? random_input(draw, kind) : kind == 4 ? exact_input(draw) : surface_input(draw);
-        const Roots expected = remote::reference<Roots>(function, in.ray, in.sphere);
+        Input in = kind < 4 ? random_input(draw, kind) : kind == 4 ? exact_input(draw)
+                 : kind == 5 ? surface_input(draw) : random_input(draw, 0);
+        // kind 6: the header's rule, count 0, for input holding NaN or infinity (not the reference's answer).
+        if (kind == 6) spoil(draw, in.ray, &in.sphere.center, i % 2, false);
+        const Roots expected = kind == 6 ? Roots{} : remote::reference<Roots>(function, in.ray, in.sphere);
         const Roots got = std::string(function) == "sphere_roots_unit_dir" ? sphere_roots_unit_dir(in.ray, in.sphere)
                                                                             : sphere_roots_geometric(in.ray, in.sphere);
         if (!agree(expected, got)) {
             grading::check_roots(std::string(function) + "(ray, sphere)",
                                  input_note(i, grading::show(in.ray) + "; sphere " + grading::show(in.sphere)),
-                                 expected, got, "With |d| = 1 the roots are the same as step 02's.");
+                                 expected, got,
+                                 kind == 6 ? "Input holding NaN or infinity counts as a miss (unit_direction.hpp): "
+                                             "count 0, never a NaN root."
+                                           : "With |d| = 1 the roots are the same as step 02's.");
             return;
         }
     }
@@ -91,6 +97,11 @@ TEST_CASE("sphere_roots_unit_dir from origins on the surface: tangent and headin
     family("sphere_roots_unit_dir", "03 unit surface", 5);
 }
 
+TEST_CASE("sphere_roots_unit_dir on input holding NaN or infinity" *
+          doctest::description("1. When the direction has length 1")) {
+    family("sphere_roots_unit_dir", "03 unit contract", 6);
+}
+
 TEST_CASE("sphere_roots_geometric on random rays through and past the sphere" *
           doctest::description("2. The same roots from a drawing")) {
     family("sphere_roots_geometric", "03 geometric through", 0);
@@ -107,6 +118,11 @@ TEST_CASE("sphere_roots_geometric from inside and behind and on exact tangents" 
 TEST_CASE("sphere_roots_geometric from origins on the surface: tangent and heading in and out" *
           doctest::description("3. Ahead, behind and inside")) {
     family("sphere_roots_geometric", "03 geometric surface", 5);
+}
+
+TEST_CASE("sphere_roots_geometric on input holding NaN or infinity" *
+          doctest::description("2. The same roots from a drawing")) {
+    family("sphere_roots_geometric", "03 geometric contract", 6);
 }
 
 TEST_SUITE_END();
