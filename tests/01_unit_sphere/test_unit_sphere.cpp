@@ -113,8 +113,8 @@ TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
           doctest::description("4. What the discriminant says")) {
     expect_roots({{1, 0, 0}, {0, 1, 0}}, one(0),
                  "The origin (1, 0, 0) is on the sphere (c = 0) and d is perpendicular to it (h = o.d = 0): "
-                 "h^2 - a c = 0 exactly, a tangent touching at t = 0. The root pair q = -(h + sign(h) sqrt(disc)) "
-                 "is 0 here, so c / q is 0/0: a tangent needs its own branch, never the pair.");
+                 "h^2 - a c = 0 exactly, a tangent touching at t = 0. Here the sum that the stable root pair "
+                 "divides by is 0 too, and 0/0 is NaN: a tangent is found from the discriminant, not from the pair.");
     expect_roots({{0, 0, -1}, {3, 4, 0}}, one(0),
                  "o = (0, 0, -1) is on the sphere and d = (3, 4, 0) is perpendicular to o: "
                  "h = 0 and c = 0, one root t = 0, not NaN.");

@@ -154,8 +154,8 @@ TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
     expect_roots({{5, -2, 5}, {2, 0, 0}}, ball, one(0),
                  "The origin is the sphere's top (5, -2, 5), so f = (0, 0, 2) and c' = f.f - r^2 = 0; d is "
                  "perpendicular to f, so h = f.d = 0. The discriminant h^2 - a c' is exactly 0: one root, "
-                 "t = 0. The root pair q = -(h + sign(h) sqrt(disc)) is 0 here, so c'/q is 0/0: a tangent "
-                 "needs its own branch, never the pair.");
+                 "t = 0. Here the sum that the stable root pair divides by is 0 too, and 0/0 is NaN: a tangent "
+                 "is found from the discriminant, not from the pair.");
     expect_roots({{3, -2, 3}, {0, 3, -4}}, ball, one(0),
                  "o = (3, -2, 3) is on the sphere (f = (-2, 0, 0)) and d = (0, 3, -4) is perpendicular to f: "
                  "h = 0 and c' = 0, one root t = 0, not NaN.");

@@ -114,8 +114,8 @@ TEST_CASE("shortcut: origin on the surface with a tangent direction is one root 
           doctest::description("1. When the direction has length 1")) {
     expect_shortcut(surface_tangent, ball, one(0),
                     "The origin is on the sphere (c = f.f - r^2 = 0) and d is perpendicular to f (h = 0): "
-                    "h^2 - c = 0, one root t = 0. The root pair q = -(h + sign(h) sqrt(h^2 - c)) is 0 here, "
-                    "so c / q is 0/0: a tangent needs its own branch, never the pair.");
+                    "h^2 - c = 0, one root t = 0. Here the sum that the stable root pair divides by is 0 too, "
+                    "and 0/0 is NaN: a tangent is found from the discriminant, not from the pair.");
 }
 
 TEST_CASE("shortcut: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {
@@ -192,8 +192,8 @@ TEST_CASE("geometric: origin on the surface with a tangent direction is one root
           doctest::description("2. The same roots from a drawing")) {
     expect_geometric(surface_tangent, ball, one(0),
                      "L = (-1.5, 0, 0), t_m = L.d = 0 and l_m^2 = 2.25 = r^2: Dt = 0, one root t = t_m = 0. "
-                     "Taking the small root as (|L|^2 - r^2) / (t_m + sign(t_m) Dt) divides 0 by 0 here: a "
-                     "tangent needs its own branch.");
+                     "The stable pair's small root divides 0 by 0 here (t_m and Dt are both 0): a tangent is "
+                     "found from Dt^2 = 0, not from the pair.");
 }
 
 TEST_CASE("geometric: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {

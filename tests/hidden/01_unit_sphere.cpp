@@ -94,7 +94,7 @@ TEST_CASE("unit_sphere_roots from origins on the surface: tangent and heading in
           doctest::description("4. What the discriminant says")) {
     roots_family("01 surface", [](Draw& d) { return surface_ray(d, sphere_centre, 1, d.integer(0, 2), false); },
                  "The origin is on the sphere (c = 0): a direction perpendicular to o (h = 0) touches it once "
-                 "at t = 0; any other has the roots 0 and -2h/a. Never a NaN root from c/q with q = 0.");
+                 "at t = 0; any other has the roots 0 and -2h/a. Never a NaN root.");
 }
 
 TEST_CASE("intersect_unit_sphere from origins on the surface" *

@@ -94,7 +94,7 @@ TEST_CASE("sphere_roots from origins on the surface: tangent and heading in and 
                        static_cast<float>(d.integer(1, 3))};
         return Input{surface_ray(d, s.center, s.radius, d.integer(0, 2), false), s};
     }, "The origin is on the sphere (c' = 0): a direction perpendicular to f (h = 0) touches it once at "
-       "t = 0; any other has the roots 0 and -2h/a. Never a NaN root from c'/q with q = 0.");
+       "t = 0; any other has the roots 0 and -2h/a. Never a NaN root.");
 }
 
 TEST_CASE("sphere_roots with no sphere or no ray" * doctest::description("6. No sphere and no ray")) {

@@ -59,7 +59,7 @@ void family(const char* function, const char* family, int kind) {
         Input in = kind < 4 ? random_input(draw, kind) : kind == 4 ? exact_input(draw)
                  : kind == 5 ? surface_input(draw) : random_input(draw, 0);
         // kind 6: the header's rule, count 0, for input holding NaN or infinity (not the reference's answer).
-        if (kind == 6) spoil(draw, in.ray, &in.sphere.center, i % 2, false);
+        if (kind == 6) spoil(draw, in.ray, &in.sphere.center, i % 2, false, false);
         const Roots expected = kind == 6 ? Roots{} : remote::reference<Roots>(function, in.ray, in.sphere);
         const Roots got = std::string(function) == "sphere_roots_unit_dir" ? sphere_roots_unit_dir(in.ray, in.sphere)
                                                                             : sphere_roots_geometric(in.ray, in.sphere);

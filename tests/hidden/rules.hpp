@@ -55,15 +55,17 @@ namespace raykit::hidden {
 /// with one value spoilt. kind 0: a NaN, kind 1: +inf or -inf, in a random component of
 /// the origin, the direction or (when `centre` is given) the sphere's centre; kind 2 (only
 /// when `overflow`): the direction scaled so that d.d overflows while every component stays
-/// finite (|d| from 1e20 to 1e30).
-inline void spoil(Draw& d, Ray& ray, glm::vec3* centre, int kind, bool overflow) {
+/// finite (|d| from 1e20 to 1e30). Without `infinite_direction` (step 03, whose precondition is a
+/// unit direction) an infinity goes into a position only.
+inline void spoil(Draw& d, Ray& ray, glm::vec3* centre, int kind, bool overflow, bool infinite_direction = true) {
     if (kind == 2 && overflow) {
         ray.direction = std::ldexp(1.0f, d.integer(67, 99)) * glm::normalize(ray.direction);
         return;
     }
     const float bad = kind == 0 ? std::numeric_limits<float>::quiet_NaN()
                                 : d.sign() * std::numeric_limits<float>::infinity();
-    const int where = d.integer(0, centre ? 2 : 1);
+    int where = d.integer(0, centre ? 2 : 1);
+    if (where == 1 && kind == 1 && !infinite_direction) where = 0;
     glm::vec3& v = where == 0 ? ray.origin : where == 1 ? ray.direction : *centre;
     v[d.integer(0, 2)] = bad;
 }
