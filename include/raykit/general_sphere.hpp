@@ -32,7 +32,7 @@ namespace raykit {
 ///
 /// The ★ robust cases also ask for accuracy: each root within a few units in
 /// the last place (ulps) of the exact root of the same float inputs, for far,
-/// tiny, huge and grazing configurations (lecture 03, sections 4 to 8).
+/// tiny, huge and grazing configurations (lecture 03, sections 4 to 6).
 Roots sphere_roots(const Ray& ray, const Sphere& sphere);
 
 /// The closest hit of \p ray with \p sphere inside the closed window

@@ -53,7 +53,7 @@ TEST_CASE("two hits: a ray through the centre of a sphere away from the origin" 
           doctest::description("4. The roots and the discriminant")) {
     expect_roots(through_centre, ball, two(2, 4),
                  "x = -1 + 2t reaches the sphere's near side x = 3 at t = 2 and its far side x = 7 at t = 4. "
-                 "f = o - c = (-6, 0, 0), a = 4, h = -12, c = 32.");
+                 "f = o - c = (-6, 0, 0), a = 4, h = -12, c' = 32.");
 }
 
 TEST_CASE("the centre matters: a ray through the world origin misses a sphere centred elsewhere" *
@@ -68,8 +68,8 @@ TEST_CASE("the centre matters: the roots move with the sphere" * doctest::descri
                  "The sphere around (0, 0, 10) covers z from 9 to 11 on the z axis.");
 }
 
-TEST_CASE("the radius matters: c uses r squared" * doctest::description("2. Any radius")) {
-    // f = (-6, 0, 0), r = 3: c = 36 - 9 = 27, h = -6, h^2 - c = 9.
+TEST_CASE("the radius matters: c' uses r squared" * doctest::description("2. Any radius")) {
+    // f = (-6, 0, 0), r = 3: c' = 36 - 9 = 27, h = -6, h^2 - c' = 9.
     expect_roots({{-4, 1, 0}, {1, 0, 0}}, {{2, 1, 0}, 3}, two(3, 9),
                  "The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9. "
                  "Here r = 3 and r^2 = 9 differ: roots computed from r, not from its square, belong to "
@@ -113,7 +113,7 @@ TEST_CASE("one hit: a tangent ray with a direction of length 2" *
           doctest::description("4. The roots and the discriminant")) {
     expect_roots({{1, 0, 3}, {2, 0, 0}}, ball, one(2),
                  "The line y = 0, z = 3 is exactly 2 from the centre: it touches (5, 0, 3) at t = 2. "
-                 "a = 4, h = -8, c = 16: h^2 - a c = 0.");
+                 "a = 4, h = -8, c' = 16: h^2 - a c' = 0.");
 }
 
 TEST_CASE("one hit: a tangent ray with a direction of length 1/2" *
@@ -139,7 +139,7 @@ TEST_CASE("origin inside but off centre with a ray towards -x" *
 TEST_CASE("origin on the surface looking in: one root is exactly 0" *
           doctest::description("4. The roots and the discriminant")) {
     expect_roots({{3, -2, 3}, {4, 0, 0}}, ball, two(0, 1),
-                 "The origin (3, -2, 3) is on the sphere (c = 0), so t = 0 is a root; the ray leaves at "
+                 "The origin (3, -2, 3) is on the sphere (c' = 0), so t = 0 is a root; the ray leaves at "
                  "x = 7, t = 1.");
 }
 

@@ -58,7 +58,7 @@ const Ray offset{{2.9f, -6, 4}, {0, 1, 0}};
 const Ray tangent{{2, 0.5f, 0}, {0, 0, 1}};
 // A line 2 from the centre: a miss.
 const Ray passing{{2, 1, 0}, {0, 0, 1}};
-// The origin on the surface, 1.5 along +x from the centre: f = (1.5, 0, 0), c = 0.
+// The origin on the surface, 1.5 along +x from the centre: f = (1.5, 0, 0), c' = 0.
 const glm::vec3 on_surface{3.5f, -1, 4};
 const Ray surface_tangent{on_surface, {0, 1, 0}};  // h = 0: one root, t = 0
 const Ray surface_in{on_surface, {-1, 0, 0}};      // roots 0 and 3
@@ -75,7 +75,7 @@ TEST_SUITE_BEGIN("basic");
 TEST_CASE("shortcut: a sphere ahead gives two positive roots" *
           doctest::description("3. Ahead, behind and inside")) {
     expect_shortcut(ahead, ball, two(2.5f, 5.5f),
-                    "f = o - c = (0, 0, -4), h = f.d = -4, c = 16 - 2.25: t = 4 -+ 1.5. "
+                    "f = o - c = (0, 0, -4), h = f.d = -4, c' = 16 - 2.25: t = 4 -+ 1.5. "
                     "h < 0 means the centre is ahead, and -h is where the ray passes it.");
 }
 
@@ -88,7 +88,7 @@ TEST_CASE("shortcut: a sphere behind gives two negative roots" *
 TEST_CASE("shortcut: origin inside gives one root on each side" *
           doctest::description("3. Ahead, behind and inside")) {
     expect_shortcut(inside, ball, two(-2, 1),
-                    "c = 0.25 - 2.25 < 0 (the origin is inside), h = 0.5: t = -0.5 -+ 1.5.");
+                    "c' = 0.25 - 2.25 < 0 (the origin is inside), h = 0.5: t = -0.5 -+ 1.5.");
 }
 
 TEST_CASE("shortcut: a line that misses the centre" * doctest::description("1. When the direction has length 1")) {
@@ -98,11 +98,11 @@ TEST_CASE("shortcut: a line that misses the centre" * doctest::description("1. W
 
 TEST_CASE("shortcut: a tangent is one root" * doctest::description("1. When the direction has length 1")) {
     expect_shortcut(tangent, ball, one(4),
-                    "h = -4 and c = 2.25 + 16 - 2.25 = 16: h^2 - c = 0 exactly, one root t = -h = 4.");
+                    "h = -4 and c' = 2.25 + 16 - 2.25 = 16: h^2 - c' = 0 exactly, one root t = -h = 4.");
 }
 
 TEST_CASE("shortcut: a line 2 from the centre misses" * doctest::description("1. When the direction has length 1")) {
-    expect_shortcut(passing, ball, none(), "h^2 - c = 16 - (4 + 16 - 2.25) < 0: no roots.");
+    expect_shortcut(passing, ball, none(), "h^2 - c' = 16 - (4 + 16 - 2.25) < 0: no roots.");
 }
 
 TEST_CASE("shortcut: a diagonal unit direction" * doctest::description("1. When the direction has length 1")) {
@@ -113,19 +113,19 @@ TEST_CASE("shortcut: a diagonal unit direction" * doctest::description("1. When 
 TEST_CASE("shortcut: origin on the surface with a tangent direction is one root at t = 0" *
           doctest::description("1. When the direction has length 1")) {
     expect_shortcut(surface_tangent, ball, one(0),
-                    "The origin is on the sphere (c = f.f - r^2 = 0) and d is perpendicular to f (h = 0): "
-                    "h^2 - c = 0, one root t = 0. Here the sum that the stable root pair divides by is 0 too, "
+                    "The origin is on the sphere (c' = f.f - r^2 = 0) and d is perpendicular to f (h = 0): "
+                    "h^2 - c' = 0, one root t = 0. Here the sum that the stable root pair divides by is 0 too, "
                     "and 0/0 is NaN: a tangent is found from the discriminant, not from the pair.");
 }
 
 TEST_CASE("shortcut: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {
     expect_shortcut(surface_in, ball, two(0, 3),
-                    "c = 0 (the origin is on the sphere) and h = -1.5: t = 1.5 -+ 1.5, so 0 and 3.");
+                    "c' = 0 (the origin is on the sphere) and h = -1.5: t = 1.5 -+ 1.5, so 0 and 3.");
 }
 
 TEST_CASE("shortcut: origin on the surface heading out" * doctest::description("3. Ahead, behind and inside")) {
     expect_shortcut(surface_out, ball, two(-3, 0),
-                    "c = 0 and h = 1.5: t = -1.5 -+ 1.5, so -3 behind and 0 at the origin.");
+                    "c' = 0 and h = 1.5: t = -1.5 -+ 1.5, so -3 behind and 0 at the origin.");
 }
 
 TEST_CASE("shortcut: a ray holding NaN is a miss" * doctest::description("1. When the direction has length 1")) {
