@@ -60,7 +60,7 @@ const char* const geometric = "sphere_roots_geometric(ray, sphere)";
 // Each says what goes wrong, not how to write the cure: the case points to the
 // section (5 or 6) that explains it, and finding the cure is the exercise.
 const std::string disc_why =
-    "h^2 and c (or |L|^2 and t_m^2) are nearly equal large numbers here: their difference, the "
+    "h^2 and c' (or |L|^2 and t_m^2) are nearly equal large numbers here: their difference, the "
     "discriminant, keeps few correct digits.";
 const std::string root_why =
     "One root is much smaller than the other: t_m - Dt subtracts two nearly equal numbers and keeps few "
@@ -117,65 +117,79 @@ std::vector<Shot> big_shots() {
 TEST_SUITE_BEGIN("robust");
 
 TEST_CASE("shortcut: a unit sphere 1000 units away" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, far_1e3, far_shots(far_1e3), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(shortcut, sphere_roots_unit_dir, far_1e3, far_shots(far_1e3), disc_why + graded);
 }
 
 TEST_CASE("geometric: a unit sphere 1000 units away" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(geometric, sphere_roots_geometric, far_1e3, far_shots(far_1e3), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(geometric, sphere_roots_geometric, far_1e3, far_shots(far_1e3), disc_why + graded);
 }
 
 TEST_CASE("shortcut: a unit sphere 10000 units away" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, far_1e4, far_shots(far_1e4), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(shortcut, sphere_roots_unit_dir, far_1e4, far_shots(far_1e4), disc_why + graded);
 }
 
 TEST_CASE("geometric: a unit sphere 10000 units away" *
           doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(geometric, sphere_roots_geometric, far_1e4, far_shots(far_1e4), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(geometric, sphere_roots_geometric, far_1e4, far_shots(far_1e4), disc_why + graded);
 }
 
 TEST_CASE("shortcut: a tiny sphere near the origin" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, tiny, tiny_shots(), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(shortcut, sphere_roots_unit_dir, tiny, tiny_shots(), disc_why + graded);
 }
 
 TEST_CASE("geometric: a tiny sphere near the origin" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(geometric, sphere_roots_geometric, tiny, tiny_shots(), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(geometric, sphere_roots_geometric, tiny, tiny_shots(), disc_why + graded);
 }
 
 TEST_CASE("shortcut: a huge sphere far away" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, huge, huge_shots(), disc_why);
+    const std::string graded = graded_forms({Form::textbook_float, Form::float_rewrites}, {});
+    expect_accurate(shortcut, sphere_roots_unit_dir, huge, huge_shots(), disc_why + graded);
 }
 
 TEST_CASE("geometric: a huge sphere far away" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(geometric, sphere_roots_geometric, huge, huge_shots(), disc_why);
+    const std::string graded = graded_forms({Form::textbook_float, Form::float_rewrites}, {});
+    expect_accurate(geometric, sphere_roots_geometric, huge, huge_shots(), disc_why + graded);
 }
 
 TEST_CASE("shortcut: a sphere far from the origin with the ray nearby" *
           doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, nearby, nearby_shots(), disc_why);
+    const std::string graded = graded_forms({Form::textbook_float, Form::float_rewrites}, {});
+    expect_accurate(shortcut, sphere_roots_unit_dir, nearby, nearby_shots(), disc_why + graded);
 }
 
 TEST_CASE("geometric: a sphere far from the origin with the ray nearby" *
           doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(geometric, sphere_roots_geometric, nearby, nearby_shots(), disc_why);
+    const std::string graded = graded_forms({Form::textbook_float, Form::float_rewrites}, {});
+    expect_accurate(geometric, sphere_roots_geometric, nearby, nearby_shots(), disc_why + graded);
 }
 
 TEST_CASE("shortcut: grazing rays near the silhouette" * doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, grazed, grazing_shots(), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(shortcut, sphere_roots_unit_dir, grazed, grazing_shots(), disc_why + graded);
 }
 
 TEST_CASE("geometric: grazing rays near the silhouette" *
           doctest::description("5. Cancellation in the discriminant")) {
-    expect_accurate(geometric, sphere_roots_geometric, grazed, grazing_shots(), disc_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(geometric, sphere_roots_geometric, grazed, grazing_shots(), disc_why + graded);
 }
 
 TEST_CASE("shortcut: a near root much smaller than the far root" *
           doctest::description("6. Cancellation in the roots")) {
-    expect_accurate(shortcut, sphere_roots_unit_dir, big, big_shots(), root_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(shortcut, sphere_roots_unit_dir, big, big_shots(), root_why + graded);
 }
 
 TEST_CASE("geometric: a near root much smaller than the far root" *
           doctest::description("6. Cancellation in the roots")) {
-    expect_accurate(geometric, sphere_roots_geometric, big, big_shots(), root_why);
+    const std::string graded = graded_forms({Form::float_rewrites}, {Form::textbook_float});
+    expect_accurate(geometric, sphere_roots_geometric, big, big_shots(), root_why + graded);
 }
 
 TEST_SUITE_END();

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
@@ -37,6 +38,40 @@ namespace raykit::grading {
 /// in step 01: the margin that counts is 2.5 times. Lecture 03's appendix,
 /// section B.
 constexpr std::int64_t robust_max_ulps = 16;
+
+/// The ways of writing a sphere step that the ★ cases name when they say who passes them. Each is
+/// graded on every ★ case by tools/kitlib/selftest/robust.py (textbook_float: tests/fixtures/textbook/;
+/// float_rewrites: lecture 03's leg and cross-product forms with the stable root pair, in float only,
+/// tests/fixtures/forms/float_leg/ and float_cross/ for step 02 and the reference solutions of steps 01
+/// and 03; double_textbook: tests/fixtures/forms/double_inside/; double_rewrite: the reference of
+/// step 02), which fails when a case's lists disagree with the grades.
+enum class Form { textbook_float, float_rewrites, double_textbook, double_rewrite };
+
+inline std::string form_words(Form f) {
+    switch (f) {
+        case Form::textbook_float: return "the textbook formula in float";
+        case Form::float_rewrites: return "lecture 03's float rewrites";
+        case Form::double_textbook: return "the textbook formula computed in double";
+        case Form::double_rewrite: return "the rewrite computed in double";
+    }
+    return "?";
+}
+
+/// " Of the ways the kit grades here, passed by A and B; failed by C.": which forms pass a ★ case.
+inline std::string graded_forms(std::initializer_list<Form> pass, std::initializer_list<Form> fail) {
+    auto list = [](std::initializer_list<Form> forms) {
+        std::string out;
+        std::size_t i = 0;
+        for (const Form f : forms) {
+            out += (i == 0 ? "" : i + 1 == forms.size() ? " and " : ", ") + form_words(f);
+            ++i;
+        }
+        return out;
+    };
+    std::string out = " Of the ways the kit grades here, passed by " + (pass.size() ? list(pass) : "none");
+    if (fail.size()) out += "; failed by " + list(fail);
+    return out + ".";
+}
 
 inline std::string show_ulps(std::int64_t n) {
     return n == std::numeric_limits<std::int64_t>::max() ? "NaN" : std::to_string(n) + " ulps";
