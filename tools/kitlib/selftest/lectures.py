@@ -25,10 +25,11 @@ from ..common import ROOT, load_steps
 from .harness import Failed, Skipped, expect
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"
+ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
 
 
-def _generator():
-    spec = importlib.util.spec_from_file_location("bench_numbers", GENERATOR)
+def _generator(path: Path = GENERATOR):
+    spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -71,6 +72,52 @@ def selftest_bench_numbers(ctx) -> str:
                    "expected 2 and a message")
     expect(all(p.read_text() == t for p, t in before.items()), "bench_numbers.py changed a file on bad input")
     return f"{blocks} generated blocks current with docs/bench/results.json; stale when the run moves; bad input exits 2"
+
+
+def selftest_robust_numbers(ctx) -> str:
+    if not ROBUST_GENERATOR.is_file() or not (ROOT / "solutions").is_dir():
+        raise Skipped("no docs/robust_numbers.py or no solutions/ here (a handout)")
+    rn = _generator(ROBUST_GENERATOR)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = rn.main(["--check"])
+    expect(code == 0, f"the ★ grading figures are stale: {err.getvalue().strip()}")
+    record = json.loads(rn.RECORD.read_text())
+    blocks = sum(1 for p in rn.FILES for line in p.read_text().split("\n") if rn.BEGIN.match(line))
+    expect(blocks >= 5, f"only {blocks} generated blocks in {', '.join(p.name for p in rn.FILES)}")
+
+    # The check can fail: a measurement with another least wrong textbook ray, and one of other suites.
+    moved = copy.deepcopy(record)
+    for case, checks in moved["forms"]["textbook"]["02"].items():
+        for check in checks:
+            if check[0] > rn.BOUND:
+                check[0] += 3
+    changed = rn.run_files(moved, rn.FILES, check=True)
+    expect(any("appendix-table" in c for c in changed) and any("grading-bound" in c for c in changed),
+           f"textbook distances 3 ulps larger changed only {changed}: the blocks do not follow the record")
+    with tempfile.TemporaryDirectory() as tmp:
+        other = Path(tmp) / "record.json"
+        other.write_text(json.dumps({**record, "digest": "0" * 16}))
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            code = rn.main(["--check", "--record", str(other)])
+        expect(code == 1 and "--measure" in err.getvalue(),
+               f"a record of other suites passed --check (exit {code}, {err.getvalue().strip()!r})")
+        before = {p: p.read_text() for p in rn.FILES}
+        for bad in ("{", None):
+            path = Path(tmp) / "bad.json"
+            if bad is not None:
+                path.write_text(bad)
+            else:
+                path = Path(tmp) / "missing.json"
+            err = io.StringIO()
+            with contextlib.redirect_stderr(err):
+                code = rn.main(["--record", str(path)])
+            expect(code == 2 and "robust_numbers.py: " in err.getvalue(),
+                   f"robust_numbers.py --record {path.name} exited {code}, expected 2 and a message")
+        expect(all(p.read_text() == t for p, t in before.items()), "robust_numbers.py changed a file on bad input")
+    return (f"{blocks} generated blocks current with docs/robust_numbers.json, measured on today's suites and "
+            "forms; stale when the measurement moves or the suites change; bad input exits 2")
 
 
 # "section 4", "sections 5 and 6", "section 2. The ray meets the sphere" (a title starts with a capital).
@@ -265,5 +312,6 @@ def selftest_contract_clauses(ctx) -> str:
 
 def selftests():
     return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
+            ("★ grading figures are current", selftest_robust_numbers),
             ("hints point to lecture sections that exist", selftest_hint_sections),
             ("every rule a header states has a case", selftest_contract_clauses)]
