@@ -26,6 +26,7 @@ from .harness import Failed, Skipped, expect
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"
 ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
+PITFALL_PICTURES = ROOT / "docs" / "pitfall_pictures.py"
 
 
 def _generator(path: Path = GENERATOR):
@@ -118,6 +119,29 @@ def selftest_robust_numbers(ctx) -> str:
         expect(all(p.read_text() == t for p, t in before.items()), "robust_numbers.py changed a file on bad input")
     return (f"{blocks} generated blocks current with docs/robust_numbers.json, measured on today's suites and "
             "forms; stale when the measurement moves or the suites change; bad input exits 2")
+
+
+def selftest_pitfall_pictures(ctx) -> str:
+    if not PITFALL_PICTURES.is_file():
+        raise Skipped("no docs/pitfall_pictures.py here")
+    pp = _generator(PITFALL_PICTURES)
+    bad = pp.stale()
+    expect(not bad, f"docs/pitfalls/ is stale: {', '.join(bad)} (run python3 docs/pitfall_pictures.py)")
+    page = (ROOT / "docs" / "pitfalls.md").read_text()
+    linked = set(re.findall(r"\]\((pitfalls/[^)\s]+\.svg)\)", page))
+    missing = sorted(p for p in linked if not (ROOT / "docs" / p).is_file())
+    expect(linked and not missing, f"docs/pitfalls.md links pictures that are not committed: {missing}")
+    # The check can fail: a committed picture changed by one byte, and one missing.
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        for p in pp.FOLDER.glob("*.svg"):
+            (folder / p.name).write_bytes(p.read_bytes())
+        first = sorted(folder.glob("*.svg"))
+        first[0].write_text(first[0].read_text().replace("<svg", "<svg ", 1))
+        first[1].unlink()
+        found = pp.stale(folder)
+        expect(found == sorted([first[0].name, first[1].name]), f"a changed and a missing picture gave {found}")
+    return f"{len(linked)} pictures of docs/pitfalls.md committed and current; a changed or missing one is caught"
 
 
 # "section 4", "sections 5 and 6", "section 2. The ray meets the sphere" (a title starts with a capital).
@@ -313,5 +337,6 @@ def selftest_contract_clauses(ctx) -> str:
 def selftests():
     return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
             ("★ grading figures are current", selftest_robust_numbers),
+            ("the pitfalls' pictures are committed and current", selftest_pitfall_pictures),
             ("hints point to lecture sections that exist", selftest_hint_sections),
             ("every rule a header states has a case", selftest_contract_clauses)]
