@@ -27,9 +27,9 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
 
 void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
-    check_hit("intersect_unit_sphere(ray, tmin, tmax)",
-              show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", expected,
-              intersect_unit_sphere(ray, tmin, tmax), why);
+    check_hit_in("intersect_unit_sphere(ray, tmin, tmax)",
+                 show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", tmin, tmax, expected,
+                 [&](float lo, float hi) { return intersect_unit_sphere(ray, lo, hi); }, why);
 }
 
 // The ray most window cases use: along +x from (-3, 0, 0), roots 2 and 4.

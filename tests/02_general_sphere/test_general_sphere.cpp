@@ -31,9 +31,10 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
 
 void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
-    check_hit("intersect_sphere(ray, sphere, tmin, tmax)",
-              show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
-              expected, intersect_sphere(ray, sphere, tmin, tmax), why);
+    check_hit_in("intersect_sphere(ray, sphere, tmin, tmax)",
+                 show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
+                 tmin, tmax, expected, [&](float lo, float hi) { return intersect_sphere(ray, sphere, lo, hi); },
+                 why);
 }
 
 // Most cases use this sphere: centre (5, -2, 3), radius 2. It spans x from 3

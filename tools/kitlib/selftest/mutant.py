@@ -89,6 +89,7 @@ PLANTED = {
     "an index the loop does not set": (LOOP.replace("Hit{*t, i}", "Hit{*t, 0}"), "a variable the loop does not set"),
 }
 NAMES_CASE = "the hit names the object it belongs to wherever it is listed"
+WINDOW_CASE = "window: a root exactly at tmin counts"
 
 
 def selftest_planted_causes(ctx) -> str:
@@ -110,10 +111,24 @@ def selftest_planted_causes(ctx) -> str:
         if words not in message or any(w in message for w in others):
             raise Failed(f"planted {cause}: the failure does not name it (and only it):\n{message[-600:]}")
         named.append(cause)
+    # Step 01: the open window, planted by its mutant, is named; the far root tried first, which fails the
+    # same case, is not called an open window.
+    step01 = next(s for s in load_steps() if s.number == "01")
+    for patch, want in (("open_window", True), ("far_root_preferred", False)):
+        files = apply_patch(read_patch(MUTANTS / step01.folder / f"{patch}.patch", step01))
+        _, result = grade_files(step01, files, work)
+        case = next((c for c in (result or {}).get("cases", []) if c["name"] == WINDOW_CASE), None)
+        if case is None or case["status"] != "fail":
+            raise Failed(f"mutant {patch}: the case '{WINDOW_CASE}' did not fail")
+        said = "treats the window as open" in "\n".join(case["messages"])
+        if said != want:
+            raise Failed(f"mutant {patch}: the failure {'does not name' if want else 'wrongly names'} an open "
+                         f"window:\n{case['messages'][-1][-600:]}")
+    named.append("an open window (and not for the far root tried first)")
     shutil.rmtree(work, ignore_errors=True)
-    return "step 05's ★ failure names the planted cause: " + ", ".join(named)
+    return "the failure names the planted cause: " + ", ".join(named)
 
 
 def selftests():
     return [("mutants are caught", selftest_mutants),
-            ("a ★ failure names the cause planted in the answer", selftest_planted_causes)]
+            ("a failure names the cause planted in the answer", selftest_planted_causes)]
