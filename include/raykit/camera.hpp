@@ -19,8 +19,8 @@ namespace raykit {
 /// `film_height / focal_length` matters (it sets the field of view), so any
 /// unit will do as long as both use the same.
 ///
-/// The image's "right" is `r = f x u`
-/// (forward cross up): a camera looking along `+z` with up `+y` has
+/// The image's "right" is `r = g x u`
+/// (forward, the gaze `g`, cross up): a camera looking along `+z` with up `+y` has
 /// `-x` on its right.
 struct Camera {
     glm::vec3 eye;       ///< The pinhole, where every view ray starts.

@@ -25,13 +25,14 @@ namespace raykit {
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses, when the
 ///         direction is zero or when the radius describes no sphere. Inputs
-///         containing NaN or infinity, or so large that `d.d`
-///         overflows, count as a miss; no root is ever NaN. Roots behind the
-///         origin (`t < 0`) are included.
+///         containing NaN or infinity count as a miss. A direction so large
+///         that `d.d` overflows float may count as a miss too, or give its
+///         roots (computed in a wider type); no root is ever NaN. Roots behind
+///         the origin (`t < 0`) are included.
 ///
 /// The ★ robust cases also ask for accuracy: each root within a few units in
 /// the last place (ulps) of the exact root of the same float inputs, for far,
-/// tiny, huge and grazing configurations (lecture 03, sections 4 to 8).
+/// tiny, huge and grazing configurations (lecture 03, sections 4 to 6).
 Roots sphere_roots(const Ray& ray, const Sphere& sphere);
 
 /// The closest hit of \p ray with \p sphere inside the closed window

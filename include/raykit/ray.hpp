@@ -2,7 +2,7 @@
 /// \brief A ray: a start point and a direction.
 ///
 /// The formulas in these headers are plain text, as in code: `o.d` is the dot
-/// product of `o` and `d`, `|d|` a length, `f x u` a cross product, `t^2` a
+/// product of `o` and `d`, `|d|` a length, `g x u` a cross product, `t^2` a
 /// square. The lectures typeset the same formulas.
 #pragma once
 

@@ -35,11 +35,11 @@ std::optional<Hit> find_intersection(const Ray& ray, const Scene& scene, float t
 ///
 /// The pixel's centre on the film is (lecture 05, section 6)
 ///
-///     p = e + F f + x r + y u,   with  x = ((i + 1/2) / W - 1/2) * w_film
+///     p = e + F g + x r + y u,   with  x = ((i + 1/2) / W - 1/2) * w_film
 ///                                      y = (1/2 - (j + 1/2) / H) * h_film
 ///
-/// where `F` is the focal length, `f` the forward and `u` the up vector,
-/// `r = f x u` the image's right, `W x H` the image size in pixels,
+/// where `F` is the focal length, `g` the forward vector (the gaze) and `u`
+/// the up vector, `r = g x u` the image's right, `W x H` the image size in pixels,
 /// `h_film` the film height and `w_film = h_film * W / H` its width.
 ///
 /// \param camera the camera, as documented in Camera.

@@ -15,8 +15,8 @@ namespace raykit {
 /// quadratic.
 ///
 /// With `|d| = 1` the coefficient of `t^2` is 1 and the roots are
-/// `t = -h +- sqrt(h^2 - c)`, with `f = o - center` (the origin seen from the
-/// sphere's centre), `h = f.d` and `c = f.f - r^2`.
+/// `t = -h +- sqrt(h^2 - c')`, with `f = o - center` (the origin seen from the
+/// sphere's centre), `h = f.d` and the constant term `c' = f.f - r^2`.
 ///
 /// \param ray    **precondition:** `|ray.direction| == 1` up to float rounding
 ///               (a direction from `glm::normalize`). For any other direction the

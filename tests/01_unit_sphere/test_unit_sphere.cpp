@@ -15,6 +15,8 @@ using namespace raykit::grading;
 
 namespace {
 
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
+
 Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
 Roots none() { return Roots{}; }
@@ -25,9 +27,9 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
 
 void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
-    check_hit("intersect_unit_sphere(ray, tmin, tmax)",
-              show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", expected,
-              intersect_unit_sphere(ray, tmin, tmax), why);
+    check_hit_in("intersect_unit_sphere(ray, tmin, tmax)",
+                 show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", tmin, tmax, expected,
+                 [&](float lo, float hi) { return intersect_unit_sphere(ray, lo, hi); }, why);
 }
 
 // The ray most window cases use: along +x from (-3, 0, 0), roots 2 and 4.
@@ -107,6 +109,17 @@ TEST_CASE("origin on the surface looking out: the other root is behind" *
                  "The origin is on the sphere, and the line's other crossing is (0, 0, -1), at t = -2.");
 }
 
+TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
+          doctest::description("4. What the discriminant says")) {
+    expect_roots({{1, 0, 0}, {0, 1, 0}}, one(0),
+                 "The origin (1, 0, 0) is on the sphere (c = 0) and d is perpendicular to it (h = o.d = 0): "
+                 "h^2 - a c = 0 exactly, a tangent touching at t = 0. Here the sum that the stable root pair "
+                 "divides by is 0 too, and 0/0 is NaN: a tangent is found from the discriminant, not from the pair.");
+    expect_roots({{0, 0, -1}, {3, 4, 0}}, one(0),
+                 "o = (0, 0, -1) is on the sphere and d = (3, 4, 0) is perpendicular to o: "
+                 "h = 0 and c = 0, one root t = 0, not NaN.");
+}
+
 TEST_CASE("sphere behind the ray: both roots negative" *
           doctest::description("5. The closest root in a window")) {
     expect_roots({{3, 0, 0}, {1, 0, 0}}, two(-4, -2),
@@ -140,6 +153,28 @@ TEST_CASE("a zero direction is no ray: no roots" * doctest::description("2. The 
                  "With d = 0 the quadratic's a is 0: there is no line to intersect. Report count 0 (and no NaN).");
 }
 
+TEST_CASE("a ray holding NaN is no ray: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-3, not_a_number, 0}, {1, 0, 0}}, none(),
+                 "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a "
+                 "NaN root (a test for a == 0 alone lets NaN through: NaN < 0 and NaN == 0 are both false).");
+    expect_roots({{-3, 0, 0}, {1, not_a_number, 0}}, none(),
+                 "The direction's y is NaN: a, h and the discriminant are NaN. Report count 0, never a NaN root.");
+}
+
+TEST_CASE("a ray holding infinity is no ray: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-inf, 0, 0}, {1, 0, 0}}, none(),
+                 "The origin is at x = -inf: o.d and o.o are infinite and the discriminant is inf - inf = NaN. "
+                 "The header says such a ray counts as a miss: count 0, never a NaN root.");
+    expect_roots({{-3, 0, 0}, {inf, 0, 0}}, none(),
+                 "The direction is infinite, so a = d.d is inf and every root is inf / inf = NaN. Count 0.");
+}
+
+TEST_CASE("a direction so long that d.d overflows: no roots" * doctest::description("2. The ray meets the sphere")) {
+    expect_roots({{-3, 0, 0}, {2e19f, 0, 0}}, none(),
+                 "|d| = 2e19 is a float, but a = d.d = 4e38 is beyond the largest float (3.4e38) and becomes inf. "
+                 "The header says such a ray counts as a miss: check that a is finite, not only that it is not 0.");
+}
+
 // ---- intersect_unit_sphere: the closest root in a closed window --------------
 
 TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
@@ -152,6 +187,11 @@ TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root
 
 TEST_CASE("window: a tangent is a hit" * doctest::description("5. The closest root in a window")) {
     expect_hit({{-2, 1, 0}, {1, 0, 0}}, 0, inf, 2.0f, "A tangent touches the sphere: it is a hit at t = 2.");
+}
+
+TEST_CASE("window: a ray holding NaN is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-3, 0, not_a_number}, {1, 0, 0}}, -inf, inf, std::nullopt,
+               "The ray counts as a miss (no roots), so there is no hit even in the window [-inf, inf].");
 }
 
 TEST_CASE("window: the near root before tmin gives the far root" *
@@ -214,6 +254,12 @@ TEST_CASE("window: a direction of length 2 returns t in steps of d" *
           doctest::description("2. The ray meets the sphere")) {
     expect_hit({{-3, 0, 0}, {2, 0, 0}}, 0, inf, 1.0f,
                "The hit point (-1, 0, 0) is o + 1 * d: t = 1, not the distance 2.");
+}
+
+TEST_CASE("window: an origin on the surface with a tangent direction is a hit at t = 0" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{1, 0, 0}, {0, 1, 0}}, 0, inf, 0.0f,
+               "The ray starts on the sphere and touches it there: the root t = 0 is at tmin = 0, a hit.");
 }
 
 TEST_SUITE_END();

@@ -31,9 +31,10 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
 
 void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
-    check_hit("intersect_sphere(ray, sphere, tmin, tmax)",
-              show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
-              expected, intersect_sphere(ray, sphere, tmin, tmax), why);
+    check_hit_in("intersect_sphere(ray, sphere, tmin, tmax)",
+                 show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
+                 tmin, tmax, expected, [&](float lo, float hi) { return intersect_sphere(ray, sphere, lo, hi); },
+                 why);
 }
 
 // Most cases use this sphere: centre (5, -2, 3), radius 2. It spans x from 3
@@ -53,7 +54,7 @@ TEST_CASE("two hits: a ray through the centre of a sphere away from the origin" 
           doctest::description("4. The roots and the discriminant")) {
     expect_roots(through_centre, ball, two(2, 4),
                  "x = -1 + 2t reaches the sphere's near side x = 3 at t = 2 and its far side x = 7 at t = 4. "
-                 "f = o - c = (-6, 0, 0), a = 4, h = -12, c = 32.");
+                 "f = o - c = (-6, 0, 0), a = 4, h = -12, c' = 32.");
 }
 
 TEST_CASE("the centre matters: a ray through the world origin misses a sphere centred elsewhere" *
@@ -68,8 +69,8 @@ TEST_CASE("the centre matters: the roots move with the sphere" * doctest::descri
                  "The sphere around (0, 0, 10) covers z from 9 to 11 on the z axis.");
 }
 
-TEST_CASE("the radius matters: c uses r squared" * doctest::description("2. Any radius")) {
-    // f = (-6, 0, 0), r = 3: c = 36 - 9 = 27, h = -6, h^2 - c = 9.
+TEST_CASE("the radius matters: c' uses r squared" * doctest::description("2. Any radius")) {
+    // f = (-6, 0, 0), r = 3: c' = 36 - 9 = 27, h = -6, h^2 - c' = 9.
     expect_roots({{-4, 1, 0}, {1, 0, 0}}, {{2, 1, 0}, 3}, two(3, 9),
                  "The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9. "
                  "Here r = 3 and r^2 = 9 differ: roots computed from r, not from its square, belong to "
@@ -113,7 +114,7 @@ TEST_CASE("one hit: a tangent ray with a direction of length 2" *
           doctest::description("4. The roots and the discriminant")) {
     expect_roots({{1, 0, 3}, {2, 0, 0}}, ball, one(2),
                  "The line y = 0, z = 3 is exactly 2 from the centre: it touches (5, 0, 3) at t = 2. "
-                 "a = 4, h = -8, c = 16: h^2 - a c = 0.");
+                 "a = 4, h = -8, c' = 16: h^2 - a c' = 0.");
 }
 
 TEST_CASE("one hit: a tangent ray with a direction of length 1/2" *
@@ -139,7 +140,7 @@ TEST_CASE("origin inside but off centre with a ray towards -x" *
 TEST_CASE("origin on the surface looking in: one root is exactly 0" *
           doctest::description("4. The roots and the discriminant")) {
     expect_roots({{3, -2, 3}, {4, 0, 0}}, ball, two(0, 1),
-                 "The origin (3, -2, 3) is on the sphere (c = 0), so t = 0 is a root; the ray leaves at "
+                 "The origin (3, -2, 3) is on the sphere (c' = 0), so t = 0 is a root; the ray leaves at "
                  "x = 7, t = 1.");
 }
 
@@ -147,6 +148,18 @@ TEST_CASE("origin on the surface looking out: the other root is behind" *
           doctest::description("4. The roots and the discriminant")) {
     expect_roots({{5, -2, 5}, {0, 0, 2}}, ball, two(-2, 0),
                  "The origin is the sphere's top (5, -2, 5); the line's other crossing, z = 1, is at t = -2.");
+}
+
+TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
+          doctest::description("4. The roots and the discriminant")) {
+    expect_roots({{5, -2, 5}, {2, 0, 0}}, ball, one(0),
+                 "The origin is the sphere's top (5, -2, 5), so f = (0, 0, 2) and c' = f.f - r^2 = 0; d is "
+                 "perpendicular to f, so h = f.d = 0. The discriminant h^2 - a c' is exactly 0: one root, "
+                 "t = 0. Here the sum that the stable root pair divides by is 0 too, and 0/0 is NaN: a tangent "
+                 "is found from the discriminant, not from the pair.");
+    expect_roots({{3, -2, 3}, {0, 3, -4}}, ball, one(0),
+                 "o = (3, -2, 3) is on the sphere (f = (-2, 0, 0)) and d = (0, 3, -4) is perpendicular to f: "
+                 "h = 0 and c' = 0, one root t = 0, not NaN.");
 }
 
 TEST_CASE("sphere behind the ray: both roots negative" *
@@ -193,6 +206,39 @@ TEST_CASE("a radius that is NaN or infinite is no sphere: no roots" *
                  "An infinite radius describes no sphere: report no roots.");
 }
 
+TEST_CASE("a ray holding NaN is no ray: no roots" * doctest::description("6. No sphere and no ray")) {
+    expect_roots({{-1, not_a_number, 3}, {2, 0, 0}}, ball, none(),
+                 "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a "
+                 "NaN root (a test for a == 0 alone lets NaN through: NaN < 0 and NaN == 0 are both false).");
+    expect_roots({{-1, -2, 3}, {2, 0, not_a_number}}, ball, none(),
+                 "The direction's z is NaN: a, h and the discriminant are NaN. Report count 0, never a NaN root.");
+    expect_roots(through_centre, {{5, not_a_number, 3}, 2}, none(),
+                 "The centre's y is NaN, so f = o - centre holds NaN: no sphere to meet. Count 0.");
+}
+
+TEST_CASE("a ray holding infinity is no ray: no roots" * doctest::description("6. No sphere and no ray")) {
+    expect_roots({{-inf, -2, 3}, {2, 0, 0}}, ball, none(),
+                 "The origin is at x = -inf: f.d and f.f are infinite and the discriminant is inf - inf = NaN. "
+                 "The header says such a ray counts as a miss: count 0, never a NaN root.");
+    expect_roots({{-1, -2, 3}, {inf, 0, 0}}, ball, none(),
+                 "The direction is infinite, so a = d.d is inf and every root is inf / inf = NaN. Count 0.");
+    expect_roots(through_centre, {{inf, -2, 3}, 2}, none(),
+                 "The centre is at x = inf: no sphere a finite ray could meet. Count 0.");
+}
+
+TEST_CASE("a direction so long that d.d overflows float: no roots or the true roots and never NaN" *
+          doctest::description("6. No sphere and no ray")) {
+    // The header allows either answer: count 0 (a float a = d.d is inf), or the roots
+    // 2e-19 and 4e-19 (a computed in double, as the reference does). Never NaN.
+    const Ray ray{{-1, -2, 3}, {2e19f, 0, 0}};
+    const Roots got = sphere_roots(ray, ball);
+    if (got.count != 0)
+        check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(ball), two(2e-19f, 4e-19f), got,
+                    "|d| = 2e19 is a float, but d.d = 4e38 is beyond the largest float (3.4e38): in float a is "
+                    "inf and the roots become inf / inf = NaN. The header allows count 0 here (check that a is "
+                    "finite, not only that it is not 0), or the true roots from a wider type.");
+}
+
 // ---- intersect_sphere: the closest root in a closed window -----------------------
 
 TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
@@ -205,6 +251,11 @@ TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root
 
 TEST_CASE("window: a tangent is a hit" * doctest::description("5. The closest root in a window")) {
     expect_hit({{1, 0, 3}, {2, 0, 0}}, ball, 0, inf, 2.0f, "A tangent touches the sphere: it is a hit at t = 2.");
+}
+
+TEST_CASE("window: a ray holding NaN is no hit" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-1, -2, not_a_number}, {2, 0, 0}}, ball, -inf, inf, std::nullopt,
+               "The ray counts as a miss (no roots), so there is no hit even in the window [-inf, inf].");
 }
 
 TEST_CASE("window: the near root before tmin gives the far root" *
@@ -267,6 +318,12 @@ TEST_CASE("window: a direction of length 4 returns t in steps of d" *
 TEST_CASE("window: a degenerate sphere is no hit" * doctest::description("6. No sphere and no ray")) {
     expect_hit(through_centre, {{5, -2, 3}, -2}, 0, inf, std::nullopt, "A negative radius describes no sphere.");
     expect_hit({{-1, -2, 3}, {0, 0, 0}}, ball, -inf, inf, std::nullopt, "A zero direction describes no ray.");
+}
+
+TEST_CASE("window: an origin on the surface with a tangent direction is a hit at t = 0" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit({{5, -2, 5}, {2, 0, 0}}, ball, 0, inf, 0.0f,
+               "The ray starts on the sphere's top and touches it there: the root t = 0 is at tmin = 0, a hit.");
 }
 
 TEST_SUITE_END();

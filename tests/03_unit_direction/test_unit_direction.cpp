@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 
+#include <limits>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -23,6 +24,8 @@ using namespace raykit;
 using namespace raykit::grading;
 
 namespace {
+
+constexpr float not_a_number = std::numeric_limits<float>::quiet_NaN();
 
 Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
@@ -55,6 +58,11 @@ const Ray offset{{2.9f, -6, 4}, {0, 1, 0}};
 const Ray tangent{{2, 0.5f, 0}, {0, 0, 1}};
 // A line 2 from the centre: a miss.
 const Ray passing{{2, 1, 0}, {0, 0, 1}};
+// The origin on the surface, 1.5 along +x from the centre: f = (1.5, 0, 0), c' = 0.
+const glm::vec3 on_surface{3.5f, -1, 4};
+const Ray surface_tangent{on_surface, {0, 1, 0}};  // h = 0: one root, t = 0
+const Ray surface_in{on_surface, {-1, 0, 0}};      // roots 0 and 3
+const Ray surface_out{on_surface, {1, 0, 0}};      // roots -3 and 0
 // A diagonal unit direction (1, 2, 2) / 3 from 6 units before the centre.
 const Ray diagonal{{0, -5, 0}, glm::normalize(glm::vec3(1, 2, 2))};
 
@@ -67,7 +75,7 @@ TEST_SUITE_BEGIN("basic");
 TEST_CASE("shortcut: a sphere ahead gives two positive roots" *
           doctest::description("3. Ahead, behind and inside")) {
     expect_shortcut(ahead, ball, two(2.5f, 5.5f),
-                    "f = o - c = (0, 0, -4), h = f.d = -4, c = 16 - 2.25: t = 4 -+ 1.5. "
+                    "f = o - c = (0, 0, -4), h = f.d = -4, c' = 16 - 2.25: t = 4 -+ 1.5. "
                     "h < 0 means the centre is ahead, and -h is where the ray passes it.");
 }
 
@@ -80,7 +88,7 @@ TEST_CASE("shortcut: a sphere behind gives two negative roots" *
 TEST_CASE("shortcut: origin inside gives one root on each side" *
           doctest::description("3. Ahead, behind and inside")) {
     expect_shortcut(inside, ball, two(-2, 1),
-                    "c = 0.25 - 2.25 < 0 (the origin is inside), h = 0.5: t = -0.5 -+ 1.5.");
+                    "c' = 0.25 - 2.25 < 0 (the origin is inside), h = 0.5: t = -0.5 -+ 1.5.");
 }
 
 TEST_CASE("shortcut: a line that misses the centre" * doctest::description("1. When the direction has length 1")) {
@@ -90,16 +98,49 @@ TEST_CASE("shortcut: a line that misses the centre" * doctest::description("1. W
 
 TEST_CASE("shortcut: a tangent is one root" * doctest::description("1. When the direction has length 1")) {
     expect_shortcut(tangent, ball, one(4),
-                    "h = -4 and c = 2.25 + 16 - 2.25 = 16: h^2 - c = 0 exactly, one root t = -h = 4.");
+                    "h = -4 and c' = 2.25 + 16 - 2.25 = 16: h^2 - c' = 0 exactly, one root t = -h = 4.");
 }
 
 TEST_CASE("shortcut: a line 2 from the centre misses" * doctest::description("1. When the direction has length 1")) {
-    expect_shortcut(passing, ball, none(), "h^2 - c = 16 - (4 + 16 - 2.25) < 0: no roots.");
+    expect_shortcut(passing, ball, none(), "h^2 - c' = 16 - (4 + 16 - 2.25) < 0: no roots.");
 }
 
 TEST_CASE("shortcut: a diagonal unit direction" * doctest::description("1. When the direction has length 1")) {
     expect_shortcut(diagonal, ball, two(4.5f, 7.5f),
                     "The centre is 6 units along the ray, so the roots are 6 -+ 1.5; with |d| = 1, t is a distance.");
+}
+
+TEST_CASE("shortcut: origin on the surface with a tangent direction is one root at t = 0" *
+          doctest::description("1. When the direction has length 1")) {
+    expect_shortcut(surface_tangent, ball, one(0),
+                    "The origin is on the sphere (c' = f.f - r^2 = 0) and d is perpendicular to f (h = 0): "
+                    "h^2 - c' = 0, one root t = 0. Here the sum that the stable root pair divides by is 0 too, "
+                    "and 0/0 is NaN: a tangent is found from the discriminant, not from the pair.");
+}
+
+TEST_CASE("shortcut: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {
+    expect_shortcut(surface_in, ball, two(0, 3),
+                    "c' = 0 (the origin is on the sphere) and h = -1.5: t = 1.5 -+ 1.5, so 0 and 3.");
+}
+
+TEST_CASE("shortcut: origin on the surface heading out" * doctest::description("3. Ahead, behind and inside")) {
+    expect_shortcut(surface_out, ball, two(-3, 0),
+                    "c' = 0 and h = 1.5: t = -1.5 -+ 1.5, so -3 behind and 0 at the origin.");
+}
+
+TEST_CASE("shortcut: a ray holding NaN is a miss" * doctest::description("1. When the direction has length 1")) {
+    expect_shortcut({{2, not_a_number, 0}, {0, 0, 1}}, ball, none(),
+        "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a NaN root.");
+    expect_shortcut({{2, -1, 0}, {0, not_a_number, 1}}, ball, none(),
+        "The direction holds NaN (it is no unit vector, but the header still asks for count 0, never a NaN root).");
+    expect_shortcut(ahead, {{2, -1, not_a_number}, 1.5f}, none(), "The centre's z is NaN: no sphere to meet. Count 0.");
+}
+
+TEST_CASE("shortcut: a ray holding infinity is a miss" * doctest::description("1. When the direction has length 1")) {
+    expect_shortcut({{2, -1, -inf}, {0, 0, 1}}, ball, none(),
+        "The origin is at z = -inf: the values that decide the roots are inf - inf = NaN. The header says "
+        "such a ray counts as a miss: count 0, never a NaN root.");
+    expect_shortcut(ahead, {{2, -1, inf}, 1.5f}, none(), "The centre is at z = inf: no sphere a finite ray could meet. Count 0.");
 }
 
 TEST_CASE("shortcut: a radius of zero or less is no sphere" *
@@ -145,6 +186,40 @@ TEST_CASE("geometric: a line 2 from the centre misses" * doctest::description("2
 TEST_CASE("geometric: a diagonal unit direction" * doctest::description("2. The same roots from a drawing")) {
     expect_geometric(diagonal, ball, two(4.5f, 7.5f),
                      "L = (2, 4, 4), t_m = L.d = 6 and l_m = 0: t = 6 -+ 1.5.");
+}
+
+TEST_CASE("geometric: origin on the surface with a tangent direction is one root at t = 0" *
+          doctest::description("2. The same roots from a drawing")) {
+    expect_geometric(surface_tangent, ball, one(0),
+                     "L = (-1.5, 0, 0), t_m = L.d = 0 and l_m^2 = 2.25 = r^2: Dt = 0, one root t = t_m = 0. "
+                     "The stable pair's small root divides 0 by 0 here (t_m and Dt are both 0): a tangent is "
+                     "found from Dt^2 = 0, not from the pair.");
+}
+
+TEST_CASE("geometric: origin on the surface heading in" * doctest::description("3. Ahead, behind and inside")) {
+    expect_geometric(surface_in, ball, two(0, 3),
+                     "t_m = 1.5 and l_m = 0, Dt = 1.5: t = 0 and t = 3.");
+}
+
+TEST_CASE("geometric: origin on the surface heading out" * doctest::description("3. Ahead, behind and inside")) {
+    expect_geometric(surface_out, ball, two(-3, 0),
+                     "t_m = -1.5 and l_m = 0, Dt = 1.5: t = -3 and t = 0. The centre is behind, yet t = 0 is "
+                     "a root.");
+}
+
+TEST_CASE("geometric: a ray holding NaN is a miss" * doctest::description("2. The same roots from a drawing")) {
+    expect_geometric({{2, not_a_number, 0}, {0, 0, 1}}, ball, none(),
+        "The origin's y is NaN: the header says such a ray counts as a miss. Report count 0, never a NaN root.");
+    expect_geometric({{2, -1, 0}, {0, not_a_number, 1}}, ball, none(),
+        "The direction holds NaN (it is no unit vector, but the header still asks for count 0, never a NaN root).");
+    expect_geometric(ahead, {{2, -1, not_a_number}, 1.5f}, none(), "The centre's z is NaN: no sphere to meet. Count 0.");
+}
+
+TEST_CASE("geometric: a ray holding infinity is a miss" * doctest::description("2. The same roots from a drawing")) {
+    expect_geometric({{2, -1, -inf}, {0, 0, 1}}, ball, none(),
+        "The origin is at z = -inf: the values that decide the roots are inf - inf = NaN. The header says "
+        "such a ray counts as a miss: count 0, never a NaN root.");
+    expect_geometric(ahead, {{2, -1, inf}, 1.5f}, none(), "The centre is at z = inf: no sphere a finite ray could meet. Count 0.");
 }
 
 TEST_CASE("geometric: a radius of zero or less is no sphere" *

@@ -32,13 +32,33 @@ Scene box() {
                   Object{"right wall", Rect{0, 0, {0, 0}, {548.8f, 559.2f}}, green}}};
 }
 
+// Why the answer is wrong, read off the answer itself: with the right t but another object, is that
+// object hit at the same t too (asked of your own find_intersection, on a scene of that object alone)?
+// Then it is a tie kept by the object listed later; if not, the index does not belong to the hit found.
+std::string cause(const Scene& scene, const Ray& ray, const std::optional<Hit>& expected,
+                  const std::optional<Hit>& got) {
+    if (!expected || !got || !close(expected->t, got->t) || got->index == expected->index) return "";
+    if (got->index >= scene.objects.size()) return " The index is not one of the scene's objects.";
+    const std::optional<Hit> alone = find_intersection(ray, Scene{{scene.objects[got->index]}}, 0.0f, inf);
+    const std::string other = scene.objects[got->index].name + " (index " + std::to_string(got->index) + ")";
+    if (alone && close(expected->t, alone->t))
+        return " Measured on your answer: " + other + " is hit at the same t, and it is listed after " +
+               scene.objects[expected->index].name + ": a tie, kept by the later object. On a tie the object "
+               "listed first wins (lecture 05, section 4).";
+    return " Measured on your answer: " + other + " is not hit at this t" +
+           (alone ? " (alone, it is hit at t = " + show(alone->t) + ")" : std::string(" (alone, it is not hit at all)")) +
+           ", so the index returned is not the one of the hit found: a variable the loop does not set with the "
+           "hit (lecture 05, section 9, bug 2).";
+}
+
 void expect(const Scene& scene, const Ray& ray, std::optional<Hit> expected, const std::string& why) {
     const std::optional<Hit> got = find_intersection(ray, scene, 0.0f, inf);
     const bool ok = expected.has_value() == got.has_value() &&
                     (!expected || (got->index == expected->index && close(expected->t, got->t)));
     if (!ok) {
+        const std::string measured = cause(scene, ray, expected, got);
         FAIL_CHECK(report("find_intersection(ray, scene, 0, inf)", show(ray) + ",\n            scene" + show(scene),
-                          show(expected), show(got), why));
+                          show(expected), show(got), measured.empty() ? why : why + measured));
     }
 }
 
@@ -73,8 +93,7 @@ TEST_CASE("the hit names the object it belongs to wherever it is listed" *
         const Ray ray{eye, aim.target - eye};
         expect(scene, ray, Hit{1, aim.index},
                std::string("The ray from the eye is aimed at ") + aim.what + ", reached at t = 1, index " +
-                   std::to_string(aim.index) + ". The answer must name the object just tested, not a variable "
-                   "the loop never sets (lecture 05, section 9, bug 2).");
+                   std::to_string(aim.index) + ": the answer must name the object whose hit it returns.");
     }
 }
 

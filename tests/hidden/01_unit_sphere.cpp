@@ -90,11 +90,44 @@ TEST_CASE("unit_sphere_roots on exact tangents and axis rays" *
                  "An axis-aligned ray at height 1 touches the sphere once; at height 0 it goes through the centre.");
 }
 
+TEST_CASE("unit_sphere_roots from origins on the surface: tangent and heading in and out" *
+          doctest::description("4. What the discriminant says")) {
+    roots_family("01 surface", [](Draw& d) { return surface_ray(d, sphere_centre, 1, d.integer(0, 2), false); },
+                 "The origin is on the sphere (c = 0): a direction perpendicular to o (h = 0) touches it once "
+                 "at t = 0; any other has the roots 0 and -2h/a. Never a NaN root.");
+}
+
+TEST_CASE("intersect_unit_sphere from origins on the surface" *
+          doctest::description("5. The closest root in a window")) {
+    window_family("01 surface windows", [](Draw& d, float& tmin, float& tmax) {
+        tmin = d.coin() ? 0.0f : -10.0f;
+        tmax = std::numeric_limits<float>::infinity();
+        return surface_ray(d, sphere_centre, 1, d.integer(0, 2), false);
+    }, "The root t = 0 is inside a window from tmin <= 0: the ray starting on the sphere hits it there.");
+}
+
 TEST_CASE("unit_sphere_roots on degenerate input" * doctest::description("2. The ray meets the sphere")) {
     // The basic tier's degenerate input: a zero direction, from anywhere (NaN and
     // infinity are the ★ tier's: they are not drawn here).
     roots_family("01 degenerate", [](Draw& d) { return Ray{d.around(sphere_centre, 0, 5), {0, 0, 0}}; },
                  "With d = 0 there is no line to intersect: no roots.");
+}
+
+TEST_CASE("unit_sphere_roots on rays holding NaN or infinity or whose d.d overflows" *
+          doctest::description("2. The ray meets the sphere")) {
+    // The expected answer is the header's rule, count 0, not the reference's.
+    Draw draw("01 contract");
+    for (int i = 0; i < draws; ++i) {
+        Ray ray = aimed(draw.around(sphere_centre, 1.5f, 10), draw.around(sphere_centre, 0, 0.7f), draw.uniform(0.1f, 8));
+        spoil(draw, ray, nullptr, i % 3, true);
+        const Roots got = unit_sphere_roots(ray);
+        if (!agree(Roots{}, got)) {
+            grading::check_roots("unit_sphere_roots(ray)", input_note(i, grading::show(ray)), Roots{}, got,
+                                 "A ray holding NaN or infinity, or whose d.d overflows, counts as a miss "
+                                 "(unit_sphere.hpp): count 0, never a NaN root.");
+            return;
+        }
+    }
 }
 
 TEST_CASE("intersect_unit_sphere with random windows" * doctest::description("5. The closest root in a window")) {

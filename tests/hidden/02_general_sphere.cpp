@@ -86,6 +86,17 @@ TEST_CASE("sphere_roots on exact tangents and axis rays" * doctest::description(
                  "An axis-aligned ray at height r touches the sphere once; at height 0 it goes through the centre.");
 }
 
+TEST_CASE("sphere_roots from origins on the surface: tangent and heading in and out" *
+          doctest::description("4. The roots and the discriminant")) {
+    roots_family("02 surface", [](Draw& d) {
+        const Sphere s{{static_cast<float>(d.integer(-20, 20)), static_cast<float>(d.integer(-20, 20)),
+                        static_cast<float>(d.integer(-20, 20))},
+                       static_cast<float>(d.integer(1, 3))};
+        return Input{surface_ray(d, s.center, s.radius, d.integer(0, 2), false), s};
+    }, "The origin is on the sphere (c' = 0): a direction perpendicular to f (h = 0) touches it once at "
+       "t = 0; any other has the roots 0 and -2h/a. Never a NaN root.");
+}
+
 TEST_CASE("sphere_roots with no sphere or no ray" * doctest::description("6. No sphere and no ray")) {
     roots_family("02 degenerate", [](Draw& d) {
         Input in{aimed(d.around({0, 0, 0}, 2, 20), {0, 0, 0}, 1), {{0, 0, 0}, 1}};
@@ -96,6 +107,28 @@ TEST_CASE("sphere_roots with no sphere or no ray" * doctest::description("6. No 
         else in.sphere.radius = bad[d.integer(0, 3)];
         return in;
     }, "A radius that is zero, negative, NaN or infinite, or a zero direction: no roots.");
+}
+
+TEST_CASE("sphere_roots on rays and spheres holding NaN or infinity or whose d.d overflows" *
+          doctest::description("6. No sphere and no ray")) {
+    // The expected answer is the header's rule, count 0, not the reference's.
+    Draw draw("02 contract");
+    for (int i = 0; i < draws; ++i) {
+        Sphere s = random_sphere(draw);
+        Ray ray = aimed(draw.around(s.center, 1.5f * s.radius, 8 * s.radius), draw.around(s.center, 0, 0.7f * s.radius),
+                        draw.uniform(0.1f, 8));
+        spoil(draw, ray, &s.center, i % 3, true);
+        const Roots got = sphere_roots(ray, s);
+        // d.d overflowing float: count 0, or the roots the reference gets in double.
+        const Roots expected =
+            i % 3 == 2 && got.count != 0 ? remote::reference<Roots>("sphere_roots", ray, s) : Roots{};
+        if (!agree(expected, got)) {
+            grading::check_roots("sphere_roots(ray, sphere)", input_note(i, shown({ray, s})), expected, got,
+                                 "Input holding NaN or infinity counts as a miss, and a direction whose d.d "
+                                 "overflows float may (general_sphere.hpp): count 0, never a NaN root.");
+            return;
+        }
+    }
 }
 
 TEST_CASE("intersect_sphere with random windows and exact window ends" *

@@ -45,17 +45,31 @@ Input exact_input(Draw& d) {
     return {{c + d.permute({-s * k, y, 0}, a), d.permute({s, 0, 0}, a)}, {c, r}};
 }
 
+// An origin exactly on the sphere: tangent (h = 0), heading in or heading out.
+Input surface_input(Draw& d) {
+    const Sphere s{{static_cast<float>(d.integer(-20, 20)), static_cast<float>(d.integer(-20, 20)),
+                    static_cast<float>(d.integer(-20, 20))},
+                   static_cast<float>(d.integer(1, 3))};
+    return {surface_ray(d, s.center, s.radius, d.integer(0, 2), true), s};
+}
+
 void family(const char* function, const char* family, int kind) {
     Draw draw(family);
     for (int i = 0; i < draws; ++i) {
-        const Input in = kind < 4 ? random_input(draw, kind) : exact_input(draw);
-        const Roots expected = remote::reference<Roots>(function, in.ray, in.sphere);
+        Input in = kind < 4 ? random_input(draw, kind) : kind == 4 ? exact_input(draw)
+                 : kind == 5 ? surface_input(draw) : random_input(draw, 0);
+        // kind 6: the header's rule, count 0, for input holding NaN or infinity (not the reference's answer).
+        if (kind == 6) spoil(draw, in.ray, &in.sphere.center, i % 2, false, false);
+        const Roots expected = kind == 6 ? Roots{} : remote::reference<Roots>(function, in.ray, in.sphere);
         const Roots got = std::string(function) == "sphere_roots_unit_dir" ? sphere_roots_unit_dir(in.ray, in.sphere)
                                                                             : sphere_roots_geometric(in.ray, in.sphere);
         if (!agree(expected, got)) {
             grading::check_roots(std::string(function) + "(ray, sphere)",
                                  input_note(i, grading::show(in.ray) + "; sphere " + grading::show(in.sphere)),
-                                 expected, got, "With |d| = 1 the roots are the same as step 02's.");
+                                 expected, got,
+                                 kind == 6 ? "Input holding NaN or infinity counts as a miss (unit_direction.hpp): "
+                                             "count 0, never a NaN root."
+                                           : "With |d| = 1 the roots are the same as step 02's.");
             return;
         }
     }
@@ -78,6 +92,16 @@ TEST_CASE("sphere_roots_unit_dir from inside and behind and on exact tangents" *
     family("sphere_roots_unit_dir", "03 unit exact", 4);
 }
 
+TEST_CASE("sphere_roots_unit_dir from origins on the surface: tangent and heading in and out" *
+          doctest::description("3. Ahead, behind and inside")) {
+    family("sphere_roots_unit_dir", "03 unit surface", 5);
+}
+
+TEST_CASE("sphere_roots_unit_dir on input holding NaN or infinity" *
+          doctest::description("1. When the direction has length 1")) {
+    family("sphere_roots_unit_dir", "03 unit contract", 6);
+}
+
 TEST_CASE("sphere_roots_geometric on random rays through and past the sphere" *
           doctest::description("2. The same roots from a drawing")) {
     family("sphere_roots_geometric", "03 geometric through", 0);
@@ -89,6 +113,16 @@ TEST_CASE("sphere_roots_geometric from inside and behind and on exact tangents" 
     family("sphere_roots_geometric", "03 geometric inside", 2);
     family("sphere_roots_geometric", "03 geometric behind", 3);
     family("sphere_roots_geometric", "03 geometric exact", 4);
+}
+
+TEST_CASE("sphere_roots_geometric from origins on the surface: tangent and heading in and out" *
+          doctest::description("3. Ahead, behind and inside")) {
+    family("sphere_roots_geometric", "03 geometric surface", 5);
+}
+
+TEST_CASE("sphere_roots_geometric on input holding NaN or infinity" *
+          doctest::description("2. The same roots from a drawing")) {
+    family("sphere_roots_geometric", "03 geometric contract", 6);
 }
 
 TEST_SUITE_END();

@@ -22,3 +22,52 @@ inline bool agree(const std::optional<float>& expected, const std::optional<floa
 }
 
 }  // namespace raykit::hidden
+
+// ---- inputs shared by the hidden families of steps 01-03 ---------------------------
+
+#include "hidden.hpp"
+
+namespace raykit::hidden {
+
+/// A ray whose origin lies exactly on the sphere (centre, r): the centre plus or minus r
+/// along one axis (exact in float for small integer centres and radii, so c = f.f - r^2 is
+/// exactly 0). kind 0: a direction perpendicular to that axis (h = 0 exactly, a tangent
+/// at t = 0, where the root pair q/a, c/q has q = 0); kind 1: heading in (roots 0 and
+/// -2h/a > 0); kind 2: heading out (roots -2h/a < 0 and 0). Small integer components,
+/// scaled by 1 or 2, or normalized when `unit`, keep the far root below 7, so that any
+/// correct float formula lands within the basic tolerance of the root 0.
+inline Ray surface_ray(Draw& d, const glm::vec3& centre, float r, int kind, bool unit) {
+    const int axis = d.integer(0, 2);
+    const float s = d.sign();
+    float p = 0, q = 0;
+    while (p == 0 && q == 0) p = static_cast<float>(d.integer(-3, 3)), q = static_cast<float>(d.integer(-3, 3));
+    const float m = kind == 0 ? 0.0f : static_cast<float>(d.integer(1, 3)) * (kind == 1 ? -s : s);
+    glm::vec3 dir = d.permute({m, p, q}, axis);
+    dir = unit ? glm::normalize(dir) : d.power_of_two(0, 1) * dir;
+    return {centre + d.permute({s * r, 0, 0}, axis), dir};
+}
+
+}  // namespace raykit::hidden
+
+namespace raykit::hidden {
+
+/// A ray (and sphere) that the headers' contract rules say is a miss, `count == 0`: `ok`
+/// with one value spoilt. kind 0: a NaN, kind 1: +inf or -inf, in a random component of
+/// the origin, the direction or (when `centre` is given) the sphere's centre; kind 2 (only
+/// when `overflow`): the direction scaled so that d.d overflows while every component stays
+/// finite (|d| from 1e20 to 1e30). Without `infinite_direction` (step 03, whose precondition is a
+/// unit direction) an infinity goes into a position only.
+inline void spoil(Draw& d, Ray& ray, glm::vec3* centre, int kind, bool overflow, bool infinite_direction = true) {
+    if (kind == 2 && overflow) {
+        ray.direction = std::ldexp(1.0f, d.integer(67, 99)) * glm::normalize(ray.direction);
+        return;
+    }
+    const float bad = kind == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                : d.sign() * std::numeric_limits<float>::infinity();
+    int where = d.integer(0, centre ? 2 : 1);
+    if (where == 1 && kind == 1 && !infinite_direction) where = 0;
+    glm::vec3& v = where == 0 ? ray.origin : where == 1 ? ray.direction : *centre;
+    v[d.integer(0, 2)] = bad;
+}
+
+}  // namespace raykit::hidden

@@ -117,4 +117,27 @@ inline void check_hit(const std::string& call, const std::string& input,
     FAIL_CHECK(report(call, input, show(expected), show(got), why));
 }
 
+/// Why a windowed answer is wrong, measured on it where it can be: the expected hit lies exactly at an
+/// end of the window, the answer did not take it, and the same function given the window widened by one
+/// float at each end (`widened`) does take it — so it treats the window as open. Empty otherwise.
+inline std::string window_cause(float tmin, float tmax, const std::optional<float>& expected,
+                                const std::optional<float>& got, const std::optional<float>& widened) {
+    if (!expected || (got && close(*expected, *got)) || !widened || !close(*expected, *widened)) return "";
+    const char* end = *expected == tmin ? "tmin" : *expected == tmax ? "tmax" : nullptr;
+    if (!end) return "";
+    return std::string(" Measured on your answer: the hit t = ") + show(*expected) + " is exactly " + end +
+           "; your function skips it, and returns it once the window is one float wider: it treats the "
+           "window as open, where it is closed (tmin <= t <= tmax).";
+}
+
+/// check_hit for a call `f(tmin, tmax)` with a window: adds window_cause to the why. The widened call
+/// is made first, so that the call checked is the last one (the case's picture draws the last call).
+template <class F>
+void check_hit_in(const std::string& call, const std::string& input, float tmin, float tmax,
+                  const std::optional<float>& expected, F f, const std::string& why) {
+    const std::optional<float> widened = f(std::nextafter(tmin, -inf), std::nextafter(tmax, inf));
+    const std::optional<float> got = f(tmin, tmax);
+    check_hit(call, input, expected, got, why + window_cause(tmin, tmax, expected, got, widened));
+}
+
 }  // namespace raykit::grading

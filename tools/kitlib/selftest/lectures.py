@@ -2,7 +2,10 @@
 
 - every figure the lectures quote from the benchmark sits in a block that docs/bench_numbers.py writes
   from the committed run (docs/bench/results.json), and every block matches the run;
-- every lecture section a hint names exists, by number and, where the hint gives it, by title.
+- every lecture section a hint names exists, by number and, where the hint gives it, by title;
+- every rule a header states for what is no answer ("count == 0 when ...", "... count as a miss",
+  "no value when ...", "... describes no sphere", "tmin > tmax is an empty window", "..., or no value")
+  has a case that asks it (CONTRACT_CASES), basic for the headers of steps 01-03.
 
 (Each case's own lecture pointer is checked by "case names and lecture pointers" in selftest/check.py.)
 """
@@ -22,10 +25,12 @@ from ..common import ROOT, load_steps
 from .harness import Failed, Skipped, expect
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"
+ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
+PITFALL_PICTURES = ROOT / "docs" / "pitfall_pictures.py"
 
 
-def _generator():
-    spec = importlib.util.spec_from_file_location("bench_numbers", GENERATOR)
+def _generator(path: Path = GENERATOR):
+    spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -70,6 +75,75 @@ def selftest_bench_numbers(ctx) -> str:
     return f"{blocks} generated blocks current with docs/bench/results.json; stale when the run moves; bad input exits 2"
 
 
+def selftest_robust_numbers(ctx) -> str:
+    if not ROBUST_GENERATOR.is_file() or not (ROOT / "solutions").is_dir():
+        raise Skipped("no docs/robust_numbers.py or no solutions/ here (a handout)")
+    rn = _generator(ROBUST_GENERATOR)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = rn.main(["--check"])
+    expect(code == 0, f"the ★ grading figures are stale: {err.getvalue().strip()}")
+    record = json.loads(rn.RECORD.read_text())
+    blocks = sum(1 for p in rn.FILES for line in p.read_text().split("\n") if rn.BEGIN.match(line))
+    expect(blocks >= 5, f"only {blocks} generated blocks in {', '.join(p.name for p in rn.FILES)}")
+
+    # The check can fail: a measurement with another least wrong textbook ray, and one of other suites.
+    moved = copy.deepcopy(record)
+    for case, checks in moved["forms"]["textbook"]["02"].items():
+        for check in checks:
+            if check[0] > rn.BOUND:
+                check[0] += 3
+    changed = rn.run_files(moved, rn.FILES, check=True)
+    expect(any("appendix-table" in c for c in changed) and any("grading-bound" in c for c in changed),
+           f"textbook distances 3 ulps larger changed only {changed}: the blocks do not follow the record")
+    with tempfile.TemporaryDirectory() as tmp:
+        other = Path(tmp) / "record.json"
+        other.write_text(json.dumps({**record, "digest": "0" * 16}))
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            code = rn.main(["--check", "--record", str(other)])
+        expect(code == 1 and "--measure" in err.getvalue(),
+               f"a record of other suites passed --check (exit {code}, {err.getvalue().strip()!r})")
+        before = {p: p.read_text() for p in rn.FILES}
+        for bad in ("{", None):
+            path = Path(tmp) / "bad.json"
+            if bad is not None:
+                path.write_text(bad)
+            else:
+                path = Path(tmp) / "missing.json"
+            err = io.StringIO()
+            with contextlib.redirect_stderr(err):
+                code = rn.main(["--record", str(path)])
+            expect(code == 2 and "robust_numbers.py: " in err.getvalue(),
+                   f"robust_numbers.py --record {path.name} exited {code}, expected 2 and a message")
+        expect(all(p.read_text() == t for p, t in before.items()), "robust_numbers.py changed a file on bad input")
+    return (f"{blocks} generated blocks current with docs/robust_numbers.json, measured on today's suites and "
+            "forms; stale when the measurement moves or the suites change; bad input exits 2")
+
+
+def selftest_pitfall_pictures(ctx) -> str:
+    if not PITFALL_PICTURES.is_file():
+        raise Skipped("no docs/pitfall_pictures.py here")
+    pp = _generator(PITFALL_PICTURES)
+    bad = pp.stale()
+    expect(not bad, f"docs/pitfalls/ is stale: {', '.join(bad)} (run python3 docs/pitfall_pictures.py)")
+    page = (ROOT / "docs" / "pitfalls.md").read_text()
+    linked = set(re.findall(r"\]\((pitfalls/[^)\s]+\.svg)\)", page))
+    missing = sorted(p for p in linked if not (ROOT / "docs" / p).is_file())
+    expect(linked and not missing, f"docs/pitfalls.md links pictures that are not committed: {missing}")
+    # The check can fail: a committed picture changed by one byte, and one missing.
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        for p in pp.FOLDER.glob("*.svg"):
+            (folder / p.name).write_bytes(p.read_bytes())
+        first = sorted(folder.glob("*.svg"))
+        first[0].write_text(first[0].read_text().replace("<svg", "<svg ", 1))
+        first[1].unlink()
+        found = pp.stale(folder)
+        expect(found == sorted([first[0].name, first[1].name]), f"a changed and a missing picture gave {found}")
+    return f"{len(linked)} pictures of docs/pitfalls.md committed and current; a changed or missing one is caught"
+
+
 # "section 4", "sections 5 and 6", "section 2. The ray meets the sphere" (a title starts with a capital).
 SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)(?:\. ([A-Z][^)\n]*))?", re.I)
 
@@ -100,6 +174,169 @@ def selftest_hint_sections(ctx) -> str:
     return f"{seen} section pointers in the hints name sections that exist"
 
 
+# ---- every contract clause of include/raykit/*.hpp has a case ------------------------------------
+
+def doc_blocks(text: str) -> list[tuple[str, str]]:
+    """(declared name, its /// comment as one line) for every commented declaration of a header."""
+    out, buf = [], []
+    for line in text.split("\n"):
+        s = line.strip()
+        if s.startswith("///"):
+            buf.append(s[3:].strip())
+            continue
+        if buf and s:
+            m = re.match(r"(?:struct|class)\s+(\w+)", s) or re.search(r"(\w+)\s*\(", s)
+            if m and not s.startswith("#"):
+                out.append((m.group(1), " ".join(buf)))
+            buf = []
+    return out
+
+
+def _norm(text: str) -> str:
+    text = text.replace("`", "").replace("**", "")
+    text = re.sub(r"(?<=\w)\.(?=\w)", "·", text)  # d.d, f.d: not the end of a sentence
+    text = re.sub(r"\\return\s+|\\param\s+\w+\s+", " ", text)
+    return re.sub(r"\s+", " ", text).strip()
+
+
+# One condition per part: "A, or B", "A, an B", "when A, when B or when C", "A, even when B".
+_SPLIT = re.compile(r",\s+or\s+|,\s+(?=(?:a|an|so|inputs)\s)|,?\s+or\s+when\s+|,\s+when\s+|,\s+even\s+when\s+", re.I)
+_CLAUSES = [re.compile(p, re.I) for p in (
+    r"count == 0 when ([^.:;]+)",
+    r"(?:^|[.;:]\s*)([^.;:]+?) (?:may )?counts? as a miss",
+    r"no value (?:as well )?when ([^.:;]+)",
+    r"(tmin > tmax) (?:means|is) an empty window",
+    r"(?:^|[.;:]\s*)(?:any \w+; )?([^.;:]+?) describes? no (?:sphere|rectangle)",
+)]
+
+
+def contract_clauses(text: str) -> list[tuple[str, str]]:
+    """(function or type, condition) for every "no answer" rule the header text states, in order."""
+    out: list[tuple[str, str]] = []
+    for name, comment in doc_blocks(text):
+        t = _norm(comment)
+        for i, pat in enumerate(_CLAUSES):
+            for m in pat.finditer(t):
+                if i in (1, 4) and " when " in m.group(1):
+                    continue  # a subject that runs over a "when" list belongs to the first pattern
+                bare = re.sub(r"\s*\([^)]*\)", "", m.group(1)).strip(" ,.")
+                out += [(name, p.strip(" ,.").lower()) for p in _SPLIT.split(bare) if p.strip(" ,.")]
+                for extra in re.findall(r"\(always for ([^)]*)\)", t[m.start():m.end() + 80]):
+                    out += [(name, e.strip().lower()) for e in re.split(r"\s+or\s+", extra)]
+        if re.search(r", or no value\b", t, re.I):
+            out.append((name, "nothing in the window"))
+    return list(dict.fromkeys(out))
+
+
+# For each clause, "header:name:condition", the cases that ask it (any of the step suites).
+_NAN_01 = ["a ray holding NaN is no ray: no roots", "a ray holding infinity is no ray: no roots"]
+_RADIUS_02 = ["a radius of zero or less is no sphere: no roots", "a radius that is NaN or infinite is no sphere: no roots"]
+_RADIUS_03 = ["shortcut: a radius of zero or less is no sphere", "geometric: a radius of zero or less is no sphere"]
+CONTRACT_CASES = {
+    "unit_sphere.hpp:unit_sphere_roots:it misses": ["no hit: a ray that passes far from the sphere",
+                                                    "no hit: a ray just outside the silhouette"],
+    "unit_sphere.hpp:unit_sphere_roots:the direction is zero": ["a zero direction is no ray: no roots"],
+    "unit_sphere.hpp:unit_sphere_roots:inputs containing nan or infinity": _NAN_01,
+    "unit_sphere.hpp:unit_sphere_roots:so large that d·d overflows": ["a direction so long that d.d overflows: no roots"],
+    "unit_sphere.hpp:intersect_unit_sphere:tmin > tmax": ["window: tmin greater than tmax is empty"],
+    "unit_sphere.hpp:intersect_unit_sphere:nothing in the window": [
+        "window: a miss is no hit", "window: both roots after tmax is no hit", "window: both roots before tmin is no hit",
+        "window: a ray holding NaN is no hit"],
+    "general_sphere.hpp:sphere_roots:it misses": ["no hit: a ray that passes far from the sphere",
+                                                  "no hit: a ray just outside the silhouette"],
+    "general_sphere.hpp:sphere_roots:the direction is zero": ["a zero direction is no ray: no roots"],
+    "general_sphere.hpp:sphere_roots:the radius describes no sphere": _RADIUS_02,
+    "general_sphere.hpp:sphere_roots:a radius that is not a positive finite number": _RADIUS_02,
+    "general_sphere.hpp:sphere_roots:inputs containing nan or infinity": [
+        "a ray holding NaN is no ray: no roots", "a ray holding infinity is no ray: no roots"],
+    "general_sphere.hpp:sphere_roots:a direction so large that d·d overflows float": [
+        "a direction so long that d.d overflows float: no roots or the true roots and never NaN"],
+    "general_sphere.hpp:intersect_sphere:tmin > tmax": ["window: tmin greater than tmax is empty"],
+    "general_sphere.hpp:intersect_sphere:nothing in the window": [
+        "window: a miss is no hit", "window: both roots after tmax is no hit", "window: a degenerate sphere is no hit",
+        "window: a ray holding NaN is no hit"],
+    "sphere.hpp:Sphere:a radius that is zero, negative, nan or infinite": _RADIUS_02,
+    "unit_direction.hpp:sphere_roots_unit_dir:inputs containing nan or infinity": [
+        "shortcut: a ray holding NaN is a miss", "shortcut: a ray holding infinity is a miss",
+        "geometric: a ray holding NaN is a miss", "geometric: a ray holding infinity is a miss"],
+    "unit_direction.hpp:sphere_roots_unit_dir:a radius that is not a positive finite number": _RADIUS_03,
+    "rect.hpp:Rect:an axis other than 0, 1 or 2": ["an axis of 3 is no rectangle", "an axis of -1 is no rectangle"],
+    "rect.hpp:Rect:a lo greater than hi in either component": ["lo greater than hi is an empty rectangle"],
+    "rect.hpp:Rect:a nan anywhere": ["a NaN origin is no hit", "a NaN direction along the axis is no hit",
+                                     "a NaN offset is no hit", "a NaN bound is no hit"],
+    "rect.hpp:intersect_rect:the ray is parallel to the plane": ["a ray parallel to the plane beside it is no hit",
+                                                                 "a direction with -0 along the axis is parallel too"],
+    "rect.hpp:intersect_rect:it lies in the plane": ["a ray lying in the plane is no hit and no NaN"],
+    "rect.hpp:intersect_rect:tmin > tmax": ["tmin greater than tmax is an empty window"],
+    "rect.hpp:intersect_rect:nothing in the window": ["a miss beyond the right edge x = 3", "a hit before tmin is no hit",
+                                                      "a hit after tmax is no hit"],
+    "render.hpp:find_intersection:no object is hit in the window": ["one object missed: no hit",
+                                                                    "objects after tmax are not hit"],
+    "render.hpp:find_intersection:an empty scene": ["an empty scene is never hit"],
+    "render.hpp:find_intersection:tmin > tmax": ["tmin greater than tmax is an empty window"],
+    "render.hpp:find_intersection:nothing in the window": ["one object missed: no hit"],
+}
+# Headers whose rules must be asked by a basic case (a point), not only by a ★ one.
+BASIC_HEADERS = {"unit_sphere.hpp", "general_sphere.hpp", "unit_direction.hpp", "sphere.hpp"}
+
+
+def suite_cases(sources: dict[str, str]) -> dict[str, set[str]]:
+    """Case name -> the tiers ("basic", "robust") it is in, over the given suite sources."""
+    cases: dict[str, set[str]] = {}
+    for text in sources.values():
+        tier = ""
+        for m in re.finditer(r'TEST_SUITE_BEGIN\("(\w+)"\)|TEST_CASE\("([^"]*)"', text):
+            if m.group(1):
+                tier = m.group(1)
+            else:
+                cases.setdefault(m.group(2), set()).add(tier)
+    return cases
+
+
+def contract_problems(headers: dict[str, str], sources: dict[str, str]) -> tuple[list[str], int]:
+    cases = suite_cases(sources)
+    found = {f"{h}:{name}:{cond}" for h, text in headers.items() for name, cond in contract_clauses(text)}
+    bad = [f"{k}: a rule of the header that no case asks (add a case and list it in CONTRACT_CASES)"
+           for k in sorted(found - CONTRACT_CASES.keys())]
+    bad += [f"{k}: listed in CONTRACT_CASES, but no header states it any more" for k in sorted(CONTRACT_CASES.keys() - found)]
+    for key in sorted(found & CONTRACT_CASES.keys()):
+        for case in CONTRACT_CASES[key]:
+            if case not in cases:
+                bad.append(f"{key}: its case \"{case}\" is in no suite")
+            elif key.split(":")[0] in BASIC_HEADERS and "basic" not in cases[case]:
+                bad.append(f"{key}: its case \"{case}\" is not a basic case")
+    return bad, len(found)
+
+
+def selftest_contract_clauses(ctx) -> str:
+    headers = {p.name: p.read_text() for p in sorted((ROOT / "include" / "raykit").glob("*.hpp"))}
+    sources = {str(p): p.read_text() for p in sorted((ROOT / "tests").glob("0*_*/test_*.cpp"))}
+    if not sources:
+        raise Skipped("no step suites here")
+    bad, n = contract_problems(headers, sources)
+    expect(n >= 20, f"only {n} rules read from include/raykit/*.hpp: the reader has lost its way")
+    expect(not bad, "\n  ".join(bad[:12]))
+
+    # The check must be able to fail: a suite without one of the cases, a header with one more rule.
+    key = "unit_sphere.hpp:unit_sphere_roots:inputs containing nan or infinity"
+    gone = {p: re.sub(r'TEST_CASE\("a ray holding NaN is no ray: no roots"', 'TEST_CASE("renamed"', t)
+            for p, t in sources.items()}
+    missing, _ = contract_problems(headers, gone)
+    expect(any(key in b and "in no suite" in b for b in missing),
+           f"removing the NaN case of step 01 went unnoticed: {missing}")
+    more = dict(headers)
+    more["unit_sphere.hpp"] = more["unit_sphere.hpp"].replace(
+        "no\n///         root is ever NaN.", "no\n///         root is ever NaN. An origin at the centre counts as a miss.")
+    extra, _ = contract_problems(more, sources)
+    expect(any("an origin at the centre" in b and "no case asks" in b for b in extra),
+           f"a new rule in unit_sphere.hpp went unnoticed: {extra}")
+    return f"{n} rules of include/raykit/*.hpp, each asked by a case (basic for steps 01-03); " \
+           "a removed case and an unasked rule are caught"
+
+
 def selftests():
     return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
-            ("hints point to lecture sections that exist", selftest_hint_sections)]
+            ("★ grading figures are current", selftest_robust_numbers),
+            ("the pitfalls' pictures are committed and current", selftest_pitfall_pictures),
+            ("hints point to lecture sections that exist", selftest_hint_sections),
+            ("every rule a header states has a case", selftest_contract_clauses)]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import shutil
 
 from ..commands.mutant import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
-from ..common import BUILD, load_steps
+from ..common import BUILD, ROOT, load_steps
 from ..status import PARTIAL
 from .harness import Failed, need_solutions
 
@@ -80,5 +80,55 @@ def selftest_mutants(ctx) -> str:
     return "mutation score (every mutant caught by its named case)" + table
 
 
+# Causes planted in the reference's find_intersection, and the words the failure of the ★ case "the hit
+# names the object it belongs to wherever it is listed" must use for each (measured on the answer in
+# tests/05_cornell_box/test_spot_the_bugs.cpp), and must not use for the other.
+LOOP = "if (t && (!best || *t < best->t)) best = Hit{*t, i};"
+PLANTED = {
+    "a tie kept late": (LOOP.replace("*t < best->t", "*t <= best->t"), "a tie, kept by the later object"),
+    "an index the loop does not set": (LOOP.replace("Hit{*t, i}", "Hit{*t, 0}"), "a variable the loop does not set"),
+}
+NAMES_CASE = "the hit names the object it belongs to wherever it is listed"
+WINDOW_CASE = "window: a root exactly at tmin counts"
+
+
+def selftest_planted_causes(ctx) -> str:
+    need_solutions()
+    step = next(s for s in load_steps() if s.number == "05")
+    source = ROOT / "solutions" / step.folder / "render.cpp"
+    text = source.read_text()
+    if LOOP not in text:
+        raise Failed(f"{source.relative_to(ROOT)} no longer has the line this self-test plants causes in: {LOOP}")
+    work = BUILD / "cause-check"
+    named = []
+    for cause, (line, words) in PLANTED.items():
+        _, result = grade_files(step, {"render.cpp": text.replace(LOOP, line, 1)}, work)
+        case = next((c for c in (result or {}).get("cases", []) if c["name"] == NAMES_CASE), None)
+        if case is None or case["status"] != "fail":
+            raise Failed(f"planted {cause}: the case '{NAMES_CASE}' did not fail ({case and case['status']})")
+        message = "\n".join(case["messages"])
+        others = [w for c, (_, w) in PLANTED.items() if c != cause]
+        if words not in message or any(w in message for w in others):
+            raise Failed(f"planted {cause}: the failure does not name it (and only it):\n{message[-600:]}")
+        named.append(cause)
+    # Step 01: the open window, planted by its mutant, is named; the far root tried first, which fails the
+    # same case, is not called an open window.
+    step01 = next(s for s in load_steps() if s.number == "01")
+    for patch, want in (("open_window", True), ("far_root_preferred", False)):
+        files = apply_patch(read_patch(MUTANTS / step01.folder / f"{patch}.patch", step01))
+        _, result = grade_files(step01, files, work)
+        case = next((c for c in (result or {}).get("cases", []) if c["name"] == WINDOW_CASE), None)
+        if case is None or case["status"] != "fail":
+            raise Failed(f"mutant {patch}: the case '{WINDOW_CASE}' did not fail")
+        said = "treats the window as open" in "\n".join(case["messages"])
+        if said != want:
+            raise Failed(f"mutant {patch}: the failure {'does not name' if want else 'wrongly names'} an open "
+                         f"window:\n{case['messages'][-1][-600:]}")
+    named.append("an open window (and not for the far root tried first)")
+    shutil.rmtree(work, ignore_errors=True)
+    return "the failure names the planted cause: " + ", ".join(named)
+
+
 def selftests():
-    return [("mutants are caught", selftest_mutants)]
+    return [("mutants are caught", selftest_mutants),
+            ("a failure names the cause planted in the answer", selftest_planted_causes)]

@@ -4,9 +4,17 @@ tests/fixtures/textbook/ holds, for each sphere step, the textbook formula writt
 of the contract (b^2 - 4ac, (-b -+ sqrt) / 2a, |L|^2 - t_m^2). Graded like a student's work, each
 must pass the whole basic tier and fail part of the robust tier, while the reference solutions pass
 both (checked by "solutions pass every case"). The scoreboard must show the two tiers apart.
+
+Each ★ case says which ways of writing the step pass it (`graded_forms({...}, {...})` in the suites,
+tests/support/robust_grading.hpp). "★ cases name the forms that pass them" grades those forms, the
+float-only step 02s written as lecture 03 teaches (tests/fixtures/forms/float_leg, float_cross), the
+textbook formula in double (forms/double_inside) and in float (textbook/), and fails when a case's lists
+disagree with the grades or the lectures state another count of ★ cases for the float rewrites.
 """
 
 from __future__ import annotations
+
+import re
 
 from ..common import ROOT, load_steps, submission_build
 from ..checking import check_steps
@@ -14,6 +22,97 @@ from ..status import DONE
 from .harness import Failed, expect, kit, need_solutions
 
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
+FORMS = ROOT / "tests" / "fixtures" / "forms"
+
+# Form (as the suites name it) -> the folders graded as that form, per step. "solutions" is the
+# reference, whose passing every ★ case "solutions pass every case" (selftest/check.py) checks.
+GRADED = {
+    "01": {"textbook_float": [TEXTBOOK], "float_rewrites": ["solutions"]},
+    "02": {"textbook_float": [TEXTBOOK], "float_rewrites": [FORMS / "float_leg", FORMS / "float_cross"],
+           "double_textbook": [FORMS / "double_inside"], "double_rewrite": ["solutions"]},
+    "03": {"textbook_float": [TEXTBOOK], "float_rewrites": ["solutions"]},
+}
+# Where the lectures and tasks state how many ★ cases of step 02 the float rewrites pass.
+CLAIMS = ["lectures/02-general-sphere.md", "lectures/03-unit-direction.md", "steps/02_general_sphere/README.md",
+          "steps/03_unit_direction/README.md"]
+WORDS = {8: "eight", 9: "nine", 10: "ten", 7: "seven", 6: "six"}
+
+
+def form_claims(text: str) -> dict[str, tuple[set[str], set[str]]]:
+    """★ case name -> (forms said to pass, forms said to fail), read from a robust suite's source."""
+    out = {}
+    blocks = re.split(r"(?=^TEST_CASE\()", text[text.find('TEST_SUITE_BEGIN("robust")'):], flags=re.M)[1:]
+    for block in blocks:
+        name = re.match(r'TEST_CASE\("([^"]*)"', block).group(1)
+        m = re.search(r"graded_forms\(\{([^}]*)\},\s*\{([^}]*)\}\)", block)
+        out[name] = (set(re.findall(r"Form::(\w+)", m.group(1))), set(re.findall(r"Form::(\w+)", m.group(2)))) \
+            if m else None
+    return out
+
+
+def claim_problems(step: str, claims: dict, grades: dict[str, dict[str, bool]]) -> list[str]:
+    """What a suite says against what the forms got: grades[form][case] is True when it passes."""
+    bad = []
+    for case, said in claims.items():
+        if said is None:
+            bad.append(f"step {step}: ★ case '{case}' does not say which forms pass it (graded_forms)")
+            continue
+        passing, failing = said
+        for form in sorted(GRADED[step]):
+            if (form in passing) == (form in failing):
+                bad.append(f"step {step}: '{case}' lists {form} {'twice' if form in passing else 'nowhere'}")
+            elif form in grades and grades[form].get(case) is not None and grades[form][case] != (form in passing):
+                bad.append(f"step {step}: '{case}' says {form} {'passes' if form in passing else 'fails'}, "
+                           f"but graded it {'passes' if grades[form][case] else 'fails'}")
+    return bad
+
+
+def selftest_forms_named(ctx) -> str:
+    need_solutions()
+    steps = load_steps()
+    by_number = {s.number: s for s in steps}
+    bad, summary, float02 = [], [], None
+    for number, forms in GRADED.items():
+        step = by_number[number]
+        suite = ROOT / "tests" / step.folder / "test_robust.cpp"
+        claims = form_claims(suite.read_text())
+        expect(claims, f"{suite.relative_to(ROOT)}: no ★ case found")
+        grades: dict[str, dict[str, bool]] = {}
+        reached = []
+        for form, folders in sorted(forms.items()):
+            for folder in folders:
+                if folder == "solutions":
+                    got = {case: True for case in claims}  # the reference: selftest/check.py
+                else:
+                    results = check_steps(submission_build(folder, "forms"), [step], steps)
+                    robust = results[0].tier("robust")
+                    expect(results[0].state == DONE, f"{folder.relative_to(ROOT)} step {number}: graded "
+                                                     f"{results[0].state}, expected done")
+                    got = {c.name: c.status == "pass" for c in robust}
+                    expect(set(got) == set(claims), f"step {number}: the graded ★ cases {sorted(got)} are not "
+                                                    f"the suite's {sorted(claims)}")
+                if form in grades and grades[form] != got:
+                    bad.append(f"step {number}: the folders graded as {form} do not pass the same ★ cases "
+                               f"({folder}): name them apart")
+                grades[form] = got
+            reached.append(f"{form} {sum(grades[form].values())}/{len(claims)}")
+        bad += claim_problems(number, claims, grades)
+        summary.append(f"step {number}: " + ", ".join(reached))
+        if number == "02":
+            float02 = (sum(grades["float_rewrites"].values()), len(claims))
+    n, total = float02
+    for path in CLAIMS:
+        text = (ROOT / path).read_text()
+        if not re.search(rf"\b(?:{n}|{WORDS.get(n, n)}) of the (?:{total}|{WORDS.get(total, total)})\b", text):
+            bad.append(f"{path} does not say that the float rewrites pass {n} of the {total} ★ cases of step 02")
+    expect(not bad, "\n  ".join(bad[:12]))
+
+    # The check can fail: a case that names a form wrongly, and one that names none.
+    planted = {"a": ({"float_rewrites"}, {"textbook_float"}), "b": None}
+    wrong = claim_problems("01", planted, {"float_rewrites": {"a": False}, "textbook_float": {"a": False}})
+    expect(any("says float_rewrites passes" in w for w in wrong) and any("does not say" in w for w in wrong),
+           f"a wrong form list went unnoticed: {wrong}")
+    return "; ".join(summary) + "; as every ★ case says"
 
 
 def selftest_textbook_fails_robust(ctx) -> str:
@@ -45,4 +144,5 @@ def selftest_textbook_fails_robust(ctx) -> str:
 
 
 def selftests():
-    return [("robust tier catches the textbook formula", selftest_textbook_fails_robust)]
+    return [("robust tier catches the textbook formula", selftest_textbook_fails_robust),
+            ("★ cases name the forms that pass them", selftest_forms_named)]
