@@ -44,7 +44,7 @@ MATHJAX_FILES = ["es5/tex-svg.js", "es5/input/tex/extensions", "es5/ui"]
 IMAGE_SUFFIXES = (".png", ".svg", ".jpg", ".jpeg")
 PITFALLS_PAGE = DOCS / "pitfalls.md"     # its pictures are drawn at each build (picture.PITFALLS)
 LAB = DOCS / "lab"                      # the ray-sphere lab, copied into the site as lab/ (not its check/)
-SLIDES = ROOT / "lectures" / "slides"   # the decks, built into the site as slides/ (commands/slides.py)
+SLIDES = ROOT / "lectures" / "slides"   # the decks, built into the site as slides/ (kitlib/decks.py)
 # Links the lectures and task pages make to the lab and the decks, as the site's pages reach them.
 SITE_LINKS = [(re.compile(r'href="(?:\.\./)+docs/lab/index\.html"'), 'href="lab/index.html"'),
               (re.compile(r'href="(?:\.\./)*(?:lectures/)?slides/(\d\d-[\w-]+)\.md"'), r'href="slides/\1.html"')]
@@ -440,7 +440,7 @@ def build_site(instructor: bool = False) -> Site:
         if LAB.is_dir():
             shutil.copytree(LAB, work / "html" / "lab", ignore=shutil.ignore_patterns("check"))
         if SLIDES.is_dir():
-            from .slides import build as build_decks
+            from ..decks import build as build_decks
             build_decks(work / "html" / "slides")
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)

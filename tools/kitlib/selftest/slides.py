@@ -17,7 +17,7 @@ import shutil
 from pathlib import Path
 
 from ..common import BUILD, ROOT, KitError
-from ..commands import slides as cmd_slides
+from .. import decks as cmd_slides
 from ..packages import ensure_packages
 from .harness import Failed, Skipped, expect
 

@@ -1,0 +1,326 @@
+"""./kit slides: a slide deck per lecture, from lectures/slides/NN-*.md, as offline HTML (and PDF).
+
+The decks are Markdown kept beside the lectures. A deck is slides separated by a line `---`; a slide's
+speaker notes start at a line `Note:` and run to its end. The Markdown is a small subset, converted
+here with the standard library: `#`/`##`/`###` headings, paragraphs, `-` and `1.` lists, tables,
+fenced code, a figure on a line of its own (`![alt](../figures/x.svg)`), `**bold**`, `*em*`, `code`,
+and formulas as `$...$` and `$$...$$` (typeset by MathJax 3, offline). The first slide is the title.
+
+The deck runs on reveal.js, pinned with MathJax in docs/package.json and installed by npm into
+build/docs/npm once (as ./kit docs does); both are copied next to the decks, so the folder reads offline
+and can be zipped or put on a course page. Layout: build/slides/index.html, build/slides/NN-topic.html,
+and with --pdf build/slides/NN-topic.pdf (headless Chromium prints reveal.js's print view, one page
+a slide, 1280x720). Keys in a deck: arrows, S for the speaker view with the notes, F full screen.
+"""
+
+from __future__ import annotations
+
+import html
+import os
+import re
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from .common import BUILD, ROOT, KitError, note, say
+from .status import FAILED, OK, SETUP, USAGE
+
+SOURCES = ROOT / "lectures" / "slides"
+OUT = BUILD / "slides"
+WIDTH, HEIGHT = 1280, 720
+REVEAL_FILES = ["dist/reveal.css", "dist/reset.css", "dist/reveal.js", "dist/theme/white.css",
+                "dist/plugin/notes.js", "LICENSE"]
+MATHJAX_FILES = ["es5/tex-svg.js", "es5/input/tex/extensions", "LICENSE"]
+
+
+# --- Markdown, the subset the decks use ----------------------------------------------------------------
+
+@dataclass
+class Slide:
+    body: list[str]         # Markdown lines
+    notes: str              # the speaker notes, one paragraph
+    title: bool             # the first slide
+
+
+def split_deck(text: str) -> list[Slide]:
+    slides, lines = [], text.splitlines()
+    chunks, current = [], []
+    fence = False
+    for line in lines:
+        if line.startswith("```"):
+            fence = not fence
+        if line.strip() == "---" and not fence:
+            chunks.append(current)
+            current = []
+        else:
+            current.append(line)
+    chunks.append(current)
+    for i, chunk in enumerate(chunks):
+        body, notes, in_notes = [], [], False
+        for line in chunk:
+            if line.startswith("Note:"):
+                in_notes = True
+                line = line[len("Note:"):]
+            (notes if in_notes else body).append(line)
+        slides.append(Slide(body, " ".join(l.strip() for l in notes if l.strip()), i == 0))
+    return [s for s in slides if any(l.strip() for l in s.body)]
+
+
+MATH = re.compile(r"\$\$(.+?)\$\$|\$(?!\s)([^$\n]+?)(?<!\s)\$", re.S)
+CODE = re.compile(r"`([^`]+)`")
+
+
+def inline(text: str) -> str:
+    """A line of Markdown as HTML: formulas and code kept as they are, then emphasis."""
+    keep: list[str] = []
+
+    def stash(s: str) -> str:
+        keep.append(s)
+        return f"\x00{len(keep) - 1}\x00"
+
+    text = CODE.sub(lambda m: stash(f"<code>{html.escape(m.group(1))}</code>"), text)
+    text = MATH.sub(lambda m: stash(html.escape(r"\[" + m.group(1) + r"\]") if m.group(1) is not None
+                                    else html.escape(r"\(" + m.group(2) + r"\)")), text)
+    text = html.escape(text, quote=False)
+    text = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", text)
+    text = re.sub(r"(?<![\w*])\*(?!\s)(.+?)(?<!\s)\*(?![\w*])", r"<em>\1</em>", text)
+    return re.sub("\x00(\\d+)\x00", lambda m: keep[int(m.group(1))], text)
+
+
+IMAGE = re.compile(r"!\[([^\]]*)\]\(([^)\s]+)\)\s*$")
+
+
+def blocks(lines: list[str], media: dict[str, Path], source: Path) -> str:
+    """The slide's body as HTML; figures are noted in `media` (name in the deck -> file)."""
+    out, i = [], 0
+    para: list[str] = []
+
+    def flush() -> None:
+        if para:
+            out.append(f"<p>{inline(' '.join(para))}</p>")
+            para.clear()
+
+    while i < len(lines):
+        line = lines[i]
+        s = line.strip()
+        if not s:
+            flush()
+        elif s.startswith("```"):
+            flush()
+            lang = s[3:].strip()
+            code = []
+            i += 1
+            while i < len(lines) and not lines[i].strip().startswith("```"):
+                code.append(lines[i])
+                i += 1
+            out.append(f'<pre><code class="{html.escape(lang)}">{html.escape(chr(10).join(code))}</code></pre>')
+        elif s.startswith("$$"):
+            flush()
+            formula = [s]
+            while not (formula[-1].endswith("$$") and (len(formula) > 1 or len(s) > 2)) and i + 1 < len(lines):
+                i += 1
+                formula.append(lines[i].strip())
+            out.append(f'<div class="display">{inline(" ".join(formula))}</div>')
+        elif m := re.match(r"(#{1,3})\s+(.*)", s):
+            flush()
+            n = len(m.group(1))
+            out.append(f"<h{n}>{inline(m.group(2))}</h{n}>")
+        elif m := IMAGE.match(s):
+            flush()
+            src = (source.parent / m.group(2)).resolve()
+            if not src.is_file():
+                raise KitError(f"{source.relative_to(ROOT)}: the figure {m.group(2)} does not exist", FAILED)
+            name = src.name
+            media[name] = src
+            alt = html.escape(m.group(1), quote=True)
+            out.append(f'<figure><img src="media/{html.escape(name, quote=True)}" alt="{alt}"></figure>')
+        elif re.match(r"(-|\d+\.)\s", s):
+            flush()
+            ordered = not s.startswith("-")
+            items = []
+            while i < len(lines) and re.match(r"\s*(-|\d+\.)\s", lines[i]):
+                items.append(re.sub(r"^\s*(-|\d+\.)\s+", "", lines[i]))
+                i += 1
+            i -= 1
+            tag = "ol" if ordered else "ul"
+            out.append(f"<{tag}>" + "".join(f"<li>{inline(t)}</li>" for t in items) + f"</{tag}>")
+        elif s.startswith("|"):
+            flush()
+            rows = []
+            while i < len(lines) and lines[i].strip().startswith("|"):
+                rows.append(lines[i].strip())
+                i += 1
+            i -= 1
+            cells = [[c.strip() for c in re.split(r"(?<!\\)\|", r.strip("|"))] for r in rows]
+            head, body = cells[0], [c for c in cells[1:] if not all(re.fullmatch(r":?-+:?", x) for x in c)]
+            table = "<table><thead><tr>" + "".join(f"<th>{inline(c)}</th>" for c in head) + "</tr></thead><tbody>"
+            table += "".join("<tr>" + "".join(f"<td>{inline(c)}</td>" for c in r) + "</tr>" for r in body)
+            out.append(table + "</tbody></table>")
+        else:
+            para.append(s)
+        i += 1
+    flush()
+    return "\n".join(out)
+
+
+# --- the decks -----------------------------------------------------------------------------------------
+
+STYLE = """
+.reveal { font-size: 40px; }
+.reveal .slides section { padding: 0 24px; box-sizing: border-box; }
+.reveal h1 { font-size: 1.9em; text-transform: none; }
+.reveal h2 { font-size: 1.35em; text-transform: none; margin-bottom: 0.6em; }
+.reveal h1, .reveal h2, .reveal h3 { font-family: sans-serif; letter-spacing: 0; }
+.reveal .slides section { text-align: left; }
+.reveal .slides section.title { text-align: center; }
+.reveal ul, .reveal ol { display: block; margin-left: 1.2em; }
+.reveal li { margin: 0.25em 0; }
+.reveal table { font-size: 0.8em; margin: 0.4em 0; }
+.reveal figure { margin: 0; text-align: center; }
+.reveal figure img { height: 420px; max-width: 100%; object-fit: contain; margin: 0; background: #fff; }
+.reveal .display { margin: 0.5em 0; text-align: center; }
+.reveal code { font-size: 0.9em; background: #f2f2f2; padding: 0 0.15em; }
+.reveal .ponder h2 { color: #b0302a; }
+.reveal .ponder p { font-size: 1.25em; margin-top: 1.2em; }
+.reveal .slide-number { font-size: 14px; }
+"""
+
+
+def deck_html(title: str, slides: list[Slide], media: dict[str, Path], source: Path) -> str:
+    sections = []
+    for s in slides:
+        body = blocks(s.body, media, source)
+        heading = next((l.strip() for l in s.body if l.strip().startswith("#")), "")
+        cls = "title" if s.title else "ponder" if re.match(r"##\s+Ponder\b", heading) else ""
+        notes = f'<aside class="notes">{inline(s.notes)}</aside>' if s.notes else ""
+        sections.append(f'<section class="{cls}">\n{body}\n{notes}\n</section>')
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>{html.escape(title)}</title>
+<link rel="stylesheet" href="reveal/dist/reset.css">
+<link rel="stylesheet" href="reveal/dist/reveal.css">
+<link rel="stylesheet" href="reveal/dist/theme/white.css">
+<style>{STYLE}</style>
+</head>
+<body>
+<div class="reveal"><div class="slides">
+{chr(10).join(sections)}
+</div></div>
+<script src="reveal/dist/reveal.js"></script>
+<script src="reveal/dist/plugin/notes.js"></script>
+<script>
+window.MathJax = {{ tex: {{ inlineMath: [["\\\\(", "\\\\)"]], displayMath: [["\\\\[", "\\\\]"]] }},
+                   svg: {{ fontCache: "global" }}, startup: {{ typeset: false }} }};
+</script>
+<script src="mathjax/es5/tex-svg.js"></script>
+<script>
+// Typeset first, then lay out: reveal.js sizes the slides with the formulas in them.
+window.deckReady = MathJax.startup.promise.then(() => MathJax.typesetPromise()).then(() =>
+  Reveal.initialize({{ width: {WIDTH}, height: {HEIGHT}, margin: 0.04, hash: true, slideNumber: "c/t",
+                      center: true, transition: "none", plugins: [RevealNotes] }}));
+</script>
+</body>
+</html>
+"""
+
+
+def index_html(decks: list[tuple[str, str]]) -> str:
+    items = "\n".join(f'<li><a href="{html.escape(f)}">{html.escape(t)}</a>'
+                      f'{f" (<a href={chr(34)}{html.escape(f[:-5])}.pdf{chr(34)}>PDF</a>)" if (OUT / (f[:-5] + ".pdf")).is_file() else ""}</li>'
+                      for f, t in decks)
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>raykit: the slide decks</title>
+<style>body {{ font-family: sans-serif; margin: 2em; max-width: 50em; }} li {{ margin: 0.4em 0; }}</style></head>
+<body><h1>raykit: the slide decks</h1>
+<p>One deck per lecture, for presenting. Keys: the arrows, <kbd>S</kbd> for the speaker view with the notes,
+<kbd>F</kbd> for full screen, <kbd>Esc</kbd> for the overview. Everything here reads offline.</p>
+<ul>
+{items}
+</ul></body></html>
+"""
+
+
+def deck_sources() -> list[Path]:
+    return sorted(SOURCES.glob("[0-9][0-9]-*.md")) if SOURCES.is_dir() else []
+
+
+def deck_title(slides: list[Slide], fallback: str) -> str:
+    for line in slides[0].body if slides else []:
+        m = re.match(r"#\s+(.+)", line.strip())
+        if m:
+            return re.sub(r"[*`$]", "", m.group(1))
+    return fallback
+
+
+def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
+    """Writes every deck (or those of `sources`) into `out` with reveal.js, MathJax and the figures beside
+    them; the decks' paths."""
+    from .docs import ensure_docs_tools, npm_package
+    sources = deck_sources() if sources is None else sources
+    if not sources:
+        raise KitError(f"no decks in {SOURCES.relative_to(ROOT)} (NN-topic.md)", USAGE)
+    ensure_docs_tools()
+    reveal = npm_package("reveal.js", "dist/reveal.js", "runs the slide decks")
+    mathjax = npm_package("mathjax", "es5/tex-svg.js", "typesets the formulas")
+    work = out.with_name(out.name + ".new")
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    try:
+        media: dict[str, Path] = {}
+        decks = []
+        for src in sources:
+            slides = split_deck(src.read_text(encoding="utf-8"))
+            if not slides:
+                raise KitError(f"{src.relative_to(ROOT)}: no slides", FAILED)
+            title = deck_title(slides, src.stem)
+            (work / f"{src.stem}.html").write_text(deck_html(title, slides, media, src), encoding="utf-8")
+            decks.append((f"{src.stem}.html", title))
+        for name, path in media.items():
+            (work / "media").mkdir(exist_ok=True)
+            shutil.copyfile(path, work / "media" / name)
+        for base, files, dest in ((reveal, REVEAL_FILES, "reveal"), (mathjax, MATHJAX_FILES, "mathjax")):
+            for rel in files:
+                s, d = base / rel, work / dest / rel
+                d.parent.mkdir(parents=True, exist_ok=True)
+                (shutil.copytree if s.is_dir() else shutil.copyfile)(s, d)
+        (work / "index.html").write_text(index_html(decks), encoding="utf-8")
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    old = out.with_name(out.name + ".old")
+    shutil.rmtree(old, ignore_errors=True)
+    if out.exists():
+        out.rename(old)
+    work.rename(out)
+    shutil.rmtree(old, ignore_errors=True)
+    return [out / f for f, _ in decks]
+
+
+def print_pdfs(decks: list[Path]) -> list[Path]:
+    """Each deck printed by headless Chromium from reveal.js's print view: one 1280x720 page a slide."""
+    from .. import browser
+    from ..packages import ensure_packages
+    ensure_packages("browser")
+    chromium = browser.find_chromium()
+    if chromium is None:
+        raise KitError("--pdf needs Chromium: sudo apt-get install chromium", SETUP)
+    import base64
+    written = []
+    with browser.Browser(chromium, WIDTH, HEIGHT) as b:
+        for deck in decks:
+            b.open(deck.as_uri() + "?print-pdf")
+            b.evaluate("window.deckReady.then(() => new Promise(r => setTimeout(r, 300)))", timeout=60)
+            data = b.call("Page.printToPDF", session=True, timeout=120, printBackground=True,
+                          paperWidth=WIDTH / 96, paperHeight=HEIGHT / 96, marginTop=0, marginBottom=0,
+                          marginLeft=0, marginRight=0, preferCSSPageSize=True)["data"]
+            pdf = deck.with_suffix(".pdf")
+            tmp = pdf.with_name(pdf.name + ".tmp")
+            tmp.write_bytes(base64.b64decode(data))
+            tmp.replace(pdf)
+            written.append(pdf)
+    return written
+
+
