@@ -334,8 +334,8 @@ def selftest_lingering_child(ctx) -> str:
             watcher.join()
         longest = max((b - a for a, b in watched.values()), default=0.0)
         expect(longest < 3.0, f"lingering_child (Gradescope): a child lived {longest:.1f} s")
-        expect("lingering_child: started one" in json.dumps(data) or watched,
-               "lingering_child (Gradescope): did not run (no output, no child seen)")
+        # It compiled and ran: a never-hit answer passes the cases that expect a miss.
+        expect(data.get("score", 0) > 0, f"lingering_child (Gradescope): did not run: {str(data)[:300]}")
         no_leftovers("lingering_child (Gradescope)")
         summary += f"; Gradescope flow: the longest-lived child {longest:.2f} s"
     return summary
@@ -418,6 +418,7 @@ def grade_class(subs: Path, extra: list[str] = (), limits: str = "") -> dict[str
 
 
 AUTOGRADER = Path(tempfile.gettempdir()) / "raykit-selftest-autograder"
+_unpacked: list[bool] = []
 
 
 def gradescope(upload: Path) -> dict:
@@ -425,7 +426,8 @@ def gradescope(upload: Path) -> dict:
     unpacked in source/ (once per self-test run; its build folder kept between uploads, as an
     image's is), the upload in submission/, run_autograder as root, results/results.json read."""
     ag = AUTOGRADER
-    if not (ag / "source" / "kit").is_file():
+    if not _unpacked or not (ag / "source" / "kit").is_file():     # made anew once per self-test run
+        _unpacked.append(True)
         shutil.rmtree(ag, ignore_errors=True)
         ag.mkdir(parents=True)
         r = subprocess.run([str(ROOT / "kit"), "autograder", str(ag / "autograder.zip")], cwd=ROOT,
