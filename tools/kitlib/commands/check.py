@@ -92,7 +92,7 @@ def run(args) -> int:
             live.close()
         isolation.close()       # every process the graded code left, its control group, its files
     if not args.quiet:      # a picture per failing sphere or rectangle case (not for class grading)
-        picture.draw_results(results, picture.pictures_folder(BUILD, args.steps and source, args.slot),
+        picture.draw_results(results, picture.pictures_folder(BUILD, args.steps and display, args.slot),
                              args.reveal)
     if args.json:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
