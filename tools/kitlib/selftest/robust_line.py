@@ -120,7 +120,7 @@ def selftest_done_step_is_calm(ctx) -> str:
     expect("✗" not in r.stdout and "expected" not in r.stdout,
            f"a done step shows a failing ★ case without --all:\n{r.stdout[-1500:]}")
     every = kit("check", "1", "--all", "--steps", str(TEXTBOOK))
-    shown = len(re.findall(r"✗ the unit sphere|✗ grazing rays", every.stdout))
+    shown = len(re.findall(r"✗ ★ the unit sphere|✗ ★ grazing rays", every.stdout))   # ★ cases are marked
     failing = int(line.group(3)) - int(line.group(2))
     expect(shown == failing, f"--all shows {shown} ★ cases, {failing} fail:\n{every.stdout[-1500:]}")
     return f"done: '{line.group(1)}' and no case; --all shows the {failing}"
