@@ -258,7 +258,7 @@ def deck_title(slides: list[Slide], fallback: str) -> str:
 def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
     """Writes every deck (or those of `sources`) into `out` with reveal.js, MathJax and the figures beside
     them; the decks' paths."""
-    from .docs import ensure_docs_tools, npm_package
+    from .commands.docs import ensure_docs_tools, npm_package
     sources = deck_sources() if sources is None else sources
     if not sources:
         raise KitError(f"no decks in {SOURCES.relative_to(ROOT)} (NN-topic.md)", USAGE)
@@ -301,8 +301,8 @@ def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
 
 def print_pdfs(decks: list[Path]) -> list[Path]:
     """Each deck printed by headless Chromium from reveal.js's print view: one 1280x720 page a slide."""
-    from .. import browser
-    from ..packages import ensure_packages
+    from . import browser
+    from .packages import ensure_packages
     ensure_packages("browser")
     chromium = browser.find_chromium()
     if chromium is None:
