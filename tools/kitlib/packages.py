@@ -160,12 +160,17 @@ def ensure_elsewhere(names: list[str]) -> None:
 def missing_packages(names: list[str]) -> list[str]:
     if shutil.which("dpkg-query") is None:
         return []
-    missing = []
-    for name in names:
-        r = subprocess.run(["dpkg-query", "-W", "-f=${Status}", name], capture_output=True, text=True)
-        if r.returncode != 0 or "install ok installed" not in r.stdout:
-            missing.append(name)
-    return missing
+    if not names:
+        return []
+    # One dpkg-query for all of them (one a package took 0.4 s of every ./kit check): it prints
+    # the packages it knows, and exits non-zero when one is unknown, which is then missing too.
+    r = subprocess.run(["dpkg-query", "-W", "-f=${Package}\t${Status}\n", *names], capture_output=True, text=True)
+    installed = set()
+    for line in r.stdout.splitlines():
+        name, _, status = line.partition("\t")
+        if "install ok installed" in status:
+            installed.add(name.split(":")[0])
+    return [n for n in names if n not in installed]
 
 
 APT_LISTS = Path("/var/lib/apt/lists")

@@ -613,7 +613,8 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     out.mkdir()
     if uid:
         os.chown(out, uid, uid)
-    shutil.copytree(ROOT / "include", work / "include")
+    if kind == "compile":       # a link needs no headers
+        shutil.copytree(ROOT / "include", work / "include")
     inside = work                         # the same paths inside bubblewrap: W is bound at W
     mapping: list[tuple[str, str]] = [(str(work / "include"), str(ROOT / "include")), (str(out) + "/", "")]
     new = list(argv)
