@@ -50,8 +50,13 @@ inline std::string roots_well_formed(const Roots& r) {
 inline std::string roots_classified(const Ray& ray, const glm::vec3& center, float radius, const Roots& r) {
     const long double q = line_distance2_over_r2(ray, center, radius);
     if (!std::isfinite((double)q)) return {};
-    if (q > (1 + kTangentBand) * (1 + kTangentBand) && r.count != 0) return "a ray that provably misses was reported as a hit";
-    if (q < (1 - kTangentBand) * (1 - kTangentBand) && r.count != 2) return "a ray that provably passes through was reported with fewer than two roots";
+    // The band widens with the origin's distance in radii: a float reference forms the closest
+    // point from coordinates of that size, each rounded by 2^-24 of it, so 1e5 radii away the line's
+    // distance is known to about 1 % of the radius (the fuzzer found a 0.4 % miss there called a hit).
+    const long double far = std::sqrt((long double)glm::dot(ray.origin - center, ray.origin - center)) / radius;
+    const long double band = kTangentBand + 8 * far * 0x1p-24L;
+    if (q > (1 + band) * (1 + band) && r.count != 0) return "a ray that provably misses was reported as a hit";
+    if (band < 1 && q < (1 - band) * (1 - band) && r.count != 2) return "a ray that provably passes through was reported with fewer than two roots";
     return {};
 }
 

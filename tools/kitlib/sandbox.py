@@ -228,6 +228,13 @@ class Isolation:
             if uid:
                 kill_uid(uid)
                 clean_uid_files(uid)
+        for _ in range(25):     # a process killed a moment ago becomes a zombie a moment later
+            reap_orphans({self.uid, self.compile_uid})
+            if not any(_status_field(p, "PPid") == str(os.getpid()) and
+                       _status_field(p, "Uid").split()[:1] in ([str(self.uid)], [str(self.compile_uid)])
+                       for p in _proc_ids()):
+                break
+            time.sleep(0.02)
 
 
 NONE_OWN = Isolation("none", "not sandboxed (your own steps: the code runs as you)", own=True)
@@ -314,6 +321,7 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
                                  "code ran with the grader's rights. Install bubblewrap, or grade as root.",
                          limits=limits)
     iso.compile_uid = uid + COMPILE_UID_OFFSET if uid else 0
+    become_subreaper()
     iso.cgroups = make_cgroups(slot, limits)
     iso.description += "; limits: " + limits.words() + (
         "; in a control group of " + f"{limits.memory_mb} MiB" if iso.cgroups else "; rlimits only (no control group here)")
@@ -356,11 +364,42 @@ def claim_uid(slot: int) -> int:
 
 
 def _in_use(uid: int) -> bool:
-    ids = {uid, uid + COMPILE_UID_OFFSET}
+    """Whether any task has the id, zombies included: they count against RLIMIT_NPROC, and where
+    PID 1 never reaps (some containers) a fork bomb's would make the sandbox unable to start."""
+    ids = {str(uid), str(uid + COMPILE_UID_OFFSET)}
     for p in _proc_ids():
-        if any(_owned_by(p, i) for i in ids):
+        if _status_field(p, "Uid").split()[:1] and _status_field(p, "Uid").split()[0] in ids:
             return True
     return False
+
+
+def become_subreaper() -> None:
+    """Orphans of the graded code (killed sandboxes' processes) are given to this process, which
+    reaps them (reap_children), instead of to PID 1, which in some containers never does."""
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)     # PR_SET_CHILD_SUBREAPER
+    except (OSError, AttributeError):
+        pass
+
+
+def reap_orphans(uids: set[int]) -> None:
+    """Reaps the graded code's dead orphans given to us (zombies of the sandbox's ids whose parent
+    is this process), each by its pid: never waitpid(-1), which could take a build's exit status
+    from the subprocess that waits for it."""
+    me, wanted = os.getpid(), {str(u) for u in uids if u}
+    for p in _proc_ids():
+        try:
+            text = Path(f"/proc/{p}/status").read_text()
+        except OSError:
+            continue
+        fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
+        if (fields.get("State", "").strip().startswith("Z") and fields.get("PPid", "").strip() == str(me)
+                and fields.get("Uid", "").split()[:1] and fields["Uid"].split()[0] in wanted):
+            try:
+                os.waitpid(p, os.WNOHANG)
+            except ChildProcessError:
+                pass
 
 
 class Scratch:
@@ -389,6 +428,7 @@ class Scratch:
         if self.isolation.uid:
             kill_uid(self.isolation.uid)
             clean_uid_files(self.isolation.uid)
+            reap_orphans({self.isolation.uid})
         shutil.rmtree(self.path, ignore_errors=True)
 
 

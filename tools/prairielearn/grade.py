@@ -89,8 +89,11 @@ def convert(gs: dict, staged: Path) -> dict:
     steps = gs.get("extra_data", {}).get("steps", [])
     cases = [c for s in steps for c in s.get("cases", [])]
     tests, images = [], []
-    for i, t in enumerate(gs.get("tests", [])):
-        case = cases[i] if i < len(cases) and t["name"].endswith(cases[i]["name"]) else {}
+    # Gradescope's tests are not one a case (the ★ tier and a compile error are one test a step):
+    # each test is matched to the case its name ends with, the longest such name.
+    names = sorted(cases, key=lambda c: -len(c["name"]))
+    for t in gs.get("tests", []):
+        case = next((c for c in names if t["name"].endswith(c["name"])), {})
         lines = t.get("output", "").split("\nYour code printed", 1)
         test = {"name": t["name"], "description": f"lecture section: {case['lecture']}" if case.get("lecture") else "",
                 "points": t["score"], "max_points": t["max_score"], "message": clean(lines[0]),
@@ -106,8 +109,12 @@ def convert(gs: dict, staged: Path) -> dict:
     maximum = gs.get("extra_data", {}).get("max_score", 0)
     earned = gs.get("score", 0)
     message = (gs.get("output", "").splitlines() or [f"score {earned} of {maximum}"])[0]
-    diagnostic = next((line for t in tests for line in t["message"].splitlines()
-                       if line.startswith("does not compile:")), "")
+    # A step that does not compile: its first diagnostic, from the compiler's output (the step's detail).
+    diagnostic = next((clean(line.strip()) for s in steps if s.get("state") == "no_compile"
+                       for line in s.get("detail", "").splitlines() if "error" in line.lower()), "")
+    if not diagnostic:
+        diagnostic = next((line for t in tests for line in t["message"].splitlines()
+                           if line.startswith("does not compile:")), "")
     if diagnostic:
         message += "\n" + diagnostic
     return {"gradable": True, "score": (earned / maximum) if maximum else 0.0, "message": message,
