@@ -52,9 +52,8 @@ FIRST_UID = 64000
 UID_CLAIMS = 32                 # ids FIRST_UID + slot + 64 k, k < UID_CLAIMS, run the code
 COMPILE_UID_OFFSET = 64 * UID_CLAIMS    # and each one's compile runs as that id + this
 
-# What stays readable to the user isolation in the kit: the public headers (which the compile copies
-# anyway). Every other top-level entry of the kit loses its rights for "others" while grading.
-PUBLIC_PARTS = {"include"}
+# What the user isolation must not read in the kit (made unreadable to "others" while grading).
+SECRET_PARTS = ["solutions", "tests", "build", "bench", ".git"]
 
 # Folders hidden from bubblewrap's view (each that exists, as an empty tmpfs), beside the kit,
 # build/ and $HOME: temporary folders, sockets (/run holds dbus's and docker's), homes, the
@@ -306,8 +305,8 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     elif wanted == "bwrap":
         raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
     elif wanted in ("auto", "user") and root:
-        iso = Isolation(f"user:{uid}", f"sandboxed as the unprivileged user id {uid}: it reads no file of the "
-                                       "kit but its headers and writes only a scratch folder; every process "
+        iso = Isolation(f"user:{uid}", f"sandboxed as the unprivileged user id {uid}: it cannot read the kit's "
+                                       "answers and writes only a scratch folder; every process "
                                        "it starts is ended; the network is NOT isolated (bubblewrap could "
                                        "not run here)", uid=uid, limits=limits)
         hide_secrets()
@@ -433,18 +432,21 @@ class Scratch:
 
 
 def hide_secrets() -> None:
-    """Under the user isolation, nothing of the kit but its headers may be readable by others.
+    """Under the user isolation, what holds answers must not be readable by other users.
 
-    Takes read, write and search rights from 'others' on every top-level entry of the kit but
-    include/ (the kit runs as root here, and nothing but the sandbox is 'other'). The compile
-    reads the headers from its own copy, so the kit's folder itself need not be reachable.
+    Takes read, write and search rights from 'others' on the kit's secret parts (the kit runs as
+    root here, and nothing but the sandbox is 'other'): the reference, every test file (hidden
+    cases, exact answers, the exact-root code, fixtures, mutants), build/ (the reference's objects,
+    other students' folders), the bench's reference code and the git history. The rest of the kit
+    stays usable by other users (its driver, lectures, headers); the compile reads its own copy of
+    the headers, and nothing of the kit is on the run's path.
     """
-    for p in ROOT.iterdir():
-        if p.name in PUBLIC_PARTS or p.is_symlink():
-            continue
-        mode = p.stat().st_mode
-        if mode & (stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH):
-            os.chmod(p, mode & ~(stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH))
+    for part in SECRET_PARTS:
+        p = ROOT / part
+        if p.exists() and not p.is_symlink():
+            mode = p.stat().st_mode
+            if mode & (stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH):
+                os.chmod(p, mode & ~(stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH))
 
 
 # --- processes ---------------------------------------------------------------------------------
