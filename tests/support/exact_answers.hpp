@@ -42,12 +42,21 @@
 
 namespace raykit::exact {
 
+/// A recorded Roots value: count and the two roots' bit patterns.
+struct RecordedRoots {
+    int count;
+    std::uint32_t t[2];
+};
+
 /// One recorded sphere_roots answer: key = origin, direction, centre, radius
-/// (10 float bit patterns); the exact roots rounded to float.
+/// (10 float bit patterns); the exact roots rounded to float; then what the
+/// usual wrong formulas give on the same inputs (the suspects of a failure:
+/// a = 1, c' in float, the textbook formula and the shortcut in float; reference_roots.hpp).
 struct RootsEntry {
     std::uint32_t key[10];
     int count;
     std::uint32_t t[2];
+    RecordedRoots suspects[4];
 };
 
 /// One recorded hit: key = the roots' key, then tmin and tmax; hit is 0 or 1.
@@ -161,12 +170,38 @@ inline Sphere sphere_of(const std::uint32_t* k) {
     return Sphere{{from_bits(k[6]), from_bits(k[7]), from_bits(k[8])}, from_bits(k[9])};
 }
 
-inline Roots roots_of(const RootsEntry& e) {
+inline Roots roots_of(int count, const std::uint32_t* t) {
     Roots r;
-    r.count = e.count;
-    r.t[0] = from_bits(e.t[0]);
-    r.t[1] = from_bits(e.t[1]);
+    r.count = count;
+    r.t[0] = from_bits(t[0]);
+    r.t[1] = from_bits(t[1]);
     return r;
+}
+
+inline Roots roots_of(const RootsEntry& e) { return roots_of(e.count, e.t); }
+
+/// What the usual wrong formulas give on a case's inputs, for naming the cause of a failure
+/// (grading::measured_cause): the exact roots of the formula that takes a = d.d as 1; the exact
+/// formula with only f and c' = f.f - r^2 computed in float; the textbook formula in float; the
+/// unit-direction shortcut -h -+ sqrt(h^2 - c') in float.
+struct Suspects {
+    Roots a_one, float_cprime, textbook_float, shortcut_float;
+};
+
+inline Suspects suspects_of(const RootsEntry& e) {
+    return {roots_of(e.suspects[0].count, e.suspects[0].t), roots_of(e.suspects[1].count, e.suspects[1].t),
+            roots_of(e.suspects[2].count, e.suspects[2].t), roots_of(e.suspects[3].count, e.suspects[3].t)};
+}
+
+inline std::string recorded_text(const Roots& r) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, " %d 0x%08x 0x%08x", r.count, static_cast<unsigned>(bits(r.t[0])),
+                  static_cast<unsigned>(bits(r.t[1])));
+    return buf;
+}
+
+inline bool same_roots(const Roots& r, const RecordedRoots& e) {
+    return r.count == e.count && bits(r.t[0]) == e.t[0] && bits(r.t[1]) == e.t[1];
 }
 
 #if defined(RAYKIT_EXACT_COMPUTED)
@@ -189,6 +224,7 @@ struct SphereCase {
     Ray ray;
     Sphere sphere;
     Roots roots;
+    Suspects suspects;
 };
 
 /// The roots of |o + t d - c|^2 = r^2 for these float inputs, exact and
@@ -204,11 +240,13 @@ inline std::optional<SphereCase> sphere_roots(const Ray& ray, const Sphere& sphe
     const Ray r_in = entry ? ray_of(entry->key) : ray;
     const Sphere s_in = entry ? sphere_of(entry->key) : sphere;
     const Roots r = reference::sphere_roots_rounded(r_in, s_in);
-    char buf[64];
-    std::snprintf(buf, sizeof buf, " %d 0x%08x 0x%08x", r.count, static_cast<unsigned>(bits(r.t[0])),
-                  static_cast<unsigned>(bits(r.t[1])));
-    record("roots " + hex(key_of(r_in, s_in)) + buf);
-    const bool same = entry && r.count == entry->count && bits(r.t[0]) == entry->t[0] && bits(r.t[1]) == entry->t[1];
+    const reference::SuspectRoots m = reference::suspect_roots(r_in, s_in);
+    record("roots " + hex(key_of(r_in, s_in)) + recorded_text(r) + recorded_text(m.a_one) +
+           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float));
+    const bool same = entry && same_roots(r, RecordedRoots{entry->count, {entry->t[0], entry->t[1]}}) &&
+                      same_roots(m.a_one, entry->suspects[0]) &&
+                      same_roots(m.float_cprime, entry->suspects[1]) && same_roots(m.textbook_float, entry->suspects[2]) &&
+                      same_roots(m.shortcut_float, entry->suspects[3]);
     if (!same) {
         missing("roots", key, why_missing(entry));
         return std::nullopt;
@@ -218,7 +256,7 @@ inline std::optional<SphereCase> sphere_roots(const Ray& ray, const Sphere& sphe
         missing("roots", key, why_missing(entry));
         return std::nullopt;
     }
-    return SphereCase{ray_of(entry->key), sphere_of(entry->key), roots_of(*entry)};
+    return SphereCase{ray_of(entry->key), sphere_of(entry->key), roots_of(*entry), suspects_of(*entry)};
 }
 
 /// A hit case's inputs as recorded, and the closest exact root inside the

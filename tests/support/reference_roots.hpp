@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 
 #include "raykit/ray.hpp"
 #include "raykit/roots.hpp"
@@ -109,6 +110,113 @@ inline Roots sphere_roots_rounded(const Ray& ray, const Sphere& sphere) {
     out.count = w.count;
     for (int i = 0; i < w.count; ++i) out.t[i] = static_cast<float>(w.t[i]);
     if (w.count == 1) out.t[1] = out.t[0];
+    return out;
+}
+
+
+// --- Suspects: what the usual wrong formulas give on the same inputs ----------------
+//
+// When a ★ answer fails, the grader names the cause the answer matches, measured, not assumed
+// (tests/support/robust_grading.hpp, measured_cause). These are the candidates, each the exact
+// computation with one known flaw, so that a match names that flaw alone:
+//  - a_one: the roots of t^2 + 2 h t + c' = 0, exact: the formula that takes a = d.d as 1;
+//  - float_cprime: exact, except that f = o - c and c' = f.f - r^2 are computed in float;
+//  - textbook_float: the textbook formula with every operation rounded to float;
+//  - shortcut_float: the unit-direction shortcut -h -+ sqrt(h^2 - c') (a taken as 1), in float.
+// They are recorded with the exact roots (./kit exact --refresh), so a handout carries only their
+// values on the graded inputs, never the code.
+
+/// The stable root pair of t^2 (a) + 2 h t + c = 0 in the wide type, from a discriminant already formed.
+inline WideRoots wide_pair(wide a, wide h, wide c, wide disc) {
+    if (!(a > 0) || disc < 0) return {};
+    WideRoots out;
+    if (disc == 0) {
+        out.count = 1;
+        out.t[0] = out.t[1] = -h / a;
+        return out;
+    }
+    const wide s = wide_sqrt(disc);
+    const wide q = -(h + (h < 0 ? -s : s));
+    wide t0 = q / a, t1 = c / q;
+    if (t0 > t1) {
+        const wide tmp = t0;
+        t0 = t1;
+        t1 = tmp;
+    }
+    out.count = 2;
+    out.t[0] = t0;
+    out.t[1] = t1;
+    return out;
+}
+
+inline Roots rounded(const WideRoots& w) {
+    Roots out;
+    out.count = w.count;
+    for (int i = 0; i < w.count; ++i) out.t[i] = static_cast<float>(w.t[i]);
+    if (w.count == 1) out.t[1] = out.t[0];
+    return out;
+}
+
+// One float operation, rounded to float and never fused with the next (the volatile store forces the
+// rounding whatever the compiler's contraction rules), so the recorded values do not depend on the
+// machine that records them.
+inline float fl(float x) {
+    volatile float v = x;
+    return v;
+}
+inline float fl_dot(const float* x, const float* y) {
+    return fl(fl(fl(x[0] * y[0]) + fl(x[1] * y[1])) + fl(x[2] * y[2]));
+}
+
+struct SuspectRoots {
+    Roots a_one, float_cprime, textbook_float, shortcut_float;
+};
+
+/// -h -+ sqrt(disc), over a, with every operation in float; the contract's count and order.
+inline Roots float_pair(float a, float h, float disc) {
+    Roots t;
+    if (!(a > 0.0f) || !std::isfinite(disc) || !(disc >= 0.0f)) return t;
+    if (disc == 0.0f) return {1, {fl(-h / a), fl(-h / a)}};
+    const float s = fl(std::sqrt(disc));
+    float t0 = fl(fl(-h - s) / a), t1 = fl(fl(-h + s) / a);
+    if (t0 > t1) std::swap(t0, t1);
+    if (std::isnan(t0) || std::isnan(t1)) return {};
+    return {2, {t0, t1}};
+}
+
+inline SuspectRoots suspect_roots(const Ray& ray, const Sphere& sphere) {
+    SuspectRoots out;
+    if (!(sphere.radius > 0.0f) || !std::isfinite(sphere.radius)) return out;
+    if (!finite(ray.origin) || !finite(ray.direction) || !finite(sphere.center)) return out;
+    const float r = sphere.radius;
+    float ff[3], fd[3];
+    wide f[3], d[3], g[3];
+    for (int i = 0; i < 3; ++i) {
+        f[i] = wide(ray.origin[i]) - wide(sphere.center[i]);
+        d[i] = wide(ray.direction[i]);
+        fd[i] = ray.direction[i];
+        ff[i] = fl(ray.origin[i] - sphere.center[i]);
+        g[i] = wide(ff[i]);
+    }
+    // a = 1: h and c' exact, the discriminant h^2 - c'.
+    {
+        const wide h = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+        const wide c = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - wide(r) * wide(r);
+        out.a_one = rounded(wide_pair(1, h, c, h * h - c));
+    }
+    // c' in float: f and c' as float computes them, the rest exact.
+    const float cf = fl(fl_dot(ff, ff) - fl(r * r));
+    {
+        const wide a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        const wide h = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
+        out.float_cprime = rounded(wide_pair(a, h, wide(cf), h * h - a * wide(cf)));
+    }
+    // The textbook formula in float: -h -+ sqrt(h^2 - a c'), over a (h is half of b: b^2 - 4ac is
+    // 4 (h^2 - a c') exactly in binary, so the b form rounds to the same numbers); and the shortcut,
+    // the same with a taken as 1.
+    const float a = fl_dot(fd, fd), h = fl_dot(ff, fd);
+    out.textbook_float = float_pair(a, h, fl(fl(h * h) - fl(a * cf)));
+    out.shortcut_float = float_pair(1.0f, h, fl(fl(h * h) - cf));
     return out;
 }
 

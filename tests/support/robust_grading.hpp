@@ -15,6 +15,7 @@
 // bound was measured).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <cstdio>
@@ -87,24 +88,161 @@ inline void log_ulps(const std::string& call, const std::string& input, std::int
                      exact.c_str());
 }
 
+/// How far apart two Roots are in ulps: the largest over their roots; the largest int64 when the counts
+/// differ or a root is NaN.
+inline std::int64_t roots_distance(const Roots& a, const Roots& b) {
+    if (a.count != b.count) return std::numeric_limits<std::int64_t>::max();
+    std::int64_t worst = 0;
+    for (int i = 0; i < a.count && i < 2; ++i) {
+        const std::int64_t n = ulp_distance(a.t[i], b.t[i]);
+        if (n > worst) worst = n;
+    }
+    return worst;
+}
+
+/// How near an answer with the wrong number of roots must be, root for root, to a suspect with that same
+/// wrong count for the suspect to explain it (about 0.05 %: such roots lie where the discriminant is
+/// noise, and two computations of noise agree only roughly).
+constexpr std::int64_t count_match_ulps = 1 << 13;
+
+/// A failure's cause, measured on the answer (lecture 03; the self-test "a failure names the cause planted
+/// in the answer" plants each one). The answer is compared with what each suspect gives on the same
+/// inputs (exact::Suspects: the formula that takes a = 1 solved exactly, c' computed in float, the
+/// textbook formula in float, the unit-direction shortcut in float). A suspect explains the answer when
+/// it is itself wrong here (over the bound) and the answer is at least twice as near to it as to
+/// the exact roots (for a wrong count: the same count, and roots within count_match_ulps; an answer of no
+/// roots leaves nothing to compare and names none). The nearest such suspect is named; ties go to the
+/// more specific (a = 1, then c', then the whole formulas). `matched` is false, and the text says so
+/// plainly, when none explains it.
+struct Cause {
+    bool matched = false;
+    std::string text;
+};
+
+inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s) {
+    constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
+    enum { a_one, cprime, textbook, shortcut, count };
+    const Roots* suspects[count] = {&s.a_one, &s.float_cprime, &s.textbook_float, &s.shortcut_float};
+    const char* names[count] = {"the formula that takes a = 1", "c' computed in float",
+                                "the textbook formula in float", "the shortcut -h -+ sqrt(h^2 - c') in float"};
+    const std::int64_t off = roots_distance(exact, got);
+    std::int64_t distance[count], own[count];
+    int best = -1;
+    for (int i = 0; i < count; ++i) {
+        distance[i] = roots_distance(*suspects[i], got);
+        own[i] = roots_distance(*suspects[i], exact);
+        const bool wrong_itself = own[i] > robust_max_ulps;
+        const bool near = off == none ? got.count > 0 && distance[i] <= count_match_ulps : distance[i] <= off / 2;
+        if (distance[i] != none && wrong_itself && near && (best < 0 || distance[i] < distance[best])) best = i;
+    }
+    const char* lead = " Measured on your answer: it is ";
+    auto within = [&](int i) {
+        return lead + (distance[i] == 0 ? std::string("exactly what ") : "within " + show_ulps(distance[i]) + " of what ");
+    };
+    auto costs = [&](int i) {
+        return own[i] == none ? std::string("gives the wrong number of roots") : "puts a root " + show_ulps(own[i]) + " off";
+    };
+    const double dd = double(ray.direction.x) * ray.direction.x + double(ray.direction.y) * ray.direction.y +
+                      double(ray.direction.z) * ray.direction.z;
+    const bool nearly_unit = std::fabs(dd - 1) < 1e-4;
+    auto dd_text = [&] {
+        char buf[96];
+        if (nearly_unit)
+            std::snprintf(buf, sizeof buf, "d.d = 1 %c %.3g (the direction is unit only to a rounding)",
+                          dd < 1 ? '-' : '+', std::fabs(dd - 1));
+        else
+            std::snprintf(buf, sizeof buf, "d.d = %.9g", dd);
+        return std::string(buf);
+    };
+    // Which of a whole formula's subtractions lost the digits: a wrong count or a wrong larger root is the
+    // discriminant's; a wrong smaller root alone is -h -+ sqrt(D)'s.
+    auto where = [&](const char* disc) {
+        bool small_only = false;
+        if (off != none && exact.count == 2) {
+            const int big = std::fabs(exact.t[0]) > std::fabs(exact.t[1]) ? 0 : 1;
+            small_only = ulp_distance(exact.t[big], got.t[big]) <= robust_max_ulps;
+        }
+        if (small_only)
+            return std::string("the smaller root -h -+ sqrt(...) subtracts two nearly equal numbers and keeps few "
+                               "correct digits (lecture 03, section 6)");
+        return std::string(disc) + " are nearly equal here, so their difference, the discriminant, keeps few "
+                                   "correct digits (lecture 03, section 5)";
+    };
+    switch (best) {
+        case a_one:
+            return {true, within(a_one) + "the formula that takes a = d.d as exactly 1, t^2 + 2 h t + c' = 0, "
+                          "gives when solved exactly. Here " + dd_text() + ", and that assumption alone " +
+                          costs(a_one) + ", whatever the precision of the arithmetic: the cause is the missing a, "
+                          "not rounding (lecture 03, sections 1 and 5)."};
+        case cprime:
+            return {true, within(cprime) + "the exact formula gives with only f = o - c and c' = f.f - r^2 "
+                          "computed in float. So the cause is c' itself: f.f and r^2 are nearly equal here, and "
+                          "their difference in float keeps few correct digits (that alone " + costs(cprime) +
+                          "); your discriminant and root pair add little to it. Rearranging the other steps does "
+                          "not repair it: c' needs more digits than float holds (lecture 03, appendix, section A)."};
+        case textbook:
+        {
+            std::string text = within(textbook) + "the textbook formula, (-h -+ sqrt(h^2 - a c')) / a with every "
+                               "operation in float, gives: " + where("h^2 and a c'") + ".";
+            if (own[cprime] > robust_max_ulps)
+                text += " Part of it is c' itself: f.f and r^2 are nearly equal here, and computed in float their "
+                        "difference alone " + costs(cprime) + " (lecture 03, appendix, section A).";
+            return {true, text};
+        }
+        case shortcut: {
+            std::string text = within(shortcut) + "the shortcut -h -+ sqrt(h^2 - c'), every operation in float, "
+                               "gives: " + where("h^2 and c'") + ".";
+            if (own[a_one] > robust_max_ulps)
+                text += " Part of it is not rounding at all: here " + dd_text() + ", and taking a as 1 in h^2 - c' " +
+                        "alone " + costs(a_one) + " (lecture 03, section 1).";
+            return {true, text};
+        }
+        default: break;
+    }
+    if (got.count == 0 && exact.count > 0) {
+        std::string also;
+        int n = 0;
+        for (int i = 0; i < count; ++i)
+            if (suspects[i]->count == 0) also += std::string(n++ ? ", " : "") + names[i];
+        return {false, " Measured on your answer: with no roots there is nothing to compare, so the kit cannot "
+                       "tell the cause from the answer" + (n ? " (" + also + (n == 1 ? " also finds" : " also find") +
+                       " none here)." : std::string(".")) + " What usually goes wrong here:"};
+    }
+    std::string list;
+    for (int i = 0; i < count; ++i)
+        list += std::string(i ? ", " : "") + names[i] + " (" +
+                (distance[i] == none ? std::string("another count") : show_ulps(distance[i]) + " away") + ")";
+    return {false, " Measured on your answer: it matches none of the causes the kit knows: " + list +
+                   ". What usually goes wrong here:"};
+}
+
 /// Checks a Roots answer against the exact roots of the same inputs: the same
 /// count, the contract (sorted, a tangent repeats its root), and each root
-/// within robust_max_ulps of the exact one.
-inline void check_roots_ulps(const std::string& call, const std::string& input,
-                             const Roots& expected, const Roots& got, const std::string& why) {
-    auto fail = [&](const std::string& problem) {
+/// within robust_max_ulps of the exact one. `why` is what usually goes wrong on the case; given the
+/// case's suspects, a failure of the count or of a root's value says instead what was measured on the
+/// answer (measured_cause), with `why` only when no known cause matches. `graded` (which forms pass the
+/// case) follows either way.
+inline void check_roots_ulps(const std::string& call, const std::string& input, const Roots& expected,
+                             const Roots& got, const std::string& why, const std::string& graded = "",
+                             const exact::SphereCase* found = nullptr) {
+    auto fail = [&](const std::string& problem, bool measure) {
         figure::note_failure(call, figure::json(expected), figure::json(got));
+        std::string because = why;
+        if (measure && found) {
+            const Cause c = measured_cause(found->ray, expected, got, found->suspects);
+            because = c.matched ? c.text.substr(1) : c.text.substr(1) + " " + why;
+        }
         FAIL_CHECK(report(call, input, show(expected) + "  (exact roots, rounded to float)", show(got),
-                          problem + (why.empty() ? "" : " " + why)));
+                          problem + (because.empty() ? "" : " " + because) + graded));
     };
-    if (got.count < 0 || got.count > 2) return fail("count must be 0, 1 or 2.");
+    if (got.count < 0 || got.count > 2) return fail("count must be 0, 1 or 2.", false);
     if (got.count != expected.count) {
         log_ulps(call, input, std::numeric_limits<std::int64_t>::max(), show(expected));
-        return fail("The number of roots is wrong: rounding has flipped the sign of the discriminant.");
+        return fail("The number of roots is wrong.", true);
     }
-    if (got.count == 2 && !(got.t[0] <= got.t[1])) return fail("Roots must be sorted: t[0] <= t[1].");
+    if (got.count == 2 && !(got.t[0] <= got.t[1])) return fail("Roots must be sorted: t[0] <= t[1].", false);
     if (got.count == 1 && !(got.t[0] == got.t[1]))
-        return fail("For a tangent both entries hold the same root: t[0] == t[1].");
+        return fail("For a tangent both entries hold the same root: t[0] == t[1].", false);
     std::int64_t worst = 0;
     for (int i = 0; i < expected.count; ++i) {
         const std::int64_t n = ulp_distance(expected.t[i], got.t[i]);
@@ -113,7 +251,13 @@ inline void check_roots_ulps(const std::string& call, const std::string& input,
     log_ulps(call, input, worst, show(expected));
     if (worst > robust_max_ulps)
         fail("A root is " + show_ulps(worst) + " from the exact one; at most " +
-             std::to_string(robust_max_ulps) + " are allowed.");
+             std::to_string(robust_max_ulps) + " are allowed.", true);
+}
+
+/// check_roots_ulps on a case from exact::sphere_roots: its exact roots, and its suspects for the cause.
+inline void check_case_ulps(const std::string& call, const std::string& input, const exact::SphereCase& found,
+                            const Roots& got, const std::string& why, const std::string& graded) {
+    check_roots_ulps(call, input, found.roots, got, why, graded, &found);
 }
 
 /// Checks a windowed hit against the exact one in ulps.

@@ -52,14 +52,14 @@ def users(steps: list[Step]) -> list[Step]:
 # --- the data file's text ----------------------------------------------------------
 
 def _entries(lines: list[str]) -> tuple[list[tuple], list[tuple]]:
-    """Parses recorded lines ("roots KEY... count t0 t1", "hit KEY... hit t") into sorted, unique entries."""
+    """Parses recorded lines ("roots KEY... count t0 t1 SUSPECTS", "hit KEY... hit t") into sorted, unique entries."""
     roots, hits = set(), set()
     for line in lines:
         words = line.replace(",", " ").split()
         if not words:
             continue
         values = tuple(int(w, 0) for w in words[1:])
-        if words[0] == "roots" and len(values) == 13:
+        if words[0] == "roots" and len(values) == 25:
             roots.add(values)
         elif words[0] == "hit" and len(values) == 14:
             hits.add(values)
@@ -80,7 +80,9 @@ def data_text(step: Step, lines: list[str]) -> str:
            "// tests/support/exact_answers.hpp for. GENERATED from the instructor's copy by",
            "//     ./kit exact --refresh",
            "// Do not edit: ./kit test checks that regenerating gives these bytes. Keys are the float",
-           "// inputs' bit patterns: origin, direction, centre, radius (then tmin, tmax for a hit).",
+           "// inputs' bit patterns: origin, direction, centre, radius (then tmin, tmax for a hit). A roots",
+           "// entry ends with what the usual wrong formulas give (a = 1, c' in float, the textbook",
+           "// formula and the shortcut in float), from which a failure's cause is measured.",
            "",
            '#include "../support/exact_answers.hpp"',
            "",
@@ -90,7 +92,9 @@ def data_text(step: Step, lines: list[str]) -> str:
            ""]
     if roots:
         out.append("const RootsEntry roots[] = {")
-        out += [f"    {{{{{_hex(e[:10])}}}, {e[10]}, {{{_hex(e[11:])}}}}}," for e in roots]
+        out += [f"    {{{{{_hex(e[:10])}}}, {e[10]}, {{{_hex(e[11:13])}}}, {{"
+                + ", ".join(f"{{{e[i]}, {{{_hex(e[i + 1:i + 3])}}}}}" for i in (13, 16, 19, 22)) + "}},"
+                for e in roots]
         out += ["};", ""]
     if hits:
         out.append("const HitEntry hits[] = {")

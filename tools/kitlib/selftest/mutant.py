@@ -11,6 +11,7 @@ names a case the suite does not have, fails by name.
 from __future__ import annotations
 
 import shutil
+from pathlib import Path
 
 from ..commands.mutant import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 from ..common import BUILD, ROOT, load_steps
@@ -125,8 +126,62 @@ def selftest_planted_causes(ctx) -> str:
             raise Failed(f"mutant {patch}: the failure {'does not name' if want else 'wrongly names'} an open "
                          f"window:\n{case['messages'][-1][-600:]}")
     named.append("an open window (and not for the far root tried first)")
+    named += planted_root_causes(work)
     shutil.rmtree(work, ignore_errors=True)
     return "the failure names the planted cause: " + ", ".join(named)
+
+
+# The causes of a ★ sphere failure (tests/support/robust_grading.hpp, measured_cause), each planted where
+# it is the whole story, with the words its message must use; the failure must use no other cause's words.
+ROOT_CAUSE_WORDS = {
+    "the assumption a = 1": "the formula that takes a = d.d as exactly 1",
+    "cancellation in h^2 - a c'": "the textbook formula, (-h -+ sqrt(h^2 - a c')) / a with every operation in float, "
+                                  "gives: h^2 and a c' are nearly equal",
+    "cancellation in c'": "So the cause is c' itself",
+    "no known cause": "it matches none of the causes the kit knows",
+}
+# Step 03's shortcut with its discriminant h^2 - c' in double (smallpt's way): exact but for a = 1.
+SHORTCUT_LEG = """    const glm::vec3 l = f - h * d;
+    const float disc = r * r - glm::dot(l, l);"""
+SHORTCUT_A_ONE = """    const glm::dvec3 fw(f), dw(d);
+    const double hw = glm::dot(fw, dw);
+    const float disc = static_cast<float>(hw * hw - (glm::dot(fw, fw) - double(r) * r));"""
+STEP02_SQRT = "    const double s = std::sqrt(disc);"
+
+
+def planted_root_causes(work: Path) -> list[str]:
+    steps = {s.number: s for s in load_steps()}
+    fixtures = ROOT / "tests" / "fixtures"
+    s03 = (ROOT / "solutions" / steps["03"].folder / "unit_direction.cpp").read_text()
+    s02 = (ROOT / "solutions" / steps["02"].folder / "general_sphere.cpp").read_text()
+    for text, line, where in ((s03, SHORTCUT_LEG, "step 03"), (s02, STEP02_SQRT, "step 02")):
+        if line not in text:
+            raise Failed(f"the {where} reference no longer has the lines this self-test plants a cause in:\n{line}")
+    plants = [
+        ("the assumption a = 1", "03", {"unit_direction.cpp": s03.replace(SHORTCUT_LEG, SHORTCUT_A_ONE, 1)},
+         "shortcut: a unit sphere 1000 units away"),
+        ("cancellation in h^2 - a c'", "02",
+         {"general_sphere.cpp": (fixtures / "textbook" / steps["02"].folder / "general_sphere.cpp").read_text()},
+         "a unit sphere 1000 units away"),
+        ("cancellation in c'", "02",
+         {"general_sphere.cpp": (fixtures / "forms" / "float_leg" / steps["02"].folder / "general_sphere.cpp").read_text()},
+         "the ground seen from a metre or two up"),
+        ("no known cause", "02", {"general_sphere.cpp": s02.replace(STEP02_SQRT, STEP02_SQRT[:-1] + " * 1.01;", 1)},
+         "a unit sphere 1000 units away"),
+    ]
+    named = []
+    for cause, number, files, case_name in plants:
+        _, result = grade_files(steps[number], files, work)
+        case = next((c for c in (result or {}).get("cases", []) if c["name"] == case_name), None)
+        if case is None or case["status"] != "fail":
+            raise Failed(f"planted {cause}: the case '{case_name}' did not fail ({case and case['status']})")
+        message = "\n".join(case["messages"])
+        others = [w for c, w in ROOT_CAUSE_WORDS.items() if c != cause]
+        if ROOT_CAUSE_WORDS[cause] not in message or any(w in message for w in others):
+            raise Failed(f"planted {cause}: the failure of '{case_name}' does not name it (and only it):\n"
+                         f"{message[-900:]}")
+        named.append(cause)
+    return named
 
 
 def selftests():
