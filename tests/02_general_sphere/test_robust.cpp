@@ -174,8 +174,8 @@ TEST_CASE("the first hit on a far sphere is accurate" * doctest::description("7.
                            aim_unit({1, 1, 1}, s.center + glm::vec3(-0.2f, 0.5f, 0))}) {
         const std::optional<exact::HitCase> c = exact::sphere_hit(ray, s, 0, inf);
         if (!c) continue;
-        check_hit_ulps("intersect_sphere(ray, sphere, 0, inf)", show(c->ray) + "; sphere " + show(c->sphere), c->t,
-                       intersect_sphere(c->ray, c->sphere, c->tmin, c->tmax), far_why + graded);
+        check_hit_case("intersect_sphere(ray, sphere, 0, inf)", show(c->ray) + "; sphere " + show(c->sphere), *c,
+                       intersect_sphere(c->ray, c->sphere, c->tmin, c->tmax), far_why, graded);
     }
 }
 

@@ -266,6 +266,7 @@ struct HitCase {
     Sphere sphere;
     float tmin, tmax;
     std::optional<float> t;
+    std::optional<Suspects> suspects;  // the suspects of the same ray and sphere, when recorded
 };
 
 /// The exact closest hit for these inputs, or nothing after a failed check
@@ -290,6 +291,11 @@ inline std::optional<HitCase> sphere_hit(const Ray& ray, const Sphere& sphere, f
     char buf[64];
     std::snprintf(buf, sizeof buf, " %d 0x%08x", hit ? 1 : 0, static_cast<unsigned>(hit ? bits(*hit) : 0u));
     record("hit " + hex(in) + buf);
+    // The roots of the same ray and sphere with their suspects, so that a failed hit's cause can be
+    // measured too (grading::check_hit_case).
+    const reference::SuspectRoots m = reference::suspect_roots(r_in, s_in);
+    record("roots " + hex(key_of(r_in, s_in)) + recorded_text(r) + recorded_text(m.a_one) +
+           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float));
     const bool same = entry && entry->hit == (hit ? 1 : 0) && (!hit || entry->t == bits(*hit));
     if (!same) {
         missing("hit", key, why_missing(entry));
@@ -300,8 +306,11 @@ inline std::optional<HitCase> sphere_hit(const Ray& ray, const Sphere& sphere, f
         missing("hit", key, why_missing(entry));
         return std::nullopt;
     }
-    HitCase out{ray_of(entry->key), sphere_of(entry->key), from_bits(entry->key[10]), from_bits(entry->key[11]), {}};
+    HitCase out{ray_of(entry->key), sphere_of(entry->key), from_bits(entry->key[10]), from_bits(entry->key[11]), {}, {}};
     if (entry->hit) out.t = from_bits(entry->t);
+    const Key roots_key = key_of(out.ray, out.sphere);
+    for (std::size_t i = 0; i < table.roots_size; ++i)
+        if (std::memcmp(table.roots[i].key, roots_key.k, sizeof table.roots[i].key) == 0) out.suspects = suspects_of(table.roots[i]);
     return out;
 }
 

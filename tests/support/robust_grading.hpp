@@ -281,4 +281,32 @@ inline void check_hit_ulps(const std::string& call, const std::string& input,
     }
 }
 
+/// The first of the roots inside the closed window, as a Roots of count 1 (or 0): how a hit compares with
+/// the suspects' roots in measured_cause.
+inline Roots hit_as_roots(const std::optional<float>& t) { return t ? Roots{1, {*t, *t}} : Roots{}; }
+
+inline std::optional<float> first_in(const Roots& r, float tmin, float tmax) {
+    for (int i = 0; i < r.count && i < 2; ++i)
+        if (tmin <= r.t[i] && r.t[i] <= tmax) return r.t[i];
+    return std::nullopt;
+}
+
+/// check_hit_ulps on a case from exact::sphere_hit; a failure's cause is measured on the answer from the
+/// suspects' hits in the same window, when the data has them, as check_case_ulps does for roots.
+inline void check_hit_case(const std::string& call, const std::string& input, const exact::HitCase& c,
+                           const std::optional<float>& got, const std::string& why, const std::string& graded) {
+    std::string because = why;
+    const bool wrong = c.t.has_value() != got.has_value() || (c.t && ulp_distance(*c.t, *got) > robust_max_ulps);
+    if (wrong && c.suspects) {
+        const exact::Suspects& s = *c.suspects;
+        const exact::Suspects hits{hit_as_roots(first_in(s.a_one, c.tmin, c.tmax)),
+                                   hit_as_roots(first_in(s.float_cprime, c.tmin, c.tmax)),
+                                   hit_as_roots(first_in(s.textbook_float, c.tmin, c.tmax)),
+                                   hit_as_roots(first_in(s.shortcut_float, c.tmin, c.tmax))};
+        const Cause cause = measured_cause(c.ray, hit_as_roots(c.t), hit_as_roots(got), hits);
+        because = cause.matched ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
+    }
+    check_hit_ulps(call, input, c.t, got, because + graded);
+}
+
 }  // namespace raykit::grading
