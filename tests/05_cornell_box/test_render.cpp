@@ -10,6 +10,7 @@
 #include "cornell_checks.hpp"
 #include "raykit/cornell_box.hpp"
 #include "raykit/render.hpp"
+#include "raykit/scenes/cornell_box_data.hpp"
 #include "reference_render.hpp"
 
 using namespace raykit;
@@ -116,10 +117,10 @@ TEST_CASE("the Cornell box at 48 by 32 pixels matches the reference render" *
     // The reference's letters and the colours they stand for (lecture 05, section 3).
     const auto color_of = [](char letter) -> Color {
         switch (letter) {
-            case 'W': return {0.73f, 0.74f, 0.70f};
-            case 'R': return {0.58f, 0.08f, 0.06f};
-            case 'G': return {0.13f, 0.35f, 0.11f};
-            case 'L': return {1.0f, 1.0f, 1.0f};
+            case 'W': return scenes::cornell::white;
+            case 'R': return scenes::cornell::red;
+            case 'G': return scenes::cornell::green;
+            case 'L': return scenes::cornell::light;
             default: return background;
         }
     };

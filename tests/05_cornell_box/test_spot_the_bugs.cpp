@@ -14,22 +14,19 @@
 
 #include "cornell_checks.hpp"
 #include "raykit/render.hpp"
+#include "raykit/scenes/cornell_box_data.hpp"
 
 using namespace raykit;
 using namespace raykit::grading;
 
 namespace {
 
-// The empty Cornell box as lecture 05 section 3 tabulates it, built here so
-// that these cases depend on find_intersection alone, not on cornell_box().
+// The empty Cornell box as lecture 05 section 3 tabulates it (include/raykit/scenes/cornell_box.inc),
+// built here so that these cases depend on find_intersection alone, not on cornell_box().
 Scene box() {
-    const Color white{0.73f, 0.74f, 0.70f}, red{0.58f, 0.08f, 0.06f}, green{0.13f, 0.35f, 0.11f};
-    return Scene{{Object{"light", Rect{1, 548.8f, {213, 227}, {343, 332}}, Color{1, 1, 1}},
-                  Object{"floor", Rect{1, 0, {0, 0}, {556, 559.2f}}, white},
-                  Object{"ceiling", Rect{1, 548.8f, {0, 0}, {556, 559.2f}}, white},
-                  Object{"back wall", Rect{2, 559.2f, {0, 0}, {556, 548.8f}}, white},
-                  Object{"left wall", Rect{0, 556, {0, 0}, {548.8f, 559.2f}}, red},
-                  Object{"right wall", Rect{0, 0, {0, 0}, {548.8f, 559.2f}}, green}}};
+    Scene scene;
+    for (const scenes::cornell::Row& row : scenes::cornell::rows()) scene.objects.push_back({row.name, row.rect, row.color});
+    return scene;
 }
 
 // Why the answer is wrong, read off the answer itself: with the right t but another object, is that

@@ -1,5 +1,7 @@
 #include "tool.hpp"
 
+#include "raykit/scenes/cornell_box_data.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -138,10 +140,10 @@ char palette_letter(const Color& c) {
         Color color;
     };
     static const Entry palette[] = {{'.', {0, 0, 0}},
-                                    {'W', {0.73f, 0.74f, 0.70f}},
-                                    {'R', {0.58f, 0.08f, 0.06f}},
-                                    {'G', {0.13f, 0.35f, 0.11f}},
-                                    {'L', {1, 1, 1}}};
+                                    {'W', scenes::cornell::white},
+                                    {'R', scenes::cornell::red},
+                                    {'G', scenes::cornell::green},
+                                    {'L', scenes::cornell::light}};
     for (const Entry& e : palette) {
         if (glm::length(e.color - c) <= 0.005f) return e.letter;
     }

@@ -27,6 +27,7 @@ from .harness import Failed, Skipped, expect
 GENERATOR = ROOT / "docs" / "bench_numbers.py"
 ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
 PITFALL_PICTURES = ROOT / "docs" / "pitfall_pictures.py"
+SCENE_TABLES = ROOT / "docs" / "scene_tables.py"
 
 
 def _generator(path: Path = GENERATOR):
@@ -119,6 +120,32 @@ def selftest_robust_numbers(ctx) -> str:
         expect(all(p.read_text() == t for p, t in before.items()), "robust_numbers.py changed a file on bad input")
     return (f"{blocks} generated blocks current with docs/robust_numbers.json, measured on today's suites and "
             "forms; stale when the measurement moves or the suites change; bad input exits 2")
+
+
+def selftest_scene_tables(ctx) -> str:
+    """Lecture 05's tables are the scene file's (include/raykit/scenes/cornell_box.inc): current, stale when
+    a colour changes there, and a broken scene file is a clear error."""
+    if not SCENE_TABLES.is_file():
+        raise Skipped("no docs/scene_tables.py here")
+    st = _generator(SCENE_TABLES)
+    bad = st.stale()
+    expect(not bad, f"lecture 05's tables are stale: {', '.join(bad)} (run python3 docs/scene_tables.py)")
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = Path(tmp) / "cornell_box.inc"
+        text = st.SCENE.read_text()
+        line = "RAYKIT_SCENE_COLOR(red, 0.58f, 0.08f, 0.06f)"
+        expect(line in text, f"the scene file no longer has the line this self-test changes: {line}")
+        scene.write_text(text.replace(line, "RAYKIT_SCENE_COLOR(red, 0.61f, 0.08f, 0.06f)"))
+        found = st.stale(scene)
+        expect(found == ["colors"], f"a changed red gave the stale blocks {found}, expected ['colors']")
+        scene.write_text(text.replace('RAYKIT_SCENE_OBJECT("floor"', '// RAYKIT_SCENE_OBJECT("floor"'))
+        try:
+            st.stale(scene)
+            raise Failed("a scene file with five objects was read without an error")
+        except st.SceneError as e:
+            expect("six objects" in str(e), f"a scene with five objects: {e}")
+    return "lecture 05's 3 tables current with include/raykit/scenes/cornell_box.inc; a changed colour is caught; " \
+           "a scene file without its floor is a clear error"
 
 
 def selftest_pitfall_pictures(ctx) -> str:
@@ -338,5 +365,6 @@ def selftests():
     return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
             ("★ grading figures are current", selftest_robust_numbers),
             ("the pitfalls' pictures are committed and current", selftest_pitfall_pictures),
+            ("lecture 05's tables are the scene file's", selftest_scene_tables),
             ("hints point to lecture sections that exist", selftest_hint_sections),
             ("every rule a header states has a case", selftest_contract_clauses)]
