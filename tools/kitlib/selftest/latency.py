@@ -4,6 +4,9 @@
   from nothing), until it prints;
 - first verdict: the same run, until step 01's row shows its verdict;
 - cold check: the same run, until it ends (every step configured, built and checked);
+- after a clean: the build folder removed, `./kit check` again: the kit's own objects (doctest's main,
+  the judges, the dispatchers) come from the kit cache (tools/kitlib/kitcache.py), the student's
+  files compile;
 - edit to verdict: step 01's file changed, `./kit check 1` again, until it ends.
 
 The figures depend on the machine and its load: they are reported beside the goals of issue 13
@@ -17,6 +20,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import sys
 import time
 
 from ..common import BUILD, ROOT
@@ -55,6 +59,22 @@ def selftest_latency(ctx: Context) -> str:
     first check), then with step 01 written (its first verdict), then every step written."""
     need_solutions()
     shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
+    # A kit cache of its own, empty: the cold figures are a newcomer's, whose ~/.cache holds nothing yet.
+    cache = BUILD / "latency-kit-cache"
+    shutil.rmtree(cache, ignore_errors=True)
+    saved = os.environ.get("RAYKIT_KIT_CACHE_DIR")
+    os.environ["RAYKIT_KIT_CACHE_DIR"] = str(cache)
+    try:
+        return _latency(ctx)
+    finally:
+        if saved is None:
+            os.environ.pop("RAYKIT_KIT_CACHE_DIR", None)
+        else:
+            os.environ["RAYKIT_KIT_CACHE_DIR"] = saved
+        shutil.rmtree(cache, ignore_errors=True)
+
+
+def _latency(ctx: Context) -> str:
     r = kit("handout", str(HANDOUT_DIR), "--committed", timeout=600)
     expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
     screen, fresh = run_check(HANDOUT_DIR)
@@ -77,6 +97,25 @@ def selftest_latency(ctx: Context) -> str:
            f"{screen.text[-1500:]}")
     expect("01" in cold, "step 01's row never showed a verdict")
     expect("building the test program" in screen.text, "no progress line while building")
+    launched = kit_cache_targets(HANDOUT_DIR / "build" / "student")
+    expect(launched and all(KIT_OWN.fullmatch(t) for t in launched),
+           f"the kit cache's launcher is given to other targets than the kit's own: {sorted(launched)}")
+    # A clean of build/ (or a second handout): the kit's own objects come from its cache.
+    shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
+    cache_log = BUILD / "latency-kit-cache.log"
+    cache_log.unlink(missing_ok=True)
+    os.environ["RAYKIT_KIT_CACHE_LOG"] = str(cache_log)
+    try:
+        screen, clean = run_check(HANDOUT_DIR)
+    finally:
+        os.environ.pop("RAYKIT_KIT_CACHE_LOG", None)
+    expect(screen.proc.returncode == 0, f"the check after a clean of build/ exited {screen.proc.returncode}:\n"
+           f"{screen.text[-1500:]}")
+    lines = cache_log.read_text().split("\n") if cache_log.is_file() else []
+    hits = [l for l in lines if l.startswith("hit ")]
+    expect(hits and len(hits) == len([l for l in lines if l]),
+           f"after a clean of build/, the kit's own objects were not all from the cache: {lines[:20]}")
+    cache_log.unlink(missing_ok=True)
     # An edit: a comment changes the file, so the step is rebuilt and checked again.
     step = ctx.steps[0]
     f = HANDOUT_DIR / "steps" / step.folder / step.files[0]
@@ -87,8 +126,75 @@ def selftest_latency(ctx: Context) -> str:
     return (f"a student's ./kit check in a handout, on a terminal: a newcomer's first check (the stubs) "
             f"{fresh['end']:.2f} s (goal 2); step 01 written, its first verdict cold {one['end']:.1f} s (goal 6); "
             f"all steps written, cold: first output {cold['output']:.2f} s (goal 1), step 01's verdict "
-            f"{cold['01']:.1f} s, all steps {cold['end']:.1f} s (goal 10); edit to verdict {edit['end']:.1f} s "
+            f"{cold['01']:.1f} s, all steps {cold['end']:.1f} s (goal 10); the same after a clean of build/, the "
+            f"kit's own objects from its cache, {clean['end']:.1f} s; edit to verdict {edit['end']:.1f} s "
             f"(goal 1); load average {load:.1f} at the start")
+
+
+# The kit's own targets, the only ones CMake may give the kit cache's launcher (CMakeLists.txt,
+# raykit_kit_cached): never a target that compiles a student's file (stepobjNN, needobjNN).
+KIT_OWN = re.compile(r"raykit_test_support|dispatch\d\d|test_step\d\d")
+
+
+def kit_cache_targets(build_dir) -> set[str]:
+    """The targets whose compile rule in `build_dir` runs through tools/kitlib/kitcache.py."""
+    rules = (build_dir / "CMakeFiles" / "rules.ninja").read_text()
+    found = set()
+    for m in re.finditer(r"^rule CXX_COMPILER__(\w+)_[A-Za-z]*\n((?:  .*\n)+)", rules, re.M):
+        if "kitcache.py" in m.group(2):
+            found.add(m.group(1))
+    return found
+
+
+def selftest_kit_cache(ctx: Context) -> str:
+    """tools/kitlib/kitcache.py on a small compile: a hit gives the same object, an edited header or a
+    damaged entry compiles again, a failing compile stores nothing, and a cache that cannot be written
+    only costs the cache."""
+    import subprocess
+    import tempfile
+    from pathlib import Path
+    launcher = ROOT / "tools" / "kitlib" / "kitcache.py"
+    compiler = shutil.which("c++") or shutil.which("g++") or shutil.which("clang++")
+    if compiler is None:
+        raise Failed("no C++ compiler on PATH")
+    with tempfile.TemporaryDirectory(prefix="raykit-kitcache-") as tmp:
+        work, cache, log = Path(tmp) / "w", Path(tmp) / "cache", Path(tmp) / "log"
+        work.mkdir()
+        (work / "h.hpp").write_text("inline int answer() { return 41; }\n")
+        (work / "a.cpp").write_text('#include "h.hpp"\nint f() { return answer() + 1; }\n')
+
+        def compile_(cache_dir=cache) -> tuple[int, str]:
+            (work / "a.o").unlink(missing_ok=True)
+            r = subprocess.run([sys.executable, "-S", str(launcher), str(cache_dir), compiler, "-MD", "-MT", "a.o",
+                                "-MF", "a.o.d", "-O1", "-o", "a.o", "-c", "a.cpp"], cwd=work, capture_output=True,
+                               text=True, env=dict(os.environ, RAYKIT_KIT_CACHE_LOG=str(log)))
+            said = log.read_text().split()[-2] if log.is_file() and log.read_text().strip() else "none"
+            log.unlink(missing_ok=True)
+            return r.returncode, said
+
+        expect(compile_() == (0, "miss"), "the first compile was not a miss")
+        first = (work / "a.o").read_bytes()
+        expect(compile_() == (0, "hit") and (work / "a.o").read_bytes() == first and (work / "a.o.d").is_file(),
+               "the second compile was not a hit giving the same object and its dependency file")
+        (work / "h.hpp").write_text("inline int answer() { return 42; }\n")
+        expect(compile_() == (0, "miss"), "an edited header was not compiled again")
+        (work / "h.hpp").write_text("inline int answer() { return 41; }\n")
+        expect(compile_() == (0, "hit") and (work / "a.o").read_bytes() == first,
+               "the header as it was did not find its old entry")
+        for manifest in cache.rglob("manifest.json"):
+            manifest.write_text("{ damaged")
+        expect(compile_() == (0, "miss"), "a damaged entry was used, or stopped the compile")
+        (work / "a.cpp").write_text("int f() { return undefined_name; }\n")
+        before = len(list(cache.rglob("manifest.json")))
+        code, said = compile_()
+        expect(code != 0 and said == "none" and len(list(cache.rglob("manifest.json"))) == before,
+               f"a failing compile: exit {code}, logged {said}, or it stored an entry")
+        (work / "a.cpp").write_text('#include "h.hpp"\nint f() { return answer() + 1; }\n')
+        blocked = Path(tmp) / "not-a-folder"
+        blocked.write_text("")
+        expect(compile_(blocked)[0] == 0 and (work / "a.o").is_file(), "a cache that cannot be written broke the compile")
+    return ("a hit gives the same object; an edited header, a damaged entry compile again; a failing compile "
+            "stores nothing; an unwritable cache only costs the cache")
 
 
 def selftest_recorded(ctx: Context) -> str:
@@ -127,4 +233,5 @@ def selftest_recorded(ctx: Context) -> str:
 
 
 def selftests() -> list:
-    return [("recorded stubs and case lists", selftest_recorded), ("latency figures", selftest_latency)]
+    return [("recorded stubs and case lists", selftest_recorded), ("the kit cache", selftest_kit_cache),
+            ("latency figures", selftest_latency)]

@@ -1,0 +1,209 @@
+"""The kit's own objects, compiled once per kit version and kept across build folders.
+
+A cold `./kit check` spends most of its compile time on files the student never touches: doctest's
+main, the judges, the dispatchers (measured: about two thirds of the CPU of a cold check of the five
+solutions). They are the same for every build folder of the same kit on the same compiler, so CMake
+runs their compiles through this launcher (CXX_COMPILER_LAUNCHER of the kit's own targets only, set
+when RAYKIT_KIT_CACHE names a folder): a `git clean` of build/, a second handout or a grading slot
+gets them from the cache instead of the compiler.
+
+Never for a student's file: only the kit's targets (raykit_test_support, dispatchNN, test_stepNN) are
+given this launcher, and their command lines read only the kit's files and the system's headers.
+
+How an entry is found (the "direct" way of a compiler cache): the first key is the compiler (its real
+path, size and time stamp), the working folder, the command line and the environment variables that
+change what the compiler reads. Under it, each entry lists every file the compile read (from its
+dependency file) with the SHA-256 of its content; an entry is used only when every one of those files
+still has that content. So an edited header, a new GLM or another compiler misses, and compiles.
+
+Usage (by CMake, not by hand):  python3 -S kitcache.py CACHE_DIR COMPILER ARGS...
+Any trouble with the cache (unwritable, damaged, full disk) falls back to running the compiler.
+Set RAYKIT_KIT_CACHE_LOG to a file to have a line appended per compile: "hit OBJ" or "miss OBJ".
+Standard library only: it runs with -S.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+VERSION = b"raykit-kitcache-1\0"
+ENV_READ = ("CPATH", "CPLUS_INCLUDE_PATH", "C_INCLUDE_PATH", "GCC_EXEC_PREFIX", "COMPILER_PATH", "SOURCE_DATE_EPOCH")
+MAX_BYTES = 2 << 30        # the cache is pruned to half of this, oldest first, when it grows past it
+MAX_OBJECT = 256 << 20
+
+
+def option(args: list[str], name: str) -> str | None:
+    for i, a in enumerate(args[:-1]):
+        if a == name:
+            return args[i + 1]
+    return None
+
+
+def first_key(compiler: str, args: list[str]) -> str:
+    h = hashlib.sha256(VERSION)
+    real = os.path.realpath(shutil.which(compiler) or compiler)
+    st = os.stat(real)
+    h.update(f"{real}\0{st.st_size}\0{st.st_mtime_ns}\0{os.getcwd()}\0".encode())
+    h.update(json.dumps(args).encode())
+    h.update(json.dumps([os.environ.get(v) for v in ENV_READ]).encode())
+    return h.hexdigest()
+
+
+def file_hash(path: str) -> str | None:
+    try:
+        with open(path, "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()
+    except OSError:
+        return None
+
+
+def dependencies(depfile_text: str) -> list[str]:
+    """The prerequisites of a GCC-style dependency file (`out: a b \\` lines; `\\ ` is a space)."""
+    text = depfile_text.replace("\\\n", " ")
+    deps = []
+    for line in text.splitlines():
+        _, sep, rest = line.partition(": ")
+        if not sep:
+            continue
+        word, i = "", 0
+        while i < len(rest):
+            c = rest[i]
+            if c == "\\" and i + 1 < len(rest) and rest[i + 1] == " ":
+                word += " "
+                i += 2
+                continue
+            if c.isspace():
+                if word:
+                    deps.append(word)
+                word = ""
+            else:
+                word += c
+            i += 1
+        if word:
+            deps.append(word)
+    return deps
+
+
+def log(what: str, out: str) -> None:
+    path = os.environ.get("RAYKIT_KIT_CACHE_LOG")
+    if path:
+        try:
+            with open(path, "a") as f:
+                f.write(f"{what} {out}\n")
+        except OSError:
+            pass
+
+
+def lookup(bucket: str, out: str, depfile: str | None) -> bool:
+    """Copies a matching entry's object (and dependency file) into place; whether one matched."""
+    try:
+        names = sorted(os.listdir(bucket))
+    except OSError:
+        return False
+    for name in names:
+        entry = os.path.join(bucket, name)
+        try:
+            with open(os.path.join(entry, "manifest.json")) as f:
+                manifest = json.load(f)
+            if not all(file_hash(p) == digest for p, digest in manifest["deps"]):
+                continue
+            tmp = f"{out}.kitcache.{os.getpid()}"
+            shutil.copyfile(os.path.join(entry, "object"), tmp)
+            os.replace(tmp, out)
+            if depfile:
+                shutil.copyfile(os.path.join(entry, "depfile"), depfile)
+            with open(os.path.join(entry, "stderr"), "rb") as f:
+                sys.stderr.buffer.write(f.read())
+            os.utime(os.path.join(entry, "manifest.json"))     # recently used: pruned last
+            return True
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+    return False
+
+
+def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes) -> None:
+    try:
+        with open(depfile) as f:
+            text = f.read()
+        if os.path.getsize(out) > MAX_OBJECT:
+            return
+        deps = [[os.path.abspath(p), file_hash(p)] for p in dependencies(text)]
+        if not deps or any(d is None for _, d in deps):
+            return
+        digest = hashlib.sha256(json.dumps(deps).encode()).hexdigest()[:32]
+        entry = os.path.join(bucket, digest)
+        if os.path.isdir(entry):
+            return
+        tmp = os.path.join(bucket, f".{digest}.{os.getpid()}")
+        os.makedirs(tmp)
+        shutil.copyfile(out, os.path.join(tmp, "object"))
+        with open(os.path.join(tmp, "depfile"), "w") as f:
+            f.write(text)
+        with open(os.path.join(tmp, "stderr"), "wb") as f:
+            f.write(stderr)
+        with open(os.path.join(tmp, "manifest.json"), "w") as f:
+            json.dump({"deps": deps, "stored": time.time()}, f)
+        try:
+            os.rename(tmp, entry)
+        except OSError:
+            shutil.rmtree(tmp, ignore_errors=True)    # another compile stored the same entry first
+        prune(cache)
+    except OSError:
+        return
+
+
+def prune(cache: str) -> None:
+    """Keeps the cache under MAX_BYTES: past it, the least recently used entries go until half is left."""
+    entries, total = [], 0
+    for root, dirs, files in os.walk(cache):
+        if "manifest.json" in files:
+            size = sum(os.path.getsize(os.path.join(root, f)) for f in files)
+            entries.append((os.path.getmtime(os.path.join(root, "manifest.json")), size, root))
+            total += size
+            dirs[:] = []
+    if total <= MAX_BYTES:
+        return
+    for _, size, root in sorted(entries):
+        shutil.rmtree(root, ignore_errors=True)
+        total -= size
+        if total <= MAX_BYTES // 2:
+            break
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) < 3:
+        print("kitcache.py: usage: kitcache.py CACHE_DIR COMPILER ARGS...", file=sys.stderr)
+        return 2
+    cache, command = argv[1], argv[2:]
+    out, depfile = option(command, "-o"), option(command, "-MF")
+    cacheable = out is not None and depfile is not None and "-c" in command
+    bucket = None
+    if cacheable:
+        try:
+            key = first_key(command[0], command[1:])
+            bucket = os.path.join(cache, key[:2], key)
+            if lookup(bucket, out, depfile):
+                log("hit", out)
+                return 0
+        except OSError:
+            bucket = None
+    r = subprocess.run(command, stderr=subprocess.PIPE)
+    sys.stderr.buffer.write(r.stderr)
+    if r.returncode == 0 and bucket is not None:
+        log("miss", out)
+        try:
+            os.makedirs(bucket, exist_ok=True)
+            store(cache, bucket, out, depfile, r.stderr)
+        except OSError:
+            pass
+    return r.returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
