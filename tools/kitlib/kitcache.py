@@ -198,6 +198,7 @@ def main(argv: list[str]) -> int:
     if r.returncode == 0 and bucket is not None:
         log("miss", out)
         try:
+            os.makedirs(cache, mode=0o700, exist_ok=True)     # the kit's user only (common.kit_cache_dir)
             os.makedirs(bucket, exist_ok=True)
             store(cache, bucket, out, depfile, r.stderr)
         except OSError:
