@@ -237,8 +237,17 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s")
     r = subprocess.CompletedProcess(proc.args, proc.returncode, "", stderr)
     if not report.exists():
-        message = (r.stderr.strip().splitlines() or ["no result"])[-1]
-        return dict(row, status="not graded", note=message.removeprefix("kit: "))
+        message = (r.stderr.strip().splitlines() or ["no result"])[-1].removeprefix("kit: ")
+        if "Traceback (most recent call last)" in r.stderr:
+            # The kit itself failed: its whole report kept for whoever fixes it, and named in the note.
+            log = BUILD / "grade-logs" / f"{row['student']}.txt"
+            try:
+                log.parent.mkdir(parents=True, exist_ok=True)
+                log.write_text(r.stderr)
+                message += f" (the kit failed, not the submission; its report: {log})"
+            except OSError:
+                pass
+        return dict(row, status="not graded", note=message)
     data = json.loads(report.read_text())
     course = course_file.load()
     extra = data["extra_data"]
