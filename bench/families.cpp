@@ -194,8 +194,9 @@ std::uint64_t fingerprint(const std::vector<Sample<float>>& samples, std::size_t
 std::vector<BoxFamily> box_families(std::size_t n) {
     std::vector<BoxFamily> out;
     {
-        // The usual camera: from (278, 278, -800) through the box's open side,
-        // aimed at a square a little wider than the opening, so some miss.
+        // A camera beside the Cornell box's own (the data's eye is (278, 273, -800); this family's
+        // has y = 278, as when it was first measured): through the box's open side, aimed at a
+        // square a little wider than the opening, so some miss.
         BoxFamily f{"box_camera", "box, camera rays", "from (278, 278, -800) through the open side", {}, {}};
         Rng rng(777001);
         const Vec3<double> eye{278, 278, -800};

@@ -45,7 +45,7 @@ std::vector<SphereFamily> sphere_families(std::size_t n);
 /// they belong to.
 std::uint64_t fingerprint(const std::vector<Sample<float>>& samples, std::size_t m);
 
-/// Rays into the Cornell box: from the usual camera, and from inside (bounces).
+/// Rays into the Cornell box: from a camera 5 mm above the data's eye, and from inside (bounces).
 std::vector<BoxFamily> box_families(std::size_t n);
 
 }  // namespace raykit::bench
