@@ -143,6 +143,9 @@ def selftest_new_step(ctx) -> str:
         times[name] = time.monotonic() - start
         start = time.monotonic()
 
+    taken = sorted(p.name for p in (ROOT / "tests").glob(f"{NUMBER}_*"))
+    expect(not taken, f"the kit has a step {NUMBER} ({', '.join(taken)}): give the template of "
+                      f"tests/fixtures/new_step/ the next free number")
     # 0. The template holds only what CONTRIBUTING names.
     patterns = contributing_paths((ROOT / "CONTRIBUTING.md").read_text())
     files = template_files()
