@@ -22,8 +22,8 @@ CONTRIBUTING's commands only:
   browser check of the pages is not run here);
 - the solution copied into steps/: `./kit check 6` says "done", exit 0.
 
-`./kit test --fast` leaves out the Doxygen builds and the second grading of the mutants (56 s instead
-of 82 here, measured on the shared 2-core machine). What each rule said is kept in build/newstep-rules.jsonl.
+`./kit test --fast` leaves out the Doxygen builds and the second grading of the mutants (50-56 s
+instead of 65-100 s, measured on the shared 2-core machine with the kit cache warm). What each rule said is kept in build/newstep-rules.jsonl.
 
 It can fail: RAYKIT_NEWSTEP_DROP=tests/06_plane/remote.inc (a comma-separated list of template
 paths) leaves those files out of the step, as if CONTRIBUTING's list lacked them.
