@@ -27,12 +27,8 @@
 #include "fd_io.hpp"
 #include "wire.hpp"
 
-// The declarations of every step function.
-#include "raykit/cornell_box.hpp"
-#include "raykit/general_sphere.hpp"
-#include "raykit/render.hpp"
-#include "raykit/unit_direction.hpp"
-#include "raykit/unit_sphere.hpp"
+// The declarations of every step function: each header of include/raykit/, listed by CMake.
+#include RAYKIT_API_HEADERS
 
 namespace {
 

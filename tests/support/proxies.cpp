@@ -4,11 +4,8 @@
 
 #include <tuple>
 
-#include "raykit/cornell_box.hpp"
-#include "raykit/general_sphere.hpp"
-#include "raykit/render.hpp"
-#include "raykit/unit_direction.hpp"
-#include "raykit/unit_sphere.hpp"
+// The declarations of every step function: each header of include/raykit/, listed by CMake.
+#include RAYKIT_API_HEADERS
 #include "case_figure.hpp"
 #include "remote.hpp"
 

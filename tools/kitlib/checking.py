@@ -399,13 +399,20 @@ def untouched_result(step: Step, cases: list[Case], results: dict[str, StepResul
     return StepResult(step, NOT_STARTED, cases)
 
 
-def record(build: Build, steps: list[Step]) -> list[Path]:
-    """Writes tests/stubs.json from steps/ and every case list from the built judges (`build` must
-    have the hidden cases, i.e. solutions/ present). Returns the files written."""
-    stubs = {f"{s.folder}/{f}": file_hash(ROOT / "steps" / s.folder / f) for s in steps for f in s.files}
+def record(build: Build, steps: list[Step], all_steps: list[Step] | None = None) -> list[Path]:
+    """Writes tests/stubs.json from steps/ (every step of `all_steps`, default `steps`) and the case
+    lists of `steps` from their built judges (`build` must have the hidden cases, i.e. solutions/
+    present); the hidden case lists of the other steps are kept. Returns the files written."""
+    stubs = {f"{s.folder}/{f}": file_hash(ROOT / "steps" / s.folder / f) for s in all_steps or steps
+             for f in s.files}
     written = [STUBS_FILE]
     STUBS_FILE.write_text(json.dumps(stubs, indent=1, sort_keys=True) + "\n")
-    hidden: dict[str, list] = {}
+    known = {s.number for s in all_steps or steps}
+    try:
+        kept = json.loads(HIDDEN_CASES_FILE.read_text()) if all_steps else {}
+    except (OSError, ValueError):
+        kept = {}
+    hidden: dict[str, list] = {n: v for n, v in kept.items() if n in known}
     for s in steps:
         cases = list_cases(build.exe(s))
         entry = lambda c: {"name": c.name, "tier": c.tier, "lecture": c.lecture}   # noqa: E731

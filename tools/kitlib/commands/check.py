@@ -32,29 +32,32 @@ def register(p) -> None:
     p.add_argument("--all", action="store_true", help="list every failing case of the steps, grouped by function")
     p.add_argument("--record", action="store_true",
                    help="instructors: record the stubs' hashes and every judge's cases (tests/stubs.json, "
-                        "tests/NN_topic/cases.json), so untouched steps are checked without a build")
+                        "tests/NN_topic/cases.json; of the steps named, else all), so untouched steps are checked without a build")
     p.add_argument("--slot", type=int, default=0, help=argparse.SUPPRESS)  # ./kit grade -j: build folder and sandbox
 
 
-def record_cases() -> int:
+def record_cases(numbers: list[str]) -> int:
+    """Records the stubs' hashes and the case lists of the steps named (all when none is: a new
+    step's `./kit check N --record` builds only its own judge)."""
     from ..checking import ensure_configured, hidden_cases_here, record
     if not hidden_cases_here():
         raise KitError("--record needs solutions/ and tests/hidden/ (the instructor's copy)")
     ensure_packages("build")
-    steps = load_steps()
+    all_steps = load_steps()
+    steps = select_steps(all_steps, numbers)
     build = preset_build("student")
-    ensure_configured(build, steps)
+    ensure_configured(build, all_steps)
     ok, out = build_targets(build, [s.target for s in steps])
     if not ok:
         raise KitError(f"the judges do not build:\n{out[-2000:]}", FAILED)
-    for path in record(build, steps):
+    for path in record(build, steps, all_steps):
         say(f"wrote {path.relative_to(ROOT)}")
     return OK
 
 
 def run(args) -> int:
     if args.record:
-        return record_cases()
+        return record_cases(args.numbers)
     all_steps = load_steps()
     steps = select_steps(all_steps, args.numbers)
     if args.steps:

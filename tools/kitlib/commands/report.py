@@ -15,7 +15,7 @@ import shutil
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, load_steps, say, writable_parent
+from ..common import BUILD, ROOT, KitError, load_steps, say, select_steps, writable_parent
 from ..packages import ensure_packages
 from ..status import FAILED, OK
 
@@ -29,6 +29,8 @@ def register(p) -> None:
                    help="the class's uploads, to compare the submissions (saved into GRADING_DIR/files/)")
     p.add_argument("--signatures", action="store_true",
                    help="grade every mutant of tests/mutants/ and write tests/mutants/signatures.json")
+    p.add_argument("--step", metavar="N", action="append", default=[],
+                   help="with --signatures: only this step's mutants (repeatable); the others' are kept")
 
 
 def run(args) -> int:
@@ -39,7 +41,8 @@ def run(args) -> int:
             raise KitError("the signatures are computed from solutions/, which this copy of the kit does not have")
         from ..report import signatures
         start = time.monotonic()
-        data = signatures.compute(lambda line: say("  " + line))
+        numbers = [s.number for s in select_steps(load_steps(), args.step)] if args.step else None
+        data = signatures.compute(lambda line: say("  " + line), numbers)
         signatures.write(data)
         say(f"wrote {signatures.FILE.relative_to(ROOT)}: {len(data['mutants'])} mutants in "
             f"{time.monotonic() - start:.0f} s")

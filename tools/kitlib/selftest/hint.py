@@ -13,7 +13,7 @@ CODE = re.compile(r";\s*$|[{}]|\bfor\s*\(|\bif\s*\(", re.M)
 
 def selftest_hints(ctx) -> str:
     counts = []
-    for step in load_steps():
+    for step in ctx.steps:
         hints = load_hints(step)
         expect(len(hints) >= 3, f"step {step.number} has {len(hints)} hints, at least 3 are expected")
         for i, h in enumerate(hints, 1):
@@ -21,7 +21,7 @@ def selftest_hints(ctx) -> str:
             if m:
                 raise Failed(f"step {step.number} hint {i} looks like code ({m.group(0)!r}): hints give the idea, not the code")
         counts.append(len(hints))
-    n = str(int(load_steps()[0].number))
+    n = str(int(ctx.steps[0].number))
     first = kit("hint", n, "--reset")
     one, two = kit("hint", n), kit("hint", n)
     kit("hint", n, "--reset")

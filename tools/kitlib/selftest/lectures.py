@@ -5,7 +5,7 @@
 - every lecture section a hint names exists, by number and, where the hint gives it, by title;
 - every rule a header states for what is no answer ("count == 0 when ...", "... count as a miss",
   "no value when ...", "... describes no sphere", "tmin > tmax is an empty window", "..., or no value")
-  has a case that asks it (CONTRACT_CASES), basic for the headers of steps 01-03.
+  has a case that asks it (CONTRACT_CASES, and a step.json's "contract"), basic for the headers of steps 01-03.
 
 (Each case's own lecture pointer is checked by "case names and lecture pointers" in selftest/check.py.)
 """
@@ -177,7 +177,7 @@ SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)(?:\. ([A-Z]
 
 def selftest_hint_sections(ctx) -> str:
     bad, seen = [], 0
-    for step in load_steps():
+    for step in ctx.steps:
         hints = ROOT / "tests" / step.folder / "hints.md"
         lecture = ROOT / step.lecture
         if not hints.is_file() or not lecture.is_file():
@@ -320,14 +320,27 @@ def suite_cases(sources: dict[str, str]) -> dict[str, set[str]]:
     return cases
 
 
-def contract_problems(headers: dict[str, str], sources: dict[str, str]) -> tuple[list[str], int]:
+def contract_cases() -> dict[str, list[str]]:
+    """CONTRACT_CASES (steps 01-05), with the `"contract"` of every step's step.json: a new step lists
+    the cases of its header's rules in its own manifest, with nothing to edit here."""
+    import json
+    found = dict(CONTRACT_CASES)
+    for manifest in sorted((ROOT / "tests").glob("[0-9][0-9]_*/step.json")):
+        found.update(json.loads(manifest.read_text()).get("contract", {}))
+    return found
+
+
+def contract_problems(headers: dict[str, str], sources: dict[str, str],
+                      listed: dict[str, list[str]] | None = None) -> tuple[list[str], int]:
+    listed = contract_cases() if listed is None else listed
     cases = suite_cases(sources)
     found = {f"{h}:{name}:{cond}" for h, text in headers.items() for name, cond in contract_clauses(text)}
-    bad = [f"{k}: a rule of the header that no case asks (add a case and list it in CONTRACT_CASES)"
-           for k in sorted(found - CONTRACT_CASES.keys())]
-    bad += [f"{k}: listed in CONTRACT_CASES, but no header states it any more" for k in sorted(CONTRACT_CASES.keys() - found)]
-    for key in sorted(found & CONTRACT_CASES.keys()):
-        for case in CONTRACT_CASES[key]:
+    bad = [f"{k}: a rule of the header that no case asks (add a case and list it in step.json's \"contract\")"
+           for k in sorted(found - listed.keys())]
+    bad += [f"{k}: listed in CONTRACT_CASES or a step.json's \"contract\", but no header states it any more"
+            for k in sorted(listed.keys() - found)]
+    for key in sorted(found & listed.keys()):
+        for case in listed[key]:
             if case not in cases:
                 bad.append(f"{key}: its case \"{case}\" is in no suite")
             elif key.split(":")[0] in BASIC_HEADERS and "basic" not in cases[case]:

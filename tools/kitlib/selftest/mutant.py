@@ -62,7 +62,7 @@ def selftest_mutants(ctx) -> str:
 
     problems, lines = [], []
     work = BUILD / "mutant-check"
-    for step in load_steps():
+    for step in ctx.steps:
         found = patches(step)
         if len(found) < MINIMUM_PER_STEP:
             problems.append(f"step {step.number} has {len(found)} mutants in tests/mutants/{step.folder}/, "
