@@ -216,6 +216,12 @@ inline void record(const std::string& line) {
     std::fputc('\n', out);
     std::fflush(out);
 }
+
+/// Records one roots entry: the inputs' key, the exact roots and the suspects' (./kit exact --refresh).
+inline void record_roots(const Ray& ray, const Sphere& sphere, const Roots& r, const reference::SuspectRoots& m) {
+    record("roots " + hex(key_of(ray, sphere)) + recorded_text(r) + recorded_text(m.a_one) +
+           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float));
+}
 #endif
 
 /// A case's inputs as recorded (equal to the ones asked for, or within
@@ -241,8 +247,7 @@ inline std::optional<SphereCase> sphere_roots(const Ray& ray, const Sphere& sphe
     const Sphere s_in = entry ? sphere_of(entry->key) : sphere;
     const Roots r = reference::sphere_roots_rounded(r_in, s_in);
     const reference::SuspectRoots m = reference::suspect_roots(r_in, s_in);
-    record("roots " + hex(key_of(r_in, s_in)) + recorded_text(r) + recorded_text(m.a_one) +
-           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float));
+    record_roots(r_in, s_in, r, m);
     const bool same = entry && same_roots(r, RecordedRoots{entry->count, {entry->t[0], entry->t[1]}}) &&
                       same_roots(m.a_one, entry->suspects[0]) &&
                       same_roots(m.float_cprime, entry->suspects[1]) && same_roots(m.textbook_float, entry->suspects[2]) &&
@@ -293,9 +298,7 @@ inline std::optional<HitCase> sphere_hit(const Ray& ray, const Sphere& sphere, f
     record("hit " + hex(in) + buf);
     // The roots of the same ray and sphere with their suspects, so that a failed hit's cause can be
     // measured too (grading::check_hit_case).
-    const reference::SuspectRoots m = reference::suspect_roots(r_in, s_in);
-    record("roots " + hex(key_of(r_in, s_in)) + recorded_text(r) + recorded_text(m.a_one) +
-           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float));
+    record_roots(r_in, s_in, r, reference::suspect_roots(r_in, s_in));
     const bool same = entry && entry->hit == (hit ? 1 : 0) && (!hit || entry->t == bits(*hit));
     if (!same) {
         missing("hit", key, why_missing(entry));
@@ -308,9 +311,8 @@ inline std::optional<HitCase> sphere_hit(const Ray& ray, const Sphere& sphere, f
     }
     HitCase out{ray_of(entry->key), sphere_of(entry->key), from_bits(entry->key[10]), from_bits(entry->key[11]), {}, {}};
     if (entry->hit) out.t = from_bits(entry->t);
-    const Key roots_key = key_of(out.ray, out.sphere);
-    for (std::size_t i = 0; i < table.roots_size; ++i)
-        if (std::memcmp(table.roots[i].key, roots_key.k, sizeof table.roots[i].key) == 0) out.suspects = suspects_of(table.roots[i]);
+    if (const RootsEntry* roots = find_entry(table.roots, table.roots_size, key_of(out.ray, out.sphere)))
+        out.suspects = suspects_of(*roots);
     return out;
 }
 

@@ -60,73 +60,9 @@ inline bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-/// The roots of |o + t d - c|^2 = r^2 from the float inputs, in the wide type.
-///
-/// No roots for a zero direction, a radius that is not a positive finite
-/// number, or a non-finite input; one root when the discriminant is exactly
-/// zero (a tangent) for these inputs.
-inline WideRoots sphere_roots_wide(const Ray& ray, const Sphere& sphere) {
-    if (!(sphere.radius > 0.0f) || !std::isfinite(sphere.radius)) return {};
-    if (!finite(ray.origin) || !finite(ray.direction) || !finite(sphere.center)) return {};
-    wide f[3], d[3];
-    for (int i = 0; i < 3; ++i) {
-        f[i] = wide(ray.origin[i]) - wide(sphere.center[i]);
-        d[i] = wide(ray.direction[i]);
-    }
-    const wide r = sphere.radius;
-    const wide a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    const wide h = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
-    const wide c = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r * r;
-    if (!(a > 0)) return {};
-    const wide disc = h * h - a * c;
-    if (disc < 0) return {};
-    WideRoots out;
-    if (disc == 0) {
-        out.count = 1;
-        out.t[0] = out.t[1] = -h / a;
-        return out;
-    }
-    // Even here, take the sum that cannot cancel and get the other root from
-    // the product of the roots (c / a).
-    const wide s = wide_sqrt(disc);
-    const wide q = -(h + (h < 0 ? -s : s));
-    wide t0 = q / a, t1 = c / q;
-    if (t0 > t1) {
-        const wide tmp = t0;
-        t0 = t1;
-        t1 = tmp;
-    }
-    out.count = 2;
-    out.t[0] = t0;
-    out.t[1] = t1;
-    return out;
-}
-
-/// sphere_roots_wide() rounded to the nearest floats: the best answer a float
-/// function can give.
-inline Roots sphere_roots_rounded(const Ray& ray, const Sphere& sphere) {
-    const WideRoots w = sphere_roots_wide(ray, sphere);
-    Roots out;
-    out.count = w.count;
-    for (int i = 0; i < w.count; ++i) out.t[i] = static_cast<float>(w.t[i]);
-    if (w.count == 1) out.t[1] = out.t[0];
-    return out;
-}
-
-
-// --- Suspects: what the usual wrong formulas give on the same inputs ----------------
-//
-// When a ★ answer fails, the grader names the cause the answer matches, measured, not assumed
-// (tests/support/robust_grading.hpp, measured_cause). These are the candidates, each the exact
-// computation with one known flaw, so that a match names that flaw alone:
-//  - a_one: the roots of t^2 + 2 h t + c' = 0, exact: the formula that takes a = d.d as 1;
-//  - float_cprime: exact, except that f = o - c and c' = f.f - r^2 are computed in float;
-//  - textbook_float: the textbook formula with every operation rounded to float;
-//  - shortcut_float: the unit-direction shortcut -h -+ sqrt(h^2 - c') (a taken as 1), in float.
-// They are recorded with the exact roots (./kit exact --refresh), so a handout carries only their
-// values on the graded inputs, never the code.
-
-/// The stable root pair of t^2 (a) + 2 h t + c = 0 in the wide type, from a discriminant already formed.
+/// The roots of a t^2 + 2 h t + c = 0 in the wide type, from a discriminant already formed: none
+/// when a <= 0 or disc < 0, one when disc == 0. Even here, take the sum that cannot cancel and get
+/// the other root from the product of the roots (c / a).
 inline WideRoots wide_pair(wide a, wide h, wide c, wide disc) {
     if (!(a > 0) || disc < 0) return {};
     WideRoots out;
@@ -149,6 +85,7 @@ inline WideRoots wide_pair(wide a, wide h, wide c, wide disc) {
     return out;
 }
 
+/// Wide roots rounded to the nearest floats.
 inline Roots rounded(const WideRoots& w) {
     Roots out;
     out.count = w.count;
@@ -156,6 +93,44 @@ inline Roots rounded(const WideRoots& w) {
     if (w.count == 1) out.t[1] = out.t[0];
     return out;
 }
+
+/// The roots of |o + t d - c|^2 = r^2 from the float inputs, in the wide type.
+///
+/// No roots for a zero direction, a radius that is not a positive finite
+/// number, or a non-finite input; one root when the discriminant is exactly
+/// zero (a tangent) for these inputs.
+inline WideRoots sphere_roots_wide(const Ray& ray, const Sphere& sphere) {
+    if (!(sphere.radius > 0.0f) || !std::isfinite(sphere.radius)) return {};
+    if (!finite(ray.origin) || !finite(ray.direction) || !finite(sphere.center)) return {};
+    wide f[3], d[3];
+    for (int i = 0; i < 3; ++i) {
+        f[i] = wide(ray.origin[i]) - wide(sphere.center[i]);
+        d[i] = wide(ray.direction[i]);
+    }
+    const wide r = sphere.radius;
+    const wide a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const wide h = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+    const wide c = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r * r;
+    return wide_pair(a, h, c, h * h - a * c);
+}
+
+/// sphere_roots_wide() rounded to the nearest floats: the best answer a float
+/// function can give.
+inline Roots sphere_roots_rounded(const Ray& ray, const Sphere& sphere) {
+    return rounded(sphere_roots_wide(ray, sphere));
+}
+
+// --- Suspects: what the usual wrong formulas give on the same inputs ----------------
+//
+// When a ★ answer fails, the grader names the cause the answer matches, measured, not assumed
+// (tests/support/robust_grading.hpp, measured_cause). These are the candidates, each the exact
+// computation with one known flaw, so that a match names that flaw alone:
+//  - a_one: the roots of t^2 + 2 h t + c' = 0, exact: the formula that takes a = d.d as 1;
+//  - float_cprime: exact, except that f = o - c and c' = f.f - r^2 are computed in float;
+//  - textbook_float: the textbook formula with every operation rounded to float;
+//  - shortcut_float: the unit-direction shortcut -h -+ sqrt(h^2 - c') (a taken as 1), in float.
+// They are recorded with the exact roots (./kit exact --refresh), so a handout carries only their
+// values on the graded inputs, never the code.
 
 // One float operation, rounded to float and never fused with the next (the volatile store forces the
 // rounding whatever the compiler's contraction rules), so the recorded values do not depend on the

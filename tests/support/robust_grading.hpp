@@ -216,6 +216,12 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
                    ". What usually goes wrong here:"};
 }
 
+/// The why of a failure: the measured cause where one matched, else the plain "none matches" followed
+/// by the case's usual `why`.
+inline std::string because_of(const Cause& cause, const std::string& why) {
+    return cause.matched ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
+}
+
 /// Checks a Roots answer against the exact roots of the same inputs: the same
 /// count, the contract (sorted, a tangent repeats its root), and each root
 /// within robust_max_ulps of the exact one. `why` is what usually goes wrong on the case; given the
@@ -229,8 +235,7 @@ inline void check_roots_ulps(const std::string& call, const std::string& input, 
         figure::note_failure(call, figure::json(expected), figure::json(got));
         std::string because = why;
         if (measure && found) {
-            const Cause c = measured_cause(found->ray, expected, got, found->suspects);
-            because = c.matched ? c.text.substr(1) : c.text.substr(1) + " " + why;
+            because = because_of(measured_cause(found->ray, expected, got, found->suspects), why);
         }
         FAIL_CHECK(report(call, input, show(expected) + "  (exact roots, rounded to float)", show(got),
                           problem + (because.empty() ? "" : " " + because) + graded));
@@ -303,8 +308,7 @@ inline void check_hit_case(const std::string& call, const std::string& input, co
                                    hit_as_roots(first_in(s.float_cprime, c.tmin, c.tmax)),
                                    hit_as_roots(first_in(s.textbook_float, c.tmin, c.tmax)),
                                    hit_as_roots(first_in(s.shortcut_float, c.tmin, c.tmax))};
-        const Cause cause = measured_cause(c.ray, hit_as_roots(c.t), hit_as_roots(got), hits);
-        because = cause.matched ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
+        because = because_of(measured_cause(c.ray, hit_as_roots(c.t), hit_as_roots(got), hits), why);
     }
     check_hit_ulps(call, input, c.t, got, because + graded);
 }
