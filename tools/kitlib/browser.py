@@ -39,8 +39,10 @@ def find_chromium() -> str | None:
 class Browser:
     """One headless Chromium with one tab. Use as a context manager."""
 
-    def __init__(self, executable: str, width: int = 1200, height: int = 900):
+    def __init__(self, executable: str, width: int = 1200, height: int = 900,
+                 first_answer_timeout: float = 60):
         self.executable = executable
+        self.first_answer_timeout = first_answer_timeout
         self.size = (width, height)
         self.profile = tempfile.TemporaryDirectory(prefix="raykit-chromium-")
         self.proc: subprocess.Popen | None = None
@@ -53,6 +55,25 @@ class Browser:
     # --- process -------------------------------------------------------------------
 
     def __enter__(self) -> "Browser":
+        # A Chromium that starts on a loaded machine (a CI runner building in
+        # parallel) can take long to answer its first command, and now and then
+        # never does. One slow start is waited for; a start that never answers is
+        # retried once with a fresh profile before the test is failed.
+        self.attempts = 0
+        for attempt in (1, 2):
+            self.attempts = attempt
+            try:
+                self._start(self.first_answer_timeout)
+                return self
+            except BrowserError:
+                self.__exit__(None, None, None)
+                if attempt == 2:
+                    raise
+                self.profile = tempfile.TemporaryDirectory(prefix="raykit-chromium-")
+                self.proc, self.next_id, self.buffer, self.events, self.session = None, 0, b"", [], None
+        return self
+
+    def _start(self, first_answer_timeout: float) -> None:
         to_child_r, self.to_child = os.pipe()
         self.from_child, from_child_w = os.pipe()
 
@@ -76,19 +97,14 @@ class Browser:
                                      preexec_fn=wire_pipes, start_new_session=True)
         os.close(to_child_r)
         os.close(from_child_w)
-        try:
-            targets = self.call("Target.getTargets")["targetInfos"]
-            page = next((t for t in targets if t["type"] == "page"), None)
-            target = page["targetId"] if page else self.call("Target.createTarget", url="about:blank")["targetId"]
-            self.session = self.call("Target.attachToTarget", targetId=target, flatten=True)["sessionId"]
-            self.call("Page.enable", session=True)
-            self.call("Network.enable", session=True)
-            self.call("Emulation.setDeviceMetricsOverride", session=True, width=self.size[0],
-                      height=self.size[1], deviceScaleFactor=1, mobile=False)
-        except BaseException:
-            self.__exit__(None, None, None)
-            raise
-        return self
+        targets = self.call("Target.getTargets", timeout=first_answer_timeout)["targetInfos"]
+        page = next((t for t in targets if t["type"] == "page"), None)
+        target = page["targetId"] if page else self.call("Target.createTarget", url="about:blank")["targetId"]
+        self.session = self.call("Target.attachToTarget", targetId=target, flatten=True)["sessionId"]
+        self.call("Page.enable", session=True)
+        self.call("Network.enable", session=True)
+        self.call("Emulation.setDeviceMetricsOverride", session=True, width=self.size[0],
+                  height=self.size[1], deviceScaleFactor=1, mobile=False)
 
     def __exit__(self, *exc) -> None:
         if self.proc is not None and self.proc.poll() is None:

@@ -307,9 +307,35 @@ def selftest_lab_catches(ctx) -> str:
     return f"a lab with a fused textbook discriminant fails: {found[0]}"
 
 
+def selftest_browser_restart(ctx) -> str:
+    """A Chromium that never answers its first command is started again, not waited on for ever."""
+    browser, chromium = _browser()
+    OUT.mkdir(parents=True, exist_ok=True)
+    count = OUT / "fake-chromium-starts"
+    count.unlink(missing_ok=True)
+    fake = OUT / "fake-chromium"
+    # The first start stays silent on the DevTools pipe (a hung start); the second is the real Chromium.
+    fake.write_text("#!/bin/sh\n"
+                    f"echo start >> '{count}'\n"
+                    f"if [ \"$(wc -l < '{count}')\" -eq 1 ]; then exec sleep 600; fi\n"
+                    f"exec '{chromium}' \"$@\"\n", encoding="utf-8")
+    fake.chmod(0o755)
+    try:
+        with browser.Browser(str(fake), 400, 300, first_answer_timeout=3) as b:
+            value = b.evaluate("6 * 7")
+            attempts = b.attempts
+    except browser.BrowserError as e:
+        raise Failed(f"a Chromium that hung once was not started again: {e}") from None
+    starts = len(count.read_text().splitlines())
+    expect(value == 42 and attempts == 2 and starts == 2,
+           f"value {value!r}, attempts {attempts}, starts {starts} (expected 42 on the second of 2)")
+    return "a start that never answered was ended and the second start used (2 starts, the page evaluated 6*7 = 42)"
+
+
 def selftests() -> list:
     return [
         ("lab: every preset's numbers against the C++ reference", selftest_lab),
         ("lab: works from the keyboard, and by dragging", selftest_lab_keyboard),
         ("lab: a wrong float32 formula is caught", selftest_lab_catches),
+        ("browser: a Chromium that hangs at start is started again", selftest_browser_restart),
     ]
