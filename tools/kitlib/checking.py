@@ -456,6 +456,8 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     built, so the first verdict comes after one step's build and the others follow as they build.
     """
     progress = progress or Progress()
+    from . import warmup
+    warmup.stop(build)      # never two builds in one folder: a check goes first (warmup.py)
     if build.boundary:
         build.spec = isolation.spec()
     wanted = {s.number for s in steps}

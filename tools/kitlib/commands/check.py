@@ -7,7 +7,7 @@ import argparse
 import time
 
 from ..checking import check_steps
-from .. import picture
+from .. import picture, warmup
 from ..common import (BUILD, ROOT, KitError, build_targets, load_steps, say, note, preset_build, printable, resolve_steps_dir, select_steps,
                       submission_build)
 from ..submissions import NotFound, locate
@@ -34,6 +34,7 @@ def register(p) -> None:
                    help="instructors: record the stubs' hashes and every judge's cases (tests/stubs.json, "
                         "tests/NN_topic/cases.json; of the steps named, else all), so untouched steps are checked without a build")
     p.add_argument("--slot", type=int, default=0, help=argparse.SUPPRESS)  # ./kit grade -j: build folder and sandbox
+    p.add_argument("--warm-up", action="store_true", help=argparse.SUPPRESS)  # kitlib/warmup.py, in the background
 
 
 def record_cases(numbers: list[str]) -> int:
@@ -59,6 +60,8 @@ def run(args) -> int:
     if args.record:
         return record_cases(args.numbers)
     all_steps = load_steps()
+    if args.warm_up:
+        return warmup.run(preset_build("student"), all_steps)
     steps = select_steps(all_steps, args.numbers)
     if args.steps:
         # One file finder for every folder the kit did not write (here, ./kit grade, the
@@ -101,4 +104,6 @@ def run(args) -> int:
         write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
     if not args.quiet:
         scoreboard(results, display, args.all, args.reveal, table_shown=True)
+    if not args.steps and not args.quiet and not args.json and warmup.wanted(build):
+        warmup.start(build)     # nothing was built: the kit's own programs, while the task is read
     return OK if all(r.state == DONE for r in results) else FAILED

@@ -7,6 +7,8 @@ The self-tests live in kitlib/selftest/, one module per command or concern.
 
 from __future__ import annotations
 
+import os
+
 from ..packages import ensure_packages, instructor_groups
 from ..common import KitError
 from ..selftest.harness import HANDOUT, MODULES, Context, run_all
@@ -25,4 +27,7 @@ def run(args) -> int:
     if unknown:
         raise KitError(f"no self-test module {', '.join(unknown)}; the modules are {', '.join(MODULES)}")
     ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
+    # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
+    # it would build beside the measured ones. The latency test turns it on where it measures it.
+    os.environ["RAYKIT_NO_WARMUP"] = "1"
     return run_all(Context(fast=args.fast), args.modules)

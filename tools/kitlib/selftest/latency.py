@@ -22,6 +22,7 @@ import re
 import shutil
 import sys
 import time
+from pathlib import Path
 
 from ..common import BUILD, ROOT
 from .harness import Context, Failed, Screen, expect, kit, need_solutions
@@ -77,16 +78,44 @@ def selftest_latency(ctx: Context) -> str:
 def _latency(ctx: Context) -> str:
     r = kit("handout", str(HANDOUT_DIR), "--committed", timeout=600)
     expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
-    screen, fresh = run_check(HANDOUT_DIR)
-    expect("not started" in screen.text and "Next: step 01" in ANSI.sub("", screen.text),
-           f"a newcomer's first check does not say what to do next:\n{screen.text[-800:]}")
-    expect(not (HANDOUT_DIR / "build" / "student" / "CMakeCache.txt").exists(),
-           "the untouched stubs were built: their state should come from tests/stubs.json")
+    shutil.copytree(HANDOUT_DIR / "steps", HANDOUT_DIR / "steps.orig")     # the stubs, to restore one
+    student_build = HANDOUT_DIR / "build" / "student"
     first = ctx.steps[0]
-    for f in first.files:
-        shutil.copyfile(ROOT / "solutions" / first.folder / f, HANDOUT_DIR / "steps" / first.folder / f)
-    screen, one = run_check(HANDOUT_DIR, "1")
-    expect(screen.proc.returncode == 0, f"step 01 written: exit {screen.proc.returncode}:\n{screen.text[-800:]}")
+
+    def write_step01(source: Path) -> None:
+        for f in first.files:
+            shutil.copyfile(source / first.folder / f, HANDOUT_DIR / "steps" / first.folder / f)
+
+    # The newcomer's first check starts the warm-up (kitlib/warmup.py); step 01 written at once
+    # stops it, and its verdict is the cold figure: nothing of the kit built yet.
+    os.environ.pop("RAYKIT_NO_WARMUP", None)
+    try:
+        screen, fresh = run_check(HANDOUT_DIR)
+        expect("not started" in screen.text and "Next: step 01" in ANSI.sub("", screen.text),
+               f"a newcomer's first check does not say what to do next:\n{screen.text[-800:]}")
+        expect((student_build / "warm-up.pid").is_file(), "a newcomer's first check started no warm-up")
+        write_step01(ROOT / "solutions")
+        screen, one = run_check(HANDOUT_DIR, "1")
+        expect(screen.proc.returncode == 0, f"step 01 written: exit {screen.proc.returncode}:\n{screen.text[-800:]}")
+        left = warm_up_processes(student_build)
+        expect(not left, f"the check did not end the warm-up: {left} still run")
+        # Step 01 written after the warm-up has finished (a newcomer reading the task for a minute).
+        shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
+        shutil.rmtree(os.environ["RAYKIT_KIT_CACHE_DIR"], ignore_errors=True)
+        write_step01(HANDOUT_DIR / "steps.orig")
+        screen, _ = run_check(HANDOUT_DIR)
+        began = time.monotonic()
+        while (student_build / "warm-up.pid").is_file() and time.monotonic() - began < 600:
+            time.sleep(0.2)
+        warm = time.monotonic() - began
+        log = (student_build / "warm-up.log").read_text(errors="replace") if (student_build / "warm-up.log").is_file() else ""
+        expect("warm-up: built" in log, f"the warm-up did not build the kit's programs:\n{log[-1500:]}")
+        write_step01(ROOT / "solutions")
+        screen, after_warm = run_check(HANDOUT_DIR, "1")
+        expect(screen.proc.returncode == 0, f"step 01 after the warm-up: exit {screen.proc.returncode}:\n"
+               f"{screen.text[-800:]}")
+    finally:
+        os.environ["RAYKIT_NO_WARMUP"] = "1"
     shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
     # The cold figure is a first build's: the kit cache emptied of what step 01's check put in it.
     shutil.rmtree(os.environ["RAYKIT_KIT_CACHE_DIR"], ignore_errors=True)
@@ -126,11 +155,31 @@ def _latency(ctx: Context) -> str:
     expect(screen.proc.returncode == 0, f"step 01 after the edit exited {screen.proc.returncode}")
     shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
     return (f"a student's ./kit check in a handout, on a terminal: a newcomer's first check (the stubs) "
-            f"{fresh['end']:.2f} s (goal 2); step 01 written, its first verdict cold {one['end']:.1f} s (goal 6); "
+            f"{fresh['end']:.2f} s (goal 2); step 01 written at once, its first verdict cold {one['end']:.1f} s (goal 6), "
+            f"written after the warm-up ({warm:.0f} s in the background) {after_warm['end']:.1f} s; "
             f"all steps written, cold: first output {cold['output']:.2f} s (goal 1), step 01's verdict "
             f"{cold['01']:.1f} s, all steps {cold['end']:.1f} s (goal 10); the same after a clean of build/, the "
             f"kit's own objects from its cache, {clean['end']:.1f} s; edit to verdict {edit['end']:.1f} s "
             f"(goal 1); load average {load:.1f} at the start")
+
+
+def warm_up_processes(build_dir: Path) -> list[str]:
+    """The command lines of processes left in the handout once its check has ended: the warm-up
+    (./kit check --warm-up) or anything working in `build_dir` (cmake, ninja, a compiler)."""
+    found = []
+    for d in Path("/proc").iterdir():
+        if not d.name.isdigit() or int(d.name) == os.getpid():
+            continue
+        try:
+            cmd = (d / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            state = (d / "stat").read_text().rsplit(")", 1)[1].split()[0]
+            cwd = os.readlink(d / "cwd")
+        except (OSError, IndexError):
+            continue
+        if state != "Z" and (("--warm-up" in cmd and cwd.startswith(str(HANDOUT_DIR))) or
+                             cwd.startswith(str(build_dir))):
+            found.append(cmd[:120])
+    return found
 
 
 # The kit's own targets, the only ones CMake may give the kit cache's launcher (CMakeLists.txt,
