@@ -44,13 +44,17 @@ class Browser:
         self.executable = executable
         self.first_answer_timeout = first_answer_timeout
         self.size = (width, height)
+        self.requests: list[str] = []          # every URL the page asked for
+        self._fresh()
+
+    def _fresh(self) -> None:
+        """A new profile and no process: before the first start, and before a start again."""
         self.profile = tempfile.TemporaryDirectory(prefix="raykit-chromium-")
         self.proc: subprocess.Popen | None = None
         self.next_id = 0
         self.buffer = b""
         self.events: list[dict] = []
         self.session: str | None = None
-        self.requests: list[str] = []          # every URL the page asked for
 
     # --- process -------------------------------------------------------------------
 
@@ -59,18 +63,18 @@ class Browser:
         # parallel) can take long to answer its first command, and now and then
         # never does. One slow start is waited for; a start that never answers is
         # retried once with a fresh profile before the test is failed.
-        self.attempts = 0
-        for attempt in (1, 2):
-            self.attempts = attempt
+        self.attempts = 1
+        try:
             try:
                 self._start(self.first_answer_timeout)
-                return self
             except BrowserError:
                 self.__exit__(None, None, None)
-                if attempt == 2:
-                    raise
-                self.profile = tempfile.TemporaryDirectory(prefix="raykit-chromium-")
-                self.proc, self.next_id, self.buffer, self.events, self.session = None, 0, b"", [], None
+                self._fresh()
+                self.attempts = 2
+                self._start(self.first_answer_timeout)
+        except BaseException:
+            self.__exit__(None, None, None)     # no Chromium left behind, whatever stopped the start
+            raise
         return self
 
     def _start(self, first_answer_timeout: float) -> None:

@@ -30,6 +30,7 @@ from typing import Callable
 
 from . import course as course_file
 from . import waits
+from . import warmup
 from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
@@ -456,7 +457,6 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     built, so the first verdict comes after one step's build and the others follow as they build.
     """
     progress = progress or Progress()
-    from . import warmup
     warmup.stop(build)      # never two builds in one folder: a check goes first (warmup.py)
     if build.boundary:
         build.spec = isolation.spec()

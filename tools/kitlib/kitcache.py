@@ -187,7 +187,7 @@ def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes, comman
         except OSError:
             shutil.rmtree(tmp, ignore_errors=True)    # another compile stored the same entry first
         prune(cache)
-    except OSError:
+    except (OSError, ValueError):       # ValueError: a damaged list of a precompiled header's inputs
         return
 
 

@@ -503,12 +503,21 @@ def kill_uid(uid: int) -> None:
         time.sleep(0.02)
 
 
-def session_of(pid: int) -> int:
-    try:
-        text = Path(f"/proc/{pid}/stat").read_text()
-        return int(text[text.rfind(")") + 2:].split()[3])
-    except (OSError, ValueError, IndexError):
-        return -1
+def session_members(sid: int) -> list[int]:
+    """The live processes of session `sid` but this one: zombies have ended (as in _owned_by), and
+    one whose parent never reaps it (PID 1 of a container) would otherwise be waited on for ever."""
+    found = []
+    for p in _proc_ids():
+        if p == os.getpid():
+            continue
+        try:
+            text = Path(f"/proc/{p}/stat").read_text()
+            fields = text[text.rfind(")") + 2:].split()
+            if fields[0] != "Z" and int(fields[3]) == sid:
+                found.append(p)
+        except (OSError, ValueError, IndexError):
+            continue
+    return found
 
 
 def kill_session(sid: int) -> int:
@@ -519,7 +528,7 @@ def kill_session(sid: int) -> int:
     if sid <= 1:
         return 0
     for _ in range(50):
-        left = [p for p in _proc_ids() if p != os.getpid() and session_of(p) == sid]
+        left = session_members(sid)
         if not left:
             break
         for p in left:

@@ -24,6 +24,7 @@ import sys
 import time
 
 from .common import ROOT, Build
+from .sandbox import kill_session, session_members
 
 PID_FILE = "warm-up.pid"
 LOG_FILE = "warm-up.log"
@@ -55,26 +56,9 @@ def _pid(build: Build) -> int | None:
         return None
 
 
-def _session(sid: int) -> list[int]:
-    """The live processes of session `sid` (the warm-up's: python, cmake, ninja and the compilers
-    Ninja starts, each in a process group of its own but all in this session); zombies are not."""
-    found = []
-    for name in os.listdir("/proc"):
-        if not name.isdigit():
-            continue
-        try:
-            with open(f"/proc/{name}/stat") as f:
-                fields = f.read().rsplit(")", 1)[1].split()
-        except OSError:
-            continue
-        if fields[0] != "Z" and int(fields[3]) == sid:
-            found.append(int(name))
-    return found
-
-
 def running(build: Build) -> bool:
     pid = _pid(build)
-    return pid is not None and bool(_session(pid))
+    return pid is not None and bool(session_members(pid))
 
 
 def stop(build: Build) -> None:
@@ -82,24 +66,17 @@ def stop(build: Build) -> None:
     pid = _pid(build)
     if pid is None:
         return
-    if _session(pid):
+    # Its session: python, cmake, ninja and the compilers Ninja starts (each in a process group of
+    # its own, all in this session).
+    if session_members(pid):
         try:
             os.killpg(pid, signal.SIGTERM)      # python, cmake and ninja; Ninja ends its compilers
         except OSError:
             pass
         deadline = time.monotonic() + 5
-        while _session(pid) and time.monotonic() < deadline:
+        while session_members(pid) and time.monotonic() < deadline:
             time.sleep(0.02)
-        for _ in range(50):                     # what is left, at once
-            left = _session(pid)
-            if not left:
-                break
-            for p in left:
-                try:
-                    os.kill(p, signal.SIGKILL)
-                except OSError:
-                    pass
-            time.sleep(0.02)
+        kill_session(pid)                       # what is left, at once
     try:
         (build.binary_dir / PID_FILE).unlink()
     except OSError:
