@@ -11,8 +11,10 @@ import io
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -21,6 +23,7 @@ from pathlib import Path
 
 from .. import course as course_file
 
+from ..checking import VERDICTS_ENV
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
 from ..common import BUILD, ROOT, KitError, load_steps, printable, say
 from ..packages import ensure_packages
@@ -319,6 +322,18 @@ def run(args) -> int:
     start = time.monotonic()
     BUILD.mkdir(exist_ok=True)
     jobs = max(1, min(args.jobs, len(folders)))
+    # The verdicts of this grading by content (checking.Verdicts): a step whose files another
+    # submission already had is judged once. Its own folder, gone when the grading ends.
+    verdicts = Path(tempfile.mkdtemp(prefix="grade-verdicts-", dir=BUILD))
+    os.environ[VERDICTS_ENV] = str(verdicts)
+    try:
+        return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
+    finally:
+        os.environ.pop(VERDICTS_ENV, None)
+        shutil.rmtree(verdicts, ignore_errors=True)
+
+
+def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) -> int:
     done = [0]
 
     def one(item: tuple[int, Path]) -> dict:

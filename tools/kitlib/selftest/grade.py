@@ -145,8 +145,13 @@ def make_mixed_class(root: Path, size: int) -> dict[str, str]:
     the textbook formulas. Returns each student's kind."""
     from ..commands.mutant import patches, write_answer
     steps = load_steps()
-    order = sorted(((i + 0.5) / n, kind) for kind, n in CLASS_MIX for i in range(n))
-    kinds = [order[int(k * len(order) / size)][1] for k in range(size)]
+    total = sum(n for _, n in CLASS_MIX)
+    counts = {kind: 1 for kind, _ in CLASS_MIX}         # every kind at least once, the rest in proportion
+    wanted = {kind: n * size / total for kind, n in CLASS_MIX}
+    while sum(counts.values()) < size:
+        kind = max(wanted, key=lambda k: wanted[k] - counts[k])
+        counts[kind] += 1
+    kinds = [kind for _, kind in sorted(((i + 0.5) / n, kind) for kind, n in counts.items() for i in range(n))]
     shutil.rmtree(root, ignore_errors=True)
     sol = lambda s: ROOT / "solutions" / s.folder        # noqa: E731
     stub = lambda s: ROOT / "steps" / s.folder           # noqa: E731
@@ -224,7 +229,8 @@ def selftest_class_speed(ctx) -> str:
     out = CLASS_DIR / "grades.csv"
     load = os.getloadavg()[0]
     start = time.monotonic()
-    r, cpu, counted = cpu_of([str(ROOT / "kit"), "grade", str(CLASS_DIR / "class"), "-j", "2", "--out", str(out)],
+    r, cpu, counted = cpu_of([str(ROOT / "kit"), "grade", str(CLASS_DIR / "class"), "-j", "2", "--out", str(out),
+                              "--json-dir", str(CLASS_DIR / "json")],
                              cwd=ROOT, capture_output=True, text=True, timeout=3600)
     wall = time.monotonic() - start
     expect(r.returncode == 0, f"./kit grade exited {r.returncode}: {(r.stderr.strip().splitlines() or ['?'])[-1]}")
@@ -250,6 +256,17 @@ def selftest_class_speed(ctx) -> str:
            "a slip or a step that does not compile got full marks: "
            + ", ".join(w for w in slipped if float(rows[w]["earned"]) >= float(top)))
     isolation = sorted({row["isolation"].split(":")[0].split(";")[0] for row in rows.values() if row["isolation"]})
+    # A step the grading judged once for every copy of its files (checking.Verdicts) has the verdict
+    # a grading of that submission alone gives it, case by case.
+    who = next(w for w, k in plan.items() if k == "twoslips")
+    report = CLASS_DIR / "again.json"
+    r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(CLASS_DIR / "class" / who), "--quiet",
+                        "--json", str(report)], cwd=ROOT, capture_output=True, text=True, timeout=1200)
+    statuses = lambda path: {(s["step"], c["name"]): c["status"]          # noqa: E731
+                             for s in json.loads(path.read_text())["extra_data"]["steps"] for c in s["cases"]}
+    alone, in_class = statuses(report), statuses(CLASS_DIR / "json" / f"{who}.json")
+    differ = sorted(k for k in alone if alone[k] != in_class.get(k))
+    expect(alone == in_class, f"{who} graded alone and in the class differ: {differ[:5]}")
 
     # A complete submission no one in the class wrote, graded alone in the class's first slot.
     alone = CLASS_DIR / "alone"
