@@ -18,6 +18,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import signal
 import subprocess
 import tempfile
@@ -283,16 +284,106 @@ class Built:
     missing: list[str] = field(default_factory=list)    # the step's files not there when it was built
 
 
-def build_step(build: Build, step: Step, progress: Callable[[int, int], None] | None = None) -> Built:
+def build_step(build: Build, step: Step, progress: Callable[[int, int], None] | None = None,
+               isolation: Isolation | None = None) -> Built:
     """Builds the step's judge and, when its files are all there, its answers program, in one call of
-    the build tool (both in parallel; -k 0 so the judge is built even where the student's code fails)."""
+    the build tool (both in parallel; -k 0 so the judge is built even where the student's code fails).
+    A graded submission's answers program is compiled and linked by the kit itself inside the
+    boundary (build_answers), the rest by the build tool."""
     missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
+    if not missing and build.boundary and isolation is not None:
+        commands = answers_commands(build, step)
+        if commands is not None:
+            return build_answers(build, step, commands, isolation, progress)
     targets = [step.target] + ([] if missing else [f"answers_step{step.number}"])
     ok, out = build_targets(build, targets, progress)
     if ok:
         return Built(True, not missing, out, missing)
     judge_ok, judge_out = build_target(build, step.target)     # a no-op when the judge was built
     return Built(judge_ok, False, out if judge_ok else judge_out, missing)
+
+
+@dataclass
+class AnswersCommands:
+    """How the build tool would make a step's answers program in a submission's build: the compiles
+    of the student's files and the link, each as the sandbox launcher would be given it, and what
+    of the kit's own they need first (the dispatcher's object, the reference's for the steps needed)."""
+    compiles: list[list[str]]
+    link: list[str]
+    kit_inputs: list[str]
+
+
+def answers_commands(build: Build, step: Step) -> AnswersCommands | None:
+    """Read from Ninja (`ninja -t commands answers_stepNN`); None where there is no Ninja build or
+    no such target (a step it needs is missing), and the build tool makes it as before."""
+    import shlex
+    ninja = shutil.which("ninja") or shutil.which("ninja-build")
+    if ninja is None or not (build.binary_dir / "build.ninja").is_file():
+        return None
+    r = subprocess.run([ninja, "-C", str(build.binary_dir), "-t", "commands", f"answers_step{step.number}"],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        return None
+    compiles, link = [], None
+    for line in r.stdout.splitlines():
+        words = shlex.split(line)
+        segments, part = [], []
+        for w in words + ["&&"]:
+            if w == "&&":
+                segments.append(part)
+                part = []
+            else:
+                part.append(w)
+        for seg in segments:
+            at = next((i for i, w in enumerate(seg) if w.endswith("tools/kitlib/launch.py")), None)
+            if at is None or at + 1 >= len(seg):
+                continue
+            if seg[at + 1] == "compile":
+                compiles.append(seg[at + 2:])
+            elif seg[at + 1] == "link":
+                link = seg[at + 2:]
+    if link is None or not compiles:
+        return None
+    made = {c[c.index("-o") + 1] for c in compiles if "-o" in c}
+    inputs = [w for w in link[1:] if w.endswith((".o", ".a")) and w not in made and not w.startswith("-")]
+    return AnswersCommands(compiles, link, inputs)
+
+
+def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation: Isolation,
+                  progress: Callable[[int, int], None] | None = None) -> Built:
+    """The judge and the kit's inputs by the build tool, then the student's files compiled (in
+    parallel) and linked by this process inside the boundary (Isolation.tool, the code the sandbox
+    launcher runs): no launcher process per compile (0.08 s of CPU each, measured)."""
+    total = len(commands.compiles) + 2
+    judge_ok, out = build_targets(build, [step.target] + commands.kit_inputs)
+    if progress:
+        progress(1, total)
+    if not judge_ok:
+        judge_ok, judge_out = build_target(build, step.target)
+        return Built(judge_ok, False, out if judge_ok else judge_out)
+    done = [1]
+
+    def compile_one(argv: list[str]) -> tuple[int, str]:
+        result = isolation.tool("compile", argv, build.binary_dir)
+        done[0] += 1
+        if progress:
+            progress(done[0], total)
+        return result
+
+    with ThreadPoolExecutor(max_workers=max(1, min(len(commands.compiles), os.cpu_count() or 1))) as pool:
+        compiled = list(pool.map(compile_one, commands.compiles))
+    texts = [text for _, text in compiled]
+    ok = all(status == 0 for status, _ in compiled)
+    if ok:
+        status, text = isolation.tool("link", commands.link, build.binary_dir)
+        texts.append(text)
+        ok = status == 0
+        if progress:
+            progress(total, total)
+    text = "".join(texts)
+    if build.steps_dir != build.shown_dir:
+        text = text.replace(str(build.steps_dir), str(build.shown_dir))
+    return Built(True, ok, printable(text))
 
 
 def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepResult],
@@ -563,7 +654,7 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
         pending = []
         for s in order:
             built = None if s.number in quick or s.number in known else \
-                build_step(build, s, lambda done, total, s=s: progress.building(s, done, total))
+                build_step(build, s, lambda done, total, s=s: progress.building(s, done, total), isolation)
             pending.append(worker.submit(judge, s, built))
         for f in pending:
             f.result()

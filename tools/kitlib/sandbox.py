@@ -210,6 +210,14 @@ class Isolation:
         """Runs one compile (`kind` "compile") or link ("link") command of the student's answers
         program inside the boundary, as CMake gave it; its outputs are copied to where CMake wants
         them only when they are regular files. Returns the exit status; prints the diagnostics."""
+        status, text = self.tool(kind, argv, cwd)
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return status
+
+    def tool(self, kind: str, argv: list[str], cwd: Path) -> tuple[int, str]:
+        """`run_tool` for a caller in the kit's own process (checking.build_answers): the exit
+        status (0 or 1) and the diagnostics, as the student's own."""
         work = Path(tempfile.mkdtemp(prefix="raykit-build-"))
         try:
             return _run_tool(self, kind, argv, cwd, work)
@@ -655,7 +663,7 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
         os.close(fd)
 
 
-def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path) -> int:
+def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path) -> tuple[int, str]:
     from .common import printable
     limits = iso.limits
     uid = iso.compile_uid
@@ -723,6 +731,20 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     cached = ObjectCache(new, work, local_dir) if kind == "compile" else None
     if cached is not None and cached.fetch(out):
         return _finish(kind, iso, cached.text, 0, False, 0, mapping, copies, memory)
+    if kind == "compile":       # the step header precompiled, beside it (studentpch.py; after the key)
+        from . import studentpch
+        try:
+            source = (local_dir / src.name).read_text(errors="replace")
+        except OSError:
+            source = ""
+        for gch, name in studentpch.for_compile(list(argv), source):
+            # A hard link (no copy) where build/ and the private folder share a file system. Not a
+            # bind: bubblewrap opens its sources as the sandbox's user, who cannot read build/.
+            target = work / "include" / name
+            try:
+                os.link(gch, target)
+            except OSError:
+                shutil.copyfile(gch, target)
     start = time.monotonic()
     proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory, uid))
@@ -756,15 +778,14 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     if proc.returncode != 0 and not timed_out and prefix and not _starts(prefix, iso, out, env, uid):
         # Not the student's compile error: the sandbox itself does not start (checked with a program
         # that does nothing). The kit reports the step as not graded, the grader's fault.
-        sys.stdout.write(f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n")
-        return 1
+        return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
     if cached is not None and proc.returncode == 0 and not timed_out:
         cached.store(out, text)
     return _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
 
 
 def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, total: int,
-            mapping: list[tuple[str, str]], copies: list[tuple[Path, Path, int]], memory: int) -> int:
+            mapping: list[tuple[str, str]], copies: list[tuple[Path, Path, int]], memory: int) -> tuple[int, str]:
     """The compile's or link's diagnostics, as the student's own, and its outputs copied back."""
     from .common import printable
     limits = iso.limits
@@ -798,9 +819,7 @@ def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, 
             except OSError as e:
                 text += f"\nraykit: the {kind} made no usable {target.name} ({e}).\n"
                 status = 1
-    sys.stdout.write(text)
-    sys.stdout.flush()
-    return 0 if status == 0 else 1
+    return (0 if status == 0 else 1), text
 
 
 SANDBOX_FAILED = "raykit: the grader's sandbox could not start"

@@ -22,6 +22,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from .. import course as course_file
+from .. import studentpch
 
 from ..checking import VERDICTS_ENV
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
@@ -326,6 +327,8 @@ def run(args) -> int:
     # submission already had is judged once. Its own folder, gone when the grading ends.
     verdicts = Path(tempfile.mkdtemp(prefix="grade-verdicts-", dir=BUILD))
     os.environ[VERDICTS_ENV] = str(verdicts)
+    # Many compiles follow: the step headers precompiled once for all of them (studentpch.py).
+    os.environ.setdefault(studentpch.ENV, "build")
     try:
         return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
     finally:
