@@ -17,7 +17,7 @@ import zipfile
 from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps
-from .harness import expect, need_solutions
+from .harness import Skipped, expect, need_solutions
 
 
 def _source() -> Path:
@@ -292,4 +292,54 @@ def selftest_class_speed(ctx) -> str:
 
 def selftests():
     return [("uploads: step files found at any depth, only they", selftest_layouts),
+            ("precompiled step headers for graded compiles", selftest_student_pch),
             ("a class's CPU per submission", selftest_class_speed)]
+
+
+def selftest_student_pch(ctx) -> str:
+    """studentpch.py: a graded compile whose file starts with its step header reads the precompiled
+    one (GCC's -H marks it with '!'), inside the sandbox; a file that includes something else first,
+    or RAYKIT_STUDENT_PCH=off, compiles without it; a changed header is built again."""
+    from .. import studentpch
+    from ..sandbox import choose
+    step = load_steps()[0]
+    header = studentpch.FIRST_INCLUDE.search((ROOT / "steps" / step.folder / step.files[0]).read_text()).group(1)
+    work = CLASS_DIR / "pch"
+    shutil.rmtree(work, ignore_errors=True)
+    (work / step.folder).mkdir(parents=True)
+    solution = (ROOT / "solutions" / step.folder / step.files[0]).read_text()
+    saved = {k: os.environ.get(k) for k in (studentpch.ENV, "RAYKIT_NO_OBJCACHE")}
+    os.environ["RAYKIT_NO_OBJCACHE"] = "1"
+    iso = choose("auto", 0)
+    compiler = shutil.which("c++") or "c++"
+
+    def compile_(text: str, mode: str) -> tuple[int, bool]:
+        os.environ[studentpch.ENV] = mode
+        src = work / step.folder / step.files[0]
+        src.write_text(text)
+        argv = [compiler, f"-I{ROOT / 'include'}", "-O2", "-g0", "-DNDEBUG", "-std=c++17", "-H", "-MD", "-MT", "x.o",
+                "-MF", str(work / "x.o.d"), "-o", str(work / "x.o"), "-c", str(src)]
+        status, text = iso.tool("compile", argv, work)
+        return status, any(l.startswith("! ") and l.endswith(".gch") for l in text.splitlines())
+
+    try:
+        if not studentpch._is_gcc(compiler):
+            raise Skipped("the compiler is not GCC (Clang reads no .gch beside a header)")
+        expect(compile_(solution, "build") == (0, True), "the step header's precompiled form was not read")
+        other_first = "#include <cmath>\n" + solution
+        expect(compile_(other_first, "build") == (0, False), "a file with another first include read it")
+        expect(compile_(solution, "off") == (0, False), "RAYKIT_STUDENT_PCH=off still read it")
+        gch = next(p for p in studentpch.STORE.rglob(header + ".gch"))
+        deps = gch.with_name(gch.name + ".deps.json")
+        recorded = json.loads(deps.read_text())
+        stale = [[path, size + 1, mtime] for path, size, mtime in recorded]     # as if GLM had changed
+        deps.write_text(json.dumps(stale))
+        expect(compile_(solution, "build") == (0, True) and json.loads(deps.read_text()) == recorded,
+               "a precompiled header whose record no longer matches was not built again")
+    finally:
+        iso.close()
+        for k, v in saved.items():
+            os.environ.pop(k, None) if v is None else os.environ.__setitem__(k, v)
+        shutil.rmtree(work, ignore_errors=True)
+    return (f"{header}: read by a file that starts with it (in the {iso.mode} sandbox), not by one that includes "
+            "<cmath> first nor with RAYKIT_STUDENT_PCH=off; built again when its record is stale")
