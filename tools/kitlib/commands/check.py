@@ -106,4 +106,7 @@ def run(args) -> int:
         scoreboard(results, display, args.all, args.reveal, table_shown=True)
     if not args.steps and not args.quiet and not args.json and warmup.wanted(build):
         warmup.start(build)     # nothing was built: the kit's own programs, while the task is read
+        if warmup.running(build):
+            note("(the kit's own test programs are building in the background while you read the task, "
+                 "so your first check of a step you wrote comes sooner)")
     return OK if all(r.state == DONE for r in results) else FAILED
