@@ -32,7 +32,7 @@ from typing import Callable
 from . import course as course_file
 from . import waits
 from . import warmup
-from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable
+from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable, shown_text
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
@@ -380,10 +380,7 @@ def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation
         ok = status == 0
         if progress:
             progress(total, total)
-    text = "".join(texts)
-    if build.steps_dir != build.shown_dir:
-        text = text.replace(str(build.steps_dir), str(build.shown_dir))
-    return Built(True, ok, printable(text))
+    return Built(True, ok, shown_text(build, "".join(texts)))
 
 
 def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepResult],

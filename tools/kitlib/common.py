@@ -339,7 +339,12 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     proc.wait()
     if build.boundary:      # the launcher's own command lines say nothing to a student
         lines = [l for l in lines if "tools/kitlib/launch.py" not in l]
-    out = "".join(lines)
+    return proc.returncode == 0, shown_text(build, "".join(lines))
+
+
+def shown_text(build: Build, text: str) -> str:
+    """A build's diagnostics as the user reads them: the staging copy's paths replaced by the folder
+    they named, control characters made visible."""
     if build.steps_dir != build.shown_dir:
-        out = out.replace(str(build.steps_dir), str(build.shown_dir))
-    return proc.returncode == 0, printable(out)
+        text = text.replace(str(build.steps_dir), str(build.shown_dir))
+    return printable(text)

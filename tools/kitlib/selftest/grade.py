@@ -12,12 +12,13 @@ import os
 import resource
 import shutil
 import subprocess
+import sys
 import time
 import zipfile
 from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps
-from .harness import Skipped, expect, need_solutions
+from .harness import Failed, Skipped, expect, need_solutions
 
 
 def _source() -> Path:
@@ -299,7 +300,32 @@ def selftests():
 def selftest_student_pch(ctx) -> str:
     """studentpch.py: a graded compile whose file starts with its step header reads the precompiled
     one (GCC's -H marks it with '!'), inside the sandbox; a file that includes something else first,
-    or RAYKIT_STUDENT_PCH=off, compiles without it; a changed header is built again."""
+    or RAYKIT_STUDENT_PCH=off, compiles without it; a changed header is built again. In a child
+    process, as a check is: the sandbox makes its process the reaper of the graded code's orphans
+    and claims a user id until it ends, which must not outlive the probe in the self-test's."""
+    need_solutions()
+    r = subprocess.run([sys.executable, "-c", "import sys; from kitlib.selftest.grade import student_pch_probe as p; "
+                        "print(p())"], cwd=ROOT, capture_output=True, text=True, timeout=600,
+                       env=dict(os.environ, PYTHONPATH=str(ROOT / "tools")))
+    said = (r.stdout.strip().splitlines() or [""])[-1]
+    kind, _, text = said.partition(" ")
+    if kind == "SKIP":
+        raise Skipped(text)
+    expect(r.returncode == 0 and kind == "OK", text or r.stderr[-800:])
+    return text
+
+
+def student_pch_probe() -> str:
+    """The body of selftest_student_pch, run in its own process: "OK|FAIL|SKIP text"."""
+    try:
+        return "OK " + _student_pch_probe()
+    except Skipped as e:
+        return f"SKIP {e}"
+    except Failed as e:
+        return f"FAIL {e}"
+
+
+def _student_pch_probe() -> str:
     from .. import studentpch
     from ..sandbox import choose
     step = load_steps()[0]
