@@ -556,6 +556,7 @@ class Verdicts:
 
     def __init__(self, folder: Path, build: Build, all_steps: list[Step], isolation: Isolation):
         self.folder, self.build, self.all_steps, self.isolation = folder, build, all_steps, isolation
+        self.paths: dict[str, Path] = {}    # by step: the files are read once, before the build
 
     @classmethod
     def here(cls, build: Build, all_steps: list[Step], isolation: Isolation) -> "Verdicts | None":
@@ -565,7 +566,9 @@ class Verdicts:
         return cls(Path(named), build, all_steps, isolation)
 
     def _path(self, step: Step) -> Path:
-        return self.folder / f"{verdict_key(self.build, step, self.all_steps, self.isolation)}.json"
+        if step.number not in self.paths:
+            self.paths[step.number] = self.folder / f"{verdict_key(self.build, step, self.all_steps, self.isolation)}.json"
+        return self.paths[step.number]
 
     def load(self, step: Step) -> StepResult | None:
         try:

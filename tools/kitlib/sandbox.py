@@ -744,7 +744,10 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
             try:
                 os.link(gch, target)
             except OSError:
-                shutil.copyfile(gch, target)
+                try:
+                    shutil.copyfile(gch, target)
+                except OSError:         # no room: the compile reads the header itself
+                    target.unlink(missing_ok=True)
     start = time.monotonic()
     proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory, uid))
