@@ -339,12 +339,13 @@ def _student_pch_probe() -> str:
     iso = choose("auto", 0)
     compiler = shutil.which("c++") or "c++"
 
+    src = work / step.folder / step.files[0]
+    argv = [compiler, f"-I{ROOT / 'include'}", "-O2", "-g0", "-DNDEBUG", "-std=c++17", "-H", "-MD", "-MT", "x.o",
+            "-MF", str(work / "x.o.d"), "-o", str(work / "x.o"), "-c", str(src)]
+
     def compile_(text: str, mode: str) -> tuple[int, bool]:
         os.environ[studentpch.ENV] = mode
-        src = work / step.folder / step.files[0]
         src.write_text(text)
-        argv = [compiler, f"-I{ROOT / 'include'}", "-O2", "-g0", "-DNDEBUG", "-std=c++17", "-H", "-MD", "-MT", "x.o",
-                "-MF", str(work / "x.o.d"), "-o", str(work / "x.o"), "-c", str(src)]
         status, text = iso.tool("compile", argv, work)
         return status, any(l.startswith("! ") and l.endswith(".gch") for l in text.splitlines())
 
@@ -355,7 +356,8 @@ def _student_pch_probe() -> str:
         other_first = "#include <cmath>\n" + solution
         expect(compile_(other_first, "build") == (0, False), "a file with another first include read it")
         expect(compile_(solution, "off") == (0, False), "RAYKIT_STUDENT_PCH=off still read it")
-        gch = next(p for p in studentpch.STORE.rglob(header + ".gch"))
+        os.environ[studentpch.ENV] = "use"
+        [(gch, _)] = studentpch.for_compile(argv, solution)      # this compile's own, built above
         deps = gch.with_name(gch.name + ".deps.json")
         recorded = json.loads(deps.read_text())
         stale = [[path, size + 1, mtime] for path, size, mtime in recorded]     # as if GLM had changed
