@@ -697,10 +697,11 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
             i += 2
             continue
         for flag in ("-I", "-isystem"):
-            if a == flag and i + 1 < len(new) and Path(new[i + 1]).resolve() == (ROOT / "include").resolve():
+            # Relative to the build folder, as the build tool gives them (CMake 3.18 writes -I../../include).
+            if a == flag and i + 1 < len(new) and real(new[i + 1]).resolve() == (ROOT / "include").resolve():
                 new[i + 1] = str(work / "include")
             elif a.startswith(flag) and a != flag and a[len(flag):] and \
-                    Path(a[len(flag):]).resolve() == (ROOT / "include").resolve():
+                    real(a[len(flag):]).resolve() == (ROOT / "include").resolve():
                 new[i] = flag + str(work / "include")
         i += 1
     local_dir = work / "src"
@@ -737,7 +738,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
             source = (local_dir / src.name).read_text(errors="replace")
         except OSError:
             source = ""
-        for gch, name in studentpch.for_compile(list(argv), source):
+        for gch, name in studentpch.for_compile(list(argv), source, cwd):
             # A hard link (no copy) where build/ and the private folder share a file system. Not a
             # bind: bubblewrap opens its sources as the sandbox's user, who cannot read build/.
             target = work / "include" / name

@@ -75,6 +75,27 @@ def options_of(argv: list[str]) -> list[str]:
     return kept
 
 
+def _absolute(options: list[str], cwd: Path) -> list[str]:
+    """The options with their include folders made absolute: CMake 3.18 writes them relative to the
+    build folder (-I../../include), which names the same folder from every build/NAME, so the key
+    stays one per compiler and options, not one per build folder."""
+    out, flag = [], None
+    for a in options:
+        if flag:
+            out.append(os.path.normpath(os.path.join(cwd, a)))
+            flag = None
+            continue
+        if a in ("-I", "-isystem", "-iquote"):
+            flag = a
+        else:
+            for f in ("-isystem", "-iquote", "-I"):
+                if a.startswith(f) and len(a) > len(f):
+                    a = f + os.path.normpath(os.path.join(cwd, a[len(f):]))
+                    break
+        out.append(a)
+    return out
+
+
 def _identity(compiler: str) -> str:
     path = shutil.which(compiler) or compiler
     st = os.stat(path)
@@ -109,19 +130,20 @@ def _read_depfile(text: str) -> list[str]:
     return [p.replace("\\ ", " ") for p in re.split(r"(?<!\\)\s+", body) if p]
 
 
-def _build(compiler: str, options: list[str], header: str, gch: Path) -> bool:
+def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path) -> bool:
     gch.parent.mkdir(parents=True, exist_ok=True)
     tmp = gch.with_name(f".{gch.name}.{os.getpid()}.{id(options)}")
     dep = tmp.with_suffix(".d")
     try:
         r = subprocess.run([compiler, *options, "-x", "c++-header", str(ROOT / "include" / header),
-                            "-o", str(tmp), "-MD", "-MF", str(dep)], capture_output=True, timeout=300)
+                            "-o", str(tmp), "-MD", "-MF", str(dep)], capture_output=True, timeout=300, cwd=cwd)
         if r.returncode != 0 or not tmp.is_file():
             return False
         deps = []
         for p in _read_depfile(dep.read_text(errors="replace")):
-            st = os.stat(p)
-            deps.append([os.path.abspath(p), st.st_size, st.st_mtime_ns])
+            path = os.path.abspath(os.path.join(cwd, p))     # the options' paths are the build folder's
+            st = os.stat(path)
+            deps.append([path, st.st_size, st.st_mtime_ns])
         os.chmod(tmp, 0o644)        # read by the compile's own user id, through its private folder
         deps_file = gch.with_name(gch.name + ".deps.json")
         deps_file.with_name(deps_file.name + ".new").write_text(json.dumps(deps))
@@ -135,8 +157,8 @@ def _build(compiler: str, options: list[str], header: str, gch: Path) -> bool:
         dep.unlink(missing_ok=True)
 
 
-def for_compile(argv: list[str], source: str) -> list[tuple[Path, str]]:
-    """The precompiled header a compile `argv` (as CMake gave it) of a file `source` (its text) may
+def for_compile(argv: list[str], source: str, cwd: Path) -> list[tuple[Path, str]]:
+    """The precompiled header a compile `argv` (as CMake gave it, run in `cwd`) of a file `source` (its text) may
     use: the one of the step header the file includes first, as (file, its name relative to include/,
     e.g. "raykit/rect.hpp.gch"); GCC still decides whether it applies. Built when missing and
     RAYKIT_STUDENT_PCH is "build"; none when it is "off", or for a compiler other than GCC."""
@@ -147,7 +169,7 @@ def for_compile(argv: list[str], source: str) -> list[tuple[Path, str]]:
     compiler = argv[0]
     options = options_of(argv)
     try:
-        key = hashlib.sha256(json.dumps([_identity(compiler), options]).encode()).hexdigest()[:24]
+        key = hashlib.sha256(json.dumps([_identity(compiler), _absolute(options, cwd)]).encode()).hexdigest()[:24]
     except OSError:
         return []
     folder = STORE / key
@@ -160,5 +182,5 @@ def for_compile(argv: list[str], source: str) -> list[tuple[Path, str]]:
     with _lock:         # the compiles of one check run in threads: one build of each header
         current = gch.is_file() and _deps_current(gch.with_name(gch.name + ".deps.json"))
         if not current and mode == "build":
-            current = _build(compiler, options, header, gch)
+            current = _build(compiler, options, header, gch, cwd)
     return [(gch, header + ".gch")] if current else []

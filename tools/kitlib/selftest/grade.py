@@ -340,7 +340,8 @@ def _student_pch_probe() -> str:
     compiler = shutil.which("c++") or "c++"
 
     src = work / step.folder / step.files[0]
-    argv = [compiler, f"-I{ROOT / 'include'}", "-O2", "-g0", "-DNDEBUG", "-std=c++17", "-H", "-MD", "-MT", "x.o",
+    # The include folder relative to the compile's folder, as CMake 3.18 writes it (-I../../include).
+    argv = [compiler, f"-I{os.path.relpath(ROOT / 'include', work)}", "-O2", "-g0", "-DNDEBUG", "-std=c++17", "-H", "-MD", "-MT", "x.o",
             "-MF", str(work / "x.o.d"), "-o", str(work / "x.o"), "-c", str(src)]
 
     def compile_(text: str, mode: str) -> tuple[int, bool]:
@@ -357,7 +358,7 @@ def _student_pch_probe() -> str:
         expect(compile_(other_first, "build") == (0, False), "a file with another first include read it")
         expect(compile_(solution, "off") == (0, False), "RAYKIT_STUDENT_PCH=off still read it")
         os.environ[studentpch.ENV] = "use"
-        [(gch, _)] = studentpch.for_compile(argv, solution)      # this compile's own, built above
+        [(gch, _)] = studentpch.for_compile(argv, solution, work)      # this compile's own, built above
         deps = gch.with_name(gch.name + ".deps.json")
         recorded = json.loads(deps.read_text())
         stale = [[path, size + 1, mtime] for path, size, mtime in recorded]     # as if GLM had changed
