@@ -326,6 +326,8 @@ def answers_commands(build: Build, step: Step) -> AnswersCommands | None:
         return None
     compiles, link = [], None
     for line in r.stdout.splitlines():
+        if "tools/kitlib/launch.py" not in line:    # the kit's own commands: not split, not needed
+            continue
         words = shlex.split(line)
         segments, part = [], []
         for w in words + ["&&"]:
