@@ -18,7 +18,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
 import signal
 import subprocess
 import tempfile
@@ -32,7 +31,7 @@ from typing import Callable
 from . import course as course_file
 from . import waits
 from . import warmup
-from .common import ROOT, Build, Step, build_target, build_targets, configure, prerequisites, printable, shown_text
+from .common import ROOT, Build, Step, build_target, build_targets, configure, ninja_of, prerequisites, printable, shown_text
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
@@ -317,8 +316,8 @@ def answers_commands(build: Build, step: Step) -> AnswersCommands | None:
     """Read from Ninja (`ninja -t commands answers_stepNN`); None where there is no Ninja build or
     no such target (a step it needs is missing), and the build tool makes it as before."""
     import shlex
-    ninja = shutil.which("ninja") or shutil.which("ninja-build")
-    if ninja is None or not (build.binary_dir / "build.ninja").is_file():
+    ninja = ninja_of(build)
+    if ninja is None:
         return None
     r = subprocess.run([ninja, "-C", str(build.binary_dir), "-t", "commands", f"answers_step{step.number}"],
                        capture_output=True, text=True)

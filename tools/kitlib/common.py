@@ -315,12 +315,37 @@ def build_target(build: Build, target: str) -> tuple[bool, str]:
 NINJA_PROGRESS = re.compile(r"^\[(\d+)/(\d+)\] ")
 
 
+_ninja_of: dict[Path, str | None] = {}
+
+
+def ninja_of(build: Build) -> str | None:
+    """The Ninja program CMake chose for a configured Ninja build (CMAKE_MAKE_PROGRAM), else None."""
+    if _ninja_of.get(build.binary_dir) is None:      # asked again until the build is configured
+        found = None
+        if (build.binary_dir / "build.ninja").is_file():
+            try:
+                for line in (build.binary_dir / "CMakeCache.txt").read_text(errors="replace").splitlines():
+                    if line.startswith("CMAKE_MAKE_PROGRAM:"):
+                        found = line.split("=", 1)[1].strip() or None
+                        break
+            except OSError:
+                pass
+            found = found if found and os.access(found, os.X_OK) else (shutil.which("ninja") or shutil.which("ninja-build"))
+        _ninja_of[build.binary_dir] = found
+    return _ninja_of[build.binary_dir]
+
+
 def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool, str]:
     """Builds `targets` in one call of the build tool (in parallel; with Ninja, -k 0 goes on past a
-    failure so every target that can be built is). `progress(done, total)` follows Ninja's count."""
-    cmd = ["cmake", "--build", str(build.binary_dir), "--target", *targets]
-    if len(targets) > 1 and (build.binary_dir / "build.ninja").is_file():
-        cmd += ["--", "-k", "0"]
+    failure so every target that can be built is). `progress(done, total)` follows Ninja's count.
+    Ninja is called directly where CMake generated for it: `cmake --build` would only start it, at
+    20 ms of CPU a call, five calls a check (and Ninja itself runs CMake again when a CMakeLists.txt
+    changed)."""
+    ninja = ninja_of(build)
+    if ninja:
+        cmd = [ninja, *(["-k", "0"] if len(targets) > 1 else []), *targets]     # run in the build folder
+    else:
+        cmd = ["cmake", "--build", str(build.binary_dir), "--target", *targets]
     env = None
     if build.boundary:
         # Built outside a check (./kit debug --steps, which runs the code under gdb with your rights
@@ -328,8 +353,8 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
         from .sandbox import Isolation, Limits
         spec = build.spec or Isolation("none", "not sandboxed", limits=Limits.from_env()).spec()
         env = dict(os.environ, RAYKIT_BOUNDARY_SPEC=spec)
-    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            errors="replace", env=env)
+    proc = subprocess.Popen(cmd, cwd=build.binary_dir if ninja else ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, errors="replace", env=env)
     lines = []
     for line in proc.stdout:
         lines.append(line)
