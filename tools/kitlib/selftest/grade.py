@@ -139,11 +139,13 @@ def class_size() -> int:
         return 20
 
 
-def make_mixed_class(root: Path, size: int) -> dict[str, str]:
+def make_mixed_class(root: Path, size: int, salt: str = "") -> dict[str, str]:
     """`size` submissions under `root`, every step written or shipped: copies of the solutions,
     one or two mutants' slips over the solutions, solutions each student edited (their own bytes),
     steps 01-03 done (partial), step 01 done (started), the stubs, a step 01 that does not compile,
-    the textbook formulas. Returns each student's kind."""
+    the textbook formulas. Every file but a shipped stub ends with a comment naming `salt`, so a
+    class made with a new salt shares no bytes with an earlier one (the kit's object cache persists
+    between gradings), while its copies stay byte for byte alike. Returns each student's kind."""
     from ..commands.mutant import patches, write_answer
     steps = load_steps()
     total = sum(n for _, n in CLASS_MIX)
@@ -168,6 +170,8 @@ def make_mixed_class(root: Path, size: int) -> dict[str, str]:
             if s.number in slipped and patches(s):
                 found = patches(s)
                 write_answer(s, found[slipped[s.number] % len(found)], target)
+                for f in s.files:
+                    (target / f).write_text((target / f).read_text() + f"\n// class {salt}\n")
                 continue
             source = {"partial": sol(s) if s.number <= "03" else stub(s),
                       "started": sol(s) if s.number == "01" else stub(s),
@@ -177,9 +181,11 @@ def make_mixed_class(root: Path, size: int) -> dict[str, str]:
             if not source.is_dir():
                 source = sol(s)
             shutil.copytree(source, target)
-            if kind == "own":       # the same answers in the student's own bytes
-                for f in s.files:
-                    (target / f).write_text((target / f).read_text() + f"\n// {who}'s version\n")
+            if source == stub(s):
+                continue            # untouched: byte for byte the shipped stub
+            for f in s.files:       # this class's own bytes: nothing compiled for an earlier run is reused
+                note = f"// {who}'s version\n" if kind == "own" else ""   # the same answers in one's own bytes
+                (target / f).write_text((target / f).read_text() + f"\n// class {salt}\n" + note)
     return plan
 
 
@@ -226,7 +232,7 @@ def selftest_class_speed(ctx) -> str:
     one another scored differently, the solutions' copies short of full marks or the stubs above 0."""
     need_solutions()
     size = class_size()
-    plan = make_mixed_class(CLASS_DIR / "class", size)
+    plan = make_mixed_class(CLASS_DIR / "class", size, salt=f"{time.time_ns():x}")
     out = CLASS_DIR / "grades.csv"
     load = os.getloadavg()[0]
     start = time.monotonic()
@@ -285,8 +291,10 @@ def selftest_class_speed(ctx) -> str:
     shutil.rmtree(CLASS_DIR, ignore_errors=True)
     kinds = ", ".join(f"{n} {k}" for k, n in sorted(((k, list(plan.values()).count(k)) for k in by_kind),
                                                       key=lambda kn: -kn[1]))
+    complete = sum(1 for k in plan.values() if k not in ("partial", "started", "stubs"))   # every step written
     return (f"a class of {size} ({kinds}) graded with -j 2 ({', '.join(isolation)}): {cpu / size:.2f} s of CPU per "
-            f"submission (goal 1.5), {cpu:.0f} s in all, {wall:.0f} s wall; a complete submission no one else "
+            f"submission, {cpu / complete:.2f} s per complete one (every step written, {complete}; goal 1.5), "
+            f"{cpu:.0f} s in all, {wall:.0f} s wall; a complete submission no one else "
             f"wrote, graded alone: {one_cpu:.2f} s of CPU; counted by the {counted}; load average {load:.1f} "
             f"at the start; RAYKIT_CLASS_SIZE=60 for the issue's class")
 
