@@ -344,6 +344,9 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     ninja = ninja_of(build)
     if ninja:
         cmd = [ninja, *(["-k", "0"] if len(targets) > 1 else []), *targets]     # run in the build folder
+        level = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", "")     # honoured as cmake --build would
+        if level.isdigit() and int(level) > 0:
+            cmd[1:1] = ["-j", level]
     else:
         cmd = ["cmake", "--build", str(build.binary_dir), "--target", *targets]
     env = None
