@@ -688,6 +688,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     mapping: list[tuple[str, str]] = [(str(work / "include"), str(ROOT / "include")), (str(out) + "/", "")]
     new = list(argv)
     copies: list[tuple[Path, Path, int]] = []   # (from out/, to where CMake wants it, mode)
+    dep_files: list[Path] = []
 
     def real(p: str) -> Path:
         path = Path(p)
@@ -696,6 +697,14 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     i = 0
     while i < len(new):
         a = new[i]
+        if kind == "link" and a.startswith("-Wl,--dependency-file="):
+            # The linker's list of its inputs (CMake 3.27+, unless CMAKE_LINK_DEPENDS_USE_LINKER is
+            # off, as CMakeLists.txt sets it for these links): the link here reads private copies,
+            # so the list is left out and one that names no extra input is written where the
+            # build tool reads it (the link's own inputs are tracked by its rule).
+            dep_files.append(real(a.split("=", 1)[1]))
+            del new[i]
+            continue
         if a in ("-o", "-MF") and i + 1 < len(new):
             target = real(new[i + 1])
             local = out / (target.name if a == "-o" else target.name + ".d")
@@ -792,7 +801,15 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
         return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
     if cached is not None and proc.returncode == 0 and not timed_out:
         cached.store(out, text)
-    return _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
+    status, text = _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
+    for dep in dep_files if status == 0 else []:
+        made = next((str(target) for _, target, mode in copies if mode == 0o755), "")
+        try:
+            dep.parent.mkdir(parents=True, exist_ok=True)
+            dep.write_text(f"{made}:\n")
+        except OSError:
+            pass
+    return status, text
 
 
 def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, total: int,

@@ -301,7 +301,7 @@ def selftest_class_speed(ctx) -> str:
 
 def selftests():
     return [("uploads: step files found at any depth, only they", selftest_layouts),
-            ("precompiled step headers for graded compiles", selftest_student_pch),
+            ("graded compiles and links as CMake writes them, precompiled step headers", selftest_student_pch),
             ("a class's CPU per submission", selftest_class_speed)]
 
 
@@ -373,10 +373,24 @@ def _student_pch_probe() -> str:
         deps.write_text(json.dumps(stale))
         expect(compile_(solution, "build") == (0, True) and json.loads(deps.read_text()) == recorded,
                "a precompiled header whose record no longer matches was not built again")
+        # A link as CMake 3.27+ writes it, asking the linker for the list of its inputs (paths relative
+        # to the build folder): the sandboxed link leaves that out and writes one the build tool can read.
+        main_src = work / "main" / "m.cpp"
+        main_src.parent.mkdir()
+        main_src.write_text("int main() { return 0; }\n")
+        status, text = iso.tool("compile", [compiler, "-o", "m.o", "-c", str(main_src)], work)
+        expect(status == 0, f"a program that does nothing did not compile: {text[-300:]}")
+        status, text = iso.tool("link", [compiler, "-Wl,--dependency-file=CMakeFiles/p.dir/link.d", "m.o", "-o", "p"],
+                                work)
+        listed = work / "CMakeFiles" / "p.dir" / "link.d"
+        expect(status == 0 and (work / "p").is_file(), f"a link with the linker's dependency list failed: {text[-300:]}")
+        expect(listed.is_file() and listed.read_text() == f"{work / 'p'}:\n",
+               f"the link's dependency list for the build tool: {listed.read_text() if listed.is_file() else 'none'}")
     finally:
         iso.close()
         for k, v in saved.items():
             os.environ.pop(k, None) if v is None else os.environ.__setitem__(k, v)
         shutil.rmtree(work, ignore_errors=True)
     return (f"{header}: read by a file that starts with it (in the {iso.mode} sandbox), not by one that includes "
-            "<cmath> first nor with RAYKIT_STUDENT_PCH=off; built again when its record is stale")
+            "<cmath> first nor with RAYKIT_STUDENT_PCH=off; built again when its record is stale; include folders "
+            "relative to the build folder (CMake 3.18) and a link with the linker's dependency list (CMake 3.27+) work")
