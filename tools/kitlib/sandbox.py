@@ -353,7 +353,8 @@ def claim_uid(slot: int) -> int:
     on a file, held until this process ends.
     """
     import fcntl
-    lock_dir = Path("/run/lock") if Path("/run/lock").is_dir() else Path(tempfile.gettempdir())
+    lock_dir = Path(os.environ.get("RAYKIT_LOCK_DIR") or
+                    ("/run/lock" if Path("/run/lock").is_dir() else tempfile.gettempdir()))
     for uid in range(FIRST_UID + slot % 64, FIRST_UID + COMPILE_UID_OFFSET, 64):
         if uid in _claimed:
             return uid
@@ -363,11 +364,14 @@ def claim_uid(slot: int) -> int:
         except OSError:
             f.close()
             continue
-        if _in_use(uid):            # a grading that does not share our lock files (another root
-            fcntl.flock(f, fcntl.LOCK_UN)   # file system on the same kernel) is using it
+        name = _abstract_claim(uid)
+        if name is None or _in_use(uid):    # a grading in another root file system on this kernel
+            fcntl.flock(f, fcntl.LOCK_UN)
             f.close()
+            if name:
+                name.close()
             continue
-        _claimed[uid] = f
+        _claimed[uid] = (f, name)
         if os.environ.get("RAYKIT_UID_FILE"):      # ./kit grade ends this id's processes on a timeout
             try:
                 Path(os.environ["RAYKIT_UID_FILE"]).write_text(str(uid))
@@ -375,6 +379,29 @@ def claim_uid(slot: int) -> int:
                 pass
         return uid
     raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
+
+
+def _abstract_claim(uid: int):
+    """A claim on `uid` that a grading in another root file system on this kernel sees too (a
+    chroot has /run/lock of its own, not the network namespace): a Unix socket bound to an abstract
+    name, held until this process ends (never inherited by its children). None when another
+    process holds it; a placeholder that holds nothing where abstract names do not exist."""
+    import socket
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        s.bind(f"\0raykit-sandbox-{uid}")
+        return s
+    except OSError as e:
+        s.close()
+        import errno
+        return None if e.errno == errno.EADDRINUSE else _NoName()
+
+
+class _NoName:
+    """Where no abstract socket can be made: the lock file and _in_use are the claim."""
+
+    def close(self) -> None:
+        pass
 
 
 def _in_use(uid: int) -> bool:

@@ -521,8 +521,45 @@ def selftest_load(ctx) -> str:
     return f"{got['score']} of {got['extra_data']['max_score']} cold beside two busy loops ({mode}, {took:.0f} s, load {load:.1f})"
 
 
+CLAIM = """import os, sys, time
+from kitlib import sandbox
+print(sandbox.claim_uid(0), flush=True)
+time.sleep(float(sys.argv[1]))
+"""
+
+
+def selftest_uid_claims(ctx) -> str:
+    """Two gradings on one kernel whose lock folders differ (two root file systems: a chroot has
+    /run/lock of its own) claim different sandbox user ids, even while neither runs any process of
+    its id: after each case one ends every process of its id, which must never be the other's."""
+    if os.geteuid() != 0:
+        raise Skipped("sandbox user ids are claimed only when grading as root")
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "tools"))
+    folders = [Path(tempfile.mkdtemp(prefix="raykit-locks-")) for _ in range(2)]
+    try:
+        first = subprocess.Popen(["python3", "-c", CLAIM, "5"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[0])),
+                                 stdout=subprocess.PIPE, text=True)
+        try:
+            a = int(first.stdout.readline())
+            second = subprocess.run(["python3", "-c", CLAIM, "0"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[1])),
+                                    capture_output=True, text=True, timeout=60)
+            b = int(second.stdout.strip() or -1)
+        finally:
+            first.kill()
+            first.wait()
+        expect(a != b and b > 0, f"two gradings with their own lock folders both claimed user id {a}")
+        again = subprocess.run(["python3", "-c", CLAIM, "0"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[1])),
+                               capture_output=True, text=True, timeout=60)
+        expect(int(again.stdout.strip() or -1) <= a, "an id was still claimed after its grading ended")
+    finally:
+        for f in folders:
+            shutil.rmtree(f, ignore_errors=True)
+    return f"another root file system's grading claimed {a}, this one {b}; {a} free again once the first ended"
+
+
 def selftests():
     return [("boundary: the compile cannot reach the answers", selftest_compile_boundary),
+            ("boundary: two root file systems claim different sandbox ids", selftest_uid_claims),
             ("boundary: compile bombs", selftest_compile_bombs),
             ("boundary: run bombs", selftest_run_bombs),
             ("boundary: root's files and sockets", selftest_root_secrets),
