@@ -13,7 +13,7 @@ The kit builds one such file per step header, from the kit's own public headers 
 sandbox (nothing of a student's goes in), keyed by the compiler and the options of the compile it
 serves, and kept in build/student-pch/ with the list of every file it read (size and time): a
 changed header, GLM or compiler makes it be built again. The graded compile sees it beside the
-header in its private include folder (a read-only bind under bubblewrap, else a hard link or copy).
+header in its private include folder, hard-linked there (copied where links cannot be made).
 
 Building the six costs about 3 s of CPU, so they are built only where many compiles follow:
 RAYKIT_STUDENT_PCH=build (set by ./kit grade and by the autograders' set-up); otherwise those already
@@ -158,10 +158,11 @@ def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path)
 
 
 def for_compile(argv: list[str], source: str, cwd: Path) -> list[tuple[Path, str]]:
-    """The precompiled header a compile `argv` (as CMake gave it, run in `cwd`) of a file `source` (its text) may
-    use: the one of the step header the file includes first, as (file, its name relative to include/,
-    e.g. "raykit/rect.hpp.gch"); GCC still decides whether it applies. Built when missing and
-    RAYKIT_STUDENT_PCH is "build"; none when it is "off", or for a compiler other than GCC."""
+    """The precompiled header a compile `argv` (as CMake gave it, run in `cwd`) of a file `source`
+    (its text) may use: the one of the step header the file includes first, as (file, its name
+    relative to include/, e.g. "raykit/rect.hpp.gch"); GCC still decides whether it applies. Built
+    when missing and RAYKIT_STUDENT_PCH is "build"; none when it is "off", or for a compiler other
+    than GCC."""
     mode = os.environ.get(ENV, "")
     first = FIRST_INCLUDE.search(source)
     if mode == "off" or not argv or first is None or first.group(1) not in step_headers():

@@ -349,8 +349,8 @@ def _student_pch_probe() -> str:
 
     src = work / step.folder / step.files[0]
     # The include folder relative to the compile's folder, as CMake 3.18 writes it (-I../../include).
-    argv = [compiler, f"-I{os.path.relpath(ROOT / 'include', work)}", "-O2", "-g0", "-DNDEBUG", "-std=c++17", "-H", "-MD", "-MT", "x.o",
-            "-MF", str(work / "x.o.d"), "-o", str(work / "x.o"), "-c", str(src)]
+    argv = [compiler, f"-I{os.path.relpath(ROOT / 'include', work)}", "-O2", "-g0", "-DNDEBUG", "-std=c++17",
+            "-H", "-MD", "-MT", "x.o", "-MF", str(work / "x.o.d"), "-o", str(work / "x.o"), "-c", str(src)]
 
     def compile_(text: str, mode: str) -> tuple[int, bool]:
         os.environ[studentpch.ENV] = mode
