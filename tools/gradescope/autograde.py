@@ -30,6 +30,7 @@ import json
 import os
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import tempfile
@@ -40,7 +41,7 @@ AUTOGRADER = Path(os.environ.get("RAYKIT_AUTOGRADER_ROOT", "/autograder"))
 SOURCE = AUTOGRADER / "source"
 SUBMISSION = AUTOGRADER / "submission"
 RESULTS = AUTOGRADER / "results" / "results.json"
-METADATA = AUTOGRADER / "submission_metadata.json"     # the due dates; read for the reveal
+METADATA = AUTOGRADER / "submission_metadata.json"     # the due dates and the submission's id
 PR_SET_CHILD_SUBREAPER = 36    # <linux/prctl.h>
 KIT_SECONDS = 30 * 60           # all steps; Gradescope's own limit is set per assignment
 
@@ -103,10 +104,52 @@ def end_descendants() -> int:
     return ended
 
 
+def submission_identity(metadata_path: Path) -> str:
+    """Gradescope's id of this submission, for the hidden cases' seed (kitlib/secret.py): every
+    submission, the same bytes again included, draws its own inputs; a re-grade of it the same."""
+    try:
+        metadata = json.loads(metadata_path.read_text())
+    except (OSError, ValueError):
+        return ""
+    sid = metadata.get("id") if isinstance(metadata, dict) else None
+    return f"gradescope:{sid}" if isinstance(sid, (int, str)) and str(sid).strip() else ""
+
+
+class Closed:
+    """/autograder closed to every user but root while the graded code runs: the submission's
+    metadata (with every earlier result of this student), the kit in source/ and the results
+    folder. The graded code needs none of it (the kit copies what it may read). The modes are put
+    back afterwards, whatever happens."""
+
+    def __init__(self, paths: list[Path]):
+        self.saved: list[tuple[Path, int]] = []
+        for p in paths:
+            try:
+                st = os.lstat(p)
+            except OSError:
+                continue
+            if stat.S_ISLNK(st.st_mode):
+                continue
+            self.saved.append((p, stat.S_IMODE(st.st_mode)))
+            os.chmod(p, stat.S_IMODE(st.st_mode) & 0o700)
+
+    def restore(self) -> None:
+        for p, mode in reversed(self.saved):
+            try:
+                os.chmod(p, mode)
+            except OSError:
+                pass
+
+
 def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
     cmd = [str(SOURCE / "kit"), "check", "--steps", str(steps_dir), "--json", str(json_path), "--quiet"]
     from kitlib.gradescope import reveal_options    # course.json's visibility; --reveal after the due date
     cmd += reveal_options(METADATA)
+    identity = submission_identity(METADATA)
+    if identity:
+        cmd += ["--identity", identity]
+    if os.environ.get("RAYKIT_AUTOGRADER_ISOLATION") in ("bwrap", "user"):     # the self-test's seam
+        cmd += ["--isolation", os.environ["RAYKIT_AUTOGRADER_ISOLATION"]]
     with tempfile.TemporaryFile() as log:
         proc = subprocess.Popen(cmd, cwd=SOURCE, stdout=log, stderr=log, stdin=subprocess.DEVNULL,
                                 start_new_session=True)
@@ -177,10 +220,14 @@ def grade() -> dict:
 def main() -> int:
     start = time.monotonic()
     become_subreaper()
+    closed = Closed([METADATA, AUTOGRADER]) if os.geteuid() == 0 else None
     try:
         data = grade()
     except Exception as e:      # noqa: BLE001 -- whatever happens, Gradescope gets a result
         data = failed(f"The autograder itself failed: {e.__class__.__name__}: {e}")
+    finally:
+        if closed is not None:
+            closed.restore()
     data.setdefault("execution_time", round(time.monotonic() - start, 3))
     write_results(data)
     return 0

@@ -260,12 +260,16 @@ def _take(c: Case, e: dict) -> None:
 
 
 def submission_seed(build: Build, step: Step) -> str:
-    """The hidden cases' seed: a hash of the step's files, so one submission always meets the same inputs."""
-    h = hashlib.sha256(step.folder.encode())
+    """The hidden cases' seed: from the instructor's secret, the submission's identity and the step's
+    files (secret.py), so no student can know or steer it and a re-grade meets the same inputs."""
+    from .secret import hidden_seed
+    if not hidden_cases_here():
+        return ""               # a handout: no hidden cases, no secret
+    files = []
     for f in step.files:
         p = build.steps_dir / step.folder / f
-        h.update(p.read_bytes() if p.is_file() else b"")
-    return h.hexdigest()[:8]
+        files.append(p.read_bytes() if p.is_file() else None)
+    return hidden_seed(step.folder, files, build.identity)
 
 
 def _all(cases: list[Case], status: str, message: str) -> list[Case]:
@@ -542,7 +546,8 @@ VERDICTS_ENV = "RAYKIT_VERDICTS_DIR"
 
 
 def verdict_key(build: Build, step: Step, all_steps: list[Step], isolation: Isolation) -> str:
-    h = hashlib.sha256(f"raykit-verdict-1\0{isolation.mode.split(':')[0]}\0{build.reference_needs}\0".encode())
+    h = hashlib.sha256(f"raykit-verdict-2\0{isolation.mode.split(':')[0]}\0{build.reference_needs}\0".encode())
+    h.update(build.identity.encode("utf-8", "surrogateescape") + b"\0")   # the hidden cases' draw
     for s in [step] + ([] if build.reference_needs else prerequisites(step, all_steps)):
         for f in s.files:
             p = build.steps_dir / s.folder / f

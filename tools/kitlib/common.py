@@ -158,6 +158,8 @@ class Build:
     spec: str = ""
     # A student's own check: their files under ASan, UBSan and GLM's asserts (RAYKIT_CHECK_SANITIZE).
     sanitize_student: bool = False
+    # The submission's name on the platform that graded it, for the hidden cases' seed (secret.py).
+    identity: str = ""
 
     @property
     def reference_needs(self) -> bool:

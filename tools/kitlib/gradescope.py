@@ -1,5 +1,11 @@
 """The results of ./kit check in Gradescope's autograder format (results.json), for --json.
 
+What the student's platform keeps: the tests' words, and in extra_data only each step's state and
+points. Never a hidden case's input, the reference's answer to it, what the code printed during it
+or the seed, unless --reveal (after the due date): a later submission is handed this file
+(submission_metadata.json's previous_submissions), and so could the code it runs. The kit's own
+record of everything is record.py's, kept by the grader.
+
 On the course's scale (course.json, kitlib/course.py): points are exact fractions; each test shows
 its case's points rounded for display, and the top-level `score` (which Gradescope takes instead of
 the tests' sum) is the exact total rounded once, at the end.
@@ -99,9 +105,6 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                f"{course_file.exact_text(r.maximum)}" for r in results]
     summary.append(f"score {course.shown(exact)} of {course_file.exact_text(maximum)} (exact "
                    f"{course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)")
-    seeds = sorted({r.seed for r in results if r.seed})
-    if seeds:
-        summary.append(f"hidden cases seed {', '.join(seeds)}")
     isolation = next((r.isolation for r in results if r.isolation), "")
     if isolation:
         summary.append(f"graded code: {isolation}")
@@ -110,7 +113,11 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
             "visibility": "visible", "stdout_visibility": "hidden", "tests": tests,
             "extra_data": {"max_score": course.number(maximum), "score_exact": course_file.exact_text(exact),
                            "max_score_exact": course_file.exact_text(maximum), "rounding": course.decimals,
-                           "steps": [r.to_json() for r in results]}}
+                           # Each step's state and points, nothing of its cases: the kit's own record
+                           # (record.py, with every input and expected answer) stays on the grader's side.
+                           "step_scores": [{"step": r.step.number, "state": r.state,
+                                            "earned_exact": course_file.exact_text(r.earned),
+                                            "maximum_exact": course_file.exact_text(r.maximum)} for r in results]}}
 
 
 def _when(text) -> datetime | None:

@@ -17,7 +17,7 @@ from .robust_line import robust_line
 from .sandbox import NONE_OWN
 from .status import BROKEN, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
 
-HIDDEN_NOTE = ("a hidden case: random inputs of this family, drawn from the seed above; "
+HIDDEN_NOTE = ("a hidden case: random inputs of this family, drawn afresh for each submission; "
                "its inputs are shown after the due date")
 
 

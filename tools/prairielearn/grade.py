@@ -81,12 +81,14 @@ def picture(path: str | None) -> str | None:
     return None
 
 
-def convert(gs: dict, staged: Path) -> dict:
-    """Gradescope's results.json, as the kit writes it, in PrairieLearn's form."""
+def convert(gs: dict, staged: Path, record: dict | None = None) -> dict:
+    """Gradescope's results.json, as the kit writes it for students (no hidden input, no reference
+    answer), in PrairieLearn's form; each case's lecture section, tier and picture from the kit's
+    own record (kitlib/record.py), which stays here."""
     def clean(text: str) -> str:      # the student knows their file by its name, not our folder
         return text.replace(str(staged) + "/", "")[:TEXT]
 
-    steps = gs.get("extra_data", {}).get("steps", [])
+    steps = (record or {}).get("steps", [])
     cases = [c for s in steps for c in s.get("cases", [])]
     tests, images = [], []
     # Gradescope's tests are not one a case (the ★ tier and a compile error are one test a step):
@@ -121,6 +123,17 @@ def convert(gs: dict, staged: Path) -> dict:
             "output": clean(gs.get("output", "")), "images": images, "tests": tests}
 
 
+def identity(grade_dir: Path) -> str:
+    """The submission's name for the hidden cases' seed: the question's variant (data.json's
+    variant_seed); the files' bytes are in the seed too, so another attempt with other code draws
+    other inputs."""
+    try:
+        seed = json.loads((grade_dir / "data" / "data.json").read_text()).get("variant_seed")
+    except (OSError, ValueError, AttributeError):
+        seed = None
+    return f"prairielearn:{seed}" if isinstance(seed, (int, str)) and str(seed) else ""
+
+
 def grade(number: str, grade_dir: Path) -> int:
     results_dir = grade_dir / "results"
     steps = {p.parent.name[:2]: p for p in (KIT / "tests").glob("[0-9][0-9]_*/step.json")}
@@ -140,9 +153,11 @@ def grade(number: str, grade_dir: Path) -> int:
             if src.is_file():
                 shutil.copyfile(src, staged / folder / name)
         out = Path(tmp) / "results.json"
+        kept = Path(tmp) / "record.json"
         try:
-            r = subprocess.run([str(KIT / "kit"), "check", number, "--steps", str(staged),
-                                "--json", str(out)], capture_output=True, text=True,  # not --quiet: it draws the pictures
+            r = subprocess.run([str(KIT / "kit"), "check", number, "--steps", str(staged), "--json", str(out),
+                                "--results", str(kept), "--identity", identity(grade_dir)],
+                               capture_output=True, text=True,  # not --quiet: it draws the pictures
                                timeout=max(budget - (time.monotonic() - started), 1), cwd=KIT)
         except subprocess.TimeoutExpired:
             return not_gradable(results_dir, f"grading took more than {budget:g} s (RAYKIT_BUDGET)")
@@ -150,7 +165,7 @@ def grade(number: str, grade_dir: Path) -> int:
             return not_gradable(results_dir, f"./kit check exited {r.returncode}: "
                                 f"{(r.stderr.strip() or r.stdout.strip())[-1500:]}")
         try:
-            data = convert(json.loads(out.read_text()), staged / folder)
+            data = convert(json.loads(out.read_text()), staged / folder, json.loads(kept.read_text()))
         except (ValueError, KeyError, TypeError) as e:
             return not_gradable(results_dir, f"the kit's results could not be read ({e})")
     write(results_dir, data)

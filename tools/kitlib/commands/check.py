@@ -1,5 +1,6 @@
 """./kit check: check the student's steps (kitlib/checking.py) and print the scoreboard
-(kitlib/scoreboard.py); --json writes Gradescope's format (kitlib/gradescope.py)."""
+(kitlib/scoreboard.py); --results writes the kit's own record (kitlib/record.py), --json
+Gradescope's format (kitlib/gradescope.py), both from the same results."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import argparse
 import time
 
 from ..checking import check_steps
-from .. import picture, warmup
+from .. import picture, record, warmup
 from ..common import (BUILD, ROOT, KitError, build_targets, load_steps, say, note, preset_build, printable, resolve_steps_dir, select_steps,
                       submission_build)
 from ..submissions import NotFound, locate
@@ -22,6 +23,12 @@ def register(p) -> None:
     p.add_argument("numbers", nargs="*", metavar="N", help="step numbers (default: all)")
     p.add_argument("--steps", metavar="DIR", help="check the steps in DIR instead of steps/ (DIR is not modified)")
     p.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    p.add_argument("--results", metavar="FILE",
+                   help="also write the kit's own results record (kitlib/record.py): every case, hidden "
+                        "inputs included; for the grader's side only")
+    p.add_argument("--identity", default="", metavar="TEXT",
+                   help="the submission's name on its platform (e.g. gradescope:ID), part of the hidden "
+                        "cases' seed (kitlib/secret.py)")
     p.add_argument("--quiet", action="store_true", help="print nothing; the exit status tells")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"],
                    help="how the graded code is kept apart (default: auto with --steps, none for your own steps/)")
@@ -77,6 +84,7 @@ def run(args) -> int:
         source = found.steps_dir
         build = submission_build(source, "submission" if args.slot == 0 else f"submission-{args.slot}")
         build.shown_dir = display = shown
+        build.identity = args.identity
     else:
         build = preset_build("student")
         source = display = build.steps_dir
@@ -87,6 +95,8 @@ def run(args) -> int:
         raise KitError(f"--isolation {wanted}: {e}")
     if args.json:  # fail early on a path we cannot write, before any building
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
+    if args.results:
+        record.write(args.results, record.make([], 0.0))
     # The table's heading at once, each step's row as soon as it is checked (a cold build takes a while).
     live = None if args.quiet else LiveProgress(display, steps)
     ensure_packages("build")
@@ -100,8 +110,11 @@ def run(args) -> int:
     if not args.quiet:      # a picture per failing sphere or rectangle case (not for class grading)
         picture.draw_results(results, picture.pictures_folder(BUILD, args.steps and display, args.slot),
                              args.reveal)
+    elapsed = time.monotonic() - start
+    if args.results:
+        record.write(args.results, record.make(results, elapsed, args.identity))
     if args.json:
-        write_json(args.json, results, time.monotonic() - start, args.hidden_visibility, args.reveal)
+        write_json(args.json, results, elapsed, args.hidden_visibility, args.reveal)
     if not args.quiet:
         scoreboard(results, display, args.all, args.reveal, table_shown=True)
     if not args.steps and not args.quiet and not args.json and warmup.wanted(build):

@@ -3,10 +3,10 @@ cases per group, their points, and the total to enter in Gradescope."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from .. import course as course_file
+from .. import record as results_record
 from ..common import BUILD, KitError, load_steps, preset_build, say
 from ..status import FAILED, OK
 
@@ -14,16 +14,15 @@ from ..status import FAILED, OK
 def register(p) -> None:
     p.add_argument("--file", metavar="FILE", help="read this course file instead of course.json (to try a scale)")
     p.add_argument("--results", metavar="FILE",
-                   help="take the cases from a results.json of ./kit check --json instead of building the test programs")
+                   help="take the cases from a results record of ./kit check --results instead of building the test programs")
 
 
 def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str]]]:
     try:
-        data = json.loads(path.read_text())
-        found = {s["step"]: [(c["tier"], c["name"]) for c in s["cases"]] for s in data["extra_data"]["steps"]}
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        raise KitError(f"--results {path}: not a results.json of ./kit check --json ({e.__class__.__name__})")
-    return found
+        data = results_record.read(path)
+        return {s["step"]: [(c["tier"], c["name"]) for c in s["cases"]] for s in data["steps"]}
+    except (KeyError, TypeError) as e:
+        raise KitError(f"--results {path}: a record without its cases ({e.__class__.__name__})")
 
 
 def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:

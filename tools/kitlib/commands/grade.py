@@ -23,6 +23,7 @@ from pathlib import Path
 
 from .. import course as course_file
 from .. import studentpch
+from .. import record as results_record
 
 from ..checking import VERDICTS_ENV
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
@@ -45,7 +46,8 @@ def register(p) -> None:
                    help="submissions graded at once (default: the number of cores)")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"], default="auto",
                    help="how the graded code is kept apart (default: auto)")
-    p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results.json (Gradescope format) here")
+    p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results record here (the kit's own format, kitlib/record.py: "
+                        "every case, hidden inputs included)")
     p.add_argument("--report", metavar="DIR", help="also write the class report (./kit report) in DIR, the grading in DIR/grading/")
     p.add_argument("--roster", metavar="CSV",
                    help="the class list (any columns, one naming each student's folder or .zip): one row per "
@@ -219,7 +221,7 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     uid_file.unlink(missing_ok=True)
     # Its own session: on a timeout, every process of it (cmake, ninja, the compilers) is ended,
     # and so is every process of the sandbox's user id, so nothing outlives its submission.
-    proc = subprocess.Popen([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--json", str(report),
+    proc = subprocess.Popen([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--results", str(report),
                              "--quiet", "--slot", str(slot), "--isolation", isolation],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
                             start_new_session=True, env=dict(os.environ, RAYKIT_UID_FILE=str(uid_file)))
@@ -252,11 +254,13 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
             except OSError:
                 pass
         return dict(row, status="not graded", note=message)
-    data = json.loads(report.read_text())
+    try:
+        data = results_record.read(report)
+    except KitError as e:
+        return dict(row, status="not graded", note=f"the kit wrote no usable record ({e})")
     course = course_file.load()
-    extra = data["extra_data"]
-    exact = Fraction(extra.get("score_exact", data["score"]))
-    maximum = Fraction(extra.get("max_score_exact", extra["max_score"]))
+    exact = Fraction(data["score_exact"])
+    maximum = Fraction(data["max_score_exact"])
     row["earned"], row["earned_exact"] = course.shown(exact), course_file.exact_text(exact)
     row["maximum"] = course.shown(maximum)
     share = 100 * exact / maximum if maximum else None
@@ -264,8 +268,8 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     row["_cases"] = [{"step": s["step"], "case": c["name"], "tier": c["tier"], "group": c.get("group", ""),
                       "status": c["status"], "points": _decimal(c.get("points", "0")),
                       "earned": _decimal(c.get("points", "0")) if c["status"] == "pass" else "0"}
-                     for s in extra["steps"] for c in s["cases"]]
-    by_number = {s["step"]: s for s in data["extra_data"]["steps"]}
+                     for s in data["steps"] for c in s["cases"]]
+    by_number = {s["step"]: s for s in data["steps"]}
     row["status"] = "complete" if all(s["state"] == DONE for s in by_number.values()) else "incomplete"
     row["isolation"] = next((s["isolation"] for s in by_number.values() if s.get("isolation")), "")
     notes = []

@@ -199,11 +199,11 @@ def grade_files(step: Step, files: dict[str, str], work: Path) -> tuple[int, dic
     report.unlink(missing_ok=True)
     try:
         r = subprocess.run([str(ROOT / "kit"), "check", str(int(step.number)), "--steps", str(staged),
-                            "--json", str(report), "--quiet"], cwd=ROOT, capture_output=True, text=True,
+                            "--results", str(report), "--quiet"], cwd=ROOT, capture_output=True, text=True,
                            timeout=GRADE_SECONDS)
     except subprocess.TimeoutExpired:
         return -1, None     # the grader limits every case; a build that never ends is reported as not caught
-    result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.exists() else None
+    result = json.loads(report.read_text())["steps"][0] if report.exists() else None
     return r.returncode, result
 
 

@@ -24,6 +24,7 @@ import uuid
 from pathlib import Path
 
 from ..commands.autograder import excluded as not_shipped
+from .. import secret
 from ..commands.handout import kit_files
 from ..common import ROOT, KitError, load_steps, say, writable_parent
 from ..packages import PACKAGES
@@ -169,9 +170,12 @@ def run(args) -> int:
             entry.chmod(0o755)
         kit = staging / "serverFilesCourse" / "raykit"
         for rel in kit_files():
-            if not not_shipped(rel) and (ROOT / rel).is_file():
+            if not not_shipped(rel) and (ROOT / rel).is_file() and ROOT / rel != secret.SECRET_FILE:
                 (kit / rel).parent.mkdir(parents=True, exist_ok=True)
                 shutil.copy2(ROOT / rel, kit / rel)
+        # The hidden cases' secret (kitlib/secret.py): the kit's own, so ./kit check --identity
+        # prairielearn:VARIANT here draws what the job drew.
+        secret.copy_into(kit / secret.SECRET_FILE.relative_to(ROOT))
         (staging / "graders" / "raykit").mkdir(parents=True)
         (staging / "graders" / "raykit" / "Dockerfile").write_text(dockerfile())
         (staging / "graders" / "raykit" / "README.md").write_text(image_readme(image))

@@ -15,13 +15,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..common import KitError, Step
+from .. import record as results_record
 
 
 @dataclass
 class Student:
     name: str
     row: dict                           # the CSV row
-    data: dict | None = None            # the results JSON, when the submission was graded
+    data: dict | None = None            # its results record (kitlib/record.py), when it was graded
     page: str = ""                      # students/<page>.html
 
     @property
@@ -33,7 +34,7 @@ class Student:
         return _number(self.row.get("maximum"))
 
     def steps(self) -> list[dict]:
-        return (self.data or {}).get("extra_data", {}).get("steps", [])
+        return (self.data or {}).get("steps", [])
 
     def step(self, number: str) -> dict | None:
         return next((s for s in self.steps() if s.get("step") == number), None)
@@ -89,15 +90,13 @@ def load(folder: Path) -> Grading:
         path = json_dir / f"{s.name}.json"
         if path.is_file():
             try:
-                s.data = json.loads(path.read_text())
-                s.data["extra_data"]["steps"]
-            except (OSError, ValueError, KeyError, TypeError) as e:
-                problems.append(f"{path.name}: not a results JSON of ./kit check ({type(e).__name__}); left out")
+                s.data = results_record.read(path)
+            except KitError as e:
+                problems.append(f"{path.name}: {str(e).split(': ', 1)[-1]}; left out")
                 s.data = None
-        if s.data is not None and (s.data.get("score") != s.earned or
-                                   s.data["extra_data"].get("max_score") != s.maximum):
-            problems.append(f"{s.name}: the CSV says {s.earned} / {s.maximum}, the JSON "
-                            f"{s.data.get('score')} / {s.data['extra_data'].get('max_score')}")
+        if s.data is not None and (s.data.get("score") != s.earned or s.data.get("max_score") != s.maximum):
+            problems.append(f"{s.name}: the CSV says {s.earned} / {s.maximum}, the record "
+                            f"{s.data.get('score')} / {s.data.get('max_score')}")
         if s.data is None and s.earned is not None:
             problems.append(f"{s.name}: graded in the CSV, but {path.name} is missing: no details")
         s.page = page_name(s.name, used)

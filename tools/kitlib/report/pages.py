@@ -405,7 +405,7 @@ def student_page(st, steps, matches: dict) -> str:
     if st.data is None:
         body.append(f"<p>Your submission was not graded: {e(st.row.get('status', ''))}. {e(st.row.get('note', ''))}</p>")
         return page(f"{st.name}: results", body)
-    earned, maximum = st.data.get("score"), st.data["extra_data"].get("max_score")
+    earned, maximum = st.data.get("score"), st.data.get("max_score")
     body.append(f'<p class="total" data-earned="{e(earned)}" data-maximum="{e(maximum)}">Your score: '
                 f"<b>{e(earned)} of {e(maximum)}</b> on the one scale (every basic and hidden case one point; the ★ "
                 f"cases are optional and count for nothing).</p>")

@@ -24,6 +24,7 @@ import os
 import re
 import shutil
 import socket
+import stat
 import subprocess
 import tempfile
 import threading
@@ -63,18 +64,22 @@ def check(folder: Path, numbers: list[str], mode: str, limits: str = "", slot: i
     exit status, the JSON, what it printed, seconds."""
     WORK.mkdir(parents=True, exist_ok=True)
     target = WORK / f"results-{os.getpid()}-{slot}.json"
+    record_path = target.with_suffix(".record.json")
     target.unlink(missing_ok=True)
+    record_path.unlink(missing_ok=True)
     env = with_uid_file(dict(os.environ, RAYKIT_LIMITS=limits) if limits else None)
     start = time.monotonic()
     r = subprocess.run([str(ROOT / "kit"), "check", *[str(int(n)) for n in numbers], "--steps", str(folder),
-                        "--json", str(target), "--isolation", mode, "--slot", str(slot)] + (["--quiet"] if quiet else []),
+                        "--json", str(target), "--results", str(record_path), "--isolation", mode, "--slot", str(slot)]
+                       + (["--quiet"] if quiet else []),
                        cwd=ROOT, capture_output=True, text=True, timeout=1800, env=env, errors="replace")
     took = time.monotonic() - start
     note_uid()
-    if not target.is_file():
+    if not target.is_file() or not record_path.is_file():
         raise Failed(f"./kit check --steps {folder.name} ({mode}) exited {r.returncode} without results: "
                      f"{(r.stderr or r.stdout)[-600:]}")
-    return r.returncode, json.loads(target.read_text()), r.stdout + r.stderr, took
+    data = dict(json.loads(target.read_text()), record=json.loads(record_path.read_text()))
+    return r.returncode, data, r.stdout + r.stderr, took
 
 
 def templated(name: str) -> Path:
@@ -127,7 +132,7 @@ def selftest_compile_boundary(ctx) -> str:
     def one(mode: str) -> str:
         for name, words in STEALERS.items():
             rc, got, _, _ = check(templated(name), ["01"], mode)
-            [step] = got["extra_data"]["steps"]
+            [step] = got["record"]["steps"]
             expect(step["state"] == NO_COMPILE, f"{name} ({mode}): {step['state']}, {got['score']} points: "
                                                 "the kit's answers were reachable from the compile")
             expect(any(w in step["detail"] for w in words) and "unit_sphere.cpp" in step["detail"],
@@ -160,7 +165,7 @@ def selftest_compile_bombs(ctx) -> str:
         parts = []
         for name, words in (("compile_bomb_zero", "ran out of"), ("compile_bomb_slow", "took over")):
             rc, got, _, took = check(HOSTILE / name, ["01"], mode, limits)
-            [step] = got["extra_data"]["steps"]
+            [step] = got["record"]["steps"]
             expect(step["state"] == NO_COMPILE and words in step["detail"],
                    f"{name} ({mode}): {step['state']}; {step['detail'][-300:]!r}")
             expect(took < seconds + 60, f"{name} ({mode}): the grading took {took:.0f} s, the limit is {seconds:g} s")
@@ -421,10 +426,11 @@ AUTOGRADER = Path(tempfile.gettempdir()) / "raykit-selftest-autograder"
 _unpacked: list[bool] = []
 
 
-def gradescope(upload: Path) -> dict:
+def gradescope(upload: Path, metadata: dict | None = None, isolation: str = "") -> dict:
     """The Gradescope flow as its documentation describes it: the zip of `./kit autograder`
     unpacked in source/ (once per self-test run; its build folder kept between uploads, as an
-    image's is), the upload in submission/, run_autograder as root, results/results.json read."""
+    image's is), the upload in submission/, `metadata` as submission_metadata.json (root's, mode
+    0644, as Gradescope leaves it), run_autograder as root, results/results.json read."""
     ag = AUTOGRADER
     if not _unpacked or not (ag / "source" / "kit").is_file():     # made anew once per self-test run
         _unpacked.append(True)
@@ -441,8 +447,15 @@ def gradescope(upload: Path) -> dict:
     shutil.rmtree(ag / "submission", ignore_errors=True)
     shutil.rmtree(ag / "results", ignore_errors=True)
     shutil.copytree(upload, ag / "submission")
+    meta = ag / "submission_metadata.json"
+    meta.unlink(missing_ok=True)
+    if metadata is not None:
+        meta.write_text(json.dumps(metadata))
+        meta.chmod(0o644)
+    ag.chmod(0o755)
     r = subprocess.run(["bash", str(ag / "source" / "run_autograder")], cwd=ag,
-                       env=with_uid_file(dict(os.environ, RAYKIT_AUTOGRADER_ROOT=str(ag))), capture_output=True,
+                       env=with_uid_file(dict(os.environ, RAYKIT_AUTOGRADER_ROOT=str(ag),
+                                              RAYKIT_AUTOGRADER_ISOLATION=isolation)), capture_output=True,
                        text=True, timeout=3600)
     note_uid()
     try:
@@ -468,6 +481,78 @@ def selftest_gradescope_repeatable(ctx) -> str:
     return f"{runs} runs: {scores}, ./kit grade {graded:g}" + ("" if FULL else " (5 runs with RAYKIT_SELFTEST_FULL=1)")
 
 
+def hidden_inputs(record: dict) -> list[str]:
+    """The inputs of the failed hidden draws a record names ("draw 3 of 24: ray ...")."""
+    found = []
+    for s in record["steps"]:
+        for c in s["cases"]:
+            if c["tier"] == "hidden":
+                for m in c["messages"]:
+                    found += [x.split("\n")[0][:60] for x in re.findall(r"draw \d+ of \d+: ([^\n]+)", m)]
+    return found
+
+
+def selftest_gradescope_hidden_stay_hidden(ctx) -> str:
+    """Two submissions in a row on Gradescope, the second handed the first's results in
+    submission_metadata.json as Gradescope does, by a submission that reads every file it can
+    name and prints it (tests/fixtures/hostile/replay_results): no results.json carries a hidden
+    input, the reference's answer or the seed; the code reads neither the metadata nor the
+    secret; each submission id draws its own inputs and a re-grade of one id (./kit check
+    --identity gradescope:ID, the kit's secret is the zip's) reproduces its score."""
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("Gradescope runs the autograder as root")
+    upload = ROOT / "tests" / "fixtures" / "hostile" / "replay_results"
+    base = {"created_at": "2026-09-01T10:00:00+00:00",
+            "assignment": {"due_date": "2099-01-01T00:00:00+00:00", "title": "raykit"},
+            "users": [{"email": "eve@example.edu", "name": "Eve"}]}
+    modes, _ = isolations()
+    expect("user" in modes, "the user isolation (Gradescope's, in its container) cannot be tried here")
+    done = []
+    for mode in modes:
+        done.append(f"{mode}: " + gradescope_two_submissions(upload, base, mode))
+    return "; ".join(done)
+
+
+def gradescope_two_submissions(upload: Path, base: dict, mode: str) -> str:
+    first = gradescope(upload, dict(base, id=9001, previous_submissions=[]), mode)
+    second = gradescope(upload, dict(base, id=9002, previous_submissions=[
+        {"submission_time": "2026-09-01T10:00:00+00:00", "score": first["score"], "results": first}]), mode)
+    # What each submission drew, from the kit's own record of the same grading here.
+    records = {}
+    for sid in (9001, 9002):
+        target = WORK / f"replay-{sid}.record.json"
+        target.unlink(missing_ok=True)
+        r = subprocess.run([str(ROOT / "kit"), "check", "1", "--steps", str(upload), "--quiet", "--results",
+                            str(target), "--identity", f"gradescope:{sid}", "--isolation", mode], cwd=ROOT,
+                           capture_output=True, text=True, timeout=1200, env=with_uid_file(None))
+        note_uid()
+        expect(target.is_file(), f"./kit check --identity gradescope:{sid}: no record ({r.stderr[-300:]})")
+        records[sid] = json.loads(target.read_text())
+    inputs = {sid: hidden_inputs(rec) for sid, rec in records.items()}
+    expect(all(inputs.values()), f"the always-miss answers failed no hidden draw, so nothing is checked: {inputs}")
+    seeds = {sid: {s["seed"] for s in rec["steps"]} for sid, rec in records.items()}
+    expect(seeds[9001] != seeds[9002] and set(inputs[9001]) != set(inputs[9002]),
+           f"two submissions of the same bytes drew the same hidden inputs (seeds {seeds})")
+    for name, data in (("first", first), ("second", second)):
+        text = json.dumps(data)
+        leaked = [x for sid in inputs for x in inputs[sid] if x in text]
+        expect(not leaked, f"{mode}: the {name} results.json carries hidden inputs: {leaked[:3]}")
+        expect(not any(seed in text for sid in seeds for seed in seeds[sid]),
+               f"{mode}: the {name} results.json names a seed")
+        if "replay:" in text:
+            raise Failed(f"{mode}: the graded code read what the platform keeps: "
+                         + next(line for line in text.split("\\n") if "replay:" in line)[:300])
+        expect("steps" not in data.get("extra_data", {}), f"{mode}: the {name} results.json holds the kit's record")
+    expect(first["score"] == records[9001]["score"] and second["score"] == records[9002]["score"],
+           f"{mode}: scores {first['score']}, {second['score']} on Gradescope; re-graded here with the same ids "
+           f"{records[9001]['score']}, {records[9002]['score']}")
+    meta = stat.S_IMODE(os.stat(AUTOGRADER / "submission_metadata.json").st_mode)
+    expect(meta == 0o644, f"{mode}: submission_metadata.json left with mode {meta:o}, not put back to 644")
+    return (f"{len(inputs[9001])} + {len(inputs[9002])} failed hidden draws in 2 submissions, none in either "
+            f"results.json, metadata and secret unread, scores {first['score']} and {second['score']} as re-graded")
+
+
 def selftest_sandbox_failure(ctx) -> str:
     """A sandbox that cannot start (RAYKIT_BREAK_SANDBOX gives bubblewrap a path that does not
     exist, at the compile or at the run) is the grader's error: the step is not graded, and no case
@@ -483,13 +568,13 @@ def selftest_sandbox_failure(ctx) -> str:
         env = dict(os.environ, RAYKIT_BREAK_SANDBOX=where, RAYKIT_NO_OBJCACHE="1")
         target = WORK / "broken.json"
         target.unlink(missing_ok=True)
-        subprocess.run([str(ROOT / "kit"), "check", "1", "--steps", str(ROOT / "solutions"), "--json", str(target),
+        subprocess.run([str(ROOT / "kit"), "check", "1", "--steps", str(ROOT / "solutions"), "--results", str(target),
                         "--isolation", "bwrap", "--slot", str(slot), "--quiet"], cwd=ROOT, capture_output=True,
                        timeout=900, env=env)
         shutil.rmtree(BUILD / f"submission-{slot}", ignore_errors=True)
         shutil.rmtree(BUILD / f"submission-{slot}-src", ignore_errors=True)
         expect(target.is_file(), f"a sandbox that cannot start at the {where}: no results")
-        [step] = json.loads(target.read_text())["extra_data"]["steps"]
+        [step] = json.loads(target.read_text())["steps"]
         statuses = {c["status"] for c in step["cases"]}
         expect(step["state"] == "broken" and statuses == {"grader_error"} and "grader" in step["detail"],
                f"a sandbox that cannot start at the {where}: {step['state']}, {statuses}, {step['detail'][:200]!r}")
@@ -567,5 +652,6 @@ def selftests():
             ("boundary: output is data", selftest_output_is_data),
             ("boundary: links and zip bombs", selftest_links_and_uploads),
             ("boundary: the Gradescope flow is repeatable", selftest_gradescope_repeatable),
+            ("boundary: hidden cases stay hidden on Gradescope", selftest_gradescope_hidden_stay_hidden),
             ("boundary: a sandbox that cannot start", selftest_sandbox_failure),
             ("boundary: load never fails correct code", selftest_load)]

@@ -207,10 +207,10 @@ def selftest_course_table(ctx) -> str:
         steps = {s.number: {"points": 20} for s in ctx.steps}
         weighted.write_text(json.dumps(dict(WEIGHTED, steps=steps)))
         fake = Path(tmp) / "results.json"
-        fake.write_text(json.dumps({"extra_data": {"steps": [
+        fake.write_text(json.dumps({"format": "raykit-results", "version": 1, "steps": [
             {"step": s.number, "cases": [{"tier": t, "name": n} for t, n in
                                          [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]}
-            for s in ctx.steps]}}))
+            for s in ctx.steps]}))
         default = kit("course", "--results", str(fake))
         want = f"Total to enter in Gradescope (the assignment's points): {2 * len(ctx.steps)}"
         expect(default.returncode == 0 and want in default.stdout, f"./kit course: {default.stdout[-300:]}{default.stderr}")

@@ -268,9 +268,9 @@ def selftest_class_speed(ctx) -> str:
     who = next(w for w, k in plan.items() if k == "twoslips")
     report = CLASS_DIR / "again.json"
     r = subprocess.run([str(ROOT / "kit"), "check", "--steps", str(CLASS_DIR / "class" / who), "--quiet",
-                        "--json", str(report)], cwd=ROOT, capture_output=True, text=True, timeout=1200)
+                        "--results", str(report)], cwd=ROOT, capture_output=True, text=True, timeout=1200)
     statuses = lambda path: {(s["step"], c["name"]): c["status"]          # noqa: E731
-                             for s in json.loads(path.read_text())["extra_data"]["steps"] for c in s["cases"]}
+                             for s in json.loads(path.read_text())["steps"] for c in s["cases"]}
     alone, in_class = statuses(report), statuses(CLASS_DIR / "json" / f"{who}.json")
     differ = sorted(k for k in alone if alone[k] != in_class.get(k))
     expect(alone == in_class, f"{who} graded alone and in the class differ: {differ[:5]}")
@@ -283,11 +283,11 @@ def selftest_class_speed(ctx) -> str:
         for f in s.files:
             (alone / s.folder / f).write_text((alone / s.folder / f).read_text() + f"\n// written alone {time.time()}\n")
     report = CLASS_DIR / "alone.json"
-    r, one_cpu, _ = cpu_of([str(ROOT / "kit"), "check", "--steps", str(alone), "--quiet", "--json", str(report)],
+    r, one_cpu, _ = cpu_of([str(ROOT / "kit"), "check", "--steps", str(alone), "--quiet", "--results", str(report)],
                            cwd=ROOT, capture_output=True, text=True, timeout=1200)
     expect(r.returncode == 0, f"the submission graded alone: exit {r.returncode}: {r.stderr[-600:]}")
     data = json.loads(report.read_text())
-    expect(all(s["state"] == "done" for s in data["extra_data"]["steps"]), "the submission graded alone is not done")
+    expect(all(s["state"] == "done" for s in data["steps"]), "the submission graded alone is not done")
     shutil.rmtree(CLASS_DIR, ignore_errors=True)
     kinds = ", ".join(f"{n} {k}" for k, n in sorted(((k, list(plan.values()).count(k)) for k in by_kind),
                                                       key=lambda kn: -kn[1]))

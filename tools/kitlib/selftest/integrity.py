@@ -41,7 +41,7 @@ LINGER_WAIT = 3.0                   # seconds to wait after grading before looki
 
 # (folder, steps, isolation) -> (exit status, JSON bytes, seconds): each submission is
 # graded once per run of the self-test, whichever check needs it first.
-_graded: dict[tuple[str, tuple[str, ...], str], tuple[int, bytes, float]] = {}
+_graded: dict[tuple[str, tuple[str, ...], str], tuple[int, bytes, bytes, float]] = {}
 
 
 def isolations() -> tuple[list[str], list[str]]:
@@ -62,31 +62,37 @@ def isolations() -> tuple[list[str], list[str]]:
 
 def grade_json(folder: Path, numbers: list[str], isolation: str, json_path: Path | None = None,
                cache: bool = True) -> tuple[int, dict, bytes, float]:
-    """`./kit check NUMBERS --steps FOLDER --json FILE --isolation ISOLATION`: exit status, JSON, its bytes, seconds."""
+    """`./kit check NUMBERS --steps FOLDER --json FILE --results RECORD --isolation ISOLATION`: exit
+    status, Gradescope's JSON with the kit's own record (kitlib/record.py) under "record", the JSON's
+    bytes, seconds."""
 
     key = (str(folder), tuple(numbers), isolation)
     if json_path is None and cache and key in _graded:
-        rc, raw, took = _graded[key]
-        return rc, json.loads(raw), raw, took
+        rc, raw, kept, took = _graded[key]
+        return rc, dict(json.loads(raw), record=json.loads(kept)), raw, took
     with tempfile.TemporaryDirectory(prefix="raykit-integrity-") as tmp:
         target = json_path or Path(tmp) / "results.json"
+        record_path = Path(tmp) / "record.json"
         start = time.monotonic()
         r = kit("check", *[str(int(n)) for n in numbers], "--steps", str(folder), "--json", str(target),
-                "--isolation", isolation, "--quiet", timeout=1800)
+                "--results", str(record_path), "--isolation", isolation, "--quiet", timeout=1800)
         took = time.monotonic() - start
-        if r.returncode not in (0, 1) or not target.is_file():
+        if r.returncode not in (0, 1) or not target.is_file() or not record_path.is_file():
             raise Failed(f"./kit check --steps {folder.name} --isolation {isolation} exited {r.returncode}: "
                          f"{(r.stderr or r.stdout)[-800:]}")
         raw = target.read_bytes()
+        kept = record_path.read_bytes()
     try:
         data = json.loads(raw)
-        ok = isinstance(data, dict) and {"score", "tests", "extra_data"} <= set(data) and "steps" in data["extra_data"]
+        ok = isinstance(data, dict) and {"score", "tests", "extra_data"} <= set(data)
+        data["record"] = json.loads(kept)
+        ok = ok and data["record"].get("format") == "raykit-results"
     except (json.JSONDecodeError, TypeError):
         ok = False
     if not ok:
         raise Failed(f"{folder.name} ({isolation}): the results file is not what ./kit wrote: {raw[:200]!r}")
     if cache:
-        _graded[key] = (r.returncode, raw, took)
+        _graded[key] = (r.returncode, raw, kept, took)
     return r.returncode, data, raw, took
 
 
@@ -105,15 +111,15 @@ def prewarm(folders: list[Path], numbers: list[str]) -> dict[str, float]:
 
 
 def step_results(data: dict) -> dict[str, dict]:
-    return {s["step"]: s for s in data["extra_data"]["steps"]}
+    return {s["step"]: s for s in data["record"]["steps"]}
 
 
 def statuses(data: dict) -> list[tuple[str, str, str]]:
-    return [(s["step"], c["name"], c["status"]) for s in data["extra_data"]["steps"] for c in s["cases"]]
+    return [(s["step"], c["name"], c["status"]) for s in data["record"]["steps"] for c in s["cases"]]
 
 
 def printed(data: dict) -> str:
-    return "\n".join(c["output"] for s in data["extra_data"]["steps"] for c in s["cases"])
+    return "\n".join(c["output"] for s in data["record"]["steps"] for c in s["cases"])
 
 
 def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: dict, base_rc: int) -> None:
@@ -127,14 +133,14 @@ def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: di
     # Hidden cases are drawn from a seed made from the submission's files, so the two meet
     # different inputs; a never-hit answer fails or passes a family whatever the draw, so
     # their verdicts must still agree. Say so when only they differ.
-    hidden = {c["name"] for s in base["extra_data"]["steps"] for c in s["cases"] if c["tier"] == "hidden"}
+    hidden = {c["name"] for s in base["record"]["steps"] for c in s["cases"] if c["tier"] == "hidden"}
     only_hidden = bool(changed) and all(n in hidden for n, _, _ in changed)
-    seeds = (sorted({s["seed"] for s in base["extra_data"]["steps"]}), sorted({s["seed"] for s in got["extra_data"]["steps"]}))
+    seeds = (sorted({s["seed"] for s in base["record"]["steps"]}), sorted({s["seed"] for s in got["record"]["steps"]}))
     expect(statuses(got) == statuses(base) and not diff,
            f"{name} ({isolation}): case verdicts differ from the plain wrong answer: " + "; ".join(diff[:5])
            + (f" (only hidden cases differ, seeds {seeds[0]} and {seeds[1]}: does a never-hit answer's verdict "
               "on that family depend on the draw?)" if only_hidden else ""))
-    expect(all(s["state"] != DONE for s in got["extra_data"]["steps"]), f"{name} ({isolation}): graded done")
+    expect(all(s["state"] != DONE for s in got["record"]["steps"]), f"{name} ({isolation}): graded done")
     expect(all(t["status"] == "failed" for t in got["tests"] if t["score"] == 0 and t["max_score"] > 0),
            f"{name} ({isolation}): a test with no points is marked passed")
 
@@ -298,7 +304,7 @@ def lingering_under_batch_grading(home: Path) -> str:
 def selftest_table_of_visible_inputs(ctx) -> str:
     def one(mode: str) -> str:
         rc, table, _, _ = grade_json(HOSTILE / "table_of_visible_inputs", ["01"], mode)
-        [step] = table["extra_data"]["steps"]
+        [step] = table["record"]["steps"]
         expect(step["basic"]["passed"] == step["basic"]["total"],
                f"table ({mode}): passes {step['basic']['passed']} of {step['basic']['total']} visible cases; "
                "the table no longer matches tests/01_unit_sphere, so it proves nothing: update it")

@@ -50,8 +50,8 @@ def labels(path: Path) -> dict:
 
 def grade_json(steps_dir: Path, report: Path):
     report.unlink(missing_ok=True)
-    r = kit("check", "1", "--steps", str(steps_dir), "--json", str(report))
-    result = json.loads(report.read_text())["extra_data"]["steps"][0] if report.is_file() else None
+    r = kit("check", "1", "--steps", str(steps_dir), "--results", str(report))
+    result = json.loads(report.read_text())["steps"][0] if report.is_file() else None
     return r, result
 
 
@@ -332,10 +332,10 @@ def selftest_labels(ctx) -> str:
     drawn = {}
     for steps_dir, numbers in ((off, ["1", "2", "3", "4"]), (textbook, ["2"])):
         report = folder / f"{steps_dir.name}.json"
-        r = kit("check", *numbers, "--steps", str(steps_dir), "--reveal", "--json", str(report))
+        r = kit("check", *numbers, "--steps", str(steps_dir), "--reveal", "--results", str(report))
         expect(report.is_file(), f"./kit check {' '.join(numbers)} --steps {steps_dir}: no JSON (exit "
                f"{r.returncode}): {r.stdout[-800:]}{r.stderr[-800:]}")
-        cases = [c for s in json.loads(report.read_text())["extra_data"]["steps"] for c in s["cases"]]
+        cases = [c for s in json.loads(report.read_text())["steps"] for c in s["cases"]]
         failed_figures = [c for c in cases if c.get("picture_summary") and not c.get("picture")
                           and not re.search(r"holds NaN or inf|axis is not 0, 1 or 2", c["picture_summary"])]
         expect(not failed_figures, "a case's figure was not drawn: " + "; ".join(

@@ -41,14 +41,14 @@ def selftest_student_sanitizers(ctx: Context) -> str:
                     handout / "steps" / "04_rectangles" / "rect.cpp")
     import subprocess
     start = time.monotonic()
-    p = subprocess.run([str(handout / "kit"), "check", "4", "--json", str(handout / "r.json"), "--quiet"],
+    p = subprocess.run([str(handout / "kit"), "check", "4", "--results", str(handout / "r.json"), "--quiet"],
                        cwd=handout, capture_output=True, text=True, timeout=900)
     took = time.monotonic() - start
     try:
         data = json.loads((handout / "r.json").read_text())
     except (OSError, ValueError):
         raise AssertionError(f"no results: {p.stderr[-400:]}")
-    cases = {c["name"]: c for s in data["extra_data"]["steps"] for c in s["cases"]}
+    cases = {c["name"]: c for s in data["steps"] for c in s["cases"]}
     axis = next((c for n, c in cases.items() if "axis of 3" in n), None)
     shutil.rmtree(handout, ignore_errors=True)
     expect(axis is not None, "no case with an axis of 3 in step 04")

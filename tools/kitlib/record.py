@@ -1,0 +1,79 @@
+"""The kit's own results record: one file per grading of one submission, written by
+`./kit check --results FILE`, read by everything of the instructor's side (`./kit grade`, the
+class report, `./kit mutant`, `./kit course --check`, PrairieLearn's adapter, the portability
+check). The outputs students see (the terminal, Gradescope's results.json, PrairieLearn's results)
+are drawn from the same results, each by its own renderer; none of them parses another.
+
+The record is the grader's: it holds every case's messages, hidden ones included (their inputs and
+the reference's answers), and the hidden cases' seeds. It is never handed to a student's platform;
+`./kit grade` keeps it in its grading folder.
+
+    {"format": "raykit-results", "version": 1,
+     "score": 41, "max_score": 48,                  # on the course's scale, rounded once
+     "score_exact": "41", "max_score_exact": "48", "rounding": 2,
+     "execution_time": 3.1, "identity": "", "isolation": "...",
+     "steps": [StepResult.to_json(), ...]}          # kitlib/checking.py
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from fractions import Fraction
+from pathlib import Path
+
+from . import course as course_file
+from .checking import StepResult
+from .common import KitError
+
+FORMAT = "raykit-results"
+VERSION = 1
+
+
+def make(results: list[StepResult], elapsed: float, identity: str = "") -> dict:
+    course = course_file.load()
+    exact = sum((r.earned for r in results), Fraction(0))
+    maximum = sum((r.maximum for r in results), Fraction(0))
+    return {"format": FORMAT, "version": VERSION,
+            "score": course.number(exact), "max_score": course.number(maximum),
+            "score_exact": course_file.exact_text(exact), "max_score_exact": course_file.exact_text(maximum),
+            "rounding": course.decimals, "execution_time": round(elapsed, 3), "identity": identity,
+            "isolation": next((r.isolation for r in results if r.isolation), ""),
+            "steps": [r.to_json() for r in results]}
+
+
+def write(path: str | Path, data: dict) -> None:
+    """Writes `data` whole or not at all (a temporary file renamed over the target)."""
+    target = Path(path)
+    if not target.parent.is_dir():
+        raise KitError(f"--results {path}: folder {target.parent} does not exist")
+    if target.is_dir():
+        raise KitError(f"--results {path}: is a folder, not a file")
+    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(json.dumps(data, indent=1, ensure_ascii=False))
+        tmp.replace(target)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)
+        raise KitError(f"--results {path}: cannot write it ({e.strerror})")
+
+
+def read(path: str | Path) -> dict:
+    """A record written by `write`; KitError when the file is not one."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as e:
+        raise KitError(f"{path}: not a results record ({e.__class__.__name__})")
+    if not is_record(data):
+        raise KitError(f"{path}: not a raykit results record (format {FORMAT} version {VERSION})")
+    return data
+
+
+def is_record(data: object) -> bool:
+    return (isinstance(data, dict) and data.get("format") == FORMAT and data.get("version") == VERSION
+            and isinstance(data.get("steps"), list))
+
+
+def cases(data: dict) -> list[dict]:
+    """Every case of every step, in order, each with its step's number under "step"."""
+    return [dict(c, step=s["step"]) for s in data["steps"] for c in s.get("cases", [])]

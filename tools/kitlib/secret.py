@@ -1,0 +1,114 @@
+"""The instructor's secret and the hidden cases' seed.
+
+Hidden cases draw random inputs (tests/hidden/). Their seed must be something no student can
+know or steer, yet the same when one submission is graded again:
+
+    seed = HMAC-SHA256(secret, step folder, identity, SHA-256 of each of the step's files)[:16 hex]
+
+- `secret`: 256 random bits made once per instructor's copy of the kit, in tests/hidden/secret.key
+  (mode 0600, listed in .gitignore, never in a handout). `./kit autograder` and `./kit
+  prairielearn` put the kit's own secret into what they write, so `./kit check --identity ...`
+  on the instructor's machine draws what the platform drew. Graded code never reads it: under
+  bubblewrap the kit is not in its view, under the user isolation tests/ and the file are closed
+  to other users.
+- `identity`: the submission's name on the platform that graded it: Gradescope's submission id
+  ("gradescope:ID", a resubmission of the same bytes draws new inputs), PrairieLearn's variant
+  ("prairielearn:SEED"); empty for `./kit check` and `./kit grade`, where the files alone name
+  the submission (a student never sees a result of those before it is final, and copies judged
+  once by content stay judged once).
+- the files' hashes: a changed file is another submission.
+
+64 bits of seed (the judge reads it as one unsigned 64-bit number, tests/hidden/hidden.hpp); a
+file searched to meet a given seed needs the secret, which the search cannot have.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import os
+import secrets as random_source
+import stat
+from pathlib import Path
+
+from .common import ROOT, KitError
+
+SECRET_FILE = ROOT / "tests" / "hidden" / "secret.key"
+SECRET_BYTES = 32
+SEED_HEX = 16
+
+
+def _read(path: Path) -> bytes | None:
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except FileNotFoundError:
+        return None
+    except OSError as e:
+        raise KitError(f"{path}: cannot read the hidden cases' secret ({e.strerror})")
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise KitError(f"{path}: the hidden cases' secret is not a regular file")
+        if st.st_mode & 0o077:
+            os.fchmod(fd, 0o600)        # only its owner reads it, whatever the zip's modes were
+        text = os.read(fd, 4096).decode("ascii", "replace").strip()
+    finally:
+        os.close(fd)
+    try:
+        key = bytes.fromhex(text)
+    except ValueError:
+        raise KitError(f"{path}: the hidden cases' secret is not hexadecimal; delete it to make a new one")
+    if len(key) < 16:
+        raise KitError(f"{path}: the hidden cases' secret has {len(key) * 8} bits, fewer than 128; "
+                       "delete it to make a new one")
+    return key
+
+
+def write_new(path: Path) -> bytes:
+    """A new secret at `path` (never over an existing file)."""
+    key = random_source.token_bytes(SECRET_BYTES)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
+    try:
+        os.write(fd, key.hex().encode() + b"\n")
+    finally:
+        os.close(fd)
+    return key
+
+
+def secret(path: Path = SECRET_FILE) -> bytes:
+    """The kit's secret, made on first use."""
+    key = _read(path)
+    if key is not None:
+        return key
+    try:
+        return write_new(path)
+    except FileExistsError:     # another grading made it a moment ago
+        key = _read(path)
+        if key is None:
+            raise KitError(f"{path}: the hidden cases' secret vanished while it was read")
+        return key
+    except OSError as e:
+        raise KitError(f"{path}: cannot make the hidden cases' secret ({e.strerror})")
+
+
+def copy_into(target: Path) -> None:
+    """Puts the kit's secret at `target` (inside an autograder's copy of the kit), mode 0600."""
+    key = secret()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.unlink(missing_ok=True)
+    fd = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
+    try:
+        os.write(fd, key.hex().encode() + b"\n")
+    finally:
+        os.close(fd)
+
+
+def hidden_seed(step_folder: str, files: list[bytes | None], identity: str = "", key: bytes | None = None) -> str:
+    """The seed of one step's hidden cases for one submission (see the module's text)."""
+    mac = hmac.new(key if key is not None else secret(), digestmod=hashlib.sha256)
+    mac.update(b"raykit-hidden-seed-2\0")
+    mac.update(step_folder.encode() + b"\0" + identity.encode("utf-8", "surrogateescape") + b"\0")
+    for data in files:
+        mac.update(hashlib.sha256(data).digest() if data is not None else b"\0missing")
+    return mac.hexdigest()[:SEED_HEX]
