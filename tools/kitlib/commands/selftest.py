@@ -17,17 +17,20 @@ from ..selftest.harness import HANDOUT, MODULES, Context, run_all
 
 def register(p) -> None:
     p.add_argument("--fast", action="store_true", help="skip the slow self-tests (the sanitizer build, fuzzing)")
+    p.add_argument("-k", dest="words", default="", metavar="WORDS",
+                   help="run only the self-tests whose names hold WORDS (case ignored)")
     p.add_argument("modules", nargs="*", metavar="MODULE",
-                   help=f"run only these modules of kitlib/selftest/ (of: {', '.join(MODULES)})")
+                   help=f"run only these modules of kitlib/selftest/ (of: {', '.join(MODULES)}); "
+                        "MODULE:WORDS only its self-tests whose names hold WORDS")
 
 
 def run(args) -> int:
     # The instructor's self-test uses every tool (docs, benchmark, fuzzer); a handout only builds.
-    unknown = [m for m in args.modules if m not in MODULES]
+    unknown = [m for m in args.modules if m.partition(":")[0] not in MODULES]
     if unknown:
         raise KitError(f"no self-test module {', '.join(unknown)}; the modules are {', '.join(MODULES)}")
     ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
     # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
     # it would build beside the measured ones. The latency test turns it on where it measures it.
     os.environ["RAYKIT_NO_WARMUP"] = "1"
-    return run_all(Context(fast=args.fast), args.modules)
+    return run_all(Context(fast=args.fast), args.modules, args.words)

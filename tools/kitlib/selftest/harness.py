@@ -113,18 +113,30 @@ class Screen:
         os.close(self.master)
 
 
-def collect(modules: list[str] | None = None) -> list:
+def collect(modules: list[str] | None = None, words: str = "") -> list:
+    """The self-tests of `modules` (default: all), in order. A module may be named MODULE:WORDS to
+    take only its self-tests whose names hold WORDS; `words` does the same across all modules
+    (case ignored)."""
     found = []
-    for name in modules or MODULES:
-        found += importlib.import_module(f"{__package__}.{name}").selftests()
+    for entry in modules or MODULES:
+        name, _, only = entry.partition(":")
+        tests = importlib.import_module(f"{__package__}.{name}").selftests()
+        for want in (only, words):
+            if want:
+                tests = [(n, fn) for n, fn in tests if want.lower() in n.lower()]
+        found += tests
     return found
 
 
-def run_all(ctx: Context, modules: list[str] | None = None) -> int:
-    """Runs the self-tests of `modules` (default: all), one line each; the exit status is FAILED
-    when any failed."""
+def run_all(ctx: Context, modules: list[str] | None = None, words: str = "") -> int:
+    """Runs the self-tests of `modules` (default: all; see collect), one line each; the exit status
+    is FAILED when any failed."""
     counts = {"passed": 0, "failed": 0, "skipped": 0}
-    for name, fn in collect(modules):
+    chosen = collect(modules, words)
+    if not chosen:
+        asked = " ".join(list(modules or []) + ([f"-k {words!r}"] if words else []))
+        raise KitError(f"no self-test matches {asked}")
+    for name, fn in chosen:
         start = time.monotonic()
         try:
             detail = fn(ctx)
