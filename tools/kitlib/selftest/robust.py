@@ -15,11 +15,12 @@ disagree with the grades or the lectures state another count of ★ cases for th
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 from ..common import ROOT, load_steps, submission_build
 from ..checking import check_steps
 from ..status import DONE
-from .harness import Failed, expect, kit, need_solutions
+from .harness import Failed, Skipped, expect, kit, need_solutions
 
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 FORMS = ROOT / "tests" / "fixtures" / "forms"
@@ -143,6 +144,89 @@ def selftest_textbook_fails_robust(ctx) -> str:
     return "textbook formula: " + "; ".join(summary)
 
 
+# --- the same bits with FMA ----------------------------------------------------------------------
+# A driver that calls a step 02 routine on rays drawn by a fixed generator (grazing, far and near)
+# and prints every root's bits: compiled with and without FMA instructions, the kit's flags must
+# print the same; with contraction allowed (the control) the same source must print something else,
+# or the check could not see a fused multiply-add at all.
+FMA_DRIVER = r"""
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include "raykit/general_sphere.hpp"
+static std::uint32_t state = 12345u;
+static float next(float lo, float hi) {
+    state = state * 1664525u + 1013904223u;
+    return lo + (hi - lo) * static_cast<float>(state >> 8) / 16777216.0f;
+}
+static std::uint32_t bits(float f) { std::uint32_t u; std::memcpy(&u, &f, 4); return u; }
+int main() {
+    for (int i = 0; i < 4000; ++i) {
+        const float far = (i % 3 == 0) ? 1000.0f : (i % 3 == 1) ? 10.0f : 1.0f;
+        const raykit::Ray ray{{next(-far, far), next(-far, far), next(-far, far)},
+                              {next(-1, 1), next(-1, 1), next(-1, 1)}};
+        const raykit::Sphere sphere{{next(-2, 2), next(-2, 2), next(-2, 2)}, next(0.5f, 3)};
+        const raykit::Roots r = raykit::sphere_roots(ray, sphere);
+        std::printf("%d %08x %08x\n", r.count, bits(r.t[0]), bits(r.t[1]));
+    }
+}
+"""
+
+
+def kit_contraction_flags() -> list[str]:
+    """The floating-point flags the kit's CMakeLists.txt gives every compile (raykit_options)."""
+    text = (ROOT / "CMakeLists.txt").read_text()
+    found = re.findall(r"target_compile_options\(raykit_options INTERFACE ([^)]*)\)", text)
+    return [f for line in found for f in line.split() if f.startswith("-ffp-contract")]
+
+
+def selftest_same_bits_with_fma(ctx) -> str:
+    import shutil
+    import subprocess
+    import tempfile
+    flags = kit_contraction_flags()
+    expect(flags == ["-ffp-contract=off"], f"CMakeLists.txt gives every compile {flags or 'no -ffp-contract'}, "
+           "not -ffp-contract=off: a Mac (ARM64) or -mfma fuses a*b + c and rounds otherwise")
+    has_fma = " fma " in " " + " ".join(l for l in open("/proc/cpuinfo") if l.startswith("flags")) + " " \
+        if Path("/proc/cpuinfo").is_file() else False
+    compilers = [c for c in ("g++", "clang++") if shutil.which(c)]
+    sources = {"solutions": ROOT / "solutions" / "02_general_sphere" / "general_sphere.cpp",
+               "textbook": ROOT / "tests" / "fixtures" / "forms" / "float_leg" / "02_general_sphere" / "general_sphere.cpp"}
+    sources = {k: v for k, v in sources.items() if v.is_file()}
+    expect(bool(sources) and bool(compilers), "no step 02 source or no compiler to try")
+    told = []
+    with tempfile.TemporaryDirectory(prefix="raykit-fma-") as tmp:
+        driver = Path(tmp) / "driver.cpp"
+        driver.write_text(FMA_DRIVER)
+
+        def run(cxx: str, src: Path, extra: list[str]) -> str:
+            exe = Path(tmp) / "a.out"
+            r = subprocess.run([cxx, "-std=c++17", "-O2", *extra, "-I", str(ROOT / "include"), str(driver), str(src),
+                                "-o", str(exe)], capture_output=True, text=True, timeout=300)
+            expect(r.returncode == 0, f"{cxx} {' '.join(extra)} {src.name}: {r.stderr[-600:]}")
+            return subprocess.run([str(exe)], capture_output=True, text=True, timeout=60).stdout
+
+        for cxx in compilers:
+            for name, src in sources.items():
+                plain = run(cxx, src, flags)
+                if not has_fma:
+                    continue
+                fused = run(cxx, src, flags + ["-mfma"])
+                differ = sum(a != b for a, b in zip(plain.splitlines(), fused.splitlines()))
+                expect(differ == 0, f"{cxx}, {name}: {differ} of 4000 rays give other bits with -mfma under the "
+                       f"kit's flags {flags}")
+                control = run(cxx, src, ["-ffp-contract=fast", "-mfma"])
+                moved = sum(a != b for a, b in zip(plain.splitlines(), control.splitlines()))
+                told.append(f"{cxx} {name}: 0 differ with -mfma, {moved} with contraction allowed")
+                if name == "textbook":
+                    expect(moved > 0, f"{cxx}: contraction allowed and -mfma changed no root of the float "
+                           "rewrite: the check cannot see a fused multiply-add here")
+    if not has_fma:
+        raise Skipped("this CPU has no FMA: -ffp-contract=off is set, the answers with FMA cannot be run here")
+    return "; ".join(told)
+
+
 def selftests():
     return [("robust tier catches the textbook formula", selftest_textbook_fails_robust),
-            ("★ cases name the forms that pass them", selftest_forms_named)]
+            ("★ cases name the forms that pass them", selftest_forms_named),
+            ("the same bits with FMA: no floating-point contraction", selftest_same_bits_with_fma)]
