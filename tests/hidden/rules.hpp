@@ -21,6 +21,33 @@ inline bool agree(const std::optional<float>& expected, const std::optional<floa
     return expected.has_value() == got.has_value() && (!expected || grading::close(*expected, *got));
 }
 
+/// The smallest of `roots` inside the closed window [tmin, tmax], or none.
+inline std::optional<float> first_in_window(const Roots& roots, float tmin, float tmax) {
+    for (int i = 0; i < roots.count; ++i)
+        if (roots.t[i] >= tmin && roots.t[i] <= tmax) return roots.t[i];
+    return std::nullopt;
+}
+
+/// Whether `got` is a right answer for the window, judged without a knife's edge. Right is the
+/// reference's answer; and, where the code's own roots (`own`) agree with the reference's within
+/// the basic tolerance, also the smallest of its own roots inside the window. A root the basic tier
+/// accepts can be a few ulps off, so where the exact root sits on a window end (a ray starting on
+/// the sphere, a window cut at a root) it may land on either side of it: both answers are right.
+/// An open window is still caught: with its own roots exactly at the end, the code must return it.
+/// `own` is called only when the first answer disagrees.
+template <class OwnRoots>
+bool agree_in_window(const std::optional<float>& expected, const std::optional<float>& got,
+                     const Roots& reference_roots, OwnRoots own, float tmin, float tmax) {
+    if (agree(expected, got)) return true;
+    Roots mine;
+    try {
+        mine = own();
+    } catch (...) {
+        return false;   // its own roots cannot be had: the reference's answer is the only right one
+    }
+    return agree(reference_roots, mine) && agree(first_in_window(mine, tmin, tmax), got);
+}
+
 }  // namespace raykit::hidden
 
 // ---- inputs shared by the hidden families of steps 01-03 ---------------------------
