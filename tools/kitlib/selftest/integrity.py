@@ -179,12 +179,14 @@ def files_named(folder: Path, word: str, depth: int) -> list[Path]:
 
 
 def kit_tree() -> set[str]:
-    """The kit's files outside build/ (the kit writes build/ itself while grading)."""
+    """The kit's files outside build/ (the kit writes build/ itself while grading) and .git/ (a
+    maintainer's commit during the self-test adds objects there; a file the hostile code drops
+    anywhere carries MARKER in its name and is looked for apart)."""
     out = set()
     for dirpath, dirnames, filenames in os.walk(ROOT):
         rel = os.path.relpath(dirpath, ROOT)
         if rel == ".":
-            dirnames[:] = [d for d in dirnames if d != "build"]
+            dirnames[:] = [d for d in dirnames if d not in ("build", ".git")]
         out.update(os.path.join(rel, f) for f in filenames)
     return out
 
