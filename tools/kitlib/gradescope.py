@@ -49,6 +49,20 @@ def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
     return lines
 
 
+def shown_shares(values: list[Fraction], course) -> list[int | float]:
+    """Each of `values` on the course's decimals, so that they add up to their exact sum rounded once
+    (largest remainders): a step's tests show points that sum to the step's points, where rounding
+    each alone could give 120.05 of 120."""
+    unit = Fraction(1, 10 ** course.decimals)
+    target = round(Fraction(course.rounded(sum(values, Fraction(0)))) / unit)
+    floors = [(v / unit).__floor__() for v in values]
+    left = int(target - sum(floors))
+    order = sorted(range(len(values)), key=lambda i: (-(values[i] / unit - floors[i]), i))
+    for i in order[:max(left, 0)]:
+        floors[i] += 1
+    return [course.number(f * unit) for f in floors]
+
+
 def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
                reveal: bool = False) -> dict:
     """The results in Gradescope's autograder format (results.json); hidden_visibility None: the
@@ -70,13 +84,14 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                 "output": f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()[:8000],
                 "tags": [f"step{s.number}", r.state]})
             continue
-        for i, c in enumerate(scored, 1):
+        shown = shown_shares([c.points for c in scored], course)
+        for i, (c, points) in enumerate(zip(scored, shown), 1):
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
             tests.append({
                 "name": f"Step {s.number}{mark} · {c.name}",
                 "number": f"{int(s.number)}.{i}",
-                "score": course.number(c.points if c.status == PASS else Fraction(0)),
-                "max_score": course.number(c.points),
+                "score": points if c.status == PASS else 0,
+                "max_score": points,
                 "status": "passed" if c.status == PASS else "failed",
                 "visibility": visibility if c.tier == "hidden" else "visible",
                 "output": "\n".join(_case_lines(r, c, reveal)),
@@ -103,8 +118,16 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     maximum = sum((r.maximum for r in results), Fraction(0))
     summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, {course_file.exact_text(r.earned)} of "
                f"{course_file.exact_text(r.maximum)}" for r in results]
-    summary.append(f"score {course.shown(exact)} of {course_file.exact_text(maximum)} (exact "
-                   f"{course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)")
+    summary.append(f"score {course.shown(exact)} of {course.shown(maximum)}"
+                   + (f" (exact {course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)"
+                      if exact.denominator != 1 else ""))
+    hidden = [c for r in results for c in r.cases if c.tier == "hidden" and course.hidden_enabled and c.points > 0]
+    if hidden and not reveal and visibility != "visible":
+        held = sum((c.points for c in hidden), Fraction(0))
+        summary.append(f"{len(hidden)} hidden cases hold {course.shown(held)} of the {course.shown(maximum)} points: "
+                       "they count in the score above, and their tests are shown "
+                       + {"after_due_date": "after the due date", "after_published": "once grades are published",
+                          "hidden": "to your instructor only"}.get(visibility, "later"))
     isolation = next((r.isolation for r in results if r.isolation), "")
     if isolation:
         summary.append(f"graded code: {isolation}")

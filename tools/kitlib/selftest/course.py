@@ -375,10 +375,33 @@ def selftest_launch_json(ctx) -> str:
     return f"launch.json's steps written from step.json: {want}"
 
 
+def selftest_gradescope_adds_up(ctx) -> str:
+    """Each step's tests on Gradescope add up to the step's points on the course's decimals (each
+    rounded alone, seven shares of 20/7 show 20.02), and before the due date the visible summary says
+    how many points the hidden cases hold."""
+    # Weights 2+2+2+1+1: step 01's 7 points give shares 7/4 and 7/8 (0.875, 0.88 when rounded alone:
+    # 7.01 in all); step 02's 10/3 give 5/6 and 5/12.
+    thirds = course_file.parse(dict(WEIGHTED, steps={"01": {"points": 7}, "02": {"points": "10/3"}}), STEPS)
+    with course_file.using(thirds):
+        rs = results({"01": (DONE, ALL), "02": (PARTIAL, ONE_CORE_WRONG)})
+        view = gradescope(rs, 1.0, "after_due_date")
+        for r in rs:
+            shown = [t["max_score"] for t in view["tests"] if f"step{r.step.number}" in t["tags"]]
+            expect(round(sum(shown), 6) == float(thirds.rounded(r.maximum)),
+                   f"step {r.step.number}'s tests add up to {sum(shown)}, its points are {r.maximum}: {shown}")
+        held = [line for line in view["output"].splitlines() if "hidden cases hold" in line]
+        expect(len(held) == 1 and "after the due date" in held[0],
+               f"the visible summary does not say what the hidden cases hold: {view['output']!r}")
+        revealed = gradescope(rs, 1.0, "after_due_date", reveal=True)
+        expect("hidden cases hold" not in revealed["output"], "after the reveal the summary still says it")
+    return f"shares of 7/8 and 5/12 add up to 7 and 3.33; {held[0]}"
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
+            ("course: Gradescope's tests add up to each step's points", selftest_gradescope_adds_up),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),
