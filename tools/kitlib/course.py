@@ -108,6 +108,19 @@ class Course:
         """The judge's backstops: seconds per case, per step."""
         return self.limits["case_seconds"], self.limits["step_seconds"]
 
+    def scale_words(self) -> str:
+        """The scale in a few words, for the text students read: the default's "every basic and hidden
+        case one point", or this course's own points and weights, in decimals."""
+        names = {"core": "core", "degenerate": "degenerate", "hidden": "hidden", "robust": "★"}
+        weights = {g: self.weight(g) for g in names}
+        if all(p is None for p in self.points.values()) and [weights[g] for g in names] == [1, 1, 1, 0]:
+            return "every basic and hidden case one point; ★ cases are optional and count for nothing"
+        steps = ", ".join(f"step {n} {self.shown(p)}" for n, p in sorted(self.points.items()) if p is not None)
+        shared = ", ".join(f"{names[g]} {self.shown(w)}" for g, w in weights.items())
+        free = [names[g] for g, w in weights.items() if w == 0]
+        return ((f"points per step: {steps}; " if steps else "") + f"a step's points shared among its cases by "
+                f"weight ({shared})" + (f"; {' and '.join(free)} cases count for nothing" if free else ""))
+
     def shown(self, value: Fraction) -> str:
         """`value` for people: whole numbers as they are, others rounded once."""
         return exact_text(value) if value.denominator == 1 else str(self.rounded(value))

@@ -15,6 +15,7 @@ import time
 from collections import Counter, defaultdict
 from pathlib import Path
 
+from .. import course as course_file
 from .. import picture
 from ..common import load_steps, prerequisites
 from ..scoreboard import HIDDEN_NOTE
@@ -200,7 +201,7 @@ def build(folder: Path, out: Path) -> dict:
     body.append('<h2 id="scores">1. Scores</h2>')
     if percents:
         srt = sorted(percents)
-        body.append(f"<p>On the one scale (every basic and hidden case one point; ★ cases count for nothing): "
+        body.append(f"<p>On the course's scale ({e(course_file.load().scale_words())}): "
                     f"median {srt[len(srt) // 2]:.0f} %, lowest {srt[0]:.0f} %, highest {srt[-1]:.0f} %, "
                     f"{sum(p >= 100 for p in percents)} of {len(percents)} at the maximum.</p>")
     if svgs:
@@ -407,8 +408,7 @@ def student_page(st, steps, matches: dict) -> str:
         return page(f"{st.name}: results", body)
     earned, maximum = st.data.get("score"), st.data.get("max_score")
     body.append(f'<p class="total" data-earned="{e(earned)}" data-maximum="{e(maximum)}">Your score: '
-                f"<b>{e(earned)} of {e(maximum)}</b> on the one scale (every basic and hidden case one point; the ★ "
-                f"cases are optional and count for nothing).</p>")
+                f"<b>{e(earned)} of {e(maximum)}</b> on the course's scale ({e(course_file.load().scale_words())}).</p>")
     rows = []
     for res in st.steps():
         rob = res.get("robust", {})
