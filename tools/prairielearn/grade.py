@@ -5,17 +5,12 @@
 
 Each question's tests/grade.py runs this file from the kit in /grade/serverFilesCourse/raykit/ with the
 question's step. The student's files (one <pl-file-editor> per step file) are copied into a steps folder
-of their own, `./kit check NN --steps THAT --json FILE` checks them (the instructor's kit: hidden cases
-and the sandbox apply), and its JSON (Gradescope's format, the kit's one scale) becomes PrairieLearn's
-results (docs/externalGrading.md, read by externalGraderCommon.ts's makeGradingResult):
-
-  score        earned / maximum, in [0, 1]: every basic and hidden case one point, ★ cases none
-  tests[]      one per case: name, description (the lecture section), points, max_points (★: 0, shown
-               neutrally), message (passed, or the kit's words), output (what the code printed)
-  images       the picture of the first failing visible case, an SVG data URL (also on its test)
-  message      the step's state and score; a step that does not compile is graded 0 with the
-               compiler's first diagnostic, so the student sees why (PrairieLearn's documentation would
-               also allow "not gradable" for a syntax error: the kit grades it, as its other graders do)
+of their own and `./kit check NN --steps THAT --prairielearn FILE` checks them (the instructor's kit:
+hidden cases and the sandbox apply) and writes PrairieLearn's results itself (tools/kitlib/plresults.py,
+drawn from the same results as every other output: no display text is parsed here). A step that does
+not compile is graded 0 with the compiler's first diagnostic, so the student sees why (PrairieLearn's
+documentation would also allow "not gradable" for a syntax error: the kit grades it, as its other
+graders do).
 
 The whole file stays under 1 MB (images dropped first, then outputs shortened). Only a failure of the
 kit itself (no JSON, an exit status other than 0 or 1, the time budget RAYKIT_BUDGET seconds exceeded)
@@ -25,7 +20,6 @@ Standard library only, Python 3.9+.
 
 from __future__ import annotations
 
-import base64
 import json
 import os
 import shutil
@@ -72,57 +66,6 @@ def not_gradable(results_dir: Path, why: str) -> int:
     return 0
 
 
-def picture(path: str | None) -> str | None:
-    try:
-        if path and Path(path).is_file() and Path(path).stat().st_size < 300_000:
-            return "data:image/svg+xml;base64," + base64.b64encode(Path(path).read_bytes()).decode()
-    except OSError:
-        pass
-    return None
-
-
-def convert(gs: dict, staged: Path, record: dict | None = None) -> dict:
-    """Gradescope's results.json, as the kit writes it for students (no hidden input, no reference
-    answer), in PrairieLearn's form; each case's lecture section, tier and picture from the kit's
-    own record (kitlib/record.py), which stays here."""
-    def clean(text: str) -> str:      # the student knows their file by its name, not our folder
-        return text.replace(str(staged) + "/", "")[:TEXT]
-
-    steps = (record or {}).get("steps", [])
-    cases = [c for s in steps for c in s.get("cases", [])]
-    tests, images = [], []
-    # Gradescope's tests are not one a case (the ★ tier and a compile error are one test a step):
-    # each test is matched to the case its name ends with, the longest such name.
-    names = sorted(cases, key=lambda c: -len(c["name"]))
-    for t in gs.get("tests", []):
-        case = next((c for c in names if t["name"].endswith(c["name"])), {})
-        lines = t.get("output", "").split("\nYour code printed", 1)
-        test = {"name": t["name"], "description": f"lecture section: {case['lecture']}" if case.get("lecture") else "",
-                "points": t["score"], "max_points": t["max_score"], "message": clean(lines[0]),
-                "output": clean("Your code printed" + lines[1]) if len(lines) > 1 else ""}
-        if t["status"] != "passed" and not images and t.get("visibility") == "visible" \
-                and case.get("tier") == "basic":
-            url = picture(case.get("picture"))
-            if url:
-                image = {"label": case.get("picture_summary") or t["name"], "url": url}
-                test["images"] = [image]
-                images.append(image)
-        tests.append(test)
-    maximum = gs.get("extra_data", {}).get("max_score", 0)
-    earned = gs.get("score", 0)
-    message = (gs.get("output", "").splitlines() or [f"score {earned} of {maximum}"])[0]
-    # A step that does not compile: its first diagnostic, from the compiler's output (the step's detail).
-    diagnostic = next((clean(line.strip()) for s in steps if s.get("state") == "no_compile"
-                       for line in s.get("detail", "").splitlines() if "error" in line.lower()), "")
-    if not diagnostic:
-        diagnostic = next((line for t in tests for line in t["message"].splitlines()
-                           if line.startswith("does not compile:")), "")
-    if diagnostic:
-        message += "\n" + diagnostic
-    return {"gradable": True, "score": (earned / maximum) if maximum else 0.0, "message": message,
-            "output": clean(gs.get("output", "")), "images": images, "tests": tests}
-
-
 def identity(grade_dir: Path) -> str:
     """The submission's name for the hidden cases' seed: the question's variant (data.json's
     variant_seed); the files' bytes are in the seed too, so another attempt with other code draws
@@ -153,10 +96,9 @@ def grade(number: str, grade_dir: Path) -> int:
             if src.is_file():
                 shutil.copyfile(src, staged / folder / name)
         out = Path(tmp) / "results.json"
-        kept = Path(tmp) / "record.json"
         try:
-            r = subprocess.run([str(KIT / "kit"), "check", number, "--steps", str(staged), "--json", str(out),
-                                "--results", str(kept), "--identity", identity(grade_dir)],
+            r = subprocess.run([str(KIT / "kit"), "check", number, "--steps", str(staged), "--prairielearn", str(out),
+                                "--identity", identity(grade_dir)],
                                capture_output=True, text=True,  # not --quiet: it draws the pictures
                                timeout=max(budget - (time.monotonic() - started), 1), cwd=KIT)
         except subprocess.TimeoutExpired:
@@ -165,8 +107,8 @@ def grade(number: str, grade_dir: Path) -> int:
             return not_gradable(results_dir, f"./kit check exited {r.returncode}: "
                                 f"{(r.stderr.strip() or r.stdout.strip())[-1500:]}")
         try:
-            data = convert(json.loads(out.read_text()), staged / folder, json.loads(kept.read_text()))
-        except (ValueError, KeyError, TypeError) as e:
+            data = json.loads(out.read_text())
+        except ValueError as e:
             return not_gradable(results_dir, f"the kit's results could not be read ({e})")
     write(results_dir, data)
     return 0

@@ -8,7 +8,7 @@ import argparse
 import time
 
 from ..checking import check_steps
-from .. import picture, record, warmup
+from .. import picture, plresults, record, warmup
 from ..common import (BUILD, ROOT, KitError, build_targets, load_steps, say, note, preset_build, printable, resolve_steps_dir, select_steps,
                       submission_build)
 from ..submissions import NotFound, locate
@@ -26,6 +26,8 @@ def register(p) -> None:
     p.add_argument("--results", metavar="FILE",
                    help="also write the kit's own results record (kitlib/record.py): every case, hidden "
                         "inputs included; for the grader's side only")
+    p.add_argument("--prairielearn", metavar="FILE",
+                   help="also write the results in PrairieLearn's external-grader format (kitlib/plresults.py)")
     p.add_argument("--identity", default="", metavar="TEXT",
                    help="the submission's name on its platform (e.g. gradescope:ID), part of the hidden "
                         "cases' seed (kitlib/secret.py)")
@@ -115,6 +117,8 @@ def run(args) -> int:
         record.write(args.results, record.make(results, elapsed, args.identity))
     if args.json:
         write_json(args.json, results, elapsed, args.hidden_visibility, args.reveal)
+    if args.prairielearn:
+        plresults.write(args.prairielearn, results, str(display) if args.steps else "")
     if not args.quiet:
         scoreboard(results, display, args.all, args.reveal, table_shown=True)
     if not args.steps and not args.quiet and not args.json and warmup.wanted(build):

@@ -209,6 +209,10 @@ def selftest_prairielearn(ctx) -> str:
     expect(fill_patch.returncode == 0, f"the mutant {name} does not apply: {fill_patch.stderr}")
     slip = pl_grade(first, {f: (slipped / folder / f).read_text() for f in first.files}, "slip")
     expect(0 < slip["score"] < 1, f"one slip scores {slip['score']}, not between 0 and 1")
+    hidden = [t for t in slip["tests"] if "(hidden)" in t["name"]]
+    leaked = [t["name"] for t in hidden if re.search(r"draw \d+ of \d+|expected|got ", t["message"]) or t["output"]]
+    expect(hidden and not leaked, f"one slip: {len(hidden)} hidden tests; these show an input, an answer or "
+           f"output on PrairieLearn, which never reveals them: {leaked[:3]}")
     expect(slip.get("images") and slip["images"][0]["url"].startswith("data:image/svg+xml;base64,"),
            "one slip: no picture of its first failing visible case")
     broken = {f: t.replace("return", "retrun", 1) for f, t in read("solutions", first).items()}
