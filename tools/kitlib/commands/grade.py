@@ -297,8 +297,12 @@ def run(args) -> int:
     if not root.is_dir():
         raise KitError(f"{args.submissions}: no such folder")
     out = Path(args.out)
-    if out.is_dir() or not out.parent.resolve().is_dir():
-        raise KitError(f"--out {args.out}: cannot write a file there")
+    if out.is_dir():
+        raise KitError(f"--out {args.out}: is a folder, not a file")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)     # a folder that does not exist yet is made
+    except OSError as e:
+        raise KitError(f"--out {args.out}: cannot make its folder ({e.strerror})")
     if not os.access(out.parent.resolve(), os.W_OK):
         raise KitError(f"--out {args.out}: folder is not writable")
     json_dir = Path(args.json_dir) if args.json_dir else Path(args.report) / "grading" / "json" if args.report else None

@@ -82,11 +82,21 @@ def load(folder: Path) -> Grading:
             rows = list(csv.DictReader(f))
     except (OSError, UnicodeDecodeError, csv.Error) as e:
         raise KitError(f"{csv_path}: cannot read it ({e})")
-    if not rows or "student" not in rows[0] or "earned" not in rows[0]:
-        raise KitError(f"{csv_path}: not a CSV of ./kit grade (no student and earned columns, or no rows)")
+    # ./kit grade names each row's folder in "student"; with --roster, in "submission", after the
+    # roster's own columns (empty for a student on it who submitted nothing).
+    key = "student" if rows and "student" in rows[0] else "submission"
+    if not rows or key not in rows[0] or "earned" not in rows[0]:
+        raise KitError(f"{csv_path}: not a CSV of ./kit grade (no student or submission column and earned "
+                       "column, or no rows)")
     students, problems, used = [], [], set()
     for row in rows:
-        s = Student(row["student"], row)
+        folder_name = row[key]
+        if not folder_name:     # on the roster, nothing submitted: named by the roster's first filled column
+            s = Student(next((v for k, v in row.items() if v and k != key), "(unnamed)"), row)
+            s.page = page_name(s.name, used)
+            students.append(s)
+            continue
+        s = Student(folder_name, row)
         path = json_dir / f"{s.name}.json"
         if path.is_file():
             try:

@@ -242,8 +242,11 @@ def selftest_roster(ctx) -> str:
     roster = root / "roster.csv"
     roster.write_text("Student ID;E-mail;Login\n1001;alice@uni.example;Alice\n1002;bob@uni.example;bob\n"
                       "1003;carol@uni.example;carol\n")
-    out = root / "grades.csv"
-    r = kit("grade", str(subs), "--roster", str(roster), "--out", str(out), "-j", "1", timeout=900)
+    out = root / "not-yet" / "grades.csv"       # --out into a folder that does not exist yet
+    report = root / "report"
+    # Every option with every other, in one call (#35): the roster, the report, two at a time.
+    r = kit("grade", str(subs), "--roster", str(roster), "--out", str(out), "--report", str(report), "-j", "2",
+            timeout=900)
     expect(r.returncode == 0, f"./kit grade --roster exited {r.returncode}: {r.stderr[-600:]}")
     table = list(csv.reader(out.open()))
     header, rows = table[0], {row[2] or row[3]: dict(zip(table[0], row)) for row in table[1:]}
@@ -260,7 +263,11 @@ def selftest_roster(ctx) -> str:
     expect(dup in a["note"], f"alice's note does not say, whole, {dup!r}: {a['note']!r}")
     for words in ("not submitted (1): carol", "graded but not matched: zed", "files left out (1): alice"):
         expect(words in r.stdout, f"the summary does not say {words!r}:\n{r.stdout[-600:]}")
-    cases = list(csv.DictReader((root / "grades-cases.csv").open()))
+    index = (report / "index.html").read_text() if (report / "index.html").is_file() else ""
+    pages = sorted(p.name for p in (report / "students").glob("*.html"))
+    expect("alice" in index and any(p.startswith("alice") for p in pages) and any(p.startswith("1003") or
+           p.startswith("carol") for p in pages), f"--report with --roster: index {len(index)} bytes, pages {pages}")
+    cases = list(csv.DictReader((out.parent / "grades-cases.csv").open()))
     mine = [row for row in cases if row["submission"] == "alice"]
     firsts = [row for row in mine if row["step"] == n]
     expect(mine and all(row["Student ID"] == "1001" for row in mine) and firsts
