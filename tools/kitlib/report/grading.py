@@ -14,7 +14,7 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..common import KitError, Step
+from ..common import KitError, Step, student_file_name
 
 
 @dataclass
@@ -86,7 +86,7 @@ def load(folder: Path) -> Grading:
     students, problems, used = [], [], set()
     for row in rows:
         s = Student(row["student"], row)
-        path = json_dir / f"{s.name}.json"
+        path = json_dir / f"{student_file_name(s.name)}.json"
         if path.is_file():
             try:
                 s.data = json.loads(path.read_text())
@@ -107,7 +107,8 @@ def load(folder: Path) -> Grading:
 
 
 def save_files(students: dict[str, Path], steps: list[Step], target: Path, work: Path) -> list[str]:
-    """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/."""
+    """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/
+    (the name as common.student_file_name writes it)."""
     from ..submissions import NotFound, locate
 
     notes = []
@@ -124,7 +125,8 @@ def save_files(students: dict[str, Path], steps: list[Step], target: Path, work:
             for f in s.files:
                 src = found.steps_dir / s.folder / f
                 if src.is_file():
-                    (target / name / s.folder).mkdir(parents=True, exist_ok=True)
-                    shutil.copyfile(src, target / name / s.folder / f)
+                    folder = target / student_file_name(name) / s.folder
+                    folder.mkdir(parents=True, exist_ok=True)
+                    shutil.copyfile(src, folder / f)
     shutil.rmtree(work, ignore_errors=True)
     return notes
