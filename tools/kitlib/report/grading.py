@@ -14,7 +14,7 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..common import KitError, Step, student_file_name
+from ..common import KitError, Step, printable, student_file_name
 
 
 @dataclass
@@ -108,7 +108,7 @@ def load(folder: Path) -> Grading:
 
 def save_files(students: dict[str, Path], steps: list[Step], target: Path, work: Path) -> list[str]:
     """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/
-    (the name as common.student_file_name writes it)."""
+    (the name as common.student_file_name writes it), their control characters shown (common.printable)."""
     from ..submissions import NotFound, locate
 
     notes = []
@@ -127,6 +127,9 @@ def save_files(students: dict[str, Path], steps: list[Step], target: Path, work:
                 if src.is_file():
                     folder = target / student_file_name(name) / s.folder
                     folder.mkdir(parents=True, exist_ok=True)
-                    shutil.copyfile(src, folder / f)
+                    # For the comparison and the report's pages: the code with its control characters
+                    # shown as text, so that no one's `cat` of the saved grading replays them.
+                    text = src.read_bytes().decode("utf-8", errors="surrogateescape")
+                    (folder / f).write_text(printable(text), encoding="utf-8")
     shutil.rmtree(work, ignore_errors=True)
     return notes

@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -404,8 +405,13 @@ ESCAPES_DIR = BUILD / "grade-escapes"
 # a bare carriage return, a BEL, an 8-bit CSI (C1) and DEL. Written raw into grades.csv, `cat` would
 # replay all of it on the instructor's terminal.
 HOSTILE_NAME = "mallory\x1b]52;c;cm0gLXJmIH4=\x07\x1b[3A\rscore 100\x07\u009b2J\x7f"
-# The same, as bytes that are not UTF-8 (a folder made on another system): 0xff and a lone C1 byte.
-BYTES_NAME = b"trudy\xff\x9b\x1b[H"
+# As bytes that are not UTF-8 (a folder made on another system): 0xff and a lone C1 byte; and a tab,
+# which a CSV cell may hold but a file named after the student does not.
+BYTES_NAME = b"trudy\t\xff\x9b\x1b[H"
+# Two copies of one another (the report's similar pair, their code side by side): a CSI asking the
+# terminal to answer (device status), a newline; raw controls in a comment of their code.
+PAIR_NAMES = ("eve\u009b6n", "frank\x1b[6n\nsecond line")
+PAIR_COMMENT = "// \x1b]52;c;ZWNobyBwd25lZA==\x07 \x1b[2J\rcopied\x7f\n"
 # An upload with no step files: its note (what the upload holds) names a file the student named.
 EMPTY_NAME = "oscar\x1b]0;pwned\x07"
 EMPTY_FILE = "read\x1b]52;c;eA==\x07me\r.txt"
@@ -438,6 +444,11 @@ def selftest_names_are_data(ctx) -> str:
     shutil.copytree(hostile / "escapes", klass / HOSTILE_NAME)             # prints escapes in every call
     shutil.copytree(hostile / "always_miss", os.fsdecode(bytes(klass) + b"/" + BYTES_NAME))
     shutil.copytree(hostile / "always_miss", klass / "alice")               # and one plain name
+    textbook = ROOT / "tests" / "fixtures" / "textbook" / "01_unit_sphere"
+    for who in PAIR_NAMES:
+        shutil.copytree(textbook, klass / who / textbook.name)
+        for f in (klass / who / textbook.name).iterdir():     # inside the code sim_c++ matches, shown
+            f.write_text(f.read_text().replace("    const float disc", "    " + PAIR_COMMENT + "    const float disc"))
     (klass / EMPTY_NAME).mkdir()
     (klass / EMPTY_NAME / EMPTY_FILE).write_text("sorry\n")
     roster = work / "roster.csv"
@@ -454,6 +465,24 @@ def selftest_names_are_data(ctx) -> str:
         expect(r.returncode == 0, f"./kit grade {' '.join(extra[2:3])}: exit {r.returncode}: {said[-600:]}")
         raw = _raw_controls(r.stdout + r.stderr)
         expect(not raw, f"./kit grade {' '.join(extra[2:3])} printed controls: {sorted(set(raw))}")
+    # A grading saved by an older kit (or by hand): the code copied raw, the output in the JSON
+    # unfiltered. ./kit report shows it all as text too.
+    saved = work / "saved-raw"
+    shutil.copytree(out / "report" / "grading", saved)
+    for f in (saved / "files").rglob("*.cpp"):
+        f.write_text(f.read_text().replace("ZWNobyBwd25lZA==", "ZWNobyBwd25lZA==\x1b[2J\x07"))
+    for f in (saved / "json").glob("mallory*.json"):
+        data = json.loads(f.read_text())
+        for step in data["extra_data"]["steps"]:
+            for case in step["cases"]:
+                case["messages"] = [m + "\x1b]52;c;b2xk\x07\u009b" for m in case.get("messages") or []]
+        f.write_text(json.dumps(data))
+    r = subprocess.run([str(ROOT / "kit"), "report", str(saved), "--out", str(out / "saved-report")], cwd=ROOT,
+                       capture_output=True, timeout=600)
+    expect(r.returncode == 0, f"./kit report of a saved grading: exit {r.returncode}: "
+                              f"{(r.stdout + r.stderr).decode(errors='replace')[-600:]}")
+    raw = _raw_controls(r.stdout + r.stderr)
+    expect(not raw, f"./kit report printed controls: {sorted(set(raw))}")
     elapsed = time.monotonic() - start
 
     written = sorted(p for p in out.rglob("*"))
@@ -473,7 +502,7 @@ def selftest_names_are_data(ctx) -> str:
     # Still recognisable: each name in the CSV with its controls shown, and the escapes' own output kept.
     with (out / "grades.csv").open(newline="", encoding="utf-8") as f:
         rows = {row["student"]: row for row in csv.DictReader(f)}
-    for who in ("mallory", "trudy", "alice", "oscar"):
+    for who in ("mallory", "trudy", "alice", "oscar", "eve", "frank"):
         expect(sum(n.startswith(who) for n in rows) == 1, f"grades.csv: no one row for {who}: {sorted(rows)}")
     mallory = next(n for n in rows if n.startswith("mallory"))
     expect("52;c;cm0gLXJmIH4=" in mallory and "score 100" in mallory and "\\x1b" in mallory,
@@ -484,7 +513,7 @@ def selftest_names_are_data(ctx) -> str:
     expect("me" in rows[oscar]["note"] and "read" in rows[oscar]["note"],
            f"the empty upload's note does not name its file: {rows[oscar]['note']!r}")
     pages = list((out / "report" / "students").glob("*.html"))
-    expect(len(pages) == 4, f"the report has {len(pages)} student pages, not 4")
+    expect(len(pages) == 6, f"the report has {len(pages)} student pages, not 6")
     index = (out / "report" / "index.html").read_text(encoding="utf-8")
     expect("52;c;cm0gLXJmIH4=" in index, "the report's index does not name the hostile student")
     details = [p for p in (out / "report" / "grading" / "json").glob("*.json") if p.name.startswith("mallory")]
@@ -492,10 +521,22 @@ def selftest_names_are_data(ctx) -> str:
            f"the hostile student's results JSON is missing or lost its output: {details}")
     files = [p.name for p in (out / "report" / "grading" / "files").iterdir()]
     expect(any(n.startswith("mallory") for n in files), f"the hostile student's files were not saved: {files}")
+    # The report found each graded student's JSON and files from the name in the CSV.
+    for who in ("mallory", "trudy", "frank"):
+        page = next(p for p in pages if p.name.startswith(who)).read_text(encoding="utf-8")
+        earned = next(row["earned"] for n, row in rows.items() if n.startswith(who))
+        expect(f'data-earned="{earned}"' in page, f"{who}'s page does not show the score {earned}: not found from the CSV")
+    if shutil.which("sim_c++"):
+        m = re.search(r"left out: (\d+) submissions", index)
+        expect(m and m.group(1) == "5", f"the similarity section compared {m and m.group(1)} submissions, not 5")
+        pair = re.search(r'data-pair="(eve[^"|]*)\|(frank[^"]*)"', index)
+        expect(pair is not None, "the copies eve and frank are not listed as a similar pair")
+        expect("ZWNobyBwd25lZA==" in index, "the pair's code is not shown side by side")
     with (out / "roster.csv").open(newline="", encoding="utf-8") as f:
         listed = list(csv.DictReader(f))
-    expect(len(listed) == 5 and any(r["submission"].startswith("mallory") for r in listed),
+    expect(len(listed) == 7 and any(r["submission"].startswith("mallory") for r in listed),
            f"the roster CSV: {[(r['login'], r['submission']) for r in listed]}")
-    return (f"4 submissions with hostile names graded twice (--report; --roster, --json-dir) in {elapsed:.0f} s: "
+    return (f"6 submissions with hostile names graded twice (--report; --roster, --json-dir) and a grading saved "
+            f"raw reported, in {elapsed:.0f} s: "
             f"{len(written)} files and folders written, no raw control in any, nor in their names; "
             f"e.g. {mallory[:40]!r}...")
