@@ -72,7 +72,7 @@ def csv_safe(cell) -> str:
     """One cell as written to a CSV: the one call point where the cells of both CSV files pass (the
     roster's too). Its control characters are shown as text (printable(): a folder name or a note
     holding an escape sequence would replay on `cat grades.csv`), and a text a spreadsheet would run
-    as a formula (=, +, -, @, tab, CR first) gets a leading '."""
+    as a formula (=, +, -, @, tab first; a CR is shown as \\x0d by then) gets a leading '."""
     text = "" if cell is None else printable(str(cell))
     if text[:1] in ("=", "+", "-", "@", "\t", "\r") and not _number(text):
         return "'" + text

@@ -96,7 +96,8 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step], shown:
                 who: dict[str, str] = {}
                 paths = []
                 for i, name in enumerate([REFERENCE] + names):
-                    src = (ROOT / "solutions" / step.folder / f) if name == REFERENCE else files_root / student_file_name(name) / step.folder / f
+                    src = (ROOT / "solutions" / step.folder / f) if name == REFERENCE else \
+                        files_root / student_file_name(name) / step.folder / f
                     if not src.is_file():
                         continue
                     text = strip(src.read_text(errors="replace"), stub)

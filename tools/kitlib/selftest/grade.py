@@ -525,7 +525,8 @@ def selftest_names_are_data(ctx) -> str:
     for who in ("mallory", "trudy", "frank"):
         page = next(p for p in pages if p.name.startswith(who)).read_text(encoding="utf-8")
         earned = next(row["earned"] for n, row in rows.items() if n.startswith(who))
-        expect(f'data-earned="{earned}"' in page, f"{who}'s page does not show the score {earned}: not found from the CSV")
+        expect(f'data-earned="{earned}"' in page, f"{who}'s page does not show the score {earned} (its JSON "
+                                                  "was not found from the name in the CSV)")
     if shutil.which("sim_c++"):
         m = re.search(r"left out: (\d+) submissions", index)
         expect(m and m.group(1) == "5", f"the similarity section compared {m and m.group(1)} submissions, not 5")
