@@ -537,6 +537,7 @@ def selftest_names_are_data(ctx) -> str:
         listed = list(csv.DictReader(f))
     expect(len(listed) == 7 and any(r["submission"].startswith("mallory") for r in listed),
            f"the roster CSV: {[(r['login'], r['submission']) for r in listed]}")
+    shutil.rmtree(work, ignore_errors=True)      # kept when a check fails, to look at
     return (f"6 submissions with hostile names graded twice (--report; --roster, --json-dir) and a grading saved "
             f"raw reported, in {elapsed:.0f} s: "
             f"{len(written)} files and folders written, no raw control in any, nor in their names; "
