@@ -48,13 +48,31 @@ def note(text: str) -> None:
 
 # C0 controls but tab and newline, DEL, and the C1 controls (U+0080-U+009F): an escape sequence
 # in a student's output could clear the instructor's screen, forge a score or write the clipboard.
-_CONTROLS = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f]")
+# Also lone surrogates: a file name that is not UTF-8 reaches Python as U+DC80-U+DCFF (one per byte,
+# 0x9b, a C1 CSI, among them), which no UTF-8 file or terminal can take.
+_CONTROLS = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff]")
+
+
+def _shown(m: re.Match) -> str:
+    code = ord(m.group())
+    if 0xdc80 <= code <= 0xdcff:        # the byte a file name had (os.fsdecode's surrogateescape)
+        return f"\\x{code - 0xdc00:02x}"
+    return f"\\x{code:02x}" if code <= 0xff else f"\\u{code:04x}"
 
 
 def printable(text: str) -> str:
     """`text` from outside the kit (a student's output, exception text, compiler diagnostics, a
-    student's name) as data: control characters shown as visible escapes, never sent raw."""
-    return _CONTROLS.sub(lambda m: f"\\x{ord(m.group()):02x}", text.replace("\r\n", "\n"))
+    student's name) as data: control characters shown as visible escapes, never sent raw. The one
+    filter for what the kit prints or writes from a student: the terminal, the CSV files of ./kit
+    grade, the report's pages (report/pages.py), file names (student_file_name below)."""
+    return _CONTROLS.sub(_shown, text.replace("\r\n", "\n"))
+
+
+def student_file_name(name: str) -> str:
+    """A student's name as the name of a file the kit writes for them (their results JSON, their saved
+    files): printable(), tab and newline shown too. printable() of the name gives the same file name,
+    so the report finds a student's files from the name in the CSV."""
+    return printable(name).replace("\t", "\\x09").replace("\n", "\\x0a")
 
 
 # --- steps -------------------------------------------------------------------

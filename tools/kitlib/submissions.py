@@ -27,7 +27,7 @@ import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .common import Step, load_steps
+from .common import Step, load_steps, printable
 from .status import FAILED, OK, USAGE
 
 MAX_FILE_BYTES = 1 << 20            # a step's source file larger than this is not a student's
@@ -195,12 +195,19 @@ def locate(upload: Path, work: Path, steps: list[Step] | None = None) -> Located
     a whole kit copy has tests/fixtures/crash/01_unit_sphere/ and maybe solutions/ beside steps/,
     and it is steps/ the student wrote. Without step folders, step files found anywhere by name
     (each file name belongs to one step) are used. Raises NotFound when there is neither.
+
+    The messages (NotFound's, the notes, the source) name what the student named: their control
+    characters are shown as text (common.printable) before they reach a CSV, a page or a terminal.
     """
     _budget.value = [MAX_UPLOAD_FILES, time.monotonic() + MAX_UPLOAD_SECONDS]
     try:
-        return _locate(upload, work, steps)
+        found = _locate(upload, work, steps)
+    except NotFound as e:
+        raise NotFound(printable(str(e))) from None
     finally:
         _budget.value = None
+    found.source, found.notes = printable(found.source), [printable(n) for n in found.notes]
+    return found
 
 
 def _locate(upload: Path, work: Path, steps: list[Step] | None) -> Located:

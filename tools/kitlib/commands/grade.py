@@ -27,7 +27,7 @@ from .. import record as results_record
 
 from ..checking import VERDICTS_ENV
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
-from ..common import BUILD, ROOT, KitError, load_steps, printable, say
+from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
 from ..packages import ensure_packages
 from ..sandbox import kill_session, kill_uid
 from ..submissions import NotFound, locate
@@ -71,9 +71,11 @@ CASE_COLUMNS = ["submission", "step", "case", "tier", "group", "status", "points
 
 
 def csv_safe(cell) -> str:
-    """One cell as written to a CSV: the one call point where the cells of both CSV files pass.
-    A text a spreadsheet would run as a formula (=, +, -, @, tab, CR first) gets a leading '."""
-    text = "" if cell is None else str(cell)
+    """One cell as written to a CSV: the one call point where the cells of both CSV files pass (the
+    roster's too). Its control characters are shown as text (printable(): a folder name or a note
+    holding an escape sequence would replay on `cat grades.csv`), and a text a spreadsheet would run
+    as a formula (=, +, -, @, tab first; a CR is shown as \\x0d by then) gets a leading '."""
+    text = "" if cell is None else printable(str(cell))
     if text[:1] in ("=", "+", "-", "@", "\t", "\r") and not _number(text):
         return "'" + text
     return text
@@ -246,10 +248,10 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         message = (r.stderr.strip().splitlines() or ["no result"])[-1].removeprefix("kit: ")
         if "Traceback (most recent call last)" in r.stderr:
             # The kit itself failed: its whole report kept for whoever fixes it, and named in the note.
-            log = BUILD / "grade-logs" / f"{row['student']}.txt"
+            log = BUILD / "grade-logs" / f"{student_file_name(row['student'])}.txt"
             try:
                 log.parent.mkdir(parents=True, exist_ok=True)
-                log.write_text(r.stderr)
+                log.write_text(printable(r.stderr), encoding="utf-8")
                 message += f" (the kit failed, not the submission; its report: {log})"
             except OSError:
                 pass
@@ -353,7 +355,7 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
         report = BUILD / f"grade-one-{slot}.json"
         row = grade_one(folder, steps, report, slot, args.isolation)
         if json_dir is not None and report.exists():
-            (json_dir / f"{row['student']}.json").write_text(report.read_text())
+            (json_dir / f"{student_file_name(row['student'])}.json").write_bytes(report.read_bytes())
         done[0] += 1
         print(f"[{done[0]}/{len(folders)}] {printable(folder.name)}: {row.get('status')} "
               f"{row.get('earned', '')}/{row.get('maximum', '')}", file=sys.stderr, flush=True)

@@ -15,7 +15,7 @@ import shutil
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, load_steps, say, select_steps, writable_parent
+from ..common import BUILD, ROOT, KitError, load_steps, printable, say, select_steps, writable_parent
 from ..packages import ensure_packages
 from ..status import FAILED, OK
 
@@ -64,8 +64,8 @@ def run(args) -> int:
 
 
 def uploads(submissions: Path) -> dict[str, Path]:
-    """Each upload of the class by the student's name, as ./kit grade names them."""
-    return {(p.stem if p.is_file() else p.name): p for p in sorted(submissions.iterdir())
+    """Each upload of the class by the student's name, as ./kit grade writes it in the CSV (printable)."""
+    return {printable(p.stem if p.is_file() else p.name): p for p in sorted(submissions.iterdir())
             if not p.name.startswith(".") and (p.is_dir() or (p.is_file() and p.suffix.lower() == ".zip"))}
 
 
@@ -74,7 +74,7 @@ def save_submissions(submissions: Path, names: list[str], folder: Path) -> None:
     found = uploads(submissions)
     for note in save_files({n: found[n] for n in names if n in found}, load_steps(), folder / "files",
                            BUILD / "report-upload"):
-        say(f"  {note}")
+        say(f"  {printable(note)}")
 
 
 def write_report(folder: Path, out: Path) -> int:
@@ -97,7 +97,7 @@ def write_report(folder: Path, out: Path) -> int:
         raise KitError(f"--out {out}: cannot write the report ({e.strerror}: {e.filename})")
     say(f"wrote {out / 'index.html'} and {summary['students']} student pages in {time.monotonic() - start:.1f} s")
     for note in summary["notes"]:
-        say(f"  note: {note}")
+        say(f"  note: {printable(note)}")
     return OK
 
 

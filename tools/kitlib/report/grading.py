@@ -14,7 +14,7 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..common import KitError, Step
+from ..common import KitError, Step, printable, student_file_name
 from .. import record as results_record
 
 
@@ -66,6 +66,10 @@ def page_name(name: str, used: set) -> str:
     return page
 
 
+# A row's status when ./kit grade kept no record of it (commands/grade.py): nothing is missing then.
+NOT_GRADED = ("not submitted", "no steps", "not graded", "timed out")
+
+
 def load(folder: Path) -> Grading:
     if not folder.is_dir():
         raise KitError(f"{folder}: no such folder (a saved grading: grades.csv and json/)")
@@ -97,7 +101,7 @@ def load(folder: Path) -> Grading:
             students.append(s)
             continue
         s = Student(folder_name, row)
-        path = json_dir / f"{s.name}.json"
+        path = json_dir / f"{student_file_name(s.name)}.json"
         if path.is_file():
             try:
                 s.data = results_record.read(path)
@@ -107,7 +111,7 @@ def load(folder: Path) -> Grading:
         if s.data is not None and (s.data.get("score") != s.earned or s.data.get("max_score") != s.maximum):
             problems.append(f"{s.name}: the CSV says {s.earned} / {s.maximum}, the record "
                             f"{s.data.get('score')} / {s.data.get('max_score')}")
-        if s.data is None and s.earned is not None:
+        if s.data is None and s.earned is not None and row.get("status") not in NOT_GRADED:
             problems.append(f"{s.name}: graded in the CSV, but {path.name} is missing: no details")
         s.page = page_name(s.name, used)
         students.append(s)
@@ -116,7 +120,8 @@ def load(folder: Path) -> Grading:
 
 
 def save_files(students: dict[str, Path], steps: list[Step], target: Path, work: Path) -> list[str]:
-    """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/."""
+    """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/
+    (the name as common.student_file_name writes it), their control characters shown (common.printable)."""
     from ..submissions import NotFound, locate
 
     notes = []
@@ -133,7 +138,11 @@ def save_files(students: dict[str, Path], steps: list[Step], target: Path, work:
             for f in s.files:
                 src = found.steps_dir / s.folder / f
                 if src.is_file():
-                    (target / name / s.folder).mkdir(parents=True, exist_ok=True)
-                    shutil.copyfile(src, target / name / s.folder / f)
+                    folder = target / student_file_name(name) / s.folder
+                    folder.mkdir(parents=True, exist_ok=True)
+                    # For the comparison and the report's pages: the code with its control characters
+                    # shown as text, so that no one's `cat` of the saved grading replays them.
+                    text = src.read_bytes().decode("utf-8", errors="surrogateescape")
+                    (folder / f).write_text(printable(text), encoding="utf-8")
     shutil.rmtree(work, ignore_errors=True)
     return notes

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from .. import course as course_file
 from .. import picture
-from ..common import load_steps, prerequisites
+from ..common import load_steps, prerequisites, printable
 from ..scoreboard import HIDDEN_NOTE
 from ..status import (BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
                       STATUS_WORDS, THREW, TIMED_OUT, WAITING)
@@ -53,7 +53,9 @@ img.chart{max-width:100%}.cards{display:grid;grid-template-columns:repeat(auto-f
 
 
 def e(text) -> str:
-    return html.escape(str(text), quote=True)
+    """Any text on a page, escaped as HTML and its control characters shown (common.printable): a
+    student's name, output and code, a check's name. Every text of the pages passes here."""
+    return html.escape(printable(str(text)), quote=True)
 
 
 def svg_img(svg: str, alt: str, cls: str = "") -> str:

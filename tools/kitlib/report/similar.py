@@ -28,7 +28,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..common import ROOT, Step
+from ..common import ROOT, Step, student_file_name
 
 REFERENCE_LIKE = 80     # per cent of a student's file found in the reference
 SHOWN = 30              # a pair is listed from this share on
@@ -96,7 +96,8 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step], shown:
                 who: dict[str, str] = {}
                 paths = []
                 for i, name in enumerate([REFERENCE] + names):
-                    src = (ROOT / "solutions" / step.folder / f) if name == REFERENCE else files_root / name / step.folder / f
+                    src = (ROOT / "solutions" / step.folder / f) if name == REFERENCE else \
+                        files_root / student_file_name(name) / step.folder / f
                     if not src.is_file():
                         continue
                     text = strip(src.read_text(errors="replace"), stub)
@@ -160,7 +161,7 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step], shown:
 
 
 def _original(files_root: Path, name: str, key: str) -> str:
-    path = ROOT / "solutions" / key if name == REFERENCE else files_root / name / key
+    path = ROOT / "solutions" / key if name == REFERENCE else files_root / student_file_name(name) / key
     return path.read_text(errors="replace")
 
 

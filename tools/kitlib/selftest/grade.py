@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -302,7 +303,8 @@ def selftest_class_speed(ctx) -> str:
 def selftests():
     return [("uploads: step files found at any depth, only they", selftest_layouts),
             ("graded compiles and links as CMake writes them, precompiled step headers", selftest_student_pch),
-            ("a class's CPU per submission", selftest_class_speed)]
+            ("a class's CPU per submission", selftest_class_speed),
+            ("grade: hostile names and output reach no written file raw", selftest_names_are_data)]
 
 
 def selftest_student_pch(ctx) -> str:
@@ -394,3 +396,149 @@ def _student_pch_probe() -> str:
     return (f"{header}: read by a file that starts with it (in the {iso.mode} sandbox), not by one that includes "
             "<cmath> first nor with RAYKIT_STUDENT_PCH=off; built again when its record is stale; include folders "
             "relative to the build folder (CMake 3.18) and a link with the linker's dependency list (CMake 3.27+) work")
+
+
+# --- names and output are data in every file a grading writes (issue 32, item 8) -------------------
+
+ESCAPES_DIR = BUILD / "grade-escapes"
+# A folder name a student could choose: an OSC 52 clipboard write (ended by BEL), a CSI cursor move,
+# a bare carriage return, a BEL, an 8-bit CSI (C1) and DEL. Written raw into grades.csv, `cat` would
+# replay all of it on the instructor's terminal.
+HOSTILE_NAME = "mallory\x1b]52;c;cm0gLXJmIH4=\x07\x1b[3A\rscore 100\x07\u009b2J\x7f"
+# As bytes that are not UTF-8 (a folder made on another system): 0xff and a lone C1 byte; and a tab,
+# which a CSV cell may hold but a file named after the student does not.
+BYTES_NAME = b"trudy\t\xff\x9b\x1b[H"
+# Two copies of one another (the report's similar pair, their code side by side): a CSI asking the
+# terminal to answer (device status), a newline; raw controls in a comment of their code.
+PAIR_NAMES = ("eve\u009b6n", "frank\x1b[6n\nsecond line")
+PAIR_COMMENT = "// \x1b]52;c;ZWNobyBwd25lZA==\x07 \x1b[2J\rcopied\x7f\n"
+# An upload with no step files: its note (what the upload holds) names a file the student named.
+EMPTY_NAME = "oscar\x1b]0;pwned\x07"
+EMPTY_FILE = "read\x1b]52;c;eA==\x07me\r.txt"
+
+
+def _raw_controls(data: bytes, csv_lines: bool = False) -> list[str]:
+    """The controls in a file's bytes (or a file name's) as a terminal would act on them: C0 but tab and
+    newline, DEL, C1 codepoints in UTF-8, and bytes that are not UTF-8 at all (a lone 0x9b is a C1).
+    With `csv_lines`, CR LF is a line end (a CSV's, RFC 4180, as Python's csv module writes it); a CR
+    of the data never comes with an LF, as printable() writes CR LF as LF."""
+    if csv_lines:
+        data = data.replace(b"\r\n", b"\n")
+    found = [f"\\x{b:02x}" for b in data if (b < 0x20 and b not in (0x09, 0x0a)) or b == 0x7f]
+    text = data.decode("utf-8", errors="surrogateescape")
+    found += [f"U+{ord(c):04X}" for c in text if 0x80 <= ord(c) <= 0x9f]
+    found += [f"byte \\x{ord(c) - 0xdc00:02x} (not UTF-8)" for c in text if 0xdc80 <= ord(c) <= 0xdcff]
+    return found
+
+
+def selftest_names_are_data(ctx) -> str:
+    """A class with hostile folder names (terminal escapes, bytes that are not UTF-8) and code that prints
+    escapes, graded with --report, then again with --roster and --json-dir: no file the gradings wrote,
+    and no name of one, holds a raw control character; the names are still readable in the CSV."""
+    need_solutions()
+    work = ESCAPES_DIR
+    shutil.rmtree(work, ignore_errors=True)
+    klass = work / "class"
+    klass.mkdir(parents=True)
+    hostile = ROOT / "tests" / "fixtures" / "hostile"
+    shutil.copytree(hostile / "escapes", klass / HOSTILE_NAME)             # prints escapes in every call
+    shutil.copytree(hostile / "always_miss", os.fsdecode(bytes(klass) + b"/" + BYTES_NAME))
+    shutil.copytree(hostile / "always_miss", klass / "alice")               # and one plain name
+    textbook = ROOT / "tests" / "fixtures" / "textbook" / "01_unit_sphere"
+    for who in PAIR_NAMES:
+        shutil.copytree(textbook, klass / who / textbook.name)
+        for f in (klass / who / textbook.name).iterdir():     # inside the code sim_c++ matches, shown
+            f.write_text(f.read_text().replace("    const float disc", "    " + PAIR_COMMENT + "    const float disc"))
+    (klass / EMPTY_NAME).mkdir()
+    (klass / EMPTY_NAME / EMPTY_FILE).write_text("sorry\n")
+    roster = work / "roster.csv"
+    roster.write_text("name,login\nAlice A,alice\nBob B,bob\x1b[2J\x07\n")
+    out = work / "out"
+    out.mkdir()
+    runs = [["--out", str(out / "grades.csv"), "--report", str(out / "report")],
+            ["--out", str(out / "roster.csv"), "--roster", str(roster), "--json-dir", str(out / "json")]]
+    start = time.monotonic()
+    for extra in runs:
+        r = subprocess.run([str(ROOT / "kit"), "grade", str(klass), "-j", "2", *extra], cwd=ROOT,
+                           capture_output=True, timeout=1800)
+        said = (r.stdout + r.stderr).decode(errors="replace")
+        expect(r.returncode == 0, f"./kit grade {' '.join(extra[2:3])}: exit {r.returncode}: {said[-600:]}")
+        raw = _raw_controls(r.stdout + r.stderr)
+        expect(not raw, f"./kit grade {' '.join(extra[2:3])} printed controls: {sorted(set(raw))}")
+    # A grading saved by an older kit (or by hand): the code copied raw, the output in the JSON
+    # unfiltered. ./kit report shows it all as text too.
+    saved = work / "saved-raw"
+    shutil.copytree(out / "report" / "grading", saved)
+    for f in (saved / "files").rglob("*.cpp"):
+        f.write_text(f.read_text().replace("ZWNobyBwd25lZA==", "ZWNobyBwd25lZA==\x1b[2J\x07"))
+    for f in (saved / "json").glob("mallory*.json"):
+        data = json.loads(f.read_text())
+        for step in data["extra_data"]["steps"]:
+            for case in step["cases"]:
+                case["messages"] = [m + "\x1b]52;c;b2xk\x07\u009b" for m in case.get("messages") or []]
+        f.write_text(json.dumps(data))
+    r = subprocess.run([str(ROOT / "kit"), "report", str(saved), "--out", str(out / "saved-report")], cwd=ROOT,
+                       capture_output=True, timeout=600)
+    expect(r.returncode == 0, f"./kit report of a saved grading: exit {r.returncode}: "
+                              f"{(r.stdout + r.stderr).decode(errors='replace')[-600:]}")
+    raw = _raw_controls(r.stdout + r.stderr)
+    expect(not raw, f"./kit report printed controls: {sorted(set(raw))}")
+    elapsed = time.monotonic() - start
+
+    written = sorted(p for p in out.rglob("*"))
+    problems = []
+    for p in written:
+        raw = _raw_controls(os.fsencode(p.relative_to(out)))
+        if raw:
+            problems.append(f"the name {os.fsencode(p.relative_to(out))!r}: {sorted(set(raw))}")
+        if p.is_file():
+            raw = _raw_controls(p.read_bytes(), csv_lines=p.suffix == ".csv")
+            if raw:
+                problems.append(f"{p.relative_to(out)}: {len(raw)} raw, {sorted(set(raw))[:6]}")
+    expect(not problems, "controls written raw:\n  " + "\n  ".join(problems[:12]))
+    kinds = {p.suffix for p in written if p.is_file()}
+    expect({".csv", ".json", ".html"} <= kinds, f"the gradings wrote no {({'.csv', '.json', '.html'} - kinds)} files")
+
+    # Still recognisable: each name in the CSV with its controls shown, and the escapes' own output kept.
+    with (out / "grades.csv").open(newline="", encoding="utf-8") as f:
+        rows = {row["student"]: row for row in csv.DictReader(f)}
+    for who in ("mallory", "trudy", "alice", "oscar", "eve", "frank"):
+        expect(sum(n.startswith(who) for n in rows) == 1, f"grades.csv: no one row for {who}: {sorted(rows)}")
+    mallory = next(n for n in rows if n.startswith("mallory"))
+    expect("52;c;cm0gLXJmIH4=" in mallory and "score 100" in mallory and "\\x1b" in mallory,
+           f"grades.csv: the hostile name is not readable: {mallory!r}")
+    expect(rows[mallory]["status"] in ("complete", "incomplete") and rows[mallory]["earned"] != "",
+           f"{mallory!r} was not graded: {rows[mallory]['status']} {rows[mallory]['note']}")
+    oscar = next(n for n in rows if n.startswith("oscar"))
+    expect("me" in rows[oscar]["note"] and "read" in rows[oscar]["note"],
+           f"the empty upload's note does not name its file: {rows[oscar]['note']!r}")
+    pages = list((out / "report" / "students").glob("*.html"))
+    expect(len(pages) == 6, f"the report has {len(pages)} student pages, not 6")
+    index = (out / "report" / "index.html").read_text(encoding="utf-8")
+    expect("52;c;cm0gLXJmIH4=" in index, "the report's index does not name the hostile student")
+    details = [p for p in (out / "report" / "grading" / "json").glob("*.json") if p.name.startswith("mallory")]
+    expect(len(details) == 1 and "escapes:" in details[0].read_text(encoding="utf-8"),
+           f"the hostile student's results JSON is missing or lost its output: {details}")
+    files = [p.name for p in (out / "report" / "grading" / "files").iterdir()]
+    expect(any(n.startswith("mallory") for n in files), f"the hostile student's files were not saved: {files}")
+    # The report found each graded student's JSON and files from the name in the CSV.
+    for who in ("mallory", "trudy", "frank"):
+        page = next(p for p in pages if p.name.startswith(who)).read_text(encoding="utf-8")
+        earned = next(row["earned"] for n, row in rows.items() if n.startswith(who))
+        expect(f'data-earned="{earned}"' in page, f"{who}'s page does not show the score {earned} (its JSON "
+                                                  "was not found from the name in the CSV)")
+    if shutil.which("sim_c++"):
+        m = re.search(r"left out: (\d+) submissions", index)
+        expect(m and m.group(1) == "5", f"the similarity section compared {m and m.group(1)} submissions, not 5")
+        pair = re.search(r'data-pair="(eve[^"|]*)\|(frank[^"]*)"', index)
+        expect(pair is not None, "the copies eve and frank are not listed as a similar pair")
+        expect("ZWNobyBwd25lZA==" in index, "the pair's code is not shown side by side")
+    with (out / "roster.csv").open(newline="", encoding="utf-8") as f:
+        listed = list(csv.DictReader(f))
+    expect(len(listed) == 7 and any(r["submission"].startswith("mallory") for r in listed),
+           f"the roster CSV: {[(r['login'], r['submission']) for r in listed]}")
+    shutil.rmtree(work, ignore_errors=True)      # kept when a check fails, to look at
+    return (f"6 submissions with hostile names graded twice (--report; --roster, --json-dir) and a grading saved "
+            f"raw reported, in {elapsed:.0f} s: "
+            f"{len(written)} files and folders written, no raw control in any, nor in their names; "
+            f"e.g. {mallory[:40]!r}...")
