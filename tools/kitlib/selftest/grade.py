@@ -473,7 +473,7 @@ def selftest_names_are_data(ctx) -> str:
         f.write_text(f.read_text().replace("ZWNobyBwd25lZA==", "ZWNobyBwd25lZA==\x1b[2J\x07"))
     for f in (saved / "json").glob("mallory*.json"):
         data = json.loads(f.read_text())
-        for step in data["extra_data"]["steps"]:
+        for step in data["steps"]:
             for case in step["cases"]:
                 case["messages"] = [m + "\x1b]52;c;b2xk\x07\u009b" for m in case.get("messages") or []]
         f.write_text(json.dumps(data))
