@@ -31,8 +31,10 @@ from typing import Callable
 from . import course as course_file
 from . import waits
 from . import warmup
-from .common import ROOT, Build, Step, build_target, build_targets, configure, ninja_of, prerequisites, printable, shown_text
+from .common import (ROOT, Build, Step, build_target, build_targets, ensure_configured, ninja_of,
+                     prerequisites, printable, shown_text)
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
+from .secret import hidden_seed
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
 CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
@@ -262,7 +264,6 @@ def _take(c: Case, e: dict) -> None:
 def submission_seed(build: Build, step: Step) -> str:
     """The hidden cases' seed: from the instructor's secret, the submission's identity and the step's
     files (secret.py), so no student can know or steer it and a re-grade meets the same inputs."""
-    from .secret import hidden_seed
     if not hidden_cases_here():
         return ""               # a handout: no hidden cases, no secret
     files = []
@@ -516,20 +517,6 @@ def record(build: Build, steps: list[Step], all_steps: list[Step] | None = None)
         hidden[s.number] = [entry(c) for c in cases if c.tier == "hidden"]
     HIDDEN_CASES_FILE.write_text(json.dumps(hidden, indent=1, sort_keys=True) + "\n")
     return written + [HIDDEN_CASES_FILE]
-
-
-def ensure_configured(build: Build, all_steps: list[Step]) -> None:
-    """Configures `build` once per build folder and set of present step files: the targets CMake
-    makes depend on which files exist; after that, the build tool re-runs CMake when its inputs change."""
-    present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
-                         if (build.steps_dir / s.folder / f).is_file())
-    stamp = build.binary_dir / "raykit-configured.txt"
-    key = (f"{build.steps_dir}\ntools {build.tools}\nboundary {build.boundary}\n"
-           f"sanitize {build.sanitize_student}\n{present}\n")
-    cache = build.binary_dir / "CMakeCache.txt"
-    if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
-        configure(build)
-        stamp.write_text(key)
 
 
 # --- one verdict per content within a grading --------------------------------------------------

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from .common import BUILD, ROOT, KitError, note, say
 from .status import FAILED, OK, SETUP, USAGE
+from .webtools import ensure_docs_tools, npm_package
 
 SOURCES = ROOT / "lectures" / "slides"
 OUT = BUILD / "slides"
@@ -258,7 +259,6 @@ def deck_title(slides: list[Slide], fallback: str) -> str:
 def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
     """Writes every deck (or those of `sources`) into `out` with reveal.js, MathJax and the figures beside
     them; the decks' paths."""
-    from .commands.docs import ensure_docs_tools, npm_package
     sources = deck_sources() if sources is None else sources
     if not sources:
         raise KitError(f"no decks in {SOURCES.relative_to(ROOT)} (NN-topic.md)", USAGE)

@@ -23,7 +23,7 @@ import subprocess
 import sys
 import time
 
-from .common import ROOT, Build
+from .common import ROOT, Build, build_targets, ensure_configured
 from .sandbox import kill_session, session_members
 
 PID_FILE = "warm-up.pid"
@@ -85,8 +85,6 @@ def stop(build: Build) -> None:
 
 def run(build: Build, steps) -> int:
     """The warm-up itself (./kit check --warm-up): configure, then the kit's own targets, every step."""
-    from .checking import ensure_configured
-    from .common import build_targets
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     start = time.monotonic()
     ensure_configured(build, steps)

@@ -29,14 +29,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import picture
+from ..decks import build as build_decks
 from ..common import BUILD, ROOT, KitError, Step, load_steps, note, say
 
 from ..packages import ensure_packages
+from ..webtools import ensure_docs_tools, npm_package
 from ..status import FAILED, OK, SETUP
 
 DOCS = ROOT / "docs"
 OUT = BUILD / "docs"
-NPM_DIR = OUT / "npm"
 AWESOME = Path("/usr/share/doxygen-awesome-css")
 # What the pages load of MathJax: the TeX-to-SVG bundle, the TeX extensions it
 # loads on demand (\color, \cancel, ...) and its menu. Nothing else is needed.
@@ -273,45 +274,6 @@ NAMESPACE_DOC = """/// \\namespace raykit
 
 # --- running Doxygen -------------------------------------------------------------
 
-def ensure_docs_tools() -> None:
-    ensure_packages("docs")
-    if shutil.which("npm") is None:
-        ensure_packages("node")
-        if shutil.which("npm") is None:
-            raise KitError("npm is not on the PATH; install it: sudo apt-get install nodejs npm", SETUP)
-    if shutil.which("doxygen") is None:
-        raise KitError("doxygen is not on the PATH; install it: sudo apt-get install doxygen", SETUP)
-
-
-def npm_package(name: str, needed: str, what: str) -> Path:
-    """A package of docs/package.json (MathJax, reveal.js), installed once into build/docs/npm at the
-    versions docs/package-lock.json pins; `needed` is a file it must have."""
-    lock = json.loads((DOCS / "package-lock.json").read_text())
-    wanted = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
-              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
-    root = NPM_DIR / "node_modules" / name
-
-    def installed(pkg: str) -> str | None:
-        try:
-            return json.loads((NPM_DIR / "node_modules" / pkg / "package.json").read_text())["version"]
-        except (OSError, ValueError, KeyError):
-            return None
-
-    if all(installed(p) == v for p, v in wanted.items()) and (root / needed).is_file():
-        return root
-    NPM_DIR.mkdir(parents=True, exist_ok=True)
-    for f in ("package.json", "package-lock.json"):
-        shutil.copyfile(DOCS / f, NPM_DIR / f)
-    versions = ", ".join(f"{p} {v}" for p, v in sorted(wanted.items()))
-    note(f"kit: installing {versions} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
-    r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
-                       cwd=NPM_DIR, capture_output=True, text=True)
-    if r.returncode != 0 or not (root / needed).is_file():
-        raise KitError(f"npm could not install {name}, which {what} "
-                       f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
-    return root
-
-
 def mathjax_root() -> Path:
     """The MathJax package, installed once into build/docs/npm at the version docs/package-lock.json pins."""
     return npm_package("mathjax", "es5/tex-svg.js", "typesets the formulas")
@@ -440,7 +402,6 @@ def build_site(instructor: bool = False) -> Site:
         if LAB.is_dir():
             shutil.copytree(LAB, work / "html" / "lab", ignore=shutil.ignore_patterns("check"))
         if SLIDES.is_dir():
-            from ..decks import build as build_decks
             build_decks(work / "html" / "slides")
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)

@@ -1,0 +1,56 @@
+"""The web pages' tools: Doxygen, and the npm packages the site and the decks use (MathJax,
+reveal.js), installed once into build/docs/npm at the versions docs/package-lock.json pins. Below
+both `./kit docs` (commands/docs.py) and the decks (decks.py), which import it; it imports neither."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+from .common import BUILD, ROOT, KitError, note
+from .packages import ensure_packages
+from .status import FAILED, SETUP
+
+DOCS = ROOT / "docs"
+NPM_DIR = BUILD / "docs" / "npm"
+
+
+def ensure_docs_tools() -> None:
+    ensure_packages("docs")
+    if shutil.which("npm") is None:
+        ensure_packages("node")
+        if shutil.which("npm") is None:
+            raise KitError("npm is not on the PATH; install it: sudo apt-get install nodejs npm", SETUP)
+    if shutil.which("doxygen") is None:
+        raise KitError("doxygen is not on the PATH; install it: sudo apt-get install doxygen", SETUP)
+
+
+def npm_package(name: str, needed: str, what: str) -> Path:
+    """A package of docs/package.json (MathJax, reveal.js), installed once into build/docs/npm at the
+    versions docs/package-lock.json pins; `needed` is a file it must have."""
+    lock = json.loads((DOCS / "package-lock.json").read_text())
+    wanted = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
+              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+    root = NPM_DIR / "node_modules" / name
+
+    def installed(pkg: str) -> str | None:
+        try:
+            return json.loads((NPM_DIR / "node_modules" / pkg / "package.json").read_text())["version"]
+        except (OSError, ValueError, KeyError):
+            return None
+
+    if all(installed(p) == v for p, v in wanted.items()) and (root / needed).is_file():
+        return root
+    NPM_DIR.mkdir(parents=True, exist_ok=True)
+    for f in ("package.json", "package-lock.json"):
+        shutil.copyfile(DOCS / f, NPM_DIR / f)
+    versions = ", ".join(f"{p} {v}" for p, v in sorted(wanted.items()))
+    note(f"kit: installing {versions} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
+    r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
+                       cwd=NPM_DIR, capture_output=True, text=True)
+    if r.returncode != 0 or not (root / needed).is_file():
+        raise KitError(f"npm could not install {name}, which {what} "
+                       f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
+    return root
