@@ -9,25 +9,16 @@ import zipfile
 from pathlib import Path
 
 from .. import secret
-from ..commands.handout import kit_files
+from ..kitfiles import kit_files, platform_excluded as excluded
 from ..common import ROOT, KitError, say, writable_parent
 from ..status import FAILED, OK
 
 
-# Never in the zip: build output, git's store, Python's caches. The solutions stay: the image
-# is not visible to students, and the grader may link a later step with the reference.
-EXCLUDED = ["build", ".git"]
 AT_ROOT = {"setup.sh": "tools/gradescope/setup.sh", "run_autograder": "tools/gradescope/run_autograder"}
 
 
 def register(p) -> None:
     p.add_argument("out", metavar="OUT.zip", help="the zip to write (replaced when it exists)")
-
-
-def excluded(rel: Path) -> bool:
-    s = rel.as_posix()
-    return any(s == e or s.startswith(e + "/") for e in EXCLUDED) or "__pycache__" in rel.parts \
-        or rel.suffix == ".pyc"
 
 
 def add(z: zipfile.ZipFile, src: Path, name: str) -> None:

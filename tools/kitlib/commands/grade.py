@@ -30,6 +30,7 @@ from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
 from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
 from ..packages import ensure_packages
 from ..sandbox import kill_session, kill_uid
+from ..report.make import from_grade
 from ..submissions import NotFound, locate
 from ..status import OK
 
@@ -401,6 +402,5 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
     if not_graded:
         say(f"not graded ({len(not_graded)}): {printable(', '.join(not_graded))}")
     if args.report:     # the class report, from the grading just saved (commands/report.py)
-        from .report import from_grade
         return from_grade(args, out, json_dir)
     return OK

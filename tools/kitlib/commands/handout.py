@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .. import course as course_file
+from ..kitfiles import git, is_clone, kit_files
 from ..common import ROOT, KitError, load_steps, note, say, writable_parent
 from ..status import FAILED, OK
 
@@ -218,24 +219,6 @@ def scan_tree(root: Path, skip: tuple[str, ...] = ("steps",)) -> dict[str, list[
 
 
 # --- what goes out ------------------------------------------------------------------------------
-
-def git(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(["git", *args], cwd=ROOT, capture_output=True)
-
-
-def is_clone() -> bool:
-    return (ROOT / ".git").exists() and shutil.which("git") is not None and \
-        git("rev-parse", "--verify", "-q", "HEAD").returncode == 0
-
-
-def kit_files() -> list[Path]:
-    """The kit's files: what git tracks (and new files it does not ignore), else everything."""
-    if is_clone():
-        r = git("ls-files", "-z", "--cached", "--others", "--exclude-standard")
-        if r.returncode == 0:
-            return [Path(p) for p in r.stdout.decode().split("\0") if p]
-    return [p.relative_to(ROOT) for p in ROOT.rglob("*") if p.is_file()]
-
 
 def student_side() -> set[Path]:
     """The driver's Python files a handout ships (relative to the kit): cli.py, __main__.py, the

@@ -23,9 +23,8 @@ import shutil
 import uuid
 from pathlib import Path
 
-from ..commands.autograder import excluded as not_shipped
+from ..kitfiles import kit_files, platform_excluded as not_shipped
 from .. import secret
-from ..commands.handout import kit_files
 from ..common import ROOT, KitError, load_steps, say, writable_parent
 from ..packages import PACKAGES
 from ..status import OK

@@ -11,12 +11,13 @@ names no other student. Everything is in the files: no script, font or picture i
 
 from __future__ import annotations
 
-import shutil
 import time
 from pathlib import Path
 
 from ..common import BUILD, ROOT, KitError, load_steps, printable, say, select_steps, writable_parent
-from ..packages import ensure_packages
+from ..report import signatures
+from ..report.grading import load
+from ..report.make import save_submissions, write_report
 from ..status import FAILED, OK
 
 
@@ -39,7 +40,6 @@ def run(args) -> int:
             raise KitError("--signatures takes no GRADING_DIR")
         if not (ROOT / "solutions").is_dir():
             raise KitError("the signatures are computed from solutions/, which this copy of the kit does not have")
-        from ..report import signatures
         start = time.monotonic()
         numbers = [s.number for s in select_steps(load_steps(), args.step)] if args.step else None
         data = signatures.compute(lambda line: say("  " + line), numbers)
@@ -57,59 +57,6 @@ def run(args) -> int:
         submissions = Path(args.submissions)
         if not submissions.is_dir():
             raise KitError(f"--submissions {args.submissions}: no such folder")
-        from ..report.grading import load
         names = [s.name for s in load(folder).students]
         save_submissions(submissions, names, folder)
     return write_report(folder, out)
-
-
-def uploads(submissions: Path) -> dict[str, Path]:
-    """Each upload of the class by the student's name, as ./kit grade writes it in the CSV (printable)."""
-    return {printable(p.stem if p.is_file() else p.name): p for p in sorted(submissions.iterdir())
-            if not p.name.startswith(".") and (p.is_dir() or (p.is_file() and p.suffix.lower() == ".zip"))}
-
-
-def save_submissions(submissions: Path, names: list[str], folder: Path) -> None:
-    from ..report.grading import save_files
-    found = uploads(submissions)
-    for note in save_files({n: found[n] for n in names if n in found}, load_steps(), folder / "files",
-                           BUILD / "report-upload"):
-        say(f"  {printable(note)}")
-
-
-def write_report(folder: Path, out: Path) -> int:
-    from ..report.pages import build
-    writable_parent(f"--out {out}", out)
-    if out.exists() and not out.is_dir():
-        raise KitError(f"--out {out}: is a file, not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise KitError(f"--out {out}: cannot make the folder ({e.strerror})")
-    try:    # sim_c++ and matplotlib: without them the report says what it left out, and goes on
-        ensure_packages("report")
-    except KitError as e:
-        say(f"  note: {str(e).splitlines()[0]}")
-    start = time.monotonic()
-    try:
-        summary = build(folder, out)
-    except OSError as e:
-        raise KitError(f"--out {out}: cannot write the report ({e.strerror}: {e.filename})")
-    say(f"wrote {out / 'index.html'} and {summary['students']} student pages in {time.monotonic() - start:.1f} s")
-    for note in summary["notes"]:
-        say(f"  note: {printable(note)}")
-    return OK
-
-
-def from_grade(args, csv_path: Path, json_dir: Path) -> int:
-    """./kit grade --report DIR: keeps the grading in DIR/grading/ and writes the report in DIR."""
-    out = Path(args.report)
-    grading = out / "grading"
-    (grading / "json").mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(csv_path, grading / "grades.csv")
-    if json_dir.resolve() != (grading / "json").resolve():
-        for p in json_dir.glob("*.json"):
-            shutil.copyfile(p, grading / "json" / p.name)
-    from ..report.grading import load
-    save_submissions(Path(args.submissions), [s.name for s in load(grading).students], grading)
-    return write_report(grading, out)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..common import ROOT, Step, load_steps
+from ..mutants import PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 
 FILE = ROOT / "tests" / "mutants" / "signatures.json"
 NEAR_SHARE = 1 / 3
@@ -53,7 +54,6 @@ def fingerprint(step: Step, patch: Path) -> str:
 def compute(progress=print, numbers: list[str] | None = None) -> dict:
     """Grades every mutant (of the steps `numbers` only, keeping the other steps' recorded signatures)
     and returns the file's content. Takes a build per mutant."""
-    from ..commands.mutant import PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
     from ..common import BUILD
 
     entries, problems = {}, []
@@ -97,7 +97,6 @@ def write(data: dict, target: Path = FILE) -> None:
 
 def load(target: Path = FILE) -> tuple[list[Signature], list[str]]:
     """The signatures recorded, and the notes to show: mutants without one, stale ones."""
-    from ..commands.mutant import patches
 
     try:
         data = json.loads(target.read_text())
