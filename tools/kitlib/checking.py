@@ -31,8 +31,8 @@ from typing import Callable
 from . import course as course_file
 from . import waits
 from . import warmup
-from .common import (ROOT, Build, Step, build_target, build_targets, ensure_configured, ninja_of,
-                     prerequisites, printable, shown_text)
+from .common import ROOT, Step, prerequisites, printable
+from .build import Build, build_target, build_targets, ensure_configured, ninja_of, shown_text
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .secret import hidden_seed
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING

@@ -23,7 +23,8 @@ import subprocess
 import sys
 import time
 
-from .common import ROOT, Build, build_targets, ensure_configured
+from .common import ROOT
+from .build import Build, build_targets, ensure_configured
 from .sandbox import kill_session, session_members
 
 PID_FILE = "warm-up.pid"

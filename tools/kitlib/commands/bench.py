@@ -20,8 +20,8 @@ import time
 from pathlib import Path
 
 from .. import bench_report as report
-from ..common import ROOT, Build, KitError, load_steps, build_target, configure, note, paint, preset_build, say, \
-    tools_build
+from ..common import ROOT, KitError, load_steps, note, paint, say
+from ..build import Build, build_target, configure, preset_build, tools_build
 from ..packages import ensure_packages
 from ..status import FAILED, OK
 

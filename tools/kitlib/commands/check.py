@@ -9,8 +9,8 @@ import time
 
 from ..checking import check_steps
 from .. import picture, plresults, record, warmup
-from ..common import (BUILD, ROOT, KitError, build_targets, load_steps, say, note, preset_build, printable, resolve_steps_dir, select_steps,
-                      submission_build)
+from ..common import BUILD, ROOT, KitError, load_steps, say, note, printable, resolve_steps_dir, select_steps
+from ..build import build_targets, preset_build, submission_build
 from ..submissions import NotFound, locate
 from ..gradescope import write_json
 from ..packages import ensure_packages

@@ -7,7 +7,8 @@ from pathlib import Path
 
 from .. import course as course_file
 from .. import record as results_record
-from ..common import BUILD, KitError, load_steps, preset_build, say
+from ..common import BUILD, KitError, load_steps, say
+from ..build import preset_build
 from ..status import FAILED, OK
 
 
@@ -28,7 +29,7 @@ def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str]]]:
 def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
     """Builds only the steps' test programs (no student code) and lists their cases."""
     from ..checking import ensure_configured, list_cases
-    from ..common import build_targets
+    from ..build import build_targets
     from ..packages import ensure_packages
     ensure_packages("build")
     build = preset_build("student")

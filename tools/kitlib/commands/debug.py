@@ -16,8 +16,8 @@ import sys
 from pathlib import Path
 
 from ..checking import check_steps, ensure_configured, list_cases, submission_seed
-from ..common import BUILD, Build, KitError, build_targets, load_steps, preset_build, resolve_steps_dir, say, \
-    select_steps, submission_build
+from ..common import BUILD, KitError, load_steps, resolve_steps_dir, say, select_steps
+from ..build import Build, build_targets, preset_build, submission_build
 from ..packages import ensure_packages
 from ..status import FAILED, OK, PASS, SETUP
 

@@ -30,11 +30,9 @@ from pathlib import Path
 
 from .. import picture
 from ..decks import build as build_decks
-from ..common import BUILD, ROOT, KitError, Step, load_steps, note, say
-
-from ..packages import ensure_packages
+from ..common import BUILD, ROOT, KitError, Step, load_steps, say
 from ..webtools import ensure_docs_tools, npm_package
-from ..status import FAILED, OK, SETUP
+from ..status import FAILED, OK
 
 DOCS = ROOT / "docs"
 OUT = BUILD / "docs"

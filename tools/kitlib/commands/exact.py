@@ -19,7 +19,8 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from ..common import ROOT, KitError, Step, build_target, configure, load_steps, preset_build, say
+from ..common import ROOT, KitError, Step, load_steps, say
+from ..build import build_target, configure, preset_build
 
 from ..packages import ensure_packages
 from ..status import FAILED, OK, USAGE

@@ -19,7 +19,6 @@ import io
 import json
 import re
 import shutil
-import subprocess
 import tokenize
 from dataclasses import dataclass
 from pathlib import Path

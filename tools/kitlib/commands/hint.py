@@ -98,7 +98,8 @@ def write_state(path, order: list[int]) -> None:
 def first_failing(step, steps_dir: str | None):
     """The first case of `step` that fails (basic, then hidden, then ★), or None; runs the step's cases."""
     from ..checking import check_steps          # imported here: ./kit hint --no-run builds nothing
-    from ..common import preset_build, resolve_steps_dir, submission_build
+    from ..common import resolve_steps_dir
+    from ..build import preset_build, submission_build
     from ..packages import ensure_packages
     from ..sandbox import NONE_OWN, choose as isolation_for
     ensure_packages("build")

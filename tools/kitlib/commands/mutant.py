@@ -24,12 +24,10 @@ change, it stops applying and `./kit test` names it.
 
 from __future__ import annotations
 
-import json
-import re
 import shutil
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps, stage_on_reference
+from ..common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps
 from ..status import FAILED, OK
 from ..mutants import (CONTEXT_LINES, GRADE_SECONDS, MUTANTS, SOLUTIONS, WORK, Hunk, Mutant, PatchError,  # noqa: F401
                        apply_patch, failing_cases, grade_files, header_line, patches, read_patch, write_answer,

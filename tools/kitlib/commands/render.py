@@ -18,7 +18,8 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..common import BUILD, ROOT, Build, KitError, tools_build, build_target, configure, load_steps, note, paint, preset_build, resolve_steps_dir, say, submission_build
+from ..common import BUILD, ROOT, KitError, load_steps, note, paint, resolve_steps_dir, say
+from ..build import Build, tools_build, build_target, configure, preset_build, submission_build
 
 from ..packages import ensure_packages
 from ..status import FAILED, OK, USAGE

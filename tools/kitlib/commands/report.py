@@ -14,7 +14,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, load_steps, printable, say, select_steps, writable_parent
+from ..common import BUILD, ROOT, KitError, load_steps, say, select_steps
 from ..report import signatures
 from ..report.grading import load
 from ..report.make import save_submissions, write_report

@@ -17,6 +17,8 @@ from ..selftest.harness import HANDOUT, MODULES, Context, run_all
 
 def register(p) -> None:
     p.add_argument("--fast", action="store_true", help="skip the slow self-tests (the sanitizer build, fuzzing)")
+    p.add_argument("--quick", action="store_true",
+                   help="only the quick tier: the self-tests that build and grade nothing (about half a minute)")
     p.add_argument("-k", dest="words", default="", metavar="WORDS",
                    help="run only the self-tests whose names hold WORDS (case ignored)")
     p.add_argument("modules", nargs="*", metavar="MODULE",
@@ -33,4 +35,4 @@ def run(args) -> int:
     # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
     # it would build beside the measured ones. The latency test turns it on where it measures it.
     os.environ["RAYKIT_NO_WARMUP"] = "1"
-    return run_all(Context(fast=args.fast), args.modules, args.words)
+    return run_all(Context(fast=args.fast), args.modules, args.words, args.quick)

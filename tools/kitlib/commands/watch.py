@@ -21,7 +21,8 @@ from pathlib import Path
 
 from .. import picture
 from ..checking import check_steps
-from ..common import BUILD, ROOT, load_steps, paint, preset_build, resolve_steps_dir, say, select_steps, submission_build
+from ..common import BUILD, ROOT, load_steps, paint, resolve_steps_dir, say, select_steps
+from ..build import preset_build, submission_build
 from ..packages import ensure_packages
 from ..scoreboard import rel, scoreboard
 from ..status import DONE, OK

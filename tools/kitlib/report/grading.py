@@ -8,7 +8,6 @@ one was graded on in files/STUDENT/NN_topic/ (for the similarity section).
 from __future__ import annotations
 
 import csv
-import json
 import re
 import shutil
 from dataclasses import dataclass, field

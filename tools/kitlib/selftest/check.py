@@ -11,7 +11,8 @@ import tempfile
 from pathlib import Path
 
 from ..checking import check_steps, list_cases
-from ..common import BUILD, ROOT, build_target, preset_build, submission_build, workflow
+from ..common import BUILD, ROOT
+from ..build import build_target, preset_build, submission_build, workflow
 from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 

@@ -285,7 +285,8 @@ def selftest_moved_kit(ctx) -> str:
     import io
     import shutil
 
-    from ..common import BUILD, Build, configure
+    from ..common import BUILD
+    from ..build import Build, configure
     from ..relocate import forget_moved_build
     first, moved = BUILD / "course-moved-a", BUILD / "course-moved-b"
     for d in (first, moved):

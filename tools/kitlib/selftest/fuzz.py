@@ -5,7 +5,8 @@ from __future__ import annotations
 import shutil
 import subprocess
 
-from ..common import BUILD, ROOT, KitError, configure, preset_build
+from ..common import BUILD, ROOT, KitError
+from ..build import configure, preset_build
 
 from .harness import Failed, Skipped, expect, need_solutions
 

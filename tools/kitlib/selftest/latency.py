@@ -256,7 +256,7 @@ def selftest_recorded(ctx: Context) -> str:
     import json
     import subprocess
     from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, ensure_configured, file_hash, list_cases
-    from ..common import build_targets, preset_build
+    from ..build import build_targets, preset_build
     stubs = json.loads(STUBS_FILE.read_text())
     stale = []
     for step in ctx.steps:

@@ -227,7 +227,8 @@ def selftest_new_step(ctx) -> str:
 def rules_here() -> int:
     """In the scratch copy (ROOT is the copy): each rule of ./kit test that a step must keep, run on
     step NUMBER; one JSON line per rule. The exit status is 1 when one fails."""
-    from ..common import build_target, configure, load_steps, preset_build
+    from ..common import load_steps
+    from ..build import build_target, configure, preset_build
     from ..commands import docs
     from . import check, hint, latency, lectures, mutant, slides
     from . import docs as docs_tests

@@ -9,7 +9,8 @@ from pathlib import Path
 
 from ..commands import render as cmd_render
 from ..commands.mutant import MUTANTS, write_answer
-from ..common import BUILD, ROOT, load_steps, preset_build, submission_build, tools_build
+from ..common import BUILD, ROOT, load_steps
+from ..build import preset_build, submission_build, tools_build
 from ..checking import check_steps
 from ..status import DONE, PARTIAL
 from .harness import expect, kit, need_solutions

@@ -17,7 +17,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..common import ROOT, load_steps, submission_build
+from ..common import ROOT, load_steps
+from ..build import submission_build
 from ..checking import check_steps
 from ..status import DONE
 from .harness import Failed, Skipped, expect, kit, need_solutions

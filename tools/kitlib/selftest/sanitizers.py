@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from ..common import workflow
+from ..build import workflow
 from .harness import Context, Skipped, expect, need_solutions
 
 
