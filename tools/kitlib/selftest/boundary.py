@@ -523,38 +523,75 @@ def selftest_load(ctx) -> str:
 
 CLAIM = """import os, sys, time
 from kitlib import sandbox
-print(sandbox.claim_uid(0), flush=True)
+try:
+    print(sandbox.claim_uid(int(sys.argv[2])), flush=True)
+except RuntimeError as e:
+    print("refused:", e, flush=True)
+    sys.exit(0)
 time.sleep(float(sys.argv[1]))
 """
 
 
 def selftest_uid_claims(ctx) -> str:
-    """Two gradings on one kernel whose lock folders differ (two root file systems: a chroot has
-    /run/lock of its own) claim different sandbox user ids, even while neither runs any process of
-    its id: after each case one ends every process of its id, which must never be the other's."""
+    """Two gradings on one kernel in two root file systems (a chroot has /run of its own, so two
+    lock folders): given a range each, as tools/portability/run gives its chroots, they claim
+    different sandbox user ids even while neither runs any process of its id (after each case
+    one ends every process of its id, which must never be the other's); without ranges, an id that
+    has a live process is passed over. A RAYKIT_FIRST_UID that is not a range is refused."""
     if os.geteuid() != 0:
         raise Skipped("sandbox user ids are claimed only when grading as root")
+    from ..sandbox import FIRST_UID_ENV, UID_RANGE, claim_range
     env = dict(os.environ, PYTHONPATH=str(ROOT / "tools"))
+    env.pop(FIRST_UID_ENV, None)
+    slot = str(CLAIM_SLOTS[0])
     folders = [Path(tempfile.mkdtemp(prefix="raykit-locks-")) for _ in range(2)]
+
+    def claim(folder: Path, seconds: str = "0", **extra: str) -> subprocess.Popen:
+        return subprocess.Popen(["python3", "-c", CLAIM, seconds, slot], stdout=subprocess.PIPE, text=True,
+                                env=dict(env, RAYKIT_LOCK_DIR=str(folder), **extra))
+
     try:
-        first = subprocess.Popen(["python3", "-c", CLAIM, "5"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[0])),
-                                 stdout=subprocess.PIPE, text=True)
+        first, held = claim_range()         # what tools/portability/run holds for one chroot
         try:
-            a = int(first.stdout.readline())
-            second = subprocess.run(["python3", "-c", CLAIM, "0"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[1])),
-                                    capture_output=True, text=True, timeout=60)
-            b = int(second.stdout.strip() or -1)
+            a_proc = claim(folders[0], "5", **{FIRST_UID_ENV: str(first)})
+            try:
+                a = int(a_proc.stdout.readline())
+                b_proc = claim(folders[1])
+                b = int(b_proc.communicate(timeout=60)[0].strip() or -1)
+            finally:
+                a_proc.kill()
+                a_proc.wait()
         finally:
-            first.kill()
-            first.wait()
-        expect(a != b and b > 0, f"two gradings with their own lock folders both claimed user id {a}")
-        again = subprocess.run(["python3", "-c", CLAIM, "0"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[1])),
-                               capture_output=True, text=True, timeout=60)
-        expect(int(again.stdout.strip() or -1) <= a, "an id was still claimed after its grading ended")
+            os.close(held)
+        expect(a >= first and 0 < b < first and a != b,
+               f"two roots given their own ranges claimed {a} (range from {first}) and {b}")
+        ranged = (a, b)
+        # No ranges: the first root's grading runs a case as its id, the second passes it over.
+        a_proc = claim(folders[0], "5")
+        runner = None
+        try:
+            a = int(a_proc.stdout.readline())
+            runner = subprocess.Popen(["sleep", "30"], user=a, group=a, extra_groups=[])
+            b = int(claim(folders[1]).communicate(timeout=60)[0].strip() or -1)
+        finally:
+            if runner is not None:
+                runner.kill()
+                runner.wait()
+            a_proc.kill()
+            a_proc.wait()
+        expect(a != b and b > 0, f"a second root claimed {b}, whose processes the first root's grading runs")
+        again = int(claim(folders[0]).communicate(timeout=60)[0].strip() or -1)
+        expect(again == a, f"id {a} not free again once its grading ended (got {again})")
+        refused = []
+        for bad in ("64001", "abc", "0", str(first + UID_RANGE // 2)):
+            said = claim(folders[0], **{FIRST_UID_ENV: bad}).communicate(timeout=60)[0]
+            expect(said.startswith("refused:"), f"{FIRST_UID_ENV}={bad} was taken: claimed {said.strip()}")
+            refused.append(bad)
     finally:
         for f in folders:
             shutil.rmtree(f, ignore_errors=True)
-    return f"another root file system's grading claimed {a}, this one {b}; {a} free again once the first ended"
+    return (f"with ranges: {ranged[0]} and {ranged[1]}; without: {a} (a live process) passed over for {b}; "
+            f"{FIRST_UID_ENV} {', '.join(refused)} refused")
 
 
 # --- the claims on sandbox user ids, and the compiled objects kept ----------------------------
@@ -644,7 +681,8 @@ def selftest_lock_links(ctx) -> str:
         expect(claimed_here, f"the grading did not claim an id of slot {slot} (claimed: {sorted(claimed)})")
         kept = NEW_LOCKS / f"raykit-sandbox-{claimed_here[0]}.lock"
         st = os.lstat(kept)
-        expect(stat_regular_root(st), f"{kept}: not a regular file of root's, mode 0600: {oct(st.st_mode)} uid {st.st_uid}")
+        expect(stat_regular_root(st),
+               f"{kept}: not a regular file of root's, mode 0600: {oct(st.st_mode)} uid {st.st_uid}")
         return (f"{', '.join(parts)}: the canary unchanged, step 01 graded ({got['score']} points, "
                 f"id {claimed_here[0]}, {took:.0f} s)")
     finally:
@@ -715,13 +753,15 @@ def selftest_claim_squatters(ctx) -> str:
             expect("every sandbox user id is in use" not in out and target.is_file(),
                    f"slot {slot} beside the squatter: exit {proc.returncode}, no results: {out[-400:]}")
             [step] = json.loads(target.read_text())["extra_data"]["steps"]
-            expect(step["state"] not in ("broken", NO_COMPILE), f"slot {slot}: {step['state']} {step['detail'][-200:]!r}")
+            expect(step["state"] not in ("broken", NO_COMPILE),
+                   f"slot {slot}: {step['state']} {step['detail'][-200:]!r}")
             got[slot] = step["earned"]
             ids[slot] = int(uid_file.read_text())
         expect(len(set(ids.values())) == 2, f"two gradings in parallel claimed the same id: {ids}")
         expect(len(set(got.values())) == 1, f"the same submission scored differently in parallel: {got}")
         expect(squatter.poll() is None, "the squatter ended before the gradings did: it proved nothing")
-        return f"{said}; two gradings in parallel claimed ids {sorted(ids.values())} and scored {got[CLAIM_SLOTS[0]]} each"
+        return (f"{said}; two gradings in parallel claimed ids {sorted(ids.values())} and scored "
+                f"{got[CLAIM_SLOTS[0]]} each")
     finally:
         squatter.kill()
         squatter.wait()
@@ -766,8 +806,12 @@ def stale_system_header() -> str:
     src = work / "step" / "use.cpp"
     src.write_text("#include <fakeglm.hpp>\nstatic_assert(FAKEGLM_VERSION == 1, \"the header changed\");\n"
                    "int use() { return FAKEGLM_VERSION; }\n")
-    compiler = shutil.which("c++") or "c++"
-    argv = [compiler, "-isystem", str(work / "sys"), "-std=c++17", "-MD", "-MT", "use.o", "-MF",
+    # The compiler through a script that counts its runs: the cache must still serve an unchanged compile.
+    runs = work / "runs"
+    compiler = work / "c++"
+    compiler.write_text(f"#!/bin/sh\necho run >> {runs}\nexec {shutil.which('c++') or 'c++'} \"$@\"\n")
+    compiler.chmod(0o755)
+    argv = [str(compiler), "-isystem", str(work / "sys"), "-std=c++17", "-MD", "-MT", "use.o", "-MF",
             str(work / "use.o.d"), "-o", str(work / "use.o"), "-c", str(src)]
     iso = Isolation("none", "")
     saved = os.environ.pop("RAYKIT_NO_OBJCACHE", None)
@@ -777,6 +821,8 @@ def stale_system_header() -> str:
         expect(status == 0, f"the header's first version did not compile: {text[-300:]}")
         status, _ = iso.tool("compile", argv, work)
         expect(status == 0, "the same compile again failed")
+        expect(runs.read_text().count("run") == 1, "the same compile with nothing changed was not served "
+                                                   "from the cache: the check below would prove nothing")
         header.write_text("#define FAKEGLM_VERSION 2\n")        # the same size, a new time
         os.utime(header, ns=(time.time_ns() + 10**9, time.time_ns() + 10**9))
         status, text = iso.tool("compile", argv, work)
@@ -787,7 +833,7 @@ def stale_system_header() -> str:
         if saved is not None:
             os.environ["RAYKIT_NO_OBJCACHE"] = saved
         shutil.rmtree(work, ignore_errors=True)
-    return "a changed system header is compiled again"
+    return "an unchanged compile served from the cache, a changed system header compiled again"
 
 
 def selftests():
