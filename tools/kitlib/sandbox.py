@@ -819,7 +819,9 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
             raise OSError(f"{src.name} is larger than {limit // MiB} MiB")
         dst.parent.mkdir(parents=True, exist_ok=True)
         tmp = dst.with_name(f".{dst.name}.{os.getpid()}.tmp")
-        with open(tmp, "wb") as out:
+        tmp.unlink(missing_ok=True)         # a name left or planted there: never written through
+        with open(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600),
+                  "wb") as out:
             while True:
                 chunk = os.read(fd, 1 << 20)
                 if not chunk:
