@@ -603,20 +603,21 @@ def selftest_uid_claims(ctx) -> str:
 CLAIM_SLOTS = (40, 41)
 OLD_LOCKS = Path("/run/lock")       # where the claims were: world-writable (sticky)
 NEW_LOCKS = Path("/run/raykit")     # where they are: root's alone
-SQUATTER_UID = 64000 + 42           # a sandbox user id of a third slot: graded code of another grading
+SQUATTER_SLOT = 42                  # its first id: the squatter's, graded code of another grading
 
 
 def slot_uids(slot: int) -> list[int]:
-    from ..sandbox import FIRST_UID, UID_CLAIMS
-    return [FIRST_UID + slot % 64 + 64 * k for k in range(UID_CLAIMS)]
+    from ..sandbox import UID_CLAIMS, first_uid
+    return [first_uid() + slot % 64 + 64 * k for k in range(UID_CLAIMS)]
 
 
 def lock_names(slot: int) -> list[str]:
     return [f"raykit-sandbox-{u}.lock" for u in slot_uids(slot)]
 
 
-def as_sandbox_user(script: str, *args: str, uid: int = SQUATTER_UID) -> subprocess.Popen:
-    """`python3 -c SCRIPT ARGS` as the sandbox user id `uid`, no groups: what graded code is."""
+def as_sandbox_user(script: str, *args: str) -> subprocess.Popen:
+    """`python3 -c SCRIPT ARGS` as a sandbox user id, no groups: what graded code is."""
+    uid = slot_uids(SQUATTER_SLOT)[0]
     return subprocess.Popen(["python3", "-c", script, *args], user=uid, group=uid, extra_groups=[],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd="/")
 
@@ -665,7 +666,7 @@ def selftest_lock_links(ctx) -> str:
         planter = as_sandbox_user(PLANT, str(canary), str(OLD_LOCKS), *names)
         out, _ = planter.communicate(timeout=60)
         expect(f"planted {len(names)}" in out, f"graded code could not plant its links in {OLD_LOCKS}: {out[-300:]}")
-        parts.append(f"{len(names)} links in {OLD_LOCKS} by uid {SQUATTER_UID}")
+        parts.append(f"{len(names)} links in {OLD_LOCKS} by uid {slot_uids(SQUATTER_SLOT)[0]}")
         NEW_LOCKS.mkdir(mode=0o700, exist_ok=True)
         remove_entries(NEW_LOCKS, names)
         for name in names:                          # as root: the only one who can write there
