@@ -380,6 +380,7 @@ def claim_uid(slot: int) -> int:
     import fcntl
     first = first_uid()
     folder = _lock_folder()
+    unopened = 0
     try:
         for uid in range(first + slot % 64, first + COMPILE_UID_OFFSET, 64):
             if uid in _claimed:
@@ -388,6 +389,7 @@ def claim_uid(slot: int) -> int:
                 continue
             fd = _lock_file(folder, f"raykit-sandbox-{uid}.lock")
             if fd is None:
+                unopened += 1
                 continue
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -402,6 +404,9 @@ def claim_uid(slot: int) -> int:
             return uid
     finally:
         os.close(folder)
+    if unopened:
+        raise RuntimeError(f"no sandbox user id could be claimed: {unopened} of the lock files in "
+                           f"{os.environ.get('RAYKIT_LOCK_DIR') or 'the claims folder'} could not be opened")
     raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
 
 
@@ -477,7 +482,12 @@ def _lock_file(folder: int, name: str) -> int | None:
         try:
             fd = os.open(name, flags, 0o600, dir_fd=folder)
         except OSError:
-            fd = -1                     # a link (ELOOP), a folder (EISDIR), a socket (ENXIO)
+            fd = -1                     # a link (ELOOP), a folder (EISDIR), a socket (ENXIO), or no room
+            try:
+                if stat.S_ISREG(os.stat(name, dir_fd=folder, follow_symlinks=False).st_mode):
+                    return None         # another grading's lock file may be this one: never removed
+            except OSError:
+                return None
         if fd >= 0:
             st = os.fstat(fd)
             if stat.S_ISREG(st.st_mode) and st.st_uid == os.geteuid() and st.st_nlink == 1:
