@@ -1063,6 +1063,7 @@ class ObjectCache:
         self.work = str(work)
         self.text = ""
         self.dir: Path | None = None
+        self.stale = False          # an entry is there, made before a header it read changed
         if os.environ.get("RAYKIT_NO_OBJCACHE") == "1":
             return
         import hashlib
@@ -1154,7 +1155,8 @@ class ObjectCache:
         try:
             recorded = json.loads((self.dir / self.DEPS).read_text())
             if any(self._identity(path) != ident for path, ident in recorded):
-                return False            # a header it read has changed since (an upgrade)
+                self.stale = True       # a header it read has changed since (an upgrade)
+                return False
             for f in self.dir.iterdir():
                 if f.name in ("done", "text", self.DEPS):
                     continue
@@ -1172,7 +1174,16 @@ class ObjectCache:
         return True
 
     def store(self, out: Path, text: str) -> None:
-        if self.dir is None or self.dir.exists():
+        if self.dir is None:
+            return
+        if self.stale:              # replaced by this compile's, which read the headers as they are now
+            old = self.dir.with_name(f".{self.dir.name}.stale.{os.getpid()}")
+            try:
+                os.rename(self.dir, old)
+            except OSError:
+                pass
+            shutil.rmtree(old, ignore_errors=True)
+        if self.dir.exists():
             return
         tmp = self.dir.with_name(f".{self.dir.name}.{os.getpid()}")
         try:

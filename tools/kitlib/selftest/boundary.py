@@ -830,11 +830,21 @@ def stale_system_header() -> str:
         expect(status != 0 and "the header changed" in text,
                "a compile was served from the cache after a system header it read changed "
                f"(status {status})")
+        # Back to a header the file compiles with: compiled again, and that entry then serves.
+        header.write_text("#define FAKEGLM_VERSION 1\n")
+        os.utime(header, ns=(time.time_ns() + 2 * 10**9, time.time_ns() + 2 * 10**9))
+        before = runs.read_text().count("run")
+        for _ in range(2):
+            status, text = iso.tool("compile", argv, work)
+            expect(status == 0, f"the header's first version again did not compile: {text[-300:]}")
+        expect(runs.read_text().count("run") == before + 1,
+               "after a header changed, the entry made anew does not serve the next compile")
     finally:
         if saved is not None:
             os.environ["RAYKIT_NO_OBJCACHE"] = saved
         shutil.rmtree(work, ignore_errors=True)
-    return "an unchanged compile served from the cache, a changed system header compiled again"
+    return ("an unchanged compile served from the cache, a changed system header compiled again (and its "
+            "entry made anew)")
 
 
 def selftests():
