@@ -18,6 +18,7 @@ with RAYKIT_SELFTEST_FULL=1; CI runs the small forms.
 
 from __future__ import annotations
 
+import atexit
 import csv
 import json
 import os
@@ -417,19 +418,22 @@ def grade_class(subs: Path, extra: list[str] = (), limits: str = "") -> dict[str
     return {row["student"]: row for row in csv.DictReader(out.open())}
 
 
-AUTOGRADER = Path(tempfile.gettempdir()) / "raykit-selftest-autograder"
-_unpacked: list[bool] = []
+# The flow's /autograder stand-in: a folder of its own per self-test run (a fixed name in /tmp is
+# one graded code under the user isolation could make first), removed when the run ends.
+_unpacked: list[Path] = []
 
 
 def gradescope(upload: Path) -> dict:
     """The Gradescope flow as its documentation describes it: the zip of `./kit autograder`
     unpacked in source/ (once per self-test run; its build folder kept between uploads, as an
     image's is), the upload in submission/, run_autograder as root, results/results.json read."""
-    ag = AUTOGRADER
-    if not _unpacked or not (ag / "source" / "kit").is_file():     # made anew once per self-test run
-        _unpacked.append(True)
-        shutil.rmtree(ag, ignore_errors=True)
-        ag.mkdir(parents=True)
+    if not _unpacked or not (_unpacked[-1] / "source" / "kit").is_file():     # made anew once per self-test run
+        ag = Path(tempfile.mkdtemp(prefix="raykit-selftest-autograder-"))
+        os.chmod(ag, 0o755)
+        atexit.register(shutil.rmtree, ag, True)
+        _unpacked.append(ag)
+    ag = _unpacked[-1]
+    if not (ag / "source" / "kit").is_file():
         r = subprocess.run([str(ROOT / "kit"), "autograder", str(ag / "autograder.zip")], cwd=ROOT,
                            capture_output=True, text=True, timeout=600)
         expect(r.returncode == 0, f"./kit autograder failed: {r.stderr[-400:]}")
