@@ -9,6 +9,9 @@ reads, graded as an instructor grades them, with the harm checked, not argued.
 - run bombs: a background thread's memory, a fork bomb, a filled scratch folder, files left in the
   shared temporary folders; root's files and sockets; a child that lingers past its case;
 - output is data: escapes shown as text, CSV formulas neutralised; links and zip bombs refused;
+- the kit's own state: links planted where sandbox user ids are claimed are never followed, claims
+  graded code can reach do not stop two gradings, and an object compiled outside the sandbox (or
+  before a system header changed) is never reused inside it;
 - the Gradescope flow gives one submission one score, run after run, equal to ./kit grade's;
 - load never fails correct code: the reference graded cold beside two busy loops gets the maximum.
 
