@@ -47,10 +47,16 @@ from pathlib import Path
 from .common import BUILD, ROOT
 
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
-# sandboxed processes ever has them.
+# sandboxed processes ever has them (an id that has a name there is skipped).
 FIRST_UID = 64000
 UID_CLAIMS = 32                 # ids FIRST_UID + slot + 64 k, k < UID_CLAIMS, run the code
 COMPILE_UID_OFFSET = 64 * UID_CLAIMS    # and each one's compile runs as that id + this
+UID_RANGE = 2 * COMPILE_UID_OFFSET      # the ids of one root file system's gradings
+# Several root file systems on one kernel (tools/portability/run's chroots) each take their own
+# range: RAYKIT_FIRST_UID, FIRST_UID + k * UID_RANGE, set by whoever made the root.
+FIRST_UID_ENV = "RAYKIT_FIRST_UID"
+# Where the claims on those ids are kept: a folder only root can write (see claim_uid).
+LOCK_DIRS = ["/run/raykit", "/var/lib/raykit/locks"]
 
 # What the user isolation must not read in the kit (made unreadable to "others" while grading).
 SECRET_PARTS = ["solutions", "tests", "build", "bench", ".git"]
@@ -279,7 +285,7 @@ def bwrap_works(uid: int | None = None) -> bool:
     """Whether bubblewrap starts here as the sandbox will start it: as `uid` when the kit is root
     (the first sandbox id by default), else as the kit's own user."""
     if uid is None and os.geteuid() == 0:
-        uid = FIRST_UID
+        uid = first_uid()
     key = f"bwrap{uid}"
     if key not in _probe:
         ok = False
@@ -342,66 +348,204 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     return iso
 
 
-_claimed: dict[int, object] = {}
+_claimed: dict[int, int] = {}      # id -> the open lock file that claims it, held until this process ends
+
+
+def first_uid() -> int:
+    """The first sandbox user id of this root file system: FIRST_UID, or RAYKIT_FIRST_UID where
+    several roots share one kernel. Checked: a whole range of its own above FIRST_UID, so two
+    roots' ranges are equal or apart, never overlapping; anything else stops the grading (a range
+    silently shared is the fault the variable exists to prevent)."""
+    text = os.environ.get(FIRST_UID_ENV, "").strip()
+    if not text:
+        return FIRST_UID
+    value = int(text) if text.isdigit() else -1
+    if value < FIRST_UID or (value - FIRST_UID) % UID_RANGE or value + UID_RANGE > 2 ** 31:
+        raise RuntimeError(f"{FIRST_UID_ENV}={text!r}: not a range of sandbox user ids (it must be "
+                           f"{FIRST_UID} + k * {UID_RANGE}, below 2^31)")
+    return value
 
 
 def claim_uid(slot: int) -> int:
     """A sandbox user id no other grading on this machine is using.
 
     After each case every process of the id is killed, so two gradings must never share one
-    (two instructors' runs, a batch beside a check). Each id is claimed with an exclusive lock
-    on a file, held until this process ends.
+    (two instructors' runs, a batch beside a check). Each id is claimed with an exclusive lock on a
+    file in a folder only root can write (_lock_folder), held until this process ends; graded code
+    can neither open those files nor put anything in their place. An id with a live process is
+    passed over (_in_use: a grading in another root file system on this kernel that was given the
+    same range, or what is left of an earlier one). Gradings in different root file systems are
+    kept apart by their ranges (first_uid), which the graded code cannot change either.
     """
     import fcntl
-    lock_dir = Path(os.environ.get("RAYKIT_LOCK_DIR") or
-                    ("/run/lock" if Path("/run/lock").is_dir() else tempfile.gettempdir()))
-    for uid in range(FIRST_UID + slot % 64, FIRST_UID + COMPILE_UID_OFFSET, 64):
-        if uid in _claimed:
-            return uid
-        f = open(lock_dir / f"raykit-sandbox-{uid}.lock", "w")
-        try:
-            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            f.close()
-            continue
-        name = _abstract_claim(uid)
-        if name is None or _in_use(uid):    # a grading in another root file system on this kernel
-            fcntl.flock(f, fcntl.LOCK_UN)
-            f.close()
-            if name:
-                name.close()
-            continue
-        _claimed[uid] = (f, name)
-        if os.environ.get("RAYKIT_UID_FILE"):      # ./kit grade ends this id's processes on a timeout
+    first = first_uid()
+    folder = _lock_folder()
+    unopened = 0
+    try:
+        for uid in range(first + slot % 64, first + COMPILE_UID_OFFSET, 64):
+            if uid in _claimed:
+                return uid
+            if _has_name(uid) or _has_name(uid + COMPILE_UID_OFFSET):
+                continue
+            fd = _lock_file(folder, f"raykit-sandbox-{uid}.lock")
+            if fd is None:
+                unopened += 1
+                continue
             try:
-                Path(os.environ["RAYKIT_UID_FILE"]).write_text(str(uid))
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:
-                pass
-        return uid
+                os.close(fd)
+                continue
+            if _in_use(uid):
+                os.close(fd)            # closing the only descriptor lets go of the lock
+                continue
+            _claimed[uid] = fd
+            _note_claim(uid)
+            return uid
+    finally:
+        os.close(folder)
+    if unopened:
+        raise RuntimeError(f"no sandbox user id could be claimed: {unopened} of the lock files in "
+                           f"{os.environ.get('RAYKIT_LOCK_DIR') or 'the claims folder'} could not be opened")
     raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
 
 
-def _abstract_claim(uid: int):
-    """A claim on `uid` that a grading in another root file system on this kernel sees too (a
-    chroot has /run/lock of its own, not the network namespace): a Unix socket bound to an abstract
-    name, held until this process ends (never inherited by its children). None when another
-    process holds it; a placeholder that holds nothing where abstract names do not exist."""
-    import socket
-    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+def claim_range(limit: int = 15) -> tuple[int, int]:
+    """For a tool that makes another root file system on this kernel (tools/portability/run): a
+    range of sandbox user ids of its own, the first one for RAYKIT_FIRST_UID (range 0 is this
+    root's, FIRST_UID). Claimed like an id, until this process ends. Returns (first id, lock fd)."""
+    import fcntl
+    folder = _lock_folder()
     try:
-        s.bind(f"\0raykit-sandbox-{uid}")
-        return s
+        for k in range(1, limit + 1):
+            fd = _lock_file(folder, f"raykit-range-{k}.lock")
+            if fd is None:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                continue
+            return FIRST_UID + k * UID_RANGE, fd
+    finally:
+        os.close(folder)
+    raise RuntimeError(f"every one of {limit} ranges of sandbox user ids is in use")
+
+
+_DIR_FLAGS = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC
+
+
+def _lock_folder() -> int:
+    """The folder of the claims, open: reached from / one name at a time without following a link,
+    made mode 0700 where it is missing, and checked once open to be a folder of root's that no one
+    else may write or read (fixed to 0700 when root's own with looser rights). RAYKIT_LOCK_DIR names
+    another one (the self-test's second root file system), checked the same way."""
+    named = os.environ.get("RAYKIT_LOCK_DIR")
+    errors = []
+    for path in [named] if named else LOCK_DIRS:
+        parts = [p for p in path.split("/") if p]
+        if not path.startswith("/") or not parts or any(p in (".", "..") for p in parts):
+            raise RuntimeError(f"RAYKIT_LOCK_DIR={path!r}: not an absolute path")
+        fd = os.open("/", _DIR_FLAGS)
+        try:
+            for i, part in enumerate(parts):
+                if i == len(parts) - 1 or (named is None and i > 0):
+                    try:
+                        os.mkdir(part, 0o700, dir_fd=fd)
+                    except FileExistsError:
+                        pass
+                inner = os.open(part, _DIR_FLAGS, dir_fd=fd)
+                os.close(fd)
+                fd = inner
+            st = os.fstat(fd)
+            if st.st_uid != os.geteuid():
+                raise RuntimeError(f"{path} is not root's (owner {st.st_uid}): sandbox user ids cannot be claimed "
+                                   "safely; remove it")
+            if stat.S_IMODE(st.st_mode) != 0o700:
+                os.fchmod(fd, 0o700)
+            return fd
+        except OSError as e:
+            os.close(fd)
+            errors.append(f"{path}: {e.strerror or e}")
+        except BaseException:
+            os.close(fd)
+            raise
+    raise RuntimeError("no folder for the claims on sandbox user ids (" + "; ".join(errors) + ")")
+
+
+def _lock_file(folder: int, name: str) -> int | None:
+    """The lock file `name` in the claims' folder, open for reading and writing (never truncated,
+    never through a link): a regular file of root's, mode 0600, with no other name. Anything else
+    found there (only root can have put it) is removed and the file made anew. None when that fails."""
+    flags = os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK
+    for _ in range(3):
+        try:
+            fd = os.open(name, flags, 0o600, dir_fd=folder)
+        except OSError:
+            fd = -1                     # a link (ELOOP), a folder (EISDIR), a socket (ENXIO), or no room
+            try:
+                if stat.S_ISREG(os.stat(name, dir_fd=folder, follow_symlinks=False).st_mode):
+                    return None         # another grading's lock file may be this one: never removed
+            except OSError:
+                return None
+        if fd >= 0:
+            st = os.fstat(fd)
+            if stat.S_ISREG(st.st_mode) and st.st_uid == os.geteuid() and st.st_nlink == 1:
+                if stat.S_IMODE(st.st_mode) != 0o600:
+                    os.fchmod(fd, 0o600)
+                return fd
+            os.close(fd)
+        try:
+            os.unlink(name, dir_fd=folder)      # the entry itself, never what a link names
+        except IsADirectoryError:
+            try:
+                os.rmdir(name, dir_fd=folder)
+            except OSError:
+                return None
+        except FileNotFoundError:
+            pass
+        except OSError:
+            return None
+    return None
+
+
+def _has_name(uid: int) -> bool:
+    """Whether `uid` is a known user's (nobody is 65534, inside the ids of slot 62)."""
+    import pwd
+    try:
+        pwd.getpwuid(uid)
+        return True
+    except KeyError:
+        return False
+
+
+def _note_claim(uid: int) -> None:
+    """Writes the id to RAYKIT_UID_FILE (./kit grade ends its processes on a timeout): the file's
+    own name never followed as a link, only into a folder no one else may write, and only over a
+    regular file of root's with no other name."""
+    target = os.environ.get("RAYKIT_UID_FILE")
+    if not target:
+        return
+    try:
+        parent = os.open(os.path.dirname(os.path.abspath(target)), os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+        try:
+            st = os.fstat(parent)
+            if st.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+                raise OSError(f"its folder may be written by others (mode {oct(stat.S_IMODE(st.st_mode))})")
+            fd = os.open(os.path.basename(target), os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC |
+                         os.O_NONBLOCK, 0o644, dir_fd=parent)
+            try:
+                st = os.fstat(fd)
+                if not stat.S_ISREG(st.st_mode) or st.st_uid != os.geteuid() or st.st_nlink != 1:
+                    raise OSError("it is not a regular file of the kit's own")
+                os.ftruncate(fd, 0)
+                os.write(fd, str(uid).encode())
+            finally:
+                os.close(fd)
+        finally:
+            os.close(parent)
     except OSError as e:
-        s.close()
-        import errno
-        return None if e.errno == errno.EADDRINUSE else _NoName()
-
-
-class _NoName:
-    """Where no abstract socket can be made: the lock file and _in_use are the claim."""
-
-    def close(self) -> None:
-        pass
+        sys.stderr.write(f"raykit: RAYKIT_UID_FILE {target} not written: {e}\n")
 
 
 def _in_use(uid: int) -> bool:
@@ -685,7 +829,9 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
             raise OSError(f"{src.name} is larger than {limit // MiB} MiB")
         dst.parent.mkdir(parents=True, exist_ok=True)
         tmp = dst.with_name(f".{dst.name}.{os.getpid()}.tmp")
-        with open(tmp, "wb") as out:
+        tmp.unlink(missing_ok=True)         # a name left or planted there: never written through
+        with open(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600),
+                  "wb") as out:
             while True:
                 chunk = os.read(fd, 1 << 20)
                 if not chunk:
@@ -772,7 +918,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "LANG": "C.UTF-8", "HOME": str(out), "TMPDIR": str(out)}
     prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out), use=kind)
     memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
-    cached = ObjectCache(new, work, local_dir) if kind == "compile" else None
+    cached = ObjectCache(new, work, local_dir, iso, prefix) if kind == "compile" else None
     if cached is not None and cached.fetch(out):
         return _finish(kind, iso, cached.text, 0, False, 0, mapping, copies, memory)
     if kind == "compile":       # the step header precompiled, beside it (studentpch.py; after the key)
@@ -893,23 +1039,45 @@ def _starts(prefix: list[str], iso: Isolation, cwd: Path, env: dict[str, str], u
 
 class ObjectCache:
     """Compiled objects by content: the same files compiled the same way (copies of the stubs or of
-    a solution across a class) are compiled once per build/ folder. The key holds the command (the
-    private folder's name aside), every file of the step's folder, the kit's headers and the
-    compiler's identity; an entry is written by the grader from a compile that succeeded inside the
-    boundary, and read only by the grader. RAYKIT_NO_OBJCACHE=1 turns it off."""
+    a solution across a class) are compiled once per build/ folder. An entry is reused only where
+    the compile would give the same result, so its key holds everything that decides it:
+
+    - the command (the private folder's name aside), every file of the step's folder, the kit's
+      headers and the compiler's identity;
+    - the boundary, which decides what the compile could read: its kind (bwrap, user, none), the
+      bubblewrap command (what is hidden and bound), under the user isolation the rights "others"
+      have on the kit's secret parts, and the compile's limits. An object compiled with
+      --isolation none, which may have read the answers, is never given to a sandboxed compile;
+    - apart from the key, the headers the compile read outside its private folder (the system's:
+      the C++ library, GLM), as its dependency file lists them, with their size, time, inode and
+      rights: checked when the entry is fetched, so an upgraded header is compiled anew.
+
+    Written by the grader from a compile that succeeded, read only by the grader (build/ is out of
+    the sandbox's reach); files are read and written without following links. RAYKIT_NO_OBJCACHE=1
+    turns it off."""
 
     ROOT_DIR = BUILD / "objcache"
+    DEPS = "deps.json"
 
-    def __init__(self, argv: list[str], work: Path, src: Path):
+    def __init__(self, argv: list[str], work: Path, src: Path, iso: Isolation, prefix: list[str]):
         self.work = str(work)
         self.text = ""
         self.dir: Path | None = None
+        self.stale = False          # an entry is there, made before a header it read changed
         if os.environ.get("RAYKIT_NO_OBJCACHE") == "1":
             return
         import hashlib
-        h = hashlib.sha256(b"raykit-objcache-1\0")
+        h = hashlib.sha256(b"raykit-objcache-2\0")
         h.update(json.dumps([a.replace(self.work, "@W@") for a in argv]).encode())
+        kind = iso.mode.split(":")[0]
+        boundary = {"kind": kind, "wrapper": [a.replace(self.work, "@W@") for a in prefix],
+                    "limits": [iso.limits.compile_seconds, iso.limits.compile_memory_mb, iso.limits.cpu_seconds,
+                               iso.limits.file_mb]}
         try:
+            if kind == "user":
+                boundary["others"] = {part: stat.S_IMODE(os.lstat(ROOT / part).st_mode) & 0o7
+                                      for part in SECRET_PARTS if os.path.lexists(ROOT / part)}
+            h.update(json.dumps(boundary, sort_keys=True).encode())
             st = os.stat(shutil.which(argv[0]) or argv[0])
             h.update(f"{argv[0]} {st.st_size} {st.st_mtime_ns}".encode())
             for folder in (src, work / "include"):
@@ -921,37 +1089,131 @@ class ObjectCache:
         key = h.hexdigest()
         self.dir = self.ROOT_DIR / key[:2] / key
 
+    # --- the headers read from outside the private folder ---------------------------------
+    @staticmethod
+    def _depfile_paths(text: str) -> list[str]:
+        """The prerequisites of a Make-style dependency file (-MD): after each rule's colon, the
+        names, with "\\ " an escaped space and a backslash at a line's end a continuation."""
+        text = text.replace("\\\n", " ").replace("\\\r\n", " ")
+        found: list[str] = []
+        for line in text.splitlines():
+            head, sep, rest = line.partition(": ")
+            if not sep:
+                if line.rstrip().endswith(":"):
+                    continue
+                rest = line
+            name = ""
+            i = 0
+            while i < len(rest):
+                c = rest[i]
+                if c == "\\" and i + 1 < len(rest) and rest[i + 1] in " #\\":
+                    name += rest[i + 1]
+                    i += 2
+                    continue
+                if c == "$" and rest[i + 1:i + 2] == "$":
+                    name += "$"
+                    i += 2
+                    continue
+                if c.isspace():
+                    if name:
+                        found.append(name)
+                    name = ""
+                else:
+                    name += c
+                i += 1
+            if name:
+                found.append(name)
+        return found
+
+    @staticmethod
+    def _identity(path: str) -> list | None:
+        try:
+            st = os.stat(path)
+        except OSError:
+            return None
+        return [st.st_size, st.st_mtime_ns, st.st_ino, stat.S_IMODE(st.st_mode)]
+
+    def _outside(self, out: Path, depfiles: list[bytes]) -> list | None:
+        """[path, identity] of every file the compile read outside its private folder, or None when
+        one cannot be told (then the entry is not kept)."""
+        seen: dict[str, list] = {}
+        for body in depfiles:
+            for name in self._depfile_paths(body.decode("utf-8", "replace")):
+                path = os.path.normpath(name if os.path.isabs(name) else os.path.join(str(out), name))
+                if path == self.work or path.startswith(self.work + "/") or path in seen:
+                    continue
+                ident = self._identity(path)
+                if ident is None:
+                    return None
+                seen[path] = ident
+        return [[p, i] for p, i in sorted(seen.items())]
+
+    # --- the entries ----------------------------------------------------------------------
     def fetch(self, out: Path) -> bool:
         if self.dir is None or not (self.dir / "done").is_file():
             return False
         try:
+            recorded = json.loads((self.dir / self.DEPS).read_text())
+            if any(self._identity(path) != ident for path, ident in recorded):
+                self.stale = True       # a header it read has changed since (an upgrade)
+                return False
             for f in self.dir.iterdir():
-                if f.name in ("done", "text"):
+                if f.name in ("done", "text", self.DEPS):
                     continue
                 data = f.read_bytes()
                 if f.name.endswith(".d"):
                     data = data.replace(b"@W@", self.work.encode())
-                (out / f.name).write_bytes(data)
+                fd = os.open(out / f.name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+                try:
+                    os.write(fd, data)
+                finally:
+                    os.close(fd)
             self.text = (self.dir / "text").read_text().replace("@W@", self.work)
-        except OSError:
+        except (OSError, ValueError, TypeError):
             return False
         return True
 
     def store(self, out: Path, text: str) -> None:
-        if self.dir is None or self.dir.exists():
+        if self.dir is None:
+            return
+        if self.stale:              # replaced by this compile's, which read the headers as they are now
+            old = self.dir.with_name(f".{self.dir.name}.stale.{os.getpid()}")
+            try:
+                os.rename(self.dir, old)
+            except OSError:
+                pass
+            shutil.rmtree(old, ignore_errors=True)
+        if self.dir.exists():
             return
         tmp = self.dir.with_name(f".{self.dir.name}.{os.getpid()}")
         try:
-            tmp.mkdir(parents=True)
+            kept: dict[str, bytes] = {}
             for f in out.iterdir():
-                st = f.lstat()
-                if not stat.S_ISREG(st.st_mode) or st.st_size > 64 * MiB:
+                if f.suffix not in (".o", ".d"):
                     continue
-                if f.suffix in (".o", ".d"):
-                    data = f.read_bytes()
-                    if f.suffix == ".d":
-                        data = data.replace(self.work.encode(), b"@W@")
-                    (tmp / f.name).write_bytes(data)
+                fd = os.open(f, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK)
+                try:
+                    st = os.fstat(fd)
+                    if not stat.S_ISREG(st.st_mode) or st.st_size > 64 * MiB:
+                        continue
+                    data = b""
+                    while len(data) <= 64 * MiB:
+                        chunk = os.read(fd, 1 << 20)
+                        if not chunk:
+                            break
+                        data += chunk
+                finally:
+                    os.close(fd)
+                kept[f.name] = data
+            outside = self._outside(out, [d for n, d in kept.items() if n.endswith(".d")])
+            if outside is None or not any(n.endswith(".d") for n in kept):
+                return                  # what it read cannot be told: not kept
+            tmp.mkdir(parents=True)
+            for name, data in kept.items():
+                if name.endswith(".d"):
+                    data = data.replace(self.work.encode(), b"@W@")
+                (tmp / name).write_bytes(data)
+            (tmp / self.DEPS).write_text(json.dumps(outside))
             (tmp / "text").write_text(text.replace(self.work, "@W@"))
             (tmp / "done").write_text("")
             os.rename(tmp, self.dir)

@@ -9,6 +9,9 @@ reads, graded as an instructor grades them, with the harm checked, not argued.
 - run bombs: a background thread's memory, a fork bomb, a filled scratch folder, files left in the
   shared temporary folders; root's files and sockets; a child that lingers past its case;
 - output is data: escapes shown as text, CSV formulas neutralised; links and zip bombs refused;
+- the kit's own state: links planted where sandbox user ids are claimed are never followed, claims
+  graded code can reach do not stop two gradings, and an object compiled outside the sandbox (or
+  before a system header changed) is never reused inside it;
 - the Gradescope flow gives one submission one score, run after run, equal to ./kit grade's;
 - load never fails correct code: the reference graded cold beside two busy loops gets the maximum.
 
@@ -18,6 +21,7 @@ with RAYKIT_SELFTEST_FULL=1; CI runs the small forms.
 
 from __future__ import annotations
 
+import atexit
 import csv
 import json
 import os
@@ -422,8 +426,9 @@ def grade_class(subs: Path, extra: list[str] = (), limits: str = "") -> dict[str
     return {row["student"]: row for row in csv.DictReader(out.open())}
 
 
-AUTOGRADER = Path(tempfile.gettempdir()) / "raykit-selftest-autograder"
-_unpacked: list[bool] = []
+# The flow's /autograder stand-in: a folder of its own per self-test run (a fixed name in /tmp is
+# one graded code under the user isolation could make first), removed when the run ends.
+_unpacked: list[Path] = []
 
 
 def gradescope(upload: Path, metadata: dict | None = None, isolation: str = "") -> dict:
@@ -431,11 +436,13 @@ def gradescope(upload: Path, metadata: dict | None = None, isolation: str = "") 
     unpacked in source/ (once per self-test run; its build folder kept between uploads, as an
     image's is), the upload in submission/, `metadata` as submission_metadata.json (root's, mode
     0644, as Gradescope leaves it), run_autograder as root, results/results.json read."""
-    ag = AUTOGRADER
-    if not _unpacked or not (ag / "source" / "kit").is_file():     # made anew once per self-test run
-        _unpacked.append(True)
-        shutil.rmtree(ag, ignore_errors=True)
-        ag.mkdir(parents=True)
+    if not _unpacked or not (_unpacked[-1] / "source" / "kit").is_file():     # made anew once per self-test run
+        ag = Path(tempfile.mkdtemp(prefix="raykit-selftest-autograder-"))
+        os.chmod(ag, 0o755)
+        atexit.register(shutil.rmtree, ag, True)
+        _unpacked.append(ag)
+    ag = _unpacked[-1]
+    if not (ag / "source" / "kit").is_file():
         r = subprocess.run([str(ROOT / "kit"), "autograder", str(ag / "autograder.zip")], cwd=ROOT,
                            capture_output=True, text=True, timeout=600)
         expect(r.returncode == 0, f"./kit autograder failed: {r.stderr[-400:]}")
@@ -547,7 +554,7 @@ def gradescope_two_submissions(upload: Path, base: dict, mode: str) -> str:
     expect(first["score"] == records[9001]["score"] and second["score"] == records[9002]["score"],
            f"{mode}: scores {first['score']}, {second['score']} on Gradescope; re-graded here with the same ids "
            f"{records[9001]['score']}, {records[9002]['score']}")
-    meta = stat.S_IMODE(os.stat(AUTOGRADER / "submission_metadata.json").st_mode)
+    meta = stat.S_IMODE(os.stat(_unpacked[-1] / "submission_metadata.json").st_mode)
     expect(meta == 0o644, f"{mode}: submission_metadata.json left with mode {meta:o}, not put back to 644")
     return (f"{len(inputs[9001])} + {len(inputs[9002])} failed hidden draws in 2 submissions, none in either "
             f"results.json, metadata and secret unread, scores {first['score']} and {second['score']} as re-graded")
@@ -608,43 +615,336 @@ def selftest_load(ctx) -> str:
 
 CLAIM = """import os, sys, time
 from kitlib import sandbox
-print(sandbox.claim_uid(0), flush=True)
+try:
+    print(sandbox.claim_uid(int(sys.argv[2])), flush=True)
+except RuntimeError as e:
+    print("refused:", e, flush=True)
+    sys.exit(0)
 time.sleep(float(sys.argv[1]))
 """
 
 
 def selftest_uid_claims(ctx) -> str:
-    """Two gradings on one kernel whose lock folders differ (two root file systems: a chroot has
-    /run/lock of its own) claim different sandbox user ids, even while neither runs any process of
-    its id: after each case one ends every process of its id, which must never be the other's."""
+    """Two gradings on one kernel in two root file systems (a chroot has /run of its own, so two
+    lock folders): given a range each, as tools/portability/run gives its chroots, they claim
+    different sandbox user ids even while neither runs any process of its id (after each case
+    one ends every process of its id, which must never be the other's); without ranges, an id that
+    has a live process is passed over. A RAYKIT_FIRST_UID that is not a range is refused."""
     if os.geteuid() != 0:
         raise Skipped("sandbox user ids are claimed only when grading as root")
+    from ..sandbox import FIRST_UID_ENV, UID_RANGE, claim_range
     env = dict(os.environ, PYTHONPATH=str(ROOT / "tools"))
+    env.pop(FIRST_UID_ENV, None)
+    slot = str(CLAIM_SLOTS[0])
     folders = [Path(tempfile.mkdtemp(prefix="raykit-locks-")) for _ in range(2)]
+
+    def claim(folder: Path, seconds: str = "0", **extra: str) -> subprocess.Popen:
+        return subprocess.Popen(["python3", "-c", CLAIM, seconds, slot], stdout=subprocess.PIPE, text=True,
+                                env=dict(env, RAYKIT_LOCK_DIR=str(folder), **extra))
+
     try:
-        first = subprocess.Popen(["python3", "-c", CLAIM, "5"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[0])),
-                                 stdout=subprocess.PIPE, text=True)
+        first, held = claim_range()         # what tools/portability/run holds for one chroot
         try:
-            a = int(first.stdout.readline())
-            second = subprocess.run(["python3", "-c", CLAIM, "0"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[1])),
-                                    capture_output=True, text=True, timeout=60)
-            b = int(second.stdout.strip() or -1)
+            a_proc = claim(folders[0], "5", **{FIRST_UID_ENV: str(first)})
+            try:
+                a = int(a_proc.stdout.readline())
+                b_proc = claim(folders[1])
+                b = int(b_proc.communicate(timeout=60)[0].strip() or -1)
+            finally:
+                a_proc.kill()
+                a_proc.wait()
         finally:
-            first.kill()
-            first.wait()
-        expect(a != b and b > 0, f"two gradings with their own lock folders both claimed user id {a}")
-        again = subprocess.run(["python3", "-c", CLAIM, "0"], env=dict(env, RAYKIT_LOCK_DIR=str(folders[1])),
-                               capture_output=True, text=True, timeout=60)
-        expect(int(again.stdout.strip() or -1) <= a, "an id was still claimed after its grading ended")
+            os.close(held)
+        expect(a >= first and 0 < b < first and a != b,
+               f"two roots given their own ranges claimed {a} (range from {first}) and {b}")
+        ranged = (a, b)
+        # No ranges: the first root's grading runs a case as its id, the second passes it over.
+        a_proc = claim(folders[0], "5")
+        runner = None
+        try:
+            a = int(a_proc.stdout.readline())
+            runner = subprocess.Popen(["sleep", "30"], user=a, group=a, extra_groups=[])
+            b = int(claim(folders[1]).communicate(timeout=60)[0].strip() or -1)
+        finally:
+            if runner is not None:
+                runner.kill()
+                runner.wait()
+            a_proc.kill()
+            a_proc.wait()
+        expect(a != b and b > 0, f"a second root claimed {b}, whose processes the first root's grading runs")
+        again = int(claim(folders[0]).communicate(timeout=60)[0].strip() or -1)
+        expect(again == a, f"id {a} not free again once its grading ended (got {again})")
+        refused = []
+        for bad in ("64001", "abc", "0", str(first + UID_RANGE // 2)):
+            said = claim(folders[0], **{FIRST_UID_ENV: bad}).communicate(timeout=60)[0]
+            expect(said.startswith("refused:"), f"{FIRST_UID_ENV}={bad} was taken: claimed {said.strip()}")
+            refused.append(bad)
     finally:
         for f in folders:
             shutil.rmtree(f, ignore_errors=True)
-    return f"another root file system's grading claimed {a}, this one {b}; {a} free again once the first ended"
+    return (f"with ranges: {ranged[0]} and {ranged[1]}; without: {a} (a live process) passed over for {b}; "
+            f"{FIRST_UID_ENV} {', '.join(refused)} refused")
+
+
+# --- the claims on sandbox user ids, and the compiled objects kept ----------------------------
+# Graded code under the user isolation runs as a sandbox user id in the machine's own /run/lock,
+# /tmp and network namespace: whatever the kit's claims are made of must be out of its reach. The
+# traps are laid only for the ids of slots no other self-test or ./kit grade uses, so a grading of
+# another checkout on this machine never meets them.
+
+CLAIM_SLOTS = (40, 41)
+OLD_LOCKS = Path("/run/lock")       # where the claims were: world-writable (sticky)
+NEW_LOCKS = Path("/run/raykit")     # where they are: root's alone
+SQUATTER_SLOT = 42                  # its first id: the squatter's, graded code of another grading
+
+
+def slot_uids(slot: int) -> list[int]:
+    from ..sandbox import UID_CLAIMS, first_uid
+    return [first_uid() + slot % 64 + 64 * k for k in range(UID_CLAIMS)]
+
+
+def lock_names(slot: int) -> list[str]:
+    return [f"raykit-sandbox-{u}.lock" for u in slot_uids(slot)]
+
+
+def as_sandbox_user(script: str, *args: str) -> subprocess.Popen:
+    """`python3 -c SCRIPT ARGS` as a sandbox user id, no groups: what graded code is."""
+    uid = slot_uids(SQUATTER_SLOT)[0]
+    return subprocess.Popen(["python3", "-c", script, *args], user=uid, group=uid, extra_groups=[],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd="/")
+
+
+PLANT = """import os, sys
+canary, folder = sys.argv[1], sys.argv[2]
+made = 0
+for name in sys.argv[3:]:
+    try:
+        os.symlink(canary, os.path.join(folder, name))
+        made += 1
+    except OSError as e:
+        print("plant:", name, e)
+print("planted", made, flush=True)
+"""
+
+
+def remove_entries(folder: Path, names: list[str]) -> None:
+    for name in names:
+        try:
+            os.unlink(folder / name)        # a link itself, never what it names
+        except FileNotFoundError:
+            pass
+        except OSError:
+            pass
+
+
+def selftest_lock_links(ctx) -> str:
+    """Links planted where the kit claims its sandbox user ids, to a file of root's (course.json
+    stands for it): graded code makes them in /run/lock as a sandbox user id; in the kit's own folder
+    only root could. A grading that claims those ids leaves the file as it was, and grades."""
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox user ids are claimed only when grading as root")
+    modes, _ = isolations()
+    slot = CLAIM_SLOTS[0]
+    names = lock_names(slot)
+    WORK.mkdir(parents=True, exist_ok=True)
+    canary = WORK / "canary-course.json"
+    body = b'{"title": "a canary in place of course.json: a grading must never write here"}\n'
+    canary.write_bytes(body)
+    os.chmod(canary, 0o644)
+    parts = []
+    try:
+        remove_entries(OLD_LOCKS, names)            # this self-test's own, from an earlier run
+        planter = as_sandbox_user(PLANT, str(canary), str(OLD_LOCKS), *names)
+        out, _ = planter.communicate(timeout=60)
+        expect(f"planted {len(names)}" in out, f"graded code could not plant its links in {OLD_LOCKS}: {out[-300:]}")
+        parts.append(f"{len(names)} links in {OLD_LOCKS} by uid {slot_uids(SQUATTER_SLOT)[0]}")
+        NEW_LOCKS.mkdir(mode=0o700, exist_ok=True)
+        remove_entries(NEW_LOCKS, names)
+        for name in names:                          # as root: the only one who can write there
+            os.symlink(canary, NEW_LOCKS / name)
+        parts.append(f"{len(names)} in {NEW_LOCKS} by root")
+        rc, got, shown, took = check(HOSTILE / "always_miss", ["01"], modes[0] if modes else "user", slot=slot)
+        after = canary.read_bytes() if canary.is_file() and not canary.is_symlink() else b"(gone)"
+        expect(after == body, f"a grading followed a planted link and wrote the canary: {after[:80]!r}")
+        [step] = got["extra_data"]["steps"]
+        expect(step["state"] not in ("broken", NO_COMPILE) and rc == 1,
+               f"the grading beside the links: {step['state']}, exit {rc}: {step['detail'][-200:]!r}")
+        claimed_here = [u for u in slot_uids(slot) if u in claimed]
+        expect(claimed_here, f"the grading did not claim an id of slot {slot} (claimed: {sorted(claimed)})")
+        kept = NEW_LOCKS / f"raykit-sandbox-{claimed_here[0]}.lock"
+        st = os.lstat(kept)
+        expect(stat_regular_root(st),
+               f"{kept}: not a regular file of root's, mode 0600: {oct(st.st_mode)} uid {st.st_uid}")
+        return (f"{', '.join(parts)}: the canary unchanged, step 01 graded ({got['score']} points, "
+                f"id {claimed_here[0]}, {took:.0f} s)")
+    finally:
+        remove_entries(OLD_LOCKS, names)
+        remove_entries(NEW_LOCKS, [n for n in names if (NEW_LOCKS / n).is_symlink()])
+
+
+def stat_regular_root(st: os.stat_result) -> bool:
+    import stat as st_
+    return st_.S_ISREG(st.st_mode) and st.st_uid == 0 and st_.S_IMODE(st.st_mode) == 0o600
+
+
+SQUAT = """import fcntl, os, socket, sys, time
+held, names, locks, denied = [], 0, 0, 0
+for uid in sys.argv[1:]:
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        s.bind("\\0raykit-sandbox-" + uid)
+        held.append(s)
+        names += 1
+    except OSError:
+        s.close()
+    for folder in ("/run/lock", "/run/raykit"):
+        try:
+            fd = os.open(os.path.join(folder, "raykit-sandbox-%s.lock" % uid), os.O_RDONLY | os.O_CREAT, 0o644)
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            held.append(fd)
+            locks += 1
+        except OSError:
+            denied += 1
+print("squatter: %d names, %d locks held, %d denied" % (names, locks, denied), flush=True)
+time.sleep(600)
+"""
+
+
+def selftest_claim_squatters(ctx) -> str:
+    """Graded code under the user isolation shares the machine's network namespace and /run/lock:
+    a process of a sandbox user id takes every claim it can reach, on every id two other gradings
+    would claim (what a submission's code can do while the next one is graded in ./kit grade -j 2).
+    Both gradings still claim an id each, and grade."""
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox user ids are claimed only when grading as root")
+    modes, _ = isolations()
+    mode = modes[0] if modes else "user"
+    uids = [str(u) for slot in CLAIM_SLOTS for u in slot_uids(slot)]
+    names = [n for slot in CLAIM_SLOTS for n in lock_names(slot)]
+    remove_entries(OLD_LOCKS, names)
+    squatter = as_sandbox_user(SQUAT, *uids)
+    try:
+        said = squatter.stdout.readline().strip()
+        expect(said.startswith("squatter:"), f"the squatter did not start: {said!r}")
+        procs = []
+        for slot in CLAIM_SLOTS:
+            target = WORK / f"squatted-{slot}.json"
+            target.unlink(missing_ok=True)
+            uid_file = WORK / f"squatted-uid-{slot}"
+            uid_file.unlink(missing_ok=True)
+            procs.append((slot, target, uid_file, subprocess.Popen(
+                [str(ROOT / "kit"), "check", "1", "--steps", str(HOSTILE / "always_miss"), "--json", str(target),
+                 "--isolation", mode, "--slot", str(slot), "--quiet"], cwd=ROOT, stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT, text=True, errors="replace",
+                env=dict(os.environ, RAYKIT_UID_FILE=str(uid_file)))))
+        got, ids = {}, {}
+        for slot, target, uid_file, proc in procs:
+            out, _ = proc.communicate(timeout=1800)
+            note_uid(uid_file)
+            expect("every sandbox user id is in use" not in out and target.is_file(),
+                   f"slot {slot} beside the squatter: exit {proc.returncode}, no results: {out[-400:]}")
+            [step] = json.loads(target.read_text())["extra_data"]["steps"]
+            expect(step["state"] not in ("broken", NO_COMPILE),
+                   f"slot {slot}: {step['state']} {step['detail'][-200:]!r}")
+            got[slot] = step["earned"]
+            ids[slot] = int(uid_file.read_text())
+        expect(len(set(ids.values())) == 2, f"two gradings in parallel claimed the same id: {ids}")
+        expect(len(set(got.values())) == 1, f"the same submission scored differently in parallel: {got}")
+        expect(squatter.poll() is None, "the squatter ended before the gradings did: it proved nothing")
+        return (f"{said}; two gradings in parallel claimed ids {sorted(ids.values())} and scored "
+                f"{got[CLAIM_SLOTS[0]]} each")
+    finally:
+        squatter.kill()
+        squatter.wait()
+        remove_entries(OLD_LOCKS, names)
+
+
+def selftest_cache_isolation(ctx) -> str:
+    """A compile's object is reused only where the same compile would give it: a step that
+    #includes the answers compiles with --isolation none (it may read them there), and the same
+    folder then graded inside each sandbox still does not compile. And a compile is not reused once
+    a system header it read has changed (as when GLM is upgraded)."""
+    need_solutions()
+    modes, skipped = isolations()
+    if not modes:
+        raise Skipped("; ".join(skipped))
+    slot = CLAIM_SLOTS[0]
+    folder = templated("include_answers")
+    _, loose, _, _ = check(folder, ["01"], "none", slot=slot)
+    [step] = loose["extra_data"]["steps"]
+    expect(step["state"] != NO_COMPILE, f"include_answers did not compile even with --isolation none: it proves "
+                                        f"nothing: {step['detail'][-200:]!r}")
+    parts = [f"none: {loose['score']} points (it read the answers)"]
+    for mode in modes:
+        rc, got, _, _ = check(folder, ["01"], mode, slot=slot)
+        [step] = got["extra_data"]["steps"]
+        expect(step["state"] == NO_COMPILE and got["score"] == 0 and rc == 1,
+               f"include_answers ({mode}) after a compile with --isolation none: {step['state']}, "
+               f"{got['score']} points, reported as {step['isolation'][:60]!r}")
+        parts.append(f"{mode}: does not compile, 0 points")
+    return "; ".join(parts) + "; " + stale_system_header()
+
+
+def stale_system_header() -> str:
+    """A header from outside the kit (a folder given with -isystem, as GLM's is) changed with its
+    size kept: the next compile of the same file is not served from the cache."""
+    from ..sandbox import Isolation
+    work = WORK / "stale-header"
+    shutil.rmtree(work, ignore_errors=True)
+    (work / "sys").mkdir(parents=True)
+    (work / "step").mkdir()
+    header = work / "sys" / "fakeglm.hpp"
+    src = work / "step" / "use.cpp"
+    src.write_text("#include <fakeglm.hpp>\nstatic_assert(FAKEGLM_VERSION == 1, \"the header changed\");\n"
+                   "int use() { return FAKEGLM_VERSION; }\n")
+    # The compiler through a script that counts its runs: the cache must still serve an unchanged compile.
+    runs = work / "runs"
+    compiler = work / "c++"
+    compiler.write_text(f"#!/bin/sh\necho run >> {runs}\nexec {shutil.which('c++') or 'c++'} \"$@\"\n")
+    compiler.chmod(0o755)
+    argv = [str(compiler), "-isystem", str(work / "sys"), "-std=c++17", "-MD", "-MT", "use.o", "-MF",
+            str(work / "use.o.d"), "-o", str(work / "use.o"), "-c", str(src)]
+    iso = Isolation("none", "")
+    saved = os.environ.pop("RAYKIT_NO_OBJCACHE", None)
+    try:
+        header.write_text("#define FAKEGLM_VERSION 1\n")
+        status, text = iso.tool("compile", argv, work)
+        expect(status == 0, f"the header's first version did not compile: {text[-300:]}")
+        status, _ = iso.tool("compile", argv, work)
+        expect(status == 0, "the same compile again failed")
+        expect(runs.read_text().count("run") == 1, "the same compile with nothing changed was not served "
+                                                   "from the cache: the check below would prove nothing")
+        header.write_text("#define FAKEGLM_VERSION 2\n")        # the same size, a new time
+        os.utime(header, ns=(time.time_ns() + 10**9, time.time_ns() + 10**9))
+        status, text = iso.tool("compile", argv, work)
+        expect(status != 0 and "the header changed" in text,
+               "a compile was served from the cache after a system header it read changed "
+               f"(status {status})")
+        # Back to a header the file compiles with: compiled again, and that entry then serves.
+        header.write_text("#define FAKEGLM_VERSION 1\n")
+        os.utime(header, ns=(time.time_ns() + 2 * 10**9, time.time_ns() + 2 * 10**9))
+        before = runs.read_text().count("run")
+        for _ in range(2):
+            status, text = iso.tool("compile", argv, work)
+            expect(status == 0, f"the header's first version again did not compile: {text[-300:]}")
+        expect(runs.read_text().count("run") == before + 1,
+               "after a header changed, the entry made anew does not serve the next compile")
+    finally:
+        if saved is not None:
+            os.environ["RAYKIT_NO_OBJCACHE"] = saved
+        shutil.rmtree(work, ignore_errors=True)
+    return ("an unchanged compile served from the cache, a changed system header compiled again (and its "
+            "entry made anew)")
 
 
 def selftests():
     return [("boundary: the compile cannot reach the answers", selftest_compile_boundary),
             ("boundary: two root file systems claim different sandbox ids", selftest_uid_claims),
+            ("boundary: links where the claims are kept", selftest_lock_links),
+            ("boundary: claims graded code can reach", selftest_claim_squatters),
+            ("boundary: objects compiled outside the sandbox", selftest_cache_isolation),
             ("boundary: compile bombs", selftest_compile_bombs),
             ("boundary: run bombs", selftest_run_bombs),
             ("boundary: root's files and sockets", selftest_root_secrets),
