@@ -553,7 +553,7 @@ def gradescope_two_submissions(upload: Path, base: dict, mode: str) -> str:
         expect("steps" not in data.get("extra_data", {}), f"{mode}: the {name} results.json holds the kit's record")
     expect(first["score"] == records[9001]["score"] and second["score"] == records[9002]["score"],
            f"{mode}: scores {first['score']}, {second['score']} on Gradescope; re-graded here with the same ids "
-           f"{records[9001]['score']}, {records[9002]['score']}")
+           f"{records[9001]['score']}, {records[9002]['score']}; the first said: {first.get('output', '')[-600:]}")
     meta = stat.S_IMODE(os.stat(_unpacked[-1] / "submission_metadata.json").st_mode)
     expect(meta == 0o644, f"{mode}: submission_metadata.json left with mode {meta:o}, not put back to 644")
     return (f"{len(inputs[9001])} + {len(inputs[9002])} failed hidden draws in 2 submissions, none in either "
