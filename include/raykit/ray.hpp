@@ -13,6 +13,24 @@
 #include <cmath>
 #include <limits>
 
+// The standard headers a step may use without including them itself, the same on every standard
+// library. libc++ (a Mac's) and libstdc++ (the grader's, on Linux) pull different headers into one
+// another, so a file using std::min_element, std::clamp, std::tuple or std::memcpy without its
+// include compiled on one and not on the other: one verdict must not depend on that. Included
+// here, they come with the precompiled step header in a graded compile.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <optional>
+#include <tuple>
+#include <utility>
+#include <vector>
+
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 

@@ -295,6 +295,68 @@ def selftest_handout_pointers(ctx: Context) -> str:
     return f"{marked} pointer(s) to files a handout lacks marked as the instructor's, none left unmarked"
 
 
+# A step file that uses the standard library without including what it uses: it must compile on
+# every standard library the kit meets (libstdc++ on the grader, libc++ on a Mac), or the same file
+# gets two verdicts. include/raykit/ray.hpp brings the headers; without them this file compiles
+# nowhere, or on one library and not the other.
+NO_INCLUDES = """#include "raykit/unit_sphere.hpp"
+namespace raykit {
+float probe(const Ray& ray) {
+    float xs[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    float m = *std::min_element(xs, xs + 3);
+    std::sort(xs, xs + 3);
+    m = std::clamp(m, 0.0f, 1.0f);
+    std::tuple<float, float> t{m, xs[0]};
+    float copy = 0;
+    std::memcpy(&copy, &xs[1], sizeof copy);
+    std::function<float(float)> twice = [](float v) { return v * 2; };
+    std::array<float, 2> a{std::get<0>(t), copy};
+    std::vector<float> v(a.begin(), a.end());
+    const std::pair<float, float> p = std::make_pair(v[0], twice(v[1]));
+    std::printf("%g", static_cast<double>(std::accumulate(v.begin(), v.end(), 0.0f)));
+    return p.first + p.second + static_cast<float>(std::abs(-1)) + static_cast<float>(UINT32_C(1));
+}
+}  // namespace raykit
+"""
+
+
+def selftest_one_verdict_per_library(ctx) -> str:
+    libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ (libstdc++)", ["clang++"]),
+                 ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
+    with tempfile.TemporaryDirectory(prefix="raykit-stdlib-") as tmp:
+        probe = Path(tmp) / "probe.cpp"
+        probe.write_text(NO_INCLUDES)
+        bare = Path(tmp) / "bare"          # the kit's headers without the standard headers ray.hpp brings
+        shutil.copytree(ROOT / "include", bare)
+        ray = bare / "raykit" / "ray.hpp"
+        text = ray.read_text()
+        start, end = text.index("#include <algorithm>"), text.index("#include <vector>") + len("#include <vector>")
+        ray.write_text(text[:start] + text[end:])
+        usable, told = [], []
+        for name, cxx in libraries:
+            empty = Path(tmp) / "empty.cpp"
+            empty.write_text("#include <vector>\nint main() { return std::vector<int>{0}[0]; }\n")
+            if shutil.which(cxx[0]) is None or subprocess.run(cxx + ["-std=c++17", str(empty), "-o",
+                                                                      str(Path(tmp) / "e")],
+                                                             capture_output=True, timeout=120).returncode != 0:
+                told.append(f"{name}: not installed")
+                continue
+            usable.append(name)
+
+            def compiles(include: Path) -> tuple[bool, str]:
+                r = subprocess.run(cxx + ["-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-I", str(include),
+                                          str(probe)], capture_output=True, text=True, timeout=120)
+                return r.returncode == 0, r.stdout + r.stderr
+            ok, text_ = compiles(ROOT / "include")
+            expect(ok, f"{name}: a step file using the standard library without its includes does not compile "
+                       f"with the kit's headers:\n{text_[-800:]}")
+            ok_bare, _ = compiles(bare)
+            expect(not ok_bare, f"{name}: the probe compiles without the headers ray.hpp brings: it tests nothing")
+            told.append(f"{name}: compiles (and not without them)")
+    expect(len(usable) >= 2, f"fewer than two standard libraries to compare here: {told}")
+    return "; ".join(told)
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -308,4 +370,5 @@ def selftests() -> list:
         ("the student's loop in a handout", selftest_student_loop),
         ("--all marks ★ cases; piped progress", selftest_all_and_piped),
         ("a handout's lectures point to what it has", selftest_handout_pointers),
+        ("one verdict on every standard library: a step's missing includes", selftest_one_verdict_per_library),
     ]
