@@ -357,6 +357,55 @@ def selftest_one_verdict_per_library(ctx) -> str:
     return "; ".join(told)
 
 
+FLOAT_TEXT_CHECK = r"""
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include "float_text.hpp"
+int main() {
+    std::mt19937 rng(20261203);
+    long differ = 0, compared = 0;
+    auto one = [&](float x) {
+        if (std::isnan(x) || std::isinf(x)) return;
+        char buf[64];
+        const std::string want(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
+        const std::string got = raykit::float_text(x);
+        ++compared;
+        if (got != want && differ++ < 5) std::printf("%s, not %s\n", got.c_str(), want.c_str());
+    };
+    for (float x : {0.0f, -0.0f, 1.0f, 10.0f, 0.5f, 1e20f, 1e-20f, 123456792.0f, 0.1f, 1e7f, 1.5e-5f, 1e-45f}) one(x);
+    for (int i = 0; i < 300000; ++i) {
+        const std::uint32_t u = static_cast<std::uint32_t>(rng());
+        float x;
+        std::memcpy(&x, &u, sizeof x);
+        one(x);
+    }
+    for (int k = -45; k <= 38; ++k)
+        for (int m = 1; m < 100; ++m) one(static_cast<float>(m * std::pow(10.0, k)));
+    std::printf("%ld of %ld\n", differ, compared);
+    return differ != 0;
+}
+"""
+
+
+def selftest_float_text(ctx) -> str:
+    """The grader writes every number as the shortest text that reads back as the same float, with
+    one algorithm on every standard library (tests/support/float_text.hpp): the same as
+    std::to_chars, checked here against it on 300,000 random floats and the powers of ten."""
+    with tempfile.TemporaryDirectory(prefix="raykit-float-text-") as tmp:
+        src = Path(tmp) / "check.cpp"
+        src.write_text(FLOAT_TEXT_CHECK)
+        exe = Path(tmp) / "check"
+        r = subprocess.run(["g++", "-std=c++17", "-O2", "-ffp-contract=off", "-I", str(ROOT / "tests" / "support"),
+                            str(src), "-o", str(exe)], capture_output=True, text=True, timeout=300)
+        expect(r.returncode == 0, f"the float_text check does not build: {r.stderr[-600:]}")
+        run = subprocess.run([str(exe)], capture_output=True, text=True, timeout=300)
+        expect(run.returncode == 0, f"float_text differs from std::to_chars: {run.stdout[-600:]}")
+    return "float_text equals std::to_chars on " + run.stdout.strip().split(" of ")[-1] + " floats"
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -371,4 +420,5 @@ def selftests() -> list:
         ("--all marks ★ cases; piped progress", selftest_all_and_piped),
         ("a handout's lectures point to what it has", selftest_handout_pointers),
         ("one verdict on every standard library: a step's missing includes", selftest_one_verdict_per_library),
+        ("numbers read the same on every standard library", selftest_float_text),
     ]
