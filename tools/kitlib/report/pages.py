@@ -394,18 +394,25 @@ def similar_section(sim, names: dict) -> list[str]:
             f"<p><b>Copies of the solutions</b> (every file compared is {similar.REFERENCE_LIKE} % or more "
             f"the reference; they resemble each other through it, which says nothing): {len(sim.copies)}"
             f"{': ' + ', '.join(who(n) for n in sim.copies) if sim.copies else ''}.</p>"]
+    aside = [g for g in sim.groups if g.source and g.share >= similar.REFERENCE_LIKE]
+    shared = [g for g in sim.groups if g not in aside]
     if sim.groups:
         body.append(f"<p><b>Shared files</b>: a file that {similar.GROUP_MIN} or more students hand in the same "
                     f"(comments and layout aside, or {similar.GROUP_SAME} % both ways) is one group, not a pair "
-                    f"of each two of them; ask where it came from. Pairs below count only what two students share "
-                    f"beyond their groups.</p><table><tr><th>file</th><th>students</th><th>texts</th>"
-                    f"<th>made of</th></tr>")
-        for g in sim.groups:
-            made = (f"{g.share} % {e(g.source)}" + (" (set aside)" if g.share >= similar.REFERENCE_LIKE else "")
-                    if g.source else "no version of the reference or stub")
+                    f"of each two of them. Pairs below count only what two students share beyond their groups.</p>")
+    if shared:
+        body.append("<p>Made of no version of the reference or the stub: ask where each came from (an older "
+                    "handout, a web page, a tutor).</p><table><tr><th>file</th><th>students</th><th>texts</th>"
+                    "<th>made of</th></tr>")
+        for g in shared:
+            made = f"{g.share} % {e(g.source)}" if g.source else "no version of the reference or stub"
             body.append(f'<tr data-group="{e(g.key)}"><td>{e(g.key)}</td><td>{len(g.members)}: '
                         f'{", ".join(who(n) for n in g.members)}</td><td class="n">{g.texts}</td><td>{made}</td></tr>')
         body.append("</table>")
+    for g in aside:
+        body.append(f'<details data-group="{e(g.key)}"><summary>{e(g.key)}: {len(g.members)} students hand in '
+                    f"{g.share} % {e(g.source)} ({g.texts} text{'s' if g.texts != 1 else ''}; set aside)</summary>"
+                    f'<p>{", ".join(who(n) for n in g.members)}</p></details>')
     if sim.pairs:
         body.append(f"<p>{len(sim.pairs)} pairs share {similar.SHOWN} % or more of a file, every one listed, "
                     f"the most alike first.</p>"
