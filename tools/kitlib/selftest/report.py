@@ -11,6 +11,10 @@ to both; the near-copies are the first pair and the solution copies are grouped,
 CSV, the index and the student pages agree on every score; a student's page names no other student;
 the index and a student page open in headless Chromium with no console error, no broken image and
 no network request (screenshots in build/report-test/).
+
+The similarity section alone (a few seconds, no grading): eleven students, nine handing in one
+file (an older text of the reference, from git, else today's with code of its own), two pairs of
+real copies of a step file; the real pairs first, the shared file once as a group (#35 item 2).
 """
 
 from __future__ import annotations
