@@ -344,30 +344,7 @@ def build(folder: Path, out: Path) -> dict:
         body.append(f'<p class="note">Not compared: {e(sim.note)}.</p>')
         notes.append(f"similar submissions not compared: {sim.note}")
     else:
-        body.append(f"<p>Compared with Debian's similarity-tester (<code>sim_c++</code>: layout, comments and "
-                    f"identifiers' names do not count), step file by step file, with the stub's lines and the "
-                    f"#include lines left out: {sim.compared} submissions. A file made for {similar.REFERENCE_LIKE} % "
-                    f"or more of the reference answer's material is a copy of the solutions; two such files are "
-                    f"not compared.</p>")
-        body.append(f"<p><b>Copies of the solutions</b> (every file compared is {similar.REFERENCE_LIKE} % or more "
-                    f"the reference; they resemble each other through it, which says nothing): {len(sim.copies)}"
-                    f"{': ' + ', '.join(link(names[n]) for n in sim.copies) if sim.copies else ''}.</p>")
-        if sim.pairs:
-            body.append("<table><tr><th>rank</th><th>submissions</th><th>share</th><th>files (A in B / B in A)</th></tr>")
-            for i, p in enumerate(sim.pairs, 1):
-                files = "<br>".join(f"{e(k)}: {a} % / {b} %" for k, (a, b) in sorted(p.files.items()))
-                body.append(f'<tr data-pair="{e(p.a)}|{e(p.b)}"><td class="n">{i}</td><td>{link(names[p.a])} and '
-                            f"{link(names[p.b])}</td><td class=\"n\">{p.score} %</td><td>{files}</td></tr>")
-            body.append("</table>")
-            for p in sim.pairs[:3]:
-                body.append(f"<h3>{e(p.a)} and {e(p.b)}: {e(p.best)}, the matching runs</h3>")
-                for (a0, a1), (b0, b1), tokens in p.runs[:4]:
-                    left = "\n".join(p.lines[0][a0 - 1:min(a1, a0 - 1 + RUN_LINES)])
-                    right = "\n".join(p.lines[1][b0 - 1:min(b1, b0 - 1 + RUN_LINES)])
-                    body.append(f"<p>{tokens} tokens: lines {a0}–{a1} and {b0}–{b1}</p><div class=\"pair\">"
-                                f"<pre>{e(left)}</pre><pre>{e(right)}</pre></div>")
-        else:
-            body.append(f"<p>No pair of submissions shares {similar.SHOWN} % or more outside the reference.</p>")
+        body.extend(similar_section(sim, names))
 
     # 6. the students
     body.append('<h2 id="students">6. The students</h2><p>Each page is for the student alone: it names no other '
@@ -400,6 +377,62 @@ def build(folder: Path, out: Path) -> dict:
     return {"students": len(g.students), "notes": notes, "pairs": [(p.a, p.b, p.score) for p in sim.pairs],
             "copies": sim.copies, "fits": {k: v for k, v in fits.items()}, "matches": matches}
 
+
+
+def similar_section(sim, names: dict) -> list[str]:
+    """The similar submissions' section (after its heading): the files set aside, the groups, the pairs."""
+    def who(n: str) -> str:
+        return link(names[n]) if n in names else e(n)
+
+    body = [f"<p>Compared with Debian's similarity-tester (<code>sim_c++</code>: layout, comments and "
+            f"identifiers' names do not count), step file by step file, with the stub's lines and the "
+            f"#include lines left out: {sim.compared} submissions. A file made for {similar.REFERENCE_LIKE} % "
+            f"or more of the reference answer's material (today's or an older text of it: "
+            f"{sum(sim.versions.values())} versions of {len(sim.versions)} files) is a copy of the solutions, "
+            f"one made for as much of an older stub is unfinished; both are set aside, and two such files are not "
+            f"compared.</p>",
+            f"<p><b>Copies of the solutions</b> (every file compared is {similar.REFERENCE_LIKE} % or more "
+            f"the reference; they resemble each other through it, which says nothing): {len(sim.copies)}"
+            f"{': ' + ', '.join(who(n) for n in sim.copies) if sim.copies else ''}.</p>"]
+    aside = [g for g in sim.groups if g.source and g.share >= similar.REFERENCE_LIKE]
+    shared = [g for g in sim.groups if g not in aside]
+    if sim.groups:
+        body.append(f"<p><b>Shared files</b>: a file that {similar.GROUP_MIN} or more students hand in the same "
+                    f"(comments and layout aside, or {similar.GROUP_SAME} % both ways) is one group, not a pair "
+                    f"of each two of them. Pairs below count only what two students share beyond their groups.</p>")
+    if shared:
+        body.append("<p>Made of no version of the reference or the stub: ask where each came from (an older "
+                    "handout, a web page, a tutor).</p><table><tr><th>file</th><th>students</th><th>texts</th>"
+                    "<th>made of</th></tr>")
+        for g in shared:
+            made = f"{g.share} % {e(g.source)}" if g.source else "no version of the reference or stub"
+            body.append(f'<tr data-group="{e(g.key)}"><td>{e(g.key)}</td><td>{len(g.members)}: '
+                        f'{", ".join(who(n) for n in g.members)}</td><td class="n">{g.texts}</td><td>{made}</td></tr>')
+        body.append("</table>")
+    for g in aside:
+        body.append(f'<details data-group="{e(g.key)}"><summary>{e(g.key)}: {len(g.members)} students hand in '
+                    f"{g.share} % {e(g.source)} ({g.texts} text{'s' if g.texts != 1 else ''}; set aside)</summary>"
+                    f'<p>{", ".join(who(n) for n in g.members)}</p></details>')
+    if sim.pairs:
+        body.append(f"<p>{len(sim.pairs)} pairs share {similar.SHOWN} % or more of a file, every one listed, "
+                    f"the most alike first.</p>"
+                    "<table><tr><th>rank</th><th>submissions</th><th>share</th><th>files (A in B / B in A)</th></tr>")
+        for i, p in enumerate(sim.pairs, 1):
+            files = "<br>".join(f"{e(k)}: {a} % / {b} %" for k, (a, b) in sorted(p.files.items()))
+            body.append(f'<tr data-pair="{e(p.a)}|{e(p.b)}"><td class="n">{i}</td><td>{who(p.a)} and '
+                        f"{who(p.b)}</td><td class=\"n\">{p.score} %</td><td>{files}</td></tr>")
+        body.append("</table>")
+        for p in sim.pairs[:3]:
+            body.append(f"<h3>{e(p.a)} and {e(p.b)}: {e(p.best)}, the matching runs</h3>")
+            for (a0, a1), (b0, b1), tokens in p.runs[:4]:
+                left = "\n".join(p.lines[0][a0 - 1:min(a1, a0 - 1 + RUN_LINES)])
+                right = "\n".join(p.lines[1][b0 - 1:min(b1, b0 - 1 + RUN_LINES)])
+                body.append(f"<p>{tokens} tokens: lines {a0}–{a1} and {b0}–{b1}</p><div class=\"pair\">"
+                            f"<pre>{e(left)}</pre><pre>{e(right)}</pre></div>")
+    else:
+        body.append(f"<p>No pair of submissions shares {similar.SHOWN} % or more outside the reference and the "
+                    f"groups.</p>")
+    return body
 
 # --- a student's page ------------------------------------------------------------------------------
 

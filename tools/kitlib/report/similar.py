@@ -6,17 +6,30 @@ run by run. Before the comparison each student's file loses the lines of the shi
 signatures and comments every student starts from) and its #include lines (the kit's headers), each
 replaced by an empty line so that sim's line numbers are the file's own.
 
-Every submission resembles the reference answer in part, because the answer is short and a correct
-one looks much like any other. A file made mostly of the reference's material (REFERENCE_LIKE per
-cent or more of it, as sim_c++ measures) is a copy of the solutions, and two such files are not
-compared: they are grouped and counted. The other pairs are ranked by the smaller of their two shares
-(how much of A is in B, how much of B is in A). Similarity is a reason to look, not a proof.
+Three things are set apart before any pair is ranked, step file by step file:
 
-Three passes of sim_c++ per step file keep a class of hundreds fast: every file against the reference
-alone (-S, the reference an "old" file); all files at once (-a), which names for each file the files
-its runs are found in, but credits each run to one of them; then each pair so named on its own (-a -e,
-exact shares both ways). Comparing every pair on its own from the start (-e) takes seconds per step
-file for 300 students, quadratic in their number.
+- A file made mostly of a version of the reference (REFERENCE_LIKE per cent or more of it, as sim_c++
+  measures) is a copy of the solutions: today's solutions/ and, when the kit is a git clone, every
+  older text of that file in solutions/'s history (a course that handed out an older answer sees its
+  copies recognised). Every submission resembles the reference in part, because the answer is short.
+  A file made mostly of an older text of the stub (steps/) is set aside the same way.
+- A file that GROUP_MIN or more students share, byte for byte or nearly (GROUP_SAME per cent or more
+  both ways, comments and layout aside), is one group: reported once with its members, never paired
+  among them. A group is a reason to ask where the file came from (an older handout, a web page, a
+  tutor), not a ranking of nine students against each other.
+- Two reference-like files are not compared: they resemble each other through the reference.
+
+The other pairs are ranked by the smaller of their two shares (how much of A is in B, how much of B
+is in A) of their best file, counting only the files they do not share as members of one group: what
+two students share beyond the groups. A student whose file is close to a group's is paired with the
+group, once. Every pair from SHOWN per cent on is listed, however many there are. Similarity is a
+reason to look, not a proof.
+
+sim_c++ runs a few times per step file and keeps a class of hundreds fast: the distinct texts once
+(identical files are compared once), against the reference's versions (-S -e); all distinct texts at
+once (-a), which names for each file the file its runs are found in; then each pair so named on its
+own (-a -e, exact shares both ways). Comparing every pair on its own from the start (-e) takes
+seconds per step file for 300 students, quadratic in their number.
 """
 
 from __future__ import annotations
@@ -30,24 +43,40 @@ from pathlib import Path
 
 from ..common import ROOT, Step, student_file_name
 
-REFERENCE_LIKE = 80     # per cent of a student's file found in the reference
+REFERENCE_LIKE = 80     # per cent of a student's file found in a version of the reference (or the stub)
 SHOWN = 30              # a pair is listed from this share on
+GROUP_MIN = 3           # students sharing one file (byte for byte or nearly) that make a group
+GROUP_SAME = 95         # per cent both ways: "nearly" the same file
 REFERENCE = "(reference)"
 
 _PERCENT = re.compile(r"^(.+?) consists for (\d+) % of (.+?) material$")
-_TOKENS = re.compile(r"^File (.+?): (\d+) tokens, (\d+) lines$")
 _RUN = re.compile(r"^(.+?): line (\d+)-(\d+)\s*\|(.+?): line (\d+)-(\d+)\s*\[(\d+)\]")
+_COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
+
+
+@dataclass
+class Group:
+    key: str                                # "NN_topic/file"
+    members: list                           # students, sorted
+    texts: int = 1                          # distinct texts among them (1: the same file, comments and layout aside)
+    source: str = ""                        # the version of the reference or stub it is made of, if any
+    share: int = 0                          # per cent of it found in that version
+
+    @property
+    def label(self) -> str:
+        return f"the group sharing {self.key} ({len(self.members)} students)"
 
 
 @dataclass
 class Pair:
     a: str
-    b: str
+    b: str                                  # a student, or a Group's label
     score: int                              # the best file's smaller share, per cent
     files: dict = field(default_factory=dict)   # "NN_topic/file" -> (share of a in b, share of b in a)
     runs: list = field(default_factory=list)    # (lines of a, lines of b, tokens) of the best file
     best: str = ""
     lines: tuple = ((), ())                     # the best file's lines, of a and of b
+    group: Group | None = None                  # when b is a group
 
 
 @dataclass
@@ -56,7 +85,10 @@ class Similarity:
     note: str = ""
     compared: int = 0                       # students with at least one file compared
     reference_like: dict = field(default_factory=dict)     # "NN_topic/file" -> [students]
+    stub_like: dict = field(default_factory=dict)          # "NN_topic/file" -> [students]
+    versions: dict = field(default_factory=dict)           # "NN_topic/file" -> versions of the reference compared
     copies: list = field(default_factory=list)             # students whose every file is reference-like
+    groups: list = field(default_factory=list)             # Group, largest first
     pairs: list = field(default_factory=list)              # Pair, best first
 
 
@@ -68,13 +100,78 @@ def strip(text: str, stub: set) -> str:
     return "\n".join(lines) + "\n"
 
 
+def same_text(text: str) -> str:
+    """The text with comments and layout left out: two files alike in this are one file."""
+    return " ".join(_COMMENT.sub(" ", text).split())
+
+
 def _sim(args: list[str], files: list, timeout: float = 300) -> str:
     r = subprocess.run(["sim_c++", *args, "-i"], input="\n".join(str(f) for f in files) + "\n",
                        capture_output=True, text=True, timeout=timeout)
     return r.stdout
 
 
-def compare(files_root: Path | None, names: list[str], steps: list[Step], shown: int = 10) -> Similarity:
+def versions(path: str) -> list[tuple[str, str]]:
+    """Today's text of a file of the kit (path relative to ROOT) and, when the kit is a git clone, every
+    older text in its history, newest first: [(label, text)], texts distinct."""
+    out, seen = [], set()
+    today = ROOT / path
+    if today.is_file():
+        text = today.read_text(errors="replace")
+        out.append((f"{path} (today's)", text))
+        seen.add(text)
+    try:
+        log = subprocess.run(["git", "-C", str(ROOT), "log", "--format=%H %h %ad", "--date=short", "--", path],
+                             capture_output=True, text=True, timeout=30)
+        commits = [l.split() for l in log.stdout.splitlines() if l.strip()] if log.returncode == 0 else []
+        if commits:
+            batch = subprocess.run(["git", "-C", str(ROOT), "cat-file", "--batch"],
+                                   input="".join(f"{full}:{path}\n" for full, _, _ in commits).encode(),
+                                   capture_output=True, timeout=30).stdout
+            pos = 0
+            for full, short, day in commits:
+                end = batch.index(b"\n", pos)
+                header = batch[pos:end].split()
+                pos = end + 1
+                if len(header) < 3 or header[1] != b"blob":
+                    continue
+                size = int(header[2])
+                text = batch[pos:pos + size].decode(errors="replace")
+                pos += size + 1
+                if text not in seen:
+                    seen.add(text)
+                    out.append((f"{path} as of {short} ({day})", text))
+    except (OSError, subprocess.SubprocessError, ValueError):
+        pass
+    return out
+
+
+class _Union:
+    def __init__(self):
+        self.up = {}
+
+    def find(self, x):
+        self.up.setdefault(x, x)
+        while self.up[x] != x:
+            self.up[x] = self.up[self.up[x]]
+            x = self.up[x]
+        return x
+
+    def join(self, a, b):
+        self.up[self.find(a)] = self.find(b)
+
+
+def _exact(a: Path, b: Path) -> tuple[int, int]:
+    """(share of a in b, share of b in a), per cent, the two files compared on their own."""
+    both = {}
+    for line in _sim(["-p", "-a", "-e", "-s", "-t", "1"], [a, b]).splitlines():
+        m = _PERCENT.match(line.strip())
+        if m:
+            both[m.group(1)] = int(m.group(2))
+    return both.get(str(a), 0), both.get(str(b), 0)
+
+
+def compare(files_root: Path | None, names: list[str], steps: list[Step]) -> Similarity:
     if files_root is None:
         return Similarity(False, "the submissions' files were not saved with this grading: run ./kit report "
                                  "GRADING_DIR --submissions SUBMISSIONS (or ./kit grade --report)")
@@ -83,8 +180,10 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step], shown:
                                  "sudo apt-get install similarity-tester")
     result = Similarity(True)
     shares: dict[tuple, dict] = {}          # (a, b) -> {file: (a in b, b in a)}
+    pair_group: dict[tuple, Group] = {}
     like_by_student: dict[str, list[bool]] = {}
-    texts: dict[tuple, str] = {}
+    texts: dict[tuple, str] = {}            # (student or group label, file) -> stripped text
+    originals: dict[tuple, str] = {}        # (student or group label, file) -> whose file to show
     with tempfile.TemporaryDirectory(prefix="raykit-sim-") as tmp:
         work = Path(tmp)
         for step in steps:
@@ -93,76 +192,143 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step], shown:
                 stub_path = ROOT / "steps" / step.folder / f
                 stub = {l.strip() for l in stub_path.read_text(errors="replace").splitlines()} if stub_path.is_file() else set()
                 stub.discard("")
-                who: dict[str, str] = {}
-                paths = []
-                for i, name in enumerate([REFERENCE] + names):
-                    src = (ROOT / "solutions" / step.folder / f) if name == REFERENCE else \
-                        files_root / student_file_name(name) / step.folder / f
+                # The students' texts, identical ones (comments and layout aside) written once.
+                members: dict[str, list[str]] = {}      # same_text -> students
+                first: dict[str, str] = {}              # same_text -> stripped text
+                for name in names:
+                    src = files_root / student_file_name(name) / step.folder / f
                     if not src.is_file():
                         continue
                     text = strip(src.read_text(errors="replace"), stub)
                     if not text.strip():
                         continue
-                    path = work / str(i) / step.folder / f
+                    texts[(name, key)] = text
+                    originals[(name, key)] = name
+                    s = same_text(text)
+                    members.setdefault(s, []).append(name)
+                    first.setdefault(s, text)
+                if not members:
+                    continue
+                path_of, of = {}, {}                    # same_text -> path; str(path) -> same_text
+                for i, s in enumerate(members):
+                    path = work / step.folder / f"t{i}" / f
+                    path.parent.mkdir(parents=True, exist_ok=True)
+                    path.write_text(first[s])
+                    path_of[s], of[str(path)] = path, s
+                # How much of each text is a version of the reference's (or the stub's) material.
+                refs, ref_label = [], {}
+                old = [(label, strip(text, stub), "reference") for label, text in versions(f"solutions/{key}")]
+                old += [(label, strip(text, stub), "stub") for label, text in versions(f"steps/{key}")
+                        if not label.endswith("(today's)")]   # today's stub is left out of every file already
+                result.versions[key] = sum(kind == "reference" for _, _, kind in old)
+                for j, (label, text, kind) in enumerate(old):
+                    if not text.strip():
+                        continue
+                    path = work / step.folder / f"r{j}" / f
                     path.parent.mkdir(parents=True, exist_ok=True)
                     path.write_text(text)
-                    who[str(path)] = name
-                    paths.append(path)
-                    texts[(name, key)] = text
-                students = [p for p in paths if who[str(p)] != REFERENCE]
-                refs = [p for p in paths if who[str(p)] == REFERENCE]
-                if not students:
-                    continue
-                # How much of each file is the reference's material: every file against the reference alone.
-                of_ref = {}
+                    refs.append(path)
+                    ref_label[str(path)] = (label, kind)
+                best_ref: dict[str, tuple] = {}         # same_text -> (per cent, label, kind)
                 if refs:
-                    for line in _sim(["-p", "-S", "-t", "1"], students + ["/"] + refs).splitlines():
+                    for line in _sim(["-p", "-S", "-e", "-t", "1"], list(path_of.values()) + ["/"] + refs).splitlines():
                         m = _PERCENT.match(line.strip())
-                        if m and m.group(1) in who:
-                            of_ref[who[m.group(1)]] = int(m.group(2))
-                present = [who[str(p)] for p in students]
-                like = {n for n in present if of_ref.get(n, 0) >= REFERENCE_LIKE}
-                result.reference_like[key] = sorted(like)
-                for n in present:
-                    like_by_student.setdefault(n, []).append(n in like)
-                # The candidates: sim_c++ -a names, for each file, the files its runs are found in (fast, but
-                # each run is credited to one file); each candidate pair is then measured on its own (-a -e).
-                path_of = {who[str(p)]: p for p in students}
-                candidates = set()
-                for line in _sim(["-p", "-a", "-s", "-t", str(SHOWN)], students).splitlines():
+                        if m and m.group(1) in of and m.group(3) in ref_label:
+                            s, pct = of[m.group(1)], int(m.group(2))
+                            if pct > best_ref.get(s, (-1,))[0]:
+                                best_ref[s] = (pct, *ref_label[m.group(3)])
+                like = {s for s, (pct, _, kind) in best_ref.items() if pct >= REFERENCE_LIKE and kind == "reference"}
+                stubby = {s for s, (pct, _, kind) in best_ref.items() if pct >= REFERENCE_LIKE and kind == "stub"}
+                result.reference_like[key] = sorted(n for s in like for n in members[s])
+                result.stub_like[key] = sorted(n for s in stubby for n in members[s])
+                for s, who in members.items():
+                    for n in who:
+                        like_by_student.setdefault(n, []).append(s in like)
+                # Groups: the texts nearly the same (GROUP_SAME both ways), GROUP_MIN students or more.
+                near = _Union()
+                named = []
+                for line in _sim(["-p", "-a", "-s", "-t", str(SHOWN)], list(path_of.values())).splitlines():
                     m = _PERCENT.match(line.strip())
-                    if m and m.group(1) in who and m.group(3) in who:
-                        a, b = sorted((who[m.group(1)], who[m.group(3)]))
-                        if a != b and not (a in like and b in like):
-                            candidates.add((a, b))
-                for a, b in sorted(candidates):
-                    both = {}
-                    for line in _sim(["-p", "-a", "-e", "-s", "-t", "1"], [path_of[a], path_of[b]]).splitlines():
-                        m = _PERCENT.match(line.strip())
-                        if m and m.group(1) in who:
-                            both[who[m.group(1)]] = int(m.group(2))
-                    ab, ba = both.get(a, 0), both.get(b, 0)
-                    if min(ab, ba) > 0:
-                        shares.setdefault((a, b), {})[key] = (ab, ba)
+                    if m and m.group(1) in of and m.group(3) in of and m.group(1) != m.group(3):
+                        named.append((of[m.group(1)], of[m.group(3)], int(m.group(2))))
+                measured = {}
+                for s, t, pct in named:
+                    if pct >= GROUP_SAME:
+                        measured[tuple(sorted((s, t)))] = ab = _exact(path_of[s], path_of[t])
+                        if min(ab) >= GROUP_SAME:
+                            near.join(s, t)
+                clusters: dict[str, list[str]] = {}
+                for s in members:
+                    clusters.setdefault(near.find(s), []).append(s)
+                group_of: dict[str, Group] = {}         # same_text -> its group
+                ones = []                               # the texts paired: one per group, every other one
+                for cluster in clusters.values():
+                    who = sorted(n for s in cluster for n in members[s])
+                    if len(who) < GROUP_MIN:
+                        continue
+                    main = max(cluster, key=lambda s: (len(members[s]), s))
+                    g = Group(key, who, len(cluster))
+                    if main in best_ref:
+                        g.share, g.source = best_ref[main][0], best_ref[main][1]
+                    result.groups.append(g)
+                    texts[(g.label, key)] = first[main]
+                    originals[(g.label, key)] = members[main][0]
+                    ones.append(main)
+                    for s in cluster:
+                        group_of[s] = g
+                # The pairs, among one text per group and every other text.
+                ones += [s for s in members if s not in group_of]
+                aside = like | stubby
+                party = lambda s: [group_of[s].label] if s in group_of else members[s]
+                for s in ones:                          # the same file, two students (too few for a group)
+                    if s not in group_of and s not in aside and len(members[s]) > 1:
+                        who = sorted(members[s])
+                        for i, a in enumerate(who):
+                            for b in who[i + 1:]:
+                                shares.setdefault((a, b), {})[key] = (100, 100)
+                candidates = set()
+                one_path = {str(path_of[s]): s for s in ones}
+                for line in _sim(["-p", "-a", "-s", "-t", str(SHOWN)], [path_of[s] for s in ones]).splitlines():
+                    m = _PERCENT.match(line.strip())
+                    if m and m.group(1) in one_path and m.group(3) in one_path:
+                        s, t = sorted((one_path[m.group(1)], one_path[m.group(3)]))
+                        if s != t and not (s in aside and t in aside):
+                            candidates.add((s, t))
+                for s, t in sorted(candidates):
+                    ab = measured.get((s, t)) or _exact(path_of[s], path_of[t])
+                    if min(ab) <= 0:
+                        continue
+                    for a in party(s):
+                        for b in party(t):
+                            if a in names and b not in names:
+                                pair, value = (a, b), ab
+                            elif b in names and a not in names:
+                                pair, value = (b, a), ab[::-1]
+                            else:
+                                pair, value = tuple(sorted((a, b))), ab if a <= b else ab[::-1]
+                            shares.setdefault(pair, {})[key] = value
+                            for x in (group_of.get(s), group_of.get(t)):
+                                if x is not None:
+                                    pair_group[pair] = x
         result.compared = len(like_by_student)
         result.copies = sorted(n for n, flags in like_by_student.items() if flags and all(flags))
+        result.groups.sort(key=lambda g: (-len(g.members), g.key))
         pairs = []
         for (a, b), by_file in shares.items():
             best = max(by_file, key=lambda k: min(by_file[k]))
             score = min(by_file[best])
             if score >= SHOWN:
-                pairs.append(Pair(a, b, score, by_file, best=best))
+                pairs.append(Pair(a, b, score, by_file, best=best, group=pair_group.get((a, b))))
         pairs.sort(key=lambda p: (-p.score, -sum(min(v) for v in p.files.values()), p.a, p.b))
-        result.pairs = pairs[:shown]
+        result.pairs = pairs
         for p in result.pairs:
             p.runs = runs(work, texts[(p.a, p.best)], texts[(p.b, p.best)], p.best)
-            p.lines = tuple(_original(files_root, n, p.best).splitlines() for n in (p.a, p.b))
+            p.lines = tuple(_original(files_root, originals[(n, p.best)], p.best).splitlines() for n in (p.a, p.b))
     return result
 
 
 def _original(files_root: Path, name: str, key: str) -> str:
-    path = ROOT / "solutions" / key if name == REFERENCE else files_root / student_file_name(name) / key
-    return path.read_text(errors="replace")
+    return (files_root / student_file_name(name) / key).read_text(errors="replace")
 
 
 def runs(work: Path, a_text: str, b_text: str, key: str) -> list[tuple]:

@@ -5,6 +5,7 @@ Gradescope view (one ★ test, one test per non-compiling step) and the reveal a
 from __future__ import annotations
 
 import json
+import re
 import tempfile
 from fractions import Fraction
 from pathlib import Path
@@ -43,12 +44,22 @@ def results(statuses_by_step: dict[str, tuple[str, list[str]]]) -> list[StepResu
     return [StepResult(toy_step(n), state, toy_cases(st)) for n, (state, st) in statuses_by_step.items()]
 
 
+# The scale the kit ships with: every step one point per core, degenerate and hidden case, ★ 0. An
+# instructor changes course.json (steps 01-04 at 20 points, 05 at 40): the self-tests of the default
+# scale parse it here, in memory, and the kit's own course.json is checked for what it is
+# (selftest_kit_course), so a customised kit's ./kit test passes.
+DEFAULT = {"steps": {}, "groups": {"core": {"weight": 1}, "degenerate": {"weight": 1}, "hidden": {"weight": 1},
+                                   "robust": {"weight": 0}}}
+
+
 def selftest_default_scale(ctx) -> str:
-    default = course_file.read(ROOT / "course.json", [s.number for s in ctx.steps])
-    expect(default.points and all(p is None for p in default.points.values()),
-           "course.json does not leave every step at one point per case (points: null)")
-    expect([default.weight(g) for g in course_file.GROUPS] == [1, 1, 1, 0],
-           f"course.json's weights are not 1 1 1 0: {[str(default.weight(g)) for g in course_file.GROUPS]}")
+    default = course_file.parse(DEFAULT, STEPS, "the default scale")
+    code = course_file.Course()
+    expect([code.weight(g) for g in course_file.GROUPS] == [default.weight(g) for g in course_file.GROUPS] == [1, 1, 1, 0],
+           f"the default weights are not 1 1 1 0: {[str(code.weight(g)) for g in course_file.GROUPS]} without a "
+           f"course.json, {[str(default.weight(g)) for g in course_file.GROUPS]} parsed")
+    expect(not code.points and all(p is None for p in default.points.values()),
+           f"the default scale sets a step's points: {code.points} {default.points}")
     with course_file.using(default):
         rs = results({"01": (DONE, ALL), "02": (PARTIAL, ONE_CORE_WRONG)})
         got = [(r.earned, r.maximum) for r in rs]
@@ -57,7 +68,36 @@ def selftest_default_scale(ctx) -> str:
         groups = [c.group for c in rs[0].cases]
         expect(groups == ["core"] * 3 + ["degenerate", "hidden", "robust", "robust"],
                f"the group rule puts the toy cases in {groups}")
-    return "course.json is one point per case (5 of 5, 4 of 5), ★ 0; a NaN case is degenerate"
+    return "the default scale (in memory, as shipped) is one point per case (5 of 5, 4 of 5), ★ 0; a NaN case is degenerate"
+
+
+def _expected_maximum(course, number: str, groups: list[str]) -> Fraction:
+    """A step's maximum under `course`, from its rules as documented: the step's points when set (and
+    some case weighs something), else the sum of its cases' weights."""
+    weights = sum((course.weight(g) for g in groups), Fraction(0))
+    points = course.points.get(number)
+    return weights if points is None or weights == 0 else points
+
+
+def selftest_kit_course(ctx) -> str:
+    """The kit's own course.json, whatever the instructor set: it parses for the kit's steps, and each
+    step's maximum and a full score are what its points and weights say."""
+    numbers = [s.number for s in ctx.steps]
+    course = course_file.read(course_file.COURSE_FILE, numbers)
+    told = []
+    with course_file.using(course):
+        rs = [StepResult(toy_step(n), DONE, toy_cases(ALL)) for n in numbers]
+        for r, n in zip(rs, numbers):
+            groups = [c.group for c in r.cases]
+            want = _expected_maximum(course, n, groups)
+            expect(r.maximum == want and r.earned == want,
+                   f"step {n}: {r.earned} of {r.maximum} for a full score, not {want} (course.json: points "
+                   f"{course.points.get(n)}, weights {[str(course.weight(g)) for g in course_file.GROUPS]})")
+            told.append(f"{n}: {r.maximum}")
+    default = all(course.points.get(n) is None for n in numbers) and \
+        [course.weight(g) for g in course_file.GROUPS] == [1, 1, 1, 0]
+    return (f"{course.source}, {'the default scale' if default else 'customised'}: a toy step of 7 cases is worth "
+            f"{', '.join(told)}; weights {' '.join(str(course.weight(g)) for g in course_file.GROUPS)}")
 
 
 def selftest_weighted(ctx) -> str:
@@ -211,14 +251,26 @@ def selftest_course_table(ctx) -> str:
             {"step": s.number, "cases": [{"tier": t, "name": n} for t, n in
                                          [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]}
             for s in ctx.steps]}))
-        default = kit("course", "--results", str(fake))
+        plain = Path(tmp) / "default.json"
+        plain.write_text(json.dumps(DEFAULT))
+        default = kit("course", "--file", str(plain), "--results", str(fake))
         want = f"Total to enter in Gradescope (the assignment's points): {2 * len(ctx.steps)}"
-        expect(default.returncode == 0 and want in default.stdout, f"./kit course: {default.stdout[-300:]}{default.stderr}")
+        expect(default.returncode == 0 and re.search(re.escape(want) + r"\b", default.stdout),
+               f"./kit course --file (the default scale): {default.stdout[-300:]}{default.stderr}")
+        # The kit's own course.json, as the instructor set it: the total its rules give.
+        kits = course_file.read(course_file.COURSE_FILE, [s.number for s in ctx.steps])
+        groups = [kits.group("robust" if t == "robust" else "basic", n) for t, n in
+                  [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]
+        total = sum((_expected_maximum(kits, s.number, groups) for s in ctx.steps), Fraction(0))
+        own = kit("course", "--results", str(fake))
+        expect(own.returncode == 0 and re.search(rf"\(the assignment's points\): {re.escape(str(total))}\b", own.stdout),
+               f"./kit course (the kit's course.json): the total is not {total}: {own.stdout[-300:]}{own.stderr}")
         got = kit("course", "--file", str(weighted), "--results", str(fake))
         want = f"(the assignment's points): {20 * len(ctx.steps)}"
-        expect(got.returncode == 0 and want in got.stdout and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
+        expect(got.returncode == 0 and re.search(re.escape(want) + r"\b", got.stdout) and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
                f"./kit course --file (20 points a step): {got.stdout[-400:]}{got.stderr}")
-    return f"./kit course: {2 * len(ctx.steps)} by default, {20 * len(ctx.steps)} weighted (a core case 40/3)"
+    return (f"./kit course: {2 * len(ctx.steps)} on the default scale, {20 * len(ctx.steps)} weighted (a core case "
+            f"40/3), {total} on the kit's course.json")
 
 
 def selftest_roster(ctx) -> str:
@@ -406,7 +458,8 @@ def selftest_gradescope_adds_up(ctx) -> str:
 
 
 def selftests():
-    return [("course: the default scale", selftest_default_scale), ("course: weights, exact", selftest_weighted),
+    return [("course: the default scale", selftest_default_scale),
+            ("course: the kit's course.json as set", selftest_kit_course), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: Gradescope's tests add up to each step's points", selftest_gradescope_adds_up),

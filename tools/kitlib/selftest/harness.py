@@ -25,7 +25,7 @@ from ..status import FAILED, OK
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
 MODULES = ["layers", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "boundary",
            "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report",
-           "workflow", "newstep", "watch", "reach", "sanitizers", "lab", "slides"]
+           "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
 

@@ -25,6 +25,10 @@ CONTRIBUTING's commands only:
 `./kit test --fast` leaves out the Doxygen builds and the second grading of the mutants (50-56 s
 instead of 65-100 s, measured on the shared 2-core machine with the kit cache warm). What each rule said is kept in build/newstep-rules.jsonl.
 
+The template is step 06; in a kit that already has a step 06 (an instructor's own, or this template
+added as CONTRIBUTING says) it is added as the next free number, its paths and the words naming its
+number renumbered (numbered()), so a customised kit's ./kit test passes here too.
+
 It can fail: RAYKIT_NEWSTEP_DROP=tests/06_plane/remote.inc (a comma-separated list of template
 paths) leaves those files out of the step, as if CONTRIBUTING's list lacked them.
 """
@@ -46,8 +50,41 @@ from .harness import Failed, expect, need_solutions
 TEMPLATE = ROOT / "tests" / "fixtures" / "new_step"
 COPY = BUILD / "newstep-kit"
 RULES_LOG = BUILD / "newstep-rules.jsonl"     # what each rule said, kept after the copy is gone
-NUMBER, FOLDER = "06", "06_plane"
+# The template is written as step 06 (TEMPLATE_NUMBER); a kit whose instructor added steps of their
+# own (a step 06 of theirs, or this very template) gets it as the next free number instead: its paths
+# and the words that name its number are renumbered in the copy (numbered()). use() sets these.
+TEMPLATE_NUMBER = "06"
+NUMBER, FOLDER = TEMPLATE_NUMBER, f"{TEMPLATE_NUMBER}_plane"
 SOLUTION = f"solutions/{FOLDER}/plane.cpp"
+
+
+def use(number: str) -> None:
+    global NUMBER, FOLDER, SOLUTION
+    NUMBER, FOLDER = number, f"{number}_plane"
+    SOLUTION = f"solutions/{FOLDER}/plane.cpp"
+
+
+def free_number() -> str:
+    """The number the kit's next step takes: one more than its last (06 in the kit as shipped)."""
+    from ..common import load_steps
+    taken = [int(s.number) for s in load_steps()]
+    taken += [int(p.name[:2]) for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir()]
+    return f"{max(taken, default=0) + 1:02d}"
+
+
+def numbered(rel: Path, text: str, number: str) -> tuple[Path, str]:
+    """A template file's path and text for step `number`: its folders, its lecture's name and the
+    words that name the step (Step 06, Lecture 06, ./kit check 6) renumbered."""
+    if number == TEMPLATE_NUMBER:
+        return rel, text
+    t = TEMPLATE_NUMBER
+    swaps = [(f"{t}_plane", f"{number}_plane"), (f"{t}-plane", f"{number}-plane"), (f"Step {t}", f"Step {number}"),
+             (f"step {t}", f"step {number}"), (f"Lecture {t}", f"Lecture {number}"),
+             (f"check {int(t)}`", f"check {int(number)}`"), (f"check {int(t)}\n", f"check {int(number)}\n")]
+    path = rel.as_posix()
+    for a, b in swaps:
+        path, text = path.replace(a, b), text.replace(a, b)
+    return Path(path), text
 
 # The mutants: (name, the reference's text, the slip's text, the slip in one line, the case made for it).
 SLIPS = [
@@ -143,9 +180,7 @@ def selftest_new_step(ctx) -> str:
         times[name] = time.monotonic() - start
         start = time.monotonic()
 
-    taken = sorted(p.name for p in (ROOT / "tests").glob(f"{NUMBER}_*"))
-    expect(not taken, f"the kit has a step {NUMBER} ({', '.join(taken)}): give the template of "
-                      f"tests/fixtures/new_step/ the next free number")
+    use(free_number())
     # 0. The template holds only what CONTRIBUTING names.
     patterns = contributing_paths((ROOT / "CONTRIBUTING.md").read_text())
     files = template_files()
@@ -153,14 +188,15 @@ def selftest_new_step(ctx) -> str:
     expect(not unnamed, "the template has files CONTRIBUTING.md's \"## A step\" does not name: " + ", ".join(unnamed))
     kit_dir = scratch_kit(COPY)
     for f in files:
-        (kit_dir / f).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(TEMPLATE / f, kit_dir / f)
+        rel, text = numbered(f, (TEMPLATE / f).read_text(), NUMBER)
+        (kit_dir / rel).parent.mkdir(parents=True, exist_ok=True)
+        (kit_dir / rel).write_text(text)
     lap("copy")
 
     # 1. Record, commit, the stub is not started.
     r = run_kit(kit_dir, "check", NUMBER, "--record")
     expect(r.returncode == 0, f"./kit check {NUMBER} --record on the new step exited {r.returncode}:\n{said(r)}")
-    commit(kit_dir, "step 06")
+    commit(kit_dir, f"step {NUMBER}")
     lap("record")
     r = run_kit(kit_dir, "check", NUMBER)
     expect(r.returncode == 1 and "not started" in r.stdout,
@@ -179,20 +215,20 @@ def selftest_new_step(ctx) -> str:
         expect(r.returncode == 0, f"./kit mutant save {NUMBER} {name}: exit {r.returncode}\n{said(r)}")
     r = run_kit(kit_dir, "report", "--signatures", "--step", NUMBER)
     expect(r.returncode == 0, f"./kit report --signatures --step {NUMBER}: exit {r.returncode}\n{said(r)}")
-    commit(kit_dir, "step 06's mutants and their signatures")
+    commit(kit_dir, f"step {NUMBER}'s mutants and their signatures")
     lap("mutants")
 
     # 3. The handout.
     handout = kit_dir / "build" / "newstep-handout"
     r = run_kit(kit_dir, "handout", str(handout))
-    expect(r.returncode == 0, f"./kit handout with step 06: exit {r.returncode}\n{said(r)}")
+    expect(r.returncode == 0, f"./kit handout with step {NUMBER}: exit {r.returncode}\n{said(r)}")
     stub = kit_dir / "steps" / FOLDER / "plane.cpp"
     shipped = handout / "steps" / FOLDER / "plane.cpp"
-    expect(shipped.is_file() and shipped.read_text() == stub.read_text(), "the handout's step 06 is not its stub")
+    expect(shipped.is_file() and shipped.read_text() == stub.read_text(), f"the handout's step {NUMBER} is not its stub")
     for gone in ("solutions", f"tests/mutants/{FOLDER}"):
         expect(not (handout / gone).exists(), f"the handout has {gone}")
-    expect((handout / "tests" / FOLDER / "test_plane.cpp").is_file() and (handout / "lectures" / "06-plane.md").is_file(),
-           "the handout lacks step 06's suite or its lecture")
+    expect((handout / "tests" / FOLDER / "test_plane.cpp").is_file() and (handout / "lectures" / f"{NUMBER}-plane.md").is_file(),
+           f"the handout lacks step {NUMBER}'s suite or its lecture")
     r = run_kit(handout, "check", NUMBER)
     expect(r.returncode == 1 and "not started" in r.stdout, f"the handout's ./kit check {NUMBER}: exit {r.returncode}\n{said(r)}")
     shutil.rmtree(handout, ignore_errors=True)
@@ -202,7 +238,7 @@ def selftest_new_step(ctx) -> str:
     r = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, 'tools'); "
                         "from kitlib.selftest import newstep; sys.exit(newstep.rules_here())"],
                        cwd=kit_dir, capture_output=True, text=True, timeout=1800,
-                       env=dict(os.environ, RAYKIT_NEWSTEP_FAST="1" if ctx.fast else ""))
+                       env=dict(os.environ, RAYKIT_NEWSTEP_FAST="1" if ctx.fast else "", RAYKIT_NEWSTEP_NUMBER=NUMBER))
     lines = [json.loads(l) for l in r.stdout.splitlines() if l.startswith("{")]
     RULES_LOG.write_text("".join(json.dumps(l, ensure_ascii=False) + "\n" for l in lines))
     bad = [f"{l['rule']}: {l['failed']}" for l in lines if "failed" in l]
@@ -234,6 +270,7 @@ def rules_here() -> int:
     from . import docs as docs_tests
     from .harness import Context, Skipped
 
+    use(os.environ.get("RAYKIT_NEWSTEP_NUMBER") or TEMPLATE_NUMBER)
     steps = [s for s in load_steps() if s.number == NUMBER]
     ctx = Context(fast=True, steps=steps)
 

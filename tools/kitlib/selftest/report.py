@@ -11,6 +11,10 @@ to both; the near-copies are the first pair and the solution copies are grouped,
 CSV, the index and the student pages agree on every score; a student's page names no other student;
 the index and a student page open in headless Chromium with no console error, no broken image and
 no network request (screenshots in build/report-test/).
+
+The similarity section alone (a few seconds, no grading): eleven students, nine handing in one
+file (an older text of the reference, from git, else today's with code of its own), two pairs of
+real copies of a step file; the real pairs first, the shared file once as a group (#35 item 2).
 """
 
 from __future__ import annotations
@@ -240,6 +244,119 @@ def selftest_class_report(ctx) -> str:
             f"{len(pairs)} pairs; scores agree; {shots}")
 
 
+# --- similar submissions: a class that shares one file --------------------------------------------
+
+def _edited(text: str, every: int, tag: str) -> str:
+    """A real copy that was worked on a little: every `every`-th statement line followed by one of its own."""
+    out, n = [], 0
+    for line in text.splitlines():
+        out.append(line)
+        if line.rstrip().endswith(";") and not line.lstrip().startswith(("return", "#", "//")):
+            n += 1
+            if n % every == 0:
+                indent = line[:len(line) - len(line.lstrip())]
+                out.append(f"{indent}volatile int {tag}_{n} = {n} * {len(out)} + {tag}_seen++;")
+    return "\n".join(out) + "\n"
+
+
+def _shared_text(step, f: str) -> tuple[str, str]:
+    """The file most of the class shares: the oldest text of the reference in git's history when it is
+    not today's (the issue's case: an older handout's answer), else today's with code of its own added."""
+    import subprocess
+    path = f"solutions/{step.folder}/{f}"
+    today = (ROOT / path).read_text()
+    log = subprocess.run(["git", "-C", str(ROOT), "log", "--format=%h", "--", path], capture_output=True, text=True)
+    commits = log.stdout.split() if log.returncode == 0 else []
+    if commits:
+        old = subprocess.run(["git", "-C", str(ROOT), "show", f"{commits[-1]}:{path}"], capture_output=True, text=True)
+        if old.returncode == 0 and old.stdout != today:
+            return old.stdout, f"{path} as of {commits[-1]}"
+    extra = "".join(f"static int shared_helper_{i}(int v) {{ int w = v * {i} + {i * i}; return w % {i + 7}; }}\n"
+                    for i in range(1, 40))
+    return today + extra, "today's reference with helpers of its own"
+
+
+def selftest_similar_groups(ctx) -> str:
+    """Eleven students: nine hand in one file (byte for byte, one with its comments changed, one with a
+    line more), and two pairs are real copies of each other's step file, one of them inside the group.
+    The two pairs must be listed first, the shared file once as a group and never as pairs."""
+    need_solutions()
+    import shutil as _shutil
+    if _shutil.which("sim_c++") is None:
+        raise Skipped("sim_c++ is not installed (sudo apt-get install similarity-tester)")
+    from ..report import similar
+    from ..report.pages import similar_section
+    steps = load_steps()
+    textbook = ROOT / "tests" / "fixtures" / "textbook"
+    own = [s for s in steps if len(s.files) == 1 and (textbook / s.folder / s.files[0]).is_file()]
+    if len(own) < 2:
+        raise Failed("tests/fixtures/textbook/ holds fewer than two steps' own answers")
+    last = steps[-1]
+    big = max(last.files, key=lambda f: len((ROOT / "solutions" / last.folder / f).read_text()))
+    shared, origin = _shared_text(last, big)
+    root = WORK / "similar"
+    shutil.rmtree(root, ignore_errors=True)
+    names = [f"st{i:02d}" for i in range(1, 12)]
+
+    def put(who: str, step, f: str, text: str) -> None:
+        target = root / who / step.folder / f
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text)
+
+    group = names[:9]
+    for i, who in enumerate(names):
+        for s in steps:                     # everyone: today's solutions, set aside
+            for f in s.files:
+                put(who, s, f, (ROOT / "solutions" / s.folder / f).read_text())
+        if who in group:
+            text = shared
+            if i == 3:
+                text = "// my own header comment\n" + re.sub(r"(?m)^ {4}", "\t", shared)
+            if i == 4:
+                text = shared + "static const int one_line_more = 42;\n"
+            put(who, last, big, text)
+    real = [(names[1], names[6], own[0]), (names[9], names[10], own[1])]    # one pair inside the group
+    for a, b, s in real:
+        f = s.files[0]
+        text = (textbook / s.folder / f).read_text()
+        put(a, s, f, text)
+        put(b, s, f, _edited(_disguise(text), 4, "b"))
+
+    start = time.monotonic()
+    sim = similar.compare(root, names, steps)
+    elapsed = time.monotonic() - start
+    expect(sim.available, sim.note)
+    listed = [(p.a, p.b, p.score) for p in sim.pairs]
+    wanted = [{a, b} for a, b, _ in real]
+    expect(len(listed) >= 2 and [set(p[:2]) for p in listed[:2]] in (wanted, wanted[::-1]),
+           f"the two real copies {[tuple(w) for w in wanted]} are not the first pairs: {listed[:6]}")
+    inside = [p for p in listed if p[0] in group and p[1] in group and (p[0], p[1]) != tuple(sorted(real[0][:2]))]
+    expect(not inside, f"pairs of the group's members listed: {inside[:4]} ({len(inside)})")
+    key = f"{last.folder}/{big}"
+    groups = [g for g in getattr(sim, "groups", []) if g.key == key]
+    expect(len(groups) == 1 and groups[0].members == sorted(group),
+           f"{key} shared by {group} is not one group of them: {[(g.key, g.members) for g in groups]}")
+    scores = {frozenset(p[:2]): p[2] for p in listed}
+    for a, b, s in real:
+        score = scores[frozenset((a, b))]
+        expect(similar.SHOWN <= score < 100, f"{a} and {b}: {score} %, not a copy worked on a little")
+    html = "\n".join(similar_section(sim, {}))
+    expect(html.count(f'data-group="{key}"') == 1, f"{key} is not shown once as a group")
+    rows = re.findall(r'data-pair="([^"|]+)\|([^"]+)"', html)
+    expect([set(r) for r in rows[:2]] in (wanted, wanted[::-1]), f"the page's first pairs are {rows[:2]}")
+    expect(all(n in html for n in group), "the group's members are not all named")
+    old_like = ""
+    if "as of" in origin:
+        expect(groups[0].share >= similar.REFERENCE_LIKE and "as of" in groups[0].source,
+               f"the group's file, {origin}, is not recognised as a version of the reference: "
+               f"{groups[0].share} % of {groups[0].source or 'none'}")
+        old_like = f", recognised as {groups[0].share} % of {groups[0].source}"
+    shutil.rmtree(root, ignore_errors=True)
+    return (f"11 students, {key} shared by 9 ({origin}{old_like}): one group; the real copies first "
+            f"({', '.join(f'{a}/{b} {s} %' for a, b, s in listed[:2])}), {len(listed)} pairs in all; "
+            f"compared in {elapsed:.1f} s")
+
+
 def _browser(*pages_: Path) -> str:
     from .. import browser
     from ..packages import ensure_packages
@@ -296,4 +413,5 @@ def _browser(*pages_: Path) -> str:
 
 def selftests():
     return [("report: the mutants' signatures are current", selftest_signatures_fresh),
-            ("report: a synthetic class's report", selftest_class_report)]
+            ("report: a synthetic class's report", selftest_class_report),
+            ("report: similar submissions, a class sharing one file", selftest_similar_groups)]
