@@ -149,6 +149,9 @@ def collect(modules: list[str] | None = None, words: str = "", quick: bool = Fal
         name, _, only = entry.partition(":")
         tests = importlib.import_module(f"{__package__}.{name}").selftests()
         if quick:
+            missing = [n for n in QUICK.get(name, []) if n not in {t for t, _ in tests}]
+            if missing:
+                raise KitError(f"harness.QUICK names self-tests {name} does not have: {missing}")
             tests = [(n, fn) for n, fn in tests if n in QUICK.get(name, [])]
         for want in (only, words):
             if want:
