@@ -13,7 +13,9 @@ user id when root), and asserts on the JSON and the exit status:
 - one scale: stubs, a one-slip submission and the solutions have one maximum, and
   the slip in step 04 costs step 05 nothing;
 - read_answers: the solutions, build/, tests/hidden and the git objects cannot be
-  read from inside the sandbox.
+  read from inside the sandbox;
+- read_classmate: a classmate's folder and another copy of the kit kept anywhere on
+  the machine (/opt, /tmp) cannot be included at compile time nor read at run time.
 
 Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
 nothing" is measurable: the same status for every case and the same score. Each
@@ -25,13 +27,14 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import subprocess
 import tempfile
 import time
 from pathlib import Path
 from typing import Callable
 
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
-from ..status import DONE, PARTIAL
+from ..status import DONE, NO_COMPILE, PARTIAL
 from .harness import Failed, Skipped, expect, kit, need_solutions
 
 HOSTILE = ROOT / "tests" / "fixtures" / "hostile"
@@ -375,10 +378,119 @@ def selftest_read_answers(ctx) -> str:
     return run_modes(one, spent)
 
 
+# Where read_classmate looks (the fixture's fixed paths and the prefixes it scans).
+CLASS_FOLDER = "raykit-selftest-class"     # a class handed to ./kit grade: alice (a solution) and mallory
+KIT_COPY = "raykit-selftest-kit"           # another copy of the kit: its solutions/
+
+
+def world_readable_copy(src: Path, dst: Path) -> None:
+    """`src` copied to `dst` as a folder anyone may read (0755 folders, 0644 files): how a class
+    unpacked by hand, or a kit cloned with the usual umask, is kept."""
+    shutil.rmtree(dst, ignore_errors=True)
+    shutil.copytree(src, dst)
+    for p in [dst, *dst.rglob("*")]:
+        os.chmod(p, 0o755 if p.is_dir() else 0o644)
+
+
+def class_folder(top: str) -> Path:
+    """A class of two under `top`: alice handed in the reference's step 01, mallory read_classmate."""
+    folder = Path(top) / CLASS_FOLDER
+    world_readable_copy(ROOT / "solutions" / "01_unit_sphere", folder / "alice" / "01_unit_sphere")
+    world_readable_copy(HOSTILE / "read_classmate", folder / "mallory")
+    return folder
+
+
+def grade_class_json(folder: Path, mode: str) -> tuple[dict, dict, float]:
+    """`./kit grade FOLDER --isolation MODE`: the CSV's rows and the results.json of each student,
+    by name; the class folder's mode must be as it was before, after."""
+    before = folder.stat().st_mode
+    out = Path(tempfile.mkdtemp(prefix="raykit-integrity-class-"))
+    try:
+        start = time.monotonic()
+        # Every compile done anew: the object cache keys a compile by the step's own files, not by
+        # what an #include of an absolute path found (an object stolen under an older kit would be served).
+        r = subprocess.run([str(ROOT / "kit"), "grade", str(folder), "--out", str(out / "grades.csv"),
+                            "--json-dir", str(out / "json"), "--isolation", mode], cwd=ROOT, capture_output=True,
+                           text=True, timeout=1800, env=dict(os.environ, RAYKIT_NO_OBJCACHE="1"))
+        took = time.monotonic() - start
+        expect(r.returncode == 0, f"./kit grade {folder} ({mode}) exited {r.returncode}: {r.stderr[-500:]}")
+        import csv
+        rows = {row["student"]: row for row in csv.DictReader((out / "grades.csv").open())}
+        data = {p.stem: json.loads(p.read_text()) for p in (out / "json").glob("*.json")}
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    after = folder.stat().st_mode
+    expect(after == before, f"./kit grade {folder} ({mode}): the class folder's mode was {oct(before)}, "
+                            f"is {oct(after)} after grading")
+    expect({"alice", "mallory"} <= set(data), f"./kit grade {folder} ({mode}): results for {sorted(data)} only")
+    return rows, data, took
+
+
+def selftest_read_classmate(ctx) -> str:
+    """A classmate's step file and another copy of the kit's solutions, kept where the grader keeps
+    them (under /opt, under /tmp), world-readable: read_classmate, graded beside that classmate,
+    can neither #include them nor read them, and scores exactly like always_miss."""
+    made = [Path(top) / name for top in ("/opt", "/tmp") for name in (CLASS_FOLDER, KIT_COPY)]
+
+    def clear() -> None:
+        for p in made:
+            shutil.rmtree(p, ignore_errors=True)
+
+    def leaks(data: dict) -> list[str]:
+        return sorted({l for l in printed(data).splitlines() if l.startswith("read_classmate:") and "could" in l})
+
+    def like_always_miss(data: dict, where: str, mode: str, base: dict, base_rc: int) -> None:
+        name = f"read_classmate ({where})"
+        expect("classmate or kit files readable" in printed(data),
+               f"{name} ({mode}): its output is not in the JSON; did the attack run at all?")
+        found = leaks(data)
+        expect(not found, f"{name} ({mode}): the sandboxed code read another's files: " + "; ".join(found[:4]))
+        # ./kit grade gives no exit status per student: its JSON is compared, the status taken as always_miss's.
+        same_as_wrong_answer(name, mode, data, base_rc, base, base_rc)
+
+    def one(mode: str) -> str:
+        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        clear()
+        try:
+            if mode == "bwrap":
+                # Everything at once: a class under /opt (graded) and under /tmp, a kit copy under each.
+                for top in ("/opt", "/tmp"):
+                    world_readable_copy(ROOT / "solutions", Path(top) / KIT_COPY / "solutions")
+                    class_folder(top)
+                _, data, took = grade_class_json(Path("/opt") / CLASS_FOLDER, mode)
+                like_always_miss(data["mallory"], "class under /opt, kits under /opt and /tmp", mode, base, base_rc)
+                expect(step_results(data["alice"])["01"]["state"] == DONE,
+                       f"read_classmate (bwrap): alice's solution is not graded done: {data['alice']['score']}")
+                return (f"a class under /opt and /tmp, a kit copy under each: nothing included or read, "
+                        f"{data['mallory']['score']} points like always_miss ({took:.0f} s)")
+            # The user isolation keeps files apart by their modes only: the class folder ./kit grade
+            # is given (withheld from others while it grades) and the kit's own. Another copy of the
+            # kit elsewhere is as readable as its modes make it (docs/integrity.md): not placed here.
+            _, data, took = grade_class_json(class_folder("/tmp"), mode)
+            like_always_miss(data["mallory"], "class under /tmp", mode, base, base_rc)
+            shutil.rmtree(Path("/tmp") / CLASS_FOLDER)
+            # The compile-time attack on a class under /opt: there the path exists but cannot be
+            # opened, and both GCC and clang make that a hard error of __has_include: no compile.
+            _, data, took2 = grade_class_json(class_folder("/opt"), mode)
+            [step] = data["mallory"]["extra_data"]["steps"]
+            expect(step["state"] == NO_COMPILE and "Permission denied" in step["detail"]
+                   and f"{CLASS_FOLDER}/alice" in step["detail"],
+                   f"read_classmate (class under /opt, {mode}): {step['state']}, {data['mallory']['score']} points: "
+                   f"{step['detail'][-300:]!r}")
+            return (f"a class under /tmp: nothing read, {base['score']} points like always_miss ({took:.0f} s); "
+                    f"under /opt: the #include is refused (Permission denied), 0 points ({took2:.0f} s)")
+        finally:
+            clear()
+
+    need_solutions()
+    return run_modes(one)
+
+
 def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
     return [("integrity: one scale", selftest_one_scale),
             ("integrity: forged verdicts", selftest_forge_verdicts),
             ("integrity: lingering writer", selftest_lingering_writer),
             ("integrity: read the answers", selftest_read_answers),
+            ("integrity: read a classmate's files", selftest_read_classmate),
             ("integrity: table of the visible inputs", selftest_table_of_visible_inputs)]
