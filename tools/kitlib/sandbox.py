@@ -295,25 +295,40 @@ _view: dict[str, list[str]] = {}
 
 
 def compiler_folders(shown: list[str]) -> list[str]:
-    """The install folders of the compilers named by CXX (the one CMake takes) that lie outside the
-    folders `shown`: the folder above its bin/ (its libexec/, lib/ and include/ beside it), else its
-    own folder. A compiler under /usr needs nothing more."""
+    """The install folders of the compiler that lie outside the folders `shown`: the one named by
+    CXX (what CMake takes when it first configures a build folder) and the one a build folder was
+    configured with (CMakeCache.txt in the working folder: the launcher runs in the build folder),
+    each the folder above its bin/ (its libexec/, lib/ and include/ beside it), else its own folder.
+    A compiler under /usr needs nothing more."""
     import shlex
     found: list[str] = []
     try:
         words = shlex.split(os.environ.get("CXX", ""))
     except ValueError:
         words = []
+    try:
+        if Path.cwd() != BUILD and BUILD not in Path.cwd().parents:
+            raise OSError("not a build folder of the kit")
+        with open("CMakeCache.txt", errors="replace") as cache:
+            for line in cache:
+                if line.startswith("CMAKE_CXX_COMPILER:"):
+                    words.append(line.split("=", 1)[1].strip())
+    except OSError:
+        pass
     for word in words:
         exe = shutil.which(word)
         if not exe:
             continue
         real = Path(os.path.realpath(exe))
-        folder = real.parent.parent if real.parent.name == "bin" else real.parent
-        text = str(folder)
-        if folder == Path("/") or any(text == s or text.startswith(s.rstrip("/") + "/") for s in shown + found):
-            continue
-        found.append(text)
+        # Never a top folder (/opt), nor one that holds the kit, a home or the temporary folder.
+        kept = [Path(p).resolve() for p in (ROOT, os.environ.get("HOME") or "/", tempfile.gettempdir())]
+        for folder in ([real.parent.parent] if real.parent.name == "bin" else []) + [real.parent]:
+            text = str(folder)
+            if len(folder.parts) < 3 or any(k == folder or folder in k.parents for k in kept):
+                continue
+            if not any(text == s or text.startswith(s.rstrip("/") + "/") for s in shown + found):
+                found.append(text)
+            break
     return found
 
 
@@ -627,6 +642,8 @@ class WithheldFromOthers:
         self.paths: list[Path] = []
         self.taken: dict[str, int] = {}
         self.handlers: dict[int, object] = {}
+        if os.geteuid() == 0:
+            restore_withheld()      # a grading killed before it could put a mode back
         if os.geteuid() != 0 or isolation in ("none", "bwrap") or (isolation == "auto" and bwrap_works()):
             return                  # not the user isolation: bubblewrap shows no class folder at all
         folder = folder.resolve()
@@ -636,7 +653,6 @@ class WithheldFromOthers:
     def __enter__(self) -> "WithheldFromOthers":
         if not self.paths:
             return self
-        restore_withheld()
         import atexit
         atexit.register(self.restore)
         try:

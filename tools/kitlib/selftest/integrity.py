@@ -426,6 +426,36 @@ def grade_class_json(folder: Path, mode: str) -> tuple[dict, dict, float]:
     return rows, data, took
 
 
+def stopped_grading(folder: Path, sig: int) -> tuple[int, int, int]:
+    """`./kit grade FOLDER --isolation user`, sent `sig` as soon as the class folder is closed to
+    others: the folder's mode before, while closed (0 if it never was), and after the kit ended."""
+    import signal as signals
+    before = folder.stat().st_mode
+    out = Path(tempfile.mkdtemp(prefix="raykit-integrity-stop-"))
+    closed = 0
+    try:
+        proc = subprocess.Popen([str(ROOT / "kit"), "grade", str(folder), "--out", str(out / "grades.csv"),
+                                 "--isolation", "user"], cwd=ROOT, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, env=dict(os.environ, RAYKIT_NO_OBJCACHE="1"))
+        try:
+            deadline = time.monotonic() + 300
+            while proc.poll() is None and time.monotonic() < deadline:
+                mode = folder.stat().st_mode
+                if not mode & 0o007:
+                    closed = mode
+                    break
+                time.sleep(0.02)
+            proc.send_signal(sig)
+            proc.wait(timeout=900)
+        finally:
+            if proc.poll() is None:
+                proc.send_signal(signals.SIGKILL)
+                proc.wait()
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    return before, closed, folder.stat().st_mode
+
+
 def selftest_read_classmate(ctx) -> str:
     """A classmate's step file and another copy of the kit's solutions, kept where the grader keeps
     them (under /opt, under /tmp), world-readable: read_classmate, graded beside that classmate,
@@ -472,6 +502,13 @@ def selftest_read_classmate(ctx) -> str:
             # kit elsewhere is as readable as its modes make it (docs/integrity.md): not placed here.
             _, data, took = grade_class_json(class_folder("/tmp"), mode)
             like_always_miss(data["mallory"], "class under /tmp", mode, base, base_rc)
+            # Stopped while it grades (Ctrl-C, a kill): the class folder's mode is put back all the same.
+            import signal as signals
+            for sig in (signals.SIGINT, signals.SIGTERM):
+                before, closed, after = stopped_grading(Path("/tmp") / CLASS_FOLDER, sig)
+                expect(closed and after == before,
+                       f"./kit grade stopped by {signals.Signals(sig).name}: the class folder's mode was "
+                       f"{oct(before)}, {oct(closed)} while grading, {oct(after)} after")
             shutil.rmtree(Path("/tmp") / CLASS_FOLDER)
             # The compile-time attack on a class under /opt: there the path exists but cannot be
             # opened, and both GCC and clang make that a hard error of __has_include: no compile.
@@ -481,7 +518,8 @@ def selftest_read_classmate(ctx) -> str:
                    and f"{CLASS_FOLDER}/alice" in step["detail"],
                    f"read_classmate (class under /opt, {mode}): {step['state']}, {data['mallory']['score']} points: "
                    f"{step['detail'][-300:]!r}")
-            return (f"a class under /tmp: nothing read, {base['score']} points like always_miss ({took:.0f} s); "
+            return (f"a class under /tmp: nothing read, {base['score']} points like always_miss ({took:.0f} s), "
+                    "its mode put back after SIGINT and SIGTERM too; "
                     f"under /opt: the #include is refused (Permission denied), 0 points ({took2:.0f} s)")
         finally:
             clear()
