@@ -58,14 +58,25 @@ FIRST_UID_ENV = "RAYKIT_FIRST_UID"
 # Where the claims on those ids are kept: a folder only root can write (see claim_uid).
 LOCK_DIRS = ["/run/raykit", "/var/lib/raykit/locks"]
 
-# What the user isolation must not read in the kit (made unreadable to "others" while grading).
+# What the user isolation must not read in the kit. hide_secrets takes "others" rights from the
+# kit's root itself, which closes all of it; these are closed too, in case the root cannot be changed
+# (a read-only or foreign-owned mount) or is opened to others again by hand.
 SECRET_PARTS = ["solutions", "tests", "build", "bench", ".git"]
 
-# Folders hidden from bubblewrap's view (each that exists, as an empty tmpfs), beside the kit,
-# build/ and $HOME: temporary folders, sockets (/run holds dbus's and docker's), homes, the
-# autograder's files (/autograder/source is the kit on Gradescope, /grade on PrairieLearn).
-HIDDEN = ["/tmp", "/var/tmp", "/dev/shm", "/run", "/var/run", "/home", "/root", "/autograder", "/grade",
-          "/mnt", "/media", "/srv"]
+# Bubblewrap shows graded code an allow-list of the machine, nothing else (issue 32: a deny-list of
+# folders showed a class kept under /opt, and another copy of the kit, to every submission):
+# - SYSTEM, read-only: the programs and libraries the compile and the run need;
+# - SYSTEM_LINKS: the top folders a merged-/usr system has as links into /usr (Debian 12), or as
+#   folders of their own (Debian 11 may have either): made the same links, or bound, as here;
+# - SYSTEM_ETC, read-only: /etc's parts the compiler and loader read (c++ is /etc/alternatives/c++;
+#   the loader finds libstdc++ through ld.so.cache), and the compiler's own folder when it is
+#   outside them (CXX=/opt/gcc-13/bin/g++ shows /opt/gcc-13);
+# - the boundary's own files (Isolation.wrapper's ro, rw and tmpfs), a fresh /dev and /proc;
+# - HIDDEN, writable and empty: what programs expect to write, each a small tmpfs of its own.
+SYSTEM = ["/usr"]
+SYSTEM_LINKS = ["/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"]
+SYSTEM_ETC = ["/etc/alternatives", "/etc/ld.so.cache"]
+HIDDEN = ["/tmp", "/dev/shm"]
 
 MiB = 1 << 20
 HIDDEN_TMPFS_BYTES = 4 * MiB        # each hidden folder's tmpfs, where bubblewrap can size one
@@ -136,26 +147,16 @@ class Isolation:
     def wrapper(self, ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
                 tmpfs: list[tuple[str, int]] = (), use: str = "") -> list[str]:
         """The argv prefix that starts a command inside the boundary: bubblewrap's options, or
-        nothing. `ro` and `rw` bind host folders (or files) at the paths given; `tmpfs` adds sized
-        empty folders."""
+        nothing. Inside, the allow-list of the machine (system_view), a fresh /dev, /proc and
+        HIDDEN, then `ro` and `rw`, host folders (or files) bound at the paths given, and `tmpfs`,
+        sized empty folders. Nothing else of the machine exists there."""
         if self.mode != "bwrap":
             return []
-        argv = ["bwrap", "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc"]
-        hidden = list(HIDDEN) + [str(ROOT), str(BUILD)]
-        home = os.environ.get("HOME")
-        if home:
-            hidden.append(home)
-        done: list[str] = []
-        for h in hidden:
-            p = Path(h)
-            if any(h == d or h.startswith(d.rstrip("/") + "/") for d in done):
-                continue
-            if p.is_symlink() or not p.is_dir():
-                continue            # /var/run is a link to /run on Debian: hiding /run hides both
+        argv = ["bwrap"] + system_view() + ["--dev", "/dev", "--proc", "/proc"]
+        for h in HIDDEN:
             if bwrap_sizes():       # an empty folder, and no room to fill memory through it
                 argv += ["--size", str(HIDDEN_TMPFS_BYTES)]
             argv += ["--tmpfs", h]
-            done.append(h)
         for host, inside in ro:
             argv += ["--ro-bind", str(host), inside]
         for host, inside in rw:
@@ -166,6 +167,9 @@ class Isolation:
             argv += ["--tmpfs", inside]
         if use and os.environ.get("RAYKIT_BREAK_SANDBOX") == use:   # the self-test: a sandbox that cannot start
             argv += ["--ro-bind", "/nonexistent-raykit-selftest", "/nonexistent-raykit-selftest"]
+        # The root itself read-only (bubblewrap makes it a tmpfs the sandbox's user owns): nothing to
+        # write but the folders above.
+        argv += ["--remount-ro", "/"]
         argv += ["--chdir", chdir, "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
                  "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--"]
         return argv
@@ -260,6 +264,78 @@ class Isolation:
 NONE_OWN = Isolation("none", "not sandboxed (your own steps: the code runs as you)", own=True)
 
 _probe: dict[str, bool] = {}
+
+
+def system_view() -> list[str]:
+    """Bubblewrap's options that show the allow-list of the machine (SYSTEM, SYSTEM_LINKS,
+    SYSTEM_ETC, the compiler's folder), read-only, each as it is here, and hide inside it the kit
+    and its build/ should they lie there (a kit kept in /usr/local/src). Computed once a process."""
+    if "view" in _view:
+        return list(_view["view"])
+    argv: list[str] = []
+    shown: list[str] = []
+    for path in SYSTEM:
+        if os.path.isdir(path) and not os.path.islink(path):
+            argv += ["--ro-bind", path, path]
+            shown.append(path)
+    for path in SYSTEM_LINKS:
+        if os.path.islink(path):                    # merged /usr: /lib -> usr/lib, as here
+            argv += ["--symlink", os.readlink(path), path]
+        elif os.path.isdir(path):
+            argv += ["--ro-bind", path, path]
+            shown.append(path)
+    for path in SYSTEM_ETC:
+        if os.path.lexists(path):
+            argv += ["--ro-bind", path, path]
+    for folder in compiler_folders(shown):
+        argv += ["--ro-bind", folder, folder]
+        shown.append(folder)
+    for secret in sorted({str(ROOT), str(BUILD), os.path.realpath(ROOT), os.path.realpath(BUILD)}):
+        if any(secret == s or secret.startswith(s.rstrip("/") + "/") for s in shown) and os.path.isdir(secret):
+            argv += ["--tmpfs", secret]
+    _view["view"] = argv
+    return list(argv)
+
+
+_view: dict[str, list[str]] = {}
+
+
+def compiler_folders(shown: list[str]) -> list[str]:
+    """The install folders of the compiler that lie outside the folders `shown`: the one named by
+    CXX (what CMake takes when it first configures a build folder) and the one a build folder was
+    configured with (CMakeCache.txt in the working folder: the launcher runs in the build folder),
+    each the folder above its bin/ (its libexec/, lib/ and include/ beside it), else its own folder.
+    A compiler under /usr needs nothing more."""
+    import shlex
+    found: list[str] = []
+    try:
+        words = shlex.split(os.environ.get("CXX", ""))
+    except ValueError:
+        words = []
+    try:
+        if Path.cwd() != BUILD and BUILD not in Path.cwd().parents:
+            raise OSError("not a build folder of the kit")
+        with open("CMakeCache.txt", errors="replace") as cache:
+            for line in cache:
+                if line.startswith("CMAKE_CXX_COMPILER:"):
+                    words.append(line.split("=", 1)[1].strip())
+    except OSError:
+        pass
+    for word in words:
+        exe = shutil.which(word)
+        if not exe:
+            continue
+        real = Path(os.path.realpath(exe))
+        # Never a top folder (/opt), nor one that holds the kit, a home or the temporary folder.
+        kept = [Path(p).resolve() for p in (ROOT, os.environ.get("HOME") or "/", tempfile.gettempdir())]
+        for folder in ([real.parent.parent] if real.parent.name == "bin" else []) + [real.parent]:
+            text = str(folder)
+            if len(folder.parts) < 3 or any(k == folder or folder in k.parents for k in kept):
+                continue
+            if not any(text == s or text.startswith(s.rstrip("/") + "/") for s in shown + found):
+                found.append(text)
+            break
+    return found
 
 
 def bwrap_sizes() -> bool:
@@ -621,21 +697,151 @@ class Scratch:
 
 
 def hide_secrets() -> None:
-    """Under the user isolation, what holds answers must not be readable by other users.
+    """Under the user isolation, the kit must not be readable by other users.
 
-    Takes read, write and search rights from 'others' on the kit's secret parts (the kit runs as
-    root here, and nothing but the sandbox is 'other'): the reference, every test file (hidden
-    cases, exact answers, the exact-root code, fixtures, mutants), build/ (the reference's objects,
-    other students' folders), the bench's reference code and the git history. The rest of the kit
-    stays usable by other users (its driver, lectures, headers); the compile reads its own copy of
-    the headers, and nothing of the kit is on the run's path.
+    Takes read, write and search rights from 'others' on the kit's root (the kit runs as root here,
+    and nothing but the sandbox is 'other'), and on its secret parts too (SECRET_PARTS: the
+    reference, every test file, build/ with other students' folders, the bench's reference code,
+    the git history), in case the root stays open (a mount whose modes cannot change). Graded code
+    needs nothing of the kit: the compile reads its own copy of the headers and the step's files
+    in a private folder, the link private copies of the objects, the run a copy of the answers
+    program in its scratch folder; the kit's driver runs as root. Users of the machine other than
+    the kit's owner and group no longer read the kit either, and the rights are not put back: a
+    grading in progress in another slot would be left open, and a kit that graded this way stays
+    as closed as it was while grading (its owner and group keep their rights).
     """
-    for part in SECRET_PARTS:
-        p = ROOT / part
-        if p.exists() and not p.is_symlink():
-            mode = p.stat().st_mode
-            if mode & (stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH):
-                os.chmod(p, mode & ~(stat.S_IROTH | stat.S_IWOTH | stat.S_IXOTH))
+    for p in [ROOT] + [ROOT / part for part in SECRET_PARTS]:
+        try:
+            if p.exists() and not p.is_symlink():
+                mode = p.stat().st_mode
+                if mode & 0o007:
+                    os.chmod(p, mode & ~0o007)
+        except OSError:
+            pass
+
+
+# --- the class folder under the user isolation ---------------------------------------------------
+
+WITHHELD = BUILD / "withheld-modes.json"     # {path: [mode, pid]}: what to put back should the kit die
+
+
+def _withheld_read() -> dict:
+    try:
+        data = json.loads(WITHHELD.read_text())
+        return data if isinstance(data, dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
+def _withheld_write(data: dict) -> None:
+    try:
+        if data:
+            BUILD.mkdir(parents=True, exist_ok=True)
+            tmp = WITHHELD.with_name(f".{WITHHELD.name}.{os.getpid()}")
+            tmp.write_text(json.dumps(data))
+            os.replace(tmp, WITHHELD)
+        else:
+            WITHHELD.unlink(missing_ok=True)
+    except OSError:
+        pass
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+        return True
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+
+
+def restore_withheld() -> list[str]:
+    """Puts back the modes a grading took and could not put back itself (killed by SIGKILL, the
+    machine stopped): each recorded path whose grading process is gone. The paths put back."""
+    data, done = _withheld_read(), []
+    for path, (mode, pid) in list(data.items()):
+        if _alive(int(pid)) and int(pid) != os.getpid():
+            continue
+        try:
+            os.chmod(path, int(mode))
+            done.append(path)
+        except OSError:
+            pass
+        del data[path]
+    _withheld_write(data)
+    return done
+
+
+class WithheldFromOthers:
+    """While grading as root (where the user isolation may be chosen), the class folder given to
+    ./kit grade is made unreadable to 'others', as the sandbox's user ids are, and its mode put back
+    after: at the end, on an exception or Ctrl-C (finally), on SIGTERM or SIGHUP (turned into an
+    exit), at interpreter exit (atexit), and after SIGKILL by the next grading (restore_withheld,
+    from a record in build/). Taken from the folder itself, one mode to put back; from each
+    submission in it instead when the folder holds the temporary folder the sandbox works in (a
+    class kept in /tmp itself), which the sandbox's user must still cross."""
+
+    def __init__(self, folder: Path, entries: list[Path], isolation: str = "auto"):
+        self.paths: list[Path] = []
+        self.taken: dict[str, int] = {}
+        self.handlers: dict[int, object] = {}
+        if os.geteuid() == 0:
+            restore_withheld()      # a grading killed before it could put a mode back
+        if os.geteuid() != 0 or isolation in ("none", "bwrap") or (isolation == "auto" and bwrap_works()):
+            return                  # not the user isolation: bubblewrap shows no class folder at all
+        folder = folder.resolve()
+        tmp = Path(tempfile.gettempdir()).resolve()
+        self.paths = list(entries) if tmp == folder or folder in tmp.parents else [folder]
+
+    def __enter__(self) -> "WithheldFromOthers":
+        if not self.paths:
+            return self
+        import atexit
+        atexit.register(self.restore)
+        try:
+            for sig in (signal.SIGTERM, signal.SIGHUP):
+                if signal.getsignal(sig) == signal.SIG_DFL:
+                    self.handlers[sig] = signal.signal(sig, _exit_on_signal)
+        except ValueError:
+            pass                    # not the main thread: atexit and finally still put them back
+        record = _withheld_read()
+        for p in self.paths:
+            try:
+                st = os.lstat(p)
+                if stat.S_ISLNK(st.st_mode) or not st.st_mode & 0o007:
+                    continue
+                record[str(p)] = [stat.S_IMODE(st.st_mode), os.getpid()]
+                _withheld_write(record)         # recorded before it is changed
+                os.chmod(p, stat.S_IMODE(st.st_mode) & ~0o007)
+                self.taken[str(p)] = stat.S_IMODE(st.st_mode)
+            except OSError:
+                continue
+        return self
+
+    def restore(self) -> None:
+        record = _withheld_read()
+        for path, mode in list(self.taken.items()):
+            try:
+                os.chmod(path, mode)
+            except OSError:
+                pass
+            record.pop(path, None)
+            del self.taken[path]
+        _withheld_write(record)
+        for sig, old in self.handlers.items():
+            try:
+                signal.signal(sig, old)
+            except ValueError:
+                pass
+        self.handlers = {}
+
+    def __exit__(self, *exc) -> None:
+        self.restore()
+
+
+def _exit_on_signal(signum, frame) -> None:
+    raise SystemExit(128 + signum)
 
 
 # --- processes ---------------------------------------------------------------------------------

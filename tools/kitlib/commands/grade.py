@@ -28,7 +28,7 @@ from ..checking import VERDICTS_ENV
 from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
 from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
 from ..packages import ensure_packages
-from ..sandbox import kill_session, kill_uid
+from ..sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
 from ..submissions import NotFound, locate
 from ..status import OK
@@ -340,7 +340,10 @@ def run(args) -> int:
     # Many compiles follow: the step headers precompiled once for all of them (studentpch.py).
     os.environ.setdefault(studentpch.ENV, "build")
     try:
-        return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
+        # Under the user isolation the graded code runs as another user of this machine: the class
+        # folder is closed to it while the class is graded (sandbox.py), then opened as it was.
+        with WithheldFromOthers(root, folders, args.isolation):
+            return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
     finally:
         os.environ.pop(VERDICTS_ENV, None)
         shutil.rmtree(verdicts, ignore_errors=True)

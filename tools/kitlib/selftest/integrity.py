@@ -13,7 +13,9 @@ user id when root), and asserts on the JSON and the exit status:
 - one scale: stubs, a one-slip submission and the solutions have one maximum, and
   the slip in step 04 costs step 05 nothing;
 - read_answers: the solutions, build/, tests/hidden and the git objects cannot be
-  read from inside the sandbox.
+  read from inside the sandbox;
+- read_classmate: a classmate's folder and another copy of the kit kept anywhere on
+  the machine (/opt, /tmp) cannot be included at compile time nor read at run time.
 
 Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
 nothing" is measurable: the same status for every case and the same score. Each
@@ -25,13 +27,14 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import subprocess
 import tempfile
 import time
 from pathlib import Path
 from typing import Callable
 
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
-from ..status import DONE, PARTIAL
+from ..status import DONE, NO_COMPILE, PARTIAL
 from .harness import Failed, Skipped, expect, kit, need_solutions
 
 HOSTILE = ROOT / "tests" / "fixtures" / "hostile"
@@ -383,10 +386,162 @@ def selftest_read_answers(ctx) -> str:
     return run_modes(one, spent)
 
 
+# Where read_classmate looks (the fixture's fixed paths and the prefixes it scans).
+CLASS_FOLDER = "raykit-selftest-class"     # a class handed to ./kit grade: alice (a solution) and mallory
+KIT_COPY = "raykit-selftest-kit"           # another copy of the kit: its solutions/
+
+
+def world_readable_copy(src: Path, dst: Path) -> None:
+    """`src` copied to `dst` as a folder anyone may read (0755 folders, 0644 files): how a class
+    unpacked by hand, or a kit cloned with the usual umask, is kept."""
+    shutil.rmtree(dst, ignore_errors=True)
+    shutil.copytree(src, dst)
+    for p in [dst, *dst.rglob("*")]:
+        os.chmod(p, 0o755 if p.is_dir() else 0o644)
+
+
+def class_folder(top: str) -> Path:
+    """A class of two under `top`: alice handed in the reference's step 01, mallory read_classmate."""
+    folder = Path(top) / CLASS_FOLDER
+    world_readable_copy(ROOT / "solutions" / "01_unit_sphere", folder / "alice" / "01_unit_sphere")
+    world_readable_copy(HOSTILE / "read_classmate", folder / "mallory")
+    return folder
+
+
+def grade_class_json(folder: Path, mode: str) -> tuple[dict, dict, float]:
+    """`./kit grade FOLDER --isolation MODE`: the CSV's rows and the results record of each student,
+    by name; the class folder's mode must be as it was before, after."""
+    before = folder.stat().st_mode
+    out = Path(tempfile.mkdtemp(prefix="raykit-integrity-class-"))
+    try:
+        start = time.monotonic()
+        # Every compile done anew: the object cache keys a compile by the step's own files, not by
+        # what an #include of an absolute path found (an object stolen under an older kit would be served).
+        r = subprocess.run([str(ROOT / "kit"), "grade", str(folder), "--out", str(out / "grades.csv"),
+                            "--json-dir", str(out / "json"), "--isolation", mode], cwd=ROOT, capture_output=True,
+                           text=True, timeout=1800, env=dict(os.environ, RAYKIT_NO_OBJCACHE="1"))
+        took = time.monotonic() - start
+        expect(r.returncode == 0, f"./kit grade {folder} ({mode}) exited {r.returncode}: {r.stderr[-500:]}")
+        import csv
+        rows = {row["student"]: row for row in csv.DictReader((out / "grades.csv").open())}
+        # Each student's record (kitlib/record.py), in the shape grade_json gives: no Gradescope tests.
+        data = {p.stem: {"record": rec, "score": rec["score"], "tests": []}
+                for p in (out / "json").glob("*.json") for rec in [json.loads(p.read_text())]}
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    after = folder.stat().st_mode
+    expect(after == before, f"./kit grade {folder} ({mode}): the class folder's mode was {oct(before)}, "
+                            f"is {oct(after)} after grading")
+    expect({"alice", "mallory"} <= set(data), f"./kit grade {folder} ({mode}): results for {sorted(data)} only")
+    return rows, data, took
+
+
+def stopped_grading(folder: Path, sig: int) -> tuple[int, int, int]:
+    """`./kit grade FOLDER --isolation user`, sent `sig` as soon as the class folder is closed to
+    others: the folder's mode before, while closed (0 if it never was), and after the kit ended."""
+    import signal as signals
+    before = folder.stat().st_mode
+    out = Path(tempfile.mkdtemp(prefix="raykit-integrity-stop-"))
+    closed = 0
+    try:
+        proc = subprocess.Popen([str(ROOT / "kit"), "grade", str(folder), "--out", str(out / "grades.csv"),
+                                 "--isolation", "user"], cwd=ROOT, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, env=dict(os.environ, RAYKIT_NO_OBJCACHE="1"))
+        try:
+            deadline = time.monotonic() + 300
+            while proc.poll() is None and time.monotonic() < deadline:
+                mode = folder.stat().st_mode
+                if not mode & 0o007:
+                    closed = mode
+                    break
+                time.sleep(0.02)
+            proc.send_signal(sig)
+            proc.wait(timeout=900)
+        finally:
+            if proc.poll() is None:
+                proc.send_signal(signals.SIGKILL)
+                proc.wait()
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    return before, closed, folder.stat().st_mode
+
+
+def selftest_read_classmate(ctx) -> str:
+    """A classmate's step file and another copy of the kit's solutions, kept where the grader keeps
+    them (under /opt, under /tmp), world-readable: read_classmate, graded beside that classmate,
+    can neither #include them nor read them, and scores exactly like always_miss."""
+    made = [Path(top) / name for top in ("/opt", "/tmp") for name in (CLASS_FOLDER, KIT_COPY)]
+
+    def clear() -> None:
+        for p in made:
+            shutil.rmtree(p, ignore_errors=True)
+
+    def leaks(data: dict) -> list[str]:
+        return sorted({l for l in printed(data).splitlines() if l.startswith("read_classmate:") and "could" in l})
+
+    def like_always_miss(data: dict, where: str, mode: str, base: dict, base_rc: int) -> None:
+        name = f"read_classmate ({where})"
+        expect("classmate or kit files readable" in printed(data),
+               f"{name} ({mode}): its output is not in the JSON; did the attack run at all?")
+        found = leaks(data)
+        expect(not found, f"{name} ({mode}): the sandboxed code read another's files: " + "; ".join(found[:4]))
+        # ./kit grade graded every step (the others missing, 0 points): step 01's part of its JSON is
+        # compared; it gives no exit status per student, so always_miss's is taken.
+        step01 = dict(data, tests=[t for t in data["tests"] if "step01" in t.get("tags", [])],
+                      record=dict(data["record"], steps=[s for s in data["record"]["steps"] if s["step"] == "01"]))
+        same_as_wrong_answer(name, mode, step01, base_rc, base, base_rc)
+
+    def one(mode: str) -> str:
+        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        clear()
+        try:
+            if mode == "bwrap":
+                # Everything at once: a class under /opt (graded) and under /tmp, a kit copy under each.
+                for top in ("/opt", "/tmp"):
+                    world_readable_copy(ROOT / "solutions", Path(top) / KIT_COPY / "solutions")
+                    class_folder(top)
+                _, data, took = grade_class_json(Path("/opt") / CLASS_FOLDER, mode)
+                like_always_miss(data["mallory"], "class under /opt, kits under /opt and /tmp", mode, base, base_rc)
+                expect(step_results(data["alice"])["01"]["state"] == DONE,
+                       f"read_classmate (bwrap): alice's solution is not graded done: {data['alice']['score']}")
+                return (f"a class under /opt and /tmp, a kit copy under each: nothing included or read, "
+                        f"{data['mallory']['score']} points like always_miss ({took:.0f} s)")
+            # The user isolation keeps files apart by their modes only: the class folder ./kit grade
+            # is given (withheld from others while it grades) and the kit's own. Another copy of the
+            # kit elsewhere is as readable as its modes make it (docs/integrity.md): not placed here.
+            _, data, took = grade_class_json(class_folder("/tmp"), mode)
+            like_always_miss(data["mallory"], "class under /tmp", mode, base, base_rc)
+            # Stopped while it grades (Ctrl-C, a kill): the class folder's mode is put back all the same.
+            import signal as signals
+            for sig in (signals.SIGINT, signals.SIGTERM):
+                before, closed, after = stopped_grading(Path("/tmp") / CLASS_FOLDER, sig)
+                expect(closed and after == before,
+                       f"./kit grade stopped by {signals.Signals(sig).name}: the class folder's mode was "
+                       f"{oct(before)}, {oct(closed)} while grading, {oct(after)} after")
+            shutil.rmtree(Path("/tmp") / CLASS_FOLDER)
+            # The compile-time attack on a class under /opt: there the path exists but cannot be
+            # opened, and both GCC and clang make that a hard error of __has_include: no compile.
+            _, data, took2 = grade_class_json(class_folder("/opt"), mode)
+            step = step_results(data["mallory"])["01"]
+            expect(step["state"] == NO_COMPILE and "Permission denied" in step["detail"]
+                   and f"{CLASS_FOLDER}/alice" in step["detail"],
+                   f"read_classmate (class under /opt, {mode}): {step['state']}, {data['mallory']['score']} points: "
+                   f"{step['detail'][-300:]!r}")
+            return (f"a class under /tmp: nothing read, {base['score']} points like always_miss ({took:.0f} s), "
+                    "its mode put back after SIGINT and SIGTERM too; "
+                    f"under /opt: the #include is refused (Permission denied), 0 points ({took2:.0f} s)")
+        finally:
+            clear()
+
+    need_solutions()
+    return run_modes(one)
+
+
 def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
     return [("integrity: one scale", selftest_one_scale),
             ("integrity: forged verdicts", selftest_forge_verdicts),
             ("integrity: lingering writer", selftest_lingering_writer),
             ("integrity: read the answers", selftest_read_answers),
+            ("integrity: read a classmate's files", selftest_read_classmate),
             ("integrity: table of the visible inputs", selftest_table_of_visible_inputs)]
