@@ -12,9 +12,9 @@ student's file to a process goes through it:
   the same wrapper, user id, limits and control group.
 
 The modes, best first:
-- bwrap: bubblewrap, where namespaces are allowed. A read-only view of the machine with the kit,
-  the homes, /tmp, /var/tmp, /dev/shm, /run and the autograder's folders hidden, one writable
-  folder, no network, its own PID namespace. When the kit runs as root it first takes a dedicated
+- bwrap: bubblewrap, where namespaces are allowed. An allow-list of the machine (system_view: /usr
+  and the loader's links, the bits of /etc a compiler needs, the compiler's own folder), fresh /dev,
+  /proc, /tmp and /dev/shm, one writable folder, no network, its own PID namespace. When the kit runs as root it first takes a dedicated
   user id, so the sandbox's real user owns nothing (bubblewrap started by root would otherwise map
   its unprivileged user to real uid 0, which still owns every root-owned file and socket);
 - user: bubblewrap cannot run but the kit is root (a Docker container, as on Gradescope): the same
