@@ -396,7 +396,7 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     if wanted in ("auto", "bwrap"):
         install_bwrap()
     if wanted in ("auto", "bwrap") and bwrap_works(uid or None):
-        iso = Isolation("bwrap", "sandboxed with bubblewrap: read-only system, kit hidden, no network, "
+        iso = Isolation("bwrap", "sandboxed with bubblewrap: only the system's read-only parts and its own files, no network, "
                                  "own process namespace, " + (f"user id {uid}" if uid else "your user id"),
                         uid=uid, limits=limits)
     elif wanted == "bwrap":
