@@ -98,10 +98,12 @@ class StepResult:
 
     @property
     def maximum(self) -> Fraction:
-        """Exact, and the same whatever state the step is in: the step's points in course.json."""
+        """Exact, and the same whatever state the step is in: the step's points in course.json
+        (extra-credit cases come on top of it: earned may pass it)."""
         if not self.cases:
             return course_file.load().points.get(self.step.number) or Fraction(0)
-        return sum((c.points for c in self.cases), Fraction(0))
+        course = course_file.load()
+        return sum((c.points for c in self.cases if not course.extra_credit(c.group)), Fraction(0))
 
     def first_problem(self, tier: str = "basic") -> Case | None:
         for c in self.tier(tier):

@@ -16,6 +16,10 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     A step's P points are shared among its cases in proportion to
                                     their weights. Weight 0 makes a group optional: its cases are
                                     run and shown like the ★ tier, worth nothing.
+                                    "extra_credit": true makes a group's cases a bonus: each is worth
+                                    its weight's share as if the group were counted, but on top of the
+                                    step's P points (the maximum stays P: ★ at weight 1/20 and extra
+                                    credit adds 5 % of a core case's points for each ★ case passed).
   "hidden": {"enabled": true|false, "visibility": V, "reveal_after_due_date": true|false}
                                     hidden cases counted or left out; V is their Gradescope
                                     visibility (hidden, after_due_date, after_published, visible);
@@ -61,6 +65,7 @@ class Course:
     hidden_visibility: str = "after_due_date"
     reveal_after_due_date: bool = True
     decimals: int = 2
+    extra: set[str] = field(default_factory=set)     # groups whose cases are extra credit
     limits: dict[str, float] = field(default_factory=lambda: dict(LIMITS))
     hidden_cases: dict[str, int] = field(default_factory=dict)    # a handout's record of them (./kit handout)
     source: str = "the default scale"
@@ -85,10 +90,16 @@ class Course:
         """Worth nothing: run and shown like the ★ tier."""
         return self.weight(group) == 0
 
+    def extra_credit(self, group: str) -> bool:
+        """Worth points on top of the step's: passing adds them, failing takes nothing away."""
+        return group in self.extra and not self.optional(group)
+
     def shares(self, step: str, groups: list[str]) -> list[Fraction]:
         """The exact points of each case of step `step`, given the cases' groups in order."""
         weights = [self.weight(g) for g in groups]
-        total = sum(weights, Fraction(0))
+        # The step's points are shared among the counted groups; an extra-credit case is worth its
+        # weight's share of them, on top.
+        total = sum((w for w, g in zip(weights, groups) if not self.extra_credit(g)), Fraction(0))
         points = self.points.get(step)
         if points is None:
             return weights
@@ -97,7 +108,7 @@ class Course:
         return [points * w / total for w in weights]
 
     def step_maximum(self, step: str, groups: list[str]) -> Fraction:
-        return sum(self.shares(step, groups), Fraction(0))
+        return sum((p for p, g in zip(self.shares(step, groups), groups) if not self.extra_credit(g)), Fraction(0))
 
     def rounded(self, value: Fraction) -> Decimal:
         """`value` rounded once, half up, to the course's decimals."""
@@ -113,13 +124,17 @@ class Course:
         case one point", or this course's own points and weights, in decimals."""
         names = {"core": "core", "degenerate": "degenerate", "hidden": "hidden", "robust": "★"}
         weights = {g: self.weight(g) for g in names}
-        if all(p is None for p in self.points.values()) and [weights[g] for g in names] == [1, 1, 1, 0]:
+        if all(p is None for p in self.points.values()) and [weights[g] for g in names] == [1, 1, 1, 0] \
+                and not self.extra:
             return "every basic and hidden case one point; ★ cases are optional and count for nothing"
         steps = ", ".join(f"step {n} {self.shown(p)}" for n, p in sorted(self.points.items()) if p is not None)
         shared = ", ".join(f"{names[g]} {self.shown(w)}" for g, w in weights.items())
         free = [names[g] for g, w in weights.items() if w == 0]
+        extra = [names[g] for g in names if self.extra_credit(g)]
         return ((f"points per step: {steps}; " if steps else "") + f"a step's points shared among its cases by "
-                f"weight ({shared})" + (f"; {' and '.join(free)} cases count for nothing" if free else ""))
+                f"weight ({shared})" + (f"; {' and '.join(extra)} cases are extra credit, on top of a step's "
+                                        "points" if extra else "")
+                + (f"; {' and '.join(free)} cases count for nothing" if free else ""))
 
     def shown(self, value: Fraction) -> str:
         """`value` for people: whole numbers as they are, others rounded once."""
@@ -180,7 +195,14 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
         if name not in GROUPS:
             raise KitError(f"{where} groups: unknown group {name!r} (groups: {', '.join(GROUPS)})")
         entry = _object(entry, f"{where} groups.{name}")
-        _known(entry, {"weight", "names"} if name == "degenerate" else {"weight"}, f"{where} groups.{name}")
+        _known(entry, {"weight", "names", "extra_credit"} if name == "degenerate" else {"weight", "extra_credit"},
+               f"{where} groups.{name}")
+        if "extra_credit" in entry:
+            if not isinstance(entry["extra_credit"], bool):
+                raise KitError(f"{where} groups.{name}.extra_credit: expected true or false, found "
+                               f"{json.dumps(entry['extra_credit'])}")
+            if entry["extra_credit"]:
+                course.extra.add(name)
         if "weight" in entry:
             course.weights[name] = _fraction(entry["weight"], f"{where} groups.{name}.weight")
         if "names" in entry:
@@ -296,16 +318,20 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
                 cell = "-"
             elif course.optional(g):
                 cell = f"{len(mine)} × 0 ★"
+            elif course.extra_credit(g):
+                cell = f"{len(mine)} × +{exact_text(mine[0])}"
             else:
                 cell = f"{len(mine)} × {exact_text(mine[0])}"
             cells.append(f"{cell:>15}")
-        step_max = sum(shares, Fraction(0))
+        step_max = course.step_maximum(number, groups)
         total += step_max
         lines.append(f"  {(number + ' ' + title)[:36]:<36}" + "".join(cells) + f"{course.shown(step_max):>9}")
     lines.append("")
-    lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing)")
+    lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
+                 "on top of the step's points)")
     lines.append("")
-    weights = ", ".join(f"{g} {exact_text(course.weight(g))}" + (" (optional, like ★)" if course.optional(g) else "")
+    weights = ", ".join(f"{g} {exact_text(course.weight(g))}" + (" (optional, like ★)" if course.optional(g) else
+                                                                 " (extra credit)" if course.extra_credit(g) else "")
                         for g in GROUPS)
     lines.append(f"  group weights: {weights}")
     auto = [n for n, _, _ in cases_by_step if course.points.get(n) is None]

@@ -84,14 +84,20 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                 "output": f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()[:8000],
                 "tags": [f"step{s.number}", r.state]})
             continue
-        shown = shown_shares([c.points for c in scored], course)
-        for i, (c, points) in enumerate(zip(scored, shown), 1):
+        # Extra credit (course.json: a group's "extra_credit"): worth its points when passed, 0 at most
+        # otherwise, so the tests' maxima still add up to the assignment's points (Gradescope takes a
+        # score above a test's max_score as extra credit).
+        counted = [c for c in scored if not course.extra_credit(c.group)]
+        bonus = [c for c in scored if course.extra_credit(c.group)]
+        shown = shown_shares([c.points for c in counted], course) + [course.number(c.points) for c in bonus]
+        for i, (c, points) in enumerate(zip(counted + bonus, shown), 1):
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
+            extra = course.extra_credit(c.group)
             tests.append({
-                "name": f"Step {s.number}{mark} · {c.name}",
+                "name": f"Step {s.number}{mark} · {c.name}" + (" (extra credit)" if extra else ""),
                 "number": f"{int(s.number)}.{i}",
                 "score": points if c.status == PASS else 0,
-                "max_score": points,
+                "max_score": 0 if extra else points,
                 "status": "passed" if c.status == PASS else "failed",
                 "visibility": visibility if c.tier == "hidden" else "visible",
                 "output": "\n".join(_case_lines(r, c, reveal)),

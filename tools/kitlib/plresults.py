@@ -70,7 +70,13 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
                 if first:
                     notes.append(clean(first))
             continue
-        for c, points in zip(scored, shown_shares([c.points for c in scored], course)):
+        # Extra credit is not PrairieLearn's to give per question (a question scores at most its points):
+        # its cases show as 0-point tests, and the step's message says what they would add elsewhere.
+        counted = [c for c in scored if not course.extra_credit(c.group)]
+        for c in scored:
+            if course.extra_credit(c.group):
+                optional.append(c)
+        for c, points in zip(counted, shown_shares([c.points for c in counted], course)):
             hidden = c.tier == "hidden"
             test = {"name": f"Step {s.number}{' (hidden)' if hidden else ''} · {c.name}",
                     "description": f"lecture section: {c.lecture}" if c.lecture else "",
@@ -96,7 +102,8 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
             tests.append({"name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
                           "description": "", "points": 0, "max_points": 0, "message": clean("\n".join(lines)),
                           "output": ""})
-    exact = sum((r.earned for r in results), Fraction(0))
+    exact = sum((c.points for r in results for c in r.cases if c.status == PASS
+                 and not course.extra_credit(c.group)), Fraction(0))      # no extra credit here
     maximum = sum((r.maximum for r in results), Fraction(0))
     message = "; ".join(f"step {r.step.number}: {STATE_WORDS[r.state]}, {course.shown(r.earned)} of "
                         f"{course.shown(r.maximum)}" for r in results)

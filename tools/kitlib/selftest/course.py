@@ -457,12 +457,40 @@ def selftest_gradescope_adds_up(ctx) -> str:
     return f"shares of 7/8 and 5/12 add up to 7 and 3.33; {held[0]}"
 
 
+def selftest_extra_credit(ctx) -> str:
+    """★ as extra credit (a group's "extra_credit": true): each ★ case passed adds its weight's share on
+    top of the step's points; the maximum stays the step's points, on every platform's view."""
+    from ..plresults import prairielearn
+    bonus = course_file.parse(dict(WEIGHTED, steps={"01": {"points": 8}, "02": {"points": 8}},
+                                   groups=dict(WEIGHTED["groups"], robust={"weight": 1, "extra_credit": True})), STEPS)
+    with course_file.using(bonus):
+        rs = results({"01": (DONE, ALL), "02": (PARTIAL, ONE_CORE_WRONG)})
+        # Weights 2+2+2+1+1 = 8 share 8 points: a core case 2, each ★ case (weight 1) +1 on top.
+        expect([r.maximum for r in rs] == [8, 8], f"the maxima are {[str(r.maximum) for r in rs]}, not 8 and 8")
+        expect([r.earned for r in rs] == [10, 8], f"earned {[str(r.earned) for r in rs]}: expected 8 + 2 ★ = 10, "
+               "and 8 - 2 (a core case) + 2 ★ = 8")
+        view = gradescope(rs, 1.0)
+        maxima = sum(t["max_score"] for t in view["tests"])
+        expect(maxima == 16 and view["score"] == 18, f"Gradescope: tests' maxima {maxima} (16 expected), "
+               f"score {view['score']} (18 expected)")
+        starred = [t for t in view["tests"] if "(extra credit)" in t["name"]]
+        expect(len(starred) == 4 and all(t["max_score"] == 0 and t["score"] == 1 for t in starred),
+               f"the ★ cases are not 0-point tests scoring 1 each: {starred}")
+        pl = prairielearn(rs)
+        expect(pl["score"] == 14 / 16, f"PrairieLearn counts no extra credit (a question scores at most its "
+               f"points): {pl['score']}, not 14/16")
+        words = bonus.scale_words()
+        expect("extra credit" in words, f"the scale's words do not say ★ is extra credit: {words}")
+    return f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 0.875; '{words}'"
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale),
             ("course: the kit's course.json as set", selftest_kit_course), ("course: weights, exact", selftest_weighted),
             ("course: bad course files", selftest_bad_course_files),
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: Gradescope's tests add up to each step's points", selftest_gradescope_adds_up),
+            ("course: ★ as extra credit", selftest_extra_credit),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),

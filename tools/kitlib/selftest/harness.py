@@ -37,7 +37,7 @@ QUICK = {
               "one verdict on every standard library: a step's missing includes",
               "numbers read the same on every standard library"],
     "course": ["course: the default scale", "course: weights, exact", "course: bad course files",
-               "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points",
+               "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points", "course: ★ as extra credit",
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the student's summary"],
