@@ -13,7 +13,10 @@ user id when root), and asserts on the JSON and the exit status:
 - one scale: stubs, a one-slip submission and the solutions have one maximum, and
   the slip in step 04 costs step 05 nothing;
 - read_answers: the solutions, build/, tests/hidden and the git objects cannot be
-  read from inside the sandbox.
+  read from inside the sandbox;
+- scratch_spy: what a hidden case's call wrote to its folder or kept in memory is
+  not there for a case whose output students see (the ★ case re-run alone after
+  the hidden cases), also with a bubblewrap that cannot size its scratch folder.
 
 Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
 nothing" is measurable: the same status for every case and the same score. Each
@@ -24,6 +27,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -375,10 +379,58 @@ def selftest_read_answers(ctx) -> str:
     return run_modes(one, spent)
 
 
+SPY_NOW = re.compile(r"scratch_spy: now ([RW](?: [0-9a-f]{8})+)")
+SPY_FOUND = re.compile(r"scratch_spy: found (\d+) earlier in the folder, (\d+) in memory")
+
+
+def selftest_scratch_spy(ctx) -> str:
+    """The oracle is the fixture's own record: the inputs it printed as "now" in the hidden cases
+    must appear nowhere a student reads (the other cases' output and messages)."""
+
+    def check(mode: str, data: dict) -> str:
+        [step] = data["extra_data"]["steps"]
+        hidden, shown = set(), []
+        for c in step["cases"]:
+            if c["tier"] == "hidden":
+                hidden |= set(SPY_NOW.findall(c["output"]))
+            else:
+                shown += [c["output"], *c["messages"]]
+        if not any(c["tier"] == "hidden" for c in step["cases"]):
+            raise Skipped("no hidden cases here, so nothing to spy on")
+        expect(len(hidden) >= 24, f"scratch_spy ({mode}): only {len(hidden)} hidden inputs recorded; did it run?")
+        [spun] = [c for c in step["cases"] if "10000 units" in c["name"]]
+        found = SPY_FOUND.findall(spun["output"])
+        expect(spun["status"] == "timed_out" and "run again on its own" in " ".join(spun["messages"]) and found,
+               f"scratch_spy ({mode}): the ★ case was not re-run after timing out, so the attack did not run: "
+               f"{spun['status']}, {spun['output'][:200]!r}")
+        text = "\n".join(shown)
+        leaked = sorted(h for h in hidden if h in text)
+        expect(not leaked, f"scratch_spy ({mode}): {len(leaked)} of the {len(hidden)} hidden inputs it met are in "
+                           f"what students see, e.g. {leaked[:2]}; the re-run found {found[0]}")
+        expect(found == [("0", "0")], f"scratch_spy ({mode}): the re-run alone started with "
+                                      f"{found[0][0]} earlier inputs in its folder and {found[0][1]} in memory")
+        return f"none of {len(hidden)} hidden inputs shown, the re-run started empty"
+
+    def one(mode: str) -> str:
+        _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode)
+        summary = check(mode, data)
+        if mode != "bwrap":
+            return summary
+        os.environ["RAYKIT_BWRAP_UNSIZED"] = "1"        # sandbox.Isolation.run_env: as Debian 11's 0.4.1
+        try:
+            _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode, cache=False)
+        finally:
+            os.environ.pop("RAYKIT_BWRAP_UNSIZED", None)
+        return summary + "; without --size: " + check("bwrap without --size", data)
+
+    return run_modes(one)
+
+
 def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
     return [("integrity: one scale", selftest_one_scale),
             ("integrity: forged verdicts", selftest_forge_verdicts),
             ("integrity: lingering writer", selftest_lingering_writer),
             ("integrity: read the answers", selftest_read_answers),
-            ("integrity: table of the visible inputs", selftest_table_of_visible_inputs)]
+            ("integrity: table of the visible inputs", selftest_table_of_visible_inputs),
+            ("integrity: scratch folder spy", selftest_scratch_spy)]
