@@ -473,6 +473,15 @@ class Scratch:
                     "RAYKIT_ANSWERS": str(self.answers or "")}
         return self.isolation.run_env(self.answers, self.path)
 
+    def between_runs(self) -> None:
+        """Before a case re-run alone (checking.rerun_timeouts), under the user isolation: every
+        process of the sandbox's id is ended and what it wrote to the shared temporary folders is
+        removed, as after a step. Under bubblewrap those folders are each start's own."""
+        if self.isolation.uid and self.isolation.mode != "bwrap":
+            kill_uid(self.isolation.uid)
+            self.isolation.clean_files(self.isolation.uid)
+            reap_orphans({self.isolation.uid})
+
     def close(self) -> None:
         if self.isolation.uid:
             kill_uid(self.isolation.uid)

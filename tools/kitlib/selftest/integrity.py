@@ -14,9 +14,10 @@ user id when root), and asserts on the JSON and the exit status:
   the slip in step 04 costs step 05 nothing;
 - read_answers: the solutions, build/, tests/hidden and the git objects cannot be
   read from inside the sandbox;
-- scratch_spy: what a hidden case's call wrote to its folder or kept in memory is
-  not there for a case whose output students see (the ★ case re-run alone after
-  the hidden cases), also with a bubblewrap that cannot size its scratch folder.
+- scratch_spy: what a hidden case's call wrote to its folder or /tmp or kept in
+  memory is not there for a case whose output students see (the ★ case re-run
+  alone after the hidden cases), also with a bubblewrap that cannot size its
+  scratch folder; and the hidden cases run after every other.
 
 Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
 nothing" is measurable: the same status for every case and the same score. Each
@@ -380,7 +381,7 @@ def selftest_read_answers(ctx) -> str:
 
 
 SPY_NOW = re.compile(r"scratch_spy: now ([RW](?: [0-9a-f]{8})+)")
-SPY_FOUND = re.compile(r"scratch_spy: found (\d+) earlier in the folder, (\d+) in memory")
+SPY_FOUND = re.compile(r"scratch_spy: found (\d+) earlier in the folder, (\d+) in /tmp, (\d+) in memory")
 
 
 def selftest_scratch_spy(ctx) -> str:
@@ -398,6 +399,11 @@ def selftest_scratch_spy(ctx) -> str:
         if not any(c["tier"] == "hidden" for c in step["cases"]):
             raise Skipped("no hidden cases here, so nothing to spy on")
         expect(len(hidden) >= 24, f"scratch_spy ({mode}): only {len(hidden)} hidden inputs recorded; did it run?")
+        # Under bubblewrap one answers process serves a judge's cases in turn (a re-run is a judge of
+        # its own): its memory cannot reach a case students see only while the hidden cases run last.
+        tiers = [c["tier"] == "hidden" for c in step["cases"]]
+        expect(tiers == sorted(tiers), f"scratch_spy ({mode}): a case runs after the hidden cases: "
+                                       f"{[c['name'] for c in step['cases']][tiers.index(True):][:4]}")
         [spun] = [c for c in step["cases"] if "10000 units" in c["name"]]
         found = SPY_FOUND.findall(spun["output"])
         expect(spun["status"] == "timed_out" and "run again on its own" in " ".join(spun["messages"]) and found,
@@ -407,8 +413,8 @@ def selftest_scratch_spy(ctx) -> str:
         leaked = sorted(h for h in hidden if h in text)
         expect(not leaked, f"scratch_spy ({mode}): {len(leaked)} of the {len(hidden)} hidden inputs it met are in "
                            f"what students see, e.g. {leaked[:2]}; the re-run found {found[0]}")
-        expect(found == [("0", "0")], f"scratch_spy ({mode}): the re-run alone started with "
-                                      f"{found[0][0]} earlier inputs in its folder and {found[0][1]} in memory")
+        expect(found == [("0", "0", "0")], f"scratch_spy ({mode}): the re-run alone started with {found[0][0]} "
+                                           f"earlier inputs in its folder, {found[0][1]} in /tmp, {found[0][2]} in memory")
         return f"none of {len(hidden)} hidden inputs shown, the re-run started empty"
 
     def one(mode: str) -> str:
