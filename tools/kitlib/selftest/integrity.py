@@ -415,6 +415,9 @@ def selftest_scratch_spy(ctx) -> str:
                            f"what students see, e.g. {leaked[:2]}; the re-run found {found[0]}")
         expect(found == [("0", "0", "0")], f"scratch_spy ({mode}): the re-run alone started with {found[0][0]} "
                                            f"earlier inputs in its folder, {found[0][1]} in /tmp, {found[0][2]} in memory")
+        if mode == "user":      # its own folder, in one it can neither write (swap it) nor list
+            expect("scratch_spy: folder mine mode 700, parent not writable and not listable" in spun["output"],
+                   "scratch_spy (user): " + next((l for l in spun["output"].splitlines() if "folder" in l), "?"))
         return f"none of {len(hidden)} hidden inputs shown, the re-run started empty"
 
     def one(mode: str) -> str:
