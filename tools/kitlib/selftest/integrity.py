@@ -421,7 +421,10 @@ def selftest_scratch_spy(ctx) -> str:
         return f"none of {len(hidden)} hidden inputs shown, the re-run started empty"
 
     def one(mode: str) -> str:
+        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
         _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode)
+        # The ★ case it spins on is worth nothing: the score is the plain wrong answer's.
+        expect(data["score"] == base["score"], f"scratch_spy ({mode}): {data['score']} points, always_miss {base['score']}")
         summary = check(mode, data)
         if mode != "bwrap":
             return summary
