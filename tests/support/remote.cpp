@@ -5,6 +5,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <grp.h>
 #include <poll.h>
 #include <signal.h>
@@ -160,7 +161,8 @@ private:
     pid_t pid_ = -1;
     pid_t answers_pid_ = 0;     // the answers program itself (under bubblewrap, a grandchild)
     int req_ = -1, rep_ = -1, out_ = -1;
-    std::string scratch_;
+    std::string scratch_;       // RAYKIT_SCRATCH: the kit's folder, which the student's code cannot write
+    std::string run_;           // the current answers process's own folder, fresh at each start (start())
 };
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -249,10 +251,26 @@ void Child::start() {
     if (bounded && cfg.isolation == "bwrap" && argv.empty())
         throw SandboxFailed("The grader was told to use bubblewrap but given no sandbox to start: a kit bug.");
     argv.push_back(bounded && !cfg.inside_exe.empty() ? cfg.inside_exe : exe_);
+    // Each start of the student's program works in a folder of its own, made here inside the kit's
+    // (which the sandbox's user id cannot write, so it cannot swap the entry) and owned by that id,
+    // mode 0700; stop() removes it. Nothing a case (or a step, or another student) wrote is there
+    // for the next start: a case re-run alone after the hidden cases finds an empty folder. Under
+    // bubblewrap without a sized tmpfs the wrapper binds the kit's folder: this one is bound instead.
+    std::string dir = scratch_;
+    if (sandboxed_) {
+        std::string tmpl = scratch_ + "/run-XXXXXX";
+        if (::mkdtemp(tmpl.data()) == nullptr)
+            throw SandboxFailed("The grader could not make a scratch folder for your code (" +
+                                std::string(std::strerror(errno)) + "): the grader's fault, not your code's.");
+        run_ = dir = tmpl;
+        if (bounded && cfg.uid != 0 && ::chown(run_.c_str(), cfg.uid, cfg.uid) != 0)
+            throw SandboxFailed("The grader could not give your code its scratch folder: the grader's fault.");
+        if (bounded && cfg.isolation == "bwrap") std::replace(argv.begin(), argv.end(), scratch_, run_);
+    }
     int rq[2], rp[2], ou[2];
     if (::pipe2(rq, O_CLOEXEC) != 0 || ::pipe2(rp, O_CLOEXEC) != 0 || ::pipe2(ou, O_CLOEXEC) != 0)
         throw CallFailed("the grader could not open pipes to your code");
-    const pid_t pid = spawn(argv, scratch_, rq[0], ou[1], rp[1], bounded);
+    const pid_t pid = spawn(argv, dir, rq[0], ou[1], rp[1], bounded);
     ::close(rq[0]);
     ::close(rp[1]);
     ::close(ou[1]);
@@ -351,6 +369,12 @@ void Child::drain_output() {
     }
 }
 
+/// nftw's callback for stop(): removes one entry, a link itself and never what it names.
+int remove_entry(const char* path, const struct stat*, int, struct FTW*) {
+    ::remove(path);
+    return 0;
+}
+
 void Child::stop() {
     if (pid_ > 0) {
         ::kill(-pid_, SIGKILL);
@@ -370,6 +394,16 @@ void Child::stop() {
             ::_exit(0);
         }
         if (helper > 0) ::waitpid(helper, nullptr, 0);
+    }
+    if (!run_.empty()) {
+        // The folder is taken back before it is emptied (a process of the sandbox's id that outlived
+        // the kill above can no longer enter or add to it), then removed without following links.
+        if (::geteuid() == 0) {
+            (void)!::chown(run_.c_str(), 0, 0);
+            ::chmod(run_.c_str(), 0700);
+        }
+        ::nftw(run_.c_str(), remove_entry, 16, FTW_DEPTH | FTW_PHYS | FTW_MOUNT);
+        run_.clear();
     }
     for (int* fd : {&req_, &rep_, &out_}) {
         if (*fd >= 0) ::close(*fd);

@@ -14,7 +14,7 @@
 //   RAYKIT_ANSWERS            the answers program (default: the one built beside it)
 //   RAYKIT_REFERENCE_ANSWERS  the reference's answers program, for hidden cases
 //   RAYKIT_ISOLATION          none | bwrap | user:UID   (default none)
-//   RAYKIT_SCRATCH            the one folder the child may write (default: a new one)
+//   RAYKIT_SCRATCH            where each start of the child gets a fresh folder, its only writable one (default: a new one)
 //   RAYKIT_SANDBOX_ARGV       the wrapper before the program (bubblewrap's options), 0x1f-separated
 //   RAYKIT_SANDBOX_EXE        the answers program's path inside the wrapper (bubblewrap binds it there)
 //   RAYKIT_SANDBOX_UID        the user id to take before the wrapper starts (0: none)

@@ -229,12 +229,19 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                 c.messages = ["Not run: the step's time ran out."]
 
 
-def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str]) -> None:
+def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
+                   fresh: Callable[[], None] | None = None) -> None:
     """A case that timed out is run once more, on its own, before it is failed: a loaded machine,
-    a slow first start, must not fail correct code. The second verdict is the one kept."""
+    a slow first start, must not fail correct code. The second verdict is the one kept.
+
+    It runs after the hidden cases and students see what it prints, so it must start from nothing
+    they left: its judge is a new process (a new answers process, in a new scratch folder, see
+    sandbox.Scratch), and `fresh` clears what else the code could write (Scratch.between_runs)."""
     for c in cases:
         if c.status != TIMED_OUT:
             continue
+        if fresh is not None:
+            fresh()
         again = Case(c.name, c.tier, c.lecture)
         with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
             out = Path(tmp) / "run.jsonl"
@@ -425,7 +432,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         if not isolation.sandboxed:
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
         run_cases(judge, cases, env, *course_file.load().case_limits())     # course.json time_limits
-        rerun_timeouts(judge, cases, env)
+        rerun_timeouts(judge, cases, env, scratch.between_runs)
     finally:
         scratch.close()
     failed_sandbox = [c for c in cases if c.status == GRADER_ERROR]

@@ -201,10 +201,14 @@ class Isolation:
 
     def run_env(self, answers: Path, scratch: Path) -> dict[str, str]:
         """The environment that tells the judge (remote.cpp) how to start the answers program: the
-        same wrapper, user id, limits and control groups as the compile had."""
+        same wrapper, user id, limits and control groups as the compile had. `scratch` is the kit's
+        folder (sandbox.Scratch); the judge makes each run's own inside it and, where bubblewrap
+        cannot size a tmpfs, binds that one where the wrapper names `scratch`."""
         inside = "/tmp/raykit/answers" if self.mode == "bwrap" else str(answers)
         work = "/tmp/raykit/scratch" if self.mode == "bwrap" else str(scratch)
-        sized = self.mode == "bwrap" and bwrap_sizes()
+        # RAYKIT_BWRAP_UNSIZED=1: the self-test's way to grade as with a bubblewrap without --size
+        # (Debian 11's 0.4.1), whose scratch folder is a host folder bound read-write.
+        sized = self.mode == "bwrap" and bwrap_sizes() and os.environ.get("RAYKIT_BWRAP_UNSIZED") != "1"
         prefix = self.wrapper([(answers, inside)], [] if sized else [(scratch, work)], work,
                               [(work, self.limits.scratch_mb * MiB)] if sized else [], use="run")
         limits = self.limits
@@ -667,26 +671,36 @@ def reap_orphans(uids: set[int]) -> None:
 
 
 class Scratch:
-    """A fresh folder that the student's code may write, holding a copy of its answers program."""
+    """A step's folder for the runs of the student's code: a copy of its answers program, and the
+    parent of the folders those runs work in. The judge (tests/support/remote.cpp) makes a fresh one
+    inside it at every start of the answers program, a case re-run alone included (owned by the
+    sandbox's user id, mode 0700, removed when that program stops): nothing one run writes is there
+    for the next. This folder and the program stay the kit's (0711 and 0755): the code can start the
+    program but neither list, write nor swap anything here."""
 
     def __init__(self, isolation: Isolation, answers: Path | None):
         self.isolation = isolation
         self.path = Path(tempfile.mkdtemp(prefix="raykit-sandbox-"))
+        os.chmod(self.path, 0o711)
         self.answers = None
         if answers is not None and answers.is_file():
             self.answers = self.path / "answers"
             copy_regular(answers, self.answers, 0o755)
-        if isolation.uid:
-            os.chown(self.path, isolation.uid, isolation.uid)
-            os.chmod(self.path, 0o700)
-            if self.answers is not None:
-                os.chown(self.answers, isolation.uid, isolation.uid)
 
     def env(self) -> dict[str, str]:
         if not self.isolation.sandboxed or self.answers is None:
             return {"RAYKIT_ISOLATION": "none", "RAYKIT_SCRATCH": str(self.path),
                     "RAYKIT_ANSWERS": str(self.answers or "")}
         return self.isolation.run_env(self.answers, self.path)
+
+    def between_runs(self) -> None:
+        """Before a case re-run alone (checking.rerun_timeouts), under the user isolation: every
+        process of the sandbox's id is ended and what it wrote to the shared temporary folders is
+        removed, as after a step. Under bubblewrap those folders are each start's own."""
+        if self.isolation.uid and self.isolation.mode != "bwrap":
+            kill_uid(self.isolation.uid)
+            self.isolation.clean_files(self.isolation.uid)
+            reap_orphans({self.isolation.uid})
 
     def close(self) -> None:
         if self.isolation.uid:

@@ -16,6 +16,10 @@ user id when root), and asserts on the JSON and the exit status:
   read from inside the sandbox;
 - read_classmate: a classmate's folder and another copy of the kit kept anywhere on
   the machine (/opt, /tmp) cannot be included at compile time nor read at run time.
+- scratch_spy: what a hidden case's call wrote to its folder or /tmp or kept in
+  memory is not there for a case whose output students see (the ★ case re-run
+  alone after the hidden cases), also with a bubblewrap that cannot size its
+  scratch folder; and the hidden cases run after every other.
 
 Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
 nothing" is measurable: the same status for every case and the same score. Each
@@ -26,6 +30,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -537,6 +542,64 @@ def selftest_read_classmate(ctx) -> str:
     return run_modes(one)
 
 
+SPY_NOW = re.compile(r"scratch_spy: now ([RW](?: [0-9a-f]{8})+)")
+SPY_FOUND = re.compile(r"scratch_spy: found (\d+) earlier in the folder, (\d+) in /tmp, (\d+) in memory")
+
+
+def selftest_scratch_spy(ctx) -> str:
+    """The oracle is the fixture's own record: the inputs it printed as "now" in the hidden cases
+    must appear nowhere a student reads (the other cases' output and messages)."""
+
+    def check(mode: str, data: dict) -> str:
+        [step] = data["record"]["steps"]
+        hidden, shown = set(), []
+        for c in step["cases"]:
+            if c["tier"] == "hidden":
+                hidden |= set(SPY_NOW.findall(c["output"]))
+            else:
+                shown += [c["output"], *c["messages"]]
+        if not any(c["tier"] == "hidden" for c in step["cases"]):
+            raise Skipped("no hidden cases here, so nothing to spy on")
+        expect(len(hidden) >= 24, f"scratch_spy ({mode}): only {len(hidden)} hidden inputs recorded; did it run?")
+        # Under bubblewrap one answers process serves a judge's cases in turn (a re-run is a judge of
+        # its own): its memory cannot reach a case students see only while the hidden cases run last.
+        tiers = [c["tier"] == "hidden" for c in step["cases"]]
+        expect(tiers == sorted(tiers), f"scratch_spy ({mode}): a case runs after the hidden cases: "
+                                       f"{[c['name'] for c in step['cases']][tiers.index(True):][:4]}")
+        [spun] = [c for c in step["cases"] if "10000 units" in c["name"]]
+        found = SPY_FOUND.findall(spun["output"])
+        expect(spun["status"] == "timed_out" and "run again on its own" in " ".join(spun["messages"]) and found,
+               f"scratch_spy ({mode}): the ★ case was not re-run after timing out, so the attack did not run: "
+               f"{spun['status']}, {spun['output'][:200]!r}")
+        text = "\n".join(shown)
+        leaked = sorted(h for h in hidden if h in text)
+        expect(not leaked, f"scratch_spy ({mode}): {len(leaked)} of the {len(hidden)} hidden inputs it met are in "
+                           f"what students see, e.g. {leaked[:2]}; the re-run found {found[0]}")
+        expect(found == [("0", "0", "0")], f"scratch_spy ({mode}): the re-run alone started with {found[0][0]} "
+                                           f"earlier inputs in its folder, {found[0][1]} in /tmp, {found[0][2]} in memory")
+        if mode == "user":      # its own folder, in one it can neither write (swap it) nor list
+            expect("scratch_spy: folder mine mode 700, parent not writable and not listable" in spun["output"],
+                   "scratch_spy (user): " + next((l for l in spun["output"].splitlines() if "folder" in l), "?"))
+        return f"none of {len(hidden)} hidden inputs shown, the re-run started empty"
+
+    def one(mode: str) -> str:
+        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode)
+        # The ★ case it spins on is worth nothing: the score is the plain wrong answer's.
+        expect(data["score"] == base["score"], f"scratch_spy ({mode}): {data['score']} points, always_miss {base['score']}")
+        summary = check(mode, data)
+        if mode != "bwrap":
+            return summary
+        os.environ["RAYKIT_BWRAP_UNSIZED"] = "1"        # sandbox.Isolation.run_env: as Debian 11's 0.4.1
+        try:
+            _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode, cache=False)
+        finally:
+            os.environ.pop("RAYKIT_BWRAP_UNSIZED", None)
+        return summary + "; without --size: " + check("bwrap without --size", data)
+
+    return run_modes(one)
+
+
 def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
     return [("integrity: one scale", selftest_one_scale),
@@ -544,4 +607,5 @@ def selftests():
             ("integrity: lingering writer", selftest_lingering_writer),
             ("integrity: read the answers", selftest_read_answers),
             ("integrity: read a classmate's files", selftest_read_classmate),
-            ("integrity: table of the visible inputs", selftest_table_of_visible_inputs)]
+            ("integrity: table of the visible inputs", selftest_table_of_visible_inputs),
+            ("integrity: scratch folder spy", selftest_scratch_spy)]
