@@ -3,7 +3,6 @@
 
 #include "remote.hpp"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <ftw.h>
 #include <grp.h>
@@ -22,12 +21,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <vector>
 
 #include "fd_io.hpp"
+#include "platform.hpp"
 #include "raykit/not_implemented.hpp"
 
 namespace raykit::remote {
@@ -97,29 +95,8 @@ Settings& settings() {
 
 constexpr double start_seconds = 30.0;   // for the answers program to say it is ready (not a call's time)
 
-/// CPU time (user + system) of process `pid` so far, in seconds; < 0 when it cannot be read.
-double cpu_seconds(pid_t pid) {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::size_t close = text.rfind(')');
-    if (close == std::string::npos) return -1;
-    std::istringstream fields(text.substr(close + 2));
-    std::string f;
-    unsigned long long utime = 0, stime = 0;
-    for (int i = 3; i <= 15 && fields >> f; ++i) {
-        if (i == 14) utime = std::strtoull(f.c_str(), nullptr, 10);
-        if (i == 15) stime = std::strtoull(f.c_str(), nullptr, 10);
-    }
-    const long ticks = ::sysconf(_SC_CLK_TCK);
-    return ticks > 0 ? static_cast<double>(utime + stime) / static_cast<double>(ticks) : -1;
-}
-
-/// The first child of `pid` (bubblewrap's own init, then the program it runs), or 0.
-pid_t first_child(pid_t pid) {
-    std::ifstream children("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children");
-    long c = 0;
-    return (children >> c) && c > 0 ? static_cast<pid_t>(c) : 0;
-}
+using platform::cpu_seconds;
+using platform::first_child;
 
 /// The sandbox itself failed to start (not the student's code): the grader's error.
 struct SandboxFailed : CallFailed {
@@ -231,7 +208,7 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
         }
     }
     if (::chdir(dir.c_str()) != 0) ::_exit(126);
-    if (argv[0] == "bwrap") ::execvpe("bwrap", args.data(), envp);
+    if (argv[0] == "bwrap") platform::exec_on_path("bwrap", args.data(), envp);
     else ::execve(args[0], args.data(), envp);
     ::_exit(127);
 }
@@ -268,7 +245,7 @@ void Child::start() {
         if (bounded && cfg.isolation == "bwrap") std::replace(argv.begin(), argv.end(), scratch_, run_);
     }
     int rq[2], rp[2], ou[2];
-    if (::pipe2(rq, O_CLOEXEC) != 0 || ::pipe2(rp, O_CLOEXEC) != 0 || ::pipe2(ou, O_CLOEXEC) != 0)
+    if (!platform::open_pipe(rq) || !platform::open_pipe(rp) || !platform::open_pipe(ou))
         throw CallFailed("the grader could not open pipes to your code");
     const pid_t pid = spawn(argv, dir, rq[0], ou[1], rp[1], bounded);
     ::close(rq[0]);
@@ -412,12 +389,6 @@ void Child::stop() {
     pid_ = -1;
 }
 
-std::string read_link(const std::string& path) {
-    char buf[256];
-    const ssize_t n = ::readlink(path.c_str(), buf, sizeof buf - 1);
-    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
-}
-
 void Child::reap_leftovers() {
     if (pid_ <= 0 || !sandboxed_) return;
     const std::string mode = settings().isolation;
@@ -429,31 +400,8 @@ void Child::reap_leftovers() {
     }
     // bwrap: the sandbox's PID namespace holds bwrap's init (1), the answers
     // process (2) and whatever the student's code started. End the rest.
-    std::ifstream children("/proc/" + std::to_string(pid_) + "/task/" + std::to_string(pid_) + "/children");
-    pid_t init = 0;
-    if (!(children >> init) || init <= 0) return;
-    const std::string ns = read_link("/proc/" + std::to_string(init) + "/ns/pid");
-    if (ns.empty()) return;
-    DIR* proc = ::opendir("/proc");
-    if (!proc) return;
-    while (const dirent* e = ::readdir(proc)) {
-        char* end = nullptr;
-        const long pid = std::strtol(e->d_name, &end, 10);
-        if (pid <= 0 || *end != '\0') continue;
-        if (read_link(std::string("/proc/") + e->d_name + "/ns/pid") != ns) continue;
-        std::ifstream status(std::string("/proc/") + e->d_name + "/status");
-        std::string line;
-        long inner = 0;
-        while (std::getline(status, line)) {
-            if (line.rfind("NSpid:", 0) == 0) {
-                std::istringstream fields(line.substr(6));
-                long v;
-                while (fields >> v) inner = v;
-            }
-        }
-        if (inner > 2) ::kill(static_cast<pid_t>(pid), SIGKILL);
-    }
-    ::closedir(proc);
+    const pid_t init = first_child(pid_);
+    if (init > 0) platform::end_namespace_rest(init);
 }
 
 /// What a sanitizer or an assert said, from the output of the answers program: its one-line reason

@@ -406,6 +406,80 @@ def selftest_float_text(ctx) -> str:
     return "float_text equals std::to_chars on " + run.stdout.strip().split(" of ")[-1] + " floats"
 
 
+# Calls Linux (glibc) has and macOS does not: none may be reached from the student-side C++ but
+# through tests/support/platform.cpp, whose other branch CI builds here.
+LINUX_ONLY = {"pipe2", "execvpe", "dup3", "accept4", "epoll_create", "epoll_create1", "epoll_ctl", "epoll_wait",
+              "inotify_init", "inotify_init1", "signalfd", "eventfd", "timerfd_create", "memfd_create", "prctl",
+              "clone", "unshare", "setns", "sched_getaffinity", "sched_setaffinity", "gettid", "get_nprocs",
+              "getauxval", "splice", "sendfile", "copy_file_range", "fallocate", "posix_fallocate", "mremap",
+              "strchrnul", "mempcpy", "get_current_dir_name", "canonicalize_file_name", "pipe2@GLIBC"}
+
+
+def student_side_sources() -> list[Path]:
+    """The C++ a student's own check builds: the judges, the answers program's dispatcher and the
+    kit's support, and the render tool."""
+    found = sorted((ROOT / "tests" / "support").glob("*.cpp"))
+    found += sorted(p for p in (ROOT / "tests").glob("[0-9][0-9]_*/*.cpp"))
+    found += sorted((ROOT / "tools" / "render").glob("*.cpp"))
+    return found
+
+
+def selftest_mac_build(ctx) -> str:
+    """Portable by construction (#36): the student-side C++ compiled as a Mac would see it (clang,
+    libc++, the platform file's POSIX branch), then every object's undefined symbols checked against
+    the calls Linux has and macOS lacks; and no /proc outside the platform file."""
+    cxx = ["clang++", "-stdlib=libc++"]
+    if shutil.which("clang++") is None or shutil.which("nm") is None:
+        raise Failed("clang++ and nm are needed (.ci/run installs clang and libc++)")
+    sources = student_side_sources()
+    proc = [p.relative_to(ROOT).as_posix() for p in sources + sorted((ROOT / "tests" / "support").glob("*.hpp"))
+            if p.name != "platform.cpp" and '"/proc' in p.read_text()]
+    expect(not proc, f"/proc read outside tests/support/platform.cpp: {proc}")
+    includes = ["-I", str(ROOT / "include"), "-I", str(ROOT / "tests"), "-I", str(ROOT / "tests" / "support"),
+                "-isystem", "/usr/include/stb"]
+    bad, built, skipped = [], 0, []
+    with tempfile.TemporaryDirectory(prefix="raykit-mac-") as tmp:
+        # What CMake generates for the dispatcher and the judges (CMakeLists.txt): every step's
+        # list of functions, every public header, the programs' paths.
+        remote_list, api = Path(tmp) / "remote.inc", Path(tmp) / "api.inc"
+        remote_list.write_text("".join(f'#include "{p}"\n' for p in sorted((ROOT / "tests").glob("[0-9][0-9]_*/remote.inc"))))
+        api.write_text("".join(f'#include "raykit/{p.name}"\n' for p in sorted((ROOT / "include" / "raykit").glob("*.hpp"))))
+        defines = [f'-DRAYKIT_REMOTE_LIST="{remote_list}"', f'-DRAYKIT_API_HEADERS="{api}"',
+                   '-DRAYKIT_ANSWERS_EXE="answers"', '-DRAYKIT_REFERENCE_EXE="reference"']
+        for src in sources:
+            obj = Path(tmp) / (src.stem + ".o")
+            r = subprocess.run(cxx + ["-std=c++17", "-O0", "-Wall", "-Wextra", "-Wpedantic", "-DRAYKIT_PLATFORM_POSIX",
+                                      "-ffp-contract=off", *defines, *includes, "-c", str(src), "-o", str(obj)],
+                               capture_output=True, text=True, timeout=600)
+            if r.returncode != 0:
+                if "file not found" in r.stderr and ("stb_image_write" in r.stderr or "generated" in r.stderr
+                                                     or ".inc" in r.stderr):
+                    skipped.append(src.name)        # needs a file the build generates or an optional library
+                    continue
+                bad.append(f"{src.relative_to(ROOT)} does not compile as on a Mac: {r.stderr[-400:]}")
+                continue
+            built += 1
+            nm = subprocess.run(["nm", "-u", str(obj)], capture_output=True, text=True, timeout=60)
+            used = {line.split()[-1].split("@")[0] for line in nm.stdout.splitlines() if line.strip()}
+            linux = sorted(used & LINUX_ONLY)
+            if linux:
+                bad.append(f"{src.relative_to(ROOT)} calls {', '.join(linux)}, which macOS does not have")
+    expect(not bad, "; ".join(bad[:4]))
+    expect(built >= 3, f"only {built} sources built as on a Mac: {skipped}")
+    # The control: Linux's branch of the platform file does reach /proc and no call macOS lacks is
+    # needed there either, but this check must see a Linux-only call where one is.
+    with tempfile.TemporaryDirectory(prefix="raykit-mac-") as tmp:
+        probe = Path(tmp) / "probe.cpp"
+        probe.write_text("#include <fcntl.h>\n#include <unistd.h>\nint f(int* p) { return pipe2(p, O_CLOEXEC); }\n")
+        subprocess.run(cxx + ["-std=c++17", "-c", str(probe), "-o", str(Path(tmp) / "probe.o")], capture_output=True,
+                       timeout=120)
+        nm = subprocess.run(["nm", "-u", str(Path(tmp) / "probe.o")], capture_output=True, text=True, timeout=60)
+        expect("pipe2" in nm.stdout, f"the check cannot see a call to pipe2: {nm.stdout!r}")
+    return (f"{built} student-side sources built with clang and libc++ on the platform file's POSIX branch, "
+            f"none calling what macOS lacks" + (f" ({len(skipped)} need generated files: {', '.join(skipped)})"
+                                                if skipped else ""))
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -421,4 +495,5 @@ def selftests() -> list:
         ("a handout's lectures point to what it has", selftest_handout_pointers),
         ("one verdict on every standard library: a step's missing includes", selftest_one_verdict_per_library),
         ("numbers read the same on every standard library", selftest_float_text),
+        ("portable by construction: the student-side C++ built as a Mac would", selftest_mac_build),
     ]

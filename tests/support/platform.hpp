@@ -1,0 +1,32 @@
+// What the judge needs of the operating system beyond POSIX and C++17, in one place
+// (tests/support/platform.cpp). Everything else of the student-side C++ (the judge, the answers
+// program, the kit's support) uses only what macOS and Linux share; CI builds this code as a Mac
+// would see it (selftest/check.py, "portable by construction") and fails on a Linux-only call.
+//
+// Linux reads /proc for a process's CPU time and for bubblewrap's sandbox; elsewhere (a Mac, where
+// a student checks their own steps without a sandbox) a call's time is measured on the wall clock
+// and there is no sandbox to look into.
+#pragma once
+
+#include <sys/types.h>
+
+namespace raykit::platform {
+
+/// A pipe whose two ends are closed on exec (pipe + FD_CLOEXEC: no pipe2 on macOS before 27).
+bool open_pipe(int fds[2]);
+
+/// CPU time (user + system) process `pid` has used so far, in seconds; < 0 where it cannot be read.
+double cpu_seconds(pid_t pid);
+
+/// The first child of `pid` (bubblewrap's init, then the program it runs), or 0.
+pid_t first_child(pid_t pid);
+
+/// Ends every process in the PID namespace of `init` (bubblewrap's) but its first two (bubblewrap's
+/// init and the answers program): what the student's code started during a case.
+void end_namespace_rest(pid_t init);
+
+/// execve of `file` found on the PATH given in `envp` (execvpe is a GNU extension). Returns only
+/// when nothing could be started.
+void exec_on_path(const char* file, char* const argv[], char* const envp[]);
+
+}  // namespace raykit::platform
