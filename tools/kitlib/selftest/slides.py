@@ -7,7 +7,10 @@
   inside the slide's 1280x720 box, no element may scroll (a table or code wider than its box), MathJax
   must have typeset the formulas with no error and no raw TeX left; no console error, no request to
   the network. A screenshot of each slide lands in build/slides-screenshots/;
-- the measure can fail: a deck with a slide too long for the box must be caught.
+- the measure can fail: a deck with a slide too long for the box must be caught;
+- a deck says what its lecture and its step's cases say (selftest/deck_claims.py: tiers, claims about
+  all the cases, numbers, section titles, fractions, who passes the ★ cases), and the errors the decks
+  once had, planted back into today's decks, are each caught.
 """
 
 from __future__ import annotations
@@ -170,9 +173,55 @@ def selftest_overflow_caught(ctx) -> str:
     return f"a slide of 30 lines is caught: {problems[0]}"
 
 
+# The decks' old errors (issue 37), each planted back into a copy of today's deck: (deck, today's text,
+# the old text). Each must be reported on its own.
+PLANTED = [
+    ("01-unit-sphere.md", "| one, $-b/(2a)$ |", "| one, $-b/2a$ |"),
+    ("02-general-sphere.md", "- so no basic case of this step puts one there\n- one ★ case does: the sphere of pbrt's tests\n",
+     "- so no case of this step puts one there\n"),
+    ("03-unit-direction.md", "The two rewrites, in float, pass every ★ case of steps 01 and 03 and 8 of the 10 of step 02. The "
+     "other two, \"a tiny sphere seen from very far on pbrt's test ranges\" and \"the ground seen from a metre or two up\", "
+     "need a wider type inside (the appendix, §A): the message of each ★ case says which forms pass it.",
+     "The ★ robust cases of steps 01 and 02 test exactly these two rewrites."),
+    ("04-rectangles.md", "- NaN anywhere: no hit, if \"false\" means \"miss\"\n",
+     "- NaN anywhere: no hit, if \"false\" means \"miss\"\n- a zero direction: parallel to every plane\n"),
+    ("03-unit-direction.md", "Note: Lecture 03, §4 Floats have 24 significant bits.", "Note: Lecture 03, §4 Floats have 24 bits."),
+    ("01-unit-sphere.md", "floats there are 32 apart", "floats there are 64 apart"),
+]
+
+
+def selftest_claims(ctx) -> str:
+    from . import deck_claims
+    decks = cmd_slides.deck_sources()
+    if not decks:
+        raise Skipped("no decks in lectures/slides/")
+    problems = [p for d in decks for p in deck_claims.problems(d)]
+    expect(not problems, "\n  ".join(problems))
+    work = BUILD / "slides-claims"
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    missed, stale = [], []
+    for name, today, old in PLANTED:
+        src = cmd_slides.SOURCES / name
+        text = src.read_text(encoding="utf-8") if src.is_file() else ""
+        if today not in text:
+            stale.append(f"{name}: {today[:60]!r}")
+            continue
+        copy = work / name
+        copy.write_text(text.replace(today, old, 1), encoding="utf-8")
+        if not deck_claims.problems(copy):
+            missed.append(f"{name}: {old.strip()[:70]!r}")
+    shutil.rmtree(work, ignore_errors=True)
+    expect(not stale, "the planted errors no longer match today's decks (update PLANTED): " + "; ".join(stale))
+    expect(not missed, "a deck contradicting its lecture or its cases was not caught: " + "; ".join(missed))
+    return (f"{len(decks)} decks agree with their lectures and their steps' cases; {len(PLANTED)} planted "
+            "contradictions (the decks' old errors among them) each caught")
+
+
 def selftests() -> list:
     return [
         ("slides: decks have notes, Ponder answers and the step's command", selftest_structure),
+        ("slides: a deck says what its lecture and its step's cases say", selftest_claims),
         ("slides: every slide fits 1280x720 in a browser, offline", selftest_browser),
         ("slides: an overflowing slide is caught", selftest_overflow_caught),
     ]
