@@ -70,7 +70,8 @@ def heading(slide: decks.Slide) -> str:
 
 
 def list_items(slide: decks.Slide) -> list[str]:
-    return [re.sub(r"^\s*(-|\d+\.)\s+", "", l) for l in slide.body if re.match(r"\s*(-|\d+\.)\s", l)]
+    item = r"^\s*(-|\+|\d+\.\+?)\s+"
+    return [re.sub(item, "", l) for l in slide.body if re.match(item, l)]
 
 
 # --- the rules ------------------------------------------------------------------------------------------

@@ -2,9 +2,10 @@
 
 - the decks' shape, read from the Markdown: every slide but the title has speaker notes that name a
   lecture and a section; a "Ponder" slide asks a question and the next slide is not another Ponder (the
-  answer follows it); the last slide names the step's `./kit check N`;
+  answer follows it); the last slide names the step's `./kit check N`; a deck whose lecture links the
+  ray-sphere lab links it too (on a preset: `../../docs/lab/index.html#grazing`);
 - in Chromium at 1280x720, offline: every slide of every deck is shown, and every element of it must lie
-  inside the slide's 1280x720 box, no element may scroll (a table or code wider than its box), MathJax
+  inside the slide's 1280x720 box (every step-by-step fragment shown), no element may scroll (a table or code wider than its box), MathJax
   must have typeset the formulas with no error and no raw TeX left; no console error, no request to
   the network. A screenshot of each slide lands in build/slides-screenshots/;
 - the measure can fail: a deck with a slide too long for the box must be caught;
@@ -69,6 +70,11 @@ def structure_problems(path: Path) -> tuple[list[str], int]:
             nxt_heading = next((l.strip() for l in nxt.body if l.strip().startswith("#")), "") if nxt else ""
             if nxt is None or re.match(r"##\s+Ponder\b", nxt_heading):
                 problems.append(f"{name} slide {i}: a Ponder slide with no answer on the next slide")
+    lecture = ROOT / "lectures" / name
+    if (lecture.is_file() and "docs/lab/index.html" in lecture.read_text(encoding="utf-8")
+            and not any(cmd_slides.LAB_LINK.match(m.group(2)) for s in slides for l in s.body
+                        for m in cmd_slides.LINK.finditer(l))):
+        problems.append(f"{name}: its lecture links the ray-sphere lab and the deck never does")
     if step and f"./kit check {int(step.group(1))}" not in " ".join(slides[-1].body):
         problems.append(f"{name}: the last slide does not name `./kit check {int(step.group(1))}`")
     return problems, len(slides)
@@ -113,7 +119,7 @@ def show_decks(browser, chromium: str, decks: list[Path], shots: Path | None) ->
             b.evaluate("window.deckReady", timeout=60)
             total = b.evaluate("Reveal.getTotalSlides()")
             for i in range(total):
-                r = b.evaluate(f"(Reveal.slide({i}), new Promise(r => requestAnimationFrame(() => r(null))))"
+                r = b.evaluate(f"(Reveal.slide({i}, 0, 99), new Promise(r => requestAnimationFrame(() => r(null))))"
                                f".then(() => {MEASURE})")
                 where = f"{deck.name} slide {i + 1}"
                 problems += [f"{where}: {p}" for p in r["problems"][:3]]
