@@ -527,7 +527,15 @@
       const h = $(`#handle-${k}`), [x, y] = HANDLES[k].get();
       // A handle off the picture waits at its edge, on the way to it: still reachable, dragged by
       // the pointer's movement like any other.
-      const [cx, cy] = clampToPicture(sx(x), sy(y));
+      let [cx, cy] = clampToPicture(sx(x), sy(y));
+      if (k === "tip" && (cx !== sx(x) || cy !== sy(y))) {         // o + d waiting at the same spot of the edge as o: one step inwards, both reachable
+        const [ox, oy] = clampToPicture(sx(state.ox), sy(state.oy));
+        const gap = Math.hypot(cx - ox, cy - oy);
+        if (gap < 22) {
+          const mx = W / 2 - ox, my = H / 2 - oy, m = Math.hypot(mx, my) || 1;
+          [cx, cy] = [ox + (mx / m) * 24, oy + (my / m) * 24];
+        }
+      }
       h.setAttribute("cx", cx);
       h.setAttribute("cy", cy);
       h.classList.toggle("offscreen", cx !== sx(x) || cy !== sy(y));
