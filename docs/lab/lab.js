@@ -416,6 +416,10 @@
     const g = $("#scene-layer");
     while (g.firstChild) g.removeChild(g.firstChild);
     placed = [];
+    for (const k in HANDLES) {       // no label under a handle
+      const [x, y] = HANDLES[k].get(), [hx, hy] = clampToPicture(sx(x), sy(y));
+      placed.push([hx - 10, hy - 10, hx + 10, hy + 10]);
+    }
     const ex = res.exact;
     const pr = Math.max(state.r * view.scale, 2);
     // the sphere

@@ -246,7 +246,8 @@ window.MathJax = {{ tex: {{ inlineMath: [["\\\\(", "\\\\)"]], displayMath: [["\\
 // Typeset first, then lay out: reveal.js sizes the slides with the formulas in them.
 window.deckReady = MathJax.startup.promise.then(() => MathJax.typesetPromise()).then(() =>
   Reveal.initialize({{ width: {WIDTH}, height: {HEIGHT}, margin: 0.04, hash: true, slideNumber: "c/t",
-                      center: true, transition: "none", plugins: [RevealNotes] }}));
+                      center: true, transition: "none", pdfSeparateFragments: false,
+                      plugins: [RevealNotes] }}));
 </script>
 </body>
 </html>
