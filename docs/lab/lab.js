@@ -207,10 +207,10 @@
     return result(a, h, c, d4, 2, sorted(R(R(-h - sq) / a), R(R(-h + sq) / a)));
   }
   const FORMS = [
-    { id: "textbook", name: "textbook", where: "lecture 01, §3", fn: textbook, side: -1 },
-    { id: "halfb", name: "half b", where: "lecture 01, §3", fn: halfB, side: -1 },
-    { id: "rewrite", name: "leg + root pair", where: "lecture 03, §5–6", fn: rewrite, side: 1 },
-    { id: "lagrange", name: "reference (f × d)", where: "lecture 03, §5; solutions/02", fn: lagrange, side: 1 },
+    { id: "textbook", name: "textbook", where: "lecture 01, §3", fn: textbook, side: -1, short: "textbook" },
+    { id: "halfb", name: "half b", where: "lecture 01, §3", fn: halfB, side: -1, short: "half b" },
+    { id: "rewrite", name: "leg + root pair", where: "lecture 03, §5–6", fn: rewrite, side: 1, short: "rewrite" },
+    { id: "lagrange", name: "reference (f × d)", where: "lecture 03, §5; solutions/02", fn: lagrange, side: 1, short: "f × d" },
   ];
 
   // --- presets: the graded cases (in the plane of the drawing) --------------------------------------
@@ -412,6 +412,55 @@
                                    [x - 4, y - 2.2 * d, "middle"], [x - 4, y + 2.2 * d + 10, "middle"],
                                    [x + 3 * d, y - 3 * d], [x - 3 * d, y + 3 * d + 10, "end"], [x + 3 * d, y + 3 * d + 10],
                                    [x - 3 * d, y - 3 * d, "end"]];
+  // The magnifier: the float32 grid around the exact root that the float32 forms miss most, each form's
+  // root drawn on it in ulps (one tick a float when they fit, else a scale), in the picture's top left.
+  let lastMagnifier = null;
+  function magnifier(res) {
+    lastMagnifier = null;
+    const ex = res.exact;
+    if (!ex.count) return;
+    let worst = { i: 0, u: 0 };
+    for (const form of FORMS) {
+      const r = res.forms[form.id].f32;
+      if (r.count !== ex.count) continue;
+      for (let i = 0; i < ex.count; i++) {
+        const u = ulps(F(r.t[i]), ex.t[i]);
+        if (Number.isFinite(u) && u > worst.u) worst = { i, u };
+      }
+    }
+    const X = 10, Y = 10, Wm = 250, Hm = 74, mid = X + Wm / 2, axis = Y + 40;
+    const M = Math.max(4, Math.ceil(worst.u * 1.25));             // ulps each side
+    const px = (u) => mid + (u / M) * (Wm / 2 - 12);
+    const gm = el("g", { id: "magnifier" });
+    el("rect", { x: X, y: Y, width: Wm, height: Hm, class: "mag-box" }, gm);
+    el("line", { x1: X + 8, y1: axis, x2: X + Wm - 8, y2: axis, class: "mag-axis" }, gm);
+    if (M <= 40) {
+      for (let u = -M; u <= M; u++) el("line", { x1: px(u), y1: axis - 4, x2: px(u), y2: axis + 4, class: "mag-tick" }, gm);
+    } else {
+      const stepU = Math.pow(10, Math.floor(Math.log10(M)));
+      for (let u = -Math.floor(M / stepU) * stepU; u <= M; u += stepU)
+        el("line", { x1: px(u), y1: axis - 5, x2: px(u), y2: axis + 5, class: "mag-tick" }, gm);
+    }
+    el("circle", { cx: mid, cy: axis, r: 4, class: "root" }, gm);
+    const shown = [];
+    for (const form of FORMS) {
+      const r = res.forms[form.id].f32;
+      if (r.count !== ex.count) continue;
+      const t = F(r.t[worst.i]), o = ordered(t) - ordered(ex.t[worst.i]);
+      if (!Number.isFinite(o)) continue;
+      const x = px(Math.max(-M, Math.min(M, o)));
+      el("line", { x1: x, y1: axis, x2: x, y2: axis + form.side * 14, class: `float-mark mark-${form.id}` }, gm);
+      shown.push(`${form.short} ${o > 0 ? "+" : ""}${o}`);
+    }
+    const name = ex.count === 1 ? "t" : `t${worst.i}`;
+    el("text", { x: X + 6, y: Y + 14, class: "mag-text" }, gm,
+       `${name} magnified, ±${M} ulps: ${M <= 40 ? "a tick per float" : `a tick per ${Math.pow(10, Math.floor(Math.log10(M)))} ulps`}`);
+    el("text", { x: X + 6, y: Y + Hm - 6, class: "mag-text" }, gm, shown.join(" · ") || "no float32 form has this count");
+    const wide = Math.min(W - 2 * X, Math.max(Wm, ...Array.from(gm.querySelectorAll("text"), (e) => e.getBBox().width + 12)));
+    gm.querySelector("rect").setAttribute("width", wide);
+    placed.push([X, Y, X + wide, Y + Hm]);
+    lastMagnifier = { root: worst.i, ulps: worst.u, span: M };
+  }
   function draw(res) {
     const g = $("#scene-layer");
     while (g.firstChild) g.removeChild(g.firstChild);
@@ -505,6 +554,7 @@
       const x = sx(state.ox + hit * state.dx), y = sy(state.oy + hit * state.dy);
       el("circle", { cx: x, cy: y, r: 10, class: "hit-ring" });
     }
+    magnifier(res);
     for (const [spots, text, cls] of figLabels) label(spots, text, cls);
     // how far the textbook's float roots are drawn from the exact ones
     const gaps = FORMS.map((form) => {
@@ -656,7 +706,8 @@
     forms: FORMS.map((f) => f.id),
     inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
     exactRoots, ulps, hexBits,
-    marks: () => lastMarks,                // the float32 roots drawn: form, root, t, pixels from the exact root
+    marks: () => lastMarks,
+    magnifier: () => lastMagnifier,        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
     modified,
   };
 

@@ -13,7 +13,8 @@ with the reference solution of step 02) gets the same float inputs and answers:
     lab has always been checked against), count and roots;
   - the page's ulps, on every row, equal tests/support/ulps.hpp's ulp_distance between those roots.
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
-ones (at least 4 px); every preset keeps the origin's handle on the picture; a drag turns the case
+ones (at least 4 px), and on the grazing and ground presets the magnifier (the float grid around a root)
+shows a float32 root beyond 16 ulps; every preset keeps the origin's handle on the picture; a drag turns the case
 into "(modified)"; at 400 px wide the page is no wider than the window; no two labels of the picture
 overlap.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
@@ -123,6 +124,7 @@ READ = """(() => {
   const box = (e) => { const b = e.getBBox(); return [b.x, b.y, b.x + b.width, b.y + b.height]; };
   const o = document.querySelector('#handle-origin');
   out.originOn = [+o.getAttribute('cx'), +o.getAttribute('cy')].every((v, i) => v >= 0 && v <= [640, 440][i]);
+  out.magnifier = raykitLab.magnifier();
   out.textbookPx = Math.max(0, ...raykitLab.marks().filter((m) => m.form === 'textbook').map((m) => m.px));
   const labels = Array.from(document.querySelectorAll('#scene-layer text'));
   out.overlaps = [];
@@ -184,7 +186,8 @@ def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
             c["rows"][key] = {"count": int(row["count"]),
                               "t": [f32(row[k]) for k in ("t0", "t1")] if row["t0"] != "—" else [],
                               "ulps": [row["u0"], row["u1"]]}
-        c["picture"] = {"originOn": shown["originOn"], "textbookPx": shown["textbookPx"], "overlaps": shown["overlaps"]}
+        c["picture"] = {"originOn": shown["originOn"], "textbookPx": shown["textbookPx"], "overlaps": shown["overlaps"],
+                        "magnifier": shown["magnifier"]}
         if not shown["originOn"]:
             problems.append(f"{name}: the origin's handle is off the picture, where no one can drag it")
         if shown["overlaps"]:
@@ -273,6 +276,10 @@ def selftest_lab(ctx) -> str:
     cxx = cxx_answers(exe, cases)
     found, roots = compare(cases, cxx)
     problems += found
+    for name in ("grazing", "ground"):
+        mag = cases.get(name, {}).get("picture", {}).get("magnifier") or {}
+        if not mag.get("ulps", 0) > 16:
+            problems.append(f"{name}: the magnifier shows no float32 root beyond 16 ulps ({mag})")
     for name in ("grazing", "far-1000", "far-10000"):
         px = cases.get(name, {}).get("picture", {}).get("textbookPx", 0)
         if px < 4:
