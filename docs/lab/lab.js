@@ -619,6 +619,87 @@
     $("#selected").textContent = HANDLES[k].name;
     placeHandles();
   }
+  // --- the distance plot: the same ray moved back along itself, |f| / r from 1 to 10^7 -------------------
+  // The line keeps its distance from the centre (in radii) and its direction; only the origin slides
+  // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the cliff where the
+  // textbook loses 2 log2(|f|/r) bits of 24 (|f|/r = 2^12) shows, and where the rewrite holds.
+  const PLOT = { W: 640, H: 170, left: 44, right: 10, top: 10, bottom: 30, x0: 0, x1: 7, y1: 8 };
+  function family(logDist) {
+    const len = Math.hypot(state.dx, state.dy);
+    if (!(len > 0) || !(state.r > 0) || !Number.isFinite(state.r)) return null;
+    const ux = state.dx / len, uy = state.dy / len;
+    const fx = state.ox - state.cx, fy = state.oy - state.cy, along = fx * ux + fy * uy;
+    const px = fx - along * ux, py = fy - along * uy, miss = Math.hypot(px, py);   // the closest point, from c
+    const D = state.r * Math.pow(10, logDist);
+    if (!(D > miss)) return null;
+    const back = Math.sqrt(D * D - miss * miss);
+    return { ...state, ox: state.cx + px - back * ux, oy: state.cy + py - back * uy };
+  }
+  function errorsAt(s) {
+    const rounded = {};
+    for (const k of FIELDS) rounded[k] = F(s[k]);
+    const ex = exactRoots(rounded), out = {};
+    for (const form of FORMS) {
+      const r = form.fn(F, rounded);
+      if (r.count !== ex.count) { out[form.id] = Infinity; continue; }
+      let u = 0;
+      for (let i = 0; i < r.count; i++) u = Math.max(u, ulps(F(r.t[i]), ex.t[i]));
+      out[form.id] = u;
+    }
+    return out;
+  }
+  let plotKey = null, lastPlot = null;
+  function plot() {
+    const svg = $("#distance-plot");
+    if (!svg) return;
+    const len = Math.hypot(state.dx, state.dy);
+    const key = [state.dx / len, state.dy / len, state.r].join(",") + "," +
+                (((state.ox - state.cx) * state.dy - (state.oy - state.cy) * state.dx) / (len * state.r)).toPrecision(6);
+    const here = Math.log10(Math.hypot(state.ox - state.cx, state.oy - state.cy) / state.r);
+    const X = (v) => PLOT.left + ((v - PLOT.x0) / (PLOT.x1 - PLOT.x0)) * (PLOT.W - PLOT.left - PLOT.right);
+    const Y = (u) => PLOT.H - PLOT.bottom - (Math.min(PLOT.y1, Math.log10(u + 1)) / PLOT.y1) * (PLOT.H - PLOT.top - PLOT.bottom);
+    if (key !== plotKey) {
+      plotKey = key;
+      while (svg.firstChild) svg.removeChild(svg.firstChild);
+      const g = (tag, attrs, text) => el(tag, attrs, svg, text);
+      g("rect", { x: 0, y: 0, width: PLOT.W, height: PLOT.H, class: "paper" });
+      for (let e = 0; e <= PLOT.y1; e += 2) {
+        g("line", { x1: PLOT.left, y1: Y(Math.pow(10, e) - 1), x2: PLOT.W - PLOT.right, y2: Y(Math.pow(10, e) - 1), class: "plot-grid" });
+        g("text", { x: PLOT.left - 4, y: Y(Math.pow(10, e) - 1) + 4, "text-anchor": "end", class: "plot-text" }, e === 0 ? "0" : `1e${e}`);
+      }
+      for (let e = 0; e <= PLOT.x1; e++) g("text", { x: X(e), y: PLOT.H - 12, "text-anchor": "middle", class: "plot-text" }, e === 0 ? "1" : `1e${e}`);
+      g("text", { x: PLOT.W - PLOT.right, y: PLOT.H - 1, "text-anchor": "end", class: "plot-text" }, "|f| / r, the same line moved back");
+      g("text", { x: 2, y: PLOT.top + 2, class: "plot-text", transform: `rotate(90 2 ${PLOT.top + 2})` }, "worst ulps");
+      g("line", { x1: PLOT.left, y1: Y(16), x2: PLOT.W - PLOT.right, y2: Y(16), class: "plot-bound" });
+      g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text" }, "16 ulps, the ★ bound");
+      const cliff = Math.log10(4096);
+      g("line", { x1: X(cliff), y1: PLOT.top, x2: X(cliff), y2: PLOT.H - PLOT.bottom, class: "plot-cliff" });
+      g("text", { x: X(cliff) + 3, y: PLOT.top + 10, class: "plot-text" }, "2·log₂(|f|/r) = 24");
+      const series = {};
+      for (const form of FORMS) series[form.id] = [];
+      for (let i = 0; i <= 56; i++) {
+        const v = PLOT.x0 + 0.15 + (i / 56) * (PLOT.x1 - PLOT.x0 - 0.15);
+        const s = family(v);
+        if (!s) continue;
+        const err = errorsAt(s);
+        for (const form of FORMS) series[form.id].push([v, err[form.id]]);
+      }
+      for (const form of FORMS) {
+        const pts = series[form.id].map(([v, u]) => `${X(v)},${Y(Number.isFinite(u) ? u : 1e9)}`).join(" ");
+        g("polyline", { points: pts, class: `plot-line mark-${form.id}` });
+      }
+      g("line", { id: "plot-here", class: "plot-here" });
+      lastPlot = series;
+    }
+    const h = svg.querySelector("#plot-here");
+    if (h && Number.isFinite(here)) {
+      h.setAttribute("x1", X(Math.max(PLOT.x0, Math.min(PLOT.x1, here)))); h.setAttribute("x2", X(Math.max(PLOT.x0, Math.min(PLOT.x1, here))));
+      h.setAttribute("y1", PLOT.top); h.setAttribute("y2", PLOT.H - PLOT.bottom);
+    }
+    const slider = $("#log-distance");
+    if (slider && document.activeElement !== slider && Number.isFinite(here)) slider.value = String(here);
+  }
+
   function update(refit) {
     if (refit) fit();
     if (preset) {
@@ -631,6 +712,7 @@
     lastResult = res;
     showNumbers(res);
     draw(res);
+    plot();
   }
   let lastResult = null, lastMarks = [];
 
@@ -676,6 +758,10 @@
       input.addEventListener("change", () => { set({}); update(true); });
     }
     $("#zoom").addEventListener("change", (ev) => { zoom = ev.target.value; update(true); });
+    $("#log-distance").addEventListener("input", (ev) => {
+      const s = family(Number(ev.target.value));
+      if (s) { set({ ox: s.ox, oy: s.oy }); update(true); }
+    });
     const list = $("#presets");
     for (const p of PRESETS) {
       const b = document.createElement("button");
@@ -707,7 +793,8 @@
     inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
     exactRoots, ulps, hexBits,
     marks: () => lastMarks,
-    magnifier: () => lastMagnifier,        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
+    magnifier: () => lastMagnifier,
+    plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
     modified,
   };
 

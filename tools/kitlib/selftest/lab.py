@@ -13,7 +13,8 @@ with the reference solution of step 02) gets the same float inputs and answers:
     lab has always been checked against), count and roots;
   - the page's ulps, on every row, equal tests/support/ulps.hpp's ulp_distance between those roots.
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
-ones (at least 4 px), and on the grazing and ground presets the magnifier (the float grid around a root)
+ones (at least 4 px), the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
+rewrite within them before, its slider moves the origin, and on the grazing and ground presets the magnifier (the float grid around a root)
 shows a float32 root beyond 16 ulps; every preset keeps the origin's handle on the picture; a drag turns the case
 into "(modified)"; at 400 px wide the page is no wider than the window; no two labels of the picture
 overlap.
@@ -288,6 +289,21 @@ def selftest_lab(ctx) -> str:
     try:
         with browser.Browser(chromium, 400, 900) as b:
             b.open((LAB / "index.html").as_uri())
+            # The distance plot, on the far preset's line: the textbook past the ★ bound beyond the cliff
+            # (|f|/r = 2^12), lecture 03's rewrite within it before 10^4; the slider moves the origin.
+            b.evaluate("raykitLab.load('far-10000')")
+            series = b.evaluate("raykitLab.plot()") or {}
+            book = [u for v, u in series.get("textbook", []) if 3.7 <= v <= 5]
+            rew = [u for v, u in series.get("rewrite", []) if v <= 3.6]
+            if not book or min(u if u is not None else math.inf for u in book) <= 16:
+                problems.append(f"the distance plot shows the textbook within 16 ulps beyond the cliff: {book[:5]}")
+            if not rew or max(u if u is not None else math.inf for u in rew) > 16:
+                problems.append(f"the distance plot shows the rewrite beyond 16 ulps before 10^3.6: {rew[-5:]}")
+            b.evaluate("(() => { const s = document.querySelector('#log-distance'); s.value = '2';"
+                       " s.dispatchEvent(new Event('input')); })()")
+            far = b.evaluate("(() => { const s = raykitLab.inputs(); return Math.hypot(s.ox - s.cx, s.oy - s.cy) / s.r; })()")
+            if not 90 < far < 110:
+                problems.append(f"the distance slider set to 10^2 put the origin {far} radii away")
             for name in ("grazing", "ground"):
                 b.evaluate(f"raykitLab.load({name!r})")
                 wide = b.evaluate("document.documentElement.scrollWidth")
