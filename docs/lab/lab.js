@@ -247,6 +247,9 @@
     { id: "ground", title: "The ground from 1 m (no float form wins)", kase: "the ground seen from a metre or two up (★ of step 02, in the plane): c′ = f·f − r² cancels, and no float rearrangement repairs it",
       section: "Lecture 03, §6 (its last paragraph) and the appendix, §A and §D", view: "near",
       s: { ox: 0, oy: 1, dx: 1, dy: -0.1, cx: 0, cy: -6.4e6, r: 6.4e6, tmin: 0, tmax: Infinity } },
+    { id: "pbrt-ranges", title: "pbrt's ranges: 10⁶ away, r = 0.01 (the rewrite miscounts)",
+      kase: "a tiny sphere seen from very far on pbrt's test ranges (★ of step 02, in the plane): a float direction cannot aim this finely, the exact count is 0, and float forms and even the textbook in double count roots",
+      section: "Lecture 02, §7 The robust cases; lecture 03's appendix, §A", s: { ...shot2d(6e5, -8e5, 0.003, 1), cx: 0, cy: 0, r: 0.01, tmin: 0, tmax: Infinity } },
     { id: "zero-direction", title: "Zero direction", kase: "a zero direction is no ray: no roots",
       section: "Lecture 01, §2. The ray meets the sphere", s: { ox: 0.5, oy: 0, dx: 0, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
   ];
@@ -378,13 +381,28 @@
     if (!Number.isFinite(view.scale) || !Number.isFinite(view.cx) || !Number.isFinite(view.cy)) view = { cx: 0, cy: 0, scale: 60 };
   }
   // The ray's points for t in [t0, t1], clipped to the picture.
+  // Clipped to the picture in world coordinates (in double) before any pixel is computed: an end
+  // 10^10 px away would be drawn hundreds of pixels off (a browser draws in float32).
+  function clipped(x0, y0, dx, dy, t0, t1) {
+    const box = [[x0, dx, wx(-20), wx(W + 20)], [y0, dy, wy(H + 20), wy(-20)]];
+    let a = t0, b = t1;
+    for (const [p, d, lo, hi] of box) {
+      if (d === 0) { if (p < lo || p > hi) return null; continue; }
+      let ta = (lo - p) / d, tb = (hi - p) / d;
+      if (ta > tb) [ta, tb] = [tb, ta];
+      a = Math.max(a, ta); b = Math.min(b, tb);
+    }
+    if (!(a <= b)) return null;
+    return [sx(x0 + a * dx), sy(y0 + a * dy), sx(x0 + b * dx), sy(y0 + b * dy)];
+  }
   function raySegment(t0, t1) {
     const len = Math.hypot(state.dx, state.dy);
     if (!(len > 0)) return null;
-    const reach = (Math.hypot(W, H) / view.scale + Math.hypot(state.ox - view.cx, state.oy - view.cy)) / len;
-    const a = Math.max(t0, -reach), b = Math.min(t1, reach);
-    if (!(a <= b)) return null;
-    return [sx(state.ox + a * state.dx), sy(state.oy + a * state.dy), sx(state.ox + b * state.dx), sy(state.oy + b * state.dy)];
+    return clipped(state.ox, state.oy, state.dx, state.dy, t0, t1);
+  }
+  function segment(cls, x0, y0, x1, y1) {       // the world segment from (x0, y0) to (x1, y1), clipped
+    const s = clipped(x0, y0, x1 - x0, y1 - y0, 0, 1);
+    if (s) el("line", { x1: s[0], y1: s[1], x2: s[2], y2: s[3], class: cls });
   }
   // Labels never overlap: each tries its spots in turn and takes the first whose box meets no label
   // already placed (nor the picture's edge); the last spot is used when none is free.
@@ -502,8 +520,8 @@
       const Lx = state.cx - state.ox, Ly = state.cy - state.oy;
       const tmLen = Lx * ux + Ly * uy;                // t_m as a length along the unit direction
       const px = state.ox + tmLen * ux, py = state.oy + tmLen * uy;
-      el("line", { x1: sx(state.ox), y1: sy(state.oy), x2: sx(state.cx), y2: sy(state.cy), class: "fig-L" });
-      el("line", { x1: sx(state.cx), y1: sy(state.cy), x2: sx(px), y2: sy(py), class: "fig-lm" });
+      segment("fig-L", state.ox, state.oy, state.cx, state.cy);
+      segment("fig-lm", state.cx, state.cy, px, py);
       const lm = Math.hypot(state.cx - px, state.cy - py);
       // the right angle at the closest point
       if (lm * view.scale > 14) {
@@ -514,7 +532,7 @@
       el("circle", { cx: sx(px), cy: sy(py), r: 3.5, class: "fig-point" });
       if (ex.count > 0) {
         const dt = Math.sqrt(Math.max(state.r * state.r - lm * lm, 0));
-        el("line", { x1: sx(px), y1: sy(py), x2: sx(px + dt * ux), y2: sy(py + dt * uy), class: "fig-dt" });
+        segment("fig-dt", px, py, px + dt * ux, py + dt * uy);
         figLabels.push([around(sx(px + dt * ux / 2), sy(py + dt * uy / 2)), "Δt"]);
       }
       figLabels.push([around(sx(px), sy(py)), "t_m"]);
@@ -596,8 +614,10 @@
       h.setAttribute("aria-label", `${HANDLES[k].name} at (${fmt(x)}, ${fmt(y)}); arrow keys move it`);
       h.classList.toggle("selected", k === selected);
     }
-    $("#handle-line").setAttribute("x1", sx(state.ox)); $("#handle-line").setAttribute("y1", sy(state.oy));
-    $("#handle-line").setAttribute("x2", sx(state.ox + state.dx)); $("#handle-line").setAttribute("y2", sy(state.oy + state.dy));
+    // the direction's arrow joins the two handles where they are drawn (at the edge when off the picture)
+    const ho = $("#handle-origin"), ht = $("#handle-tip"), hl = $("#handle-line");
+    hl.setAttribute("x1", ho.getAttribute("cx")); hl.setAttribute("y1", ho.getAttribute("cy"));
+    hl.setAttribute("x2", ht.getAttribute("cx")); hl.setAttribute("y2", ht.getAttribute("cy"));
   }
   function clampToPicture(x, y) {
     const m = 12;
