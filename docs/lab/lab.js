@@ -813,6 +813,7 @@
     inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
     exactRoots, ulps, hexBits,
     marks: () => lastMarks,
+    view: () => ({ ...view }),             // the world point at the picture's centre, pixels per unit
     magnifier: () => lastMagnifier,
     plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
     modified,

@@ -15,7 +15,8 @@ with the reference solution of step 02) gets the same float inputs and answers:
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
 ones (at least 4 px), the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
 rewrite within them before, its slider moves the origin, and on the grazing and ground presets the magnifier (the float grid around a root)
-shows a float32 root beyond 16 ulps; every preset keeps the origin's handle on the picture; a drag turns the case
+shows a float32 root beyond 16 ulps; every preset keeps the origin's handle on the picture and draws no line reaching farther than 4e6 px from
+it (a browser draws in float32: farther ends move the lines); a drag turns the case
 into "(modified)"; at 400 px wide the page is no wider than the window; no two labels of the picture
 overlap.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
@@ -126,6 +127,19 @@ READ = """(() => {
   const o = document.querySelector('#handle-origin');
   out.originOn = [+o.getAttribute('cx'), +o.getAttribute('cy')].every((v, i) => v >= 0 && v <= [640, 440][i]);
   out.magnifier = raykitLab.magnifier();
+  // every coordinate drawn lies near the picture: a browser draws in float32, so an end 10^10 px away
+  // puts the line hundreds of pixels off where it crosses the picture
+  out.farthest = 0;          // over lines and polygons that cross the picture: their farthest point
+  for (const e of document.querySelectorAll('#scene-layer line, #scene-layer polygon')) {
+    const n = e.tagName === 'polygon' ? e.getAttribute('points').split(/[ ,]+/).map(Number)
+      : ['x1', 'y1', 'x2', 'y2'].map((k) => +e.getAttribute(k));
+    const pts = [];
+    for (let i = 0; i + 1 < n.length; i += 2) pts.push([n[i], n[i + 1]]);
+    const inside = pts.some(([x, y]) => x > -50 && x < 690 && y > -50 && y < 490);
+    const long = e.tagName === 'line' && Math.hypot(n[2] - n[0], n[3] - n[1]) > 1000;   // it may cross the picture
+    if (!inside && !long) continue;
+    for (const [x, y] of pts) out.farthest = Math.max(out.farthest, Math.abs(x), Math.abs(y));
+  }
   out.textbookPx = Math.max(0, ...raykitLab.marks().filter((m) => m.form === 'textbook').map((m) => m.px));
   const labels = Array.from(document.querySelectorAll('#scene-layer text'));
   out.overlaps = [];
@@ -189,6 +203,9 @@ def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
                               "ulps": [row["u0"], row["u1"]]}
         c["picture"] = {"originOn": shown["originOn"], "textbookPx": shown["textbookPx"], "overlaps": shown["overlaps"],
                         "magnifier": shown["magnifier"]}
+        if shown["farthest"] > 4e6:          # float32 spacing there: half a pixel
+            problems.append(f"{name}: the picture draws a point {shown['farthest']:.3g} px away, where a browser's "
+                            "float32 puts what crosses the picture pixels off")
         if not shown["originOn"]:
             problems.append(f"{name}: the origin's handle is off the picture, where no one can drag it")
         if shown["overlaps"]:
