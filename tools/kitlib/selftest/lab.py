@@ -13,12 +13,12 @@ with the reference solution of step 02) gets the same float inputs and answers:
     lab has always been checked against), count and roots;
   - the page's ulps, on every row, equal tests/support/ulps.hpp's ulp_distance between those roots.
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
-ones (at least 4 px), the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
-rewrite within them before, its slider moves the origin, and on the grazing and ground presets the magnifier (the float grid around a root)
-shows a float32 root beyond 16 ulps; every preset keeps the origin's handle on the picture and draws no line reaching farther than 4e6 px from
-it (a browser draws in float32: farther ends move the lines); a drag turns the case
-into "(modified)"; at 400 px wide the page is no wider than the window; no two labels of the picture
-overlap.
+ones (at least 4 px); the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
+rewrite within them before, and its slider moves the origin; on the grazing and ground presets the
+magnifier (the float grid around a root) shows a float32 root beyond 16 ulps; every preset keeps the
+origin's handle on the picture and draws no line reaching farther than 4e6 px from it (a browser draws
+in float32: farther ends move the lines); a drag turns the case into "(modified)"; at 400 px wide the
+page is no wider than the window; no two labels of the picture overlap.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
 The checks can fail: a copy of the page whose textbook discriminant, or half b's, skips one float
 rounding (what a fused multiply-add does) must be caught.
