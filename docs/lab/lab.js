@@ -207,10 +207,10 @@
     return result(a, h, c, d4, 2, sorted(R(R(-h - sq) / a), R(R(-h + sq) / a)));
   }
   const FORMS = [
-    { id: "textbook", name: "textbook", where: "lecture 01, §3", fn: textbook },
-    { id: "halfb", name: "half b", where: "lecture 01, §3", fn: halfB },
-    { id: "rewrite", name: "leg + root pair", where: "lecture 03, §5–6", fn: rewrite },
-    { id: "lagrange", name: "reference (f × d)", where: "lecture 03, §5; solutions/02", fn: lagrange },
+    { id: "textbook", name: "textbook", where: "lecture 01, §3", fn: textbook, side: -1, short: "textbook" },
+    { id: "halfb", name: "half b", where: "lecture 01, §3", fn: halfB, side: -1, short: "half b" },
+    { id: "rewrite", name: "leg + root pair", where: "lecture 03, §5–6", fn: rewrite, side: 1, short: "rewrite" },
+    { id: "lagrange", name: "reference (f × d)", where: "lecture 03, §5; solutions/02", fn: lagrange, side: 1, short: "f × d" },
   ];
 
   // --- presets: the graded cases (in the plane of the drawing) --------------------------------------
@@ -244,6 +244,12 @@
       section: "Lecture 01, §6. Far and grazing rays; lecture 03, §5", s: { ...shot2d(-960, 200, 0.99, 1), ...UNIT, tmin: 0, tmax: Infinity } },
     { id: "near-root", title: "Tiny root beside a big one", kase: "a tiny root beside a large one (lecture 03's example, in the plane)",
       section: "Lecture 03, §6. Cancellation in the roots", s: { ox: 0.5, oy: 1001, dx: 0, dy: -1, cx: 0, cy: 0, r: 1000, tmin: 0, tmax: Infinity } },
+    { id: "ground", title: "The ground from 1 m (no float form wins)", kase: "the ground seen from a metre or two up (★ of step 02, in the plane): c′ = f·f − r² cancels, and no float rearrangement repairs it",
+      section: "Lecture 03, §6 (its last paragraph) and the appendix, §A and §D", view: "near",
+      s: { ox: 0, oy: 1, dx: 1, dy: -0.1, cx: 0, cy: -6.4e6, r: 6.4e6, tmin: 0, tmax: Infinity } },
+    { id: "pbrt-ranges", title: "pbrt's ranges: 10⁶ away, r = 0.01 (the rewrite miscounts)",
+      kase: "a tiny sphere seen from very far on pbrt's test ranges (★ of step 02, in the plane): a float direction cannot aim this finely, the exact count is 0, and float forms and even the textbook in double count roots",
+      section: "Lecture 02, §7 The robust cases; lecture 03's appendix, §A", s: { ...shot2d(6e5, -8e5, 0.003, 1), cx: 0, cy: 0, r: 0.01, tmin: 0, tmax: Infinity } },
     { id: "zero-direction", title: "Zero direction", kase: "a zero direction is no ray: no roots",
       section: "Lecture 01, §2. The ray meets the sphere", s: { ox: 0.5, oy: 0, dx: 0, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
   ];
@@ -276,6 +282,10 @@
     return Number(t);
   }
 
+  let preset = null;        // the preset loaded last, and its float inputs: "(modified)" once the state leaves them
+  function modified() {
+    return preset !== null && FIELDS.some((k) => !Object.is(state[k], preset.inputs[k]));
+  }
   function set(values, fromTyping) {
     for (const k of FIELDS) if (k in values) state[k] = F(values[k]);
     for (const k of FIELDS) {
@@ -359,27 +369,141 @@
     }
     let xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
     if (zoom === "sphere") { xs = [state.cx - 1.6 * r, state.cx + 1.6 * r]; ys = [state.cy - 1.6 * r, state.cy + 1.6 * r]; }
+    if (zoom === "near") {       // the origin and the first root: for a sphere too big to show whole
+      const ex = exactRoots(state), t = ex.count ? ex.t[0] : 1;
+      const px = state.ox + t * state.dx, py = state.oy + t * state.dy;
+      const s = 0.15 * Math.hypot(px - state.ox, py - state.oy) + 1e-6;
+      xs = [state.ox - s, px + s]; ys = [state.oy + s, py - s];
+    }
     const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
     const span = Math.max((x1 - x0) / (W - 160), (y1 - y0) / (H - 100), 1e-30);
     view = { cx: (x0 + x1) / 2, cy: (y0 + y1) / 2, scale: 1 / span };
     if (!Number.isFinite(view.scale) || !Number.isFinite(view.cx) || !Number.isFinite(view.cy)) view = { cx: 0, cy: 0, scale: 60 };
   }
   // The ray's points for t in [t0, t1], clipped to the picture.
+  // Clipped to the picture in world coordinates (in double) before any pixel is computed: an end
+  // 10^10 px away would be drawn hundreds of pixels off (a browser draws in float32).
+  function clipped(x0, y0, dx, dy, t0, t1) {
+    const box = [[x0, dx, wx(-20), wx(W + 20)], [y0, dy, wy(H + 20), wy(-20)]];
+    let a = t0, b = t1;
+    for (const [p, d, lo, hi] of box) {
+      if (d === 0) { if (p < lo || p > hi) return null; continue; }
+      let ta = (lo - p) / d, tb = (hi - p) / d;
+      if (ta > tb) [ta, tb] = [tb, ta];
+      a = Math.max(a, ta); b = Math.min(b, tb);
+    }
+    if (!(a <= b)) return null;
+    return [sx(x0 + a * dx), sy(y0 + a * dy), sx(x0 + b * dx), sy(y0 + b * dy)];
+  }
   function raySegment(t0, t1) {
     const len = Math.hypot(state.dx, state.dy);
     if (!(len > 0)) return null;
-    const reach = (Math.hypot(W, H) / view.scale + Math.hypot(state.ox - view.cx, state.oy - view.cy)) / len;
-    const a = Math.max(t0, -reach), b = Math.min(t1, reach);
-    if (!(a <= b)) return null;
-    return [sx(state.ox + a * state.dx), sy(state.oy + a * state.dy), sx(state.ox + b * state.dx), sy(state.oy + b * state.dy)];
+    return clipped(state.ox, state.oy, state.dx, state.dy, t0, t1);
+  }
+  function segment(cls, x0, y0, x1, y1) {       // the world segment from (x0, y0) to (x1, y1), clipped
+    const s = clipped(x0, y0, x1 - x0, y1 - y0, 0, 1);
+    if (s) el("line", { x1: s[0], y1: s[1], x2: s[2], y2: s[3], class: cls });
+  }
+  // Labels never overlap: each tries its spots in turn and takes the first whose box meets no label
+  // already placed (nor the picture's edge); the last spot is used when none is free.
+  let placed = [];
+  function label(spots, text, cls) {
+    const e = el("text", { "text-anchor": "start", class: cls || "label" }, undefined, text);
+    let best = null;
+    for (const [x, y, anchor] of spots) {
+      e.setAttribute("x", x); e.setAttribute("y", y); e.setAttribute("text-anchor", anchor || "start");
+      const b = e.getBBox(), box = [b.x - 2, b.y - 1, b.x + b.width + 2, b.y + b.height + 1];
+      const outside = Math.max(0, -box[0]) + Math.max(0, box[2] - W) + Math.max(0, -box[1]) + Math.max(0, box[3] - H);
+      let overlap = 0;
+      for (const q of placed)
+        overlap += Math.max(0, Math.min(box[2], q[2]) - Math.max(box[0], q[0])) * Math.max(0, Math.min(box[3], q[3]) - Math.max(box[1], q[1]));
+      const cost = overlap + 100 * outside;
+      if (best === null || cost < best.cost) best = { cost, x, y, anchor, box };
+      if (cost === 0) break;
+    }
+    e.setAttribute("x", best.x); e.setAttribute("y", best.y); e.setAttribute("text-anchor", best.anchor || "start");
+    placed.push(best.box);
+    return e;
+  }
+  // Spots around a point: right, left, below, above, then further out.
+  const around = (x, y, d = 8) => [[x + d, y - d], [x - d, y - d, "end"], [x + d, y + d + 10], [x - d, y + d + 10, "end"],
+                                   [x - 4, y - 2.2 * d, "middle"], [x - 4, y + 2.2 * d + 10, "middle"],
+                                   [x + 3 * d, y - 3 * d], [x - 3 * d, y + 3 * d + 10, "end"], [x + 3 * d, y + 3 * d + 10],
+                                   [x - 3 * d, y - 3 * d, "end"]];
+  // The magnifier: the float32 grid around the exact root that the float32 forms miss most, each form's
+  // root drawn on it in ulps (one tick a float when they fit, else a scale), in the picture's top left.
+  let lastMagnifier = null;
+  function magnifier(res) {
+    lastMagnifier = null;
+    const ex = res.exact;
+    if (!ex.count) return;
+    let worst = { i: 0, u: 0 };
+    for (const form of FORMS) {
+      const r = res.forms[form.id].f32;
+      if (r.count !== ex.count) continue;
+      for (let i = 0; i < ex.count; i++) {
+        const u = ulps(F(r.t[i]), ex.t[i]);
+        if (Number.isFinite(u) && u > worst.u) worst = { i, u };
+      }
+    }
+    const X = 10, Y = 10, Wm = 250, Hm = 74, mid = X + Wm / 2, axis = Y + 40;
+    const M = Math.max(4, Math.ceil(worst.u * 1.25));             // ulps each side
+    const px = (u) => mid + (u / M) * (Wm / 2 - 12);
+    const gm = el("g", { id: "magnifier" });
+    el("rect", { x: X, y: Y, width: Wm, height: Hm, class: "mag-box" }, gm);
+    el("line", { x1: X + 8, y1: axis, x2: X + Wm - 8, y2: axis, class: "mag-axis" }, gm);
+    if (M <= 40) {
+      for (let u = -M; u <= M; u++) el("line", { x1: px(u), y1: axis - 4, x2: px(u), y2: axis + 4, class: "mag-tick" }, gm);
+    } else {
+      const stepU = Math.pow(10, Math.floor(Math.log10(M)));
+      for (let u = -Math.floor(M / stepU) * stepU; u <= M; u += stepU)
+        el("line", { x1: px(u), y1: axis - 5, x2: px(u), y2: axis + 5, class: "mag-tick" }, gm);
+    }
+    el("circle", { cx: mid, cy: axis, r: 4, class: "root" }, gm);
+    const shown = [];
+    for (const form of FORMS) {
+      const r = res.forms[form.id].f32;
+      if (r.count !== ex.count) continue;
+      const t = F(r.t[worst.i]), o = ordered(t) - ordered(ex.t[worst.i]);
+      if (!Number.isFinite(o)) continue;
+      const x = px(Math.max(-M, Math.min(M, o)));
+      el("line", { x1: x, y1: axis, x2: x, y2: axis + form.side * 14, class: `float-mark mark-${form.id}` }, gm);
+      shown.push(`${form.short} ${o > 0 ? "+" : ""}${o}`);
+    }
+    const name = ex.count === 1 ? "t" : `t${worst.i}`;
+    el("text", { x: X + 6, y: Y + 14, class: "mag-text" }, gm,
+       `${name} magnified, ±${M} ulps: ${M <= 40 ? "a tick per float" : `a tick per ${Math.pow(10, Math.floor(Math.log10(M)))} ulps`}`);
+    el("text", { x: X + 6, y: Y + Hm - 6, class: "mag-text" }, gm, shown.join(" · ") || "no float32 form has this count");
+    const wide = Math.min(W - 2 * X, Math.max(Wm, ...Array.from(gm.querySelectorAll("text"), (e) => e.getBBox().width + 12)));
+    gm.querySelector("rect").setAttribute("width", wide);
+    placed.push([X, Y, X + wide, Y + Hm]);
+    lastMagnifier = { root: worst.i, ulps: worst.u, span: M };
   }
   function draw(res) {
     const g = $("#scene-layer");
     while (g.firstChild) g.removeChild(g.firstChild);
+    placed = [];
+    for (const k in HANDLES) {       // no label under a handle
+      const [x, y] = HANDLES[k].get(), [hx, hy] = clampToPicture(sx(x), sy(y));
+      placed.push([hx - 10, hy - 10, hx + 10, hy + 10]);
+    }
     const ex = res.exact;
     const pr = Math.max(state.r * view.scale, 2);
     // the sphere
-    el("circle", { cx: sx(state.cx), cy: sy(state.cy), r: Number.isFinite(pr) ? pr : 0, class: "sphere" });
+    if (pr < 1e5 || !Number.isFinite(pr)) {
+      el("circle", { cx: sx(state.cx), cy: sy(state.cy), r: Number.isFinite(pr) ? pr : 0, class: "sphere" });
+    } else {     // a circle of more than 10^5 px: the browser draws it badly; draw the arc that crosses the picture
+      const th = Math.atan2(view.cy - state.cy, view.cx - state.cx), span = 2 * Math.hypot(W, H) / pr;
+      const pts = [];
+      for (let i = 0; i <= 64; i++) {
+        const a = th - span + (2 * span * i) / 64;
+        pts.push([sx(state.cx + state.r * Math.cos(a)), sy(state.cy + state.r * Math.sin(a))]);
+      }
+      const inward = [Math.cos(th), -Math.sin(th)], far = 4 * Math.hypot(W, H);    // in pixels, y down
+      const end = pts[pts.length - 1], start = pts[0];
+      pts.push([end[0] - inward[0] * far, end[1] - inward[1] * far], [start[0] - inward[0] * far, start[1] - inward[1] * far]);
+      el("polygon", { points: pts.map((q) => q.join(",")).join(" "), class: "sphere" });
+    }
     el("circle", { cx: sx(state.cx), cy: sy(state.cy), r: 3, class: "centre-dot" });
     // the whole line, then the window [tmin, tmax] on it
     const line = raySegment(-Infinity, Infinity);
@@ -390,13 +514,14 @@
     if (win) el("line", { x1: win[0], y1: win[1], x2: win[2], y2: win[3], class: "window" });
     // lecture 03's figure: L = c - o, the closest point at t_m, l_m at a right angle, the half chord dt
     const a = state.dx * state.dx + state.dy * state.dy;
+    const figLabels = [];        // placed after the roots' labels, which matter more
     if (a > 0) {
       const len = Math.sqrt(a), ux = state.dx / len, uy = state.dy / len;
       const Lx = state.cx - state.ox, Ly = state.cy - state.oy;
       const tmLen = Lx * ux + Ly * uy;                // t_m as a length along the unit direction
       const px = state.ox + tmLen * ux, py = state.oy + tmLen * uy;
-      el("line", { x1: sx(state.ox), y1: sy(state.oy), x2: sx(state.cx), y2: sy(state.cy), class: "fig-L" });
-      el("line", { x1: sx(state.cx), y1: sy(state.cy), x2: sx(px), y2: sy(py), class: "fig-lm" });
+      segment("fig-L", state.ox, state.oy, state.cx, state.cy);
+      segment("fig-lm", state.cx, state.cy, px, py);
       const lm = Math.hypot(state.cx - px, state.cy - py);
       // the right angle at the closest point
       if (lm * view.scale > 14) {
@@ -405,29 +530,59 @@
         el("polyline", { points: `${sx(q1[0])},${sy(q1[1])} ${sx(q2[0])},${sy(q2[1])} ${sx(q3[0])},${sy(q3[1])}`, class: "fig-right" });
       }
       el("circle", { cx: sx(px), cy: sy(py), r: 3.5, class: "fig-point" });
-      el("text", { x: sx(px) + 6, y: sy(py) + 16, class: "label" }, undefined, "t_m");
-      el("text", { x: (sx(px) + sx(state.cx)) / 2 + 6, y: (sy(py) + sy(state.cy)) / 2, class: "label" }, undefined, "ℓ_m");
-      el("text", { x: (sx(state.ox) + sx(state.cx)) / 2 - 10, y: (sy(state.oy) + sy(state.cy)) / 2 - 8, class: "label dim" }, undefined, "L");
       if (ex.count > 0) {
         const dt = Math.sqrt(Math.max(state.r * state.r - lm * lm, 0));
-        el("line", { x1: sx(px), y1: sy(py), x2: sx(px + dt * ux), y2: sy(py + dt * uy), class: "fig-dt" });
-        el("text", { x: sx(px + dt * ux / 2) + 4, y: sy(py + dt * uy / 2) - 8, class: "label" }, undefined, "Δt");
+        segment("fig-dt", px, py, px + dt * ux, py + dt * uy);
+        figLabels.push([around(sx(px + dt * ux / 2), sy(py + dt * uy / 2)), "Δt"]);
+      }
+      figLabels.push([around(sx(px), sy(py)), "t_m"]);
+      figLabels.push([around((sx(px) + sx(state.cx)) / 2, (sy(py) + sy(state.cy)) / 2), "ℓ_m"]);
+      figLabels.push([around((sx(state.ox) + sx(state.cx)) / 2, (sy(state.oy) + sy(state.cy)) / 2), "L", "label dim"]);
+    }
+    // each formula's float32 roots: a tick across the ray, the textbook's and half b's on one side,
+    // the rewrite's and the reference form's on the other, so that a root off the exact one shows
+    const len = Math.sqrt(a);
+    const marks = [];
+    if (len > 0) {
+      const nx = -state.dy / len, ny = state.dx / len;      // across the ray, in world axes
+      for (const form of FORMS) {
+        const r = res.forms[form.id].f32;
+        r.t.slice(0, r.count === 1 ? 1 : 2).forEach((t, i) => {
+          t = F(t);
+          const x = sx(state.ox + t * state.dx), y = sy(state.oy + t * state.dy);
+          if (!Number.isFinite(x) || !Number.isFinite(y)) return;
+          const k = form.side * 18, kx = nx * k, ky = -ny * k;
+          el("line", { x1: x, y1: y, x2: x + kx, y2: y + ky, class: `float-mark mark-${form.id}` });
+          const exact = ex.count ? ex.t[Math.min(i, ex.count - 1)] : NaN;
+          marks.push({ form: form.id, i, t, x, y, exact,
+                       px: Math.hypot(x - sx(state.ox + exact * state.dx), y - sy(state.oy + exact * state.dy)) });
+        });
       }
     }
-    // the roots and the hit
+    // the exact roots and the hit
     const hit = closestInWindow(ex);
     ex.t.slice(0, ex.count === 1 ? 1 : 2).forEach((t, i) => {
       const x = sx(state.ox + t * state.dx), y = sy(state.oy + t * state.dy);
       el("circle", { cx: x, cy: y, r: 5, class: t === hit ? "root hit" : "root" });
-      // t0 below and before its point, t1 above and after: apart even on a short chord
-      el("text", i === 0 ? { x: x - 8, y: y + 20, "text-anchor": "end", class: "label root-label" }
-                         : { x: x + 8, y: y - 10, class: "label root-label" },
-         undefined, `t${ex.count === 1 ? "" : i} = ${fmt(t)}`);
+      placed.push([x - 11, y - 11, x + 11, y + 11]);     // the root and its hit ring: no label on them
+      const spots = around(x, y, 10);
+      label(i === 0 ? [spots[3], ...spots] : [spots[0], ...spots], `t${ex.count === 1 ? "" : i} = ${fmt(t)}`, "label root-label");
     });
     if (hit !== null) {
       const x = sx(state.ox + hit * state.dx), y = sy(state.oy + hit * state.dy);
       el("circle", { cx: x, cy: y, r: 10, class: "hit-ring" });
     }
+    magnifier(res);
+    for (const [spots, text, cls] of figLabels) label(spots, text, cls);
+    // how far the textbook's float roots are drawn from the exact ones
+    const gaps = FORMS.map((form) => {
+      const worst = marks.filter((m) => m.form === form.id && Number.isFinite(m.exact))
+        .reduce((w, m) => (Math.abs(m.t - m.exact) > Math.abs(w.t - w.exact) ? m : w), { t: 0, exact: 0, px: 0 });
+      const gap = Math.abs(worst.t - worst.exact) * len;
+      return `${form.name} ${gap > 0 ? `${fmt(F(gap))} (${worst.px.toFixed(1)} px)` : "0"}`;
+    });
+    $("#float-gap").textContent = `float32 roots from the exact ones, in units: ${gaps.join(", ")}`;
+    lastMarks = marks;
     placeHandles();
   }
 
@@ -442,13 +597,39 @@
   function placeHandles() {
     for (const k in HANDLES) {
       const h = $(`#handle-${k}`), [x, y] = HANDLES[k].get();
-      h.setAttribute("cx", Number.isFinite(sx(x)) ? sx(x) : -100);
-      h.setAttribute("cy", Number.isFinite(sy(y)) ? sy(y) : -100);
+      // A handle off the picture waits at its edge, on the way to it: still reachable, dragged by
+      // the pointer's movement like any other.
+      let [cx, cy] = clampToPicture(sx(x), sy(y));
+      if (k === "tip" && (cx !== sx(x) || cy !== sy(y))) {         // o + d waiting at the same spot of the edge as o: one step inwards, both reachable
+        const [ox, oy] = clampToPicture(sx(state.ox), sy(state.oy));
+        const gap = Math.hypot(cx - ox, cy - oy);
+        if (gap < 22) {
+          const mx = W / 2 - ox, my = H / 2 - oy, m = Math.hypot(mx, my) || 1;
+          [cx, cy] = [ox + (mx / m) * 24, oy + (my / m) * 24];
+        }
+      }
+      h.setAttribute("cx", cx);
+      h.setAttribute("cy", cy);
+      h.classList.toggle("offscreen", cx !== sx(x) || cy !== sy(y));
       h.setAttribute("aria-label", `${HANDLES[k].name} at (${fmt(x)}, ${fmt(y)}); arrow keys move it`);
       h.classList.toggle("selected", k === selected);
     }
-    $("#handle-line").setAttribute("x1", sx(state.ox)); $("#handle-line").setAttribute("y1", sy(state.oy));
-    $("#handle-line").setAttribute("x2", sx(state.ox + state.dx)); $("#handle-line").setAttribute("y2", sy(state.oy + state.dy));
+    // the direction's arrow joins the two handles where they are drawn (at the edge when off the picture)
+    const ho = $("#handle-origin"), ht = $("#handle-tip"), hl = $("#handle-line");
+    hl.setAttribute("x1", ho.getAttribute("cx")); hl.setAttribute("y1", ho.getAttribute("cy"));
+    hl.setAttribute("x2", ht.getAttribute("cx")); hl.setAttribute("y2", ht.getAttribute("cy"));
+  }
+  function clampToPicture(x, y) {
+    const m = 12;
+    if (!Number.isFinite(x) || !Number.isFinite(y)) {
+      if (Number.isNaN(x) || Number.isNaN(y)) return [m, m];
+      x = Math.max(-1e300, Math.min(1e300, x)); y = Math.max(-1e300, Math.min(1e300, y));
+    }
+    if (x >= m && x <= W - m && y >= m && y <= H - m) return [x, y];
+    // along the line from the picture's centre towards the point
+    const dx = x - W / 2, dy = y - H / 2;
+    const k = Math.min((W / 2 - m) / Math.abs(dx || 1e-300), (H / 2 - m) / Math.abs(dy || 1e-300));
+    return [W / 2 + dx * k, H / 2 + dy * k];
   }
   function moveHandle(k, x, y) {
     set(HANDLES[k].put(x, y));
@@ -458,14 +639,102 @@
     $("#selected").textContent = HANDLES[k].name;
     placeHandles();
   }
+  // --- the distance plot: the same ray moved back along itself, |f| / r from 1 to 10^7 -------------------
+  // The line keeps its distance from the centre (in radii) and its direction; only the origin slides
+  // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the cliff where the
+  // textbook loses 2 log2(|f|/r) bits of 24 (|f|/r = 2^12) shows, and where the rewrite holds.
+  const PLOT = { W: 640, H: 170, left: 44, right: 10, top: 10, bottom: 30, x0: 0, x1: 7, y1: 8 };
+  function family(logDist) {
+    const len = Math.hypot(state.dx, state.dy);
+    if (!(len > 0) || !(state.r > 0) || !Number.isFinite(state.r)) return null;
+    const ux = state.dx / len, uy = state.dy / len;
+    const fx = state.ox - state.cx, fy = state.oy - state.cy, along = fx * ux + fy * uy;
+    const px = fx - along * ux, py = fy - along * uy, miss = Math.hypot(px, py);   // the closest point, from c
+    const D = state.r * Math.pow(10, logDist);
+    if (!(D > miss)) return null;
+    const back = Math.sqrt(D * D - miss * miss);
+    return { ...state, ox: state.cx + px - back * ux, oy: state.cy + py - back * uy };
+  }
+  function errorsAt(s) {
+    const rounded = {};
+    for (const k of FIELDS) rounded[k] = F(s[k]);
+    const ex = exactRoots(rounded), out = {};
+    for (const form of FORMS) {
+      const r = form.fn(F, rounded);
+      if (r.count !== ex.count) { out[form.id] = Infinity; continue; }
+      let u = 0;
+      for (let i = 0; i < r.count; i++) u = Math.max(u, ulps(F(r.t[i]), ex.t[i]));
+      out[form.id] = u;
+    }
+    return out;
+  }
+  let plotKey = null, lastPlot = null;
+  function plot() {
+    const svg = $("#distance-plot");
+    if (!svg) return;
+    const len = Math.hypot(state.dx, state.dy);
+    const key = [state.dx / len, state.dy / len, state.r].join(",") + "," +
+                (((state.ox - state.cx) * state.dy - (state.oy - state.cy) * state.dx) / (len * state.r)).toPrecision(6);
+    const here = Math.log10(Math.hypot(state.ox - state.cx, state.oy - state.cy) / state.r);
+    const X = (v) => PLOT.left + ((v - PLOT.x0) / (PLOT.x1 - PLOT.x0)) * (PLOT.W - PLOT.left - PLOT.right);
+    const Y = (u) => PLOT.H - PLOT.bottom - (Math.min(PLOT.y1, Math.log10(u + 1)) / PLOT.y1) * (PLOT.H - PLOT.top - PLOT.bottom);
+    if (key !== plotKey) {
+      plotKey = key;
+      while (svg.firstChild) svg.removeChild(svg.firstChild);
+      const g = (tag, attrs, text) => el(tag, attrs, svg, text);
+      g("rect", { x: 0, y: 0, width: PLOT.W, height: PLOT.H, class: "paper" });
+      for (let e = 0; e <= PLOT.y1; e += 2) {
+        g("line", { x1: PLOT.left, y1: Y(Math.pow(10, e) - 1), x2: PLOT.W - PLOT.right, y2: Y(Math.pow(10, e) - 1), class: "plot-grid" });
+        g("text", { x: PLOT.left - 4, y: Y(Math.pow(10, e) - 1) + 4, "text-anchor": "end", class: "plot-text" }, e === 0 ? "0" : `1e${e}`);
+      }
+      for (let e = 0; e <= PLOT.x1; e++) g("text", { x: X(e), y: PLOT.H - 12, "text-anchor": "middle", class: "plot-text" }, e === 0 ? "1" : `1e${e}`);
+      g("text", { x: PLOT.W - PLOT.right, y: PLOT.H - 1, "text-anchor": "end", class: "plot-text" }, "|f| / r, the same line moved back");
+      g("text", { x: 2, y: PLOT.top + 2, class: "plot-text", transform: `rotate(90 2 ${PLOT.top + 2})` }, "worst ulps");
+      g("line", { x1: PLOT.left, y1: Y(16), x2: PLOT.W - PLOT.right, y2: Y(16), class: "plot-bound" });
+      g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text" }, "16 ulps, the ★ bound");
+      const cliff = Math.log10(4096);
+      g("line", { x1: X(cliff), y1: PLOT.top, x2: X(cliff), y2: PLOT.H - PLOT.bottom, class: "plot-cliff" });
+      g("text", { x: X(cliff) + 3, y: PLOT.top + 10, class: "plot-text" }, "2·log₂(|f|/r) = 24");
+      const series = {};
+      for (const form of FORMS) series[form.id] = [];
+      for (let i = 0; i <= 56; i++) {
+        const v = PLOT.x0 + 0.15 + (i / 56) * (PLOT.x1 - PLOT.x0 - 0.15);
+        const s = family(v);
+        if (!s) continue;
+        const err = errorsAt(s);
+        for (const form of FORMS) series[form.id].push([v, err[form.id]]);
+      }
+      for (const form of FORMS) {
+        const pts = series[form.id].map(([v, u]) => `${X(v)},${Y(Number.isFinite(u) ? u : 1e9)}`).join(" ");
+        g("polyline", { points: pts, class: `plot-line mark-${form.id}` });
+      }
+      g("line", { id: "plot-here", class: "plot-here" });
+      lastPlot = series;
+    }
+    const h = svg.querySelector("#plot-here");
+    if (h && Number.isFinite(here)) {
+      h.setAttribute("x1", X(Math.max(PLOT.x0, Math.min(PLOT.x1, here)))); h.setAttribute("x2", X(Math.max(PLOT.x0, Math.min(PLOT.x1, here))));
+      h.setAttribute("y1", PLOT.top); h.setAttribute("y2", PLOT.H - PLOT.bottom);
+    }
+    const slider = $("#log-distance");
+    if (slider && document.activeElement !== slider && Number.isFinite(here)) slider.value = String(here);
+  }
+
   function update(refit) {
     if (refit) fit();
+    if (preset) {
+      const changed = modified();
+      $("#case-name").textContent = preset.kase + (changed ? " (modified)" : "");
+      for (const b of document.querySelectorAll("#presets button"))
+        b.setAttribute("aria-pressed", String(!changed && b.dataset.preset === preset.id));
+    }
     const res = compute();
     lastResult = res;
     showNumbers(res);
     draw(res);
+    plot();
   }
-  let lastResult = null;
+  let lastResult = null, lastMarks = [];
 
   function setupHandles() {
     const svg = $("#scene");
@@ -476,8 +745,16 @@
     };
     for (const k in HANDLES) {
       const h = $(`#handle-${k}`);
-      h.addEventListener("pointerdown", (ev) => { dragging = k; select(k); h.setPointerCapture(ev.pointerId); h.focus(); ev.preventDefault(); });
-      h.addEventListener("pointermove", (ev) => { if (dragging === k) { const [x, y] = toWorld(ev); moveHandle(k, x, y); } });
+      let start = null;          // the pointer's and the handle's world points when the drag began
+      h.addEventListener("pointerdown", (ev) => {
+        dragging = k; select(k); h.setPointerCapture(ev.pointerId); h.focus(); ev.preventDefault();
+        start = { pointer: toWorld(ev), handle: HANDLES[k].get() };
+      });
+      h.addEventListener("pointermove", (ev) => {
+        if (dragging !== k || !start) return;
+        const [x, y] = toWorld(ev);
+        moveHandle(k, start.handle[0] + (x - start.pointer[0]), start.handle[1] + (y - start.pointer[1]));
+      });
       h.addEventListener("pointerup", () => { dragging = null; update(true); });
       h.addEventListener("focus", () => select(k));
       h.addEventListener("keydown", (ev) => {
@@ -501,6 +778,10 @@
       input.addEventListener("change", () => { set({}); update(true); });
     }
     $("#zoom").addEventListener("change", (ev) => { zoom = ev.target.value; update(true); });
+    $("#log-distance").addEventListener("input", (ev) => {
+      const s = family(Number(ev.target.value));
+      if (s) { set({ ox: s.ox, oy: s.oy }); update(true); }
+    });
     const list = $("#presets");
     for (const p of PRESETS) {
       const b = document.createElement("button");
@@ -513,10 +794,12 @@
     const p = PRESETS.find((q) => q.id === name);
     if (!p) throw new Error(`no preset ${name}`);
     for (const b of document.querySelectorAll("#presets button")) b.setAttribute("aria-pressed", String(b.dataset.preset === name));
+    preset = null;
     $("#case-name").textContent = p.kase;
     $("#case-section").textContent = p.section;
     set(p.s);
-    zoom = Math.hypot(state.ox - state.cx, state.oy - state.cy) > 50 * state.r ? "sphere" : "fit";   // far: look at the sphere
+    zoom = p.view || (Math.hypot(state.ox - state.cx, state.oy - state.cy) > 50 * state.r ? "sphere" : "fit");   // far: look at the sphere
+    preset = { id: p.id, kase: p.kase, inputs: { ...state } };
     $("#zoom").value = zoom;
     update(true);
     return name;
@@ -529,6 +812,11 @@
     forms: FORMS.map((f) => f.id),
     inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
     exactRoots, ulps, hexBits,
+    marks: () => lastMarks,
+    view: () => ({ ...view }),             // the world point at the picture's centre, pixels per unit
+    magnifier: () => lastMagnifier,
+    plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
+    modified,
   };
 
   document.addEventListener("DOMContentLoaded", () => {

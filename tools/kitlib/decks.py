@@ -4,7 +4,11 @@ The decks are Markdown kept beside the lectures. A deck is slides separated by a
 speaker notes start at a line `Note:` and run to its end. The Markdown is a small subset, converted
 here with the standard library: `#`/`##`/`###` headings, paragraphs, `-` and `1.` lists, tables,
 fenced code, a figure on a line of its own (`![alt](../figures/x.svg)`), `**bold**`, `*em*`, `code`,
-and formulas as `$...$` and `$$...$$` (typeset by MathJax 3, offline). The first slide is the title.
+links `[text](url)`, and formulas as `$...$` and `$$...$$` (typeset by MathJax 3, offline). The first
+slide is the title. Step-by-step reveals (reveal.js fragments): a list item written `+ ...` instead of
+`- ...`, and a display formula written `+$$...$$`, appear one at a time. A link to the ray-sphere lab
+(`../../docs/lab/index.html#preset`) is checked to exist and points at the copy of the lab the deck
+folder carries (`lab/`), so a deck opens the lab on that preset offline.
 
 The deck runs on reveal.js, pinned with MathJax in docs/package.json and installed by npm into
 build/docs/npm once (as ./kit docs does); both are copied next to the decks, so the folder reads offline
@@ -69,6 +73,15 @@ def split_deck(text: str) -> list[Slide]:
 
 MATH = re.compile(r"\$\$(.+?)\$\$|\$(?!\s)([^$\n]+?)(?<!\s)\$", re.S)
 CODE = re.compile(r"`([^`]+)`")
+LINK = re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)")
+LAB = ROOT / "docs" / "lab"
+LAB_LINK = re.compile(r"^(?:\.\./)+docs/lab/index\.html(#[\w-]+)?$")
+
+
+def link_target(url: str) -> str:
+    """A deck's link as the built deck reaches it: the lab's copy beside the decks, anything else as it is."""
+    m = LAB_LINK.match(url)
+    return f"lab/index.html{m.group(1) or ''}" if m else url
 
 
 def inline(text: str) -> str:
@@ -80,6 +93,8 @@ def inline(text: str) -> str:
         return f"\x00{len(keep) - 1}\x00"
 
     text = CODE.sub(lambda m: stash(f"<code>{html.escape(m.group(1))}</code>"), text)
+    text = LINK.sub(lambda m: stash(f'<a href="{html.escape(link_target(m.group(2)), quote=True)}">') +
+                    m.group(1) + stash("</a>"), text)
     text = MATH.sub(lambda m: stash(html.escape(r"\[" + m.group(1) + r"\]") if m.group(1) is not None
                                     else html.escape(r"\(" + m.group(2) + r"\)")), text)
     text = html.escape(text, quote=False)
@@ -115,13 +130,15 @@ def blocks(lines: list[str], media: dict[str, Path], source: Path) -> str:
                 code.append(lines[i])
                 i += 1
             out.append(f'<pre><code class="{html.escape(lang)}">{html.escape(chr(10).join(code))}</code></pre>')
-        elif s.startswith("$$"):
+        elif s.startswith("$$") or s.startswith("+$$"):
             flush()
+            frag = s.startswith("+")
+            s = s.lstrip("+")
             formula = [s]
             while not (formula[-1].endswith("$$") and (len(formula) > 1 or len(s) > 2)) and i + 1 < len(lines):
                 i += 1
                 formula.append(lines[i].strip())
-            out.append(f'<div class="display">{inline(" ".join(formula))}</div>')
+            out.append(f'<div class="display{" fragment" if frag else ""}">{inline(" ".join(formula))}</div>')
         elif m := re.match(r"(#{1,3})\s+(.*)", s):
             flush()
             n = len(m.group(1))
@@ -135,16 +152,18 @@ def blocks(lines: list[str], media: dict[str, Path], source: Path) -> str:
             media[name] = src
             alt = html.escape(m.group(1), quote=True)
             out.append(f'<figure><img src="media/{html.escape(name, quote=True)}" alt="{alt}"></figure>')
-        elif re.match(r"(-|\d+\.)\s", s):
+        elif re.match(r"(-|\+|\d+\.\+?)\s", s):
             flush()
-            ordered = not s.startswith("-")
+            ordered = bool(re.match(r"\d", s))
             items = []
-            while i < len(lines) and re.match(r"\s*(-|\d+\.)\s", lines[i]):
-                items.append(re.sub(r"^\s*(-|\d+\.)\s+", "", lines[i]))
+            while i < len(lines) and re.match(r"\s*(-|\+|\d+\.\+?)\s", lines[i]):
+                frag = bool(re.match(r"\s*(\+|\d+\.\+)\s", lines[i]))
+                items.append((frag, re.sub(r"^\s*(-|\+|\d+\.\+?)\s+", "", lines[i])))
                 i += 1
             i -= 1
             tag = "ol" if ordered else "ul"
-            out.append(f"<{tag}>" + "".join(f"<li>{inline(t)}</li>" for t in items) + f"</{tag}>")
+            out.append(f"<{tag}>" + "".join(f'<li{" class=fragment" if f else ""}>{inline(t)}</li>'
+                                            for f, t in items) + f"</{tag}>")
         elif s.startswith("|"):
             flush()
             rows = []
@@ -183,7 +202,12 @@ STYLE = """
 .reveal code { font-size: 0.9em; background: #f2f2f2; padding: 0 0.15em; }
 .reveal .ponder h2 { color: #b0302a; }
 .reveal .ponder p { font-size: 1.25em; margin-top: 1.2em; }
-.reveal .slide-number { font-size: 14px; }
+.reveal .slide-number { font-size: 22px; left: 8px; right: auto; }
+.reveal pre { font-size: 0.62em; width: 100%; box-shadow: none; margin: 0.3em 0; }
+.reveal pre code { max-height: none; padding: 0.4em 0.6em; line-height: 1.3; }
+.reveal a { color: #1a5fb4; text-decoration: underline; }
+.reveal .lab { font-size: 0.7em; }
+.reveal section.figure-only figure img { height: 560px; }
 """
 
 
@@ -193,6 +217,8 @@ def deck_html(title: str, slides: list[Slide], media: dict[str, Path], source: P
         body = blocks(s.body, media, source)
         heading = next((l.strip() for l in s.body if l.strip().startswith("#")), "")
         cls = "title" if s.title else "ponder" if re.match(r"##\s+Ponder\b", heading) else ""
+        if not s.title and body.count("<figure>") == 1 and not re.search(r"<(p|ul|ol|pre|table|div)\b", body):
+            cls = "figure-only"         # a figure alone on its slide is drawn large, for legible labels
         notes = f'<aside class="notes">{inline(s.notes)}</aside>' if s.notes else ""
         sections.append(f'<section class="{cls}">\n{body}\n{notes}\n</section>')
     return f"""<!DOCTYPE html>
@@ -221,7 +247,8 @@ window.MathJax = {{ tex: {{ inlineMath: [["\\\\(", "\\\\)"]], displayMath: [["\\
 // Typeset first, then lay out: reveal.js sizes the slides with the formulas in them.
 window.deckReady = MathJax.startup.promise.then(() => MathJax.typesetPromise()).then(() =>
   Reveal.initialize({{ width: {WIDTH}, height: {HEIGHT}, margin: 0.04, hash: true, slideNumber: "c/t",
-                      center: true, transition: "none", plugins: [RevealNotes] }}));
+                      center: true, transition: "none", pdfSeparateFragments: false,
+                      plugins: [RevealNotes] }}));
 </script>
 </body>
 </html>
@@ -281,6 +308,16 @@ def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
         for name, path in media.items():
             (work / "media").mkdir(exist_ok=True)
             shutil.copyfile(path, work / "media" / name)
+        if any(LINK.search(line) and LAB_LINK.match(LINK.search(line).group(2))
+               for src in sources for line in src.read_text(encoding="utf-8").splitlines()):
+            for src in sources:
+                for m in LINK.finditer(src.read_text(encoding="utf-8")):
+                    lab = LAB_LINK.match(m.group(2))
+                    if lab and not (LAB / "index.html").is_file():
+                        raise KitError(f"{src.relative_to(ROOT)}: links the lab, and docs/lab/index.html is missing", FAILED)
+                    if lab and lab.group(1) and f'id: "{lab.group(1)[1:]}"' not in (LAB / "lab.js").read_text(encoding="utf-8"):
+                        raise KitError(f"{src.relative_to(ROOT)}: the lab has no preset {lab.group(1)[1:]}", FAILED)
+            shutil.copytree(LAB, work / "lab", ignore=shutil.ignore_patterns("check"))
         for base, files, dest in ((reveal, REVEAL_FILES, "reveal"), (mathjax, MATHJAX_FILES, "mathjax")):
             for rel in files:
                 s, d = base / rel, work / dest / rel

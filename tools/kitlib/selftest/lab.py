@@ -7,11 +7,21 @@ with the reference solution of step 02) gets the same float inputs and answers:
   - the page's exact roots equal the 113-bit roots of tests/support/reference_roots.hpp rounded to
     float, and the reference solution's sphere_roots, value for value (the count, and each root to 0
     ulps: +0 and -0 are the same root);
-  - the page's float32 textbook roots equal, bit for bit, the C++ textbook function's;
-  - the page's ulps equal tests/support/ulps.hpp's ulp_distance between those roots.
+  - every row of the page's table, each of its four formulas in float32 and in double (the double
+    rows' roots rounded to float at the end, as the page does), equals bit for bit the same formula in
+    C++ (lab_check.cpp, the page's operations in its order; the float32 textbook there is the one the
+    lab has always been checked against), count and roots;
+  - the page's ulps, on every row, equal tests/support/ulps.hpp's ulp_distance between those roots.
+The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
+ones (at least 4 px); the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
+rewrite within them before, and its slider moves the origin; on the grazing and ground presets the
+magnifier (the float grid around a root) shows a float32 root beyond 16 ulps; every preset keeps the
+origin's handle on the picture and draws no line reaching farther than 4e6 px from it (a browser draws
+in float32: farther ends move the lines); a drag turns the case into "(modified)"; at 400 px wide the
+page is no wider than the window; no two labels of the picture overlap.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
-The checks can fail: a copy of the page whose textbook discriminant skips one float rounding (what a
-fused multiply-add does) must be caught on the far preset.
+The checks can fail: a copy of the page whose textbook discriminant, or half b's, skips one float
+rounding (what a fused multiply-add does) must be caught.
 """
 
 from __future__ import annotations
@@ -31,6 +41,7 @@ CHECK_SOURCE = LAB / "check" / "lab_check.cpp"
 OUT = BUILD / "lab"
 SCREENSHOTS = OUT / "screenshots"
 INPUTS = ["ox", "oy", "dx", "dy", "cx", "cy", "r"]
+ROWS = ["textbook-f64", "halfb-f32", "halfb-f64", "rewrite-f32", "rewrite-f64", "lagrange-f32", "lagrange-f64"]
 
 
 def f32(text: str) -> float:
@@ -81,7 +92,7 @@ def cxx_answers(exe: Path, cases: dict[str, dict]) -> dict[str, dict]:
         raise Failed(f"lab_check exited {r.returncode}: {r.stderr.strip()}")
     out = {}
     for line in r.stdout.splitlines():
-        head, sol, book, ul = line.split(" | ")
+        head, sol, book, ul, *rows = line.split(" | ")
         name, _, n, t0, t1 = head.split()
         parts = {"exact": (n, t0, t1)}
         for label, text in (("solution", sol), ("textbook", book)):
@@ -90,6 +101,10 @@ def cxx_answers(exe: Path, cases: dict[str, dict]) -> dict[str, dict]:
         answers = {k: {"count": int(v[0]), "t": [from_bits(int(v[1], 16)), from_bits(int(v[2], 16))]}
                    for k, v in parts.items()}
         answers["ulps"] = [int(u) for u in ul.split()[1:]]
+        for row in rows:
+            key, n, a, b, u0, u1 = row.split()
+            answers[key] = {"count": int(n), "t": [from_bits(int(a, 16)), from_bits(int(b, 16))],
+                            "ulps": [int(u0), int(u1)]}
         out[name] = answers
     return out
 
@@ -102,10 +117,40 @@ READ = """(() => {
   out.exact = { count: cell('exact-count'), t0: cell('exact-t0'), t1: cell('exact-t1') };
   out.textbook = { count: cell('textbook-f32-count'), t0: cell('textbook-f32-t0'), t1: cell('textbook-f32-t1'),
                    u0: cell('textbook-f32-u0'), u1: cell('textbook-f32-u1') };
+  out.rows = {};
+  for (const key of %s) out.rows[key] = { count: cell(`${key}-count`), t0: cell(`${key}-t0`), t1: cell(`${key}-t1`),
+                                          u0: cell(`${key}-u0`), u1: cell(`${key}-u1`) };
   out.caseName = text('#case-name'); out.section = text('#case-section');
+  // the picture: the origin's handle on it, the float32 textbook roots' distance from the exact ones,
+  // and any two labels that overlap
+  const box = (e) => { const b = e.getBBox(); return [b.x, b.y, b.x + b.width, b.y + b.height]; };
+  const o = document.querySelector('#handle-origin');
+  out.originOn = [+o.getAttribute('cx'), +o.getAttribute('cy')].every((v, i) => v >= 0 && v <= [640, 440][i]);
+  out.magnifier = raykitLab.magnifier();
+  // every coordinate drawn lies near the picture: a browser draws in float32, so an end 10^10 px away
+  // puts the line hundreds of pixels off where it crosses the picture
+  out.farthest = 0;          // over lines and polygons that cross the picture: their farthest point
+  for (const e of document.querySelectorAll('#scene-layer line, #scene-layer polygon')) {
+    const n = e.tagName === 'polygon' ? e.getAttribute('points').split(/[ ,]+/).map(Number)
+      : ['x1', 'y1', 'x2', 'y2'].map((k) => +e.getAttribute(k));
+    const pts = [];
+    for (let i = 0; i + 1 < n.length; i += 2) pts.push([n[i], n[i + 1]]);
+    const inside = pts.some(([x, y]) => x > -50 && x < 690 && y > -50 && y < 490);
+    const long = e.tagName === 'line' && Math.hypot(n[2] - n[0], n[3] - n[1]) > 1000;   // it may cross the picture
+    if (!inside && !long) continue;
+    for (const [x, y] of pts) out.farthest = Math.max(out.farthest, Math.abs(x), Math.abs(y));
+  }
+  out.textbookPx = Math.max(0, ...raykitLab.marks().filter((m) => m.form === 'textbook').map((m) => m.px));
+  const labels = Array.from(document.querySelectorAll('#scene-layer text'));
+  out.overlaps = [];
+  labels.forEach((a, i) => labels.slice(i + 1).forEach((b) => {
+    const p = box(a), q = box(b);
+    if (Math.min(p[2], q[2]) - Math.max(p[0], q[0]) > 1 && Math.min(p[3], q[3]) - Math.max(p[1], q[1]) > 1)
+      out.overlaps.push(a.textContent + ' / ' + b.textContent);
+  }));
   out.svg = document.querySelectorAll('#scene-layer *').length;
   return out;
-})()""" % (str(INPUTS),)
+})()""" % (str(INPUTS), str(ROWS))
 
 
 def attach_log(b) -> list[str]:
@@ -151,6 +196,20 @@ def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
         tb = shown["textbook"]
         c["textbook"] = {"count": int(tb["count"]), "t": [f32(tb[k]) for k in ("t0", "t1")] if tb["t0"] != "—" else [],
                          "ulps": [tb["u0"], tb["u1"]]}
+        c["rows"] = {}
+        for key, row in shown["rows"].items():
+            c["rows"][key] = {"count": int(row["count"]),
+                              "t": [f32(row[k]) for k in ("t0", "t1")] if row["t0"] != "—" else [],
+                              "ulps": [row["u0"], row["u1"]]}
+        c["picture"] = {"originOn": shown["originOn"], "textbookPx": shown["textbookPx"], "overlaps": shown["overlaps"],
+                        "magnifier": shown["magnifier"]}
+        if shown["farthest"] > 4e6:          # float32 spacing there: half a pixel
+            problems.append(f"{name}: the picture draws a point {shown['farthest']:.3g} px away, where a browser's "
+                            "float32 puts what crosses the picture pixels off")
+        if not shown["originOn"]:
+            problems.append(f"{name}: the origin's handle is off the picture, where no one can drag it")
+        if shown["overlaps"]:
+            problems.append(f"{name}: labels overlap in the picture: {shown['overlaps'][:3]}")
         cases[name] = c
         if shots:
             b.screenshot(SCREENSHOTS / f"{name}.png")
@@ -192,6 +251,20 @@ def compare(cases: dict, cxx: dict) -> tuple[list[str], int]:
                 shown = tb["ulps"]
                 if shown != [str(u[0]), str(u[1])]:
                     problems.append(f"{name}: the page shows {shown} ulps for the textbook roots, ulps.hpp says {u}")
+        for key in ROWS:
+            pr, wr = page["rows"][key], want[key]
+            if pr["count"] != wr["count"]:
+                problems.append(f"{name}: the {key} count is {pr['count']} on the page, {wr['count']} in C++")
+                continue
+            for i in range(wr["count"]):
+                if bits(pr["t"][i]) != bits(wr["t"][i]):
+                    problems.append(f"{name}: {key} t{i} is {pr['t'][i]!r} (0x{bits(pr['t'][i]):08x}) on the page, "
+                                    f"{wr['t'][i]!r} (0x{bits(wr['t'][i]):08x}) in C++ with -ffp-contract=off")
+            if wr["count"] and wr["ulps"][0] >= 0 and pr["ulps"] != [str(u) for u in wr["ulps"]]:
+                problems.append(f"{name}: the page shows {pr['ulps']} ulps on the {key} row, ulps.hpp says {wr['ulps']}")
+            elif wr["count"] and wr["ulps"][0] < 0 and pr["ulps"] != ["count differs", "count differs"]:
+                problems.append(f"{name}: the {key} row's count differs from the exact one and the page shows {pr['ulps']}")
+            roots += wr["count"]
     return problems, roots
 
 
@@ -221,14 +294,52 @@ def selftest_lab(ctx) -> str:
     cxx = cxx_answers(exe, cases)
     found, roots = compare(cases, cxx)
     problems += found
+    for name in ("grazing", "ground"):
+        mag = cases.get(name, {}).get("picture", {}).get("magnifier") or {}
+        if not mag.get("ulps", 0) > 16:
+            problems.append(f"{name}: the magnifier shows no float32 root beyond 16 ulps ({mag})")
+    for name in ("grazing", "far-1000", "far-10000"):
+        px = cases.get(name, {}).get("picture", {}).get("textbookPx", 0)
+        if px < 4:
+            problems.append(f"{name}: the float32 textbook roots are drawn {px:.1f} px from the exact ones, "
+                            "too close to see (the float error does not show in the picture)")
+    try:
+        with browser.Browser(chromium, 400, 900) as b:
+            b.open((LAB / "index.html").as_uri())
+            # The distance plot, on the far preset's line: the textbook past the ★ bound beyond the cliff
+            # (|f|/r = 2^12), lecture 03's rewrite within it before 10^4; the slider moves the origin.
+            b.evaluate("raykitLab.load('far-10000')")
+            series = b.evaluate("raykitLab.plot()") or {}
+            book = [u for v, u in series.get("textbook", []) if 3.7 <= v <= 5]
+            rew = [u for v, u in series.get("rewrite", []) if v <= 3.6]
+            if not book or min(u if u is not None else math.inf for u in book) <= 16:
+                problems.append(f"the distance plot shows the textbook within 16 ulps beyond the cliff: {book[:5]}")
+            if not rew or max(u if u is not None else math.inf for u in rew) > 16:
+                problems.append(f"the distance plot shows the rewrite beyond 16 ulps before 10^3.6: {rew[-5:]}")
+            b.evaluate("(() => { const s = document.querySelector('#log-distance'); s.value = '2';"
+                       " s.dispatchEvent(new Event('input')); })()")
+            far = b.evaluate("(() => { const s = raykitLab.inputs(); return Math.hypot(s.ox - s.cx, s.oy - s.cy) / s.r; })()")
+            if not 90 < far < 110:
+                problems.append(f"the distance slider set to 10^2 put the origin {far} radii away")
+            for name in ("grazing", "ground"):
+                b.evaluate(f"raykitLab.load({name!r})")
+                wide = b.evaluate("document.documentElement.scrollWidth")
+                if wide > 400:
+                    problems.append(f"at 400 px wide the page lays out {wide} px ({name})")
+                b.screenshot(SCREENSHOTS / f"{name}-400px.png")
+    except browser.BrowserError as e:
+        raise Failed(f"headless Chromium: {e}") from None
     expect(len(cases) >= 9, f"only {len(cases)} presets")
     expect(not problems, "\n  ".join(problems))
     far = cases.get("far-10000")
     note = ""
     if far and far["textbook"]["count"] != far["exact"]["count"]:
         note = f"; at 10^4 radii the float32 textbook finds {far['textbook']['count']} root(s), the exact {far['exact']['count']}"
-    return (f"{len(cases)} presets, {roots} exact roots equal reference_roots.hpp and the reference solution, "
-            f"float32 textbook roots bit for bit as C++ -ffp-contract=off, ulps as ulps.hpp{note}; "
+    graze = cases.get("grazing", {}).get("picture", {}).get("textbookPx", 0)
+    return (f"{len(cases)} presets, {roots} roots: the exact ones equal reference_roots.hpp and the reference solution, "
+            f"all 8 rows (4 formulas, float32 and double) bit for bit as C++ -ffp-contract=off, ulps as ulps.hpp{note}; "
+            f"grazing: the float32 textbook roots drawn {graze:.1f} px from the exact ones; origin on the picture in "
+            f"every preset, no label over another, no wider than 400 px at 400 px; "
             f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
 
 
@@ -275,10 +386,26 @@ def selftest_lab_keyboard(ctx) -> str:
                        buttons=buttons, clickCount=1)
             r1 = b.evaluate("raykitLab.inputs().r")
             expect(r1 > r0, f"dragging the radius handle 40 px outwards left r at {r0} (now {r1})")
+            case = b.evaluate("document.querySelector('#case-name').textContent")
+            expect(case.endswith("(modified)"), f"after a drag the case still reads {case!r}, not \"... (modified)\"")
+            # The far preset: the origin waits at the picture's edge, and a drag of it moves it by the pointer's movement.
+            b.evaluate("raykitLab.load('far-10000')")
+            o0 = b.evaluate("raykitLab.inputs()")
+            x, y = b.evaluate("(() => { const r = document.querySelector('#handle-origin').getBoundingClientRect();"
+                              " return [r.left + r.width / 2, r.top + r.height / 2]; })()")
+            for kind, py, buttons in (("mousePressed", y, 1), ("mouseMoved", y + 10, 1), ("mouseMoved", y + 20, 1),
+                                      ("mouseReleased", y + 20, 0)):
+                b.call("Input.dispatchMouseEvent", session=True, type=kind, x=x, y=py, button="left",
+                       buttons=buttons, clickCount=1)
+            o1 = b.evaluate("raykitLab.inputs()")
+            moved = math.hypot(o1["ox"] - o0["ox"], o1["oy"] - o0["oy"])
+            expect(0 < moved < 1, f"dragging the far preset's origin 20 px moved it by {moved} units "
+                                  f"(from ({o0['ox']}, {o0['oy']}) to ({o1['ox']}, {o1['oy']}))")
             expect(not errors, f"console errors: {errors[:3]}")
     except browser.BrowserError as e:
         raise Failed(f"headless Chromium: {e}") from None
-    return (f"a drag of the radius handle sets r {r0:g} -> {r1:.4g}; arrow keys move the focused handle (centre: "
+    return (f"a drag of the radius handle sets r {r0:g} -> {r1:.4g} and the case reads \"(modified)\"; on the 10^4 "
+            f"preset a 20 px drag of the origin, waiting at the picture's edge, moves it {moved:.3g} units; arrow keys move the focused handle (centre: "
             f"({before['cx']:g}, {before['cy']:g}) -> ({after['cx']:.3g}, {after['cy']:.3g})), Tab walks the handles, "
             "typed r = 0.1 shows its float32 0.100000001")
 
@@ -294,17 +421,22 @@ def selftest_lab_catches(ctx) -> str:
     shutil.rmtree(wrong, ignore_errors=True)
     shutil.copytree(LAB, wrong, ignore=shutil.ignore_patterns("check"))
     js = (wrong / "lab.js").read_text(encoding="utf-8")
-    fused = js.replace("const disc = R(R(b * b) - R(R(4 * a) * c));", "const disc = R(b * b - R(4 * a) * c);")
-    expect(fused != js, "docs/lab/lab.js no longer has the textbook's discriminant line this test changes")
-    (wrong / "lab.js").write_text(fused, encoding="utf-8")
-    try:
-        with browser.Browser(chromium, 1280, 1000) as b:
-            cases, _ = read_presets(b, wrong / "index.html", shots=False)
-    except browser.BrowserError as e:
-        raise Failed(f"headless Chromium: {e}") from None
-    found, _ = compare(cases, cxx_answers(exe, cases))
-    expect(any("textbook" in p for p in found), "a lab that fuses the textbook discriminant passed the check")
-    return f"a lab with a fused textbook discriminant fails: {found[0]}"
+    caught = []
+    # The textbook's discriminant, and half b's (a row the check once left out), each with one rounding skipped.
+    for row, line, slip in (("textbook", "const disc = R(R(b * b) - R(R(4 * a) * c));", "const disc = R(b * b - R(4 * a) * c);"),
+                            ("halfb-f32", "const d4 = R(R(h * h) - R(a * c));", "const d4 = R(h * h - R(a * c));")):
+        fused = js.replace(line, slip)
+        expect(fused != js, f"docs/lab/lab.js no longer has the line this test changes: {line}")
+        (wrong / "lab.js").write_text(fused, encoding="utf-8")
+        try:
+            with browser.Browser(chromium, 1280, 1000) as b:
+                cases, _ = read_presets(b, wrong / "index.html", shots=False)
+        except browser.BrowserError as e:
+            raise Failed(f"headless Chromium: {e}") from None
+        found = [p for p in compare(cases, cxx_answers(exe, cases))[0] if row in p]
+        expect(found, f"a lab that fuses the {row} discriminant passed the check")
+        caught.append(found[0])
+    return "a lab with a fused discriminant fails, on the textbook row and on half b's: " + "; ".join(caught)
 
 
 def selftest_browser_restart(ctx) -> str:

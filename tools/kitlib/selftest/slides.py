@@ -2,12 +2,16 @@
 
 - the decks' shape, read from the Markdown: every slide but the title has speaker notes that name a
   lecture and a section; a "Ponder" slide asks a question and the next slide is not another Ponder (the
-  answer follows it); the last slide names the step's `./kit check N`;
+  answer follows it); the last slide names the step's `./kit check N`; a deck whose lecture links the
+  ray-sphere lab links it too (on a preset: `../../docs/lab/index.html#grazing`);
 - in Chromium at 1280x720, offline: every slide of every deck is shown, and every element of it must lie
-  inside the slide's 1280x720 box, no element may scroll (a table or code wider than its box), MathJax
+  inside the slide's 1280x720 box (every step-by-step fragment shown), no element may scroll (a table or code wider than its box), MathJax
   must have typeset the formulas with no error and no raw TeX left; no console error, no request to
   the network. A screenshot of each slide lands in build/slides-screenshots/;
-- the measure can fail: a deck with a slide too long for the box must be caught.
+- the measure can fail: a deck with a slide too long for the box must be caught;
+- a deck says what its lecture and its step's cases say (selftest/deck_claims.py: tiers, claims about
+  all the cases, numbers, section titles, fractions, who passes the ★ cases), and the errors the decks
+  once had, planted back into today's decks, are each caught.
 """
 
 from __future__ import annotations
@@ -66,6 +70,11 @@ def structure_problems(path: Path) -> tuple[list[str], int]:
             nxt_heading = next((l.strip() for l in nxt.body if l.strip().startswith("#")), "") if nxt else ""
             if nxt is None or re.match(r"##\s+Ponder\b", nxt_heading):
                 problems.append(f"{name} slide {i}: a Ponder slide with no answer on the next slide")
+    lecture = ROOT / "lectures" / name
+    if (lecture.is_file() and "docs/lab/index.html" in lecture.read_text(encoding="utf-8")
+            and not any(cmd_slides.LAB_LINK.match(m.group(2)) for s in slides for l in s.body
+                        for m in cmd_slides.LINK.finditer(l))):
+        problems.append(f"{name}: its lecture links the ray-sphere lab and the deck never does")
     if step and f"./kit check {int(step.group(1))}" not in " ".join(slides[-1].body):
         problems.append(f"{name}: the last slide does not name `./kit check {int(step.group(1))}`")
     return problems, len(slides)
@@ -110,7 +119,7 @@ def show_decks(browser, chromium: str, decks: list[Path], shots: Path | None) ->
             b.evaluate("window.deckReady", timeout=60)
             total = b.evaluate("Reveal.getTotalSlides()")
             for i in range(total):
-                r = b.evaluate(f"(Reveal.slide({i}), new Promise(r => requestAnimationFrame(() => r(null))))"
+                r = b.evaluate(f"(Reveal.slide({i}, 0, 99), new Promise(r => requestAnimationFrame(() => r(null))))"
                                f".then(() => {MEASURE})")
                 where = f"{deck.name} slide {i + 1}"
                 problems += [f"{where}: {p}" for p in r["problems"][:3]]
@@ -170,9 +179,55 @@ def selftest_overflow_caught(ctx) -> str:
     return f"a slide of 30 lines is caught: {problems[0]}"
 
 
+# The decks' old errors (issue 37), each planted back into a copy of today's deck: (deck, today's text,
+# the old text). Each must be reported on its own.
+PLANTED = [
+    ("01-unit-sphere.md", "| one, $-b/(2a)$ |", "| one, $-b/2a$ |"),
+    ("02-general-sphere.md", "- so no basic case of this step puts one there\n- one ★ case does: the sphere of pbrt's tests\n",
+     "- so no case of this step puts one there\n"),
+    ("03-unit-direction.md", "The two rewrites, in float, pass every ★ case of steps 01 and 03 and 8 of the 10 of step 02. The "
+     "other two, \"a tiny sphere seen from very far on pbrt's test ranges\" and \"the ground seen from a metre or two up\", "
+     "need a wider type inside (the appendix, §A): the message of each ★ case says which forms pass it.",
+     "The ★ robust cases of steps 01 and 02 test exactly these two rewrites."),
+    ("04-rectangles.md", "- NaN anywhere: no hit, if \"false\" means \"miss\"\n",
+     "- NaN anywhere: no hit, if \"false\" means \"miss\"\n- a zero direction: parallel to every plane\n"),
+    ("03-unit-direction.md", "Note: Lecture 03, §4 Floats have 24 significant bits.", "Note: Lecture 03, §4 Floats have 24 bits."),
+    ("01-unit-sphere.md", "floats there are 32 apart", "floats there are 64 apart"),
+]
+
+
+def selftest_claims(ctx) -> str:
+    from . import deck_claims
+    decks = cmd_slides.deck_sources()
+    if not decks:
+        raise Skipped("no decks in lectures/slides/")
+    problems = [p for d in decks for p in deck_claims.problems(d)]
+    expect(not problems, "\n  ".join(problems))
+    work = BUILD / "slides-claims"
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    missed, stale = [], []
+    for name, today, old in PLANTED:
+        src = cmd_slides.SOURCES / name
+        text = src.read_text(encoding="utf-8") if src.is_file() else ""
+        if today not in text:
+            stale.append(f"{name}: {today[:60]!r}")
+            continue
+        copy = work / name
+        copy.write_text(text.replace(today, old, 1), encoding="utf-8")
+        if not deck_claims.problems(copy):
+            missed.append(f"{name}: {old.strip()[:70]!r}")
+    shutil.rmtree(work, ignore_errors=True)
+    expect(not stale, "the planted errors no longer match today's decks (update PLANTED): " + "; ".join(stale))
+    expect(not missed, "a deck contradicting its lecture or its cases was not caught: " + "; ".join(missed))
+    return (f"{len(decks)} decks agree with their lectures and their steps' cases; {len(PLANTED)} planted "
+            "contradictions (the decks' old errors among them) each caught")
+
+
 def selftests() -> list:
     return [
         ("slides: decks have notes, Ponder answers and the step's command", selftest_structure),
+        ("slides: a deck says what its lecture and its step's cases say", selftest_claims),
         ("slides: every slide fits 1280x720 in a browser, offline", selftest_browser),
         ("slides: an overflowing slide is caught", selftest_overflow_caught),
     ]
