@@ -53,7 +53,8 @@ QUICK = {
                     "messages name the trouble, not the cure"],
     "grade": ["uploads: step files found at any depth, only they"],
     "report": ["report: the mutants' signatures are current"],
-    "slides": ["slides: decks have notes, Ponder answers and the step's command"],
+    "slides": ["slides: decks have notes, Ponder answers and the step's command",
+               "slides: a deck says what its lecture and its step's cases say"],
 }
 
 
