@@ -167,10 +167,13 @@ def selftest_compile_bombs(ctx) -> str:
 
     def one(mode: str) -> str:
         parts = []
-        for name, words in (("compile_bomb_zero", "ran out of"), ("compile_bomb_slow", "took over")):
+        # Which limit stops a bomb first depends on the machine's load (a slow one meets the time
+        # limit before the memory limit): any of them, named, is the boundary holding.
+        stopped = ("ran out of", "took over", "was stopped by signal")
+        for name in ("compile_bomb_zero", "compile_bomb_slow"):
             rc, got, _, took = check(HOSTILE / name, ["01"], mode, limits)
             [step] = got["record"]["steps"]
-            expect(step["state"] == NO_COMPILE and words in step["detail"],
+            expect(step["state"] == NO_COMPILE and any(w in step["detail"] for w in stopped),
                    f"{name} ({mode}): {step['state']}; {step['detail'][-300:]!r}")
             expect(took < seconds + 60, f"{name} ({mode}): the grading took {took:.0f} s, the limit is {seconds:g} s")
             no_leftovers(f"{name} ({mode})")
