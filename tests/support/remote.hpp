@@ -84,8 +84,9 @@ bool has_reference();
 
 // ---- per case, for the reporter ---------------------------------------------------
 
-/// A case begins: forget the last case's incident and output.
-void begin_case();
+/// A case begins: forget the last case's incident and output. `suite` is its doctest suite (the ★
+/// cases, "robust", spend a time budget of their own).
+void begin_case(const std::string& suite = "");
 
 /// A case ends: every process the student's code left behind is ended
 /// (sandboxed runs), and the case's incident and output are returned.
