@@ -768,13 +768,12 @@ std::string exchange(Target target, const std::string& function, const std::stri
         const std::string kind = e.what();
         std::string text;
         if (kind == "case") {
-            char head[320];
-            std::snprintf(head, sizeof head,
-                          "Time out: %s was stopped because this case's calls of your code took %.1f s in all, "
-                          "beyond the %g s a case may take. Each call may have kept within its own limit, but a "
-                          "case makes many calls: your code is too slow (or waits), not the grader",
-                          call.c_str(), b.case_spent, b.case_wall);
-            text = std::string(head) + " (" + b.figures() + ").";
+            char figures[160];
+            std::snprintf(figures, sizeof figures, " took %.1f s in all, beyond the %g s a case may take", b.case_spent,
+                          b.case_wall);
+            text = "Time out: " + call + " was stopped because this case's calls of your code" + figures +
+                   ". Each call may keep within its own limit, but a case makes many calls: your code is too "
+                   "slow, or it waits (" + b.figures() + ").";
         } else {
             text = "Time out: " + call + " was stopped because your code used up " + b.which() + " " +
                    (kind == "cpu" ? "of CPU" : "for waiting") + ": " + b.figures() + ".";
