@@ -141,7 +141,7 @@ double queued_seconds(pid_t pid) {
 ///                       WAIT★ CALLS★ CASE_WALL SINCE", SINCE the steady clock's seconds when a call
 ///                       in flight began, or 0
 /// The ★ cases (suite "robust": optional, run first, many calls each) have an account of their own
-/// with the same budget, so that they never spend what the scored cases need. Without
+/// with half the budget, so that they never spend what the scored cases need. Without
 /// RAYKIT_BUDGET, only each call's own limit applies.
 struct Budget {
     static constexpr double none = 1e300;
@@ -169,8 +169,9 @@ struct Budget {
     }
     bool set() const { return cpu < none; }
     const Account& now() const { return accounts[current]; }
-    double cpu_left() const { return std::max(0.0, cpu - now().cpu); }
-    double wait_left() const { return std::max(0.0, wait - now().wait); }
+    double share() const { return current ? 0.5 : 1.0; }     // the ★ cases': half
+    double cpu_left() const { return std::max(0.0, cpu * share() - now().cpu); }
+    double wait_left() const { return std::max(0.0, wait * share() - now().wait); }
     double case_left() const { return std::max(0.0, case_wall - case_spent); }
     bool spent() const { return set() && (cpu_left() <= 0 || wait_left() <= 0); }
 
@@ -218,7 +219,7 @@ struct Budget {
                       "in %ld call%s of %s your code used %.1f s of CPU and waited %.1f s (sleeping or blocked, "
                       "not computing); %s may use %g s of CPU and wait %g s in all",
                       now().calls, now().calls == 1 ? "" : "s", current ? "this step's ★ cases" : "this step",
-                      now().cpu, now().wait, current ? "they" : "a step", cpu, wait);
+                      now().cpu, now().wait, current ? "they" : "a step", cpu * share(), wait * share());
         return std::string(text) + (note.empty() ? "" : ", and " + note);
     }
 };

@@ -77,6 +77,7 @@ class StepResult:
     detail: str = ""            # compiler errors, the missing file, the step we wait for
     isolation: str = ""
     seed: str = ""
+    cost: dict | None = None    # what the student's code cost the grader, and the budget (see "Budgets")
 
     def __post_init__(self) -> None:
         # The step's points shared among its cases by their groups' weights, once, exactly.
@@ -115,6 +116,7 @@ class StepResult:
         return {
             "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
             "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
+            **({"cost": self.cost} if self.cost else {}),
             "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
             "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
@@ -165,16 +167,17 @@ def list_cases(exe: Path) -> list[Case]:
 # sleeps just under the limit in every call, or computes correctly but slowly, cost minutes of the
 # grader's time per step and was stopped by the backstops above, which blamed the kit. So each step
 # has a budget for the student's code, over all its cases and every run of its judge (a restart, a
-# case run again): course.json's step_cpu_seconds of CPU and step_wait_seconds of waiting (time in a
-# call neither computing nor queued for a CPU: sleeping, blocked; a busy machine adds none; the ★
-# cases, optional and run first, have the same budget again, so they never spend the scored ones'), never
+# case run again): course.json's step_cpu_seconds of CPU and step_wait_seconds of waiting (time in
+# a call neither computing nor queued for a CPU: sleeping, blocked; a busy machine adds none), never
 # below REFERENCE_MULTIPLE times what the reference needed when the solutions were last graded on
 # this machine (REFERENCE_TIMES, written then; its calls take micro- to milliseconds, so the
-# course's figures decide unless the reference becomes slow). The calls of one case may take
-# CASE_SHARE of case_seconds in all, so a case the backstop stops is the judge's own fault, not its
-# calls'. The judge (tests/support/remote.cpp) enforces all three and keeps the step's totals in a
-# ledger file; once the budget is spent, the remaining cases fail without calling the code, with a
-# message that gives the figures. A submission's whole cost is bounded by the sum over its steps.
+# course's figures decide unless the reference becomes slow). The ★ cases, optional and run first,
+# have a budget of their own, half as large, so they never spend the scored cases' share. The calls
+# of one case may take CASE_SHARE of case_seconds in all, so a case the backstop stops is the
+# judge's own fault, not its calls'. The judge (tests/support/remote.cpp) enforces all of it and
+# keeps the totals in a ledger file; once a budget is spent, the remaining cases fail without
+# calling the code, with a message that gives the figures. A submission's whole cost is bounded by
+# the sum over its steps.
 REFERENCE_MULTIPLE = 50
 CASE_SHARE = 0.8
 REFERENCE_TIMES = BUILD / "reference-times.json"
@@ -538,6 +541,9 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         run_cases(judge, cases, env, *course_file.load().case_limits(), budget=budget)   # course.json time_limits
         rerun_timeouts(judge, cases, env)
         record_reference_time(build, step, budget, cases)
+        spent = budget.spent()
+        cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],
+                "cpu_budget": budget.cpu, "wait_budget": budget.wait}
     finally:
         scratch.close()
         if ledger_dir:
@@ -557,7 +563,8 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
     if not build.reference_needs:
         state = waits.wait_on_needs(step, cases, results, state)
     return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
-                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "")
+                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
+                      cost=cost)
 
 
 # --- untouched steps: no build ---------------------------------------------------------------

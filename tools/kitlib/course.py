@@ -29,9 +29,10 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     tools/gradescope/autograde.py.) The student's code has a budget per
                                     step, over all its cases: step_cpu_seconds of CPU (default 10) and
                                     step_wait_seconds spent waiting in calls, neither computing nor
-                                    queued for a CPU (default 5); a step's budget is never below 50
-                                    times what the reference measured here needs (checking.py,
-                                    "Budgets"). Its calls in one case may take 4/5 of case_seconds.
+                                    queued for a CPU (default 10); the ★ cases have a budget of their
+                                    own, half as large. A step's budget is never below 50 times what
+                                    the reference measured here needs (checking.py, "Budgets"). The
+                                    calls of one case may take 4/5 of case_seconds.
 
 Points are exact fractions (fractions.Fraction) from the file to the total: no float noise. A
 step's maximum is its points whatever state it is in, so every student has the same maximum; a
@@ -53,7 +54,7 @@ COURSE_FILE = ROOT / "course.json"
 GROUPS = ("core", "degenerate", "hidden", "robust")
 VISIBILITIES = ("hidden", "after_due_date", "after_published", "visible")
 LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600,
-          "step_cpu_seconds": 10, "step_wait_seconds": 5}
+          "step_cpu_seconds": 10, "step_wait_seconds": 10}
 DEGENERATE_NAMES = ["NaN", "infinite", "infinity", "zero direction", "radius of zero", "degenerate",
                     "empty window", "empty rectangle", "overflow"]
 
