@@ -27,7 +27,7 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     submission of ./kit grade. (Each call of the student's code has
                                     its own 2 s limit in the judge; Gradescope's run: KIT_SECONDS in
                                     tools/gradescope/autograde.py.) The student's code has a budget per
-                                    step, over all its cases: step_cpu_seconds of CPU (default 10) and
+                                    step, over all its cases: step_cpu_seconds of CPU (default 20) and
                                     step_wait_seconds spent waiting in calls, neither computing nor
                                     queued for a CPU (default 10); the ★ cases have a budget of their
                                     own, half as large. A step's budget is never below 50 times what
@@ -54,7 +54,7 @@ COURSE_FILE = ROOT / "course.json"
 GROUPS = ("core", "degenerate", "hidden", "robust")
 VISIBILITIES = ("hidden", "after_due_date", "after_published", "visible")
 LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600,
-          "step_cpu_seconds": 10, "step_wait_seconds": 10}
+          "step_cpu_seconds": 20, "step_wait_seconds": 10}
 DEGENERATE_NAMES = ["NaN", "infinite", "infinity", "zero direction", "radius of zero", "degenerate",
                     "empty window", "empty rectangle", "overflow"]
 
