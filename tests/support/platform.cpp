@@ -79,6 +79,13 @@ double cpu_seconds(pid_t pid) {
     return ticks > 0 ? static_cast<double>(utime + stime) / static_cast<double>(ticks) : -1;
 }
 
+double queued_seconds(pid_t pid) {
+    // The second field of schedstat, in ns (the first is the time on a CPU).
+    std::ifstream in(pid > 0 ? "/proc/" + std::to_string(pid) + "/schedstat" : "/proc/thread-self/schedstat");
+    unsigned long long on_cpu = 0, queued = 0;
+    return (in >> on_cpu >> queued) ? static_cast<double>(queued) / 1e9 : 0;
+}
+
 pid_t first_child(pid_t pid) {
     std::ifstream children("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children");
     long c = 0;
@@ -113,6 +120,8 @@ void end_namespace_rest(pid_t init) {
 #else   // any other POSIX system: no /proc to read, no bubblewrap to look into
 
 double cpu_seconds(pid_t) { return -1; }
+
+double queued_seconds(pid_t) { return 0; }
 
 pid_t first_child(pid_t) { return 0; }
 

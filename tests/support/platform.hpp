@@ -18,6 +18,10 @@ bool open_pipe(int fds[2]);
 /// CPU time (user + system) process `pid` has used so far, in seconds; < 0 where it cannot be read.
 double cpu_seconds(pid_t pid);
 
+/// Seconds process `pid`'s main thread has spent runnable but waiting for a CPU (the judge's own for
+/// 0): time a busy machine takes from a call, not time the call waits; 0 where the system does not say.
+double queued_seconds(pid_t pid);
+
 /// The first child of `pid` (bubblewrap's init, then the program it runs), or 0.
 pid_t first_child(pid_t pid);
 

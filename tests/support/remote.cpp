@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 #include <vector>
 
@@ -98,6 +99,127 @@ constexpr double start_seconds = 30.0;   // for the answers program to say it is
 using platform::cpu_seconds;
 using platform::first_child;
 
+using platform::queued_seconds;
+
+/// What the calls of the student's code may cost beyond each call's own limit, and what they cost.
+///
+/// Set by the kit (tools/kitlib/checking.py) for a graded step, never for ctest or ./kit debug:
+///   RAYKIT_BUDGET       "CPU WAIT CASE": the step's budget of CPU seconds and of seconds waited
+///                       (in a call, neither computing nor queued for a CPU: sleeping, blocked),
+///                       over all its cases, and the wall seconds the calls of one case may take
+///   RAYKIT_BUDGET_NOTE  what the reference needs, said after the figures
+///   RAYKIT_LEDGER       a file of the grader's where the step's totals are kept across the judge's
+///                       runs (a restart after a crash, a case run again): "CPU WAIT CALLS CPU★
+///                       WAIT★ CALLS★ CASE_WALL SINCE", SINCE the steady clock's seconds when a call
+///                       in flight began, or 0
+/// The ★ cases (suite "robust": optional, run first, many calls each) have an account of their own
+/// with half the budget, so that they never spend what the scored cases need. Without
+/// RAYKIT_BUDGET, only each call's own limit applies.
+struct Budget {
+    static constexpr double none = 1e300;
+    double cpu = none, wait = none, case_wall = none;
+    std::string note = env("RAYKIT_BUDGET_NOTE");
+    std::string ledger = env("RAYKIT_LEDGER");
+    struct Account {
+        double cpu = 0, wait = 0;
+        long calls = 0;
+    };
+    Account accounts[2];        // the scored cases', the ★ cases'
+    int current = 0;            // the account of the case running
+    double case_spent = 0;      // wall seconds of the running case's calls
+    static constexpr int ledger_line = 200;
+    int ledger_fd = -1;
+
+    Budget() {
+        std::istringstream limits(env("RAYKIT_BUDGET"));
+        double c = 0, w = 0, k = 0;
+        if (limits >> c >> w >> k) cpu = c, wait = w, case_wall = k;
+        std::ifstream in(ledger);
+        Account a, b;
+        if (!ledger.empty() && (in >> a.cpu >> a.wait >> a.calls >> b.cpu >> b.wait >> b.calls))
+            accounts[0] = a, accounts[1] = b;
+    }
+    bool set() const { return cpu < none; }
+    const Account& now() const { return accounts[current]; }
+    double share() const { return current ? 0.5 : 1.0; }     // the ★ cases': half
+    double cpu_left() const { return std::max(0.0, cpu * share() - now().cpu); }
+    double wait_left() const { return std::max(0.0, wait * share() - now().wait); }
+    double case_left() const { return std::max(0.0, case_wall - case_spent); }
+    bool spent() const { return set() && (cpu_left() <= 0 || wait_left() <= 0); }
+
+    void begin_case(const std::string& suite) {
+        current = suite == "robust" ? 1 : 0;
+        case_spent = 0;
+        save();
+    }
+
+    void add(double c, double w, double wall) {
+        accounts[current].cpu += c;
+        accounts[current].wait += w;
+        ++accounts[current].calls;
+        case_spent += wall;
+        save();
+    }
+
+    /// A call of the student's code begins: the grader can tell its time from the judge's own.
+    void begin_call() { save(std::chrono::duration<double>(Clock::now().time_since_epoch()).count()); }
+
+    /// Rewritten whole after each call and at each case's start, so the grader reads the totals
+    /// (and the current case's share) even if this program is stopped in the next call. One line of
+    /// a fixed length, written in place: truncating a file at each call costs a journal's flush.
+    void save(double since = 0) {
+        if (ledger.empty() || !set()) return;
+        if (ledger_fd < 0) ledger_fd = ::open(ledger.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
+        if (ledger_fd < 0) return;
+        char line[ledger_line + 1];
+        const int n = std::snprintf(line, sizeof line, "%.3f %.3f %ld %.3f %.3f %ld %.3f %.3f", accounts[0].cpu,
+                                    accounts[0].wait, accounts[0].calls, accounts[1].cpu, accounts[1].wait,
+                                    accounts[1].calls, case_spent, since);
+        if (n < 0 || n >= ledger_line) return;
+        std::memset(line + n, ' ', static_cast<std::size_t>(ledger_line - n));
+        line[ledger_line - 1] = '\n';
+        (void)!::pwrite(ledger_fd, line, ledger_line, 0);
+    }
+
+    /// Which budget: "this step's time budget", or the ★ cases' one.
+    std::string which() const { return current ? "the time budget of this step's ★ cases" : "this step's time budget"; }
+
+    /// The account's figures and its budget, in words, for a message to the student.
+    std::string figures() const {
+        char text[400];
+        std::snprintf(text, sizeof text,
+                      "in %ld call%s of %s your code used %.1f s of CPU and waited %.1f s (sleeping or blocked, "
+                      "not computing); %s may use %g s of CPU and wait %g s in all",
+                      now().calls, now().calls == 1 ? "" : "s", current ? "this step's ★ cases" : "this step",
+                      now().cpu, now().wait, current ? "they" : "a step", cpu * share(), wait * share());
+        return std::string(text) + (note.empty() ? "" : ", and " + note);
+    }
+};
+
+Budget& budget() {
+    static Budget b;
+    return b;
+}
+
+std::string capitalised(std::string text) {
+    if (!text.empty() && text[0] >= 'a' && text[0] <= 'z') text[0] = static_cast<char>(text[0] - 'a' + 'A');
+    return text;
+}
+
+/// A call stopped by the step's budget or the case's time rather than by its own limit.
+struct OverBudget : CallFailed {
+    using CallFailed::CallFailed;
+};
+
+/// What one call of the student's code may take besides its own limit (left of the step's budget
+/// and of the case's time), and what it took.
+struct CallBounds {
+    double cpu = Budget::none, wait = Budget::none, wall = Budget::none;
+};
+struct CallCost {
+    double cpu = 0, waited = 0, wall = 0;
+};
+
 /// The sandbox itself failed to start (not the student's code): the grader's error.
 struct SandboxFailed : CallFailed {
     using CallFailed::CallFailed;
@@ -112,8 +234,10 @@ public:
     bool available() const { return !exe_.empty() && ::access(exe_.c_str(), X_OK) == 0; }
     bool running() const { return pid_ > 0; }
 
-    /// Sends a request, returns the reply body, or throws CallFailed.
-    std::string exchange(const std::string& request, const std::string& call, double seconds);
+    /// Sends a request, returns the reply body, or throws CallFailed (OverBudget when `bounds`, not
+    /// the call's own `seconds`, stopped it); `cost` says what the call took, whatever happened.
+    std::string exchange(const std::string& request, const std::string& call, double seconds,
+                         const CallBounds& bounds = {}, CallCost* cost = nullptr);
 
     /// Ends every process of this child and the child itself.
     void stop();
@@ -467,7 +591,8 @@ std::string Child::died(const std::string& call) {
     return "Your code crashed in " + call + ": " + how + ".";
 }
 
-std::string Child::exchange(const std::string& request, const std::string& call, double seconds) {
+std::string Child::exchange(const std::string& request, const std::string& call, double seconds,
+                            const CallBounds& bounds, CallCost* cost) {
     if (!running()) start();
     const std::uint32_t size = static_cast<std::uint32_t>(request.size());
     std::string framed(reinterpret_cast<const char*>(&size), sizeof size);
@@ -475,24 +600,43 @@ std::string Child::exchange(const std::string& request, const std::string& call,
     if (!wire::write_exact(req_, framed.data(), framed.size())) throw CallFailed(died(call));
 
     // The limit is CPU time where it can be read (a loaded machine does not make a call slow), with
-    // a wall-clock backstop four times as long for code that waits instead of computing.
+    // a wall-clock backstop four times as long for code that waits instead of computing. Time
+    // waited (neither computing nor queued for a CPU) also counts against the step's budget, and
+    // the call's wall time against the case's (`bounds`): sleeping within each call's own limit
+    // costs the grader, so it costs the student too.
     const double cpu_start = cpu_now();
     const bool by_cpu = cpu_start >= 0;
+    const pid_t measured = answers_pid_;
+    // Queued for a CPU, the answers program or the judge reading its reply: the machine's load.
+    const double queued_start = by_cpu ? queued_seconds(measured) + queued_seconds(0) : 0;
     const double wall = by_cpu ? std::max(4 * seconds, seconds + 6) : seconds;
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                             std::chrono::duration<double>(wall));
+    const auto began = Clock::now();
+    const auto deadline = began + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall));
+    CallCost spent;
+    auto measure = [&]() {
+        spent.wall = std::chrono::duration<double>(Clock::now() - began).count();
+        if (by_cpu) {
+            const double now = cpu_now();
+            if (now >= 0) spent.cpu = std::max(0.0, now - cpu_start);
+            const double queued = std::max(0.0, queued_seconds(measured) + queued_seconds(0) - queued_start);
+            spent.waited = std::max(0.0, spent.wall - spent.cpu - queued);
+        }
+        if (cost) *cost = spent;
+    };
     std::string reply;
     std::uint32_t want = 0;
     bool have_size = false;
     char buf[65536];
     for (;;) {
         if (output_case > output_limit) {
+            measure();
             stop();
             throw CallFailed("Your code printed more than " + std::to_string(output_limit >> 20) +
                              " MiB during " + call + " and was stopped.");
         }
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-        const double used = by_cpu ? cpu_now() - cpu_start : 0;
+        measure();
+        const double used = spent.cpu;
         if (left <= 0 || used > seconds) {
             stop();
             char limit[32];
@@ -501,24 +645,36 @@ std::string Child::exchange(const std::string& request, const std::string& call,
                              (left <= 0 && by_cpu ? " s (it was waiting, not computing?)" :
                               by_cpu ? " s of CPU time. An endless loop?" : " s. An endless loop?"));
         }
+        if (used > bounds.cpu || spent.waited > bounds.wait || spent.wall > bounds.wall) {
+            stop();
+            throw OverBudget(used > bounds.cpu ? "cpu" : spent.waited > bounds.wait ? "wait" : "case");
+        }
         pollfd fds[2] = {{rep_, POLLIN, 0}, {out_, POLLIN, 0}};
         const int n = ::poll(fds, 2, static_cast<int>(std::min<long long>(left, 50)));
-        if (n < 0 && errno != EINTR) throw CallFailed(died(call));
+        if (n < 0 && errno != EINTR) {
+            measure();
+            throw CallFailed(died(call));
+        }
         if (fds[1].revents) drain_output();
         if (!fds[0].revents) continue;
         const ssize_t k = ::read(rep_, buf, sizeof buf);
-        if (k == 0 || (k < 0 && errno != EAGAIN && errno != EINTR)) throw CallFailed(died(call));
+        if (k == 0 || (k < 0 && errno != EAGAIN && errno != EINTR)) {
+            measure();
+            throw CallFailed(died(call));
+        }
         if (k < 0) continue;
         reply.append(buf, static_cast<std::size_t>(k));
         if (!have_size && reply.size() >= sizeof want) {
             std::memcpy(&want, reply.data(), sizeof want);
             have_size = true;
             if (want > reply_limit) {
+                measure();
                 stop();
                 throw CallFailed(call + " sent back an answer far larger than any case needs.");
             }
         }
         if (have_size && reply.size() >= sizeof want + want) {
+            measure();
             if (reply.size() > sizeof want + want) {
                 stop();  // more than was asked for: out of step with the requests
                 throw CallFailed(call + " sent back more than one answer.");
@@ -561,13 +717,51 @@ std::string exchange(Target target, const std::string& function, const std::stri
         // spend another time limit on it.
         throw CallFailed("Not called: an earlier call in this case already failed.");
     }
+    Budget& b = budget();
+    if (target == Target::student && b.spent()) {
+        // The step's budget is used up: the remaining calls fail without running, the student's.
+        const std::string text = "Not called: your code has used up " + b.which() + ", so the remaining cases "
+                                 "fail without calling it. " + capitalised(b.figures()) + ".";
+        s.incident = {"timed_out", text};
+        throw CallFailed(text);
+    }
     std::string request(1, static_cast<char>(function.size()));
     request += function;
     request += arguments;
     const double limit = settings().call_seconds;
     std::string body;
+    CallCost cost;
     try {
-        body = child.exchange(request, call, target == Target::student ? limit : 60.0);
+        if (target == Target::student) {
+            CallBounds bounds;
+            if (b.set()) bounds = {b.cpu_left(), b.wait_left(), b.case_left()};
+            b.begin_call();
+            try {
+                body = child.exchange(request, call, limit, bounds, &cost);
+            } catch (const CallFailed&) {
+                b.add(cost.cpu, cost.waited, cost.wall);
+                throw;
+            }
+            b.add(cost.cpu, cost.waited, cost.wall);
+        } else {
+            body = child.exchange(request, call, 60.0);
+        }
+    } catch (const OverBudget& e) {
+        const std::string kind = e.what();
+        std::string text;
+        if (kind == "case") {
+            char figures[160];
+            std::snprintf(figures, sizeof figures, " took %.1f s in all, beyond the %g s a case may take", b.case_spent,
+                          b.case_wall);
+            text = "Time out: " + call + " was stopped because this case's calls of your code" + figures +
+                   ". Each call may keep within its own limit, but a case makes many calls: your code is too "
+                   "slow, or it waits (" + b.figures() + ").";
+        } else {
+            text = "Time out: " + call + " was stopped because your code used up " + b.which() + " " +
+                   (kind == "cpu" ? "of CPU" : "for waiting") + ": " + b.figures() + ".";
+        }
+        s.incident = {"timed_out", text};
+        throw CallFailed(text);
     } catch (const CallFailed& e) {
         if (target == Target::student) {
             const std::string what = e.what();
@@ -600,8 +794,9 @@ std::string exchange(Target target, const std::string& function, const std::stri
     throw CallFailed(call + " sent back an answer of an unknown kind.");
 }
 
-void begin_case() {
+void begin_case(const std::string& suite) {
     State& s = state();
+    budget().begin_case(suite);
     s.incident = {};
     s.student.output.clear();
     s.student.output_case = 0;

@@ -21,7 +21,12 @@
 //   RAYKIT_SANDBOX_CGROUPS    ':'-separated control group folders to join
 //   RAYKIT_SANDBOX_LIMITS     "ADDRESS_SPACE PROCESSES FILE_SIZE CPU_SECONDS" (rlimits)
 //   RAYKIT_CALL_SECONDS       the CPU-time limit of one call (default 2; wall-clock backstop 4x)
-// All of them come from tools/kitlib/sandbox.py, the one place the boundary is defined.
+//   RAYKIT_BUDGET, RAYKIT_LEDGER, RAYKIT_BUDGET_NOTE
+//                             the step's time budget for the student's code over all its calls, and
+//                             the file its totals are kept in (remote.cpp, `Budget`; set by ./kit
+//                             check, not for ctest or ./kit debug)
+// The boundary's come from tools/kitlib/sandbox.py, the one place it is defined; the budget's from
+// tools/kitlib/checking.py.
 #pragma once
 
 #include <cstddef>
@@ -84,8 +89,9 @@ bool has_reference();
 
 // ---- per case, for the reporter ---------------------------------------------------
 
-/// A case begins: forget the last case's incident and output.
-void begin_case();
+/// A case begins: forget the last case's incident and output. `suite` is its doctest suite (the ★
+/// cases, "robust", spend a time budget of their own).
+void begin_case(const std::string& suite = "");
 
 /// A case ends: every process the student's code left behind is ended
 /// (sandboxed runs), and the case's incident and output are returned.

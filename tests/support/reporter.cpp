@@ -74,7 +74,7 @@ public:
         messages_.clear();
         exception_.clear();
         not_started_ = crashed_ = false;
-        raykit::remote::begin_case();
+        raykit::remote::begin_case(tc.m_test_suite ? tc.m_test_suite : "");
         raykit::figure::begin_case();
         out_ << "{\"event\": \"start\", \"case\": " << json_string(tc.m_name) << "}\n";
         out_.flush();

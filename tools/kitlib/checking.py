@@ -18,6 +18,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import signal
 import subprocess
 import tempfile
@@ -31,7 +32,7 @@ from typing import Callable
 from . import course as course_file
 from . import waits
 from . import warmup
-from .common import ROOT, Step, prerequisites, printable
+from .common import BUILD, ROOT, Step, prerequisites, printable
 from .build import Build, build_target, build_targets, ensure_configured, ninja_of, shown_text
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .secret import hidden_seed
@@ -78,6 +79,7 @@ class StepResult:
     detail: str = ""            # compiler errors, the missing file, the step we wait for
     isolation: str = ""
     seed: str = ""
+    cost: dict | None = None    # what the student's code cost the grader, and the budget (see "Budgets")
 
     def __post_init__(self) -> None:
         # The step's points shared among its cases by their groups' weights, once, exactly.
@@ -118,6 +120,7 @@ class StepResult:
         return {
             "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
             "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
+            **({"cost": self.cost} if self.cost else {}),
             "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
             "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
@@ -162,12 +165,116 @@ def list_cases(exe: Path) -> list[Case]:
         return [Case(e["case"], e.get("suite") or "basic", e.get("lecture") or "") for e in _read_lines(out)]
 
 
+# --- Budgets: what the student's code may cost the grader ------------------------------------
+# Each call of the student's code has its own limit in the judge (2 s of CPU, a wall-clock backstop
+# of 8 s), but a case makes many calls (a hidden family 24) and a step some fifty cases: code that
+# sleeps just under the limit in every call, or computes correctly but slowly, cost minutes of the
+# grader's time per step and was stopped by the backstops above, which blamed the kit. So each step
+# has a budget for the student's code, over all its cases and every run of its judge (a restart, a
+# case run again): course.json's step_cpu_seconds of CPU and step_wait_seconds of waiting (time in
+# a call neither computing nor queued for a CPU: sleeping, blocked; a busy machine adds none), never
+# below REFERENCE_MULTIPLE times what the reference needed when the solutions were last graded on
+# this machine (REFERENCE_TIMES, written then; its calls take micro- to milliseconds, so the
+# course's figures decide unless the reference becomes slow). The ★ cases, optional and run first,
+# have a budget of their own, half as large, so they never spend the scored cases' share. The calls
+# of one case may take CASE_SHARE of case_seconds in all, so a case the backstop stops is the
+# judge's own fault, not its calls'. The judge (tests/support/remote.cpp) enforces all of it and
+# keeps the totals in a ledger file; once a budget is spent, the remaining cases fail without
+# calling the code, with a message that gives the figures. A submission's whole cost is bounded by
+# the sum over its steps.
+REFERENCE_MULTIPLE = 50
+CASE_SHARE = 0.8
+REFERENCE_TIMES = BUILD / "reference-times.json"
+
+
+@dataclass
+class Budget:
+    cpu: float                      # seconds of CPU for the step's calls of the student's code
+    wait: float                     # seconds those calls may spend waiting
+    case: float                     # wall seconds the calls of one case may take
+    ledger: Path                    # the judge's record of what was spent (see remote.cpp)
+    reference: dict | None = None   # what the reference needed here: {"cpu", "wait", "calls"}
+
+    def note(self) -> str:
+        r = self.reference
+        if not r:
+            return "the reference's own time is not measured on this machine yet"
+        return (f"the reference needs {r['cpu']:.2f} s of CPU and waits {r['wait']:.2f} s for its "
+                f"{r['calls']} calls on this machine")
+
+    def env(self) -> dict[str, str]:
+        return {"RAYKIT_BUDGET": f"{self.cpu:g} {self.wait:g} {self.case:g}", "RAYKIT_LEDGER": str(self.ledger),
+                "RAYKIT_BUDGET_NOTE": self.note()}
+
+    def spent(self) -> dict:
+        """The ledger, both accounts (the scored cases' and the ★ cases') added: {"cpu", "wait",
+        "calls", "case", "since"}, zeros before the first call."""
+        try:
+            f = self.ledger.read_text().split()
+            cpu, wait, calls = float(f[0]) + float(f[3]), float(f[1]) + float(f[4]), int(f[2]) + int(f[5])
+            case, since = float(f[6]), float(f[7])
+        except (OSError, ValueError, IndexError):
+            cpu, wait, calls, case, since = 0.0, 0.0, 0, 0.0, 0.0
+        return {"cpu": cpu, "wait": wait, "calls": calls, "case": case, "since": since}
+
+    def case_seconds_now(self) -> float:
+        """Wall seconds the student's calls have taken in the current case, the one in flight included."""
+        s = self.spent()
+        return s["case"] + (max(0.0, time.monotonic() - s["since"]) if s["since"] > 0 else 0.0)
+
+
+def reference_times() -> dict:
+    try:
+        data = json.loads(REFERENCE_TIMES.read_text())
+        return data if isinstance(data, dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
+def step_budget(step: Step, ledger: Path) -> Budget:
+    course = course_file.load()
+    cpu, wait = course.step_budget()
+    case_seconds, _ = course.case_limits()
+    ref = reference_times().get(step.number)
+    if isinstance(ref, dict) and {"cpu", "wait", "calls"} <= set(ref):
+        cpu = max(cpu, REFERENCE_MULTIPLE * float(ref["cpu"]))
+        wait = max(wait, REFERENCE_MULTIPLE * float(ref["wait"]))
+    else:
+        ref = None
+    return Budget(cpu, wait, CASE_SHARE * case_seconds, ledger, ref)
+
+
+def record_reference_time(build: Build, step: Step, budget: Budget, cases: list[Case]) -> None:
+    """When the files graded are the reference's own and every case passed, what its calls took is
+    kept as the reference's figure on this machine (REFERENCE_TIMES)."""
+    try:
+        same = all((build.steps_dir / step.folder / f).read_bytes() == (ROOT / "solutions" / step.folder / f).read_bytes()
+                   for f in step.files)
+    except OSError:
+        return
+    if not same or not cases or any(c.status != PASS for c in cases):
+        return
+    spent = budget.spent()
+    data = reference_times()
+    data[step.number] = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"]}
+    tmp = REFERENCE_TIMES.with_name(f".{REFERENCE_TIMES.name}.{os.getpid()}")
+    try:
+        REFERENCE_TIMES.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        os.replace(tmp, REFERENCE_TIMES)
+    except OSError:
+        tmp.unlink(missing_ok=True)
+
+
 def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
-              case_seconds: float = CASE_SECONDS, step_seconds: float = STEP_SECONDS) -> None:
+              case_seconds: float = CASE_SECONDS, step_seconds: float = STEP_SECONDS,
+              budget: Budget | None = None) -> None:
     """Runs the judge `exe` over every case, filling in each Case's status and messages.
 
-    The judge is the kit's own code and limits each call to the student's code itself;
-    the limits here only guard against the judge going wrong.
+    The judge is the kit's own code and limits each call to the student's code itself (and, with
+    `budget`, the step's and each case's calls in all); the limits here only guard against the judge
+    going wrong. Should one stop a case whose time went mostly into the student's calls all the
+    same (a machine so busy that the judge's own bound came late), the timeout is the student's.
     """
     by_name = {c.name: c for c in cases}
     order = [c.name for c in cases]
@@ -221,6 +328,15 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                 current = rest[0]
             c = by_name[current]
             done.add(current)
+            theirs = budget.case_seconds_now() if budget is not None and reason == TIMED_OUT else 0.0
+            if theirs >= case_seconds / 2:
+                spent = budget.spent()
+                c.status = TIMED_OUT
+                c.messages = [f"Time out: this case was stopped after {case_seconds:g} s, {theirs:.1f} s of them in "
+                              f"your code's calls (each call within its own limit, but a case makes many): your "
+                              f"code is too slow or waits. On this step your code has used {spent['cpu']:.1f} s of "
+                              f"CPU and waited {spent['wait']:.1f} s in {spent['calls']} calls; {budget.note()}."]
+                continue
             c.status = CRASHED
             c.messages = [f"The kit's test program itself stopped in this case ({reason or proc.returncode}); "
                           "this is the kit's fault, not yours: please tell your instructor."]
@@ -427,14 +543,25 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
                           detail=built.output)
     seed = submission_seed(build, step)
     scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
+    ledger_dir = ""
     try:
-        env = dict(scratch.env(), RAYKIT_SEED=seed)
+        # The step's budget (see "Budgets"): its ledger in a folder of the grader's, which the
+        # sandboxed code cannot reach, shared by every run of the judge, the cases run again too.
+        ledger_dir = tempfile.mkdtemp(prefix="raykit-ledger-")
+        budget = step_budget(step, Path(ledger_dir) / "ledger")
+        env = dict(scratch.env(), RAYKIT_SEED=seed, **budget.env())
         if not isolation.sandboxed:
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
-        run_cases(judge, cases, env, *course_file.load().case_limits())     # course.json time_limits
+        run_cases(judge, cases, env, *course_file.load().case_limits(), budget=budget)   # course.json time_limits
         rerun_timeouts(judge, cases, env, scratch.between_runs)
+        record_reference_time(build, step, budget, cases)
+        spent = budget.spent()
+        cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],
+                "cpu_budget": budget.cpu, "wait_budget": budget.wait}
     finally:
         scratch.close()
+        if ledger_dir:
+            shutil.rmtree(ledger_dir, ignore_errors=True)
     failed_sandbox = [c for c in cases if c.status == GRADER_ERROR]
     if failed_sandbox:
         return StepResult(step, BROKEN, cases, isolation=isolation.description,
@@ -450,7 +577,8 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
     if not build.reference_needs:
         state = waits.wait_on_needs(step, cases, results, state)
     return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
-                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "")
+                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
+                      cost=cost)
 
 
 # --- untouched steps: no build ---------------------------------------------------------------

@@ -25,11 +25,18 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     visibility (hidden, after_due_date, after_published, visible);
                                     whether failed hidden cases show their inputs after the due date.
   "rounding": {"decimals": D}       the total is rounded once, at the end, to D decimals (half up).
-  "time_limits": {"case_seconds", "step_seconds", "submission_seconds"}
+  "time_limits": {"case_seconds", "step_seconds", "submission_seconds",
+                  "step_cpu_seconds", "step_wait_seconds"}
                                     the judge's backstop per case and per step (./kit check), and one
                                     submission of ./kit grade. (Each call of the student's code has
                                     its own 2 s limit in the judge; Gradescope's run: KIT_SECONDS in
-                                    tools/gradescope/autograde.py.)
+                                    tools/gradescope/autograde.py.) The student's code has a budget per
+                                    step, over all its cases: step_cpu_seconds of CPU (default 20) and
+                                    step_wait_seconds spent waiting in calls, neither computing nor
+                                    queued for a CPU (default 10); the ★ cases have a budget of their
+                                    own, half as large. A step's budget is never below 50 times what
+                                    the reference measured here needs (checking.py, "Budgets"). The
+                                    calls of one case may take 4/5 of case_seconds.
 
 Points are exact fractions (fractions.Fraction) from the file to the total: no float noise. A
 step's maximum is its points whatever state it is in, so every student has the same maximum; a
@@ -50,7 +57,8 @@ from .common import ROOT, KitError
 COURSE_FILE = ROOT / "course.json"
 GROUPS = ("core", "degenerate", "hidden", "robust")
 VISIBILITIES = ("hidden", "after_due_date", "after_published", "visible")
-LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600}
+LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600,
+          "step_cpu_seconds": 20, "step_wait_seconds": 10}
 DEGENERATE_NAMES = ["NaN", "infinite", "infinity", "zero direction", "radius of zero", "degenerate",
                     "empty window", "empty rectangle", "overflow"]
 
@@ -135,6 +143,10 @@ class Course:
                 f"weight ({shared})" + (f"; {' and '.join(extra)} cases are extra credit, on top of a step's "
                                         "points" if extra else "")
                 + (f"; {' and '.join(free)} cases count for nothing" if free else ""))
+
+    def step_budget(self) -> tuple[float, float]:
+        """The student's code's budget on one step: seconds of CPU, seconds waited."""
+        return self.limits["step_cpu_seconds"], self.limits["step_wait_seconds"]
 
     def shown(self, value: Fraction) -> str:
         """`value` for people: whole numbers as they are, others rounded once."""

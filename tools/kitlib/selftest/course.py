@@ -135,7 +135,9 @@ def selftest_bad_course_files(ctx) -> str:
     bad = [({"steps": {"01": {"points": "ten"}}}, "steps.01.points"), ({"groups": {"core": {"weight": -1}}}, "negative"),
            ({"steps": {"09": {"points": 1}}}, "no step '09'"), ({"groups": {"bonus": {}}}, "unknown group"),
            ({"hidden": {"visibility": "soon"}}, "hidden.visibility"), ({"rounding": {"decimals": 1.5}}, "decimals"),
-           ({"time_limits": {"case_seconds": 0}}, "case_seconds"), ({"step": {}}, "unknown key 'step'"), ([], "object")]
+           ({"time_limits": {"case_seconds": 0}}, "case_seconds"), ({"step": {}}, "unknown key 'step'"), ([], "object"),
+           ({"time_limits": {"step_cpu_seconds": "10"}}, "step_cpu_seconds"),
+           ({"time_limits": {"step_wait_seconds": -1}}, "step_wait_seconds")]
     for data, words in bad:
         try:
             course_file.parse(data, STEPS)
@@ -143,6 +145,10 @@ def selftest_bad_course_files(ctx) -> str:
             expect(words in str(e), f"{json.dumps(data)}: the message {str(e)!r} does not say {words!r}")
         else:
             raise Failed(f"{json.dumps(data)} is accepted as a course file")
+    # A course.json written before the step budgets (no step_*_seconds) keeps working, with their defaults.
+    older = course_file.parse({"time_limits": {"case_seconds": 20, "step_seconds": 90, "submission_seconds": 300}}, STEPS)
+    expect(older.step_budget() == (course_file.LIMITS["step_cpu_seconds"], course_file.LIMITS["step_wait_seconds"])
+           and older.case_limits() == (20, 90), f"a course.json without the step budgets: {older.limits}")
     need_solutions()    # ./kit course is an instructor's command
     with tempfile.TemporaryDirectory() as tmp:
         broken = Path(tmp) / "course.json"
@@ -150,7 +156,8 @@ def selftest_bad_course_files(ctx) -> str:
         r = kit("course", "--file", str(broken))
         expect(r.returncode == 2 and "line 1" in r.stderr and "Traceback" not in r.stderr,
                f"./kit course on broken JSON: exit {r.returncode}, {r.stderr.strip()[-200:]}")
-    return f"{len(bad)} bad course files refused with the key named; broken JSON: one line, exit 2"
+    return (f"{len(bad)} bad course files refused with the key named; one without the step budgets takes "
+            "their defaults; broken JSON: one line, exit 2")
 
 
 def selftest_gradescope_views(ctx) -> str:

@@ -20,6 +20,10 @@ user id when root), and asserts on the JSON and the exit status:
   memory is not there for a case whose output students see (the ★ case re-run
   alone after the hidden cases), also with a bubblewrap that cannot size its
   scratch folder; and the hidden cases run after every other.
+- sleeper, slow_correct: code that sleeps, or computes correctly but slowly, just under
+  each call's limit is stopped by the step's time budget, soon, and the timeouts are
+  the student's, never "the kit's fault"; a case of many slow calls is the student's
+  timeout too, whether the judge's bound or the kit's backstop stops it.
 
 Each hostile fixture answers like tests/fixtures/hostile/always_miss, so "changes
 nothing" is measurable: the same status for every case and the same score. Each
@@ -598,6 +602,134 @@ def selftest_scratch_spy(ctx) -> str:
         return summary + "; without --size: " + check("bwrap without --size", data)
 
     return run_modes(one)
+# --- the grader's time (checking.py, "Budgets") ------------------------------------------
+BUDGET_BOUND = 120.0         # seconds: one grading of the sleeper, its build included (it may wait 10 s
+                             # in the scored cases, 5 s in the ★ ones); the old kit: over 120 s for step 01
+KIT_FAULT = "kit's fault"
+
+
+def blamed_on_kit(data: dict) -> list[str]:
+    return [f"{c['name']}: {m[:160]}" for s in data["record"]["steps"] for c in s["cases"]
+            for m in c["messages"] if KIT_FAULT in m]
+
+
+def not_the_students_time(data: dict) -> list[str]:
+    """Cases that failed without a wrong answer (timed out, crashed, not run) whose first message
+    does not say it was the student's code's time."""
+    bad = []
+    for s in data["record"]["steps"]:
+        for c in s["cases"]:
+            if c["status"] in ("pass", "fail"):
+                continue
+            first = c["messages"][0] if c["messages"] else ""
+            if c["status"] != "timed_out" or not first.startswith(("Time out", "Not called")) or "your code" not in first:
+                bad.append(f"{c['name']}: {c['status']}, {first[:160]!r}")
+    return bad
+
+
+def selftest_sleeper(ctx) -> str:
+    """Each call sleeps 1.9 s, within its own limit: the step's budget for waiting ends it."""
+    def one(mode: str) -> str:
+        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        rc, got, _, took = grade_json(HOSTILE / "sleeper", ["01"], mode)
+        expect("sleeper: slept 1.9 s" in printed(got), f"sleeper ({mode}): its output is not in the JSON; did it run?")
+        expect(took < BUDGET_BOUND, f"sleeper ({mode}): grading took {took:.0f} s, the bound is {BUDGET_BOUND:g} s "
+                                    "(sleeping within each call's limit still costs the grader without limit)")
+        expect(not blamed_on_kit(got), f"sleeper ({mode}): blamed on the kit: {blamed_on_kit(got)[:3]}")
+        expect(not not_the_students_time(got), f"sleeper ({mode}): a timeout not worded as the student's: "
+                                               + "; ".join(not_the_students_time(got)[:3]))
+        # It answers as always_miss does until its budget is spent, then fails the rest: never more.
+        ours = {n: st for _, n, st in statuses(got)}
+        gained = [n for _, n, st in statuses(base) if st != "pass" and ours.get(n) == "pass"]
+        expect(not gained, f"sleeper ({mode}): passes cases the plain wrong answer fails: {gained[:5]}")
+        expect(got["score"] <= base["score"] and rc == 1,
+               f"sleeper ({mode}): scored {got['score']}, the plain wrong answer {base['score']} (exit {rc})")
+        budget = [m for s in got["record"]["steps"] for c in s["cases"] for m in c["messages"]
+                  if "time budget" in m and "waited" in m]
+        expect(bool(budget), f"sleeper ({mode}): no message names the step's time budget and the time waited")
+        return f"{took:.0f} s, score {got['score']} (always_miss {base['score']}), the budget named"
+
+    need_solutions()
+    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "sleeper"], ["01"])
+    return run_modes(one, spent)
+
+
+def selftest_slow_correct(ctx) -> str:
+    """The reference's answers, 1.5 s of CPU a call: the budget ends it, the timeouts are the student's."""
+    def one(mode: str) -> str:
+        rc, got, _, took = grade_json(HOSTILE / "slow_correct", ["01"], mode)
+        [step] = got["record"]["steps"]
+        expect(not blamed_on_kit(got), f"slow_correct ({mode}): blamed on the kit: {blamed_on_kit(got)[:3]}")
+        expect(not not_the_students_time(got), f"slow_correct ({mode}): a timeout not worded as the student's: "
+                                               + "; ".join(not_the_students_time(got)[:3]))
+        wrong = [c["name"] for c in step["cases"] if c["status"] == "fail"]
+        expect(not wrong, f"slow_correct ({mode}): correct answers judged wrong: {wrong[:5]}")
+        passed = sum(c["status"] == "pass" for c in step["cases"])
+        expect(passed > 0, f"slow_correct ({mode}): no case passed; its first calls are within the budget")
+        budget = [m for c in step["cases"] for m in c["messages"] if "time budget" in m and "s of CPU" in m]
+        expect(bool(budget), f"slow_correct ({mode}): no message names the step's time budget and the CPU used")
+        # What it cost, in CPU seconds as the kit reports them (its wall time grows with the machine's
+        # load): never more than the budget, which the judge enforces within a call.
+        used = [(float(u), float(b)) for m in budget
+                for u, b in re.findall(r"your code used ([\d.]+) s of CPU.*? may use ([\d.]+) s of CPU", m)]
+        over = [f"{u:g} of {b:g} s" for u, b in used if u > b + 0.5]
+        expect(bool(used) and not over, f"slow_correct ({mode}): CPU used beyond the budget: {over or budget[:1]}")
+        return (f"{took:.0f} s, {passed} of {len(step['cases'])} passed, the rest the student's timeouts; "
+                f"CPU used {max(u for u, _ in used):g} s of a {max(b for _, b in used):g} s budget")
+
+    need_solutions()
+    spent = prewarm([HOSTILE / "slow_correct"], ["01"])
+    return run_modes(one, spent)
+
+
+def selftest_slow_case(ctx) -> str:
+    """A case of many calls, each within its limit, that together take longer than a case may: the
+    student's timeout, whether the judge's own bound for a case's calls stops it or, on a machine so
+    busy that this bound comes late, the kit's backstop for the case. slow_correct at 0.2 s of CPU a
+    call, graded in-process, unsandboxed, with 4 s a case and 14 s of CPU a step: the 41 visible
+    calls (one a case) take 8.2 s and pass; the first hidden family, 24 draws, meets the bound (3.2 s
+    of calls, or the backstop at 4 s) before the budget is spent."""
+    from .. import checking
+    from .. import course as course_file
+    from ..checking import check_steps
+    from ..common import submission_build
+
+    need_solutions()
+    steps = [s for s in ctx.steps if s.number == "01"]
+    source = BUILD / "selftest-slow-case"
+    shutil.rmtree(source, ignore_errors=True)
+    shutil.copytree(HOSTILE / "slow_correct", source)
+    [cpp] = source.glob("*/*.cpp")
+    text = cpp.read_text()
+    expect(text.count("burn_cpu(1.5);") == 2, f"{cpp.name}: slow_correct no longer burns 1.5 s in each function")
+    cpp.write_text(text.replace("burn_cpu(1.5);", "burn_cpu(0.2);"))
+    scale = course_file.load()
+    course = course_file.Course(**{**scale.__dict__, "limits": dict(scale.limits, case_seconds=4, step_cpu_seconds=14)})
+    found = []
+    saved = getattr(checking, "CASE_SHARE", 0.8), checking.rerun_timeouts   # (the old kit had none)
+    # 1.5: the judge's bound for a case's calls lies beyond the kit's backstop, which stops the case
+    # first. The timed-out cases are not run again here, so that the message read is the first one.
+    for share, words in ((saved[0], "a case may take"), (1.5, "this case was stopped after 4 s")):
+        checking.CASE_SHARE, checking.rerun_timeouts = share, lambda *a, **k: None
+        start = time.monotonic()
+        try:
+            with course_file.using(course):
+                [r] = check_steps(submission_build(source, "fixtures"), steps, ctx.steps)
+        finally:
+            checking.CASE_SHARE, checking.rerun_timeouts = saved
+        took = time.monotonic() - start
+        kit = [m[:160] for c in r.cases for m in c.messages if KIT_FAULT in m]
+        expect(not kit, f"slow_correct, {share:g} of a case to its calls: blamed on the kit: {kit[:2]}")
+        hit = [c for c in r.cases if any(words in m and "your code" in m for m in c.messages)]
+        expect(bool(hit) and all(c.status == "timed_out" for c in hit),
+               f"slow_correct, {share:g} of a case to its calls: no case timed out with {words!r}: "
+               + "; ".join(f"{c.name}: {c.status} {c.messages[:1]}" for c in r.cases if c.status != "pass")[:600])
+        odd = [f"{c.name}: {c.status}" for c in r.cases if c.status not in ("pass", "timed_out")]
+        expect(not odd, f"slow_correct, {share:g} of a case to its calls: {odd[:4]}")
+        expect(r.passed("basic") > 0, f"slow_correct, {share:g} of a case to its calls: no visible case passed")
+        found.append(f"{words!r}, {len(hit)} case(s) ({took:.0f} s)")
+    shutil.rmtree(source, ignore_errors=True)
+    return "the student's timeout: " + "; ".join(found)
 
 
 def selftests():
@@ -608,4 +740,7 @@ def selftests():
             ("integrity: read the answers", selftest_read_answers),
             ("integrity: read a classmate's files", selftest_read_classmate),
             ("integrity: table of the visible inputs", selftest_table_of_visible_inputs),
-            ("integrity: scratch folder spy", selftest_scratch_spy)]
+            ("integrity: scratch folder spy", selftest_scratch_spy),
+            ("integrity: a sleeper is stopped by the step's budget", selftest_sleeper),
+            ("integrity: slow correct code, the student's timeouts", selftest_slow_correct),
+            ("integrity: a case of many slow calls is the student's timeout", selftest_slow_case)]
