@@ -692,7 +692,7 @@ def selftest_slow_case(ctx) -> str:
     from .. import checking
     from .. import course as course_file
     from ..checking import check_steps
-    from ..common import submission_build
+    from ..build import submission_build
 
     need_solutions()
     steps = [s for s in ctx.steps if s.number == "01"]
