@@ -19,7 +19,7 @@ import traceback
 from dataclasses import dataclass, field
 
 from ..checking import StepResult
-from ..common import QUICK_TIER, ROOT, KitError, load_steps, paint, say
+from ..common import BUILD, QUICK_TIER, ROOT, KitError, load_steps, paint, say
 from ..status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
@@ -166,6 +166,7 @@ def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", qui
     is FAILED when any failed."""
     counts = {"passed": 0, "failed": 0, "skipped": 0}
     chosen = collect(modules, words, quick)
+    BUILD.mkdir(exist_ok=True)      # the self-tests work in build/, which a fresh clone has not made yet
     if quick:
         os.environ[QUICK_TIER] = "1"
     if not chosen:
