@@ -76,8 +76,20 @@ def write_new(path: Path) -> bytes:
     return key
 
 
+# The self-test's own secret (harness.run_all sets it): its gradings draw the same hidden inputs on
+# every run and every machine, so a self-test's verdict never hangs on a random draw. Nothing graded
+# sees it (the judge's environment is the grader's; the compile and the answers program get their own).
+SECRET_ENV = "RAYKIT_SELFTEST_SECRET"
+
+
 def secret(path: Path = SECRET_FILE) -> bytes:
-    """The kit's secret, made on first use."""
+    """The kit's secret, made on first use (the self-test's, while it runs)."""
+    pinned = os.environ.get(SECRET_ENV)
+    if pinned:
+        try:
+            return bytes.fromhex(pinned)
+        except ValueError:
+            raise KitError(f"{SECRET_ENV}: not hexadecimal")
     key = _read(path)
     if key is not None:
         return key

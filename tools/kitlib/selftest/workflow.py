@@ -9,6 +9,7 @@ import zipfile
 
 from ..commands.mutant import MUTANTS, write_answer
 from ..common import BUILD, ROOT, load_steps
+from ..record import is_record
 from ..status import DONE
 from .harness import expect, kit, need_solutions
 
@@ -89,14 +90,20 @@ def selftest_batch_grading(ctx) -> str:
     graded = [a, b, c, d, f_, g]
     expect(len({row["maximum"] for row in graded}) == 1, "the maximum differs between students: one scale broken")
     expect(float(a["earned"]) > float(b["earned"]) > 0, "scores do not order alice > bob > 0")
-    problems = []
-    for j in sorted(jsons.glob("*.json")):
-        problems += [f"{j.name}: {p}" for p in validate_gradescope(json.loads(j.read_text()))]
-    expect(len(list(jsons.glob("*.json"))) == 6, "a results.json per graded student is missing")
+    # --json-dir keeps the kit's own record of each student (kitlib/record.py); Gradescope's format is
+    # what ./kit check --json writes, for the same grading.
+    records = sorted(jsons.glob("*.json"))
+    expect(len(records) == 6, "a record per graded student is missing")
+    not_records = [j.name for j in records if not is_record(json.loads(j.read_text()))]
+    expect(not not_records, f"--json-dir holds files that are not the kit's records: {not_records}")
+    gradescope_file = BUILD / "grade-test-gradescope.json"
+    kit("check", str(int(n)), "--steps", str(root / "bob"), "--quiet", "--json", str(gradescope_file), timeout=900)
+    expect(gradescope_file.is_file(), "./kit check --json wrote no results.json")
+    problems = validate_gradescope(json.loads(gradescope_file.read_text()))
     expect(not problems, "results.json does not follow Gradescope's fields: " + "; ".join(problems[:5]))
     shutil.rmtree(root, ignore_errors=True)
     return ("correct, wrong, crashing, looping, empty, zipped and nested submissions graded two at a time: "
-            "right CSV rows on one scale; results.json valid")
+            "right CSV rows on one scale; a record each; Gradescope's results.json valid")
 
 
 def selftests():
