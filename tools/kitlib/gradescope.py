@@ -49,6 +49,16 @@ def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
     return lines
 
 
+def split_cases(r: StepResult, course) -> tuple[list, list, list, list]:
+    """A step's cases as every platform's results show them: those shown at all (hidden ones only when
+    the course counts them), then the counted ones, the extra-credit ones and the optional ones
+    (worth nothing), each in the step's order."""
+    cases = [c for c in r.cases if c.tier != "hidden" or course.hidden_enabled]
+    scored = [c for c in cases if c.points > 0]
+    return (cases, [c for c in scored if not course.extra_credit(c.group)],
+            [c for c in scored if course.extra_credit(c.group)], [c for c in cases if c.points == 0])
+
+
 def shown_shares(values: list[Fraction], course) -> list[int | float]:
     """Each of `values` on the course's decimals, so that they add up to their exact sum rounded once
     (largest remainders): a step's tests show points that sum to the step's points, where rounding
@@ -72,9 +82,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     tests = []
     for r in results:
         s = r.step
-        cases = [c for c in r.cases if c.tier != "hidden" or course.hidden_enabled]
-        scored = [c for c in cases if c.points > 0]
-        optional = [c for c in cases if c.points == 0]
+        cases, counted, bonus, optional = split_cases(r, course)
         if r.state in UNRUN_STATES and cases:
             detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
             tests.append({
@@ -87,8 +95,6 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
         # Extra credit (course.json: a group's "extra_credit"): worth its points when passed, 0 at most
         # otherwise, so the tests' maxima still add up to the assignment's points (Gradescope takes a
         # score above a test's max_score as extra credit).
-        counted = [c for c in scored if not course.extra_credit(c.group)]
-        bonus = [c for c in scored if course.extra_credit(c.group)]
         shown = shown_shares([c.points for c in counted], course) + [course.number(c.points) for c in bonus]
         for i, (c, points) in enumerate(zip(counted + bonus, shown), 1):
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
@@ -112,7 +118,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                     lines += [f"✗ {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
             tests.append({
                 "name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
-                "number": f"{int(s.number)}.{len(scored) + 1}",
+                "number": f"{int(s.number)}.{len(counted) + len(bonus) + 1}",
                 "score": 0, "max_score": 0, "status": "passed", "visibility": "visible",
                 "output": "\n".join(lines)[:8000], "tags": [f"step{s.number}", "optional"]})
         if not r.cases:  # the kit's own test program failed: say so

@@ -28,11 +28,10 @@ from pathlib import Path
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
-from .gradescope import shown_shares
+from .gradescope import UNRUN_STATES, shown_shares, split_cases
 from .scoreboard import compile_errors
-from .status import MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
+from .status import NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 
-UNRUN_STATES = (NO_COMPILE, MISSING, WAITING)
 TEXT = 4000         # characters per message or output
 HIDDEN_WORDS = ("a hidden case: random inputs of this family, drawn for this submission; its inputs are not "
                 "shown here, only whether your code gets them right")
@@ -56,9 +55,7 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
     tests, images, notes = [], [], []
     for r in results:
         s = r.step
-        cases = [c for c in r.cases if c.tier != "hidden" or course.hidden_enabled]
-        scored = [c for c in cases if c.points > 0]
-        optional = [c for c in cases if c.points == 0]
+        cases, counted, bonus, optional = split_cases(r, course)
         if r.state in UNRUN_STATES and cases:
             detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
             tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
@@ -71,11 +68,8 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
                     notes.append(clean(first))
             continue
         # Extra credit is not PrairieLearn's to give per question (a question scores at most its points):
-        # its cases show as 0-point tests, and the step's message says what they would add elsewhere.
-        counted = [c for c in scored if not course.extra_credit(c.group)]
-        for c in scored:
-            if course.extra_credit(c.group):
-                optional.append(c)
+        # its cases show with the optional ones, as 0-point tests.
+        optional = optional + bonus
         for c, points in zip(counted, shown_shares([c.points for c in counted], course)):
             hidden = c.tier == "hidden"
             test = {"name": f"Step {s.number}{' (hidden)' if hidden else ''} · {c.name}",

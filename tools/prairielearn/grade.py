@@ -31,7 +31,6 @@ from pathlib import Path
 
 KIT = Path(__file__).resolve().parents[2]
 LIMIT = 1_000_000           # bytes: PrairieLearn's limit on results.json ("1 MB")
-TEXT = 4000                 # characters per test's message or output, before any shortening
 
 
 def write(results_dir: Path, data: dict) -> None:
