@@ -1,8 +1,9 @@
 """The kit's own results record: one file per grading of one submission, written by
 `./kit check --results FILE`, read by everything of the instructor's side (`./kit grade`, the
 class report, `./kit mutant`, `./kit course --check`, PrairieLearn's adapter, the portability
-check). The outputs students see (the terminal, Gradescope's results.json, PrairieLearn's results)
-are drawn from the same results, each by its own renderer; none of them parses another.
+check). The outputs students see (the terminal, Gradescope's results.json, PrairieLearn's results,
+GitHub Classroom's per-step results) are drawn from the same results, each by its own renderer; none
+of them parses another.
 
 The record is the grader's: it holds every case's messages, hidden ones included (their inputs and
 the reference's answers), and the hidden cases' seeds. It is never handed to a student's platform;
