@@ -287,6 +287,10 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         bad = sorted({c["status"] for c in res["cases"] if c["status"] in (CRASHED, TIMED_OUT, THREW)})
         if bad:
             notes.append(f"step {s.number}: {' '.join(bad)}")
+        again = [c for c in res["cases"] if c.get("runs", 1) > 1]
+        if again:
+            notes.append(f"step {s.number}: {len(again)} case(s) run again after a timeout, "
+                         f"{sum(c['status'] == 'pass' for c in again)} then passed")
     if found.notes:     # what the upload had that was not graded, whole
         notes.append("left out: " + "; ".join(found.notes))
     row["note"] = "; ".join(notes)
