@@ -29,6 +29,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Callable
 
+from . import atomic
 from . import course as course_file
 from . import waits
 from . import warmup
@@ -260,13 +261,11 @@ def record_reference_time(build: Build, step: Step, budget: Budget, cases: list[
     spent = budget.spent()
     data = reference_times()
     data[step.number] = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"]}
-    tmp = REFERENCE_TIMES.with_name(f".{REFERENCE_TIMES.name}.{os.getpid()}")
     try:
         REFERENCE_TIMES.parent.mkdir(parents=True, exist_ok=True)
-        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
-        os.replace(tmp, REFERENCE_TIMES)
+        atomic.write(REFERENCE_TIMES, json.dumps(data, indent=1, sort_keys=True) + "\n")
     except OSError:
-        tmp.unlink(missing_ok=True)
+        pass
 
 
 def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
@@ -731,13 +730,10 @@ class Verdicts:
                 "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                            "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                            "figure": c.figure, "runs": c.runs, "rerun": c.rerun} for c in result.cases]}
-        target = self._path(result.step)
-        tmp = target.with_name(f".{target.name}.{os.getpid()}")
         try:
-            tmp.write_text(json.dumps(data))
-            os.replace(tmp, target)
+            atomic.write(self._path(result.step), json.dumps(data))
         except OSError:
-            tmp.unlink(missing_ok=True)
+            pass
 
 
 class Progress:

@@ -23,27 +23,28 @@ worth nothing) are not entries: the step's last entry names how many of them pas
 A step whose cases did not run (no compile, a missing file) has every counted case failed, the
 first carrying the compiler's words, so the step's maximum stays the same; in a step that waits for
 another, each case that waits says so. Hidden
-cases (none in a handout, which is what Classroom grades) show only their family, as on Gradescope
-before the due date.
+cases (none in a handout, which is what Classroom grades) show only their family: Classroom has
+no due date to reveal them after.
 """
 
 from __future__ import annotations
 
 import json
-import os
 from fractions import Fraction
 from pathlib import Path
 
+from . import atomic
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
 from .gradescope import split_cases
-from .scoreboard import HIDDEN_NOTE, compile_errors
+from .scoreboard import compile_errors
 from .status import BROKEN, MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 
 FORMAT = "raykit-classroom"
 VERSION = 1
 MESSAGE_CHARS = 1500    # per entry: what the reporter's log shows
+HIDDEN_WORDS = "a hidden case: random inputs of this family; its inputs are not shown here"
 
 
 def entry(name: str, passed: bool, message: str) -> dict:
@@ -55,7 +56,7 @@ def case_message(step_result: StepResult, c) -> str:
     lines = [STATUS_WORDS.get(c.status, c.status)]
     if c.status != PASS:
         hidden = c.tier == "hidden"
-        lines += [HIDDEN_NOTE] if hidden else c.messages[:3]
+        lines += [HIDDEN_WORDS] if hidden else c.messages[:3]
         if c.output_bytes and not hidden:
             lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:1000]}")
         if c.lecture:
@@ -107,10 +108,7 @@ def write(path: str, results: list[StepResult]) -> None:
         raise KitError(f"--classroom {path}: folder {target.parent} does not exist")
     if target.is_dir():
         raise KitError(f"--classroom {path}: is a folder, not a file")
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(json.dumps(classroom(results), ensure_ascii=False))
-        tmp.replace(target)
+        atomic.write(target, json.dumps(classroom(results), ensure_ascii=False))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"--classroom {path}: cannot write it ({e.strerror})")

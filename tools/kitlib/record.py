@@ -19,10 +19,10 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
 from __future__ import annotations
 
 import json
-import os
 from fractions import Fraction
 from pathlib import Path
 
+from . import atomic
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
@@ -44,18 +44,15 @@ def make(results: list[StepResult], elapsed: float, identity: str = "") -> dict:
 
 
 def write(path: str | Path, data: dict) -> None:
-    """Writes `data` whole or not at all (a temporary file renamed over the target)."""
+    """Writes `data` whole or not at all (atomic.write)."""
     target = Path(path)
     if not target.parent.is_dir():
         raise KitError(f"--results {path}: folder {target.parent} does not exist")
     if target.is_dir():
         raise KitError(f"--results {path}: is a folder, not a file")
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(json.dumps(data, indent=1, ensure_ascii=False))
-        tmp.replace(target)
+        atomic.write(target, json.dumps(data, indent=1, ensure_ascii=False))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"--results {path}: cannot write it ({e.strerror})")
 
 

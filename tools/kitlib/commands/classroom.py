@@ -20,9 +20,9 @@ laptop. Re-grade the final commits with ./kit grade or Gradescope (README, "GitH
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
+from .. import atomic
 from ..common import KitError, load_steps, say, writable_parent
 from ..packages import PACKAGES
 from ..status import OK
@@ -105,12 +105,9 @@ def run(args) -> int:
     writable_parent(str(WORKFLOW), target)
     steps = load_steps()
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(workflow(steps, args.timeout))
-        tmp.replace(out)
+        atomic.write(out, workflow(steps, args.timeout))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"{out}: cannot write it ({e.strerror})")
     say(f"wrote {out}: {len(steps)} grading steps (partial credit per case), then the reporter")
     say("  commit it to the template repository; Classroom's grade is only as trustworthy as the")

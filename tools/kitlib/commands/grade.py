@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
+from .. import atomic
 from .. import course as course_file
 from .. import studentpch
 from .. import record as results_record
@@ -107,13 +108,10 @@ def csv_text(cols: list[str], rows: list[dict]) -> str:
 
 
 def write_file(out: Path, text: str) -> None:
-    """Written whole or not at all: a temporary file beside it, then renamed."""
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    """Written whole or not at all (atomic.write)."""
     try:
-        tmp.write_text(text)
-        tmp.replace(out)
+        atomic.write(out, text)
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"{out}: cannot write it ({e.strerror})")
 
 

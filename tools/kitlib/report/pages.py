@@ -15,6 +15,7 @@ import time
 from collections import Counter, defaultdict
 from pathlib import Path
 
+from .. import atomic
 from .. import course as course_file
 from .. import picture
 from ..common import load_steps, prerequisites, printable
@@ -379,9 +380,7 @@ def build(folder: Path, out: Path) -> dict:
     shutil.rmtree(target_students, ignore_errors=True)
     tmp.replace(target_students)
     body.append(f"<p><small>Written in {time.monotonic() - start:.1f} s by <code>./kit report</code>.</small></p>")
-    index_tmp = out / ".index.html.tmp"
-    index_tmp.write_text(page("Class report", body), encoding="utf-8")
-    index_tmp.replace(out / "index.html")
+    atomic.write(out / "index.html", page("Class report", body))
     return {"students": len(g.students), "notes": notes, "pairs": [(p.a, p.b, p.score) for p in sim.pairs],
             "copies": sim.copies, "fits": {k: v for k, v in fits.items()}, "matches": matches}
 
