@@ -23,6 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from . import atomic
+
 
 class BrowserError(Exception):
     pass
@@ -232,6 +234,4 @@ class Browser:
     @staticmethod
     def _write_png(path: Path, data: str) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(path.name + ".tmp")
-        tmp.write_bytes(base64.b64decode(data))
-        tmp.replace(path)
+        atomic.write(path, base64.b64decode(data))

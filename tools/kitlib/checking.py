@@ -29,6 +29,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Callable
 
+from . import atomic
 from . import course as course_file
 from . import waits
 from . import warmup
@@ -57,6 +58,8 @@ class Case:
     figure: dict | None = None  # the geometry of the first failing check (tests/support/case_figure.hpp)
     picture: str = ""           # its SVG (picture.py), when drawn
     picture_summary: str = ""   # one line: what the picture shows, or why there is none
+    runs: int = 1               # how many times the grader ran it (rerun_timeouts runs a timed-out case again)
+    rerun: dict | None = None   # when runs > 1: {"why", "first": {"status", "messages"}, "kept": the run shown}
 
     share: Fraction | None = None   # its exact points on the course's scale (set by StepResult)
 
@@ -128,7 +131,8 @@ class StepResult:
                        "lecture": c.lecture, "status": c.status,
                        "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                        "picture": c.picture or None, "picture_summary": c.picture_summary or None,
-                       "figure": c.figure or None}   # the geometry, so ./kit report can draw the case
+                       "figure": c.figure or None,  # the geometry, so ./kit report can draw the case
+                       "runs": c.runs, **({"rerun": c.rerun} if c.rerun else {})}
                       for c in self.cases],
         }
 
@@ -257,13 +261,11 @@ def record_reference_time(build: Build, step: Step, budget: Budget, cases: list[
     spent = budget.spent()
     data = reference_times()
     data[step.number] = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"]}
-    tmp = REFERENCE_TIMES.with_name(f".{REFERENCE_TIMES.name}.{os.getpid()}")
     try:
         REFERENCE_TIMES.parent.mkdir(parents=True, exist_ok=True)
-        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
-        os.replace(tmp, REFERENCE_TIMES)
+        atomic.write(REFERENCE_TIMES, json.dumps(data, indent=1, sort_keys=True) + "\n")
     except OSError:
-        tmp.unlink(missing_ok=True)
+        pass
 
 
 def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
@@ -345,10 +347,15 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                 c.messages = ["Not run: the step's time ran out."]
 
 
+RERUN_WHY = "timed out: run once more, alone, before it is failed"
+
+
 def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
                    fresh: Callable[[], None] | None = None) -> None:
     """A case that timed out is run once more, on its own, before it is failed: a loaded machine,
-    a slow first start, must not fail correct code. The second verdict is the one kept.
+    a slow first start, must not fail correct code. The second verdict is the one kept (the first
+    when the second gives none); the case records both runs (Case.runs, Case.rerun: why, the first
+    run's verdict, which run is shown), for the grader's record, not for students.
 
     It runs after the hidden cases and students see what it prints, so it must start from nothing
     they left: its judge is a new process (a new answers process, in a new scratch folder, see
@@ -359,6 +366,8 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
         if fresh is not None:
             fresh()
         again = Case(c.name, c.tier, c.lecture)
+        c.runs += 1
+        c.rerun = {"why": RERUN_WHY, "first": {"status": c.status, "messages": list(c.messages)}, "kept": 1}
         with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
             out = Path(tmp) / "run.jsonl"
             try:
@@ -376,6 +385,7 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
                 again.messages.append("(It timed out twice: the case was run again on its own.)")
             c.status, c.messages, c.output, c.output_bytes, c.figure = (
                 again.status, again.messages, again.output, again.output_bytes, again.figure)
+            c.rerun["kept"] = c.runs
 
 
 def _take(c: Case, e: dict) -> None:
@@ -707,7 +717,8 @@ class Verdicts:
             return None
         shown = str(self.build.shown_dir)
         cases = [Case(c["name"], c["tier"], c["lecture"], c["status"], c["messages"], c["output"],
-                      c["output_bytes"], c["figure"]) for c in d["cases"]]
+                      c["output_bytes"], c["figure"], runs=c.get("runs", 1), rerun=c.get("rerun"))
+                 for c in d["cases"]]
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
                           isolation=self.isolation.description, seed=d["seed"])
 
@@ -718,14 +729,11 @@ class Verdicts:
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
                 "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                            "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
-                           "figure": c.figure} for c in result.cases]}
-        target = self._path(result.step)
-        tmp = target.with_name(f".{target.name}.{os.getpid()}")
+                           "figure": c.figure, "runs": c.runs, "rerun": c.rerun} for c in result.cases]}
         try:
-            tmp.write_text(json.dumps(data))
-            os.replace(tmp, target)
+            atomic.write(self._path(result.step), json.dumps(data))
         except OSError:
-            tmp.unlink(missing_ok=True)
+            pass
 
 
 class Progress:

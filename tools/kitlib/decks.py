@@ -26,6 +26,7 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import atomic
 from .common import BUILD, ROOT, KitError, note, say
 from .status import FAILED, OK, SETUP, USAGE
 from .webtools import ensure_docs_tools, npm_package
@@ -354,9 +355,7 @@ def print_pdfs(decks: list[Path]) -> list[Path]:
                           paperWidth=WIDTH / 96, paperHeight=HEIGHT / 96, marginTop=0, marginBottom=0,
                           marginLeft=0, marginRight=0, preferCSSPageSize=True)["data"]
             pdf = deck.with_suffix(".pdf")
-            tmp = pdf.with_name(pdf.name + ".tmp")
-            tmp.write_bytes(base64.b64decode(data))
-            tmp.replace(pdf)
+            atomic.write(pdf, base64.b64decode(data))
             written.append(pdf)
     return written
 

@@ -23,11 +23,11 @@ name, number, output, output_format, tags, visibility, extra_data. So:
 from __future__ import annotations
 
 import json
-import os
 from datetime import datetime, timezone
 from fractions import Fraction
 from pathlib import Path
 
+from . import atomic
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
@@ -205,11 +205,8 @@ def write_json(path: str, results: list[StepResult], elapsed: float, hidden_visi
         raise KitError(f"--json {path}: folder {target.parent} does not exist")
     if target.is_dir():
         raise KitError(f"--json {path}: is a folder, not a file")
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(json.dumps(gradescope(results, elapsed, hidden_visibility, reveal), indent=2,
-                                  ensure_ascii=False))
-        tmp.replace(target)
+        atomic.write(target, json.dumps(gradescope(results, elapsed, hidden_visibility, reveal), indent=2,
+                                        ensure_ascii=False))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"--json {path}: cannot write it ({e.strerror})")

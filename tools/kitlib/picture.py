@@ -24,12 +24,13 @@ and the hits, and what lies outside it is named in a note on the picture.
 from __future__ import annotations
 
 import math
-import os
 import re
 import struct
 from fractions import Fraction
 from pathlib import Path
 from xml.sax.saxutils import escape
+
+from . import atomic
 
 WIDTH = 600                 # px; every text is at least 12 px at this width
 PANEL_MAX_HEIGHT = 420
@@ -901,20 +902,14 @@ def slug(name: str) -> str:
 
 
 def write(figure: dict, title: str, path: Path, sketch_out: list | None = None) -> str:
-    """Writes the picture to `path` whole (a temporary file renamed), returns its summary.
+    """Writes the picture to `path` whole (atomic.write), returns its summary.
     Raises PictureError when it cannot be drawn, OSError when it cannot be written. `sketch_out`, a
     list, receives the picture's first view in characters (sketch)."""
     svg, line, lines = render_all(figure, title)
     if sketch_out is not None:
         sketch_out[:] = lines
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_text(svg, encoding="utf-8")
-        tmp.replace(path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    atomic.write(path, svg)
     return line
 
 

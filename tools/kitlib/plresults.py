@@ -21,10 +21,10 @@ from __future__ import annotations
 
 import base64
 import json
-import os
 from fractions import Fraction
 from pathlib import Path
 
+from . import atomic
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
@@ -112,10 +112,7 @@ def write(path: str, results: list[StepResult], shown_dir: str = "") -> None:
     target = Path(path)
     if not target.parent.is_dir():
         raise KitError(f"--prairielearn {path}: folder {target.parent} does not exist")
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(json.dumps(prairielearn(results, shown_dir), ensure_ascii=False))
-        tmp.replace(target)
+        atomic.write(target, json.dumps(prairielearn(results, shown_dir), ensure_ascii=False))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"--prairielearn {path}: cannot write it ({e.strerror})")

@@ -1,8 +1,9 @@
 """The kit's own results record: one file per grading of one submission, written by
 `./kit check --results FILE`, read by everything of the instructor's side (`./kit grade`, the
 class report, `./kit mutant`, `./kit course --check`, PrairieLearn's adapter, the portability
-check). The outputs students see (the terminal, Gradescope's results.json, PrairieLearn's results)
-are drawn from the same results, each by its own renderer; none of them parses another.
+check). The outputs students see (the terminal, Gradescope's results.json, PrairieLearn's results,
+GitHub Classroom's per-step results) are drawn from the same results, each by its own renderer; none
+of them parses another.
 
 The record is the grader's: it holds every case's messages, hidden ones included (their inputs and
 the reference's answers), and the hidden cases' seeds. It is never handed to a student's platform;
@@ -18,10 +19,10 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
 from __future__ import annotations
 
 import json
-import os
 from fractions import Fraction
 from pathlib import Path
 
+from . import atomic
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
@@ -43,18 +44,15 @@ def make(results: list[StepResult], elapsed: float, identity: str = "") -> dict:
 
 
 def write(path: str | Path, data: dict) -> None:
-    """Writes `data` whole or not at all (a temporary file renamed over the target)."""
+    """Writes `data` whole or not at all (atomic.write)."""
     target = Path(path)
     if not target.parent.is_dir():
         raise KitError(f"--results {path}: folder {target.parent} does not exist")
     if target.is_dir():
         raise KitError(f"--results {path}: is a folder, not a file")
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(json.dumps(data, indent=1, ensure_ascii=False))
-        tmp.replace(target)
+        atomic.write(target, json.dumps(data, indent=1, ensure_ascii=False))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"--results {path}: cannot write it ({e.strerror})")
 
 

@@ -44,6 +44,7 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from . import atomic
 from .common import BUILD, ROOT
 
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
@@ -751,9 +752,7 @@ def _withheld_write(data: dict) -> None:
     try:
         if data:
             BUILD.mkdir(parents=True, exist_ok=True)
-            tmp = WITHHELD.with_name(f".{WITHHELD.name}.{os.getpid()}")
-            tmp.write_text(json.dumps(data))
-            os.replace(tmp, WITHHELD)
+            atomic.write(WITHHELD, json.dumps(data))
         else:
             WITHHELD.unlink(missing_ok=True)
     except OSError:
@@ -1079,17 +1078,12 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
         if st.st_size > limit:
             raise OSError(f"{src.name} is larger than {limit // MiB} MiB")
         dst.parent.mkdir(parents=True, exist_ok=True)
-        tmp = dst.with_name(f".{dst.name}.{os.getpid()}.tmp")
-        tmp.unlink(missing_ok=True)         # a name left or planted there: never written through
-        with open(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600),
-                  "wb") as out:
+        with atomic.replacing(dst, mode, sync=False) as out:    # nothing planted is written through
             while True:
                 chunk = os.read(fd, 1 << 20)
                 if not chunk:
                     break
                 out.write(chunk)
-        os.chmod(tmp, mode)
-        os.replace(tmp, dst)
     finally:
         os.close(fd)
 

@@ -60,6 +60,10 @@ def status_cell(r: StepResult) -> tuple[str, str]:
         kinds = sorted({STATUS_WORDS[c.status] for c in incidents})
         extra += "  (" + ", ".join(f"{k} in {sum(STATUS_WORDS[c.status] == k for c in incidents)} case(s)"
                                    for k in kinds) + ")"
+    again = [c for c in r.cases if c.runs > 1]
+    if again:   # counts only: the first runs' words may hold a hidden case's inputs
+        kept = sum(c.status == PASS for c in again)
+        extra += f"  ({len(again)} case(s) timed out and were run again, {kept} then passed)"
     return paint(f"{mark} {text}", style), extra
 
 

@@ -31,6 +31,7 @@ import subprocess
 import threading
 from pathlib import Path
 
+from . import atomic
 from .common import BUILD, ROOT
 
 ENV = "RAYKIT_STUDENT_PCH"
@@ -145,10 +146,8 @@ def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path)
             st = os.stat(path)
             deps.append([path, st.st_size, st.st_mtime_ns])
         os.chmod(tmp, 0o644)        # read by the compile's own user id, through its private folder
-        deps_file = gch.with_name(gch.name + ".deps.json")
-        deps_file.with_name(deps_file.name + ".new").write_text(json.dumps(deps))
         os.replace(tmp, gch)
-        os.replace(deps_file.with_name(deps_file.name + ".new"), deps_file)
+        atomic.write(gch.with_name(gch.name + ".deps.json"), json.dumps(deps))
         return True
     except (OSError, subprocess.TimeoutExpired):
         return False

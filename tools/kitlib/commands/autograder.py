@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import os
 import stat
 import time
 import zipfile
 from pathlib import Path
 
-from .. import secret
+from .. import atomic, secret
 from ..kitfiles import kit_files, platform_excluded as excluded
 from ..common import ROOT, KitError, say, writable_parent
 from ..status import FAILED, OK
@@ -44,9 +43,8 @@ def run(args) -> int:
     files = sorted(rel for rel in kit_files() if not excluded(rel) and (ROOT / rel).is_file()
                    and rel.as_posix() not in AT_ROOT and ROOT / rel != secret.SECRET_FILE)
     key = secret.secret()       # made now when this kit has none yet
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.partial")
-    try:
-        with zipfile.ZipFile(tmp, "w") as z:
+    with atomic.replacing(out) as f:
+        with zipfile.ZipFile(f, "w") as z:
             for name, src in AT_ROOT.items():
                 add(z, ROOT / src, name)
             for rel in files:
@@ -56,10 +54,6 @@ def run(args) -> int:
             info = zipfile.ZipInfo(secret.SECRET_FILE.relative_to(ROOT).as_posix(), date_time=time.localtime()[:6])
             info.external_attr = (stat.S_IFREG | 0o600) << 16
             z.writestr(info, key.hex() + "\n")
-        os.replace(tmp, out)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
     size = out.stat().st_size
     say(f"wrote {out} ({len(files) + len(AT_ROOT)} files, {size / 1e6:.1f} MB)")
     say("  Gradescope: a programming assignment, Configure Autograder, upload this zip (any Ubuntu LTS base image).")

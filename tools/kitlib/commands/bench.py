@@ -19,6 +19,7 @@ import threading
 import time
 from pathlib import Path
 
+from .. import atomic
 from .. import bench_report as report
 from ..common import ROOT, KitError, load_steps, note, paint, say
 from ..build import Build, build_target, configure, preset_build, tools_build
@@ -263,9 +264,7 @@ def out_dir(arg: str | None) -> Path:
 
 
 def write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    atomic.write(path, text)
 
 
 # --- comparing two runs -------------------------------------------------------------------

@@ -1,6 +1,7 @@
 """./kit check: check the student's steps (kitlib/checking.py) and print the scoreboard
 (kitlib/scoreboard.py); --results writes the kit's own record (kitlib/record.py), --json
-Gradescope's format (kitlib/gradescope.py), both from the same results."""
+Gradescope's format (kitlib/gradescope.py), --prairielearn and --classroom those platforms'
+(kitlib/plresults.py, kitlib/classroomresults.py), all from the same results."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import argparse
 import time
 
 from ..checking import check_steps
-from .. import picture, plresults, record, warmup
+from .. import classroomresults, picture, plresults, record, warmup
 from ..common import BUILD, ROOT, KitError, load_steps, say, note, printable, resolve_steps_dir, select_steps
 from ..build import build_targets, preset_build, submission_build
 from ..submissions import NotFound, locate
@@ -28,6 +29,9 @@ def register(p) -> None:
                         "inputs included; for the grader's side only")
     p.add_argument("--prairielearn", metavar="FILE",
                    help="also write the results in PrairieLearn's external-grader format (kitlib/plresults.py)")
+    p.add_argument("--classroom", metavar="FILE",
+                   help="also write each step's GitHub Classroom result, for tools/classroom/result.py "
+                        "(kitlib/classroomresults.py)")
     p.add_argument("--identity", default="", metavar="TEXT",
                    help="the submission's name on its platform (e.g. gradescope:ID), part of the hidden "
                         "cases' seed (kitlib/secret.py)")
@@ -99,6 +103,8 @@ def run(args) -> int:
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
     if args.results:
         record.write(args.results, record.make([], 0.0))
+    if args.classroom:
+        classroomresults.write(args.classroom, [])
     # The table's heading at once, each step's row as soon as it is checked (a cold build takes a while).
     live = None if args.quiet else LiveProgress(display, steps)
     ensure_packages("build")
@@ -119,9 +125,11 @@ def run(args) -> int:
         write_json(args.json, results, elapsed, args.hidden_visibility, args.reveal)
     if args.prairielearn:
         plresults.write(args.prairielearn, results, str(display) if args.steps else "")
+    if args.classroom:
+        classroomresults.write(args.classroom, results)
     if not args.quiet:
         scoreboard(results, display, args.all, args.reveal, table_shown=True)
-    if not args.steps and not args.quiet and not args.json and warmup.wanted(build):
+    if not args.steps and not args.quiet and not args.json and not args.classroom and warmup.wanted(build):
         warmup.start(build)     # nothing was built: the kit's own programs, while the task is read
         if warmup.running(build):
             note("(the kit's own test programs are building in the background while you read the task, "

@@ -5,11 +5,12 @@ DIR/.github/workflows/classroom.yml in the form Classroom's own editor generates
 permissions it asks for, one job on ubuntu-latest, one step per test, then the reporter with
 `runners:`), with two differences that give partial credit per case on the kit's one scale:
 
-- the packages are installed, and every step checked, once (`./kit check --json`);
-- each kit step's grading step is a `run:` step writing its own `result` output in the command
-  grader's version 1 format (tools/classroom/result.py): one entry per case, 1 or 0 points, so the
-  reporter's "Points X/Y" is the kit's own score, and its console table (passes x max_score / entries)
-  says the same.
+- the packages are installed, and every step checked, once (`./kit check --classroom FILE`, which
+  renders every step's result from the kit's own results: kitlib/classroomresults.py);
+- each kit step's grading step is a `run:` step handing its step's result on as its own `result`
+  output (tools/classroom/result.py), in the command grader's version 1 format: one entry per counted
+  case, 1 or 0 points, so the reporter's "Points X/Y" is the kit's own score (where each counted case
+  is worth a point, as by default), and its console table (passes x max_score / entries) says the same.
 
 What Classroom's grade is worth: the student owns the repository and its workflow, and the check runs
 their steps unsandboxed and without hidden cases (a handout has none), as ./kit check does on their
@@ -19,9 +20,9 @@ laptop. Re-grade the final commits with ./kit grade or Gradescope (README, "GitH
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
+from .. import atomic
 from ..common import KitError, load_steps, say, writable_parent
 from ..packages import PACKAGES
 from ..status import OK
@@ -68,7 +69,7 @@ def workflow(steps, timeout: int = 15) -> str:
         "    - name: Install the packages",
         f"      run: sudo apt-get update -q && sudo apt-get install -y -q --no-install-recommends {packages}",
         "    - name: Check every step",
-        f"      run: mkdir -p build && (./kit check --json {RESULTS} || true)",
+        f"      run: mkdir -p build && (./kit check --classroom {RESULTS} || true)",
     ]
     for s, i in zip(steps, ids):
         lines += [
@@ -92,8 +93,9 @@ def run(args) -> int:
         raise KitError(f"{args.dir}: no such folder; write the handout first (./kit handout {args.dir})")
     if not (target / "kit").is_file() or not (target / "steps").is_dir():
         raise KitError(f"{args.dir}: not a copy of the kit (no ./kit or steps/); write it with ./kit handout")
-    if not (target / "tools/classroom/result.py").is_file():
-        raise KitError(f"{args.dir}: has no tools/classroom/result.py (a handout from an older kit); write it again")
+    if not all((target / f).is_file() for f in ("tools/classroom/result.py", "tools/kitlib/classroomresults.py")):
+        raise KitError(f"{args.dir}: has no tools/classroom/result.py or kitlib/classroomresults.py (a handout "
+                       "from an older kit); write it again")
     if (target / "solutions").exists():
         raise KitError(f"{args.dir}: has solutions/; Classroom's template repository must be a handout "
                        "(students can read every file of it)")
@@ -103,12 +105,9 @@ def run(args) -> int:
     writable_parent(str(WORKFLOW), target)
     steps = load_steps()
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(workflow(steps, args.timeout))
-        tmp.replace(out)
+        atomic.write(out, workflow(steps, args.timeout))
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"{out}: cannot write it ({e.strerror})")
     say(f"wrote {out}: {len(steps)} grading steps (partial credit per case), then the reporter")
     say("  commit it to the template repository; Classroom's grade is only as trustworthy as the")

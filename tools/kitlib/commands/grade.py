@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
+from .. import atomic
 from .. import course as course_file
 from .. import studentpch
 from .. import record as results_record
@@ -107,13 +108,10 @@ def csv_text(cols: list[str], rows: list[dict]) -> str:
 
 
 def write_file(out: Path, text: str) -> None:
-    """Written whole or not at all: a temporary file beside it, then renamed."""
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    """Written whole or not at all (atomic.write)."""
     try:
-        tmp.write_text(text)
-        tmp.replace(out)
+        atomic.write(out, text)
     except OSError as e:
-        tmp.unlink(missing_ok=True)
         raise KitError(f"{out}: cannot write it ({e.strerror})")
 
 
@@ -287,6 +285,10 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         bad = sorted({c["status"] for c in res["cases"] if c["status"] in (CRASHED, TIMED_OUT, THREW)})
         if bad:
             notes.append(f"step {s.number}: {' '.join(bad)}")
+        again = [c for c in res["cases"] if c.get("runs", 1) > 1]
+        if again:
+            notes.append(f"step {s.number}: {len(again)} case(s) run again after a timeout, "
+                         f"{sum(c['status'] == 'pass' for c in again)} then passed")
     if found.notes:     # what the upload had that was not graded, whole
         notes.append("left out: " + "; ".join(found.notes))
     row["note"] = "; ".join(notes)

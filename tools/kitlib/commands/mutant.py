@@ -27,6 +27,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+from .. import atomic
 from ..common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps
 from ..status import FAILED, OK
 from ..mutants import (CONTEXT_LINES, GRADE_SECONDS, MUTANTS, SOLUTIONS, WORK, Hunk, Mutant, PatchError,  # noqa: F401
@@ -133,9 +134,7 @@ def _save(step: Step, args, target: Path) -> int:
     cases = args.caught_by or failing
     text = write_patch(step, args.name, slip, cases, changed)
     target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_suffix(".patch.tmp")
-    tmp.write_text(text)
-    tmp.replace(target)     # never a half-written patch
+    atomic.write(target, text)      # never a half-written patch
     say(f"wrote {rel_target} ({sum(len(h) for h in read_patch(target, step).files.values())} hunk(s))")
     if not failing:
         state = result["state"] if result else f"exit status {code}"

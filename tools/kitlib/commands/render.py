@@ -11,13 +11,13 @@ from __future__ import annotations
 import json
 import os
 import re
-import shutil
 import signal
 import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import atomic
 from ..common import BUILD, ROOT, KitError, load_steps, note, paint, resolve_steps_dir, say
 from ..build import Build, tools_build, build_target, configure, preset_build, submission_build
 
@@ -327,9 +327,7 @@ def fresh_test_data() -> str:
 
 
 def write_atomically(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    atomic.write(path, text)
 
 
 # --- the command ---------------------------------------------------------------------------
@@ -438,8 +436,7 @@ def refresh() -> int:
     with tempfile.TemporaryDirectory(dir=BUILD if BUILD.is_dir() else None) as tmp:
         written = render_reference(scenes, DEFAULT_SIZE, Path(tmp))
         for name, path in written.items():
-            shutil.copyfile(path, DOCS_IMAGES / f"{name}.png.tmp")
-            (DOCS_IMAGES / f"{name}.png.tmp").replace(DOCS_IMAGES / f"{name}.png")
+            atomic.write(DOCS_IMAGES / f"{name}.png", path.read_bytes())
             say(f"  {paint('✓', 'green')} {(DOCS_IMAGES / f'{name}.png').relative_to(ROOT)}")
     write_atomically(TEST_DATA, fresh_test_data())
     say(f"  {paint('✓', 'green')} {TEST_DATA.relative_to(ROOT)}")

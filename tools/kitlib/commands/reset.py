@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from .. import atomic
 from ..common import ROOT, KitError, load_steps, say, select_steps
 from ..status import FAILED, OK
 
@@ -55,9 +56,7 @@ def run(args) -> int:
             backup = target.with_name(f"{target.name}.bak-{stamp}")
             shutil.copy2(target, backup)
             say(f"kept your {rel} as {backup.relative_to(ROOT)}")
-        tmp = target.with_name(f".{target.name}.reset")
-        tmp.write_bytes(stubs[rel])
-        tmp.replace(target)
+        atomic.write(target, stubs[rel])
         say(f"{rel}: the shipped stub is back")
     say(f"Next: ./kit check {int(step.number)}")
     return OK

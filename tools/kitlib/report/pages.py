@@ -15,6 +15,7 @@ import time
 from collections import Counter, defaultdict
 from pathlib import Path
 
+from .. import atomic
 from .. import course as course_file
 from .. import picture
 from ..common import load_steps, prerequisites, printable
@@ -131,7 +132,8 @@ def crash_kind(case: dict) -> tuple[str, str]:
 def incidents(g):
     """{section title: {kind: [(student, step, example)]}}"""
     out = {"Does not compile": defaultdict(list), "Crashed": defaultdict(list),
-           "Threw an exception": defaultdict(list), "Timed out": defaultdict(list), "Not graded": defaultdict(list)}
+           "Threw an exception": defaultdict(list), "Timed out": defaultdict(list),
+           "Run again after a timeout": defaultdict(list), "Not graded": defaultdict(list)}
     for st in g.students:
         if st.data is None:
             out["Not graded"][st.row.get("status") or "not graded"].append((st.name, "", st.row.get("note", "")))
@@ -148,6 +150,13 @@ def incidents(g):
                     if (section, kind) not in seen:         # once per student and step
                         seen.add((section, kind))
                         out[section][f"step {res['step']}: {kind}"].append((st.name, res["step"], text))
+                rerun = c.get("rerun") if c.get("runs", 1) > 1 else None
+                if isinstance(rerun, dict):     # the record keeps both runs (checking.rerun_timeouts)
+                    first = rerun.get("first") or {}
+                    kind = (f"step {res['step']}: {STATUS_WORDS.get(first.get('status'), first.get('status'))}, "
+                            f"then {STATUS_WORDS.get(c.get('status'), c.get('status'))}")
+                    out["Run again after a timeout"][kind].append(
+                        (st.name, res["step"], f"{c['name']}: {' '.join(first.get('messages') or [])[:300]}"))
     return {k: v for k, v in out.items() if v}
 
 
@@ -371,9 +380,7 @@ def build(folder: Path, out: Path) -> dict:
     shutil.rmtree(target_students, ignore_errors=True)
     tmp.replace(target_students)
     body.append(f"<p><small>Written in {time.monotonic() - start:.1f} s by <code>./kit report</code>.</small></p>")
-    index_tmp = out / ".index.html.tmp"
-    index_tmp.write_text(page("Class report", body), encoding="utf-8")
-    index_tmp.replace(out / "index.html")
+    atomic.write(out / "index.html", page("Class report", body))
     return {"students": len(g.students), "notes": notes, "pairs": [(p.a, p.b, p.score) for p in sim.pairs],
             "copies": sim.copies, "fits": {k: v for k, v in fits.items()}, "matches": matches}
 

@@ -18,11 +18,11 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import atomic
 from ..common import ROOT, Step, load_steps
 from ..mutants import PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 
@@ -90,9 +90,7 @@ def compute(progress=print, numbers: list[str] | None = None) -> dict:
 
 
 def write(data: dict, target: Path = FILE) -> None:
-    tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(data, indent=1, ensure_ascii=False, sort_keys=True) + "\n")
-    tmp.replace(target)
+    atomic.write(target, json.dumps(data, indent=1, ensure_ascii=False, sort_keys=True) + "\n")
 
 
 def load(target: Path = FILE) -> tuple[list[Signature], list[str]]:

@@ -276,7 +276,7 @@ class RootSocket:
 def selftest_root_secrets(ctx) -> str:
     need_solutions()
     if os.geteuid() != 0:
-        raise Skipped("needs root: the attack is on what root owns")
+        raise Skipped("needs root: the attack is on what root owns", need="root")
     servers = [RootSocket(p) for p in ("/run/raykit-hostile.sock", "/tmp/raykit-hostile.sock") if Path(p).parent.is_dir()]
 
     def one(mode: str) -> str:
@@ -477,7 +477,7 @@ def gradescope(upload: Path, metadata: dict | None = None, isolation: str = "") 
 def selftest_gradescope_repeatable(ctx) -> str:
     need_solutions()
     if os.geteuid() != 0:
-        raise Skipped("Gradescope runs the autograder as root")
+        raise Skipped("Gradescope runs the autograder as root", need="root")
     runs = 5 if FULL else 2
     folder = one_slip_folder()
     scores = [gradescope(folder)["score"] for _ in range(runs)]
@@ -511,7 +511,7 @@ def selftest_gradescope_hidden_stay_hidden(ctx) -> str:
     --identity gradescope:ID, the kit's secret is the zip's) reproduces its score."""
     need_solutions()
     if os.geteuid() != 0:
-        raise Skipped("Gradescope runs the autograder as root")
+        raise Skipped("Gradescope runs the autograder as root", need="root")
     upload = ROOT / "tests" / "fixtures" / "hostile" / "replay_results"
     base = {"created_at": "2026-09-01T10:00:00+00:00",
             "assignment": {"due_date": "2099-01-01T00:00:00+00:00", "title": "raykit"},
@@ -573,7 +573,7 @@ def selftest_sandbox_failure(ctx) -> str:
     need_solutions()
     from ..sandbox import bwrap_works
     if not bwrap_works():
-        raise Skipped("bubblewrap cannot run here")
+        raise Skipped("bubblewrap cannot run here", need="bwrap")
     parts = []
     for where in ("compile", "run"):
         slot = 8
@@ -637,7 +637,7 @@ def selftest_uid_claims(ctx) -> str:
     one ends every process of its id, which must never be the other's); without ranges, an id that
     has a live process is passed over. A RAYKIT_FIRST_UID that is not a range is refused."""
     if os.geteuid() != 0:
-        raise Skipped("sandbox user ids are claimed only when grading as root")
+        raise Skipped("sandbox user ids are claimed only when grading as root", need="root")
     from ..sandbox import FIRST_UID_ENV, UID_RANGE, claim_range
     env = dict(os.environ, PYTHONPATH=str(ROOT / "tools"))
     env.pop(FIRST_UID_ENV, None)
@@ -749,7 +749,7 @@ def selftest_lock_links(ctx) -> str:
     only root could. A grading that claims those ids leaves the file as it was, and grades."""
     need_solutions()
     if os.geteuid() != 0:
-        raise Skipped("sandbox user ids are claimed only when grading as root")
+        raise Skipped("sandbox user ids are claimed only when grading as root", need="root")
     modes, _ = isolations()
     slot = CLAIM_SLOTS[0]
     names = lock_names(slot)
@@ -824,7 +824,7 @@ def selftest_claim_squatters(ctx) -> str:
     Both gradings still claim an id each, and grade."""
     need_solutions()
     if os.geteuid() != 0:
-        raise Skipped("sandbox user ids are claimed only when grading as root")
+        raise Skipped("sandbox user ids are claimed only when grading as root", need="root")
     modes, _ = isolations()
     mode = modes[0] if modes else "user"
     uids = [str(u) for slot in CLAIM_SLOTS for u in slot_uids(slot)]
@@ -875,7 +875,7 @@ def selftest_cache_isolation(ctx) -> str:
     need_solutions()
     modes, skipped = isolations()
     if not modes:
-        raise Skipped("; ".join(skipped))
+        raise Skipped("; ".join(skipped), need="bwrap root")
     slot = CLAIM_SLOTS[0]
     folder = templated("include_answers")
     _, loose, _, _ = check(folder, ["01"], "none", slot=slot)

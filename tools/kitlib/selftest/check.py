@@ -4,16 +4,22 @@ bad input with a message."""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import subprocess
 import tempfile
 from pathlib import Path
 
-from ..checking import check_steps, list_cases
+from .. import record
+from ..checking import RERUN_WHY, check_steps, list_cases
+from ..classroomresults import classroom
+from ..gradescope import gradescope
+from ..plresults import prairielearn
+from ..scoreboard import status_cell
 from ..common import BUILD, ROOT
 from ..build import build_target, preset_build, submission_build, workflow
-from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, THREW, TIMED_OUT
+from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 
 
@@ -155,6 +161,10 @@ def selftest_grader_fixtures(ctx: Context) -> str:
         expect(r.state == state, f"fixture {name}: graded {r.state}, expected {state}")
         if status:
             expect(any(c.status == status for c in r.cases), f"fixture {name}: no case is {status}")
+        if status == TIMED_OUT:     # each was run again alone, timed out again, and the case says so
+            odd = [f"{c.name}: {c.runs} runs, {c.rerun}" for c in r.cases if c.status == TIMED_OUT
+                   and not (c.runs == 2 and c.rerun and c.rerun["first"]["status"] == TIMED_OUT)]
+            expect(not odd, f"fixture {name}: a timed-out case without its two runs recorded: {odd[:2]}")
         if some_pass:
             expect(r.passed("basic") > 0, f"fixture {name}: grading stopped, no other case passed")
         seen.append(name)
@@ -163,6 +173,36 @@ def selftest_grader_fixtures(ctx: Context) -> str:
     expect("window: a root exactly at tmin counts" in r.stdout and "section" in r.stdout,
            "the scoreboard does not name the first failing case and its lecture section")
     return "reported per case and graded on: " + ", ".join(seen)
+
+
+def selftest_rerun_recorded(ctx: Context) -> str:
+    """tests/fixtures/timeout_once: its first call loops, so one case times out, is run again alone
+    (checking.rerun_timeouts) and passes. The record says so for that case only (runs, why, the
+    first run's verdict, which run is shown), the terminal's row counts it, and none of the outputs
+    students get (Gradescope's, even revealed, PrairieLearn's, Classroom's) carries the first run."""
+    need_solutions()
+    steps = [s for s in ctx.steps if s.number == "01"]
+    [r] = check_steps(submission_build(ROOT / "tests" / "fixtures" / "timeout_once", "fixtures"), steps, ctx.steps)
+    cases = record.cases(record.make([r], 0.0))
+    again = [c for c in cases if c.get("runs") != 1 or "rerun" in c]
+    expect(len(again) == 1, f"timeout_once: {len(again)} cases recorded as run again, not 1: "
+                            + "; ".join(f"{c['name']} {c['status']} runs {c.get('runs')}" for c in again[:4]))
+    [c] = again
+    rerun = c.get("rerun") or {}
+    first = rerun.get("first") or {}
+    expect(c["runs"] == 2 and rerun.get("why") == RERUN_WHY and first.get("status") == TIMED_OUT
+           and c["status"] == PASS and rerun.get("kept") == 2,
+           f"timeout_once: {c['name']}: {c['status']}, runs {c['runs']}, rerun {rerun}")
+    expect(r.state == DONE, f"timeout_once: graded {r.state}, but its one timeout passed when run again")
+    _, extra = status_cell(r)
+    expect("1 case(s) timed out and were run again, 1 then passed" in extra, f"the terminal's row: {extra!r}")
+    words = [m for m in first.get("messages", []) if m.strip()]
+    expect(bool(words), f"timeout_once: the first run's verdict has no words: {first}")
+    shown = json.dumps([gradescope([r], 0.0, "visible", reveal=True), prairielearn([r]), classroom([r])],
+                       ensure_ascii=False)
+    leaked = [m for m in words if json.dumps(m, ensure_ascii=False)[1:-1] in shown]
+    expect(not leaked, f"timeout_once: students' outputs carry the first run's words: {leaked[:1]}")
+    return f"{c['name']!r}: timed out, run again, passed; recorded, counted on the terminal, not shown to students"
 
 
 def selftest_command_line(ctx: Context) -> str:
@@ -489,6 +529,7 @@ def selftests() -> list:
         ("step functions and manifests", selftest_remote_lists),
         ("a copied solution grades 'done'", selftest_solution_copied_is_done),
         ("grader survives bad code", selftest_grader_fixtures),
+        ("a case run again is in the record", selftest_rerun_recorded),
         ("command line errors", selftest_command_line),
         ("the student's loop in a handout", selftest_student_loop),
         ("--all marks ★ cases; piped progress", selftest_all_and_piped),

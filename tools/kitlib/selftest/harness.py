@@ -5,6 +5,12 @@ it should, raises `Failed` with the reason when it does not, and raises `Skipped
 when it does not apply here (a handout has no solutions/, --fast leaves out a slow build). Each
 module of this package lists its self-tests in `selftests() -> [(name, fn)]`; `MODULES` orders the
 modules. A skip is counted as a skip, never as a pass.
+
+Security tests (every self-test of SECURITY_MODULES, and any marked with `security`) may not skip
+in CI (CI=true): there a skip is a failure unless the machine truly cannot do what the test needs
+and .ci/run says so, in CANNOT_ENV (e.g. "root bwrap", each printed with its reason). A skip names
+what it needs (`Skipped(reason, need="bwrap")`); a security test that runs in part (under one
+isolation of two) reports the part it leaves out through `partly_skipped`, under the same rule.
 """
 
 from __future__ import annotations
@@ -25,8 +31,8 @@ from ..secret import SECRET_ENV
 from ..status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
-MODULES = ["layers", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity", "boundary",
-           "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report",
+MODULES = ["layers", "ci", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity",
+           "boundary", "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report",
            "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
@@ -46,7 +52,8 @@ QUICK = {
     "docs": ["docs: math filter"],
     "handout": ["handout: no step code"],
     "hint": ["hint order: what fails first"],
-    "layers": ["layers: imports go downwards, no cycle"],
+    "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write"],
+    "ci": ["ci: a skipped security test fails in CI"],
     "lectures": ["numbers quoted from the benchmark are current", "★ grading figures are current",
                  "the pitfalls' pictures are committed and current", "lecture 05's tables are the scene file's",
                  "hints point to lecture sections that exist", "every rule a header states has a case"],
@@ -72,7 +79,53 @@ class Failed(Exception):
 
 
 class Skipped(Exception):
-    """The self-test does not apply here; the message says why."""
+    """The self-test does not apply here; the message says why, `need` what the machine lacks for it
+    (words of NEEDS, space-separated; "" when it is not the machine's doing)."""
+
+    def __init__(self, reason: str, need: str = ""):
+        super().__init__(reason)
+        self.need = need
+
+
+# --- security tests in CI ------------------------------------------------------------------------
+SECURITY_MODULES = ("integrity", "boundary")
+CANNOT_ENV = "RAYKIT_CI_CANNOT"     # set by .ci/run: what this machine cannot do, words of NEEDS
+NEEDS = {"root": "the kit runs as root (the user isolation, Gradescope's flow, sandbox user ids)",
+         "bwrap": "bubblewrap can start a sandbox here"}
+_running = {"security": False}      # whether the self-test running now is a security test
+
+
+def security(fn):
+    """Marks a self-test of another module as a security test (see the module's docstring)."""
+    fn.security = True
+    return fn
+
+
+def in_ci() -> bool:
+    return os.environ.get("CI", "").strip().lower() in ("true", "1", "yes")
+
+
+def skip_refused(need: str) -> str:
+    """Why a skip of the security test running now fails here, or "" when it may skip."""
+    if not (_running["security"] and in_ci()):
+        return ""
+    declared = set(os.environ.get(CANNOT_ENV, "").split())
+    wanted = set(need.split())
+    if wanted and wanted <= declared:
+        return ""
+    missing = " ".join(sorted(wanted - declared))
+    return ("a security test may not skip in CI" + (f": .ci/run does not say this machine cannot do "
+            f"'{missing}' ({CANNOT_ENV}={os.environ.get(CANNOT_ENV, '')!r})" if wanted else
+            " for a reason that is not the machine's"))
+
+
+def partly_skipped(need: str, reason: str) -> str:
+    """`reason`, for a security test that leaves out a part it cannot run here; in CI, unless .ci/run
+    declares `need`, it fails instead (Failed)."""
+    refused = skip_refused(need)
+    if refused:
+        raise Failed(f"{reason}: {refused}")
+    return reason
 
 
 def need_solutions() -> None:
@@ -151,6 +204,8 @@ def collect(modules: list[str] | None = None, words: str = "", quick: bool = Fal
     for entry in modules or MODULES:
         name, _, only = entry.partition(":")
         tests = importlib.import_module(f"{__package__}.{name}").selftests()
+        if name in SECURITY_MODULES:
+            tests = [(n, security(fn)) for n, fn in tests]
         if quick:
             missing = [n for n in QUICK.get(name, []) if n not in {t for t, _ in tests}]
             if missing:
@@ -161,6 +216,31 @@ def collect(modules: list[str] | None = None, words: str = "", quick: bool = Fal
                 tests = [(n, fn) for n, fn in tests if want.lower() in n.lower()]
         found += tests
     return found
+
+
+def run_one(ctx: Context, name: str, fn) -> str:
+    """Runs one self-test and prints its line; "passed", "failed" or "skipped"."""
+    start = time.monotonic()
+    _running["security"] = bool(getattr(fn, "security", False))
+    try:
+        detail = fn(ctx)
+        say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
+        return "passed"
+    except Skipped as e:
+        refused = skip_refused(e.need)
+        if refused:
+            say(f"{paint('✗', 'red')} {name}: skipped ({e}), but {refused}")
+            return "failed"
+        say(f"{paint('-', 'dim')} {name}: skipped, {e}")
+        return "skipped"
+    except (Failed, KitError) as e:
+        say(f"{paint('✗', 'red')} {name}: {e}")
+        return "failed"
+    except Exception:  # a bug in the self-test itself: still report and go on
+        say(f"{paint('✗', 'red')} {name}: the self-test itself failed\n{traceback.format_exc()}")
+        return "failed"
+    finally:
+        _running["security"] = False
 
 
 def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False) -> int:
@@ -177,20 +257,7 @@ def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", qui
         asked = " ".join(list(modules or []) + ([f"-k {words!r}"] if words else []))
         raise KitError(f"no self-test matches {asked}")
     for name, fn in chosen:
-        start = time.monotonic()
-        try:
-            detail = fn(ctx)
-            counts["passed"] += 1
-            say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
-        except Skipped as e:
-            counts["skipped"] += 1
-            say(f"{paint('-', 'dim')} {name}: skipped, {e}")
-        except (Failed, KitError) as e:
-            counts["failed"] += 1
-            say(f"{paint('✗', 'red')} {name}: {e}")
-        except Exception:  # a bug in the self-test itself: still report and go on
-            counts["failed"] += 1
-            say(f"{paint('✗', 'red')} {name}: the self-test itself failed\n{traceback.format_exc()}")
+        counts[run_one(ctx, name, fn)] += 1
     say()
     say(f"selftest: {counts['passed']} passed, {counts['failed']} failed, {counts['skipped']} skipped")
     return FAILED if counts["failed"] else OK

@@ -21,13 +21,13 @@ from .harness import expect
 KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
-    ("core", ["status", "common", "course", "secret", "packages", "relocate", "kitfiles", "waits", "submissions",
-              "kitcache"]),
+    ("core", ["status", "common", "atomic", "course", "secret", "packages", "relocate", "kitfiles", "waits",
+              "submissions", "kitcache"]),
     ("boundary", ["sandbox", "studentpch", "launch"]),
     ("build", ["build", "warmup"]),
     ("judge", ["checking", "mutants"]),
-    ("outputs", ["record", "gradescope", "plresults", "scoreboard", "picture", "robust_line", "report",
-                 "report.grading", "report.make", "report.pages", "report.plots", "report.signatures",
+    ("outputs", ["record", "gradescope", "plresults", "classroomresults", "scoreboard", "picture", "robust_line",
+                 "report", "report.grading", "report.make", "report.pages", "report.plots", "report.signatures",
                  "report.similar"]),
     ("site", ["webtools", "decks", "browser", "bench_report"]),
     ("commands", ["cli", "__main__", "commands"]),
@@ -124,5 +124,74 @@ def selftest_layers(ctx) -> str:
             + ", ".join(f"{k} {v}" for k, v in lines.items()))
 
 
+# Renames that are not a write of the kit's own data, so not atomic.write's: per module, how many
+# and what they move.
+OTHER_RENAMES = {
+    "studentpch": (1, "the compiler's own output (a precompiled header) moved into place"),
+    "sandbox": (2, "an object-cache entry's folder, swapped whole"),
+    "report.pages": (1, "a folder of pages, swapped whole"),
+    "commands.prairielearn": (1, "a staged folder, swapped whole"),
+    "commands.handout": (1, "a staged folder, swapped whole"),
+    "commands.docs": (2, "the site's folder, swapped whole"),
+    "decks": (2, "the decks' folder, swapped whole"),
+    "kitcache": (3, "a compiler launcher run as a script (python3 -S), outside the package"),
+}
+
+
+def renames(path: Path) -> int:
+    """Calls in `path` that move a file into place: os.replace, os.rename, a Path's replace or rename
+    (one argument: str.replace takes two)."""
+    found = 0
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                and node.func.attr in ("replace", "rename"):
+            if (isinstance(node.func.value, ast.Name) and node.func.value.id == "os") or len(node.args) == 1:
+                found += 1
+    return found
+
+
+def selftest_atomic_write(ctx) -> str:
+    """One atomic write (kitlib/atomic.py): no other module moves a file into place but those
+    OTHER_RENAMES names; and its guarantees, shown: a link planted at the target is replaced, not
+    written through; a write that fails halfway leaves the old file whole and no temporary file; a
+    missing folder is an OSError; the mode is what a plain open gives, or the one asked for."""
+    import tempfile
+    from .. import atomic
+
+    counts = {n: renames(p) for n, p in modules().items() if n != "atomic"}
+    hand_written = sorted(f"{n} ({k})" for n, k in counts.items() if k != OTHER_RENAMES.get(n, (0, ""))[0])
+    expect(not hand_written, f"files moved into place by hand (use atomic.write or atomic.replacing; a folder or "
+                             f"another program's output: name it in layers.OTHER_RENAMES): {hand_written}")
+    with tempfile.TemporaryDirectory(prefix="raykit-atomic-") as tmp:
+        d = Path(tmp)
+        victim = d / "victim"
+        victim.write_text("the victim")
+        (d / "out.json").symlink_to(victim)
+        atomic.write(d / "out.json", "new")
+        expect(victim.read_text() == "the victim" and not (d / "out.json").is_symlink()
+               and (d / "out.json").read_text() == "new", "a link planted at the target was written through")
+        expect((d / "out.json").stat().st_mode & 0o777 == atomic.DEFAULT_MODE, "the default mode is not open()'s")
+        try:
+            with atomic.replacing(d / "out.json", 0o600) as f:
+                f.write(b"half")
+                raise RuntimeError("stopped halfway")
+        except RuntimeError:
+            pass
+        left = sorted(p.name for p in d.iterdir())
+        expect((d / "out.json").read_text() == "new" and left == ["out.json", "victim"],
+               f"a write stopped halfway left {left}, the file reading {(d / 'out.json').read_text()!r}")
+        try:
+            atomic.write(d / "no-such-folder" / "x", b"x")
+            expect(False, "a write into a missing folder did not fail")
+        except OSError:
+            pass
+        atomic.write(d / "secret", b"\0", mode=0o600)
+        expect((d / "secret").stat().st_mode & 0o777 == 0o600, "the mode asked for was not given")
+    return (f"only atomic.py moves the kit's files into place ({sum(k for k, _ in OTHER_RENAMES.values())} other "
+            "renames, of folders and compilers' output); a planted link replaced, a half write leaves nothing, "
+            "modes kept")
+
+
 def selftests():
-    return [("layers: imports go downwards, no cycle", selftest_layers)]
+    return [("layers: imports go downwards, no cycle", selftest_layers),
+            ("layers: one atomic write", selftest_atomic_write)]

@@ -28,6 +28,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
+from .. import course as course_file
 from ..common import BUILD, ROOT, load_steps
 from .harness import Failed, Skipped, expect, kit, need_solutions
 
@@ -107,6 +108,11 @@ def selftest_classroom(ctx) -> str:
         "      with:\n        runners: a\n        max-score: 3\n")
     expect(any("max-score" in p for p in simulate(bad, rep)["problems"]),
            "a reporter step with an unknown with: key (max-score) was not caught")
+    # Classroom's points are one a counted case: the kit's own score too where the course gives each
+    # counted case one point (the default scale), the number of counted cases passed otherwise.
+    course = course_file.load()
+    one_point_a_case = all(p is None for p in course.points.values()) and all(
+        course.weight(g) in (0, 1) for g in course.weights)
     repo = make_handout(WORK / "classroom-repo")
     r = kit("classroom", str(repo))
     expect(r.returncode == 0, f"./kit classroom failed: {r.stdout}{r.stderr}")
@@ -116,9 +122,13 @@ def selftest_classroom(ctx) -> str:
         got = simulate(repo, rep)
         expect(not got["problems"], f"{form}: " + "; ".join(got["problems"])[:2000])
         results = json.loads((repo / "build/classroom-results.json").read_text())
-        kit_score = (results["score"], results["extra_data"]["max_score"])
+        kit_score = (results["score"], results["max_score"])      # counted cases passed, of all of them
         expect((got["points"], got["max"]) == kit_score,
                f"{form}: the reporter says {got['notice']!r}, the kit {kit_score[0]}/{kit_score[1]}")
+        if one_point_a_case:    # then Points is the kit's score on its own scale too
+            expect(kit_score == (results["kit_score"], results["kit_max_score"]),
+                   f"{form}: {kit_score[0]}/{kit_score[1]} cases, but the kit's score is "
+                   f"{results['kit_score']}/{results['kit_max_score']} where every counted case is worth a point")
         expect(got["table"] == [got["points"], got["max"]],
                f"{form}: the reporter's table totals {got['table']}, its notice {got['notice']!r}")
         seen.append(f"{form} {got['points']:g}/{got['max']:g}")
