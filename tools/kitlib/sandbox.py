@@ -220,21 +220,24 @@ class Isolation:
                                          f"{limits.file_mb * MiB} {limits.cpu_seconds}"}
 
     # --- the compile and the link -----------------------------------------------------------
-    def run_tool(self, kind: str, argv: list[str], cwd: Path) -> int:
+    def run_tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> int:
         """Runs one compile (`kind` "compile") or link ("link") command of the student's answers
         program inside the boundary, as CMake gave it; its outputs are copied to where CMake wants
-        them only when they are regular files. Returns the exit status; prints the diagnostics."""
-        status, text = self.tool(kind, argv, cwd)
+        them only when they are regular files. Returns the exit status; prints the diagnostics.
+        `cache`, when given, is the build layer's store of compiled objects (objcache.ObjectCache):
+        called as cache(argv, work, source_dir, isolation, wrapper) for a compile, it answers fetch(out)
+        and store(out, text); the boundary keeps none of its own."""
+        status, text = self.tool(kind, argv, cwd, cache)
         sys.stdout.write(text)
         sys.stdout.flush()
         return status
 
-    def tool(self, kind: str, argv: list[str], cwd: Path) -> tuple[int, str]:
+    def tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> tuple[int, str]:
         """`run_tool` for a caller in the kit's own process (checking.build_answers): the exit
         status (0 or 1) and the diagnostics, as the student's own."""
         work = Path(tempfile.mkdtemp(prefix="raykit-build-"))
         try:
-            return _run_tool(self, kind, argv, cwd, work)
+            return _run_tool(self, kind, argv, cwd, work, cache)
         finally:
             shutil.rmtree(work, ignore_errors=True)
 
@@ -1094,7 +1097,7 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
         os.close(fd)
 
 
-def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path) -> tuple[int, str]:
+def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path, cache=None) -> tuple[int, str]:
     from .common import printable
     limits = iso.limits
     uid = iso.compile_uid
@@ -1169,7 +1172,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "LANG": "C.UTF-8", "HOME": str(out), "TMPDIR": str(out)}
     prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out), use=kind)
     memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
-    cached = ObjectCache(new, work, local_dir, iso, prefix) if kind == "compile" else None
+    cached = cache(new, work, local_dir, iso, prefix) if cache is not None and kind == "compile" else None
     if cached is not None and cached.fetch(out):
         return _finish(kind, iso, cached.text, 0, False, 0, mapping, copies, memory)
     if kind == "compile":       # the step header precompiled, beside it (studentpch.py; after the key)
@@ -1286,190 +1289,6 @@ def _starts(prefix: list[str], iso: Isolation, cwd: Path, env: dict[str, str], u
         return r.returncode == 0
     except (OSError, subprocess.TimeoutExpired):
         return False
-
-
-class ObjectCache:
-    """Compiled objects by content: the same files compiled the same way (copies of the stubs or of
-    a solution across a class) are compiled once per build/ folder. An entry is reused only where
-    the compile would give the same result, so its key holds everything that decides it:
-
-    - the command (the private folder's name aside), every file of the step's folder, the kit's
-      headers and the compiler's identity;
-    - the boundary, which decides what the compile could read: its kind (bwrap, user, none), the
-      bubblewrap command (what is hidden and bound), under the user isolation the rights "others"
-      have on the kit's secret parts, and the compile's limits. An object compiled with
-      --isolation none, which may have read the answers, is never given to a sandboxed compile;
-    - apart from the key, the headers the compile read outside its private folder (the system's:
-      the C++ library, GLM), as its dependency file lists them, with their size, time, inode and
-      rights: checked when the entry is fetched, so an upgraded header is compiled anew.
-
-    Written by the grader from a compile that succeeded, read only by the grader (build/ is out of
-    the sandbox's reach); files are read and written without following links. RAYKIT_NO_OBJCACHE=1
-    turns it off."""
-
-    ROOT_DIR = BUILD / "objcache"
-    DEPS = "deps.json"
-
-    def __init__(self, argv: list[str], work: Path, src: Path, iso: Isolation, prefix: list[str]):
-        self.work = str(work)
-        self.text = ""
-        self.dir: Path | None = None
-        self.stale = False          # an entry is there, made before a header it read changed
-        if os.environ.get("RAYKIT_NO_OBJCACHE") == "1":
-            return
-        import hashlib
-        h = hashlib.sha256(b"raykit-objcache-2\0")
-        h.update(json.dumps([a.replace(self.work, "@W@") for a in argv]).encode())
-        kind = iso.mode.split(":")[0]
-        boundary = {"kind": kind, "wrapper": [a.replace(self.work, "@W@") for a in prefix],
-                    "limits": [iso.limits.compile_seconds, iso.limits.compile_memory_mb, iso.limits.cpu_seconds,
-                               iso.limits.file_mb]}
-        try:
-            if kind == "user":
-                boundary["others"] = {part: stat.S_IMODE(os.lstat(ROOT / part).st_mode) & 0o7
-                                      for part in SECRET_PARTS if os.path.lexists(ROOT / part)}
-            h.update(json.dumps(boundary, sort_keys=True).encode())
-            st = os.stat(shutil.which(argv[0]) or argv[0])
-            h.update(f"{argv[0]} {st.st_size} {st.st_mtime_ns}".encode())
-            for folder in (src, work / "include"):
-                for f in sorted(folder.rglob("*")):
-                    if f.is_file():
-                        h.update(str(f.relative_to(work)).encode() + b"\0" + f.read_bytes() + b"\0")
-        except OSError:
-            return
-        key = h.hexdigest()
-        self.dir = self.ROOT_DIR / key[:2] / key
-
-    # --- the headers read from outside the private folder ---------------------------------
-    @staticmethod
-    def _depfile_paths(text: str) -> list[str]:
-        """The prerequisites of a Make-style dependency file (-MD): after each rule's colon, the
-        names, with "\\ " an escaped space and a backslash at a line's end a continuation."""
-        text = text.replace("\\\n", " ").replace("\\\r\n", " ")
-        found: list[str] = []
-        for line in text.splitlines():
-            head, sep, rest = line.partition(": ")
-            if not sep:
-                if line.rstrip().endswith(":"):
-                    continue
-                rest = line
-            name = ""
-            i = 0
-            while i < len(rest):
-                c = rest[i]
-                if c == "\\" and i + 1 < len(rest) and rest[i + 1] in " #\\":
-                    name += rest[i + 1]
-                    i += 2
-                    continue
-                if c == "$" and rest[i + 1:i + 2] == "$":
-                    name += "$"
-                    i += 2
-                    continue
-                if c.isspace():
-                    if name:
-                        found.append(name)
-                    name = ""
-                else:
-                    name += c
-                i += 1
-            if name:
-                found.append(name)
-        return found
-
-    @staticmethod
-    def _identity(path: str) -> list | None:
-        try:
-            st = os.stat(path)
-        except OSError:
-            return None
-        return [st.st_size, st.st_mtime_ns, st.st_ino, stat.S_IMODE(st.st_mode)]
-
-    def _outside(self, out: Path, depfiles: list[bytes]) -> list | None:
-        """[path, identity] of every file the compile read outside its private folder, or None when
-        one cannot be told (then the entry is not kept)."""
-        seen: dict[str, list] = {}
-        for body in depfiles:
-            for name in self._depfile_paths(body.decode("utf-8", "replace")):
-                path = os.path.normpath(name if os.path.isabs(name) else os.path.join(str(out), name))
-                if path == self.work or path.startswith(self.work + "/") or path in seen:
-                    continue
-                ident = self._identity(path)
-                if ident is None:
-                    return None
-                seen[path] = ident
-        return [[p, i] for p, i in sorted(seen.items())]
-
-    # --- the entries ----------------------------------------------------------------------
-    def fetch(self, out: Path) -> bool:
-        if self.dir is None or not (self.dir / "done").is_file():
-            return False
-        try:
-            recorded = json.loads((self.dir / self.DEPS).read_text())
-            if any(self._identity(path) != ident for path, ident in recorded):
-                self.stale = True       # a header it read has changed since (an upgrade)
-                return False
-            for f in self.dir.iterdir():
-                if f.name in ("done", "text", self.DEPS):
-                    continue
-                data = f.read_bytes()
-                if f.name.endswith(".d"):
-                    data = data.replace(b"@W@", self.work.encode())
-                fd = os.open(out / f.name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
-                try:
-                    os.write(fd, data)
-                finally:
-                    os.close(fd)
-            self.text = (self.dir / "text").read_text().replace("@W@", self.work)
-        except (OSError, ValueError, TypeError):
-            return False
-        return True
-
-    def store(self, out: Path, text: str) -> None:
-        if self.dir is None:
-            return
-        if self.stale:              # replaced by this compile's, which read the headers as they are now
-            old = self.dir.with_name(f".{self.dir.name}.stale.{os.getpid()}")
-            try:
-                os.rename(self.dir, old)
-            except OSError:
-                pass
-            shutil.rmtree(old, ignore_errors=True)
-        if self.dir.exists():
-            return
-        tmp = self.dir.with_name(f".{self.dir.name}.{os.getpid()}")
-        try:
-            kept: dict[str, bytes] = {}
-            for f in out.iterdir():
-                if f.suffix not in (".o", ".d"):
-                    continue
-                fd = os.open(f, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK)
-                try:
-                    st = os.fstat(fd)
-                    if not stat.S_ISREG(st.st_mode) or st.st_size > 64 * MiB:
-                        continue
-                    data = b""
-                    while len(data) <= 64 * MiB:
-                        chunk = os.read(fd, 1 << 20)
-                        if not chunk:
-                            break
-                        data += chunk
-                finally:
-                    os.close(fd)
-                kept[f.name] = data
-            outside = self._outside(out, [d for n, d in kept.items() if n.endswith(".d")])
-            if outside is None or not any(n.endswith(".d") for n in kept):
-                return                  # what it read cannot be told: not kept
-            tmp.mkdir(parents=True)
-            for name, data in kept.items():
-                if name.endswith(".d"):
-                    data = data.replace(self.work.encode(), b"@W@")
-                (tmp / name).write_bytes(data)
-            (tmp / self.DEPS).write_text(json.dumps(outside))
-            (tmp / "text").write_text(text.replace(self.work, "@W@"))
-            (tmp / "done").write_text("")
-            os.rename(tmp, self.dir)
-        except OSError:
-            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _end_group(proc: subprocess.Popen) -> None:

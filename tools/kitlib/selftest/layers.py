@@ -23,8 +23,8 @@ KITLIB = ROOT / "tools" / "kitlib"
 LAYERS = [
     ("core", ["status", "common", "course", "secret", "packages", "relocate", "kitfiles", "waits", "submissions",
               "kitcache"]),
-    ("boundary", ["sandbox", "studentpch", "launch"]),
-    ("build", ["build", "warmup"]),
+    ("boundary", ["sandbox", "studentpch"]),
+    ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants"]),
     ("outputs", ["record", "gradescope", "plresults", "scoreboard", "picture", "robust_line", "report",
                  "report.grading", "report.make", "report.pages", "report.plots", "report.signatures",
