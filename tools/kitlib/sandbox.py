@@ -44,6 +44,7 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from . import procfs
 from .common import BUILD, ROOT
 
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
@@ -261,9 +262,8 @@ class Isolation:
                 self.clean_files(uid)
         for _ in range(25):     # a process killed a moment ago becomes a zombie a moment later
             reap_orphans({self.uid, self.compile_uid})
-            if not any(_status_field(p, "PPid") == str(os.getpid()) and
-                       _status_field(p, "Uid").split()[:1] in ([str(self.uid)], [str(self.compile_uid)])
-                       for p in _proc_ids()):
+            if not any(procfs.parent(p) == os.getpid() and procfs.real_uid(p) in (self.uid, self.compile_uid)
+                       for p in procfs.pids()):
                 break
             time.sleep(0.02)
 
@@ -634,14 +634,10 @@ def _note_claim(uid: int) -> None:
 def _in_use(uid: int) -> bool:
     """Whether any task has the id, zombies included: they count against RLIMIT_NPROC, and where
     PID 1 never reaps (some containers) a fork bomb's would make the sandbox unable to start."""
-    ids = {str(uid), str(uid + COMPILE_UID_OFFSET)}
-    for p in _proc_ids():
-        # One read of the status file: a process that ends between two reads gives an empty second
-        # one (seen as an IndexError that left one submission of a class of 60 not graded).
-        real = _status_field(p, "Uid").split()[:1]
-        if real and real[0] in ids:
-            return True
-    return False
+    ids = {uid, uid + COMPILE_UID_OFFSET}
+    # One read of each status file (procfs.real_uid): a process that ends between two reads once gave
+    # an empty second one (an IndexError that left one submission of a class of 60 not graded).
+    return any(procfs.real_uid(p) in ids for p in procfs.pids())
 
 
 def become_subreaper() -> None:
@@ -658,14 +654,10 @@ def reap_orphans(uids: set[int]) -> None:
     """Reaps the graded code's dead orphans given to us (zombies of the sandbox's ids whose parent
     is this process), each by its pid: never waitpid(-1), which could take a build's exit status
     from the subprocess that waits for it."""
-    me, wanted = os.getpid(), {str(u) for u in uids if u}
-    for p in _proc_ids():
-        try:
-            text = Path(f"/proc/{p}/status").read_text()
-        except OSError:
-            continue
-        fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
-        if (fields.get("State", "").strip().startswith("Z") and fields.get("PPid", "").strip() == str(me)
+    me, wanted = str(os.getpid()), {str(u) for u in uids if u}
+    for p in procfs.pids():
+        fields = procfs.status(p)         # one read: state, parent and owner of the same moment
+        if (fields.get("State", "").startswith("Z") and fields.get("PPid") == me
                 and fields.get("Uid", "").split()[:1] and fields["Uid"].split()[0] in wanted):
             try:
                 os.waitpid(p, os.WNOHANG)
@@ -863,31 +855,10 @@ def _exit_on_signal(signum, frame) -> None:
 
 # --- processes ---------------------------------------------------------------------------------
 
-def _proc_ids() -> list[int]:
-    try:
-        return [int(e) for e in os.listdir("/proc") if e.isdigit()]
-    except OSError:
-        return []
-
-
-def _status_field(pid: int, name: str) -> str:
-    try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith(name + ":"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return ""
-
-
 def _owned_by(pid: int, uid: int) -> bool:
     """Whether process `pid` is alive (not a zombie waiting for its parent) with real user id `uid`."""
-    try:
-        text = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
-    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").strip().startswith("Z")
+    fields = procfs.status(pid)         # one read: owner and state of the same moment
+    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").startswith("Z")
 
 
 def kill_uid(uid: int) -> None:
@@ -896,7 +867,7 @@ def kill_uid(uid: int) -> None:
     if not uid or os.geteuid() != 0:
         return
     for _ in range(20):
-        left = [p for p in _proc_ids() if _owned_by(p, uid)]
+        left = [p for p in procfs.pids() if _owned_by(p, uid)]
         if not left:
             return
         pid = os.fork()
@@ -916,16 +887,12 @@ def session_members(sid: int) -> list[int]:
     """The live processes of session `sid` but this one: zombies have ended (as in _owned_by), and
     one whose parent never reaps it (PID 1 of a container) would otherwise be waited on for ever."""
     found = []
-    for p in _proc_ids():
+    for p in procfs.pids():
         if p == os.getpid():
             continue
-        try:
-            text = Path(f"/proc/{p}/stat").read_text()
-            fields = text[text.rfind(")") + 2:].split()
-            if fields[0] != "Z" and int(fields[3]) == sid:
-                found.append(p)
-        except (OSError, ValueError, IndexError):
-            continue
+        fields = procfs.stat(p)         # one read: state and session of the same moment
+        if len(fields) > 3 and fields[0] != "Z" and fields[3] == str(sid):
+            found.append(p)
     return found
 
 
@@ -986,10 +953,7 @@ def clean_uid_ipc(uid: int) -> None:
     if ipcrm is None:
         return
     for kind, flag in (("shm", "-m"), ("msg", "-q"), ("sem", "-s")):
-        try:
-            lines = Path(f"/proc/sysvipc/{kind}").read_text().splitlines()
-        except OSError:
-            continue
+        lines = procfs.sysvipc(kind)
         if not lines:
             continue
         header = lines[0].split()

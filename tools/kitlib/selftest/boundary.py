@@ -36,6 +36,7 @@ import time
 import zipfile
 from pathlib import Path
 
+from .. import procfs
 from ..common import BUILD, ROOT
 from ..sandbox import COMPILE_UID_OFFSET, Limits
 from ..status import NO_COMPILE
@@ -102,17 +103,11 @@ def templated(name: str) -> Path:
 def sandbox_processes() -> list[str]:
     """Live processes of the sandbox user ids this self-test's gradings took (run or compile)."""
     found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            status = (entry / "status").read_text()
-        except OSError:
-            continue
-        uid = int(re.search(r"^Uid:\s+(\d+)", status, re.M).group(1))
-        state = re.search(r"^State:\s+(\S)", status, re.M).group(1)
-        if uid in claimed and state != "Z":
-            found.append(f"{entry.name} uid {uid} {(entry / 'comm').read_text().strip()}")
+    for p in procfs.pids():
+        fields = procfs.status(p)
+        uid = fields.get("Uid", "").split()[:1]
+        if uid and int(uid[0]) in claimed and not fields.get("State", "").startswith("Z"):
+            found.append(f"{p} uid {uid[0]} {fields.get('Name', '')}")
     return found
 
 

@@ -46,7 +46,7 @@ QUICK = {
     "docs": ["docs: math filter"],
     "handout": ["handout: no step code"],
     "hint": ["hint order: what fails first"],
-    "layers": ["layers: imports go downwards, no cycle"],
+    "layers": ["layers: imports go downwards, no cycle", "layers: one /proc reader"],
     "lectures": ["numbers quoted from the benchmark are current", "★ grading figures are current",
                  "the pitfalls' pictures are committed and current", "lecture 05's tables are the scene file's",
                  "hints point to lecture sections that exist", "every rule a header states has a case"],
