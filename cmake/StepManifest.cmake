@@ -46,3 +46,71 @@ function(raykit_manifest_list manifest key out)
   raykit_step_manifest("${manifest}" files needs)
   set(${out} "${${key}}" PARENT_SCOPE)
 endfunction()
+
+# raykit_remote_lines(<step.json> <include_dir> <out_var>)
+#
+# The step's functions as the judge calls them, one `RAYKIT_REMOTE(return type, name, (parameters),
+# (arguments))` line each (tests/support/proxies.cpp, answers_main.cpp), derived from the two places
+# that already say it: the names are step.json's "functions", the signature each one's declaration in
+# a header of <include_dir>/raykit/. So a step lists its functions once and states their types once.
+#
+# A declaration is read as the kit's headers write one: at the start of a line, `TYPE NAME(PARAMS);`,
+# the parameters possibly over several lines, each one named (the proxy forwards them by name). A
+# name with no such declaration, or with two, stops the configure with the function's and step's names.
+function(raykit_remote_lines manifest include_dir out)
+  file(READ "${manifest}" text)
+  set(functions "")
+  if(text MATCHES "\"functions\"[ \t\r\n]*:[ \t\r\n]*\\[([^]]*)\\]")
+    string(REGEX MATCHALL "\"[^\"]*\"" quoted "${CMAKE_MATCH_1}")
+    foreach(q IN LISTS quoted)
+      string(REGEX REPLACE "^\"(.*)\"$" "\\1" item "${q}")
+      list(APPEND functions "${item}")
+    endforeach()
+  endif()
+  file(GLOB headers "${include_dir}/raykit/*.hpp")
+  list(SORT headers)
+  set(api "")
+  foreach(h IN LISTS headers)
+    file(READ "${h}" htext)
+    string(APPEND api "\n${htext}")
+  endforeach()
+  set(lines "")
+  foreach(f IN LISTS functions)
+    if(NOT f MATCHES "^[A-Za-z_][A-Za-z0-9_]*$")
+      message(FATAL_ERROR "raykit: ${manifest}: \"${f}\" in \"functions\" is not a function's name")
+    endif()
+    set(decl "\n([A-Za-z_][A-Za-z0-9_:<>, ]*[ &*])${f}[ \t]*\\(([^()]*)\\)[ \t\r\n]*;")
+    # Counted by a marker: the matches themselves hold a `;`, CMake's list separator.
+    string(REGEX REPLACE "${decl}" "\n@raykit_declaration@" marked "${api}")
+    string(REGEX MATCHALL "@raykit_declaration@" found "${marked}")
+    list(LENGTH found n)
+    if(NOT n EQUAL 1)
+      message(FATAL_ERROR "raykit: ${manifest} names \"${f}\" in \"functions\", and ${n} declarations "
+                          "`TYPE ${f}(PARAMETERS);` begin a line of ${include_dir}/raykit/*.hpp (one is needed)")
+    endif()
+    string(REGEX MATCH "${decl}" whole "${api}")
+    string(STRIP "${CMAKE_MATCH_1}" ret)
+    string(REGEX REPLACE "[ \t\r\n]+" " " params "${CMAKE_MATCH_2}")
+    string(STRIP "${params}" params)
+    if(ret MATCHES "," OR params MATCHES "<[^>]*,")
+      message(FATAL_ERROR "raykit: ${f}: a comma inside a template argument (`${ret} ${f}(${params})`) "
+                          "cannot pass through RAYKIT_REMOTE: name the type with a `using` in its header")
+    endif()
+    set(args "")
+    if(NOT params STREQUAL "" AND NOT params STREQUAL "void")
+      string(REPLACE "," ";" parts "${params}")
+      foreach(p IN LISTS parts)
+        string(REGEX REPLACE "=.*$" "" p "${p}")
+        string(STRIP "${p}" p)
+        if(NOT p MATCHES "[^A-Za-z0-9_]([A-Za-z_][A-Za-z0-9_]*)$")
+          message(FATAL_ERROR "raykit: ${f}: the parameter `${p}` has no name in its declaration "
+                              "(the judge's proxy forwards the parameters by name)")
+        endif()
+        list(APPEND args "${CMAKE_MATCH_1}")
+      endforeach()
+    endif()
+    string(REPLACE ";" ", " args "${args}")
+    string(APPEND lines "RAYKIT_REMOTE(${ret}, ${f}, (${params}), (${args}))\n")
+  endforeach()
+  set(${out} "${lines}" PARENT_SCOPE)
+endfunction()

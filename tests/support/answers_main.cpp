@@ -5,8 +5,9 @@
 // knows nothing of cases, expected values or verdicts, so there is nothing here
 // a student's code could change to pass: whatever it writes is, at most, an answer.
 //
-// The functions it serves are the step's list (tests/NN_topic/remote.inc, and
-// those of the steps it needs), included through RAYKIT_REMOTE_LIST.
+// The functions it serves are the step's list (step.json's "functions", and
+// those of the steps it needs, with their headers' signatures: CMake writes the
+// list, cmake/StepManifest.cmake), included through RAYKIT_REMOTE_LIST.
 
 #include <unistd.h>
 

@@ -1,6 +1,7 @@
 // The judge's stand-ins for a step's functions: each sends its call to the
 // answers process (remote.hpp) and returns what comes back. Compiled once per
-// step with RAYKIT_REMOTE_LIST naming the step's list of functions.
+// step with RAYKIT_REMOTE_LIST naming the step's list of functions (written by
+// CMake from step.json and the headers, cmake/StepManifest.cmake).
 
 #include <tuple>
 

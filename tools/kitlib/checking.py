@@ -35,6 +35,7 @@ from . import waits
 from . import warmup
 from .common import BUILD, ROOT, Step, prerequisites, printable
 from .build import Build, build_target, build_targets, ensure_configured, ninja_of, shown_text
+from .objcache import ObjectCache
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .secret import hidden_seed
 from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
@@ -505,7 +506,7 @@ def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation
     done = [1]
 
     def compile_one(argv: list[str]) -> tuple[int, str]:
-        result = isolation.tool("compile", argv, build.binary_dir)
+        result = isolation.tool("compile", argv, build.binary_dir, ObjectCache)
         done[0] += 1
         if progress:
             progress(done[0], total)

@@ -86,6 +86,8 @@ class Step:
     needs: list[str]
     lecture: str                # "lectures/01-unit-sphere.md"
     functions: list[str] = field(default_factory=list)
+    # "header:function:condition" -> the cases that ask each "no answer" rule its header states
+    contract: dict[str, list[str]] = field(default_factory=dict)
 
     @property
     def number(self) -> str:
@@ -102,7 +104,7 @@ def load_steps() -> list[Step]:
         data = json.loads(manifest.read_text())
         steps.append(Step(folder=manifest.parent.name, title=data["title"], files=data["files"],
                           needs=data.get("needs", []), lecture=data["lecture"],
-                          functions=data.get("functions", [])))
+                          functions=data.get("functions", []), contract=data.get("contract", {})))
     return steps
 
 

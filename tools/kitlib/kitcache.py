@@ -45,11 +45,18 @@ def option(args: list[str], name: str) -> str | None:
     return None
 
 
-def first_key(compiler: str, args: list[str]) -> str:
-    h = hashlib.sha256(VERSION)
+def compiler_identity(compiler: str) -> str:
+    """The compiler as a cache key sees it (kitcache and objcache): the program the name leads to, through
+    PATH and every link (/usr/bin/c++ -> g++-12), with its size and time stamp, which an upgrade changes.
+    OSError when there is no such program."""
     real = os.path.realpath(shutil.which(compiler) or compiler)
     st = os.stat(real)
-    h.update(f"{real}\0{st.st_size}\0{st.st_mtime_ns}\0{os.getcwd()}\0".encode())
+    return f"{real}\0{st.st_size}\0{st.st_mtime_ns}"
+
+
+def first_key(compiler: str, args: list[str]) -> str:
+    h = hashlib.sha256(VERSION)
+    h.update(f"{compiler_identity(compiler)}\0{os.getcwd()}\0".encode())
     h.update(json.dumps(args).encode())
     h.update(json.dumps([os.environ.get(v) for v in ENV_READ]).encode())
     return h.hexdigest()
@@ -64,18 +71,25 @@ def file_hash(path: str) -> str | None:
 
 
 def dependencies(depfile_text: str) -> list[str]:
-    """The prerequisites of a GCC-style dependency file (`out: a b \\` lines; `\\ ` is a space)."""
-    text = depfile_text.replace("\\\n", " ")
-    deps = []
+    """The prerequisites of a Make-style dependency file (GCC's and Clang's -MD, with or without -MP),
+    the kit's one reader of them (kitcache, objcache): after each rule's colon, the names, a backslash
+    at a line's end a continuation (LF or CRLF), `\\ ` an escaped space, `\\#` a `#`, `$$` a `$`.
+    The empty rules -MP adds for each header (`header.hpp:`) name nothing more."""
+    text = depfile_text.replace("\\\r\n", " ").replace("\\\n", " ")
+    deps: list[str] = []
     for line in text.splitlines():
         _, sep, rest = line.partition(": ")
         if not sep:
-            continue
+            continue                  # an empty rule (-MP's `header.hpp:`), a blank line
         word, i = "", 0
         while i < len(rest):
             c = rest[i]
-            if c == "\\" and i + 1 < len(rest) and rest[i + 1] == " ":
-                word += " "
+            if c == "\\" and rest[i + 1:i + 2] in (" ", "#", "\\"):
+                word += rest[i + 1]
+                i += 2
+                continue
+            if c == "$" and rest[i + 1:i + 2] == "$":
+                word += "$"
                 i += 2
                 continue
             if c.isspace():

@@ -2,7 +2,8 @@
 """The compiler and linker launcher of a submission build: CMake runs every compile and link of the
 student's answers program as `launch.py compile|link COMMAND...` (RULE_LAUNCH_COMPILE and
 RULE_LAUNCH_LINK, set when RAYKIT_BOUNDARY is on), and this runs COMMAND inside the trust boundary
-that `./kit` chose, read from RAYKIT_BOUNDARY_SPEC (sandbox.Isolation.spec()).
+that `./kit` chose, read from RAYKIT_BOUNDARY_SPEC (sandbox.Isolation.spec()), with the build's
+store of compiled objects (objcache.ObjectCache).
 
 Without that variable it refuses: a build folder that compiles a submission is only ever built by
 the kit, which always says how to keep the code apart.
@@ -14,6 +15,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from kitlib.objcache import ObjectCache  # noqa: E402
 from kitlib.sandbox import Isolation  # noqa: E402
 
 
@@ -26,7 +28,7 @@ def main(argv: list[str]) -> int:
         print("raykit: this build folder compiles a submission inside the grader's sandbox; "
               "build it through ./kit (./kit check --steps DIR), not by hand.", file=sys.stderr)
         return 2
-    return Isolation.from_spec(spec).run_tool(argv[0], argv[1:], Path.cwd())
+    return Isolation.from_spec(spec).run_tool(argv[0], argv[1:], Path.cwd(), cache=ObjectCache)
 
 
 if __name__ == "__main__":

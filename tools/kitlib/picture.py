@@ -28,7 +28,14 @@ import re
 import struct
 from fractions import Fraction
 from pathlib import Path
-from xml.sax.saxutils import escape
+
+
+def escape(text: str) -> str:
+    """Text for an SVG element's content: &, < and > as entities. Not xml.sax.saxutils.escape, which
+    imports urllib.request (and with it http.client, ssl and email) into every ./kit check, for three
+    replacements."""
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
 
 from . import atomic
 

@@ -44,7 +44,7 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from . import atomic
+from . import atomic, procfs
 from .common import BUILD, ROOT
 
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
@@ -221,21 +221,24 @@ class Isolation:
                                          f"{limits.file_mb * MiB} {limits.cpu_seconds}"}
 
     # --- the compile and the link -----------------------------------------------------------
-    def run_tool(self, kind: str, argv: list[str], cwd: Path) -> int:
+    def run_tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> int:
         """Runs one compile (`kind` "compile") or link ("link") command of the student's answers
         program inside the boundary, as CMake gave it; its outputs are copied to where CMake wants
-        them only when they are regular files. Returns the exit status; prints the diagnostics."""
-        status, text = self.tool(kind, argv, cwd)
+        them only when they are regular files. Returns the exit status; prints the diagnostics.
+        `cache`, when given, is the build layer's store of compiled objects (objcache.ObjectCache):
+        called as cache(argv, work, source_dir, isolation, wrapper) for a compile, it answers fetch(out)
+        and store(out, text); the boundary keeps none of its own."""
+        status, text = self.tool(kind, argv, cwd, cache)
         sys.stdout.write(text)
         sys.stdout.flush()
         return status
 
-    def tool(self, kind: str, argv: list[str], cwd: Path) -> tuple[int, str]:
+    def tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> tuple[int, str]:
         """`run_tool` for a caller in the kit's own process (checking.build_answers): the exit
         status (0 or 1) and the diagnostics, as the student's own."""
         work = Path(tempfile.mkdtemp(prefix="raykit-build-"))
         try:
-            return _run_tool(self, kind, argv, cwd, work)
+            return _run_tool(self, kind, argv, cwd, work, cache)
         finally:
             shutil.rmtree(work, ignore_errors=True)
 
@@ -259,9 +262,8 @@ class Isolation:
                 self.clean_files(uid)
         for _ in range(25):     # a process killed a moment ago becomes a zombie a moment later
             reap_orphans({self.uid, self.compile_uid})
-            if not any(_status_field(p, "PPid") == str(os.getpid()) and
-                       _status_field(p, "Uid").split()[:1] in ([str(self.uid)], [str(self.compile_uid)])
-                       for p in _proc_ids()):
+            if not any(procfs.parent(p) == os.getpid() and procfs.real_uid(p) in (self.uid, self.compile_uid)
+                       for p in procfs.pids()):
                 break
             time.sleep(0.02)
 
@@ -632,14 +634,10 @@ def _note_claim(uid: int) -> None:
 def _in_use(uid: int) -> bool:
     """Whether any task has the id, zombies included: they count against RLIMIT_NPROC, and where
     PID 1 never reaps (some containers) a fork bomb's would make the sandbox unable to start."""
-    ids = {str(uid), str(uid + COMPILE_UID_OFFSET)}
-    for p in _proc_ids():
-        # One read of the status file: a process that ends between two reads gives an empty second
-        # one (seen as an IndexError that left one submission of a class of 60 not graded).
-        real = _status_field(p, "Uid").split()[:1]
-        if real and real[0] in ids:
-            return True
-    return False
+    ids = {uid, uid + COMPILE_UID_OFFSET}
+    # One read of each status file (procfs.real_uid): a process that ends between two reads once gave
+    # an empty second one (an IndexError that left one submission of a class of 60 not graded).
+    return any(procfs.real_uid(p) in ids for p in procfs.pids())
 
 
 def become_subreaper() -> None:
@@ -656,14 +654,10 @@ def reap_orphans(uids: set[int]) -> None:
     """Reaps the graded code's dead orphans given to us (zombies of the sandbox's ids whose parent
     is this process), each by its pid: never waitpid(-1), which could take a build's exit status
     from the subprocess that waits for it."""
-    me, wanted = os.getpid(), {str(u) for u in uids if u}
-    for p in _proc_ids():
-        try:
-            text = Path(f"/proc/{p}/status").read_text()
-        except OSError:
-            continue
-        fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
-        if (fields.get("State", "").strip().startswith("Z") and fields.get("PPid", "").strip() == str(me)
+    me, wanted = str(os.getpid()), {str(u) for u in uids if u}
+    for p in procfs.pids():
+        fields = procfs.status(p)         # one read: state, parent and owner of the same moment
+        if (fields.get("State", "").startswith("Z") and fields.get("PPid") == me
                 and fields.get("Uid", "").split()[:1] and fields["Uid"].split()[0] in wanted):
             try:
                 os.waitpid(p, os.WNOHANG)
@@ -859,31 +853,10 @@ def _exit_on_signal(signum, frame) -> None:
 
 # --- processes ---------------------------------------------------------------------------------
 
-def _proc_ids() -> list[int]:
-    try:
-        return [int(e) for e in os.listdir("/proc") if e.isdigit()]
-    except OSError:
-        return []
-
-
-def _status_field(pid: int, name: str) -> str:
-    try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith(name + ":"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return ""
-
-
 def _owned_by(pid: int, uid: int) -> bool:
     """Whether process `pid` is alive (not a zombie waiting for its parent) with real user id `uid`."""
-    try:
-        text = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    fields = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
-    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").strip().startswith("Z")
+    fields = procfs.status(pid)         # one read: owner and state of the same moment
+    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").startswith("Z")
 
 
 def kill_uid(uid: int) -> None:
@@ -892,7 +865,7 @@ def kill_uid(uid: int) -> None:
     if not uid or os.geteuid() != 0:
         return
     for _ in range(20):
-        left = [p for p in _proc_ids() if _owned_by(p, uid)]
+        left = [p for p in procfs.pids() if _owned_by(p, uid)]
         if not left:
             return
         pid = os.fork()
@@ -912,16 +885,12 @@ def session_members(sid: int) -> list[int]:
     """The live processes of session `sid` but this one: zombies have ended (as in _owned_by), and
     one whose parent never reaps it (PID 1 of a container) would otherwise be waited on for ever."""
     found = []
-    for p in _proc_ids():
+    for p in procfs.pids():
         if p == os.getpid():
             continue
-        try:
-            text = Path(f"/proc/{p}/stat").read_text()
-            fields = text[text.rfind(")") + 2:].split()
-            if fields[0] != "Z" and int(fields[3]) == sid:
-                found.append(p)
-        except (OSError, ValueError, IndexError):
-            continue
+        fields = procfs.stat(p)         # one read: state and session of the same moment
+        if len(fields) > 3 and fields[0] != "Z" and fields[3] == str(sid):
+            found.append(p)
     return found
 
 
@@ -982,10 +951,7 @@ def clean_uid_ipc(uid: int) -> None:
     if ipcrm is None:
         return
     for kind, flag in (("shm", "-m"), ("msg", "-q"), ("sem", "-s")):
-        try:
-            lines = Path(f"/proc/sysvipc/{kind}").read_text().splitlines()
-        except OSError:
-            continue
+        lines = procfs.sysvipc(kind)
         if not lines:
             continue
         header = lines[0].split()
@@ -1088,7 +1054,7 @@ def copy_regular(src: Path, dst: Path, mode: int = 0o644, limit: int = 256 * MiB
         os.close(fd)
 
 
-def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path) -> tuple[int, str]:
+def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path, cache=None) -> tuple[int, str]:
     from .common import printable
     limits = iso.limits
     uid = iso.compile_uid
@@ -1163,7 +1129,7 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path)
     env = {"PATH": "/usr/local/bin:/usr/bin:/bin", "LANG": "C.UTF-8", "HOME": str(out), "TMPDIR": str(out)}
     prefix = iso.wrapper([(work, str(inside))], [(out, str(out))], str(out), use=kind)
     memory = limits.compile_memory_mb if kind == "compile" else max(limits.compile_memory_mb, 1024)
-    cached = ObjectCache(new, work, local_dir, iso, prefix) if kind == "compile" else None
+    cached = cache(new, work, local_dir, iso, prefix) if cache is not None and kind == "compile" else None
     if cached is not None and cached.fetch(out):
         return _finish(kind, iso, cached.text, 0, False, 0, mapping, copies, memory)
     if kind == "compile":       # the step header precompiled, beside it (studentpch.py; after the key)
@@ -1280,190 +1246,6 @@ def _starts(prefix: list[str], iso: Isolation, cwd: Path, env: dict[str, str], u
         return r.returncode == 0
     except (OSError, subprocess.TimeoutExpired):
         return False
-
-
-class ObjectCache:
-    """Compiled objects by content: the same files compiled the same way (copies of the stubs or of
-    a solution across a class) are compiled once per build/ folder. An entry is reused only where
-    the compile would give the same result, so its key holds everything that decides it:
-
-    - the command (the private folder's name aside), every file of the step's folder, the kit's
-      headers and the compiler's identity;
-    - the boundary, which decides what the compile could read: its kind (bwrap, user, none), the
-      bubblewrap command (what is hidden and bound), under the user isolation the rights "others"
-      have on the kit's secret parts, and the compile's limits. An object compiled with
-      --isolation none, which may have read the answers, is never given to a sandboxed compile;
-    - apart from the key, the headers the compile read outside its private folder (the system's:
-      the C++ library, GLM), as its dependency file lists them, with their size, time, inode and
-      rights: checked when the entry is fetched, so an upgraded header is compiled anew.
-
-    Written by the grader from a compile that succeeded, read only by the grader (build/ is out of
-    the sandbox's reach); files are read and written without following links. RAYKIT_NO_OBJCACHE=1
-    turns it off."""
-
-    ROOT_DIR = BUILD / "objcache"
-    DEPS = "deps.json"
-
-    def __init__(self, argv: list[str], work: Path, src: Path, iso: Isolation, prefix: list[str]):
-        self.work = str(work)
-        self.text = ""
-        self.dir: Path | None = None
-        self.stale = False          # an entry is there, made before a header it read changed
-        if os.environ.get("RAYKIT_NO_OBJCACHE") == "1":
-            return
-        import hashlib
-        h = hashlib.sha256(b"raykit-objcache-2\0")
-        h.update(json.dumps([a.replace(self.work, "@W@") for a in argv]).encode())
-        kind = iso.mode.split(":")[0]
-        boundary = {"kind": kind, "wrapper": [a.replace(self.work, "@W@") for a in prefix],
-                    "limits": [iso.limits.compile_seconds, iso.limits.compile_memory_mb, iso.limits.cpu_seconds,
-                               iso.limits.file_mb]}
-        try:
-            if kind == "user":
-                boundary["others"] = {part: stat.S_IMODE(os.lstat(ROOT / part).st_mode) & 0o7
-                                      for part in SECRET_PARTS if os.path.lexists(ROOT / part)}
-            h.update(json.dumps(boundary, sort_keys=True).encode())
-            st = os.stat(shutil.which(argv[0]) or argv[0])
-            h.update(f"{argv[0]} {st.st_size} {st.st_mtime_ns}".encode())
-            for folder in (src, work / "include"):
-                for f in sorted(folder.rglob("*")):
-                    if f.is_file():
-                        h.update(str(f.relative_to(work)).encode() + b"\0" + f.read_bytes() + b"\0")
-        except OSError:
-            return
-        key = h.hexdigest()
-        self.dir = self.ROOT_DIR / key[:2] / key
-
-    # --- the headers read from outside the private folder ---------------------------------
-    @staticmethod
-    def _depfile_paths(text: str) -> list[str]:
-        """The prerequisites of a Make-style dependency file (-MD): after each rule's colon, the
-        names, with "\\ " an escaped space and a backslash at a line's end a continuation."""
-        text = text.replace("\\\n", " ").replace("\\\r\n", " ")
-        found: list[str] = []
-        for line in text.splitlines():
-            head, sep, rest = line.partition(": ")
-            if not sep:
-                if line.rstrip().endswith(":"):
-                    continue
-                rest = line
-            name = ""
-            i = 0
-            while i < len(rest):
-                c = rest[i]
-                if c == "\\" and i + 1 < len(rest) and rest[i + 1] in " #\\":
-                    name += rest[i + 1]
-                    i += 2
-                    continue
-                if c == "$" and rest[i + 1:i + 2] == "$":
-                    name += "$"
-                    i += 2
-                    continue
-                if c.isspace():
-                    if name:
-                        found.append(name)
-                    name = ""
-                else:
-                    name += c
-                i += 1
-            if name:
-                found.append(name)
-        return found
-
-    @staticmethod
-    def _identity(path: str) -> list | None:
-        try:
-            st = os.stat(path)
-        except OSError:
-            return None
-        return [st.st_size, st.st_mtime_ns, st.st_ino, stat.S_IMODE(st.st_mode)]
-
-    def _outside(self, out: Path, depfiles: list[bytes]) -> list | None:
-        """[path, identity] of every file the compile read outside its private folder, or None when
-        one cannot be told (then the entry is not kept)."""
-        seen: dict[str, list] = {}
-        for body in depfiles:
-            for name in self._depfile_paths(body.decode("utf-8", "replace")):
-                path = os.path.normpath(name if os.path.isabs(name) else os.path.join(str(out), name))
-                if path == self.work or path.startswith(self.work + "/") or path in seen:
-                    continue
-                ident = self._identity(path)
-                if ident is None:
-                    return None
-                seen[path] = ident
-        return [[p, i] for p, i in sorted(seen.items())]
-
-    # --- the entries ----------------------------------------------------------------------
-    def fetch(self, out: Path) -> bool:
-        if self.dir is None or not (self.dir / "done").is_file():
-            return False
-        try:
-            recorded = json.loads((self.dir / self.DEPS).read_text())
-            if any(self._identity(path) != ident for path, ident in recorded):
-                self.stale = True       # a header it read has changed since (an upgrade)
-                return False
-            for f in self.dir.iterdir():
-                if f.name in ("done", "text", self.DEPS):
-                    continue
-                data = f.read_bytes()
-                if f.name.endswith(".d"):
-                    data = data.replace(b"@W@", self.work.encode())
-                fd = os.open(out / f.name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
-                try:
-                    os.write(fd, data)
-                finally:
-                    os.close(fd)
-            self.text = (self.dir / "text").read_text().replace("@W@", self.work)
-        except (OSError, ValueError, TypeError):
-            return False
-        return True
-
-    def store(self, out: Path, text: str) -> None:
-        if self.dir is None:
-            return
-        if self.stale:              # replaced by this compile's, which read the headers as they are now
-            old = self.dir.with_name(f".{self.dir.name}.stale.{os.getpid()}")
-            try:
-                os.rename(self.dir, old)
-            except OSError:
-                pass
-            shutil.rmtree(old, ignore_errors=True)
-        if self.dir.exists():
-            return
-        tmp = self.dir.with_name(f".{self.dir.name}.{os.getpid()}")
-        try:
-            kept: dict[str, bytes] = {}
-            for f in out.iterdir():
-                if f.suffix not in (".o", ".d"):
-                    continue
-                fd = os.open(f, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK)
-                try:
-                    st = os.fstat(fd)
-                    if not stat.S_ISREG(st.st_mode) or st.st_size > 64 * MiB:
-                        continue
-                    data = b""
-                    while len(data) <= 64 * MiB:
-                        chunk = os.read(fd, 1 << 20)
-                        if not chunk:
-                            break
-                        data += chunk
-                finally:
-                    os.close(fd)
-                kept[f.name] = data
-            outside = self._outside(out, [d for n, d in kept.items() if n.endswith(".d")])
-            if outside is None or not any(n.endswith(".d") for n in kept):
-                return                  # what it read cannot be told: not kept
-            tmp.mkdir(parents=True)
-            for name, data in kept.items():
-                if name.endswith(".d"):
-                    data = data.replace(self.work.encode(), b"@W@")
-                (tmp / name).write_bytes(data)
-            (tmp / self.DEPS).write_text(json.dumps(outside))
-            (tmp / "text").write_text(text.replace(self.work, "@W@"))
-            (tmp / "done").write_text("")
-            os.rename(tmp, self.dir)
-        except OSError:
-            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def _end_group(proc: subprocess.Popen) -> None:

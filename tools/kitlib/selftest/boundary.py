@@ -36,6 +36,7 @@ import time
 import zipfile
 from pathlib import Path
 
+from .. import procfs
 from ..common import BUILD, ROOT
 from ..sandbox import COMPILE_UID_OFFSET, Limits
 from ..status import NO_COMPILE
@@ -102,17 +103,11 @@ def templated(name: str) -> Path:
 def sandbox_processes() -> list[str]:
     """Live processes of the sandbox user ids this self-test's gradings took (run or compile)."""
     found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            status = (entry / "status").read_text()
-        except OSError:
-            continue
-        uid = int(re.search(r"^Uid:\s+(\d+)", status, re.M).group(1))
-        state = re.search(r"^State:\s+(\S)", status, re.M).group(1)
-        if uid in claimed and state != "Z":
-            found.append(f"{entry.name} uid {uid} {(entry / 'comm').read_text().strip()}")
+    for p in procfs.pids():
+        fields = procfs.status(p)
+        uid = fields.get("Uid", "").split()[:1]
+        if uid and int(uid[0]) in claimed and not fields.get("State", "").startswith("Z"):
+            found.append(f"{p} uid {uid[0]} {fields.get('Name', '')}")
     return found
 
 
@@ -890,12 +885,26 @@ def selftest_cache_isolation(ctx) -> str:
                f"include_answers ({mode}) after a compile with --isolation none: {step['state']}, "
                f"{got['score']} points, reported as {step['isolation'][:60]!r}")
         parts.append(f"{mode}: does not compile, 0 points")
-    return "; ".join(parts) + "; " + stale_system_header()
+    return "; ".join(parts)
+
+
+def selftest_stale_header(ctx) -> str:
+    """The build layer's object cache (objcache.ObjectCache, handed to the boundary's compile): a
+    header from outside the kit (a folder given with -isystem, as GLM's is), which only the compile's
+    dependency file names (written with -MP, as CMake's Ninja rules do not, so the kit's one reader,
+    kitcache.dependencies, must skip its empty rules), changed with its size kept: the next compile
+    of the same file is not served from the cache; nor is one after the compiler changed."""
+    from ..kitcache import dependencies
+    mp = "o.o: s.cpp /a\\ b/x.hpp \\\n /sys/h$$.hpp\n\n/a\\ b/x.hpp:\n\n/sys/h$$.hpp:\n"
+    expect(dependencies(mp) == ["s.cpp", "/a b/x.hpp", "/sys/h$.hpp"],
+           f"an -MP dependency file read as {dependencies(mp)}")
+    return stale_system_header()
 
 
 def stale_system_header() -> str:
-    """A header from outside the kit (a folder given with -isystem, as GLM's is) changed with its
-    size kept: the next compile of the same file is not served from the cache."""
+    """A header from outside the kit changed with its size kept: the next compile of the same file
+    is not served from the cache; a changed compiler is not either."""
+    from ..objcache import ObjectCache
     from ..sandbox import Isolation
     work = WORK / "stale-header"
     shutil.rmtree(work, ignore_errors=True)
@@ -910,21 +919,21 @@ def stale_system_header() -> str:
     compiler = work / "c++"
     compiler.write_text(f"#!/bin/sh\necho run >> {runs}\nexec {shutil.which('c++') or 'c++'} \"$@\"\n")
     compiler.chmod(0o755)
-    argv = [str(compiler), "-isystem", str(work / "sys"), "-std=c++17", "-MD", "-MT", "use.o", "-MF",
+    argv = [str(compiler), "-isystem", str(work / "sys"), "-std=c++17", "-MD", "-MP", "-MT", "use.o", "-MF",
             str(work / "use.o.d"), "-o", str(work / "use.o"), "-c", str(src)]
     iso = Isolation("none", "")
     saved = os.environ.pop("RAYKIT_NO_OBJCACHE", None)
     try:
         header.write_text("#define FAKEGLM_VERSION 1\n")
-        status, text = iso.tool("compile", argv, work)
+        status, text = iso.tool("compile", argv, work, ObjectCache)
         expect(status == 0, f"the header's first version did not compile: {text[-300:]}")
-        status, _ = iso.tool("compile", argv, work)
+        status, _ = iso.tool("compile", argv, work, ObjectCache)
         expect(status == 0, "the same compile again failed")
         expect(runs.read_text().count("run") == 1, "the same compile with nothing changed was not served "
                                                    "from the cache: the check below would prove nothing")
         header.write_text("#define FAKEGLM_VERSION 2\n")        # the same size, a new time
         os.utime(header, ns=(time.time_ns() + 10**9, time.time_ns() + 10**9))
-        status, text = iso.tool("compile", argv, work)
+        status, text = iso.tool("compile", argv, work, ObjectCache)
         expect(status != 0 and "the header changed" in text,
                "a compile was served from the cache after a system header it read changed "
                f"(status {status})")
@@ -933,16 +942,21 @@ def stale_system_header() -> str:
         os.utime(header, ns=(time.time_ns() + 2 * 10**9, time.time_ns() + 2 * 10**9))
         before = runs.read_text().count("run")
         for _ in range(2):
-            status, text = iso.tool("compile", argv, work)
+            status, text = iso.tool("compile", argv, work, ObjectCache)
             expect(status == 0, f"the header's first version again did not compile: {text[-300:]}")
         expect(runs.read_text().count("run") == before + 1,
                "after a header changed, the entry made anew does not serve the next compile")
+        # Another compiler behind the same name (an upgrade): compiled again.
+        compiler.write_text(compiler.read_text() + "# upgraded\n")
+        status, _ = iso.tool("compile", argv, work, ObjectCache)
+        expect(status == 0 and runs.read_text().count("run") == before + 2,
+               "a compile was served from the cache after the compiler changed")
     finally:
         if saved is not None:
             os.environ["RAYKIT_NO_OBJCACHE"] = saved
         shutil.rmtree(work, ignore_errors=True)
-    return ("an unchanged compile served from the cache, a changed system header compiled again (and its "
-            "entry made anew)")
+    return ("-MP dependency file read; an unchanged compile served from the cache, a changed system header "
+            "that only the dependency file names compiled again (and its entry made anew), a changed compiler too")
 
 
 def selftests():
@@ -951,6 +965,7 @@ def selftests():
             ("boundary: links where the claims are kept", selftest_lock_links),
             ("boundary: claims graded code can reach", selftest_claim_squatters),
             ("boundary: objects compiled outside the sandbox", selftest_cache_isolation),
+            ("build: a cached object is stale once a header its depfile names changes", selftest_stale_header),
             ("boundary: compile bombs", selftest_compile_bombs),
             ("boundary: run bombs", selftest_run_bombs),
             ("boundary: root's files and sockets", selftest_root_secrets),

@@ -17,7 +17,7 @@ from ..classroomresults import classroom
 from ..gradescope import gradescope
 from ..plresults import prairielearn
 from ..scoreboard import status_cell
-from ..common import BUILD, ROOT
+from ..common import BUILD, ROOT, load_steps
 from ..build import build_target, preset_build, submission_build, workflow
 from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
@@ -103,15 +103,50 @@ def selftest_case_names_and_lectures(ctx: Context) -> str:
     return f"{total} case names are filter-safe and each points to a lecture heading that exists{skipped}"
 
 
+def remote_lines(steps) -> dict[str, str]:
+    """Each step's RAYKIT_REMOTE lines as CMake derives them for the judge (cmake/StepManifest.cmake's
+    raykit_remote_lines: step.json's "functions", the headers' declarations), by step number; Failed
+    with CMake's message when a step's cannot be derived."""
+    cmake = ROOT / "cmake" / "StepManifest.cmake"
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "remote.cmake"
+        lines = [f'include("{cmake}")']
+        for step in steps:
+            m = ROOT / "tests" / step.folder / "step.json"
+            lines += [f'raykit_remote_lines("{m}" "{ROOT / "include"}" lines)',
+                      f'file(WRITE "{Path(tmp) / step.number}.inc" "${{lines}}")']
+        script.write_text("\n".join(lines) + "\n")
+        r = subprocess.run(["cmake", "-P", str(script)], capture_output=True, text=True)
+        if r.returncode != 0:
+            raise Failed(f"CMake cannot derive the judge's list of functions: {(r.stdout + r.stderr).strip()[-600:]}")
+        return {step.number: (Path(tmp) / f"{step.number}.inc").read_text() for step in steps}
+
+
+REMOTE_LINE = re.compile(r"^RAYKIT_REMOTE\((.+?), (\w+), \(([^)]*)\), \(([^)]*)\)\)$", re.M)
+
+
 def selftest_remote_lists(ctx: Context) -> str:
-    """Each step's remote.inc lists exactly the functions of its step.json, and CMake reads step.json's
-    lists (cmake/StepManifest.cmake, by regular expression) as Python's json module does."""
+    """The judge's list of each step's functions, derived by CMake from step.json's "functions" and the
+    headers' declarations, names exactly those functions; a function no header declares stops it with
+    the function's name; and CMake reads step.json's lists (cmake/StepManifest.cmake, by regular
+    expression) as Python's json module does."""
     bad = []
-    for step in ctx.steps:
-        inc = ROOT / "tests" / step.folder / "remote.inc"
-        names = re.findall(r"^RAYKIT_REMOTE\([^,]+(?:<[^>]*>)?,\s*(\w+)", inc.read_text(), re.M) if inc.is_file() else []
-        if sorted(names) != sorted(step.functions):
-            bad.append(f"step {step.number}: remote.inc lists {sorted(names)}, step.json {sorted(step.functions)}")
+    for number, text in remote_lines(ctx.steps).items():
+        step = next(s for s in ctx.steps if s.number == number)
+        names = [m.group(2) for m in REMOTE_LINE.finditer(text)]
+        if names != step.functions or len(text.splitlines()) != len(names):
+            bad.append(f"step {number}: the judge's list names {names}, step.json {step.functions}:\n{text}")
+    # It can fail: a name no header declares.
+    with tempfile.TemporaryDirectory() as tmp:
+        fake = Path(tmp) / "tests" / "99_none"
+        fake.mkdir(parents=True)
+        (fake / "step.json").write_text(json.dumps({"title": "x", "files": ["x.cpp"], "functions": ["no_such_function"]}))
+        script = Path(tmp) / "fail.cmake"
+        script.write_text(f'include("{ROOT / "cmake" / "StepManifest.cmake"}")\n'
+                          f'raykit_remote_lines("{fake / "step.json"}" "{ROOT / "include"}" lines)\n')
+        r = subprocess.run(["cmake", "-P", str(script)], capture_output=True, text=True)
+        expect(r.returncode != 0 and "no_such_function" in r.stderr,
+               f"a function no header declares went through: {(r.stdout + r.stderr)[-300:]}")
     cmake = ROOT / "cmake" / "StepManifest.cmake"
     with tempfile.TemporaryDirectory() as tmp:
         script = Path(tmp) / "read.cmake"
@@ -129,7 +164,8 @@ def selftest_remote_lists(ctx: Context) -> str:
         if got.get(step.number) != want:
             bad.append(f"step {step.number}: CMake reads {got.get(step.number)!r}, json says {want!r}")
     expect(not bad, "\n  ".join(bad))
-    return f"{len(ctx.steps)} steps: remote.inc and step.json agree, CMake reads the manifests as json does"
+    return (f"{len(ctx.steps)} steps: the judge's functions are step.json's, with their headers' signatures "
+            "(an undeclared one is refused); CMake reads the manifests as json does")
 
 
 def selftest_solution_copied_is_done(ctx: Context) -> str:
@@ -482,7 +518,7 @@ def selftest_mac_build(ctx) -> str:
         # What CMake generates for the dispatcher and the judges (CMakeLists.txt): every step's
         # list of functions, every public header, the programs' paths.
         remote_list, api = Path(tmp) / "remote.inc", Path(tmp) / "api.inc"
-        remote_list.write_text("".join(f'#include "{p}"\n' for p in sorted((ROOT / "tests").glob("[0-9][0-9]_*/remote.inc"))))
+        remote_list.write_text("".join(remote_lines(load_steps()).values()))
         api.write_text("".join(f'#include "raykit/{p.name}"\n' for p in sorted((ROOT / "include" / "raykit").glob("*.hpp"))))
         defines = [f'-DRAYKIT_REMOTE_LIST="{remote_list}"', f'-DRAYKIT_API_HEADERS="{api}"',
                    '-DRAYKIT_ANSWERS_EXE="answers"', '-DRAYKIT_REFERENCE_EXE="reference"']

@@ -52,7 +52,7 @@ QUICK = {
     "docs": ["docs: math filter"],
     "handout": ["handout: no step code"],
     "hint": ["hint order: what fails first"],
-    "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write"],
+    "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write", "layers: one /proc reader"],
     "ci": ["ci: a skipped security test fails in CI"],
     "lectures": ["numbers quoted from the benchmark are current", "★ grading figures are current",
                  "the pitfalls' pictures are committed and current", "lecture 05's tables are the scene file's",

@@ -42,6 +42,7 @@ import time
 from pathlib import Path
 from typing import Callable
 
+from .. import procfs
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
 from ..status import DONE, NO_COMPILE, PARTIAL
 from .harness import Failed, Skipped, expect, kit, need_solutions, partly_skipped
@@ -161,17 +162,12 @@ def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: di
 def processes_named(word: str) -> list[str]:
     """Live processes whose name or command line holds `word`."""
     found = []
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit() or int(entry.name) == os.getpid():
+    for p in procfs.pids():
+        if p == os.getpid():
             continue
-        try:
-            comm = (entry / "comm").read_text().strip()
-            cmdline = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
-            state = next((l for l in (entry / "status").read_text().splitlines() if l.startswith("State:")), "")
-        except OSError:
-            continue
-        if (word in comm or word in cmdline) and "zombie" not in state:
-            found.append(f"{entry.name} {comm}")
+        comm, cmdline = procfs.comm(p), procfs.cmdline(p)
+        if (word in comm or word in cmdline) and procfs.alive(p):
+            found.append(f"{p} {comm}")
     return found
 
 

@@ -24,6 +24,7 @@ import sys
 import time
 from pathlib import Path
 
+from .. import procfs
 from ..common import BUILD, ROOT
 from .harness import Context, Failed, Screen, expect, kit, need_solutions
 
@@ -167,17 +168,13 @@ def warm_up_processes(build_dir: Path) -> list[str]:
     """The command lines of processes left in the handout once its check has ended: the warm-up
     (./kit check --warm-up) or anything working in `build_dir` (cmake, ninja, a compiler)."""
     found = []
-    for d in Path("/proc").iterdir():
-        if not d.name.isdigit() or int(d.name) == os.getpid():
+    for p in procfs.pids():
+        if p == os.getpid():
             continue
-        try:
-            cmd = (d / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
-            state = (d / "stat").read_text().rsplit(")", 1)[1].split()[0]
-            cwd = os.readlink(d / "cwd")
-        except (OSError, IndexError):
+        cmd, cwd = procfs.cmdline(p), procfs.cwd(p)
+        if not cwd or not procfs.alive(p):
             continue
-        if state != "Z" and (("--warm-up" in cmd and cwd.startswith(str(HANDOUT_DIR))) or
-                             cwd.startswith(str(build_dir))):
+        if ("--warm-up" in cmd and cwd.startswith(str(HANDOUT_DIR))) or cwd.startswith(str(build_dir)):
             found.append(cmd[:120])
     return found
 

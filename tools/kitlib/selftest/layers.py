@@ -7,24 +7,26 @@ the judge (running a step's cases), the outputs (the record and each platform's 
 report), the site (docs, decks, the lab's browser, the bench's report) and the commands (one module
 each; none imports another). Every import counts, at the top of a module or inside a function: a
 cycle or an upward arrow fails, and so does a module no layer names (place it in LAYERS). The
-self-test package itself stands above all of it.
+self-test package itself stands above all of it. And one module reads /proc: procfs.py.
 """
 
 from __future__ import annotations
 
 import ast
+import re
+import time
 from pathlib import Path
 
 from ..common import ROOT
-from .harness import expect
+from .harness import Skipped, expect
 
 KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "relocate", "kitfiles", "waits",
-              "submissions", "kitcache"]),
-    ("boundary", ["sandbox", "studentpch", "launch"]),
-    ("build", ["build", "warmup"]),
+              "submissions", "kitcache", "procfs"]),
+    ("boundary", ["sandbox", "studentpch"]),
+    ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "scoreboard", "picture", "robust_line",
                  "report", "report.grading", "report.make", "report.pages", "report.plots", "report.signatures",
@@ -128,7 +130,7 @@ def selftest_layers(ctx) -> str:
 # and what they move.
 OTHER_RENAMES = {
     "studentpch": (1, "the compiler's own output (a precompiled header) moved into place"),
-    "sandbox": (2, "an object-cache entry's folder, swapped whole"),
+    "objcache": (2, "an object-cache entry's folder, swapped whole"),
     "report.pages": (1, "a folder of pages, swapped whole"),
     "commands.prairielearn": (1, "a staged folder, swapped whole"),
     "commands.handout": (1, "a staged folder, swapped whole"),
@@ -192,6 +194,53 @@ def selftest_atomic_write(ctx) -> str:
             "modes kept")
 
 
+# A path under /proc opened in code: a string that starts with /proc/, or Path of /proc itself.
+# (sandbox.py's bubblewrap mounts a fresh /proc, which opens nothing; render's self-test writes to
+# a /proc path on purpose, to fail.)
+PROC_READ = re.compile(r"""(?:["']/proc/(?!raykit-cannot-exist)|Path\(\s*f?["']/proc["']\s*\))""")
+
+
+def selftest_one_proc_reader(ctx) -> str:
+    """procfs.py is the kit's one reader of /proc: no other module of the driver or its self-test opens a
+    path there; and what it reads is right: this process's owner, parent, session and command line, a
+    child's own session, the child as a zombie until it is reaped, then gone."""
+    import os
+    import subprocess
+    import sys
+    from .. import procfs
+    readers = sorted(str(f.relative_to(KITLIB)) for f in KITLIB.rglob("*.py")
+                     if f.name != "procfs.py" and PROC_READ.search(f.read_text()))
+    expect(not readers, f"modules that read /proc themselves, not through procfs.py: {readers}")
+    if not procfs.pids():
+        raise Skipped("no /proc here (not Linux): the scan above is all that applies")
+    me = os.getpid()
+    expect(procfs.real_uid(me) == os.getuid() and procfs.parent(me) == os.getppid()
+           and procfs.session(me) == os.getsid(0) and procfs.alive(me) and me in procfs.pids(),
+           f"this process read wrong: uid {procfs.real_uid(me)}, parent {procfs.parent(me)}, "
+           f"session {procfs.session(me)}, state {procfs.state(me)!r}")
+    expect(sys.executable.split("/")[-1] in procfs.cmdline(me), f"this process's command line: {procfs.cmdline(me)!r}")
+    child = subprocess.Popen(["sleep", "30"], start_new_session=True)
+    try:
+        expect(procfs.session(child.pid) == child.pid and procfs.comm(child.pid) == "sleep"
+               and procfs.cmdline(child.pid) == "sleep 30",
+               f"a child read wrong: session {procfs.session(child.pid)}, {procfs.comm(child.pid)!r}")
+        child.kill()
+        for _ in range(200):                      # the kill lands: a zombie until reaped
+            if procfs.state(child.pid) == "Z":
+                break
+            time.sleep(0.01)
+        expect(procfs.state(child.pid) == "Z" and not procfs.alive(child.pid),
+               f"a killed, unreaped child reads as {procfs.state(child.pid)!r}")
+    finally:
+        child.kill()
+        child.wait()
+    expect(procfs.status(child.pid) == {} and procfs.stat(child.pid) == [] and not procfs.alive(child.pid),
+           "a reaped child still reads as a process")
+    return (f"no module but procfs.py opens /proc ({len(list(KITLIB.rglob('*.py')))} scanned); own fields, "
+            "a child's session, its zombie and its end read right")
+
+
 def selftests():
     return [("layers: imports go downwards, no cycle", selftest_layers),
-            ("layers: one atomic write", selftest_atomic_write)]
+            ("layers: one atomic write", selftest_atomic_write),
+            ("layers: one /proc reader", selftest_one_proc_reader)]

@@ -5,7 +5,7 @@
 - every lecture section a hint names exists, by number and, where the hint gives it, by title;
 - every rule a header states for what is no answer ("count == 0 when ...", "... count as a miss",
   "no value when ...", "... describes no sphere", "tmin > tmax is an empty window", "..., or no value")
-  has a case that asks it (CONTRACT_CASES, and a step.json's "contract"), basic for the headers of steps 01-03.
+  has a case that asks it (listed in its step's step.json, "contract"), basic for the headers of steps 01-03.
 
 (Each case's own lecture pointer is checked by "case names and lecture pointers" in selftest/check.py.)
 """
@@ -263,54 +263,6 @@ def contract_clauses(text: str) -> list[tuple[str, str]]:
     return list(dict.fromkeys(out))
 
 
-# For each clause, "header:name:condition", the cases that ask it (any of the step suites).
-_NAN_01 = ["a ray holding NaN is no ray: no roots", "a ray holding infinity is no ray: no roots"]
-_RADIUS_02 = ["a radius of zero or less is no sphere: no roots", "a radius that is NaN or infinite is no sphere: no roots"]
-_RADIUS_03 = ["shortcut: a radius of zero or less is no sphere", "geometric: a radius of zero or less is no sphere"]
-CONTRACT_CASES = {
-    "unit_sphere.hpp:unit_sphere_roots:it misses": ["no hit: a ray that passes far from the sphere",
-                                                    "no hit: a ray just outside the silhouette"],
-    "unit_sphere.hpp:unit_sphere_roots:the direction is zero": ["a zero direction is no ray: no roots"],
-    "unit_sphere.hpp:unit_sphere_roots:inputs containing nan or infinity": _NAN_01,
-    "unit_sphere.hpp:unit_sphere_roots:so large that d·d overflows": ["a direction so long that d.d overflows: no roots"],
-    "unit_sphere.hpp:intersect_unit_sphere:tmin > tmax": ["window: tmin greater than tmax is empty"],
-    "unit_sphere.hpp:intersect_unit_sphere:nothing in the window": [
-        "window: a miss is no hit", "window: both roots after tmax is no hit", "window: both roots before tmin is no hit",
-        "window: a ray holding NaN is no hit"],
-    "general_sphere.hpp:sphere_roots:it misses": ["no hit: a ray that passes far from the sphere",
-                                                  "no hit: a ray just outside the silhouette"],
-    "general_sphere.hpp:sphere_roots:the direction is zero": ["a zero direction is no ray: no roots"],
-    "general_sphere.hpp:sphere_roots:the radius describes no sphere": _RADIUS_02,
-    "general_sphere.hpp:sphere_roots:a radius that is not a positive finite number": _RADIUS_02,
-    "general_sphere.hpp:sphere_roots:inputs containing nan or infinity": [
-        "a ray holding NaN is no ray: no roots", "a ray holding infinity is no ray: no roots"],
-    "general_sphere.hpp:sphere_roots:a direction so large that d·d overflows float": [
-        "a direction so long that d.d overflows float: no roots or the true roots and never NaN"],
-    "general_sphere.hpp:intersect_sphere:tmin > tmax": ["window: tmin greater than tmax is empty"],
-    "general_sphere.hpp:intersect_sphere:nothing in the window": [
-        "window: a miss is no hit", "window: both roots after tmax is no hit", "window: a degenerate sphere is no hit",
-        "window: a ray holding NaN is no hit"],
-    "sphere.hpp:Sphere:a radius that is zero, negative, nan or infinite": _RADIUS_02,
-    "unit_direction.hpp:sphere_roots_unit_dir:inputs containing nan or infinity": [
-        "shortcut: a ray holding NaN is a miss", "shortcut: a ray holding infinity is a miss",
-        "geometric: a ray holding NaN is a miss", "geometric: a ray holding infinity is a miss"],
-    "unit_direction.hpp:sphere_roots_unit_dir:a radius that is not a positive finite number": _RADIUS_03,
-    "rect.hpp:Rect:an axis other than 0, 1 or 2": ["an axis of 3 is no rectangle", "an axis of -1 is no rectangle"],
-    "rect.hpp:Rect:a lo greater than hi in either component": ["lo greater than hi is an empty rectangle"],
-    "rect.hpp:Rect:a nan anywhere": ["a NaN origin is no hit", "a NaN direction along the axis is no hit",
-                                     "a NaN offset is no hit", "a NaN bound is no hit"],
-    "rect.hpp:intersect_rect:the ray is parallel to the plane": ["a ray parallel to the plane beside it is no hit",
-                                                                 "a direction with -0 along the axis is parallel too"],
-    "rect.hpp:intersect_rect:it lies in the plane": ["a ray lying in the plane is no hit and no NaN"],
-    "rect.hpp:intersect_rect:tmin > tmax": ["tmin greater than tmax is an empty window"],
-    "rect.hpp:intersect_rect:nothing in the window": ["a miss beyond the right edge x = 3", "a hit before tmin is no hit",
-                                                      "a hit after tmax is no hit"],
-    "render.hpp:find_intersection:no object is hit in the window": ["one object missed: no hit",
-                                                                    "objects after tmax are not hit"],
-    "render.hpp:find_intersection:an empty scene": ["an empty scene is never hit"],
-    "render.hpp:find_intersection:tmin > tmax": ["tmin greater than tmax is an empty window"],
-    "render.hpp:find_intersection:nothing in the window": ["one object missed: no hit"],
-}
 # Headers whose rules must be asked by a basic case (a point), not only by a ★ one.
 BASIC_HEADERS = {"unit_sphere.hpp", "general_sphere.hpp", "unit_direction.hpp", "sphere.hpp"}
 
@@ -329,12 +281,12 @@ def suite_cases(sources: dict[str, str]) -> dict[str, set[str]]:
 
 
 def contract_cases() -> dict[str, list[str]]:
-    """CONTRACT_CASES (steps 01-05), with the `"contract"` of every step's step.json: a new step lists
-    the cases of its header's rules in its own manifest, with nothing to edit here."""
-    import json
-    found = dict(CONTRACT_CASES)
-    for manifest in sorted((ROOT / "tests").glob("[0-9][0-9]_*/step.json")):
-        found.update(json.loads(manifest.read_text()).get("contract", {}))
+    """For each rule a header states, "header:name:condition", the cases that ask it (in any step's
+    suites): the `"contract"` of every step's step.json, so a step lists its header's rules in its own
+    manifest and nothing here names a step."""
+    found: dict[str, list[str]] = {}
+    for step in load_steps():
+        found.update(step.contract)
     return found
 
 
@@ -345,7 +297,7 @@ def contract_problems(headers: dict[str, str], sources: dict[str, str],
     found = {f"{h}:{name}:{cond}" for h, text in headers.items() for name, cond in contract_clauses(text)}
     bad = [f"{k}: a rule of the header that no case asks (add a case and list it in step.json's \"contract\")"
            for k in sorted(found - listed.keys())]
-    bad += [f"{k}: listed in CONTRACT_CASES or a step.json's \"contract\", but no header states it any more"
+    bad += [f"{k}: listed in a step.json's \"contract\", but no header states it any more"
             for k in sorted(listed.keys() - found)]
     for key in sorted(found & listed.keys()):
         for case in listed[key]:

@@ -14,7 +14,7 @@ CONTRIBUTING's commands only:
 - `./kit handout DIR`: step 06's stub and lecture ship, its solution and mutants do not, and the
   handout's own `./kit check 6` says "not started";
 - the rules `./kit test` enforces on a step, run on step 06 in the copy (rules_here): case names and
-  lecture headings, remote.inc against step.json, the recorded stubs and case lists, hints (at
+  lecture headings, the judge's functions derived from step.json, the recorded stubs and case lists, hints (at
   least 3, no code, their section pointers), every rule of the header asked by a case, the slide
   deck's shape, the mutants (at least 8, each caught by its named case) and their signatures; and
   the docs: step 06 on the front page with its lecture, task and function, the student and the
@@ -29,7 +29,7 @@ The template is step 06; in a kit that already has a step 06 (an instructor's ow
 added as CONTRIBUTING says) it is added as the next free number, its paths and the words naming its
 number renumbered (numbered()), so a customised kit's ./kit test passes here too.
 
-It can fail: RAYKIT_NEWSTEP_DROP=tests/06_plane/remote.inc (a comma-separated list of template
+It can fail: RAYKIT_NEWSTEP_DROP=tests/06_plane/hints.md (a comma-separated list of template
 paths) leaves those files out of the step, as if CONTRIBUTING's list lacked them.
 """
 
@@ -311,7 +311,7 @@ def rules_here() -> int:
 
     rules = [("the reference judge builds", reference_judge),
              ("case names and lecture headings", check.selftest_case_names_and_lectures),
-             ("remote.inc and step.json", check.selftest_remote_lists),
+             ("the judge's functions from step.json", check.selftest_remote_lists),
              ("recorded stubs and case lists", latency.selftest_recorded),
              ("hints", hint.selftest_hints),
              ("hints' section pointers", lectures.selftest_hint_sections),

@@ -26,6 +26,7 @@ from pathlib import Path
 
 from .. import picture
 from ..common import BUILD, ROOT, load_steps
+from . import check
 from .harness import Failed, expect, kit, need_solutions
 
 WORK = BUILD / "selftest-pictures"
@@ -278,9 +279,8 @@ def write_off(folder: Path) -> None:
     for step in load_steps():
         if step.number not in OFF_HEADERS:
             continue
-        remote = (ROOT / "tests" / step.folder / "remote.inc").read_text()
-        functions = re.findall(r"RAYKIT_REMOTE\(([^,]+(?:<[^>]*>)?), (\w+), \(([^)]*)\), \(([^)]*)\)\)", remote)
-        expect(bool(functions), f"no function found in tests/{step.folder}/remote.inc")
+        functions = check.REMOTE_LINE.findall(check.remote_lines([step])[step.number])
+        expect(bool(functions), f"CMake derives no function of step {step.number} (step.json's \"functions\")")
         text = [f'#include "{OFF_HEADERS[step.number]}"', "#include <optional>"]
         text += [f"#define {name} reference_{name}" for _, name, _, _ in functions]
         for f in step.files:

@@ -188,8 +188,8 @@ def selftest_same_bits_with_fma(ctx) -> str:
     flags = kit_contraction_flags()
     expect(flags == ["-ffp-contract=off"], f"CMakeLists.txt gives every compile {flags or 'no -ffp-contract'}, "
            "not -ffp-contract=off: a Mac (ARM64) or -mfma fuses a*b + c and rounds otherwise")
-    has_fma = " fma " in " " + " ".join(l for l in open("/proc/cpuinfo") if l.startswith("flags")) + " " \
-        if Path("/proc/cpuinfo").is_file() else False
+    from .. import procfs
+    has_fma = "fma" in procfs.cpu_flags()
     compilers = [c for c in ("g++", "clang++") if shutil.which(c)]
     sources = {"solutions": ROOT / "solutions" / "02_general_sphere" / "general_sphere.cpp",
                "textbook": ROOT / "tests" / "fixtures" / "forms" / "float_leg" / "02_general_sphere" / "general_sphere.cpp"}
