@@ -483,12 +483,18 @@ def selftest_extra_credit(ctx) -> str:
         starred = [t for t in view["tests"] if "(extra credit)" in t["name"]]
         expect(len(starred) == 4 and all(t["max_score"] == 0 and t["score"] == 1 for t in starred),
                f"the ★ cases are not 0-point tests scoring 1 each: {starred}")
+        # PrairieLearn: a question is worth its step's points and its bonus (20 here), the assessment counts
+        # 16 with 4 of bonus above (./kit prairielearn), so the score is 18/20.
         pl = prairielearn(rs)
-        expect(pl["score"] == 14 / 16, f"PrairieLearn counts no extra credit (a question scores at most its "
-               f"points): {pl['score']}, not 14/16")
+        bonus_tests = [t for t in pl["tests"] if "(extra credit)" in t["name"]]
+        expect(pl["score"] == 18 / 20 and sum(t["points"] for t in pl["tests"]) == 18
+               and sum(t["max_points"] for t in pl["tests"]) == 20 and len(bonus_tests) == 4,
+               f"PrairieLearn: score {pl['score']} (18/20 expected: 8 + 8 points, 4 of extra credit, 18 earned), "
+               f"tests {sum(t['points'] for t in pl['tests'])} of {sum(t['max_points'] for t in pl['tests'])}, "
+               f"{len(bonus_tests)} extra-credit tests")
         words = bonus.scale_words()
         expect("extra credit" in words, f"the scale's words do not say ★ is extra credit: {words}")
-    return f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 0.875; '{words}'"
+    return f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 18 of 16 + 4; '{words}'"
 
 
 def selftests():

@@ -26,7 +26,7 @@ LAYERS = [
     ("boundary", ["sandbox", "studentpch", "launch"]),
     ("build", ["build", "warmup"]),
     ("judge", ["checking", "mutants"]),
-    ("outputs", ["record", "gradescope", "plresults", "scoreboard", "picture", "robust_line", "report",
+    ("outputs", ["record", "gradescope", "plresults", "taskpage", "scoreboard", "picture", "robust_line", "report",
                  "report.grading", "report.make", "report.pages", "report.plots", "report.signatures",
                  "report.similar"]),
     ("site", ["webtools", "decks", "browser", "bench_report"]),
