@@ -242,9 +242,13 @@ def run(args) -> int:
     out = Path(args.out).expanduser()
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise KitError(f"{args.out}: exists and is not an empty folder; choose a new one")
-    writable_parent(args.out, out)
     if ROOT == out.resolve() or ROOT in out.resolve().parents and (ROOT / "build") not in out.resolve().parents:
         raise KitError(f"{args.out}: cannot live inside the kit (except under build/)")
+    try:                                    # a missing folder is made, as --out does everywhere
+        out.resolve().parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise KitError(f"{args.out}: cannot make its folder ({e.strerror or e})")
+    writable_parent(args.out, out)
     image = args.image
     course = course_file.load()
     steps = load_steps()
