@@ -9,7 +9,9 @@ customisation, and a TA could not tell one from a regression.
 
 A scratch copy of the kit (its files, as ./kit handout lists them, in a git repository of its own under
 build/customised-kit/) gets those three changes, and the self-tests that read the course run there:
-the scale (`course`), lecture 05's tables from the scene file (`lectures`), and the new-step test's
+the scale (`course`), lecture 05's tables from the scene file and the README's step table from the
+manifests (`lectures`; the copy ran `python3 docs/readme_steps.py` after adding its step, as CONTRIBUTING
+says), and the new-step test's
 choice of number (the whole new-step test builds a step twice over; a customised copy's run of it is
 in the closing note of #35, not here). The copy's new step is not recorded (`./kit check N --record`
 needs a build): nothing run here reads its records. About 20 s on the shared 2-core machine.
@@ -32,7 +34,7 @@ COPY = BUILD / "customised-kit"
 
 # The self-tests run in the copy, by ./kit test's MODULE:WORDS.
 DEPENDENT = ["course:the default scale", "course:course.json as set", "course:./kit course",
-             "lectures:scene file"]
+             "lectures:scene file", "lectures:README's step table"]
 
 
 def customise(kit_dir: Path) -> dict:
@@ -60,6 +62,8 @@ def customise(kit_dir: Path) -> dict:
         rel, body = newstep.numbered(f, (newstep.TEMPLATE / f).read_text(), number)
         (kit_dir / rel).parent.mkdir(parents=True, exist_ok=True)
         (kit_dir / rel).write_text(body)
+    r = subprocess.run([sys.executable, "docs/readme_steps.py"], cwd=kit_dir, capture_output=True, text=True)
+    expect(r.returncode == 0, f"docs/readme_steps.py in the copy: {r.stderr[-400:]}")
     newstep.commit(kit_dir, "customised: points, a colour, a step")
     return {"points": {n: course["steps"][n]["points"] for n in numbers}, "colour": f"{m.group(1)} {value:.2f}",
             "step": number}
