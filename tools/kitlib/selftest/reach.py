@@ -295,8 +295,14 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
                if not apt or p not in apt.group(1).split()]
     expect(not missing and re.search(r"^FROM debian:\d+$", docker, re.M),
            f"graders/raykit/Dockerfile: not FROM debian:N, or its apt line misses {missing}")
-    expect(all(json.loads(i.read_text())["externalGradingOptions"]["image"] == "raykit-selftest/raykit-grader"
-               for i in out.glob("questions/raykit/*/info.json")), "an info.json does not name --image")
+    from ..commands.prairielearn import MEASURED_SECONDS, TIMEOUT
+    options = [json.loads(i.read_text())["externalGradingOptions"] for i in out.glob("questions/raykit/*/info.json")]
+    expect(all(o["image"] == "raykit-selftest/raykit-grader" for o in options), "an info.json does not name --image")
+    slowest = max(wall for _, wall in MEASURED_SECONDS.values())
+    expect(all(o["timeout"] == TIMEOUT and int(o["environment"]["RAYKIT_BUDGET"]) < TIMEOUT for o in options)
+           and 1.5 * slowest <= TIMEOUT <= 600,
+           f"the job's timeout {TIMEOUT} s against the slowest cold job measured, {slowest} s (1.5 times it at "
+           f"least, 600 at most), and the kit's budget below it: {options[0]}")
     return (f"{len(questions)} questions, {data['maxPoints']} points"
             + (f" + {data['maxBonusPoints']} extra credit" if bonus else "") + ", pages clean")
 
