@@ -39,6 +39,8 @@ def run(args) -> int:
     if args.step is not None:
         if args.quick:
             raise KitError("--step and --quick: choose one")
+        if HANDOUT:
+            raise KitError("--step runs the instructor's checks of a step (solutions, mutants): not in a handout")
         wanted = args.step.zfill(2)
         steps = [s for s in load_steps() if s.number == wanted]
         if not steps:

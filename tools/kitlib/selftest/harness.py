@@ -66,7 +66,7 @@ QUICK = {
 # header rules its cases ask, its slides, lecture 05's scene tables. Named here, next to QUICK, so a
 # renamed self-test fails loudly (collect checks the names).
 STEP = {
-    "check": ["solutions pass every case", "student steps are graded", "case names and lecture pointers",
+    "check": ["solutions pass every case", "shipped stubs are 'not started'", "case names and lecture pointers",
               "step functions and manifests"],
     "latency": ["recorded stubs and case lists"],
     "mutant": ["mutants are caught"],
