@@ -1,6 +1,7 @@
 """Self-test: the course-dependent self-tests pass on a customised copy of the kit (#35 item 3).
 
-An instructor changes the course: the steps' points (here every step 20, the last one doubled), a
+An instructor changes the course: the steps' points (here every step 20, the last one doubled; ★ as
+5 % extra credit: weight 1/20 of a core case, "extra_credit": true), a
 wall's colour in the scene file (include/raykit/scenes/cornell_box.inc, then `python3
 docs/scene_tables.py` as CONTRIBUTING says), and a step of their own (the template of
 tests/fixtures/new_step/ at the next free number, as CONTRIBUTING's "## A step" lists its files). A
@@ -46,6 +47,8 @@ def customise(kit_dir: Path) -> dict:
     course.setdefault("steps", {})
     for n in numbers:
         course["steps"][n] = {"points": 40 if n == numbers[-1] else 20}
+    # ★ as 5 % extra credit: each ★ case passed adds a twentieth of a core case's points, on top.
+    course.setdefault("groups", {})["robust"] = {"weight": "1/20", "extra_credit": True}
     course_path.write_text(json.dumps(course, indent=2) + "\n")
 
     scene = kit_dir / "include" / "raykit" / "scenes" / "cornell_box.inc"
@@ -66,6 +69,7 @@ def customise(kit_dir: Path) -> dict:
     expect(r.returncode == 0, f"docs/readme_steps.py in the copy: {r.stderr[-400:]}")
     newstep.commit(kit_dir, "customised: points, a colour, a step")
     return {"points": {n: course["steps"][n]["points"] for n in numbers}, "colour": f"{m.group(1)} {value:.2f}",
+            "robust": course["groups"]["robust"],
             "step": number}
 
 
