@@ -73,10 +73,19 @@ def selftest_default_scale(ctx) -> str:
 
 def _expected_maximum(course, number: str, groups: list[str]) -> Fraction:
     """A step's maximum under `course`, from its rules as documented: the step's points when set (and
-    some case weighs something), else the sum of its cases' weights."""
-    weights = sum((course.weight(g) for g in groups), Fraction(0))
+    some counted case weighs something), else the sum of its counted cases' weights; extra credit aside."""
+    return _expected(course, number, groups)[0]
+
+
+def _expected(course, number: str, groups: list[str]) -> tuple[Fraction, Fraction]:
+    """A step's maximum and the extra credit its cases add on top, from course.py's documented rules: an
+    extra-credit case is worth its weight's share of the step's points as if its group were counted."""
+    counted = sum((course.weight(g) for g in groups if not course.extra_credit(g)), Fraction(0))
+    extra = sum((course.weight(g) for g in groups if course.extra_credit(g)), Fraction(0))
     points = course.points.get(number)
-    return weights if points is None or weights == 0 else points
+    if points is None:
+        return counted, extra
+    return (points, points * extra / counted) if counted else (Fraction(0), Fraction(0))
 
 
 def selftest_kit_course(ctx) -> str:
@@ -89,9 +98,9 @@ def selftest_kit_course(ctx) -> str:
         rs = [StepResult(toy_step(n), DONE, toy_cases(ALL)) for n in numbers]
         for r, n in zip(rs, numbers):
             groups = [c.group for c in r.cases]
-            want = _expected_maximum(course, n, groups)
-            expect(r.maximum == want and r.earned == want,
-                   f"step {n}: {r.earned} of {r.maximum} for a full score, not {want} (course.json: points "
+            want, bonus = _expected(course, n, groups)
+            expect(r.maximum == want and r.earned == want + bonus,
+                   f"step {n}: {r.earned} of {r.maximum} for a full score, not {want + bonus} of {want} (course.json: points "
                    f"{course.points.get(n)}, weights {[str(course.weight(g)) for g in course_file.GROUPS]})")
             told.append(f"{n}: {r.maximum}")
     default = all(course.points.get(n) is None for n in numbers) and \
