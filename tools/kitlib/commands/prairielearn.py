@@ -117,6 +117,12 @@ def info_json(step, image: str, timeout: int) -> dict:
     }
 
 
+def pl_number(value: Fraction) -> int | float:
+    """Points for PrairieLearn, which multiplies them by each job's score: whole as they are, else to 6
+    decimals (not the course's 2, which would make the questions' sum drift from the exact total)."""
+    return value.numerator if value.denominator == 1 else round(float(value), 6)
+
+
 def assessment_json(steps, course, points: dict) -> dict:
     """The assessment: a question per step, worth its points on the course's scale and its extra credit."""
     maximum = sum((points[s.number][0] for s in steps), Fraction(0))
@@ -129,13 +135,13 @@ def assessment_json(steps, course, points: dict) -> dict:
         "number": "1",
         "text": html.escape(f"Each question is one step of the kit, worth its points on the course's scale "
                             f"({course.scale_words()}); Save & Grade runs its cases.", quote=False),
-        "maxPoints": course.number(maximum),
+        "maxPoints": pl_number(maximum),
         "zones": [{"title": "The steps",
-                   "questions": [{"id": question_id(s), "autoPoints": course.number(sum(points[s.number][:2])),
-                                  "maxAutoPoints": course.number(sum(points[s.number][:2]))} for s in steps]}],
+                   "questions": [{"id": question_id(s), "autoPoints": pl_number(sum(points[s.number][:2])),
+                                  "maxAutoPoints": pl_number(sum(points[s.number][:2]))} for s in steps]}],
     }
     if bonus:
-        data["maxBonusPoints"] = course.number(bonus)
+        data["maxBonusPoints"] = pl_number(bonus)
     return data
 
 

@@ -255,7 +255,7 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
     """The assessment against PrairieLearn's schema and the course's scale; the pages; the image."""
     from fractions import Fraction
     from .. import course as course_file
-    from ..commands.prairielearn import step_points
+    from ..commands.prairielearn import pl_number, step_points
     from ..packages import PACKAGES
     path = out / "courseInstances" / "Fall" / "assessments" / "raykit" / "infoAssessment.json"
     expect(path.is_file(), f"no assessment at {path.relative_to(out)}")
@@ -274,7 +274,7 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
     bonus = sum((w[1] for w in want.values()), Fraction(0))
     for s in ctx.steps:
         q = questions.get(f"raykit/{s.folder}")
-        worth = course.number(want[s.number][0] + want[s.number][1])
+        worth = pl_number(want[s.number][0] + want[s.number][1])
         expect(q and q["autoPoints"] == worth and q.get("maxAutoPoints", worth) == worth,
                f"step {s.number}: the assessment gives {q}, the course {worth} points (with its extra credit)")
         expect((out / "questions" / "raykit" / s.folder / "info.json").is_file(), f"the assessment names "
@@ -284,7 +284,8 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
         expect(not problems, f"step {s.number}'s question.html: {'; '.join(problems)}")
         expect("\\(" in page.read_text() or "$" not in (ROOT / "steps" / s.folder / "README.md").read_text(),
                f"step {s.number}'s task has formulas and its page no MathJax \\( \\)")
-    expect(data["maxPoints"] == course.number(total) and data.get("maxBonusPoints", 0) == course.number(bonus),
+    expect(data["maxPoints"] == pl_number(total) and data.get("maxBonusPoints", 0) == pl_number(bonus)
+           and abs(sum(q["autoPoints"] for q in questions.values()) - float(total + bonus)) < 1e-4,
            f"maxPoints {data['maxPoints']}, maxBonusPoints {data.get('maxBonusPoints')}: the course's steps make "
            f"{course.shown(total)} and {course.shown(bonus)} of extra credit")
     caught = question_problems("<p>see `lectures/01-x.md` and run ./kit check 1, $t$ &lt;a href=</p>", out)
