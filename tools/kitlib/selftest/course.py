@@ -465,6 +465,8 @@ def selftest_gradescope_adds_up(ctx) -> str:
             shown = [t["max_score"] for t in view["tests"] if f"step{r.step.number}" in t["tags"]]
             expect(round(sum(shown), 6) == float(thirds.rounded(r.maximum)),
                    f"step {r.step.number}'s tests add up to {sum(shown)}, its points are {r.maximum}: {shown}")
+        fractions = [line for line in view["output"].splitlines() if re.match(r"step \d+: .*\d/\d+ of", line)]
+        expect(not fractions, f"Gradescope's summary gives a step's points as a fraction, not in decimals: {fractions}")
         held = [line for line in view["output"].splitlines() if "hidden cases hold" in line]
         expect(len(held) == 1 and "after the due date" in held[0],
                f"the visible summary does not say what the hidden cases hold: {view['output']!r}")
