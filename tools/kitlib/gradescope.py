@@ -128,8 +128,8 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                           "tags": [f"step{s.number}"]})
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
-    summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, {course_file.exact_text(r.earned)} of "
-               f"{course_file.exact_text(r.maximum)}" for r in results]
+    summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, {course.shown(r.earned)} of "
+               f"{course.shown(r.maximum)}" for r in results]
     summary.append(f"score {course.shown(exact)} of {course.shown(maximum)}"
                    + (f" (exact {course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)"
                       if exact.denominator != 1 else ""))

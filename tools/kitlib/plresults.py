@@ -4,9 +4,13 @@ Rendered from the same results as the terminal, Gradescope's file and the kit's 
 module knows PrairieLearn's fields (docs/externalGrading.md, read by externalGraderCommon.ts's
 makeGradingResult) and what a PrairieLearn student may see:
 
-  score        earned / maximum on the course's scale, in [0, 1] (the question's points scale it)
+  score        earned / (maximum + extra credit) on the course's scale, in [0, 1]: the question is worth
+               the step's points plus its extra credit (./kit prairielearn's info and assessment: the
+               assessment's maxPoints counts the steps' points, maxBonusPoints the extra credit), so
+               score × the question's points is what the student earned, extra credit included
   tests[]      one per scored case: name, description (the lecture section), points, max_points (adding
-               up to the step's points on the course's decimals), message, output (what the code printed);
+               up to the step's points, and its extra credit, on the course's decimals), message, output
+               (what the code printed);
                the optional (★) cases one 0-point test a step; a step that does not compile, misses a
                file or waits for another, one failed test with the reason
   images       the picture of the first failing visible case, an SVG data URL (also on its test)
@@ -35,6 +39,10 @@ from .status import NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 TEXT = 4000         # characters per message or output
 HIDDEN_WORDS = ("a hidden case: random inputs of this family, drawn for this submission; its inputs are not "
                 "shown here, only whether your code gets them right")
+# PrairieLearn has no "after the due date" for a question's results: what a job wrote is what the student
+# sees, then and later. So the kit says it once, plainly.
+HIDDEN_NOTE = ("Hidden cases (marked so) are graded and counted like the others; PrairieLearn never shows "
+               "their inputs, before or after the due date.")
 
 
 def picture_url(path: str | None) -> str | None:
@@ -67,12 +75,13 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
                 if first:
                     notes.append(clean(first))
             continue
-        # Extra credit is not PrairieLearn's to give per question (a question scores at most its points):
-        # its cases show with the optional ones, as 0-point tests.
-        optional = optional + bonus
-        for c, points in zip(counted, shown_shares([c.points for c in counted], course)):
+        # Extra credit: the question is worth the step's points and its bonus (the assessment counts the
+        # bonus above its maxPoints), so its cases are scored tests, named as extra credit.
+        shares = shown_shares([c.points for c in counted], course) + shown_shares([c.points for c in bonus], course)
+        for c, points in zip(counted + bonus, shares):
             hidden = c.tier == "hidden"
-            test = {"name": f"Step {s.number}{' (hidden)' if hidden else ''} · {c.name}",
+            extra = " (extra credit)" if course.extra_credit(c.group) else ""
+            test = {"name": f"Step {s.number}{' (hidden)' if hidden else ''}{extra} · {c.name}",
                     "description": f"lecture section: {c.lecture}" if c.lecture else "",
                     "points": points if c.status == PASS else 0, "max_points": points,
                     "message": STATUS_WORDS.get(c.status, c.status), "output": ""}
@@ -96,16 +105,25 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
             tests.append({"name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
                           "description": "", "points": 0, "max_points": 0, "message": clean("\n".join(lines)),
                           "output": ""})
-    exact = sum((c.points for r in results for c in r.cases if c.status == PASS
-                 and not course.extra_credit(c.group)), Fraction(0))      # no extra credit here
+    exact = sum((c.points for r in results for c in r.cases if c.status == PASS), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
+    bonus = sum((bonus_maximum(r, course) for r in results), Fraction(0))
     message = "; ".join(f"step {r.step.number}: {STATE_WORDS[r.state]}, {course.shown(r.earned)} of "
                         f"{course.shown(r.maximum)}" for r in results)
     if notes:
         message += "\n" + notes[0]
-    return {"gradable": True, "score": float(exact / maximum) if maximum else 0.0, "message": message,
-            "output": f"score {course.shown(exact)} of {course.shown(maximum)} ({course.scale_words()})",
+    extra = f" and {course.shown(bonus)} of extra credit" if bonus else ""
+    return {"gradable": True, "score": float(exact / (maximum + bonus)) if maximum + bonus else 0.0,
+            "message": message,
+            "output": f"score {course.shown(exact)} of {course.shown(maximum)}{extra} ({course.scale_words()})"
+                      + (f". {HIDDEN_NOTE}" if any(c.tier == "hidden" for r in results for c in r.cases
+                                                   if course.hidden_enabled) else ""),
             "images": images, "tests": tests}
+
+
+def bonus_maximum(r: StepResult, course) -> Fraction:
+    """The extra credit a step's cases can add on top of its points."""
+    return sum((c.points for c in split_cases(r, course)[2]), Fraction(0))
 
 
 def write(path: str, results: list[StepResult], shown_dir: str = "") -> None:

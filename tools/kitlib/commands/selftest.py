@@ -10,8 +10,8 @@ from __future__ import annotations
 import os
 
 from ..packages import ensure_packages, instructor_groups
-from ..common import KitError
-from ..selftest.harness import HANDOUT, MODULES, Context, run_all
+from ..common import KitError, load_steps, say
+from ..selftest.harness import HANDOUT, MODULES, STEP, Context, run_all
 
 
 
@@ -19,6 +19,10 @@ def register(p) -> None:
     p.add_argument("--fast", action="store_true", help="skip the slow self-tests (the sanitizer build, fuzzing)")
     p.add_argument("--quick", action="store_true",
                    help="only the quick tier: the self-tests that build and grade nothing (about half a minute)")
+    p.add_argument("--step", metavar="N",
+                   help="everything a change to step N needs, on that step alone: its cases against the solutions "
+                        "and the stubs, the recorded case lists, its mutants, the mutants' signatures, its hints', "
+                        "lecture's and slides' claims, lecture 05's scene tables (minutes, not the whole run)")
     p.add_argument("-k", dest="words", default="", metavar="WORDS",
                    help="run only the self-tests whose names hold WORDS (case ignored)")
     p.add_argument("modules", nargs="*", metavar="MODULE",
@@ -31,8 +35,22 @@ def run(args) -> int:
     unknown = [m for m in args.modules if m.partition(":")[0] not in MODULES]
     if unknown:
         raise KitError(f"no self-test module {', '.join(unknown)}; the modules are {', '.join(MODULES)}")
+    steps = None
+    if args.step is not None:
+        if args.quick:
+            raise KitError("--step and --quick: choose one")
+        if HANDOUT:
+            raise KitError("--step runs the instructor's checks of a step (solutions, mutants): not in a handout")
+        wanted = args.step.zfill(2)
+        steps = [s for s in load_steps() if s.number == wanted]
+        if not steps:
+            raise KitError(f"--step {args.step}: no such step (the steps are {', '.join(s.number for s in load_steps())})")
+        say(f"self-test of step {wanted} ({steps[0].title}): " + ", ".join(
+            f"{m}: {len(names)}" for m, names in STEP.items()) + " self-tests")
     ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
     # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
     # it would build beside the measured ones. The latency test turns it on where it measures it.
     os.environ["RAYKIT_NO_WARMUP"] = "1"
+    if steps:
+        return run_all(Context(fast=args.fast, steps=steps), args.modules, args.words, step=True)
     return run_all(Context(fast=args.fast), args.modules, args.words, args.quick)

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import re
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,13 +44,20 @@ class Signature:
 
 def fingerprint(step: Step, patch: Path) -> str:
     """A hash of what a mutant's signature depends on: its patch, the step's reference files and tests
-    (tests/NN_topic/, its Markdown aside)."""
+    (tests/NN_topic/, its Markdown and step.json's lines for README's table aside)."""
     h = hashlib.sha256(patch.read_bytes())
     for folder in (ROOT / "solutions" / step.folder, ROOT / "tests" / step.folder):
         for p in sorted(folder.rglob("*")) if folder.is_dir() else []:
             if p.is_file() and p.suffix != ".md":      # a hint or a README changes no case
-                h.update(str(p.relative_to(ROOT)).encode() + b"\0" + p.read_bytes())
+                data = p.read_bytes()
+                if p.name == "step.json":               # nor does the README's summary of the step
+                    data = DOC_LINES.sub(b"", data)
+                h.update(str(p.relative_to(ROOT)).encode() + b"\0" + data)
     return h.hexdigest()[:16]
+
+
+# step.json's keys that only describe the step for README's table (docs/readme_steps.py), one line each.
+DOC_LINES = re.compile(rb'(?m)^[ \t]*"(?:summary|picture_note)": "(?:[^"\\\n]|\\.)*",[ \t]*\r?\n')
 
 
 def compute(progress=print, numbers: list[str] | None = None) -> dict:

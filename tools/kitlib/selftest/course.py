@@ -73,10 +73,19 @@ def selftest_default_scale(ctx) -> str:
 
 def _expected_maximum(course, number: str, groups: list[str]) -> Fraction:
     """A step's maximum under `course`, from its rules as documented: the step's points when set (and
-    some case weighs something), else the sum of its cases' weights."""
-    weights = sum((course.weight(g) for g in groups), Fraction(0))
+    some counted case weighs something), else the sum of its counted cases' weights; extra credit aside."""
+    return _expected(course, number, groups)[0]
+
+
+def _expected(course, number: str, groups: list[str]) -> tuple[Fraction, Fraction]:
+    """A step's maximum and the extra credit its cases add on top, from course.py's documented rules: an
+    extra-credit case is worth its weight's share of the step's points as if its group were counted."""
+    counted = sum((course.weight(g) for g in groups if not course.extra_credit(g)), Fraction(0))
+    extra = sum((course.weight(g) for g in groups if course.extra_credit(g)), Fraction(0))
     points = course.points.get(number)
-    return weights if points is None or weights == 0 else points
+    if points is None:
+        return counted, extra
+    return (points, points * extra / counted) if counted else (Fraction(0), Fraction(0))
 
 
 def selftest_kit_course(ctx) -> str:
@@ -89,9 +98,9 @@ def selftest_kit_course(ctx) -> str:
         rs = [StepResult(toy_step(n), DONE, toy_cases(ALL)) for n in numbers]
         for r, n in zip(rs, numbers):
             groups = [c.group for c in r.cases]
-            want = _expected_maximum(course, n, groups)
-            expect(r.maximum == want and r.earned == want,
-                   f"step {n}: {r.earned} of {r.maximum} for a full score, not {want} (course.json: points "
+            want, bonus = _expected(course, n, groups)
+            expect(r.maximum == want and r.earned == want + bonus,
+                   f"step {n}: {r.earned} of {r.maximum} for a full score, not {want + bonus} of {want} (course.json: points "
                    f"{course.points.get(n)}, weights {[str(course.weight(g)) for g in course_file.GROUPS]})")
             told.append(f"{n}: {r.maximum}")
     default = all(course.points.get(n) is None for n in numbers) and \
@@ -456,6 +465,8 @@ def selftest_gradescope_adds_up(ctx) -> str:
             shown = [t["max_score"] for t in view["tests"] if f"step{r.step.number}" in t["tags"]]
             expect(round(sum(shown), 6) == float(thirds.rounded(r.maximum)),
                    f"step {r.step.number}'s tests add up to {sum(shown)}, its points are {r.maximum}: {shown}")
+        fractions = [line for line in view["output"].splitlines() if re.match(r"step \d+: .*\d/\d+ of", line)]
+        expect(not fractions, f"Gradescope's summary gives a step's points as a fraction, not in decimals: {fractions}")
         held = [line for line in view["output"].splitlines() if "hidden cases hold" in line]
         expect(len(held) == 1 and "after the due date" in held[0],
                f"the visible summary does not say what the hidden cases hold: {view['output']!r}")
@@ -483,12 +494,18 @@ def selftest_extra_credit(ctx) -> str:
         starred = [t for t in view["tests"] if "(extra credit)" in t["name"]]
         expect(len(starred) == 4 and all(t["max_score"] == 0 and t["score"] == 1 for t in starred),
                f"the ★ cases are not 0-point tests scoring 1 each: {starred}")
+        # PrairieLearn: a question is worth its step's points and its bonus (20 here), the assessment counts
+        # 16 with 4 of bonus above (./kit prairielearn), so the score is 18/20.
         pl = prairielearn(rs)
-        expect(pl["score"] == 14 / 16, f"PrairieLearn counts no extra credit (a question scores at most its "
-               f"points): {pl['score']}, not 14/16")
+        bonus_tests = [t for t in pl["tests"] if "(extra credit)" in t["name"]]
+        expect(pl["score"] == 18 / 20 and sum(t["points"] for t in pl["tests"]) == 18
+               and sum(t["max_points"] for t in pl["tests"]) == 20 and len(bonus_tests) == 4,
+               f"PrairieLearn: score {pl['score']} (18/20 expected: 8 + 8 points, 4 of extra credit, 18 earned), "
+               f"tests {sum(t['points'] for t in pl['tests'])} of {sum(t['max_points'] for t in pl['tests'])}, "
+               f"{len(bonus_tests)} extra-credit tests")
         words = bonus.scale_words()
         expect("extra credit" in words, f"the scale's words do not say ★ is extra credit: {words}")
-    return f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 0.875; '{words}'"
+    return f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 18 of 16 + 4; '{words}'"
 
 
 def selftests():

@@ -1,6 +1,7 @@
 """Self-test: the course-dependent self-tests pass on a customised copy of the kit (#35 item 3).
 
-An instructor changes the course: the steps' points (here every step 20, the last one doubled), a
+An instructor changes the course: the steps' points (here every step 20, the last one doubled; ★ as
+5 % extra credit: weight 1/20 of a core case, "extra_credit": true), a
 wall's colour in the scene file (include/raykit/scenes/cornell_box.inc, then `python3
 docs/scene_tables.py` as CONTRIBUTING says), and a step of their own (the template of
 tests/fixtures/new_step/ at the next free number, as CONTRIBUTING's "## A step" lists its files). A
@@ -9,7 +10,9 @@ customisation, and a TA could not tell one from a regression.
 
 A scratch copy of the kit (its files, as ./kit handout lists them, in a git repository of its own under
 build/customised-kit/) gets those three changes, and the self-tests that read the course run there:
-the scale (`course`), lecture 05's tables from the scene file (`lectures`), and the new-step test's
+the scale (`course`), lecture 05's tables from the scene file and the README's step table from the
+manifests (`lectures`; the copy ran `python3 docs/readme_steps.py` after adding its step, as CONTRIBUTING
+says), and the new-step test's
 choice of number (the whole new-step test builds a step twice over; a customised copy's run of it is
 in the closing note of #35, not here). The copy's new step is not recorded (`./kit check N --record`
 needs a build): nothing run here reads its records. About 20 s on the shared 2-core machine.
@@ -32,7 +35,7 @@ COPY = BUILD / "customised-kit"
 
 # The self-tests run in the copy, by ./kit test's MODULE:WORDS.
 DEPENDENT = ["course:the default scale", "course:course.json as set", "course:./kit course",
-             "lectures:scene file"]
+             "lectures:scene file", "lectures:README's step table"]
 
 
 def customise(kit_dir: Path) -> dict:
@@ -44,6 +47,8 @@ def customise(kit_dir: Path) -> dict:
     course.setdefault("steps", {})
     for n in numbers:
         course["steps"][n] = {"points": 40 if n == numbers[-1] else 20}
+    # ★ as 5 % extra credit: each ★ case passed adds a twentieth of a core case's points, on top.
+    course.setdefault("groups", {})["robust"] = {"weight": "1/20", "extra_credit": True}
     course_path.write_text(json.dumps(course, indent=2) + "\n")
 
     scene = kit_dir / "include" / "raykit" / "scenes" / "cornell_box.inc"
@@ -60,8 +65,11 @@ def customise(kit_dir: Path) -> dict:
         rel, body = newstep.numbered(f, (newstep.TEMPLATE / f).read_text(), number)
         (kit_dir / rel).parent.mkdir(parents=True, exist_ok=True)
         (kit_dir / rel).write_text(body)
+    r = subprocess.run([sys.executable, "docs/readme_steps.py"], cwd=kit_dir, capture_output=True, text=True)
+    expect(r.returncode == 0, f"docs/readme_steps.py in the copy: {r.stderr[-400:]}")
     newstep.commit(kit_dir, "customised: points, a colour, a step")
     return {"points": {n: course["steps"][n]["points"] for n in numbers}, "colour": f"{m.group(1)} {value:.2f}",
+            "robust": course["groups"]["robust"],
             "step": number}
 
 

@@ -56,12 +56,31 @@ QUICK = {
     "ci": ["ci: a skipped security test fails in CI"],
     "lectures": ["numbers quoted from the benchmark are current", "★ grading figures are current",
                  "the pitfalls' pictures are committed and current", "lecture 05's tables are the scene file's",
-                 "hints point to lecture sections that exist", "every rule a header states has a case"],
+                 "hints point to lecture sections that exist", "every rule a header states has a case",
+                 "the README's step table is the steps' manifests'"],
     "pictures": ["pictures: degenerate input", "pictures: the pitfall gallery"],
     "robust_line": ["★ lines: sections in words", "★ pointers: one section each",
                     "messages name the trouble, not the cure"],
     "grade": ["uploads: step files found at any depth, only they"],
     "report": ["report: the mutants' signatures are current"],
+    "slides": ["slides: decks have notes, Ponder answers and the step's command",
+               "slides: a deck says what its lecture and its step's cases say"],
+}
+
+# ./kit test --step N: everything a change to step N needs, in minutes, run on that step alone
+# (ctx.steps): its cases against the solutions and the stubs, its case names and manifest, the recorded
+# stubs and case lists, its mutants, the mutants' signatures, its hints' and lecture's sections, the
+# header rules its cases ask, its slides, lecture 05's scene tables. Named here, next to QUICK, so a
+# renamed self-test fails loudly (collect checks the names).
+STEP = {
+    "check": ["solutions pass every case", "shipped stubs are 'not started'", "case names and lecture pointers",
+              "step functions and manifests"],
+    "latency": ["recorded stubs and case lists"],
+    "mutant": ["mutants are caught"],
+    "report": ["report: the mutants' signatures are current"],
+    "lectures": ["lecture 05's tables are the scene file's", "hints point to lecture sections that exist",
+                 "every rule a header states has a case", "the README's step table is the steps' manifests'"],
+    "hint": ["hints"],
     "slides": ["slides: decks have notes, Ponder answers and the step's command",
                "slides: a deck says what its lecture and its step's cases say"],
 }
@@ -196,21 +215,23 @@ class Screen:
         os.close(self.master)
 
 
-def collect(modules: list[str] | None = None, words: str = "", quick: bool = False) -> list:
+def collect(modules: list[str] | None = None, words: str = "", quick: bool = False, step: bool = False) -> list:
     """The self-tests of `modules` (default: all), in order. A module may be named MODULE:WORDS to
     take only its self-tests whose names hold WORDS; `words` does the same across all modules
-    (case ignored); `quick` keeps only the quick tier's (QUICK)."""
+    (case ignored); `quick` keeps only the quick tier's (QUICK), `step` only those of STEP."""
     found = []
     for entry in modules or MODULES:
         name, _, only = entry.partition(":")
         tests = importlib.import_module(f"{__package__}.{name}").selftests()
         if name in SECURITY_MODULES:
             tests = [(n, security(fn)) for n, fn in tests]
-        if quick:
-            missing = [n for n in QUICK.get(name, []) if n not in {t for t, _ in tests}]
+        for tier, table in (("QUICK", QUICK), ("STEP", STEP)):
+            if tier == "QUICK" and not quick or tier == "STEP" and not step:
+                continue
+            missing = [n for n in table.get(name, []) if n not in {t for t, _ in tests}]
             if missing:
-                raise KitError(f"harness.QUICK names self-tests {name} does not have: {missing}")
-            tests = [(n, fn) for n, fn in tests if n in QUICK.get(name, [])]
+                raise KitError(f"harness.{tier} names self-tests {name} does not have: {missing}")
+            tests = [(n, fn) for n, fn in tests if n in table.get(name, [])]
         for want in (only, words):
             if want:
                 tests = [(n, fn) for n, fn in tests if want.lower() in n.lower()]
@@ -243,11 +264,12 @@ def run_one(ctx: Context, name: str, fn) -> str:
         _running["security"] = False
 
 
-def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False) -> int:
+def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False,
+            step: bool = False) -> int:
     """Runs the self-tests of `modules` (default: all; see collect), one line each; the exit status
     is FAILED when any failed."""
     counts = {"passed": 0, "failed": 0, "skipped": 0}
-    chosen = collect(modules, words, quick)
+    chosen = collect(modules, words, quick, step)
     BUILD.mkdir(exist_ok=True)      # the self-tests work in build/, which a fresh clone has not made yet
     # One secret for the self-test's hidden draws (kitlib/secret.py): the same inputs on every run.
     os.environ.setdefault(SECRET_ENV, hashlib.sha256(b"raykit self-test secret").hexdigest())

@@ -28,6 +28,7 @@ GENERATOR = ROOT / "docs" / "bench_numbers.py"
 ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
 PITFALL_PICTURES = ROOT / "docs" / "pitfall_pictures.py"
 SCENE_TABLES = ROOT / "docs" / "scene_tables.py"
+README_STEPS = ROOT / "docs" / "readme_steps.py"
 
 
 def _generator(path: Path = GENERATOR):
@@ -334,10 +335,37 @@ def selftest_contract_clauses(ctx) -> str:
            "a removed case and an unasked rule are caught"
 
 
+def selftest_readme_steps(ctx) -> str:
+    """README.md's step table is the steps' manifests' (docs/readme_steps.py): a row per step, in order,
+    and a step added or renamed makes it stale."""
+    if not README_STEPS.is_file():
+        raise Skipped("no docs/readme_steps.py here")
+    rs = _generator(README_STEPS)
+    block = rs.BLOCK.search(rs.README.read_text())
+    expect(block is not None, "README.md has no <!-- readme_steps.py --> block for the step table")
+    want = rs.table()
+    expect(block.group(2) == want, "README.md's step table is stale (run python3 docs/readme_steps.py):\n"
+           + "\n".join(sorted(set(want.splitlines()) ^ set(block.group(2).splitlines()))))
+    rows = re.findall(r"(?m)^\| (\d\d) \|", block.group(2))
+    expect(rows == [s.number for s in load_steps()], f"the table's rows {rows}, the steps {[s.number for s in load_steps()]}")
+    with tempfile.TemporaryDirectory() as tmp:      # it can fail: one step more in the manifests
+        for folder, manifest in rs.manifests():
+            (Path(tmp) / "tests" / folder).mkdir(parents=True)
+            (Path(tmp) / "tests" / folder / "step.json").write_text(json.dumps(manifest))
+        extra = f"{int(rows[-1]) + 1:02d}_extra"
+        (Path(tmp) / "tests" / extra).mkdir()
+        (Path(tmp) / "tests" / extra / "step.json").write_text(json.dumps({"title": "An extra step", "files": []}))
+        grown = rs.table(Path(tmp))
+        expect(grown != block.group(2) and f"| {extra[:2]} | An extra step |" in grown,
+               "a step added to the manifests leaves the table unchanged")
+    return f"{len(rows)} rows, one per step.json, in order; a step added makes it stale"
+
+
 def selftests():
     return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
             ("★ grading figures are current", selftest_robust_numbers),
             ("the pitfalls' pictures are committed and current", selftest_pitfall_pictures),
             ("lecture 05's tables are the scene file's", selftest_scene_tables),
             ("hints point to lecture sections that exist", selftest_hint_sections),
-            ("every rule a header states has a case", selftest_contract_clauses)]
+            ("every rule a header states has a case", selftest_contract_clauses),
+            ("the README's step table is the steps' manifests'", selftest_readme_steps)]

@@ -6,8 +6,13 @@
     stubs, one slip and the solutions: its "Points X/Y" and its console table's total equal the kit's own
     score; every `with:` key is among the action's action.yml inputs, and a wrong key is caught.
   - prairielearn: ./kit prairielearn's info.json files validate against PrairieLearn's real
-    infoQuestion.json schema (python3-jsonschema), each question's editors name the step's files and its
-    entry point the grader in serverFilesCourse; tools/prairielearn/grade.py on a /grade-like folder
+    infoQuestion.json schema and its infoAssessment.json against infoAssessment.json (python3-jsonschema),
+    the assessment holds a question per step worth the step's points and extra credit on course.json's
+    scale (maxPoints their sum); each question's page is HTML with MathJax's delimiters and nothing a
+    PrairieLearn student lacks (no Markdown fence or $, no ./kit, no lecture path, no lab, no link into
+    the kit, every figure copied beside it), its editors name the step's files and its entry point the
+    grader in serverFilesCourse; the image's Dockerfile installs packages.py's build and sandbox groups;
+    tools/prairielearn/grade.py on a /grade-like folder
     writes results.json that passes tools/prairielearn/check_results.py (externalGraderCommon.ts's
     rules): the solutions score 1 on every step, the stubs 0, one slip in between with the picture of a
     failing case, a compile error 0 with its diagnostic; both checkers are shown to catch a wrong file.
@@ -139,6 +144,24 @@ def selftest_classroom(ctx) -> str:
 
 
 PL_SCHEMA = ("prairielearn", "apps", "prairielearn", "src", "schemas", "schemas", "infoQuestion.json")
+PL_ASSESSMENT_SCHEMA = PL_SCHEMA[:-1] + ("infoAssessment.json",)
+# What a PrairieLearn student does not have, as a question page would point at it.
+PL_ABSENT = {"a Markdown fence": r"```", "a Markdown formula": r"(?<!\\)\$", "./kit": r"\./kit\b",
+             "a lecture's file": r"lectures/", "the lab": r"\blab\b", "a step's folder": r"steps/\d\d_",
+             "raw HTML shown as text": r"&lt;a |&lt;/a&gt;", "a link into the kit": r'href="(?!https?://)'}
+
+
+def question_problems(page: str, q: Path) -> list[str]:
+    """What is wrong with a generated question.html for a PrairieLearn student (the contract's C++ aside)."""
+    prose = re.sub(r'<pl-code language="cpp">.*?</pl-code>', "", page, flags=re.S)
+    found = [f"{what}: {m.group(0)!r} in …{prose[max(m.start() - 60, 0):m.end() + 20]!r}"
+             for what, rx in PL_ABSENT.items() for m in [re.search(rx, prose)] if m]
+    for src in re.findall(r'src="\{\{options.client_files_question_url\}\}/([^"]+)"', page):
+        if not (q / "clientFilesQuestion" / src).is_file():
+            found.append(f"figure {src} not in clientFilesQuestion/")
+    if re.search(r"\{\{(?!options\.client_files_question_url\}\})", page):
+        found.append("a {{ PrairieLearn's Mustache would read")
+    return found
 
 
 def _checker():
@@ -172,7 +195,12 @@ def selftest_prairielearn(ctx) -> str:
     out = WORK / "prairielearn"
     shutil.rmtree(out, ignore_errors=True)
     r = kit("prairielearn", str(out))
+    expect(r.returncode != 0 and "--image" in r.stderr, f"./kit prairielearn without --image: {r.stdout}{r.stderr}")
+    r = kit("prairielearn", str(out), "--image", "your-dockerhub-user/raykit-grader")
+    expect(r.returncode != 0 and "--image" in r.stderr, f"./kit prairielearn took the placeholder image: {r.stdout}{r.stderr}")
+    r = kit("prairielearn", str(out), "--image", "raykit-selftest/raykit-grader", "--instance", "Fall")
     expect(r.returncode == 0, f"./kit prairielearn failed: {r.stdout}{r.stderr}")
+    summary = assessment_checks(ctx, out, need_third_party(*PL_ASSESSMENT_SCHEMA))
     infos = sorted(out.glob("questions/raykit/*/info.json"))
     expect(len(infos) == len(ctx.steps), f"{len(infos)} info.json files for {len(ctx.steps)} steps")
     bad_info = WORK / "bad-info.json"
@@ -229,8 +257,65 @@ def selftest_prairielearn(ctx) -> str:
     nc = pl_grade(first, broken, "no-compile")
     expect(nc["score"] == 0 and nc.get("gradable", True) and "error" in nc["message"],
            f"a compile error: score {nc['score']}, message {nc['message']!r}")
-    return (f"{len(infos)} info.json valid; solutions 1, stubs 0 on every step; one slip {slip['score']:.3f} "
+    return (f"{len(infos)} info.json and the assessment valid ({summary}); solutions 1, stubs 0 on every step; one slip {slip['score']:.3f} "
             f"({len(slip['tests'])} tests, a picture); compile error 0: {nc['message'].splitlines()[-1][:60]}")
+
+
+def assessment_checks(ctx, out: Path, schema: Path) -> str:
+    """The assessment against PrairieLearn's schema and the course's scale; the pages; the image."""
+    from fractions import Fraction
+    from .. import course as course_file
+    from ..commands.prairielearn import pl_number, step_points
+    from ..packages import PACKAGES
+    path = out / "courseInstances" / "Fall" / "assessments" / "raykit" / "infoAssessment.json"
+    expect(path.is_file(), f"no assessment at {path.relative_to(out)}")
+    bad = WORK / "bad-assessment.json"
+    bad.write_text(json.dumps({**json.loads(path.read_text()), "type": "Quiz", "maxPoints": -1}))
+    v = subprocess.run([SYSTEM_PYTHON, str(ROOT / "tools/prairielearn/check_results.py"), "info", str(schema),
+                        str(path), str(bad)], capture_output=True, text=True)
+    found = json.loads(v.stdout or "{}")
+    expect(len(found.get(str(bad), [])) >= 2, f"the schema check missed a bad type and maxPoints: {v.stdout}{v.stderr}")
+    expect(not found.get(str(path)), f"infoAssessment.json against PrairieLearn's schema: {found.get(str(path))}")
+    data = json.loads(path.read_text())
+    course = course_file.load()
+    questions = {q["id"]: q for z in data["zones"] for q in z["questions"]}
+    want = {s.number: step_points(s, course) for s in ctx.steps}
+    total = sum((w[0] for w in want.values()), Fraction(0))
+    bonus = sum((w[1] for w in want.values()), Fraction(0))
+    for s in ctx.steps:
+        q = questions.get(f"raykit/{s.folder}")
+        worth = pl_number(want[s.number][0] + want[s.number][1])
+        expect(q and q["autoPoints"] == worth and q.get("maxAutoPoints", worth) == worth,
+               f"step {s.number}: the assessment gives {q}, the course {worth} points (with its extra credit)")
+        expect((out / "questions" / "raykit" / s.folder / "info.json").is_file(), f"the assessment names "
+               f"raykit/{s.folder}, which is no question")
+        page = out / "questions" / "raykit" / s.folder / "question.html"
+        problems = question_problems(page.read_text(), page.parent)
+        expect(not problems, f"step {s.number}'s question.html: {'; '.join(problems)}")
+        expect("\\(" in page.read_text() or "$" not in (ROOT / "steps" / s.folder / "README.md").read_text(),
+               f"step {s.number}'s task has formulas and its page no MathJax \\( \\)")
+    expect(data["maxPoints"] == pl_number(total) and data.get("maxBonusPoints", 0) == pl_number(bonus)
+           and abs(sum(q["autoPoints"] for q in questions.values()) - float(total + bonus)) < 1e-4,
+           f"maxPoints {data['maxPoints']}, maxBonusPoints {data.get('maxBonusPoints')}: the course's steps make "
+           f"{course.shown(total)} and {course.shown(bonus)} of extra credit")
+    caught = question_problems("<p>see `lectures/01-x.md` and run ./kit check 1, $t$ &lt;a href=</p>", out)
+    expect(len(caught) >= 4, f"the page check missed a lecture path, ./kit, a $ or raw HTML: {caught}")
+    docker = (out / "graders" / "raykit" / "Dockerfile").read_text()
+    apt = re.search(r"apt-get install -y --no-install-recommends ([^\\\n]*)", docker)
+    missing = [p for p in PACKAGES["build"] + PACKAGES["sandbox"] + ["python3", "passwd"]
+               if not apt or p not in apt.group(1).split()]
+    expect(not missing and re.search(r"^FROM debian:\d+$", docker, re.M),
+           f"graders/raykit/Dockerfile: not FROM debian:N, or its apt line misses {missing}")
+    from ..commands.prairielearn import MEASURED_SECONDS, TIMEOUT
+    options = [json.loads(i.read_text())["externalGradingOptions"] for i in out.glob("questions/raykit/*/info.json")]
+    expect(all(o["image"] == "raykit-selftest/raykit-grader" for o in options), "an info.json does not name --image")
+    slowest = max(wall for _, wall in MEASURED_SECONDS.values())
+    expect(all(o["timeout"] == TIMEOUT and int(o["environment"]["RAYKIT_BUDGET"]) < TIMEOUT for o in options)
+           and 1.5 * slowest <= TIMEOUT <= 600,
+           f"the job's timeout {TIMEOUT} s against the slowest cold job measured, {slowest} s (1.5 times it at "
+           f"least, 600 at most), and the kit's budget below it: {options[0]}")
+    return (f"{len(questions)} questions, {data['maxPoints']} points"
+            + (f" + {data['maxBonusPoints']} extra credit" if bonus else "") + ", pages clean")
 
 
 def selftest_noapt(ctx) -> str:
