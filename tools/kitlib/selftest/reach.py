@@ -235,8 +235,9 @@ def selftest_noapt(ctx) -> str:
         (prefix / "lib/cmake" / name / f"{name}Config.cmake").write_text("# a stand-in: only its place is probed\n")
     env = {"CMAKE_PREFIX_PATH": "", "PKG_CONFIG_LIBDIR": str(prefix / "none"), "PKG_CONFIG_PATH": ""}
 
-    def attempt(*groups):
-        with mock.patch.object(packages, "has_apt", lambda: False), \
+    def attempt(*groups, kind="brew"):
+        packages._brew_prefix.clear()
+        with mock.patch.object(packages, "has_apt", lambda: False), mock.patch.object(packages, "family", lambda: kind), \
                 mock.patch.object(packages, "PREFIXES", [str(prefix)]), mock.patch.dict(os.environ, env):
             try:
                 packages.ensure_packages(*groups)
@@ -246,11 +247,19 @@ def selftest_noapt(ctx) -> str:
     error, path = attempt("build")
     expect(not error and path == str(prefix), f"GLM and doctest in {prefix}: {error or 'CMAKE_PREFIX_PATH=' + path}")
     error, _ = attempt("build", "render")
-    expect("stb" in error and "vcpkg install stb" in error, f"./kit render without stb: {error!r}")
+    expect("stb_image_write.h" in error and "vcpkg install stb" in error and "no Homebrew formula" in error,
+           f"./kit render without stb: {error!r}")
     shutil.rmtree(prefix / "lib/cmake/doctest")
     error, _ = attempt("build")
     expect("brew install doctest" in error and "glm" not in error.split("\n")[1],
            f"doctest removed: the message should name brew install doctest only: {error!r}")
+    # Each platform's own words only: no Debian name, no MSYS2 line beside Homebrew's, no Homebrew
+    # beside MSYS2's, neither on a Linux without apt.
+    words = {kind: attempt("build", "render", kind=kind)[0] for kind in ("brew", "msys2", "plain")}
+    for kind, text in words.items():
+        expect("-dev" not in text and "apt-get" not in text, f"{kind}: a Debian name in {text!r}")
+        expect(("pacman" in text) == (kind == "msys2") and ("brew install" in text) == (kind == "brew"),
+               f"{kind}: another platform's lines in {text!r}")
     return f"found in a Homebrew-like prefix; stb needed only by render; then: {error.splitlines()[1].strip()}"
 
 
