@@ -21,8 +21,8 @@ from .harness import expect
 KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
-    ("core", ["status", "common", "course", "secret", "packages", "relocate", "kitfiles", "waits", "submissions",
-              "kitcache"]),
+    ("core", ["status", "common", "course", "secret", "packages", "includes", "relocate", "kitfiles", "waits",
+              "submissions", "kitcache"]),
     ("boundary", ["sandbox", "studentpch", "launch"]),
     ("build", ["build", "warmup"]),
     ("judge", ["checking", "mutants"]),
