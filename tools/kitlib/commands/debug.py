@@ -21,7 +21,7 @@ from pathlib import Path
 from ..checking import check_steps, ensure_configured, list_cases, recorded_cases, submission_seed
 from ..common import BUILD, KitError, load_steps, resolve_steps_dir, say, select_steps
 from ..build import Build, build_targets, preset_build, submission_build
-from ..packages import ensure_packages, family, has_apt
+from ..packages import ensure_packages, family, has_apt, install_line
 from ..status import FAILED, OK, PASS, SETUP
 
 NO_LIMIT_SECONDS = "86400"
@@ -84,15 +84,9 @@ def choose_debugger(wanted: str | None) -> str:
 
 
 def install_words(name: str | None) -> str:
-    kind = family()
-    if kind == "brew":
-        return ("lldb comes with Apple's command line tools: xcode-select --install" if sys.platform == "darwin"
-                else f"install one: brew install {name or 'gdb'}")
-    if kind == "msys2":
-        return f"install one: pacman -S mingw-w64-ucrt-x86_64-{name or 'gdb'}"
-    if kind == "apt":
-        return f"install one: sudo apt-get install {name or 'gdb'}"
-    return f"install {name or 'gdb or lldb'} with your system's package manager"
+    if family() == "brew" and sys.platform == "darwin":
+        return "lldb comes with Apple's command line tools: xcode-select --install"
+    return "install one: " + install_line(name or "gdb", name or "gdb")
 
 
 def match_case(names: list[str], wanted: str, step) -> str:

@@ -265,6 +265,11 @@ def selftest_noapt(ctx) -> str:
         expect("-dev" not in text and "apt-get" not in text, f"{kind}: a Debian name in {text!r}")
         expect(("pacman" in text) == (kind == "msys2") and ("brew install" in text) == (kind == "brew"),
                f"{kind}: another platform's lines in {text!r}")
+    for kind, want in (("brew", "brew install doxygen"), ("msys2", "pacman -S mingw-w64-ucrt-x86_64-doxygen"),
+                       ("apt", "sudo apt-get install doxygen"), ("plain", "install doxygen with your system's")):
+        with mock.patch.object(packages, "family", lambda: kind):
+            line = packages.install_line("doxygen", "doxygen")
+        expect(line.startswith(want), f"{kind}: one tool's install line is {line!r}, not {want!r}")
     return f"found in a Homebrew-like prefix; stb needed only by render; then: {error.splitlines()[1].strip()}"
 
 
