@@ -31,6 +31,7 @@ from typing import Callable
 
 from . import atomic
 from . import course as course_file
+from . import includes
 from . import waits
 from . import warmup
 from .common import BUILD, ROOT, Step, prerequisites, printable
@@ -84,6 +85,7 @@ class StepResult:
     isolation: str = ""
     seed: str = ""
     cost: dict | None = None    # what the student's code cost the grader, and the budget (see "Budgets")
+    includes: list[str] = field(default_factory=list)   # standard headers the files use and do not include
 
     def __post_init__(self) -> None:
         # The step's points shared among its cases by their groups' weights, once, exactly.
@@ -125,6 +127,7 @@ class StepResult:
             "step": self.step.number, "folder": self.step.folder, "title": self.step.title,
             "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
             **({"cost": self.cost} if self.cost else {}),
+            **({"includes": self.includes} if self.includes else {}),
             "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
             "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
@@ -548,10 +551,13 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         line = next(l for l in built.output.splitlines() if SANDBOX_FAILED in l)
         return StepResult(step, BROKEN, _all(cases, GRADER_ERROR, line), isolation=isolation.description,
                           detail="not graded, the grader's fault, not the student's: " + line.removeprefix("raykit: "))
+    # A standard header the student's files use without including it (includes.py): said in the same
+    # words whether the file compiles here (a warning under the step) or not (the error's first line).
+    found = includes.step_findings(build.steps_dir, step.folder, step.files, ROOT / "include")
     if not built.answers_ok:
-        first = next((l for l in built.output.splitlines() if "error" in l), "")
+        first = found[0] if found else next((l for l in built.output.splitlines() if "error" in l), "")
         return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),
-                          detail=built.output)
+                          detail="\n".join(found + [built.output]), includes=found)
     seed = submission_seed(build, step)
     scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
     ledger_dir = ""
@@ -589,7 +595,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = waits.wait_on_needs(step, cases, results, state)
     return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
                       isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
-                      cost=cost)
+                      cost=cost, includes=found)
 
 
 # --- untouched steps: no build ---------------------------------------------------------------
@@ -721,13 +727,14 @@ class Verdicts:
                       c["output_bytes"], c["figure"], runs=c.get("runs", 1), rerun=c.get("rerun"))
                  for c in d["cases"]]
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
-                          isolation=self.isolation.description, seed=d["seed"])
+                          isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []))
 
     def store(self, result: StepResult) -> None:
         if result.state == BROKEN or any(c.status in (TIMED_OUT, GRADER_ERROR) for c in result.cases):
             return
         shown = str(self.build.shown_dir)
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
+                "includes": result.includes,
                 "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                            "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                            "figure": c.figure, "runs": c.runs, "rerun": c.rerun} for c in result.cases]}

@@ -39,7 +39,7 @@ COMMANDS = [
     Command("check", "check", STUDENT, "check your steps: every case, your score, and what to do next"),
     Command("watch", "watch", STUDENT, "check the step you work on at every save, and move on when it is done"),
     Command("hint", "hint", STUDENT, "show the next hint for step N (first a nudge, then the formula, never the code)"),
-    Command("debug", "debug", STUDENT, "run one case of step N under gdb, stopped in your own function"),
+    Command("debug", "debug", STUDENT, "run one case of step N under gdb (or lldb), stopped in your own function"),
     Command("reset", "reset", STUDENT, "put a step's shipped stub back (your file is kept as NAME.cpp.bak-TIME)"),
     Command("render", "render", STUDENT, "render the course's scenes to PNG, from the solutions or, with --steps, from your code"),
     Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),

@@ -2,10 +2,13 @@
 
 PACKAGES names them as Debian does, per group. Where there is no apt or dpkg (macOS with Homebrew, a
 Linux without apt, MSYS2), OTHER_MANAGERS gives each Debian name's Homebrew, vcpkg and MSYS2 names and
-how to find it installed: the kit looks wherever CMake can (CMAKE_PREFIX_PATH, the Homebrew prefixes
-/opt/homebrew and /usr/local, MacPorts' /opt/local, /usr, pkg-config), installs nothing, names what is
-missing with `brew install ...` (then the vcpkg and MSYS2 names), and passes the prefixes it found to
-CMake in CMAKE_PREFIX_PATH. stb is needed only by ./kit render ("render" group), never by ./kit check.
+how to find it installed: the kit looks wherever CMake can (CMAKE_PREFIX_PATH, Homebrew's prefix as
+`brew --prefix` says and its usual places /opt/homebrew and /usr/local, vcpkg's installed/<triplet>
+under $VCPKG_ROOT, MacPorts' /opt/local, /usr), installs nothing, names what is missing with the
+student's own platform's package manager only (Homebrew on a Mac or where `brew` is, MSYS2 on
+Windows, the plain names elsewhere; never Debian's names), and passes the prefixes it found to CMake
+in CMAKE_PREFIX_PATH. stb (two headers) is needed only by ./kit render ("render" group), never by
+./kit check.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,8 +28,8 @@ from .status import SETUP
 # Debian package names each command needs. The first ./kit call installs what is
 # missing (apt-get, non-interactive, with sudo when not root).
 PACKAGES = {
-    "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev", "pkg-config"],
-    "render": ["libstb-dev", "pkg-config"],   # ./kit render's PNG writer (in "build" too where apt is)
+    "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev"],
+    "render": ["libstb-dev"],           # ./kit render's PNG reader and writer, two headers (in "build" too where apt is)
     "sandbox": ["bubblewrap"],          # grading a folder the kit did not write (sandbox.py)
     "debug": ["gdb"],                   # ./kit debug
     # ./kit bench: Google Benchmark is needed; Embree (the comparison) and Google Highway (the
@@ -51,34 +55,79 @@ def instructor_groups() -> list[str]:
 @dataclass(frozen=True)
 class Elsewhere:
     """A Debian package as other package managers name it, and how to see it is installed."""
+    what: str           # what it is, in the messages of a machine without apt
     brew: str           # Homebrew formula ("" when it has none)
     vcpkg: str          # vcpkg port ("" for a tool vcpkg does not ship)
     msys2: str          # MSYS2 (UCRT64) package
-    probe: str          # "tool:NAME|NAME", "compiler", "cmake:PACKAGE" (a CMake config), "header:PATH"
+    probe: str          # "tool:NAME|NAME", "compiler", "cmake:PACKAGE" (a CMake config), "header:FILE"
     render_only: bool = False   # needed by ./kit render, not by ./kit check
 
 
 OTHER_MANAGERS = {
-    "cmake": Elsewhere("cmake", "", "mingw-w64-ucrt-x86_64-cmake", "tool:cmake"),
-    "ninja-build": Elsewhere("ninja", "", "mingw-w64-ucrt-x86_64-ninja", "tool:ninja|make"),
-    "g++": Elsewhere("", "", "mingw-w64-ucrt-x86_64-gcc", "compiler"),   # macOS: xcode-select --install
-    "libglm-dev": Elsewhere("glm", "glm", "mingw-w64-ucrt-x86_64-glm", "cmake:glm"),
-    "doctest-dev": Elsewhere("doctest", "doctest", "mingw-w64-ucrt-x86_64-doctest", "cmake:doctest"),
-    "libstb-dev": Elsewhere("", "stb", "mingw-w64-ucrt-x86_64-stb", "header:stb/stb_image_write.h", True),
-    "pkg-config": Elsewhere("pkgconf", "", "mingw-w64-ucrt-x86_64-pkgconf", "tool:pkg-config|pkgconf", True),
+    "cmake": Elsewhere("CMake", "cmake", "", "mingw-w64-ucrt-x86_64-cmake", "tool:cmake"),
+    "ninja-build": Elsewhere("Ninja", "ninja", "", "mingw-w64-ucrt-x86_64-ninja", "tool:ninja|make"),
+    "g++": Elsewhere("a C++17 compiler", "", "", "mingw-w64-ucrt-x86_64-gcc", "compiler"),
+    "libglm-dev": Elsewhere("GLM", "glm", "glm", "mingw-w64-ucrt-x86_64-glm", "cmake:glm"),
+    "doctest-dev": Elsewhere("doctest", "doctest", "doctest", "mingw-w64-ucrt-x86_64-doctest", "cmake:doctest"),
+    # Two headers, stb_image.h and stb_image_write.h (the kit compiles their implementation), in a
+    # prefix's include/ (Homebrew taps, vcpkg, a copied folder) or include/stb/ (Debian).
+    "libstb-dev": Elsewhere("stb's headers (stb_image.h, stb_image_write.h)", "", "stb",
+                            "mingw-w64-ucrt-x86_64-stb", "header:stb_image_write.h", True),
 }
-# Where CMake and Homebrew put packages, searched after $CMAKE_PREFIX_PATH, in this order.
+# Where CMake and Homebrew put packages, searched after $CMAKE_PREFIX_PATH, Homebrew's own prefix
+# and vcpkg's, in this order.
 PREFIXES = ["/opt/homebrew", "/usr/local", "/opt/local", "/usr"]
+STB_PAGE = "https://github.com/nothings/stb"
 
 
 def has_apt() -> bool:
     return shutil.which("dpkg-query") is not None and shutil.which("apt-get") is not None
 
 
+def family() -> str:
+    """Whose package names a message gives: "brew" on macOS or wherever Homebrew's `brew` is,
+    "msys2" on Windows (MSYS2's shell), "apt" where apt is, else "plain" (a Linux without apt)."""
+    if sys.platform == "darwin" or shutil.which("brew"):
+        return "brew"
+    if sys.platform in ("win32", "cygwin", "msys") or os.environ.get("MSYSTEM"):
+        return "msys2"
+    return "apt" if has_apt() else "plain"
+
+
+_brew_prefix: list[Path | None] = []
+
+
+def brew_prefix() -> Path | None:
+    """Homebrew's prefix: $HOMEBREW_PREFIX, else what `brew --prefix` says (a home folder's
+    Homebrew, a Linux one), asked once."""
+    if os.environ.get("HOMEBREW_PREFIX"):
+        return Path(os.environ["HOMEBREW_PREFIX"])
+    if not _brew_prefix:
+        found = None
+        brew = shutil.which("brew")
+        if brew:
+            try:
+                r = subprocess.run([brew, "--prefix"], capture_output=True, text=True, timeout=30)
+                line = r.stdout.strip().splitlines()[-1] if r.returncode == 0 and r.stdout.strip() else ""
+                found = Path(line) if line.startswith("/") else None
+            except (OSError, subprocess.TimeoutExpired):
+                found = None
+        _brew_prefix.append(found)
+    return _brew_prefix[0]
+
+
+def vcpkg_prefixes() -> list[Path]:
+    """vcpkg's installed/<triplet> folders under $VCPKG_ROOT (or $VCPKG_INSTALLATION_ROOT)."""
+    root = os.environ.get("VCPKG_ROOT") or os.environ.get("VCPKG_INSTALLATION_ROOT")
+    if not root:
+        return []
+    return sorted(p for p in (Path(root) / "installed").glob("*") if (p / "include").is_dir())
+
+
 def prefixes() -> list[Path]:
     found = [Path(p) for p in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep) if p]
-    if os.environ.get("HOMEBREW_PREFIX"):
-        found.append(Path(os.environ["HOMEBREW_PREFIX"]))
+    brew = brew_prefix()
+    found += ([brew] if brew else []) + vcpkg_prefixes()
     return [p for p in dict.fromkeys(found + [Path(p) for p in PREFIXES]) if p.is_dir()]
 
 
@@ -96,6 +145,17 @@ def cmake_config_prefix(package: str) -> Path | None:
     return None
 
 
+def header_prefix(name: str) -> Path | None:
+    """The prefix whose include/ or include/stb/ holds the header `name` (stb's layouts: Homebrew
+    taps and vcpkg put stb's headers in include/, Debian in include/stb/), as CMake's find_path
+    with PATH_SUFFIXES stb finds it (tools/render/CMakeLists.txt)."""
+    for prefix in prefixes():
+        for folder in (prefix / "include", prefix / "include" / "stb"):
+            if (folder / name).is_file():
+                return prefix
+    return None
+
+
 def probe(elsewhere: Elsewhere) -> Path | bool:
     kind, _, what = elsewhere.probe.partition(":")
     if kind == "tool":
@@ -106,30 +166,51 @@ def probe(elsewhere: Elsewhere) -> Path | bool:
     if kind == "cmake":
         return cmake_config_prefix(what) or False
     if kind == "header":
-        for prefix in prefixes():
-            if (prefix / "include" / what).is_file():
-                return prefix
-        return shutil.which("pkg-config") is not None and subprocess.run(
-            ["pkg-config", "--exists", "stb"], capture_output=True).returncode == 0
+        return header_prefix(what) or False
     raise ValueError(elsewhere.probe)
 
 
-def install_hint(missing: list[str]) -> str:
-    """The commands that install `missing` (Debian names) with Homebrew, then vcpkg and MSYS2."""
+def install_line(debian: str, brew: str, msys2: str = "") -> str:
+    """The one command that installs a tool on this machine, in its own package manager's words
+    (`debian`, `brew` and `msys2` are the tool's names there)."""
+    kind = family()
+    if kind == "brew":
+        return f"brew install {brew}"
+    if kind == "msys2":
+        return f"pacman -S {msys2 or 'mingw-w64-ucrt-x86_64-' + brew}"
+    if kind == "apt":
+        return f"sudo apt-get install {debian}"
+    return f"install {brew} with your system's package manager"
+
+
+def install_hint(missing: list[str], kind: str | None = None) -> str:
+    """The commands that install `missing` (Debian names) with the package manager of this
+    machine's `kind` (family()): Homebrew's words on a Mac, MSYS2's on Windows, plain ones on a
+    Linux without apt; vcpkg's (which runs everywhere) after them."""
+    kind = kind or family()
     rows = [OTHER_MANAGERS[n] for n in missing]
     lines = []
-    brew = [r.brew for r in rows if r.brew]
-    if brew:
-        lines.append(f"  brew install {' '.join(brew)}")
-    if "g++" in missing:
-        lines.append("  a C++17 compiler: on macOS xcode-select --install (Apple clang); elsewhere g++ or clang++")
-    if any(not r.brew and r.vcpkg for r in rows):
-        lines.append("  (" + ", ".join(n for n, r in zip(missing, rows) if not r.brew and r.vcpkg)
-                     + ": no Homebrew formula; vcpkg has one, or copy its headers into a prefix's include/)")
+    if kind == "msys2":
+        lines.append(f"  pacman -S {' '.join(r.msys2 for r in rows)}")
+    elif kind == "brew":
+        brew = [r.brew for r in rows if r.brew]
+        if brew:
+            lines.append(f"  brew install {' '.join(brew)}")
+        if "g++" in missing:
+            lines.append("  a C++17 compiler: " + ("xcode-select --install (Apple clang)" if sys.platform == "darwin"
+                                                   else "brew install llvm, or your system's clang++ or g++"))
+        if "libstb-dev" in missing:
+            where = brew_prefix()
+            lines.append(f"  stb has no Homebrew formula: copy stb_image.h and stb_image_write.h from {STB_PAGE} "
+                         f"into {where / 'include' if where else '$(brew --prefix)/include'}/")
+    else:
+        lines.append("  with your system's package manager: " + ", ".join(r.what for r in rows))
+        if "libstb-dev" in missing:
+            lines.append(f"  (stb's two headers, from {STB_PAGE}, may also be copied into any prefix's include/ "
+                         "named in CMAKE_PREFIX_PATH)")
     vcpkg = [r.vcpkg for r in rows if r.vcpkg]
-    if vcpkg:
-        lines.append(f"  or vcpkg: vcpkg install {' '.join(vcpkg)} (and set CMAKE_PREFIX_PATH to its installed/<triplet>)")
-    lines.append(f"  or MSYS2: pacman -S {' '.join(r.msys2 for r in rows)}")
+    if vcpkg and kind != "msys2":
+        lines.append(f"  or vcpkg: vcpkg install {' '.join(vcpkg)} (found under $VCPKG_ROOT/installed/<triplet>)")
     return "\n".join(lines)
 
 
@@ -150,11 +231,11 @@ def ensure_elsewhere(names: list[str]) -> None:
         current = [p for p in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep) if p]
         os.environ["CMAKE_PREFIX_PATH"] = os.pathsep.join(dict.fromkeys(current + found))
     if missing:
-        words = ", ".join(OTHER_MANAGERS[n].brew or OTHER_MANAGERS[n].vcpkg or n for n in missing)
+        words = ", ".join(OTHER_MANAGERS[n].what for n in missing)
+        looked = ", ".join(str(p) for p in prefixes()) or "none of the usual prefixes exists"
         raise KitError(f"the kit needs {words}, and there is no apt here to install "
                        f"{'it' if len(missing) == 1 else 'them'}. Install with:\n{install_hint(missing)}\n"
-                       f"then run ./kit again (looked for in $CMAKE_PREFIX_PATH, {', '.join(PREFIXES)} "
-                       "and pkg-config)", SETUP)
+                       f"then run ./kit again (looked for in $CMAKE_PREFIX_PATH and {looked})", SETUP)
 
 
 def missing_packages(names: list[str]) -> list[str]:

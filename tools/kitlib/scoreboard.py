@@ -10,6 +10,7 @@ import threading
 import time
 from pathlib import Path
 
+from . import includes
 from .checking import Progress, StepResult
 from .course import score_line as course_score_line
 from .common import ROOT, Step, paint, say
@@ -107,8 +108,10 @@ def compile_errors(text: str, limit: int = 12) -> list[str]:
                    "parameter types (a typo, a missing raykit:: namespace or a changed signature?).")
         return out
     lines = [l for l in text.splitlines() if "error" in l.lower() or l.startswith("  ") and "^" in l]
-    # The compiler's and the assembler's errors, and what the sandbox says of a stopped compile.
-    errors = [l for l in text.splitlines() if "error:" in l.lower() or l.startswith("raykit: ")]
+    # The compiler's and the assembler's errors, what the sandbox says of a stopped compile, and a
+    # standard header the file uses without including it (includes.py), which comes first.
+    errors = [l for l in text.splitlines() if "error:" in l.lower() or l.startswith("raykit: ")
+              or includes.MARK in l]
     return (errors or lines or text.splitlines()[-limit:])[:limit]
 
 
@@ -262,6 +265,10 @@ def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = Fal
             say(row(r, width))
     say()
     say(course_score_line(results))     # kitlib/course.py: the course's scale, or a handout's visible part
+    for r in results:   # compiled here, but maybe not on the grader's standard library: said before it is
+        if r.state != NO_COMPILE:
+            for line in r.includes:
+                say(paint(f"  ! {line}", "yellow"))
     seeds = sorted({r.seed for r in results if r.seed})
     if seeds:
         say(paint(f"  hidden cases drawn with seed {', '.join(seeds)}", "dim"))

@@ -10,7 +10,7 @@ import subprocess
 from pathlib import Path
 
 from .common import BUILD, ROOT, KitError, note
-from .packages import ensure_packages
+from .packages import ensure_packages, install_line
 from .status import FAILED, SETUP
 
 DOCS = ROOT / "docs"
@@ -22,9 +22,9 @@ def ensure_docs_tools() -> None:
     if shutil.which("npm") is None:
         ensure_packages("node")
         if shutil.which("npm") is None:
-            raise KitError("npm is not on the PATH; install it: sudo apt-get install nodejs npm", SETUP)
+            raise KitError(f"npm is not on the PATH; install it: {install_line('nodejs npm', 'node')}", SETUP)
     if shutil.which("doxygen") is None:
-        raise KitError("doxygen is not on the PATH; install it: sudo apt-get install doxygen", SETUP)
+        raise KitError(f"doxygen is not on the PATH; install it: {install_line('doxygen', 'doxygen')}", SETUP)
 
 
 def npm_package(name: str, needed: str, what: str) -> Path:

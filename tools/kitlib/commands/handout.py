@@ -43,6 +43,7 @@ EXCLUDED = [
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
     "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
+    ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
 ]
 # Optional parts dropped whole when a file in them still computes an answer (see the module's comment).
 OPTIONAL_PARTS = ["bench"]

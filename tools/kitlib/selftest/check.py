@@ -433,6 +433,99 @@ def selftest_one_verdict_per_library(ctx) -> str:
     return "; ".join(told)
 
 
+MISSING_INCLUDE = ROOT / "tests" / "fixtures" / "missing_include"
+
+
+def with_compiler(env: dict[str, str], fn):
+    """fn() with CXX, CXXFLAGS and LDFLAGS set as `env` says (CMake reads them when it first
+    configures a build folder; each compiler here has a folder of its own)."""
+    import os
+    saved = {k: os.environ.get(k) for k in ("CXX", "CXXFLAGS", "LDFLAGS")}
+    try:
+        for k in saved:
+            os.environ.pop(k, None)
+        os.environ.update(env)
+        return fn()
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def selftest_missing_include_told(ctx) -> str:
+    """One verdict on every standard library (#36 item 2): a step file using std::make_unique
+    without #include <memory> compiles on libc++ (a Mac's) and not on libstdc++ (the grader's). The
+    student's own check with clang and libc++ says which header to add under the step (done, and
+    the line); the grader's check with GCC fails to compile and its error's first line, the one
+    Gradescope and PrairieLearn show, is that same line. The kit's headers count: the probe above
+    (min_element, sort, clamp, tuple, memcpy, function, ...) is told nothing with them, and each of
+    those names with the headers ray.hpp brings taken out."""
+    import json
+    from .. import includes
+    from ..build import Build
+    from ..common import load_steps
+    from ..scoreboard import compile_errors
+    need_solutions()    # tests/fixtures/ is not in a handout
+    all_steps = load_steps()
+    [step] = [s for s in all_steps if s.number == "01"]
+    shipped = [f for s in all_steps for f in includes.step_findings(ROOT / "steps", s.folder, s.files, ROOT / "include")
+               + includes.step_findings(ROOT / "solutions", s.folder, s.files, ROOT / "include")]
+    expect(not shipped, f"a shipped stub or solution is told to include a header: {shipped[:2]}")
+    want = includes.step_findings(MISSING_INCLUDE, step.folder, step.files, ROOT / "include")
+    expect(len(want) == 1 and "<memory>" in want[0] and "std::make_unique" in want[0],
+           f"the fixture should be told one header, <memory>: {want}")
+    with tempfile.TemporaryDirectory(prefix="raykit-includes-") as tmp:
+        probe = Path(tmp) / "probe.cpp"
+        probe.write_text(NO_INCLUDES)
+        told = includes.findings(probe, "probe.cpp", ROOT / "include")
+        expect(not told, f"the probe is told headers the kit's ray.hpp brings: {[f.text() for f in told]}")
+        bare = Path(tmp) / "bare"
+        shutil.copytree(ROOT / "include", bare)
+        ray = bare / "raykit" / "ray.hpp"
+        text = ray.read_text()
+        start, end = text.index("#include <algorithm>"), text.index("#include <vector>") + len("#include <vector>")
+        ray.write_text(text[:start] + text[end:])
+        told = {f.name: f.header for f in includes.findings(probe, "probe.cpp", bare)}
+        for name, header in (("min_element", "<algorithm>"), ("sort", "<algorithm>"), ("clamp", "<algorithm>"),
+                             ("tuple", "<tuple>"), ("memcpy", "<cstring>"), ("function", "<functional>")):
+            expect(told.get(name) == header, f"without ray.hpp's headers, std::{name} is told {told.get(name)}, "
+                                             f"not {header}")
+    libcxx = {"CXX": "clang++", "CXXFLAGS": "-stdlib=libc++", "LDFLAGS": "-stdlib=libc++"}
+    empty = subprocess.run(["clang++", "-stdlib=libc++", "-std=c++17", "-x", "c++", "-", "-o", "/dev/null"],
+                           input="#include <memory>\nint main() { return *std::make_unique<int>(0); }\n",
+                           capture_output=True, text=True, timeout=120) if shutil.which("clang++") else None
+    if empty is None or empty.returncode != 0:
+        raise Failed("clang++ with libc++ is needed (.ci/run installs clang and libc++-dev)")
+    # The student's own check: their steps folder built as ./kit check builds it, with clang and libc++.
+    own = Build("stdlib-libcxx", BUILD / "stdlib-libcxx", MISSING_INCLUDE, MISSING_INCLUDE, preset="student",
+                tools=False)
+    [mac] = with_compiler(libcxx, lambda: check_steps(own, [step], all_steps))
+    expect(mac.state == DONE and mac.includes == want,
+           f"with libc++: {mac.state}, told {mac.includes} (expected done, told {want})")
+    import contextlib
+    import io
+    from ..scoreboard import scoreboard
+    screen = io.StringIO()
+    with contextlib.redirect_stdout(screen):        # the words on the student's screen
+        scoreboard([mac], MISSING_INCLUDE)
+    expect(want[0] in screen.getvalue(), f"./kit check does not show the line: {screen.getvalue()[-800:]}")
+    # The grader: the same folder graded as a submission, with GCC.
+    [grader] = with_compiler({"CXX": "g++"}, lambda: check_steps(submission_build(MISSING_INCLUDE, "stdlib-gcc"),
+                                                                 [step], all_steps))
+    expect(grader.state == NO_COMPILE, f"with GCC the fixture is {grader.state}, expected does not compile")
+    first = compile_errors(grader.detail)[0]
+    expect(first == want[0], f"the grader's first error line is {first!r}, not the student's {want[0]!r}")
+    expect(all(c.messages == ["does not compile: " + want[0]] for c in grader.cases),
+           f"a case's message is {grader.cases[0].messages}")
+    expect("'<memory>'" in grader.detail or "‘<memory>’" in grader.detail or "<memory>" in grader.detail,
+           "GCC's own error is kept below the line")
+    json.dumps(grader.to_json())
+    return (f"libc++: done, told \"{want[0][:70]}...\"; GCC: does not compile, its first error line the same; "
+            "the kit's headers count, and each probe name is told its header without them")
+
+
 FLOAT_TEXT_CHECK = r"""
 #include <charconv>
 #include <cmath>
@@ -571,6 +664,8 @@ def selftests() -> list:
         ("--all marks ★ cases; piped progress", selftest_all_and_piped),
         ("a handout's lectures point to what it has", selftest_handout_pointers),
         ("one verdict on every standard library: a step's missing includes", selftest_one_verdict_per_library),
+        ("one verdict: a header the file does not include is told, in the same words by the grader",
+         selftest_missing_include_told),
         ("numbers read the same on every standard library", selftest_float_text),
         ("portable by construction: the student-side C++ built as a Mac would", selftest_mac_build),
     ]

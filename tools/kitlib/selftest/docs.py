@@ -225,10 +225,83 @@ def _check_pages(browser, chromium: str, site) -> str:
             f"{images} images loaded; screenshots in {cmd_docs.rel(SCREENSHOTS)}")
 
 
+STUDENT_LOOP = ROOT / ".github" / "workflows" / "student-loop.yml"
+SYSTEM_PYTHON = "/usr/bin/python3"      # Debian's, which sees python3-yaml
+
+
+def kit_lines(run: str) -> list[list[str]]:
+    """The `./kit ...` commands of a workflow step's shell script, each as its words (up to a pipe,
+    a redirection or the end of the command)."""
+    import shlex
+    found = []
+    for line in run.splitlines():
+        for part in re.split(r"&&|\|\||;", line):
+            part = part.strip()
+            if part.startswith("./kit "):
+                words = shlex.split(part, comments=True)[1:]
+                cut = next((i for i, w in enumerate(words) if w in ("|", ">", ">>", "2>&1") or w.startswith(">")),
+                           len(words))
+                found.append(words[:cut])
+    return found
+
+
+def selftest_student_loop_workflow(ctx) -> str:
+    """The GitHub Actions workflow that runs the student loop on macOS and Ubuntu runners (#36 item 5;
+    not run here): it parses as YAML, runs on both, says it is not run here, and every ./kit line
+    names a command the kit has with options that command takes (its own parser reads them); the
+    README's platform table names it. A planted unknown command and a wrong option are caught."""
+    import json
+    import subprocess
+    from .. import cli
+    need_solutions()    # the workflow is the instructor's: a handout has none
+    probe = subprocess.run([SYSTEM_PYTHON, "-c", "import yaml"], capture_output=True) \
+        if Path(SYSTEM_PYTHON).exists() else None
+    if probe is None or probe.returncode != 0:
+        raise Skipped(f"needs {SYSTEM_PYTHON} with python3-yaml")
+    text = STUDENT_LOOP.read_text()
+    parsed = subprocess.run([SYSTEM_PYTHON, "-c", "import json, sys, yaml; print(json.dumps(yaml.safe_load(sys.stdin)))"],
+                            input=text, capture_output=True, text=True, timeout=60)
+    expect(parsed.returncode == 0, f"{STUDENT_LOOP.relative_to(ROOT)} does not parse as YAML: {parsed.stderr[-400:]}")
+    flow = json.loads(parsed.stdout)
+    expect("NOT RUN" in text, "the workflow does not say it is not run here")
+    jobs = list(flow.get("jobs", {}).values())
+    expect(len(jobs) == 1, f"one job expected, found {len(jobs)}")
+    oses = jobs[0].get("strategy", {}).get("matrix", {}).get("os", [])
+    expect(set(oses) == {"macos-latest", "ubuntu-latest"}, f"the runners are {oses}")
+    runs = [s["run"] for s in jobs[0]["steps"] if "run" in s]
+    lines = [words for run in runs for words in kit_lines(run)]
+    names = {c.name for c in cli.COMMANDS}
+
+    def refused(words: list[str]) -> str:
+        """Why the kit's parser refuses `words` ("" when it takes them)."""
+        if not words or words[0] not in names:
+            return f"no command {words[:1]}"
+        import contextlib
+        import io
+        err = io.StringIO()
+        try:
+            with contextlib.redirect_stderr(err):
+                cli.build_parser(words[0]).parse_args(words)
+        except SystemExit:
+            return err.getvalue().strip().splitlines()[-1] if err.getvalue().strip() else "refused"
+        return ""
+    bad = [f"./kit {' '.join(w)}: {refused(w)}" for w in lines if refused(w)]
+    expect(not bad, "the workflow runs what the kit does not have: " + "; ".join(bad))
+    used = sorted({w[0] for w in lines})
+    for want in ("check", "render", "debug"):
+        expect(want in used, f"the workflow never runs ./kit {want}")
+    expect(refused(["chekc"]) and refused(["check", "--no-such-option"]), "the check cannot see a wrong command")
+    readme = (ROOT / "README.md").read_text()
+    expect(".github/workflows/student-loop.yml" in readme, "README's platform table does not name the workflow")
+    return f"parses; macOS and Ubuntu; {len(lines)} ./kit lines ({', '.join(used)}) the kit's parser takes"
+
+
 def selftests() -> list:
     return [
         ("docs: math filter", selftest_math_filter),
         ("docs: site builds without warnings", selftest_site_builds),
         ("docs: no solution in the student site", selftest_no_solutions),
         ("docs: formulas and images in a browser", selftest_browser),
+        ("docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has",
+         selftest_student_loop_workflow),
     ]

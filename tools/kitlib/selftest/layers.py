@@ -23,8 +23,8 @@ from .harness import Skipped, expect
 KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
-    ("core", ["status", "common", "atomic", "course", "secret", "packages", "relocate", "kitfiles", "waits",
-              "submissions", "kitcache", "procfs"]),
+    ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
+              "waits", "submissions", "kitcache", "procfs"]),
     ("boundary", ["sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants"]),

@@ -20,6 +20,11 @@
     doctest found there (and the prefix passed to CMake in CMAKE_PREFIX_PATH), stb not needed by the
     check but named for ./kit render, doctest removed is named with `brew install doctest`. The full
     form (a Debian root without apt, clang and libc++) is by hand: tools/portability/reach noapt.
+  - mac: a handout as a Mac student meets it, as far as Linux can play one: user nobody, clang and libc++
+    only, no apt, sudo, gdb or g++ on the PATH, GLM, doctest and stb's headers in a Homebrew prefix in a
+    home folder that a fake `brew --prefix` names: ./kit check 1 done (GLM and doctest from that prefix),
+    ./kit render's picture matches (stb from that prefix), ./kit debug stops under lldb in the student's
+    function. Needs clang, libc++ and lldb.
 Needs ../shared/third_party/ (skipped without it: a user's clone has none), node and npm, and Debian's
 python3-yaml (/usr/bin/python3). The full form, in a Debian 13 root as a user with sudo, is by hand:
 tools/portability/reach (its docstring).
@@ -330,8 +335,9 @@ def selftest_noapt(ctx) -> str:
         (prefix / "lib/cmake" / name / f"{name}Config.cmake").write_text("# a stand-in: only its place is probed\n")
     env = {"CMAKE_PREFIX_PATH": "", "PKG_CONFIG_LIBDIR": str(prefix / "none"), "PKG_CONFIG_PATH": ""}
 
-    def attempt(*groups):
-        with mock.patch.object(packages, "has_apt", lambda: False), \
+    def attempt(*groups, kind="brew"):
+        packages._brew_prefix.clear()
+        with mock.patch.object(packages, "has_apt", lambda: False), mock.patch.object(packages, "family", lambda: kind), \
                 mock.patch.object(packages, "PREFIXES", [str(prefix)]), mock.patch.dict(os.environ, env):
             try:
                 packages.ensure_packages(*groups)
@@ -341,15 +347,118 @@ def selftest_noapt(ctx) -> str:
     error, path = attempt("build")
     expect(not error and path == str(prefix), f"GLM and doctest in {prefix}: {error or 'CMAKE_PREFIX_PATH=' + path}")
     error, _ = attempt("build", "render")
-    expect("stb" in error and "vcpkg install stb" in error, f"./kit render without stb: {error!r}")
+    expect("stb_image_write.h" in error and "vcpkg install stb" in error and "no Homebrew formula" in error,
+           f"./kit render without stb: {error!r}")
     shutil.rmtree(prefix / "lib/cmake/doctest")
     error, _ = attempt("build")
     expect("brew install doctest" in error and "glm" not in error.split("\n")[1],
            f"doctest removed: the message should name brew install doctest only: {error!r}")
+    # Each platform's own words only: no Debian name, no MSYS2 line beside Homebrew's, no Homebrew
+    # beside MSYS2's, neither on a Linux without apt.
+    words = {kind: attempt("build", "render", kind=kind)[0] for kind in ("brew", "msys2", "plain")}
+    for kind, text in words.items():
+        expect("-dev" not in text and "apt-get" not in text, f"{kind}: a Debian name in {text!r}")
+        expect(("pacman" in text) == (kind == "msys2") and ("brew install" in text) == (kind == "brew"),
+               f"{kind}: another platform's lines in {text!r}")
+    for kind, want in (("brew", "brew install doxygen"), ("msys2", "pacman -S mingw-w64-ucrt-x86_64-doxygen"),
+                       ("apt", "sudo apt-get install doxygen"), ("plain", "install doxygen with your system's")):
+        with mock.patch.object(packages, "family", lambda: kind):
+            line = packages.install_line("doxygen", "doxygen")
+        expect(line.startswith(want), f"{kind}: one tool's install line is {line!r}, not {want!r}")
     return f"found in a Homebrew-like prefix; stb needed only by render; then: {error.splitlines()[1].strip()}"
+
+
+MAC_CASE = "window: a root exactly at tmin counts"
+
+
+def selftest_mac_like(ctx) -> str:
+    """The Done-when of #36, as far as Linux can play a Mac: a handout checked, rendered and debugged
+    by an unprivileged user (nobody, when the self-test runs as root) with clang and libc++ only
+    (no g++ on the PATH), no apt, dpkg, sudo or gdb, and GLM, doctest and stb's two headers in a
+    Homebrew-style prefix in a home folder that only a `brew --prefix` on the PATH names. Step 01
+    (the reference, then a window slip) and the steps its pictures need are the student's."""
+    import os
+    import tempfile
+    from .debug import path_without
+    need_solutions()
+    for tool in ("clang++", "lldb"):
+        if shutil.which(tool) is None:
+            raise Skipped(f"needs {tool} (.ci/run installs clang, libc++-dev and lldb)")
+    sources = {"glm": Path("/usr/include/glm"), "glm-cmake": Path("/usr/share/cmake/glm"),
+               "doctest": Path("/usr/include/doctest"), "doctest-cmake": Path("/usr/lib/cmake/doctest"),
+               "stb": Path("/usr/include/stb")}
+    absent = [str(p) for p in sources.values() if not p.is_dir()]
+    if absent:
+        raise Skipped(f"needs Debian's GLM, doctest and stb to copy into the fake Homebrew prefix: {absent}")
+    tmp = Path(tempfile.mkdtemp(prefix="raykit-mac-"))
+    try:
+        tmp.chmod(0o755)
+        home, kit_dir = tmp / "home", tmp / "kit"
+        brew = home / "homebrew"
+        (brew / "include").mkdir(parents=True)
+        shutil.copytree(sources["glm"], brew / "include" / "glm")
+        shutil.copytree(sources["doctest"], brew / "include" / "doctest")
+        shutil.copytree(sources["glm-cmake"], brew / "share" / "cmake" / "glm")
+        shutil.copytree(sources["doctest-cmake"], brew / "lib" / "cmake" / "doctest")
+        for cfg in list((brew / "share" / "cmake").rglob("*.cmake")) + list((brew / "lib" / "cmake").rglob("*.cmake")):
+            cfg.write_text(cfg.read_text().replace("/usr/include", str(brew / "include")))
+        for header in ("stb_image.h", "stb_image_write.h"):     # a Homebrew tap's layout: include/
+            shutil.copyfile(sources["stb"] / header, brew / "include" / header)
+        make_handout(kit_dir)
+        for folder in ("01_unit_sphere", "04_rectangles", "05_cornell_box"):
+            for f in (ROOT / "solutions" / folder).glob("*.cpp"):
+                shutil.copyfile(f, kit_dir / "steps" / folder / f.name)
+        hidden = {"apt", "apt-get", "apt-cache", "dpkg", "dpkg-query", "sudo", "gdb", "g++", "gcc", "c++", "cc",
+                  "bwrap"} | {n for d in os.environ.get("PATH", "").split(os.pathsep) if os.path.isdir(d)
+                              for n in os.listdir(d) if re.match(r"(x86_64|aarch64)-linux-gnu-g(cc|\+\+)|g(cc|\+\+)-\d+$", n)}
+        path = path_without(tmp / "bin", hidden | {"python3"},
+                            {"brew": f"#!/bin/sh\n[ \"$1\" = --prefix ] && echo {brew}\n"})
+        (tmp / "bin" / "python3").symlink_to(SYSTEM_PYTHON if Path(SYSTEM_PYTHON).exists() else shutil.which("python3"))
+        root = os.geteuid() == 0
+        if root:
+            for dirpath, dirnames, filenames in os.walk(tmp):
+                for name in dirnames + filenames:
+                    os.lchown(os.path.join(dirpath, name), 65534, 65534)
+            os.chown(home, 65534, 65534)
+        env = {"HOME": str(home), "PATH": path, "LANG": "C.UTF-8", "NO_COLOR": "1", "CXX": "clang++",
+               "CXXFLAGS": "-stdlib=libc++ -DRAYKIT_PLATFORM_POSIX", "LDFLAGS": "-stdlib=libc++", "TERM": "dumb"}
+        user = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"] if root else []
+        seen, times = [], []
+
+        def student(*args: str, timeout: float = 1800) -> subprocess.CompletedProcess:
+            import time
+            start = time.monotonic()
+            r = subprocess.run(user + ["env", "-i", *(f"{k}={v}" for k, v in env.items()), "./kit", *args],
+                               cwd=kit_dir, capture_output=True, text=True, timeout=timeout)
+            times.append(f"{args[0]} {time.monotonic() - start:.0f} s")
+            seen.append(r.stdout + r.stderr)
+            return r
+        r = student("check", "1")
+        expect(r.returncode == 0 and "done" in r.stdout, f"./kit check 1: {r.returncode}\n{seen[-1][-1500:]}")
+        cache = (kit_dir / "build" / "student" / "CMakeCache.txt").read_text()
+        for line in ("CMAKE_CXX_FLAGS:STRING=-stdlib=libc++", f"glm_DIR:PATH={brew}", f"doctest_DIR:PATH={brew}"):
+            expect(line in cache, f"the student's build is not {line!r}")
+        r = student("render", "unit_sphere", "--steps", "steps")
+        expect(r.returncode == 0 and "matches the reference" in r.stdout, f"./kit render: {r.returncode}\n{seen[-1][-1500:]}")
+        stb = [l for l in (kit_dir / "build").glob("*/CMakeCache.txt") if "RAYKIT_STB_INCLUDE_DIR" in l.read_text()]
+        expect(stb and f"RAYKIT_STB_INCLUDE_DIR:PATH={brew}/include" in stb[0].read_text(),
+               "./kit render did not take stb's headers from the Homebrew prefix")
+        shutil.copyfile(ROOT / "tests" / "fixtures" / "wrong" / "01_unit_sphere" / "unit_sphere.cpp",
+                        kit_dir / "steps" / "01_unit_sphere" / "unit_sphere.cpp")
+        if root:
+            os.lchown(kit_dir / "steps" / "01_unit_sphere" / "unit_sphere.cpp", 65534, 65534)
+        r = student("debug", "1", MAC_CASE, "--batch")
+        frame = re.search(r"frame #0: \S+ answers_step01`raykit::intersect_unit_sphere\(ray=\S+ tmin=2, tmax=10\) "
+                          r"at unit_sphere\.cpp", seen[-1])
+        expect(frame is not None, f"lldb did not stop in the student's intersect_unit_sphere:\n{seen[-1][-1500:]}")
+        return (f"{'nobody' if root else 'this user'}, clang + libc++, no apt/gdb/g++, Homebrew prefix from brew --prefix: "
+                f"check 1 done, render matches, lldb stops in intersect_unit_sphere ({', '.join(times)})")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def selftests():
     return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
             ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
-            ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt)]
+            ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt),
+            ("mac: a Mac-like student machine checks, renders and debugs (lldb) a step", selftest_mac_like)]
