@@ -117,7 +117,13 @@ constexpr std::int64_t count_match_ulps = 1 << 13;
 struct Cause {
     bool matched = false;
     std::string text;
+    bool slip = false;   ///< Not rounding at all: the case's own why (about rounding) is left out.
 };
+
+/// How much farther than every suspect an answer must be from the exact roots, and how far at least (a
+/// binade: 2^23 ulps, a factor of 2 or a sign), for the kit to say it is a slip in the formula and not
+/// rounding: a float formula's rounding lands near one of the suspects, never a thousand times past all.
+constexpr std::int64_t slip_factor = 1024, slip_ulps = std::int64_t(1) << 23;
 
 inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
@@ -208,6 +214,19 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
                        "tell the cause from the answer" + (n ? " (" + also + (n == 1 ? " also finds" : " also find") +
                        " none here)." : std::string(".")) + " What usually goes wrong here:"};
     }
+    std::int64_t rounding = robust_max_ulps;
+    for (int i = 0; i < count; ++i)
+        if (own[i] != none && own[i] > rounding) rounding = own[i];
+    if (off != none && off >= slip_ulps && off / slip_factor > rounding) {
+        bool flipped = exact.count > 0;
+        for (int k = 0; k < exact.count; ++k)
+            flipped = flipped && ulp_distance(-exact.t[exact.count - 1 - k], got.t[k]) <= robust_max_ulps;
+        return {false, std::string(" Measured on your answer: this is not rounding. The float formulas the kit knows "
+                                   "land at most ") + show_ulps(rounding) + " from the exact roots here; yours is " +
+                           show_ulps(off) + " away" + (flipped ? ", the exact roots with their sign flipped" : "") +
+                           ". Look for a slip in the formula itself (a sign, a factor, a term): the basic cases "
+                           "show it on simpler numbers.", true};
+    }
     std::string list;
     for (int i = 0; i < count; ++i)
         list += std::string(i ? ", " : "") + names[i] + " (" +
@@ -219,7 +238,7 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
 /// The why of a failure: the measured cause where one matched, else the plain "none matches" followed
 /// by the case's usual `why`.
 inline std::string because_of(const Cause& cause, const std::string& why) {
-    return cause.matched ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
+    return cause.matched || cause.slip ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
 }
 
 /// Checks a Roots answer against the exact roots of the same inputs: the same
