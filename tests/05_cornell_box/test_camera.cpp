@@ -28,7 +28,8 @@ const Camera wide{{1, 2, 3}, {0, 0, -1}, {0, 1, 0}, 2.0f, 2.0f, 4, 2};
 // Measured on the answer: the film point mirrored left to right, or top to bottom, about the film's
 // centre, which right = up x forward, or rows counted from the bottom, give. Empty otherwise.
 std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const glm::vec3& got) {
-    const glm::vec3 right = glm::normalize(glm::cross(camera.forward, camera.up));
+    // + 0: a cross product's -0 is shown as 0.
+    const glm::vec3 right = glm::normalize(glm::cross(camera.forward, camera.up)) + glm::vec3(0.0f);
     const glm::vec3 up = glm::cross(right, camera.forward);
     const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
     const float er = glm::dot(expected - centre, right), eu = glm::dot(expected - centre, up);

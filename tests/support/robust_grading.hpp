@@ -15,6 +15,7 @@
 // bound was measured).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
@@ -120,10 +121,9 @@ struct Cause {
     bool slip = false;   ///< Not rounding at all: the case's own why (about rounding) is left out.
 };
 
-/// How much farther than every suspect an answer must be from the exact roots, and how far at least (a
-/// binade: 2^23 ulps, a factor of 2 or a sign), for the kit to say it is a slip in the formula and not
-/// rounding: a float formula's rounding lands near one of the suspects, never a thousand times past all.
-constexpr std::int64_t slip_factor = 1024, slip_ulps = std::int64_t(1) << 23;
+/// How far an answer must be from the exact roots and from every suspect's for the kit to call it a slip
+/// in the formula, not rounding: a binade, 2^23 ulps (a factor of 2, or a sign).
+constexpr std::int64_t slip_ulps = std::int64_t(1) << 23;
 
 inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
@@ -214,18 +214,24 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
                        "tell the cause from the answer" + (n ? " (" + also + (n == 1 ? " also finds" : " also find") +
                        " none here)." : std::string(".")) + " What usually goes wrong here:"};
     }
-    std::int64_t rounding = robust_max_ulps;
+    // Not rounding: the answer is a binade or more from the exact roots and from what every suspect
+    // gives (each a formula in float, or with a taken as 1): a sign, a factor or a term is wrong.
+    bool slip = off == none ? got.count > 0 : off >= slip_ulps;
+    std::int64_t nearest = none;
     for (int i = 0; i < count; ++i)
-        if (own[i] != none && own[i] > rounding) rounding = own[i];
-    if (off != none && off >= slip_ulps && off / slip_factor > rounding) {
-        bool flipped = exact.count > 0;
-        for (int k = 0; k < exact.count; ++k)
-            flipped = flipped && ulp_distance(-exact.t[exact.count - 1 - k], got.t[k]) <= robust_max_ulps;
-        return {false, std::string(" Measured on your answer: this is not rounding. The float formulas the kit knows "
-                                   "land at most ") + show_ulps(rounding) + " from the exact roots here; yours is " +
-                           show_ulps(off) + " away" + (flipped ? ", the exact roots with their sign flipped" : "") +
-                           ". Look for a slip in the formula itself (a sign, a factor, a term): the basic cases "
-                           "show it on simpler numbers.", true};
+        if (distance[i] != none) nearest = std::min(nearest, distance[i]);
+    slip = slip && nearest >= slip_ulps && (nearest != none || off != none);
+    if (slip) {
+        bool flipped = off != none && exact.count > 0;
+        for (int k = 0; flipped && k < exact.count; ++k)
+            flipped = ulp_distance(-exact.t[exact.count - 1 - k], got.t[k]) <= robust_max_ulps;
+        std::string far = off == none ? std::string("another number of roots than the exact") :
+                                        show_ulps(off) + " from the exact roots" +
+                                            (flipped ? " (the exact roots with their sign flipped)" : "");
+        if (nearest != none) far += " and at least " + show_ulps(nearest) + " from what each formula the kit knows gives";
+        return {false, " Measured on your answer: this is not rounding. Your answer is " + far +
+                           " (rounding moves a root by far less than a factor of 2). Look for a slip in the formula "
+                           "itself (a sign, a factor, a term): the basic cases show it on simpler numbers.", true};
     }
     std::string list;
     for (int i = 0; i < count; ++i)
