@@ -28,22 +28,22 @@ const Camera wide{{1, 2, 3}, {0, 0, -1}, {0, 1, 0}, 2.0f, 2.0f, 4, 2};
 // Measured on the answer: the film point mirrored left to right, or top to bottom, about the film's
 // centre, which right = up x forward, or rows counted from the bottom, give. Empty otherwise.
 std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const glm::vec3& got) {
-    // + 0: a cross product's -0 is shown as 0.
-    const glm::vec3 right = glm::normalize(glm::cross(camera.forward, camera.up)) + glm::vec3(0.0f);
-    const glm::vec3 up = glm::cross(right, camera.forward);
+    // Offsets from the film's centre split into along up and across it (these cameras' up is a unit
+    // vector square to forward), with no camera basis built here: the handout ships this file.
     const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
-    const float er = glm::dot(expected - centre, right), eu = glm::dot(expected - centre, up);
-    const float gr = glm::dot(got - centre, right), gu = glm::dot(got - centre, up);
-    const float tol = 1e-4f * (1.0f + std::fabs(er) + std::fabs(eu));
-    auto same = [&](float a, float b) { return std::fabs(a - b) <= tol; };
-    const bool lr = er != 0 && same(gr, -er), ud = eu != 0 && same(gu, -eu);
-    if (lr && same(gu, eu))
-        return "Your point is the expected one mirrored left to right: right must be forward x up (here " +
-               show(right) + "); up x forward points left (lecture 05, section 5). ";
-    if (ud && same(gr, er))
+    const glm::vec3 e = expected - centre, g = got - centre;
+    const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
+    const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
+    const float tol = 1e-4f * (1.0f + glm::length(e));
+    const bool across_same = glm::length(ga - ea) <= tol, across_flipped = glm::length(ea) > tol && glm::length(ga + ea) <= tol;
+    const bool up_same = std::fabs(gu - eu) <= tol, up_flipped = std::fabs(eu) > tol && std::fabs(gu + eu) <= tol;
+    if (across_flipped && up_same)
+        return "Your point is the expected one mirrored left to right: right must be forward x up; up x forward "
+               "points left (lecture 05, section 5). ";
+    if (up_flipped && across_same)
         return "Your point is the expected one mirrored top to bottom: row 0 is the top of the image, so the "
                "offset along up is (1/2 - (j + 1/2) / height) * film_height (lecture 05, section 6). ";
-    if (lr && ud)
+    if (across_flipped && up_flipped)
         return "Your point is the expected one mirrored both ways, left to right and top to bottom: right is "
                "forward x up, row 0 the top (lecture 05, sections 5 and 6). ";
     return "";
