@@ -37,15 +37,17 @@ def _first_block(stdout: str) -> str:
     return block if end < 0 else block[:end]
 
 
-def _section_teaching(step, pattern: str) -> str:
+def _section_teaching(step, pattern: str, title: bool = False) -> str:
     """The heading ("3. The quadratic's coefficients") of the first section of the step's lecture whose
-    text matches `pattern`."""
+    text (with `title`, whose heading) matches `pattern`."""
     heading = ""
     for line in (ROOT / step.lecture).read_text().splitlines():
         m = re.match(r"## (\d+\. .+)$", line)
         if m:
             heading = m.group(1).strip()
-        elif heading and re.search(pattern, line):
+            if title and re.search(pattern, heading):
+                return heading
+        elif heading and not title and re.search(pattern, line):
             return heading
     raise Failed(f"{step.lecture}: no section matches {pattern!r}")
 
@@ -81,7 +83,7 @@ def selftest_planted_slips(ctx) -> str:
         s = steps["02"]
         out, _ = _check(s, "radius_not_squared", work)
         block = _first_block(out)
-        radius = _section_teaching(s, r"[Rr]adius")
+        radius = _section_teaching(s, r"[Rr]adius", title=True)
         shown = CASE_LINE.search(block)
         expect(shown and "radius" in shown.group(1) and f'section "{radius}"' in block,
                f"a radius not squared is first shown another case than one of \"{radius}\":\n{block}")
@@ -147,8 +149,14 @@ def selftest_turned_render(ctx) -> str:
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-render-"))
     said = []
     try:
+        steps = _steps()
         for fixture, words in (("upside_down", "upside down"), ("right_up_x_forward", "mirrored left to right")):
-            r = kit("render", "cornell_box", "--steps", str(SLIPS / fixture), "--out", str(work / fixture),
+            # The renderer draws with the folder's own step 04: a correct one from the grader's fixtures.
+            folder = work / fixture / "steps"
+            for n in steps["05"].needs:
+                shutil.copytree(ROOT / "tests" / "fixtures" / "cornell_wrong" / steps[n].folder, folder / steps[n].folder)
+            shutil.copytree(SLIPS / fixture / steps["05"].folder, folder / steps["05"].folder)
+            r = kit("render", "cornell_box", "--steps", str(folder), "--out", str(work / fixture / "out"),
                     timeout=900)
             line = next((l for l in r.stdout.splitlines() if "✗" in l), "")
             expect(r.returncode == 1 and words in line and "an edge moved" not in r.stdout,
