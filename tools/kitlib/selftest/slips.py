@@ -106,6 +106,9 @@ def selftest_planted_slips(ctx) -> str:
             text = "\n".join(c["messages"])
             expect("not rounding" in text and "usually goes wrong" not in text and "Cancellation" not in text,
                    f"★ case {c['name']!r} of a sign slip blames rounding:\n{text}")
+        hint = _first_hint(s, "roots_sign")
+        first = hint.split("\n\n", 1)[0]
+        expect("minus in front of b" in first, f"the first hint for a sign slip in the roots is not the roots':\n{hint}")
         table.append("roots' sign: " + CASE_LINE.search(block).group(1))
 
         # Step 04: the (u, v) order: its first case points to the table of section 1 or 4, and the first
