@@ -103,9 +103,14 @@ def selftest_planted_slips(ctx) -> str:
         stars = [c for c in rec["cases"] if c["tier"] == "robust" and c["status"] != "pass"]
         expect(stars, "the roots' sign slip passes every ★ case")
         for c in stars:
-            text = "\n".join(c["messages"])
-            expect("not rounding" in text and "usually goes wrong" not in text and "Cancellation" not in text,
-                   f"★ case {c['name']!r} of a sign slip blames rounding:\n{text}")
+            # Each call whose answer has roots is named a slip; an answer of no roots leaves nothing to
+            # measure (the textbook formula loses the same roots to rounding), so it may say what usually does.
+            calls = [b for b in re.split(r"\n\s*\n", "\n".join(c["messages"])) if b.strip()]
+            measured = [b for b in calls if not re.search(r"got\s+no roots", b)]
+            expect(measured, f"★ case {c['name']!r}: no call of the sign slip has roots to measure")
+            for b in measured:
+                expect("not rounding" in b and "usually goes wrong" not in b,
+                       f"★ case {c['name']!r} of a sign slip blames rounding:\n{b}")
         hint = _first_hint(s, "roots_sign")
         first = hint.split("\n\n", 1)[0]
         expect("minus in front of b" in first, f"the first hint for a sign slip in the roots is not the roots':\n{hint}")
