@@ -5,6 +5,9 @@
 // point where it crosses the film: o + d (F / (d . f)), which is the same
 // for every positive multiple of d.
 
+#include <cmath>
+#include <string>
+
 #include <doctest/doctest.h>
 
 #include <glm/geometric.hpp>
@@ -21,6 +24,30 @@ namespace {
 // 2 high and, for 4 x 2 pixels, 4 wide: pixel (i, j) has its centre at
 // x = i - 1.5, y = 0.5 - j on the film, which is the plane z = 1.
 const Camera wide{{1, 2, 3}, {0, 0, -1}, {0, 1, 0}, 2.0f, 2.0f, 4, 2};
+
+// Measured on the answer: the film point mirrored left to right, or top to bottom, about the film's
+// centre, which right = up x forward, or rows counted from the bottom, give. Empty otherwise.
+std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const glm::vec3& got) {
+    // Offsets from the film's centre split into along up and across it (these cameras' up is a unit
+    // vector square to forward), with no camera basis built here: the handout ships this file.
+    const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
+    const glm::vec3 e = expected - centre, g = got - centre;
+    const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
+    const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
+    const float tol = 1e-4f * (1.0f + glm::length(e));
+    const bool across_same = glm::length(ga - ea) <= tol, across_flipped = glm::length(ea) > tol && glm::length(ga + ea) <= tol;
+    const bool up_same = std::fabs(gu - eu) <= tol, up_flipped = std::fabs(eu) > tol && std::fabs(gu + eu) <= tol;
+    if (across_flipped && up_same)
+        return "Your point is the expected one mirrored left to right: right must be forward x up; up x forward "
+               "points left (lecture 05, section 5). ";
+    if (up_flipped && across_same)
+        return "Your point is the expected one mirrored top to bottom: row 0 is the top of the image, so the "
+               "offset along up is (1/2 - (j + 1/2) / height) * film_height (lecture 05, section 6). ";
+    if (across_flipped && up_flipped)
+        return "Your point is the expected one mirrored both ways, left to right and top to bottom: right is "
+               "forward x up, row 0 the top (lecture 05, sections 5 and 6). ";
+    return "";
+}
 
 void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expected, const std::string& why) {
     const Ray ray = view_ray(camera, i, j);
@@ -41,7 +68,8 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     const bool ok = glm::length(got - expected) <= 1e-5f * (1.0f + glm::length(expected));
     if (!ok) {
         FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
-                          "a ray through " + show(got) + " (direction " + show(ray.direction) + ")", why));
+                          "a ray through " + show(got) + " (direction " + show(ray.direction) + ")",
+                          mirror_cause(camera, expected, got) + why));
     }
 }
 

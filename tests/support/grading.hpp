@@ -74,7 +74,7 @@ inline std::string report(const std::string& call, const std::string& input,
                           const std::string& expected, const std::string& got,
                           const std::string& why) {
     std::string m = call + "\n";
-    m += "  input     " + input + "\n";
+    if (!input.empty()) m += "  input     " + input + "\n";   // cornell_box() takes none: no empty line
     m += "  expected  " + expected + "\n";
     m += "  got       " + got + "\n";
     if (!why.empty()) m += "  why       " + why + "\n";
@@ -102,7 +102,17 @@ inline void check_roots(const std::string& call, const std::string& input,
     if (got.count == 1 && !(got.t[0] == got.t[1]))
         return fail("For a tangent both entries hold the same root: t[0] == t[1].");
     for (int i = 0; i < expected.count; ++i) {
-        if (!close(expected.t[i], got.t[i])) return fail("A root has the wrong value.");
+        if (close(expected.t[i], got.t[i])) continue;
+        // Measured: each root is an expected one with its sign flipped (-4 and -2 for 2 and 4), which a
+        // minus lost before b (or h) gives, or L = o - c for c - o in the geometric form.
+        bool flipped = true;
+        for (int k = 0; k < expected.count; ++k)
+            flipped = flipped && close(-expected.t[expected.count - 1 - k], got.t[k]);
+        if (flipped)
+            return fail("Your roots are the expected ones with the opposite sign: a sign slip in the roots' "
+                        "formula, which starts from -b: (-b -+ sqrt(b^2 - 4ac)) / (2a), or -h with h = b/2 "
+                        "(geometric form: t_m = L.d with L = c - o).");
+        return fail("A root has the wrong value.");
     }
 }
 

@@ -15,6 +15,7 @@
 // bound was measured).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
@@ -117,7 +118,12 @@ constexpr std::int64_t count_match_ulps = 1 << 13;
 struct Cause {
     bool matched = false;
     std::string text;
+    bool slip = false;   ///< Not rounding at all: the case's own why (about rounding) is left out.
 };
+
+/// How far an answer must be from the exact roots and from every suspect's for the kit to call it a slip
+/// in the formula, not rounding: a binade, 2^23 ulps (a factor of 2, or a sign).
+constexpr std::int64_t slip_ulps = std::int64_t(1) << 23;
 
 inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
@@ -208,6 +214,25 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
                        "tell the cause from the answer" + (n ? " (" + also + (n == 1 ? " also finds" : " also find") +
                        " none here)." : std::string(".")) + " What usually goes wrong here:"};
     }
+    // Not rounding: the answer is a binade or more from the exact roots and from what every suspect
+    // gives (each a formula in float, or with a taken as 1): a sign, a factor or a term is wrong.
+    bool slip = off == none ? got.count > 0 : off >= slip_ulps;
+    std::int64_t nearest = none;
+    for (int i = 0; i < count; ++i)
+        if (distance[i] != none) nearest = std::min(nearest, distance[i]);
+    slip = slip && nearest >= slip_ulps && (nearest != none || off != none);
+    if (slip) {
+        bool flipped = off != none && exact.count > 0;
+        for (int k = 0; flipped && k < exact.count; ++k)
+            flipped = ulp_distance(-exact.t[exact.count - 1 - k], got.t[k]) <= robust_max_ulps;
+        std::string far = off == none ? std::string("another number of roots than the exact") :
+                                        show_ulps(off) + " from the exact roots" +
+                                            (flipped ? " (the exact roots with their sign flipped)" : "");
+        if (nearest != none) far += " and at least " + show_ulps(nearest) + " from what each formula the kit knows gives";
+        return {false, " Measured on your answer: this is not rounding. Your answer is " + far +
+                           " (rounding moves a root by far less than a factor of 2). Look for a slip in the formula "
+                           "itself (a sign, a factor, a term): the basic cases show it on simpler numbers.", true};
+    }
     std::string list;
     for (int i = 0; i < count; ++i)
         list += std::string(i ? ", " : "") + names[i] + " (" +
@@ -219,7 +244,7 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
 /// The why of a failure: the measured cause where one matched, else the plain "none matches" followed
 /// by the case's usual `why`.
 inline std::string because_of(const Cause& cause, const std::string& why) {
-    return cause.matched ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
+    return cause.matched || cause.slip ? cause.text.substr(1) : cause.text.substr(1) + " " + why;
 }
 
 /// Checks a Roots answer against the exact roots of the same inputs: the same

@@ -48,6 +48,13 @@ TIERS = ("basic", "hidden", "robust")
 SCORED_TIERS = ("basic", "hidden")   # one point a case; ★ robust cases are optional, 0 points
 
 
+def lecture_section(pointer: str) -> float:
+    """A case's lecture pointer, "4. What the discriminant says", as its section's number (4); a pointer
+    without one ("", "A. What the robust form costs") sorts after every numbered section."""
+    head = (pointer or "").split(".", 1)[0].strip()
+    return int(head) if head.isdigit() else float("inf")
+
+
 @dataclass
 class Case:
     name: str
@@ -114,10 +121,27 @@ class StepResult:
         return sum((c.points for c in self.cases if not course.extra_credit(c.group)), Fraction(0))
 
     def first_problem(self, tier: str = "basic") -> Case | None:
-        for c in self.tier(tier):
-            if c.status != PASS:
-                return c
-        return None
+        """The failing case of `tier` a student is shown first (and ./kit hint starts from): of the
+        lecture section whose cases fail in the largest share, the earliest section on a tie, the first
+        failing case in the suite's order. A slip in what one section teaches fails nearly all of that
+        section's cases and only some of the others' (a radius not squared: both of "2. Any radius",
+        10 of 12 of section 4), so that section's case is the one that names it. A wrong answer comes
+        before a function not written yet, which comes before a case waiting for another step."""
+        cases = self.tier(tier)
+        failing = [c for c in cases if c.status != PASS]
+        if not failing:
+            return None
+        rank = lambda c: 2 if c.status == WAITING else 1 if c.status == NOT_STARTED else 0   # noqa: E731
+        best = min(rank(c) for c in failing)
+        failing = [c for c in failing if rank(c) == best]
+        total: dict[str, int] = {}
+        for c in cases:
+            total[c.lecture] = total.get(c.lecture, 0) + 1
+        bad: dict[str, int] = {}
+        for c in failing:
+            bad[c.lecture] = bad.get(c.lecture, 0) + 1
+        section = min(bad, key=lambda s: (-Fraction(bad[s], total[s]), lecture_section(s)))
+        return next(c for c in failing if c.lecture == section)
 
     def incidents(self) -> list[Case]:
         return [c for c in self.cases if c.status in (CRASHED, TIMED_OUT, THREW)]

@@ -834,7 +834,11 @@ def sketch(panel: Panel, case: Case) -> list:
                     grid[j][i] = "#"
     o2, d2, at = panel.ray
     moving = norm(d2) > 0
-    ray_char = "(none: the direction is zero)"
+    # No line to draw: either there is no ray, or the view looks straight along it (a ray at a
+    # rectangle face on), where it is the one point o.
+    ray_char = ("(none: the direction is not finite)" if not finite(*case.direction)
+                else "(seen end-on: it runs straight into the picture at o)" if norm(case.direction) > 0
+                else "(none: the direction is zero)")
     if moving:
         slope = d2[1] / d2[0] * 0.5 if d2[0] != 0 else math.inf   # rows per column, a row 2 units
         ray_char = "-" if abs(slope) < 0.3 else "|" if abs(slope) > 2.5 else "/" if slope > 0 else "\\"

@@ -179,8 +179,10 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
         if c is not None:
             out += case_block(s, c, reveal=False, drawing=True)
     if not watching:   # ./kit watch re-checks by itself at every save
+        # A step waiting for another: the other one is what to check next, not this one again.
+        then = todo.detail.split(",")[0] if todo.state == WAITING and todo.detail else s.number
         out.append("")
-        out.append(f"  Then run: ./kit check {int(s.number)}")
+        out.append(f"  Then run: ./kit check {int(then)}")
     return out
 
 

@@ -2,7 +2,7 @@
 //
 // Compares two images pixel by pixel and prints, on stdout,
 //
-//     DIFFERING EDGE TOTAL LEVEL
+//     DIFFERING EDGE TOTAL LEVEL UPSIDE_DOWN MIRRORED
 //
 // where DIFFERING counts the pixels that differ at all, and each of them is of
 // exactly one kind:
@@ -18,6 +18,11 @@
 //          drawn in the ceiling's colour, which the reference has next to the
 //          light's border, but the light's colour is nowhere beside it in the
 //          image, so no edge moved there: the region is gone.
+// UPSIDE_DOWN and MIRRORED count the pixels whose colour differs by more than
+// one level from the reference turned upside down (row j compared with row
+// h - 1 - j) and mirrored left to right: 0 or nearly for a picture whose rows
+// count from the bottom or whose right points left, which as it stands is
+// mostly moved edges and would read as "an edge moved by a pixel".
 // The caller (./kit render) decides how many of the first two kinds a correct
 // answer may have; here they are only counted.
 //
@@ -155,6 +160,14 @@ int main(int argc, char** argv) {
         std::cerr << e.what() << "\n";
         return 5;
     }
-    std::cout << differing << " " << edge << " " << static_cast<long long>(w) * h << " " << level << "\n";
+    long long upside_down = 0, mirrored = 0;
+    for (int j = 0; j < h; ++j) {
+        for (int i = 0; i < w; ++i) {
+            upside_down += !within_one_level(reference.pixel(i, h - 1 - j), image.pixel(i, j));
+            mirrored += !within_one_level(reference.pixel(w - 1 - i, j), image.pixel(i, j));
+        }
+    }
+    std::cout << differing << " " << edge << " " << static_cast<long long>(w) * h << " " << level << " "
+              << upside_down << " " << mirrored << "\n";
     return 0;
 }

@@ -1,7 +1,8 @@
 """./kit hint N: the step's hints, one more each time (a nudge first, then the formula; never code).
 
 The first hint given is the one about the lecture section the first failing case points to (the step's
-cases are run for that, as ./kit check N would); of two hints about that section, the one that names
+cases are run for that, as ./kit check N would; the first failing case is the one ./kit check shows,
+StepResult.first_problem: of the section whose cases fail in the largest share); of two hints about that section, the one that names
 the function the case called comes before one that names none, and one about another function of the
 step comes last (a tie in find_intersection gets the strict-comparison hint, not the listing order's).
 Then the rest in their fixed order. A hint's section is

@@ -188,6 +188,8 @@ class Difference:
     edge: int                   # the colour of a neighbour in the reference: an edge one pixel off
     total: int                  # pixels in the picture
     level: int                  # every channel within one level of 255: rounding of a smooth shading
+    upside_down: int = -1       # pixels beyond one level from the reference turned upside down (-1: not told)
+    mirrored: int = -1          # the same, from the reference mirrored left to right
 
     @property
     def other(self) -> int:
@@ -245,14 +247,26 @@ def verdict(d: Difference, picture: Path, reference: Path, diff: Path, accepted:
                                                 "another colour, missing or added, not a moved edge"),
                                                (d.edge, "an edge moved by a pixel (yellow)"),
                                                (d.level, "one colour level off (cyan)")) if n]
-        lines = [f"  {paint('✗', 'red')} {picture}  {d.differing} of {d.total} pixels differ from the reference: "
-                 + ", ".join(kinds)]
-        if d.other == 0 and d.edge == 0:
-            lines.append(f"      more one-level pixels than rounding alone makes (at most {level_bound(d.total)}): "
-                         "a shading computed slightly differently everywhere?")
-        elif d.other == 0:
-            lines.append("      only edges moved: a camera shifted by half a pixel, or an object a little off "
-                         "(the correct answers measured never move one)")
+        # A picture that is the reference turned over is named as such, not by its pixels' kinds (upside
+        # down, the Cornell box is mostly moved edges: its walls are nearly symmetric).
+        turned = [what for n, what in ((d.upside_down, "upside down: row 0 is the top of the image "
+                                        "(lecture 05, section 6)"),
+                                       (d.mirrored, "mirrored left to right: right = forward x up, not up x "
+                                        "forward (lecture 05, section 5); in a scene symmetric but for its "
+                                        "colours, the same as colours swapped left for right (section 3)"))
+                  if 0 <= n <= level_bound(d.total)]
+        if turned:
+            lines = [f"  {paint('✗', 'red')} {picture}  is the reference turned {turned[0]}",
+                     f"      {d.differing} of {d.total} pixels differ from the reference as it stands"]
+        else:
+            lines = [f"  {paint('✗', 'red')} {picture}  {d.differing} of {d.total} pixels differ from the "
+                     "reference: " + ", ".join(kinds)]
+            if d.other == 0 and d.edge == 0:
+                lines.append(f"      more one-level pixels than rounding alone makes (at most "
+                             f"{level_bound(d.total)}): a shading computed slightly differently everywhere?")
+            elif d.other == 0:
+                lines.append("      only edges moved: a camera shifted by half a pixel, or an object a little off "
+                             "(the correct answers measured never move one)")
     lines.append(f"      reference {reference}")
     lines.append(f"      marked in {diff}")
     return lines

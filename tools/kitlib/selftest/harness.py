@@ -33,7 +33,7 @@ from ..status import FAILED, OK
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
 MODULES = ["layers", "ci", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity",
            "boundary", "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report",
-           "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides"]
+           "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides", "slips"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
 
@@ -63,6 +63,7 @@ QUICK = {
                     "messages name the trouble, not the cure"],
     "grade": ["uploads: step files found at any depth, only they"],
     "report": ["report: the mutants' signatures are current"],
+    "slips": ["slips: waiting step's next command", "slips: a ray seen end-on"],
     "slides": ["slides: decks have notes, Ponder answers and the step's command",
                "slides: a deck says what its lecture and its step's cases say"],
 }

@@ -287,7 +287,7 @@ def selftest_lab(ctx) -> str:
     browser, chromium = _browser()
     exe = build_check()
     try:
-        with browser.Browser(chromium, 1280, 1000) as b:
+        with browser.Browser(chromium, 1400, 1000) as b:
             cases, problems = read_presets(b, LAB / "index.html", shots=True)
     except browser.BrowserError as e:
         raise Failed(f"headless Chromium: {e}") from None
@@ -321,6 +321,16 @@ def selftest_lab(ctx) -> str:
             far = b.evaluate("(() => { const s = raykitLab.inputs(); return Math.hypot(s.ox - s.cx, s.oy - s.cy) / s.r; })()")
             if not 90 < far < 110:
                 problems.append(f"the distance slider set to 10^2 put the origin {far} radii away")
+            # The float32 textbook roots apart from the exact ones on the narrow screen too, in screen pixels.
+            for name in ("grazing", "far-1000", "far-10000"):
+                b.evaluate(f"raykitLab.load({name!r})")
+                px = b.evaluate("(() => { const svg = document.querySelector('#scene-layer').ownerSVGElement;"
+                                " const k = svg.getBoundingClientRect().width / svg.viewBox.baseVal.width;"
+                                " return k * Math.max(0, ...raykitLab.marks().filter((m) => m.form === 'textbook')"
+                                ".map((m) => m.px)); })()") or 0
+                if px < 2:
+                    problems.append(f"{name}: at 400 px wide the float32 textbook roots are drawn {px:.1f} screen px "
+                                    "from the exact ones, too close to see")
             for name in ("grazing", "ground"):
                 b.evaluate(f"raykitLab.load({name!r})")
                 wide = b.evaluate("document.documentElement.scrollWidth")
@@ -339,7 +349,7 @@ def selftest_lab(ctx) -> str:
     return (f"{len(cases)} presets, {roots} roots: the exact ones equal reference_roots.hpp and the reference solution, "
             f"all 8 rows (4 formulas, float32 and double) bit for bit as C++ -ffp-contract=off, ulps as ulps.hpp{note}; "
             f"grazing: the float32 textbook roots drawn {graze:.1f} px from the exact ones; origin on the picture in "
-            f"every preset, no label over another, no wider than 400 px at 400 px; "
+            f"every preset, no label over another, no wider than 400 px at 400 px and the float roots apart there too; "
             f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
 
 

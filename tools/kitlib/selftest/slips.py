@@ -1,0 +1,218 @@
+"""Self-test: a planted slip gets a first message that names it (issue 37, from a student trial).
+
+Each folder of tests/fixtures/slips/ is a student's file with one slip, everything else right. It is
+checked as a student checks it (./kit check N --steps DIR), and what the student reads first, the
+one case the scoreboard shows, must name the slip: its words, the lecture section it points to (found
+in the lecture by what the section teaches, not by its number), and the first hint ./kit hint gives.
+The ★ cases of a slip billions of ulps off must not blame rounding. Then the parts that need no
+build: the next command of a step that waits for another, the terminal picture of a ray seen end-on,
+and a render turned upside down or mirrored.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+from ..common import BUILD, ROOT, load_steps
+from .harness import Failed, expect, kit, need_solutions
+
+SLIPS = ROOT / "tests" / "fixtures" / "slips"
+CASE_LINE = re.compile(r"^\s+✗ (.*?)  \[", re.M)
+
+
+def _steps() -> dict:
+    return {s.number: s for s in load_steps()}
+
+
+def _first_block(stdout: str) -> str:
+    """The failing case the scoreboard shows under "Next:", up to its "Then run" line."""
+    at = stdout.find("Next: step")
+    expect(at >= 0, f"no 'Next: step' in the scoreboard:\n{stdout[-1500:]}")
+    block = stdout[at:]
+    end = block.find("Then run:")
+    return block if end < 0 else block[:end]
+
+
+def _section_teaching(step, pattern: str, title: bool = False) -> str:
+    """The heading ("3. The quadratic's coefficients") of the first section of the step's lecture whose
+    text (with `title`, whose heading) matches `pattern`."""
+    heading = ""
+    for line in (ROOT / step.lecture).read_text().splitlines():
+        m = re.match(r"## (\d+\. .+)$", line)
+        if m:
+            heading = m.group(1).strip()
+            if title and re.search(pattern, heading):
+                return heading
+        elif heading and not title and re.search(pattern, line):
+            return heading
+    raise Failed(f"{step.lecture}: no section matches {pattern!r}")
+
+
+def _check(step, fixture: str, work: Path) -> tuple[str, dict]:
+    """./kit check N --steps DIR on a fixture: (stdout, the step's record)."""
+    record = work / f"{fixture}.json"
+    r = kit("check", str(int(step.number)), "--steps", str(SLIPS / fixture), "--results", str(record), timeout=900)
+    expect(r.returncode == 1, f"the planted slip {fixture} exited {r.returncode}, expected 1 (a wrong answer):\n"
+                              f"{r.stdout[-1500:]}{r.stderr[-800:]}")
+    return r.stdout, json.loads(record.read_text())["steps"][0]
+
+
+def _first_hint(step, fixture: str) -> str:
+    n = str(int(step.number))
+    kit("hint", n, "--reset")
+    try:
+        r = kit("hint", n, "--steps", str(SLIPS / fixture), timeout=900)
+    finally:
+        kit("hint", n, "--reset")
+    expect(r.returncode == 0 and "Hint " in r.stdout, f"./kit hint {n} on {fixture}:\n{r.stdout[-1200:]}{r.stderr[-500:]}")
+    return r.stdout[r.stdout.find("Hint "):]
+
+
+def selftest_planted_slips(ctx) -> str:
+    """The first case shown, its section and the first hint name each planted slip."""
+    need_solutions()    # tests/fixtures/ ships in no handout
+    steps = _steps()
+    work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-"))
+    table = []
+    try:
+        # A radius not squared: a case about the radius, and the hint that says r enters squared.
+        s = steps["02"]
+        out, _ = _check(s, "radius_not_squared", work)
+        block = _first_block(out)
+        radius = _section_teaching(s, r"[Rr]adius", title=True)
+        shown = CASE_LINE.search(block)
+        expect(shown and "radius" in shown.group(1) and f'section "{radius}"' in block,
+               f"a radius not squared is first shown another case than one of \"{radius}\":\n{block}")
+        hint = _first_hint(s, "radius_not_squared")
+        first = hint.split("\n\n", 1)[0]
+        expect("squared" in first or "r²" in first, f"the first hint for a radius not squared is not r²'s:\n{hint}")
+        table.append("radius not squared: " + shown.group(1))
+
+        # A sign slip in the roots: named, pointed to the section with the roots' formula, and no ★
+        # case blames rounding for an answer billions of ulps away.
+        s = steps["01"]
+        out, rec = _check(s, "roots_sign", work)
+        block = _first_block(out)
+        formula = _section_teaching(s, r"\\pm \\sqrt\{b\^2 - 4ac\}")
+        expect("opposite sign" in block and f'section "{formula}"' in block,
+               f"a sign slip in the roots is not named, or not pointed to \"{formula}\":\n{block}")
+        stars = [c for c in rec["cases"] if c["tier"] == "robust" and c["status"] != "pass"]
+        expect(stars, "the roots' sign slip passes every ★ case")
+        for c in stars:
+            # Each call whose answer has roots is named a slip; an answer of no roots leaves nothing to
+            # measure (the textbook formula loses the same roots to rounding), so it may say what usually does.
+            calls = [b for b in re.split(r"\n\s*\n", "\n".join(c["messages"])) if b.strip()]
+            measured = [b for b in calls if not re.search(r"got\s+no roots", b)]
+            expect(measured, f"★ case {c['name']!r}: no call of the sign slip has roots to measure")
+            for b in measured:
+                expect("not rounding" in b and "usually goes wrong" not in b,
+                       f"★ case {c['name']!r} of a sign slip blames rounding:\n{b}")
+        hint = _first_hint(s, "roots_sign")
+        first = hint.split("\n\n", 1)[0]
+        expect("minus in front of b" in first, f"the first hint for a sign slip in the roots is not the roots':\n{hint}")
+        table.append("roots' sign: " + CASE_LINE.search(block).group(1))
+
+        # Step 04: the (u, v) order: its first case points to the table of section 1 or 4, and the first
+        # hint is about the order.
+        s = steps["04"]
+        out, _ = _check(s, "uv_swapped", work)
+        block = _first_block(out)
+        hint = _first_hint(s, "uv_swapped")
+        first = hint.split("\n\n", 1)[0]
+        expect("(u, v)" in first and "order" in first, f"the first hint for (u, v) swapped is not the order's:\n{hint}")
+        table.append("(u, v) swapped: " + CASE_LINE.search(block).group(1))
+        expect("the direction is zero" not in block, f"a ray seen end-on is drawn as a zero direction:\n{block}")
+
+        # Step 05: right = up x forward, and rows from the bottom: each named, neither blamed on the other.
+        s = steps["05"]
+        out, _ = _check(s, "right_up_x_forward", work)
+        block = _first_block(out)
+        expect("mirrored left to right" in block and "forward x up" in block and "Rows count down" not in block,
+               f"right = up x forward is not named as the cross product:\n{block}")
+        table.append("right = up x forward: " + CASE_LINE.search(block).group(1))
+        out, _ = _check(s, "upside_down", work)
+        block = _first_block(out)
+        expect("mirrored top to bottom" in block and "forward x up" not in block,
+               f"rows counted from the bottom are not named:\n{block}")
+        table.append("upside down: " + CASE_LINE.search(block).group(1))
+
+        # cornell_box() takes no input: no empty input line.
+        out, _ = _check(s, "model_slip", work)
+        block = _first_block(out)
+        expect("cornell_box()" in block and not re.search(r"^\s+input\s*$", block, re.M),
+               f"a cornell_box() failure shows an empty input line:\n{block}")
+        table.append("model: " + CASE_LINE.search(block).group(1))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return "first case shown: " + "; ".join(table)
+
+
+def selftest_turned_render(ctx) -> str:
+    """./kit render on an upside-down and a mirrored step 05 says so, not "an edge moved by a pixel"."""
+    need_solutions()
+    work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-render-"))
+    said = []
+    try:
+        steps = _steps()
+        for fixture, words in (("upside_down", "upside down"), ("right_up_x_forward", "mirrored left to right")):
+            # The renderer draws with the folder's own step 04: a correct one from the grader's fixtures.
+            folder = work / fixture / "steps"
+            for n in steps["05"].needs:
+                shutil.copytree(ROOT / "tests" / "fixtures" / "cornell_wrong" / steps[n].folder, folder / steps[n].folder)
+            shutil.copytree(SLIPS / fixture / steps["05"].folder, folder / steps["05"].folder)
+            r = kit("render", "cornell_box", "--steps", str(folder), "--out", str(work / fixture / "out"),
+                    timeout=900)
+            line = next((l for l in r.stdout.splitlines() if "✗" in l), "")
+            expect(r.returncode == 1 and words in line and "an edge moved" not in r.stdout,
+                   f"./kit render cornell_box with {fixture}: the first verdict does not say '{words}':\n"
+                   f"{r.stdout[-1500:]}{r.stderr[-500:]}")
+            said.append(f"{fixture}: {words}")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return "; ".join(said)
+
+
+def selftest_waiting_next_command(ctx) -> str:
+    """A step waiting for another names that other step's check as the next command."""
+    from ..checking import StepResult
+    from ..scoreboard import next_steps
+    from ..status import WAITING
+    needing = [s for s in ctx.steps if s.needs]
+    if not needing:
+        from .harness import Skipped
+        raise Skipped("no step needs another")
+    s = needing[-1]
+    need = s.needs[0]
+    lines = "\n".join(next_steps([StepResult(s, WAITING, [], detail=need)], ROOT / "steps"))
+    expect(f"uses your step {need}" in lines and f"./kit check {int(need)}" in lines
+           and f"./kit check {int(s.number)}" not in lines,
+           f"step {s.number} waiting for step {need} names another next command:\n{lines}")
+    return f"step {s.number} waits for {need}: next ./kit check {int(need)}"
+
+
+def selftest_end_on_sketch(ctx) -> str:
+    """The terminal picture of a rectangle seen face on, with the ray along its normal, draws the ray
+    as a point and says so; only a zero direction is called one."""
+    from .. import picture
+    rect = {"axis": 2, "offset": 5, "lo": [-3, -1], "hi": [3, 1]}
+    said = {}
+    for name, direction in (("end-on", [0, 0, 1]), ("zero", [0, 0, 0])):
+        figure = {"function": "intersect_rect", "ray": {"origin": [2.5, 0.5, 0], "direction": direction},
+                  "rect": rect, "window": [0, "inf"], "expected": 5 if name == "end-on" else None, "got": None}
+        _, _, sketch = picture.render_all(figure, name)
+        said[name] = sketch[-1]
+    expect("the direction is zero" not in said["end-on"] and "end-on" in said["end-on"],
+           f"a ray seen end-on: {said['end-on']}")
+    expect("the direction is zero" in said["zero"], f"a zero direction: {said['zero']}")
+    return "end-on: " + said["end-on"].split("the ray ", 1)[1].split(";")[0]
+
+
+def selftests():
+    return [("slips: waiting step's next command", selftest_waiting_next_command),
+            ("slips: a ray seen end-on", selftest_end_on_sketch),
+            ("slips: the first message names the planted slip", selftest_planted_slips),
+            ("slips: a render turned over", selftest_turned_render)]
