@@ -19,7 +19,6 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #define RAYKIT_PLATFORM_LINUX 1
 #endif
@@ -104,7 +103,11 @@ std::string read_link(const std::string& path) {
 
 double cpu_seconds(pid_t pid) {
     std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // getline, not an istreambuf_iterator: a process that dies while its file is read makes the read
+    // fail (ESRCH), which libstdc++'s filebuf throws as an exception through an iterator (seen: the
+    // call the program crashed in graded "threw"), while a stream function only sets a flag.
+    std::string text;
+    std::getline(in, text);
     // The fields after the command name (which may hold spaces) start after its last ')'.
     const std::size_t close = text.rfind(')');
     if (close == std::string::npos) return -1;

@@ -97,7 +97,8 @@ def selftest_student_sanitizers(ctx: Context) -> str:
         mine, theirs = checked[student], graded[student]
         both = sorted(set(mine) & set(theirs))
         expect(both, f"{student}: the check and the grade share no case")
-        differ = [f"{n}: check {mine[(f, n)]['status']}, grade {theirs[(f, n)]['status']}"
+        differ = [f"{f} {n}: check {mine[(f, n)]['status']}, grade {theirs[(f, n)]['status']} "
+                  f"({' '.join(theirs[(f, n)]['messages'])[:200]} / {' '.join(mine[(f, n)]['messages'])[:200]})"
                   for f, n in both if mine[(f, n)]["status"] != theirs[(f, n)]["status"]]
         expect(not differ, f"{student}: the check and the grade disagree on {len(differ)} case(s): {differ[:3]}")
         for folder, (_, cause) in steps.items():
