@@ -54,7 +54,7 @@ void expect_accurate(const char* call, RootsFn fn, const Sphere& s, const std::v
                               "The exact roots disagree with the count the case claims: fix the case."));
             continue;
         }
-        check_case_ulps(call, input, *found, fn(found->ray, found->sphere), why, graded);
+        check_case_ulps_of(call, input, *found, fn, why, graded);
     }
 }
 

@@ -2,6 +2,7 @@
 
 #include "hidden.hpp"
 #include "raykit/rect.hpp"
+#include "edge_causes.hpp"
 #include "rules.hpp"
 
 using namespace raykit;
@@ -71,7 +72,13 @@ void family(const char* family, Make make, const char* why) {
         const auto expected = remote::reference<std::optional<float>>("intersect_rect", in.ray, in.rect, in.tmin, in.tmax);
         const auto got = intersect_rect(in.ray, in.rect, in.tmin, in.tmax);
         if (!agree(expected, got)) {
-            grading::check_hit("intersect_rect(ray, rect, tmin, tmax)", input_note(i, shown(in)), expected, got, why);
+            // A missed hit on an edge: the edges left out, or the point's coordinates off (edge_causes.hpp).
+            const grading::EdgeCause cause = grading::edge_cause(
+                [](const Ray& ray, const Rect& rect, float tmin, float tmax) { return intersect_rect(ray, rect, tmin, tmax); },
+                in.ray, in.rect, in.tmin, in.tmax, expected, got);
+            if (cause.matched) (void)intersect_rect(in.ray, in.rect, in.tmin, in.tmax);   // the call the picture records
+            grading::check_hit("intersect_rect(ray, rect, tmin, tmax)", input_note(i, shown(in)), expected, got,
+                               cause.matched ? cause.text : why);
             return;
         }
     }

@@ -9,14 +9,19 @@
 // those of the steps it needs, with their headers' signatures: CMake writes the
 // list, cmake/StepManifest.cmake), included through RAYKIT_REMOTE_LIST.
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <memory>
+#include <new>
 #include <string>
 #include <tuple>
 #include <typeinfo>
@@ -26,6 +31,7 @@
 
 #include "raykit/not_implemented.hpp"
 #include "fd_io.hpp"
+#include "platform.hpp"
 #include "wire.hpp"
 
 // The declarations of every step function: each header of include/raykit/, listed by CMake.
@@ -38,14 +44,171 @@ using namespace raykit;
 using wire::read_exact;
 using wire::write_exact;
 
+// ---- every argument in memory of its own size -----------------------------------------------
+//
+// A student's function gets each argument (and each list inside one: a scene's objects) in memory
+// of exactly its size that ends at a guard page (platform::guarded_allocate), so reading past it,
+// `(&ray.direction.x)[3]` or `i <= objects.size()`, faults at once in the student's own check and
+// in the grade alike, whatever the compiler, the sanitizers or what lay beside it would have given.
+// The fault names the argument (fault_note, read by remote.cpp). A read before the start lands in
+// the rest of the page: a wrong answer, not a crash.
+
+/// A guard page and the argument (1, 2, ...) whose memory ends where it begins.
+struct Fence {
+    std::uintptr_t begin, end;
+    int argument;
+    bool list;      // a list inside the argument (a scene's objects), not the argument itself
+};
+constexpr std::size_t max_fences = 4096;
+Fence fences[max_fences];
+std::size_t fence_count = 0;
+
+std::uintptr_t page_after(const void* p, std::size_t size) {
+    const std::uintptr_t page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+    return (reinterpret_cast<std::uintptr_t>(p) + size + page - 1) / page * page;
+}
+
+void fence(const void* p, std::size_t size, int argument, bool list) {
+    if (fence_count == max_fences) return;
+    const std::uintptr_t begin = page_after(p, size);
+    fences[fence_count++] = {begin, begin + static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE)), argument, list};
+}
+
+void unfence(const void* p, std::size_t size) {
+    const std::uintptr_t begin = page_after(p, size);
+    for (std::size_t i = fence_count; i-- > 0;)
+        if (fences[i].begin == begin) {
+            fences[i] = fences[--fence_count];
+            return;
+        }
+}
+
+struct sigaction previous_segv, previous_bus;
+
+/// On a fault in a guard page, says whose (one line on fd 2, "raykit-fault: past argument N"), then
+/// lets the signal end the program as it would have: the judge sees the same death either way.
+void on_fault(int signal, siginfo_t* info, void*) {
+    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(info->si_addr);
+    for (std::size_t i = 0; i < fence_count; ++i) {
+        if (at < fences[i].begin || at >= fences[i].end) continue;
+        char line[96] = "raykit-fault: past ";
+        std::size_t n = std::strlen(line);
+        const char* what = fences[i].list ? "a list in argument " : "argument ";
+        for (const char* c = what; *c; ++c) line[n++] = *c;
+        int a = fences[i].argument, digits = 1;
+        while (a / (digits * 10) > 0) digits *= 10;
+        for (; digits > 0; digits /= 10) line[n++] = static_cast<char>('0' + a / digits % 10);
+        line[n++] = '\n';
+        (void)!::write(2, line, n);
+        break;
+    }
+    // Back to what was there before (the default: end the program); the access faults again.
+    ::sigaction(signal, signal == SIGBUS ? &previous_bus : &previous_segv, nullptr);
+}
+
+void watch_faults() {
+    struct sigaction on{};
+    on.sa_sigaction = on_fault;
+    on.sa_flags = SA_SIGINFO;
+    sigemptyset(&on.sa_mask);
+    ::sigaction(SIGSEGV, &on, &previous_segv);
+    ::sigaction(SIGBUS, &on, &previous_bus);    // macOS reports some guard-page faults as SIGBUS
+}
+
+/// While an argument is decoded (its number here), every allocation (a vector's buffer, a long
+/// string's) is a guarded one; the student's own allocations never are.
+int decoding = 0;
+struct Guarded {
+    void* p;
+    std::size_t size;
+};
+constexpr std::size_t max_guarded = 4096;
+Guarded guarded[max_guarded];
+std::size_t guarded_count = 0;
+
+void* allocate(std::size_t size) {
+    if (size == 0) size = 1;
+    if (decoding > 0 && guarded_count < max_guarded) {
+        // The largest power of two dividing the size, up to what `new` promises: an array of T
+        // (size n * sizeof(T)) then ends exactly at the guard.
+        const std::size_t align = std::min<std::size_t>(size & (~size + 1), __STDCPP_DEFAULT_NEW_ALIGNMENT__);
+        if (void* p = platform::guarded_allocate(size, align)) {
+            guarded[guarded_count++] = {p, size};
+            fence(p, size, decoding, true);
+            return p;
+        }
+    }
+    if (void* p = std::malloc(size)) return p;
+    throw std::bad_alloc();
+}
+
+void release(void* p) noexcept {
+    if (p == nullptr) return;
+    for (std::size_t i = guarded_count; i-- > 0;) {
+        if (guarded[i].p == p) {
+            unfence(p, guarded[i].size);
+            platform::guarded_release(p, guarded[i].size);
+            guarded[i] = guarded[--guarded_count];
+            return;
+        }
+    }
+    std::free(p);
+}
+
+}  // namespace
+
+void* operator new(std::size_t size) { return allocate(size); }
+void* operator new[](std::size_t size) { return allocate(size); }
+void operator delete(void* p) noexcept { release(p); }
+void operator delete[](void* p) noexcept { release(p); }
+void operator delete(void* p, std::size_t) noexcept { release(p); }
+void operator delete[](void* p, std::size_t) noexcept { release(p); }
+
+namespace {
+
+/// One argument's slot: the memory position I of a function's arguments of type T is handed over
+/// in, made once (an mmap per call would cost the hidden cases' thousands of calls).
+template <class T, std::size_t I>
+T* slot() {
+    static void* memory = [] {
+        void* p = platform::guarded_allocate(sizeof(T), alignof(T));
+        if (p != nullptr) fence(p, sizeof(T), static_cast<int>(I) + 1, false);
+        return p;
+    }();
+    if (memory == nullptr) throw std::bad_alloc();
+    return static_cast<T*>(memory);
+}
+
+/// An argument in its slot, destroyed (its guarded lists given back) when the call is over.
+template <class T>
+struct Destroy {
+    void operator()(T* p) const { p->~T(); }
+};
+template <class T>
+using Held = std::unique_ptr<T, Destroy<T>>;
+
+template <class T, std::size_t I>
+Held<T> hold(wire::Reader& in) {
+    decoding = static_cast<int>(I) + 1;
+    struct Off {
+        ~Off() { decoding = 0; }
+    } off;
+    return Held<T>(new (slot<T, I>()) T(wire::get<T>(in)));
+}
+
+template <class R, class... A, std::size_t... I>
+void serve(R (*f)(A...), wire::Reader& in, wire::Writer& out, std::index_sequence<I...>) {
+    // A braced list evaluates left to right: the arguments are read in order.
+    std::tuple<Held<std::decay_t<A>>...> args{hold<std::decay_t<A>, I>(in)...};
+    R result = std::apply([f](auto&... held) { return f(*held...); }, args);
+    out.raw(wire::Kind::value);
+    wire::put(out, result);
+}
+
 /// Decodes the arguments `f` takes, calls it, encodes what it returns.
 template <class R, class... A>
 void serve(R (*f)(A...), wire::Reader& in, wire::Writer& out) {
-    // A braced list evaluates left to right: the arguments are read in order.
-    std::tuple<std::decay_t<A>...> args{wire::get<A>(in)...};
-    R result = std::apply(f, args);
-    out.raw(wire::Kind::value);
-    wire::put(out, result);
+    serve(f, in, out, std::index_sequence_for<A...>{});
 }
 
 std::string type_name(const std::type_info& t) {
@@ -70,6 +233,7 @@ int main() {
     // Line-buffered: what the student prints reaches the judge by the end of the
     // call that printed it, even when a later line crashes.
     std::setvbuf(stdout, nullptr, _IOLBF, 1 << 12);
+    watch_faults();
     // An empty frame first: "ready". The judge times each call from here, so neither the sandbox's
     // start nor the program's own is counted against a call.
     const std::uint32_t ready = 0;

@@ -23,6 +23,7 @@
 
 #include "case_figure.hpp"
 #include "float_text.hpp"
+#include "ulps.hpp"
 #include "raykit/ray.hpp"
 #include "raykit/roots.hpp"
 #include "raykit/sphere.hpp"
@@ -127,17 +128,34 @@ inline void check_hit(const std::string& call, const std::string& input,
     FAIL_CHECK(report(call, input, show(expected), show(got), why));
 }
 
+/// The basic tier's tolerance at `x` (close()'s): how far a sensible formula's root may lie from it.
+inline float tolerance_at(float x) { return 1e-5f * std::fabs(x) + 1e-6f; }
+
 /// Why a windowed answer is wrong, measured on it where it can be: the expected hit lies exactly at an
-/// end of the window, the answer did not take it, and the same function given the window widened by one
-/// float at each end (`widened`) does take it — so it treats the window as open. Empty otherwise.
+/// end of the window, the answer did not take it, and the same function given the window widened by the
+/// basic tier's tolerance at each end (`widened`) does take a root close to it. Which root it takes
+/// tells the two causes apart: exactly the end (the function skips a t equal to tmin or tmax: it treats
+/// the window as open), or a root a few ulps outside the window (the window is closed as it should be;
+/// the root itself is off, 1.9999999 for an exact 2). Empty otherwise.
 inline std::string window_cause(float tmin, float tmax, const std::optional<float>& expected,
                                 const std::optional<float>& got, const std::optional<float>& widened) {
     if (!expected || (got && close(*expected, *got)) || !widened || !close(*expected, *widened)) return "";
     const char* end = *expected == tmin ? "tmin" : *expected == tmax ? "tmax" : nullptr;
     if (!end) return "";
-    return std::string(" Measured on your answer: the hit t = ") + show(*expected) + " is exactly " + end +
-           "; your function skips it, and returns it once the window is one float wider: it treats the "
-           "window as open, where it is closed (tmin <= t <= tmax).";
+    if (*widened == *expected)
+        return std::string(" Measured on your answer: the hit t = ") + show(*expected) + " is exactly " + end +
+               "; your function skips it, and returns it once the window is a little wider: it treats the "
+               "window as open, where it is closed (tmin <= t <= tmax).";
+    const bool outside = *widened < tmin || *widened > tmax;
+    if (!outside) return "";
+    const std::int64_t ulps = ulp_distance(*expected, *widened);
+    return std::string(" Measured on your answer: the exact root is ") + show(*expected) + ", exactly " + end +
+           ", but your function computes it as " + show(*widened) + ", " + std::to_string(ulps) +
+           (ulps == 1 ? " ulp " : " ulps ") + (*widened < *expected ? "below" : "above") +
+           ": that root lies outside the closed window by its own rounding error, so skipping it is "
+           "right for the value it has. The window's comparisons are not the cause; the root is off "
+           "where float gives it exactly (an extra rounding on the way, such as a product with an "
+           "approximate 1/a).";
 }
 
 /// check_hit for a call `f(tmin, tmax)` with a window: adds window_cause to the why.
@@ -150,7 +168,7 @@ void check_hit_in(const std::string& call, const std::string& input, float tmin,
     std::optional<float> got = f(tmin, tmax);
     std::optional<float> widened = got;
     if (got.has_value() != expected.has_value() || (got && *got != *expected)) {
-        widened = f(std::nextafter(tmin, -inf), std::nextafter(tmax, inf));
+        widened = f(tmin - tolerance_at(tmin), tmax + tolerance_at(tmax));
         got = f(tmin, tmax);
     }
     check_hit(call, input, expected, got, why + window_cause(tmin, tmax, expected, got, widened));

@@ -4,10 +4,13 @@
 #include "platform.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <string>
 
@@ -16,12 +19,48 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #define RAYKIT_PLATFORM_LINUX 1
 #endif
 
 namespace raykit::platform {
+
+namespace {
+
+std::size_t page_size() {
+    static const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+    return page;
+}
+
+// The readable pages an object of `size` bytes takes (at least one), the guard page after them.
+std::size_t data_bytes(std::size_t size) {
+    const std::size_t page = page_size();
+    return std::max<std::size_t>(1, (size + page - 1) / page) * page;
+}
+
+}  // namespace
+
+void* guarded_allocate(std::size_t size, std::size_t align) {
+    const std::size_t data = data_bytes(size), page = page_size();
+    // MAP_ANON: the spelling macOS and Linux share.
+    void* base = ::mmap(nullptr, data + page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANON, -1, 0);
+    if (base == MAP_FAILED) return nullptr;
+    char* end = static_cast<char*>(base) + data;
+    if (::mprotect(end, page, PROT_NONE) != 0) {
+        ::munmap(base, data + page);
+        return nullptr;
+    }
+    // The object ends at the guard when `align` divides `size` (always so for sizeof(T), alignof(T)).
+    const std::uintptr_t at = (reinterpret_cast<std::uintptr_t>(end) - size) & ~(std::uintptr_t{align} - 1);
+    return reinterpret_cast<void*>(at);
+}
+
+void guarded_release(void* p, std::size_t size) {
+    if (p == nullptr) return;
+    // The object starts in the first page of its mapping (it takes less than a page more than it needs).
+    const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(p) & ~(std::uintptr_t{page_size()} - 1);
+    ::munmap(reinterpret_cast<void*>(base), data_bytes(size) + page_size());
+}
 
 bool open_pipe(int fds[2]) {
     if (::pipe(fds) != 0) return false;
@@ -64,7 +103,11 @@ std::string read_link(const std::string& path) {
 
 double cpu_seconds(pid_t pid) {
     std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // getline, not an istreambuf_iterator: a process that dies while its file is read makes the read
+    // fail (ESRCH), which libstdc++'s filebuf throws as an exception through an iterator (seen: the
+    // call the program crashed in graded "threw"), while a stream function only sets a flag.
+    std::string text;
+    std::getline(in, text);
     // The fields after the command name (which may hold spaces) start after its last ')'.
     const std::size_t close = text.rfind(')');
     if (close == std::string::npos) return -1;

@@ -10,6 +10,8 @@
 
 #include <sys/types.h>
 
+#include <cstddef>
+
 namespace raykit::platform {
 
 /// A pipe whose two ends are closed on exec (pipe + FD_CLOEXEC: no pipe2 on macOS before 27).
@@ -32,5 +34,16 @@ void end_namespace_rest(pid_t init);
 /// execve of `file` found on the PATH given in `envp` (execvpe is a GNU extension). Returns only
 /// when nothing could be started.
 void exec_on_path(const char* file, char* const argv[], char* const envp[]);
+
+/// Memory for one object of `size` bytes, aligned to `align` (a power of two that divides `size`),
+/// that ends exactly where a page no one may read or write begins (mmap + mprotect): a read or
+/// write past its end faults at once, in every build, sanitized or not. The answers program hands
+/// each argument of a student's function over in such memory, so that `(&v.x)[3]` or `<= count`
+/// is a crash on every machine, never a read of whatever lay beside it. nullptr when the system
+/// refuses.
+void* guarded_allocate(std::size_t size, std::size_t align);
+
+/// Gives back memory from guarded_allocate; `size` as it was asked for.
+void guarded_release(void* p, std::size_t size);
 
 }  // namespace raykit::platform

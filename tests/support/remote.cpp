@@ -285,8 +285,9 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
     std::string home = "HOME=" + dir;
     char path[] = "PATH=/usr/bin:/bin";
     char lang[] = "LANG=C.UTF-8";
-    // For a student's own check, whose files are built with the sanitizers (RAYKIT_CHECK_SANITIZE):
-    // stop at the first finding, with a stack, on abort() too (GLM's asserts), no leak check at exit.
+    // For a student's files, built with UndefinedBehaviorSanitizer in the check and the grade alike
+    // (RAYKIT_CHECK_SANITIZE): stop at the first finding, with a stack. ASAN_OPTIONS for a build
+    // that links AddressSanitizer (the kit's own sanitize build): on abort() too, no leak check.
     char asan[] = "ASAN_OPTIONS=halt_on_error=1:abort_on_error=0:exitcode=86:handle_abort=1:detect_leaks=0:"
                   "print_summary=1:allocator_may_return_null=1";
     char ubsan[] = "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:exitcode=86";
@@ -565,6 +566,18 @@ std::string sanitizer_finding(const std::string& out) {
     return reason + (where.empty() ? "" : " (your code, " + where + ")");
 }
 
+/// What the answers program said of a fault in a guard page ("argument 2", "a list in argument 2":
+/// tests/support/answers_main.cpp), taken out of the output it came in, or "".
+std::string fault_note(std::string& out) {
+    const std::string tag = "raykit-fault: past ";
+    const std::size_t at = out.find(tag);
+    if (at == std::string::npos || (at > 0 && out[at - 1] != '\n')) return "";
+    const std::size_t end = out.find('\n', at);
+    const std::string what = out.substr(at + tag.size(), end == std::string::npos ? std::string::npos : end - at - tag.size());
+    out.erase(at, end == std::string::npos ? std::string::npos : end + 1 - at);
+    return what;
+}
+
 std::string Child::died(const std::string& call) {
     int status = 0;
     pid_t got = 0;
@@ -584,6 +597,12 @@ std::string Child::died(const std::string& call) {
     }
     if (got == pid_) pid_ = -1;
     stop();
+    const std::string past = fault_note(output);
+    if (!past.empty())    // the argument's own memory ended there: the same crash in every build
+        return "Your code crashed in " + call + ": it read or wrote past the end of " +
+               (past.rfind("a list", 0) == 0 ? "the list in " + past.substr(past.find("argument")) : past) +
+               " (" + how.substr(how.find("SIG") == std::string::npos ? 0 : how.find("SIG")) +
+               "): memory that is not the argument's, as `(&v.x)[3]` on a 3-vector or a loop to `<= count` reads.";
     const std::string finding = sanitizer_finding(output);
     if (finding.rfind("AddressSanitizer: SEGV", 0) == 0)    // a bad access the sanitizer only saw land
         return "Your code crashed in " + call + ": it was killed by SIGSEGV, a bad memory access (" + finding + ").";

@@ -125,7 +125,33 @@ struct Cause {
 /// in the formula, not rounding: a binade, 2^23 ulps (a factor of 2, or a sign).
 constexpr std::int64_t slip_ulps = std::int64_t(1) << 23;
 
-inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s) {
+/// An answer of no roots leaves nothing to compare with the suspects, so for that answer the kit asks the
+/// function one more thing (unit_probe): the same distance and radius with a direction of length exactly 1,
+/// the ray (0, 0, 0) + t (1, 0, 0) through a sphere centred at (distance, 0, 0), whose roots are exactly
+/// distance -+ radius (rounded once: the exact roots in float). Right there, the function's arithmetic holds
+/// at this distance when a = 1 truly, and a no-roots answer that the formula taking a = 1 also gives
+/// is the missing a's.
+struct UnitProbe {
+    float distance = 0, radius = 0;
+    Roots expected, got;
+    bool holds() const { return got.count == 2 && roots_distance(expected, got) <= robust_max_ulps; }
+};
+
+/// The probe for a function `f(ray, sphere)` (or `f(ray)` for the unit sphere at the origin, whose radius
+/// is 1) on a case's ray and sphere.
+template <class F>
+UnitProbe unit_probe(F f, const Ray& ray, const Sphere& sphere) {
+    UnitProbe p;
+    p.distance = glm::length(sphere.center - ray.origin);
+    p.radius = sphere.radius;
+    const Ray along{{0, 0, 0}, {1, 0, 0}};
+    p.expected = Roots{2, {p.distance - p.radius, p.distance + p.radius}};
+    p.got = f(along, Sphere{{p.distance, 0, 0}, p.radius});
+    return p;
+}
+
+inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s,
+                            const UnitProbe* probe = nullptr) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
     enum { a_one, cprime, textbook, shortcut, count };
     const Roots* suspects[count] = {&s.a_one, &s.float_cprime, &s.textbook_float, &s.shortcut_float};
@@ -205,6 +231,14 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
         }
         default: break;
     }
+    if (got.count == 0 && exact.count > 0 && s.a_one.count == 0 && probe && probe->holds())
+        return {true, lead + std::string("no roots, where the formula that takes a = d.d as exactly 1, t^2 + 2 h t + c' "
+                      "= 0, solved exactly, finds none either. And your function's arithmetic holds at this "
+                      "distance: given a direction of length exactly 1, (1, 0, 0), and a sphere of the same radius " +
+                      show(probe->radius) + " centred " + show(probe->distance) + " down it, it returns " +
+                      show(probe->got.t[0]) + " and " + show(probe->got.t[1]) + ", the exact roots. Here " + dd_text() +
+                      ", and that assumption alone leaves no roots, whatever the precision of the arithmetic: the "
+                      "cause is the missing a, not rounding (lecture 03, sections 1 and 5).")};
     if (got.count == 0 && exact.count > 0) {
         std::string also;
         int n = 0;
@@ -255,12 +289,12 @@ inline std::string because_of(const Cause& cause, const std::string& why) {
 /// case) follows either way.
 inline void check_roots_ulps(const std::string& call, const std::string& input, const Roots& expected,
                              const Roots& got, const std::string& why, const std::string& graded = "",
-                             const exact::SphereCase* found = nullptr) {
+                             const exact::SphereCase* found = nullptr, const UnitProbe* probe = nullptr) {
     auto fail = [&](const std::string& problem, bool measure) {
         figure::note_failure(call, figure::json(expected), figure::json(got));
         std::string because = why;
         if (measure && found) {
-            because = because_of(measured_cause(found->ray, expected, got, found->suspects), why);
+            because = because_of(measured_cause(found->ray, expected, got, found->suspects, probe), why);
         }
         FAIL_CHECK(report(call, input, show(expected) + "  (exact roots, rounded to float)", show(got),
                           problem + (because.empty() ? "" : " " + because) + graded));
@@ -287,6 +321,21 @@ inline void check_roots_ulps(const std::string& call, const std::string& input, 
 /// check_roots_ulps on a case from exact::sphere_roots: its exact roots, and its suspects for the cause.
 inline void check_case_ulps(const std::string& call, const std::string& input, const exact::SphereCase& found,
                             const Roots& got, const std::string& why, const std::string& graded) {
+    check_roots_ulps(call, input, found.roots, got, why, graded, &found);
+}
+
+/// The same, given the function under test `f(ray, sphere)`: an answer of no roots is measured further
+/// (unit_probe), then the function is called on the case once more, so that the call the case's picture
+/// records is still the one checked.
+template <class F>
+void check_case_ulps_of(const std::string& call, const std::string& input, const exact::SphereCase& found, F f,
+                        const std::string& why, const std::string& graded) {
+    Roots got = f(found.ray, found.sphere);
+    if (got.count == 0 && found.roots.count > 0 && found.suspects.a_one.count == 0) {
+        const UnitProbe probe = unit_probe(f, found.ray, found.sphere);
+        got = f(found.ray, found.sphere);
+        return check_roots_ulps(call, input, found.roots, got, why, graded, &found, &probe);
+    }
     check_roots_ulps(call, input, found.roots, got, why, graded, &found);
 }
 

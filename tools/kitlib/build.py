@@ -37,7 +37,8 @@ class Build:
     # (RAYKIT_BOUNDARY; sandbox.py), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
     boundary: bool = False
     spec: str = ""
-    # A student's own check: their files under ASan, UBSan and GLM's asserts (RAYKIT_CHECK_SANITIZE).
+    # A student's files under UBSan and GLM's asserts (RAYKIT_CHECK_SANITIZE): their own check and a
+    # graded submission alike, so the two never disagree on a crash (CMakeLists.txt).
     sanitize_student: bool = False
     # The submission's name on the platform that graded it, for the hidden cases' seed (secret.py).
     identity: str = ""
@@ -51,10 +52,16 @@ class Build:
         return self.binary_dir / step.target
 
 
+def detect_undefined() -> bool:
+    """Whether a student's files are built with the sanitizer (RAYKIT_NO_CHECK_SANITIZE=1: not, to
+    measure without it): one answer for the check and the grade."""
+    return os.environ.get("RAYKIT_NO_CHECK_SANITIZE") != "1"
+
+
 def preset_build(name: str) -> Build:
     steps_dir = ROOT / ("steps" if name == "student" else "solutions")
     return Build(name, BUILD / name, steps_dir, steps_dir, preset=name, tools=name != "student",
-                 sanitize_student=name == "student" and os.environ.get("RAYKIT_NO_CHECK_SANITIZE") != "1")
+                 sanitize_student=name == "student" and detect_undefined())
 
 
 def tools_build(build: Build) -> Build:
@@ -82,7 +89,7 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
                     shutil.copyfile(src, dst)
             elif dst.exists():
                 dst.unlink()
-    return Build(slot, BUILD / slot, staging, source, tools=False, boundary=True)
+    return Build(slot, BUILD / slot, staging, source, tools=False, boundary=True, sanitize_student=detect_undefined())
 
 
 def preset_settings(name: str) -> tuple[str | None, Path, dict[str, str]]:

@@ -184,6 +184,80 @@ def planted_root_causes(work: Path) -> list[str]:
     return named
 
 
+# Causes a failure must name where two read alike from the outside, each planted as a student's file
+# (tests/fixtures/causes/, README "Causes a failure must name"): the folder, the step, the case, the words
+# the first failure must use and the words of the cause it is mistaken for, which it must not use.
+CAUSES = ROOT / "tests" / "fixtures" / "causes"
+MEASURED = [
+    ("a root one ulp off, not an open window", "root_one_ulp_off", "01", WINDOW_CASE, "1 ulp below",
+     "treats the window as open"),
+    ("the missing a, with no roots left", "double_a_one", "03", "geometric: a unit sphere 10000 units away",
+     ROOT_CAUSE_WORDS["the assumption a = 1"], "h^2 and c' (or |L|^2 and t_m^2) are nearly equal"),
+    ("an inexact in-plane point, not the edges' rule", "rect_object_space", "04",
+     "intersect_rect on exact edges and corners of every axis", "the in-plane coordinates your function computes",
+     "The rectangle is closed: a hit exactly on an edge"),
+]
+# The edges' own rule, planted by its mutant, must still be named (the same hidden case).
+EDGE_MUTANT = ("04", "edge_excluded", "intersect_rect on exact edges and corners of every axis", "it leaves the edges out")
+# A hidden case draws from the submission's files and the identity: a planted answer that is wrong on some
+# draws only is graded under a few identities until the case fails (the fixture fails it on most).
+IDENTITIES = 6
+
+
+def _first_failure(folder: Path, number: str, case_name: str, work: Path) -> tuple[str, str]:
+    """The case's status and messages, graded like a submission, under the first identity where it fails."""
+    import json
+    import subprocess
+    status = "missing"
+    for k in range(IDENTITIES):
+        report = work / "causes.json"
+        report.unlink(missing_ok=True)
+        subprocess.run([str(ROOT / "kit"), "check", str(int(number)), "--steps", str(folder), "--results", str(report),
+                        "--quiet", "--identity", f"causes:{k}"], cwd=ROOT, capture_output=True, text=True, timeout=900)
+        if not report.exists():
+            raise Failed(f"{folder.name}: ./kit check {int(number)} wrote no results")
+        steps = json.loads(report.read_text())["steps"]
+        case = next((c for s in steps for c in s["cases"] if c["name"] == case_name), None)
+        status = case["status"] if case else "missing"
+        if case and status != "pass":
+            return status, "\n".join(case["messages"])
+    return status, ""
+
+
+def selftest_measured_causes(ctx) -> str:
+    """Each cause that reads like another from the outside is planted and must be named, and not the other:
+    a root one ulp off (a fast reciprocal) is not an open window; no roots from a double routine that takes
+    a = 1 is the missing a, not cancellation; an edge hit missed through an object-space transform is an
+    inexact point, not the edges' rule, which its own mutant still gets."""
+    need_solutions()
+    steps = {s.number: s for s in load_steps()}
+    work = BUILD / "measured-causes"
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    named = []
+    for cause, fixture, number, case_name, words, mistaken in MEASURED:
+        status, message = _first_failure(CAUSES / fixture, number, case_name, work)
+        if status != "fail":
+            raise Failed(f"planted {cause}: the case '{case_name}' did not fail under {IDENTITIES} identities ({status})")
+        if words not in message or mistaken in message:
+            raise Failed(f"planted {cause}: the failure of '{case_name}' does not name it (or names \"{mistaken}\"):\n"
+                         f"{message[-900:]}")
+        named.append(cause)
+    number, patch, case_name, words = EDGE_MUTANT
+    step = steps[number]
+    staged = work / "mutant"
+    (staged / step.folder).mkdir(parents=True)
+    for name, text in apply_patch(read_patch(MUTANTS / step.folder / f"{patch}.patch", step)).items():
+        (staged / step.folder / name).write_text(text)
+    status, message = _first_failure(staged, number, case_name, work)
+    if status != "fail" or words not in message:
+        raise Failed(f"mutant {patch}: the failure of '{case_name}' does not say \"{words}\" ({status}):\n{message[-900:]}")
+    named.append(f"the edges left out ({patch})")
+    shutil.rmtree(work, ignore_errors=True)
+    return "the failure names the measured cause: " + ", ".join(named)
+
+
 def selftests():
     return [("mutants are caught", selftest_mutants),
-            ("a failure names the cause planted in the answer", selftest_planted_causes)]
+            ("a failure names the cause planted in the answer", selftest_planted_causes),
+            ("a failure names the measured cause, not the one it reads like", selftest_measured_causes)]

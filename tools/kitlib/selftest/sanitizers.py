@@ -21,43 +21,97 @@ def selftest_sanitizers(ctx: Context) -> str:
     return f"ASan + UBSan, {m.group(2)} tests, no finding"
 
 
-def selftest_student_sanitizers(ctx: Context) -> str:
-    """A student's own ./kit check builds their files with ASan, UBSan and GLM's asserts: step 04
-    without its axis check (tests/fixtures/ub_axis, reading ray.direction[3]) fails the "axis 3"
-    case as a crash that names the call, the sanitizer's reason and the student's line, where a
-    plain build may pass it by luck. Checked in a handout, where students run it."""
-    import json
-    import shutil
-    import time
+# Undefined behaviour the grader must catch the same way in a student's own check and in the grade
+# (tests/fixtures/README.md, "Undefined behaviour"): each student's files, and for each step the words
+# its first crash must hold. Step 05's files are the fixture's render.cpp and the reference's data.
+UB_STUDENTS = {
+    "slips": {"02_general_sphere": ("ub_slips", "index 2 out of bounds"),
+              "04_rectangles": ("ub_slips", "past the end of argument 1"),
+              "05_cornell_box": ("ub_slips", "past the end of the list in argument 2")},
+    "axis": {"04_rectangles": ("ub_axis", "an assert in the kit's headers failed")},
+}
 
-    from ..common import BUILD, ROOT
+
+def _ub_files(student: str, dest) -> None:
+    import shutil
+
+    from ..common import ROOT
+    for folder, (fixture, _) in UB_STUDENTS[student].items():
+        (dest / folder).mkdir(parents=True, exist_ok=True)
+        if folder == "05_cornell_box":
+            shutil.copyfile(ROOT / "solutions" / folder / "cornell_box.cpp", dest / folder / "cornell_box.cpp")
+        for f in (ROOT / "tests" / "fixtures" / fixture / folder).iterdir():
+            shutil.copyfile(f, dest / folder / f.name)
+
+
+def _ub_cases(path) -> dict:
+    import json
+    data = json.loads(path.read_text())
+    return {(s["folder"] if "folder" in s else s.get("step", ""), c["name"]): c
+            for s in data["steps"] for c in s["cases"]}
+
+
+def selftest_student_sanitizers(ctx: Context) -> str:
+    """Undefined behaviour is found, and judged the same in a student's own ./kit check (run in a
+    handout, where students run it) and in ./kit grade: a raw-pointer axis read past a vec3
+    ((&v.x)[3]: past the Ray the grader passed, a guard page), glm's v[3] (its assert), a loop to
+    `<= count` over the objects (past the scene's list, a guard page) and over the roots (UBSan: index
+    2 of float[2]). Every case both run has the same status, and each slip's cases crash with its
+    cause named; the plain build that graded them before gave "done"."""
+    import shutil
+    import subprocess
+    import tempfile
+    import time
+    from pathlib import Path
+
+    from ..common import BUILD
     from .harness import kit
     need_solutions()
     handout = BUILD / "ub-handout"
     shutil.rmtree(handout, ignore_errors=True)
     r = kit("handout", str(handout), "--committed", timeout=600)
     expect(r.returncode == 0, f"./kit handout failed: {r.stderr[-400:]}")
-    shutil.copyfile(ROOT / "tests" / "fixtures" / "ub_axis" / "04_rectangles" / "rect.cpp",
-                    handout / "steps" / "04_rectangles" / "rect.cpp")
-    import subprocess
+    klass = Path(tempfile.mkdtemp(prefix="raykit-ub-class-"))
+    checked: dict = {}
     start = time.monotonic()
-    p = subprocess.run([str(handout / "kit"), "check", "4", "--results", str(handout / "r.json"), "--quiet"],
-                       cwd=handout, capture_output=True, text=True, timeout=900)
-    took = time.monotonic() - start
     try:
-        data = json.loads((handout / "r.json").read_text())
-    except (OSError, ValueError):
-        raise AssertionError(f"no results: {p.stderr[-400:]}")
-    cases = {c["name"]: c for s in data["steps"] for c in s["cases"]}
-    axis = next((c for n, c in cases.items() if "axis of 3" in n), None)
-    shutil.rmtree(handout, ignore_errors=True)
-    expect(axis is not None, "no case with an axis of 3 in step 04")
-    message = " ".join(axis["messages"])
-    expect(axis["status"] == "crashed" and "undefined behaviour" in message and "rect.cpp:" in message,
-           f"the axis-3 read is not reported as undefined behaviour with its line: {axis['status']}: {message[:300]}")
-    return f"the axis-3 read reported: {message[message.find(': ', message.find('inf)')) + 2:][:150]} ({took:.0f} s cold)"
+        for student, steps in UB_STUDENTS.items():
+            _ub_files(student, handout / "steps")
+            _ub_files(student, klass / "class" / student)
+            numbers = [folder[:2] for folder in steps]
+            p = subprocess.run([str(handout / "kit"), "check", *numbers, "--results", str(handout / "r.json"), "--quiet"],
+                               cwd=handout, capture_output=True, text=True, timeout=900)
+            expect((handout / "r.json").is_file(), f"{student}: ./kit check wrote no results: {p.stderr[-400:]}")
+            checked[student] = _ub_cases(handout / "r.json")
+            (handout / "r.json").unlink()
+        r = kit("grade", str(klass / "class"), "--out", str(klass / "grades.csv"), "--json-dir", str(klass / "json"),
+                timeout=1800)
+        expect(r.returncode == 0, f"./kit grade exited {r.returncode}: {r.stderr[-500:]}")
+        graded = {student: _ub_cases(klass / "json" / f"{student}.json") for student in UB_STUDENTS}
+    finally:
+        shutil.rmtree(handout, ignore_errors=True)
+        shutil.rmtree(klass, ignore_errors=True)
+    took = time.monotonic() - start
+    found = []
+    for student, steps in UB_STUDENTS.items():
+        mine, theirs = checked[student], graded[student]
+        both = sorted(set(mine) & set(theirs))
+        expect(both, f"{student}: the check and the grade share no case")
+        differ = [f"{f} {n}: check {mine[(f, n)]['status']}, grade {theirs[(f, n)]['status']} "
+                  f"({' '.join(theirs[(f, n)]['messages'])[:200]} / {' '.join(mine[(f, n)]['messages'])[:200]})"
+                  for f, n in both if mine[(f, n)]["status"] != theirs[(f, n)]["status"]]
+        expect(not differ, f"{student}: the check and the grade disagree on {len(differ)} case(s): {differ[:3]}")
+        for folder, (_, cause) in steps.items():
+            for name, results in (("./kit check", mine), ("./kit grade", theirs)):
+                crashed = [c for (f, _), c in sorted(results.items()) if f == folder and c["status"] == "crashed"]
+                expect(crashed, f"{student}: {name} finds no crash in {folder}")
+                message = " ".join(crashed[0]["messages"])
+                expect(cause in message, f"{student}: {name}'s first crash in {folder} does not say "
+                                         f"\"{cause}\": {message[:300]}")
+            found.append(f"{folder[:2]} {cause} ({len(crashed)} cases)")
+    return f"the same status on every shared case, check and grade; caught: {'; '.join(found)} ({took:.0f} s)"
 
 
 def selftests() -> list:
-    return [("the student's own check under the sanitizers", selftest_student_sanitizers),
+    return [("undefined behaviour caught alike in the check and the grade", selftest_student_sanitizers),
             ("sanitizers", selftest_sanitizers)]
