@@ -272,7 +272,10 @@ CONTRACT_CASES = {
                                                     "no hit: a ray just outside the silhouette"],
     "unit_sphere.hpp:unit_sphere_roots:the direction is zero": ["a zero direction is no ray: no roots"],
     "unit_sphere.hpp:unit_sphere_roots:inputs containing nan or infinity": _NAN_01,
-    "unit_sphere.hpp:unit_sphere_roots:so large that d·d overflows": ["a direction so long that d.d overflows: no roots"],
+    "unit_sphere.hpp:unit_sphere_roots:a direction so large that d·d overflows float": [
+        "a direction so long that d.d overflows float: no roots or the true roots and never NaN"],
+    "unit_sphere.hpp:unit_sphere_roots:so small that d·d underflows to 0 in float": [
+        "a direction so short that d.d underflows float: no roots or the true roots and never NaN"],
     "unit_sphere.hpp:intersect_unit_sphere:tmin > tmax": ["window: tmin greater than tmax is empty"],
     "unit_sphere.hpp:intersect_unit_sphere:nothing in the window": [
         "window: a miss is no hit", "window: both roots after tmax is no hit", "window: both roots before tmin is no hit",
@@ -286,6 +289,8 @@ CONTRACT_CASES = {
         "a ray holding NaN is no ray: no roots", "a ray holding infinity is no ray: no roots"],
     "general_sphere.hpp:sphere_roots:a direction so large that d·d overflows float": [
         "a direction so long that d.d overflows float: no roots or the true roots and never NaN"],
+    "general_sphere.hpp:sphere_roots:so small that d·d underflows to 0 in float": [
+        "a direction so short that d.d underflows float: no roots or the true roots and never NaN"],
     "general_sphere.hpp:intersect_sphere:tmin > tmax": ["window: tmin greater than tmax is empty"],
     "general_sphere.hpp:intersect_sphere:nothing in the window": [
         "window: a miss is no hit", "window: both roots after tmax is no hit", "window: a degenerate sphere is no hit",
