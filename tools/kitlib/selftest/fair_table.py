@@ -169,7 +169,7 @@ def measure(seeds: int, forms: list[str] | None = None, fused_too: bool = True,
                     folder = Path(tmp) / f"{form}-{real}-{'fma' if fused else 'off'}"
                     make_variant(form, real, prologue if fused else None, folder)
                     started = time.monotonic()
-                    got = grade_variant(folder, form, real, fused, seeds, "fair-table")
+                    got = grade_variant(folder, form, real, fused, seeds, f"fair-table-{form}")
                     rows += got
                     if progress:
                         progress(f"{form} {real} {'fma' if fused else 'off'}: "
