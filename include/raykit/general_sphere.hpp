@@ -34,8 +34,8 @@ namespace raykit {
 /// roots are asked for (t counts steps of `d`: a short direction gives large
 /// roots). A direction so large that `d.d` overflows float, or so small that
 /// `d.d` underflows to 0 in float, may count as a miss, or give its true
-/// roots, computed in a wider type (double): the roots are representable in
-/// float, so computing them in double is right too.
+/// roots, computed in a wider type (double): where they are representable
+/// in float, computing them in double is right too.
 ///
 /// The ★ robust cases also ask for accuracy: each root within a few units in
 /// the last place (ulps) of the exact root of the same float inputs, for far,

@@ -32,8 +32,8 @@ namespace raykit {
 /// asked for (t counts steps of `d`: a short direction gives large roots).
 /// A direction so large that `d.d` overflows float, or so small that `d.d`
 /// underflows to 0 in float, may count as a miss, or give its true roots,
-/// computed in a wider type (double): the roots are representable in float,
-/// so computing them in double is right too.
+/// computed in a wider type (double): where they are representable in
+/// float, computing them in double is right too.
 Roots unit_sphere_roots(const Ray& ray);
 
 /// The closest hit of \p ray with the unit sphere inside the closed window
