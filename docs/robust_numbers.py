@@ -82,7 +82,7 @@ def parse(stderr: str) -> list[tuple[int, list[float]]]:
 
 def measure() -> dict:
     sys.path.insert(0, str(ROOT / "tools"))
-    from kitlib.common import build_targets, configure, submission_build  # noqa: E402
+    from kitlib.build import build_targets, configure, submission_build  # noqa: E402
 
     record = {"digest": digest(), "forms": {}}
     for form, by_step in FORMS.items():
