@@ -25,10 +25,17 @@ namespace raykit {
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses, when the
 ///         direction is zero or when the radius describes no sphere. Inputs
-///         containing NaN or infinity count as a miss. A direction so large
-///         that `d.d` overflows float may count as a miss too, or give its
-///         roots (computed in a wider type); no root is ever NaN. Roots behind
-///         the origin (`t < 0`) are included.
+///         containing NaN or infinity count as a miss; no root is ever NaN.
+///         Roots behind the origin (`t < 0`) are included.
+///
+/// Long and short directions, the same rule as unit_sphere_roots(): any
+/// direction whose `d.d` is a normal float (a length from about 1e-19 to
+/// 1e19: 1e-7, 2^-60, with components that are subnormal) is a ray, and its
+/// roots are asked for (t counts steps of `d`: a short direction gives large
+/// roots). A direction so large that `d.d` overflows float, or so small that
+/// `d.d` underflows to 0 in float, may count as a miss, or give its true
+/// roots, computed in a wider type (double): where they are representable
+/// in float, computing them in double is right too.
 ///
 /// The ★ robust cases also ask for accuracy: each root within a few units in
 /// the last place (ulps) of the exact root of the same float inputs, for far,

@@ -18,7 +18,9 @@ namespace raykit {
 /// window `tmin <= t <= tmax`.
 ///
 /// Brute force: every object is tried with intersect_rect() (step 04), and
-/// the smallest `t` wins. On a tie the object listed first wins: a later
+/// the smallest `t` wins: the first point along the ray in the window, which
+/// for `tmin < 0` may lie behind the origin (then `t = -3` beats `t = 2`, though
+/// it is farther from the origin). On a tie the object listed first wins: a later
 /// object replaces the best hit so far only when it is **strictly** nearer.
 ///
 /// \param ray   any ray; its direction need not be unit length.

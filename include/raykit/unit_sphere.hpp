@@ -22,10 +22,18 @@ namespace raykit {
 /// \return the real roots, sorted (see Roots): `count == 2` when the line
 ///         passes through, `count == 1` with `t[0] == t[1]` when it is tangent
 ///         (discriminant exactly zero), `count == 0` when it misses or when
-///         the direction is zero. Inputs containing NaN or infinity, or so large
-///         that `d.d` overflows, count as a miss; no
-///         root is ever NaN. Roots behind the origin (`t < 0`) are
+///         the direction is zero. Inputs containing NaN or infinity count as a
+///         miss; no root is ever NaN. Roots behind the origin (`t < 0`) are
 ///         included: this function knows nothing of windows.
+///
+/// Long and short directions, the same rule as sphere_roots(): any direction
+/// whose `d.d` is a normal float (a length from about 1e-19 to 1e19: 1e-7,
+/// 2^-60, with components that are subnormal) is a ray, and its roots are
+/// asked for (t counts steps of `d`: a short direction gives large roots).
+/// A direction so large that `d.d` overflows float, or so small that `d.d`
+/// underflows to 0 in float, may count as a miss, or give its true roots,
+/// computed in a wider type (double): where they are representable in
+/// float, computing them in double is right too.
 Roots unit_sphere_roots(const Ray& ray);
 
 /// The closest hit of \p ray with the unit sphere inside the closed window

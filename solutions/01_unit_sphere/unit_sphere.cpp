@@ -21,8 +21,10 @@ Roots unit_sphere_roots(const Ray& ray) {
     const float c = glm::dot(o, o) - 1.0f;
 
     // A zero or NaN direction describes no line: nothing to hit. A direction so long that
-    // d.d overflows cannot be handled in float either (inf / inf would make a root NaN):
-    // it is rejected too, as the header documents.
+    // d.d overflows, or so short that it underflows to 0, cannot be followed in float (inf / inf
+    // or 0 / 0 would make a root NaN): the header lets it count as a miss, which this float
+    // reference does (the true roots, computed in double, would be right too). A short direction
+    // whose d.d is still a normal float (1e-7, say) is an ordinary ray.
     if (!(a > 0.0f && a <= std::numeric_limits<float>::max())) return {};
 
     // The quarter discriminant h^2 - a c, written as a (1 - |o - (h/a) d|^2).

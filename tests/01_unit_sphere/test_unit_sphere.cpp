@@ -169,10 +169,55 @@ TEST_CASE("a ray holding infinity is no ray: no roots" * doctest::description("2
                  "The direction is infinite, so a = d.d is inf and every root is inf / inf = NaN. Count 0.");
 }
 
-TEST_CASE("a direction so long that d.d overflows: no roots" * doctest::description("2. The ray meets the sphere")) {
-    expect_roots({{-3, 0, 0}, {2e19f, 0, 0}}, none(),
-                 "|d| = 2e19 is a float, but a = d.d = 4e38 is beyond the largest float (3.4e38) and becomes inf. "
-                 "The header says such a ray counts as a miss: check that a is finite, not only that it is not 0.");
+TEST_CASE("a direction so long that d.d overflows float: no roots or the true roots and never NaN" *
+          doctest::description("2. The ray meets the sphere")) {
+    // The header allows either answer (the same rule as step 02's): count 0 (in float a = d.d is
+    // inf), or the true roots 1e-19 and 2e-19 (representable in float, computed in double). Never NaN.
+    const Ray ray{{-3, 0, 0}, {2e19f, 0, 0}};
+    const Roots got = unit_sphere_roots(ray);
+    if (got.count != 0)
+        check_roots("unit_sphere_roots(ray)", show(ray), two(1e-19f, 2e-19f), got,
+                    "|d| = 2e19 is a float, but a = d.d = 4e38 is beyond the largest float (3.4e38): in float a is "
+                    "inf and the roots become inf / inf = NaN. The header allows count 0 here (check that a is "
+                    "finite, not only that it is not 0), or the true roots from a wider type.");
+}
+
+TEST_CASE("a direction of length 1e-7 is still a ray: roots in steps of d" *
+          doctest::description("2. The ray meets the sphere")) {
+    // Shorter than FLT_EPSILON, yet d.d = 1e-14 is an ordinary float: the roots are asked for.
+    const float s = 1e-7f;
+    expect_roots({{-3, 0, 0}, {s, 0, 0}}, two(2.0f / s, 4.0f / s),
+                 "A direction of length 1e-7 is short, not zero: t counts steps of d, so the roots are "
+                 "2 / 1e-7 and 4 / 1e-7. A rule that treats a short direction (below FLT_EPSILON, say) as "
+                 "zero loses them; only d = 0 is no ray.");
+    // Off the axis, so that o.d, d.d and the roots are all different: o = (-3, 0.6, 0) meets
+    // the sphere at x = -0.8 and x = 0.8, after 2.2 / s and 3.8 / s steps.
+    expect_roots({{-3, 0.6f, 0}, {s, 0, 0}}, two(2.2f / s, 3.8f / s),
+                 "The line y = 0.6 meets the sphere at x = -0.8 and x = 0.8: t = 2.2 / 1e-7 and 3.8 / 1e-7.");
+}
+
+TEST_CASE("a tiny direction with subnormal components is still a ray" *
+          doctest::description("2. The ray meets the sphere")) {
+    // |d| = 2^-60 (d.d = 2^-120, still a normal float) and components of 1e-40 (subnormal):
+    // the subnormal parts move nothing a float can show, the roots are 2^61 and 2^62.
+    const float s = 0x1p-60f;
+    expect_roots({{-3, 0, 0}, {s, 1e-40f, -1e-40f}}, two(0x1p61f, 0x1p62f),
+                 "d = (2^-60, 1e-40, -1e-40): d.d = 2^-120 is a normal float, so the roots are asked for: "
+                 "2 / 2^-60 = 2^61 and 2^62. Subnormal components are numbers like any other: never zero "
+                 "them, never call such a direction zero.");
+}
+
+TEST_CASE("a direction so short that d.d underflows float: no roots or the true roots and never NaN" *
+          doctest::description("2. The ray meets the sphere")) {
+    // |d| = 1e-30: d.d = 1e-60 is 0 in float. The header allows count 0 or the true roots
+    // 2e30 and 4e30 (representable in float, computed in double). Never NaN.
+    const Ray ray{{-3, 0, 0}, {1e-30f, 0, 0}};
+    const Roots got = unit_sphere_roots(ray);
+    if (got.count != 0)
+        check_roots("unit_sphere_roots(ray)", show(ray), two(2.0f / 1e-30f, 4.0f / 1e-30f), got,
+                    "|d| = 1e-30 is a float, but d.d = 1e-60 is below the smallest float and becomes 0. The "
+                    "header allows count 0 here, or the true roots 2e30 and 4e30 from a wider type; a root "
+                    "computed as 0 / 0 is NaN, never allowed.");
 }
 
 // ---- intersect_unit_sphere: the closest root in a closed window --------------

@@ -228,8 +228,9 @@ TEST_CASE("a ray holding infinity is no ray: no roots" * doctest::description("6
 
 TEST_CASE("a direction so long that d.d overflows float: no roots or the true roots and never NaN" *
           doctest::description("6. No sphere and no ray")) {
-    // The header allows either answer: count 0 (a float a = d.d is inf), or the roots
-    // 2e-19 and 4e-19 (a computed in double, as the reference does). Never NaN.
+    // The header allows either answer (the same rule as step 01's): count 0 (a float a = d.d is
+    // inf), or the true roots 2e-19 and 4e-19 (representable in float, computed in double, as the
+    // reference does). Never NaN.
     const Ray ray{{-1, -2, 3}, {2e19f, 0, 0}};
     const Roots got = sphere_roots(ray, ball);
     if (got.count != 0)
@@ -237,6 +238,43 @@ TEST_CASE("a direction so long that d.d overflows float: no roots or the true ro
                     "|d| = 2e19 is a float, but d.d = 4e38 is beyond the largest float (3.4e38): in float a is "
                     "inf and the roots become inf / inf = NaN. The header allows count 0 here (check that a is "
                     "finite, not only that it is not 0), or the true roots from a wider type.");
+}
+
+TEST_CASE("a direction of length 1e-7 is still a ray: roots in steps of d" *
+          doctest::description("3. Any direction length")) {
+    // Shorter than FLT_EPSILON, yet d.d = 1e-14 is an ordinary float: the roots are asked for.
+    const float s = 1e-7f;
+    expect_roots({{-1, -2, 3}, {s, 0, 0}}, ball, two(4.0f / s, 8.0f / s),
+                 "A direction of length 1e-7 is short, not zero: t counts steps of d, so the sphere's sides "
+                 "x = 3 and x = 7 come after 4 / 1e-7 and 8 / 1e-7 steps. A rule that treats a short "
+                 "direction (below FLT_EPSILON, say) as zero loses them; only d = 0 is no ray.");
+    // Off the centre line: y = -0.8 passes 1.2 from the centre, so x = 5 -+ 1.6.
+    expect_roots({{-1, -0.8f, 3}, {s, 0, 0}}, ball, two(4.4f / s, 7.6f / s),
+                 "The line y = -0.8 meets the sphere at x = 3.4 and x = 6.6: t = 4.4 / 1e-7 and 7.6 / 1e-7.");
+}
+
+TEST_CASE("a tiny direction with subnormal components is still a ray" *
+          doctest::description("3. Any direction length")) {
+    // |d| = 2^-60 (d.d = 2^-120, still a normal float) and components of 1e-40 (subnormal).
+    const float s = 0x1p-60f;
+    expect_roots({{-1, -2, 3}, {s, 1e-40f, -1e-40f}}, ball, two(0x1p62f, 0x1p63f),
+                 "d = (2^-60, 1e-40, -1e-40): d.d = 2^-120 is a normal float, so the roots are asked for: "
+                 "4 / 2^-60 = 2^62 and 2^63. Subnormal components are numbers like any other: never zero "
+                 "them, never call such a direction zero.");
+}
+
+TEST_CASE("a direction so short that d.d underflows float: no roots or the true roots and never NaN" *
+          doctest::description("6. No sphere and no ray")) {
+    // |d| = 1e-30: d.d = 1e-60 is 0 in float. The header allows count 0 or the true roots
+    // 4e30 and 8e30 (representable in float, computed in double). Never NaN.
+    const Ray ray{{-1, -2, 3}, {1e-30f, 0, 0}};
+    const Roots got = sphere_roots(ray, ball);
+    if (got.count != 0)
+        check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(ball),
+                    two(4.0f / 1e-30f, 8.0f / 1e-30f), got,
+                    "|d| = 1e-30 is a float, but d.d = 1e-60 is below the smallest float and becomes 0. The "
+                    "header allows count 0 here, or the true roots 4e30 and 8e30 from a wider type; a root "
+                    "computed as 0 / 0 is NaN, never allowed.");
 }
 
 // ---- intersect_sphere: the closest root in a closed window -----------------------

@@ -111,6 +111,18 @@ TEST_CASE("an object behind the origin is not seen" * doctest::description("4. T
            "z = -3 is met at t = -3, outside the window [0, inf]; the hit is the square ahead, at t = 4.");
 }
 
+TEST_CASE("a window with a negative part: the smallest t wins even behind the origin" *
+          doctest::description("4. The closest hit")) {
+    // The window [-5, inf] holds t = 2 and t = -3: the closest hit is the smallest t, -3, not the
+    // one nearest the origin (|t| |d| = 2). Closest means first along the ray within the window.
+    expect(Scene{{square("ahead", 2), square("behind", -3)}}, along_z, -5.0f, inf, Hit{-3, 1},
+           "In the window [-5, inf] the ray meets z = -3 at t = -3 before z = 2 at t = 2: the smallest t "
+           "wins, index 1. Choosing by distance from the origin (|t| times |d|) picks t = 2 instead.");
+    expect(Scene{{square("far behind", -4), square("ahead", 1), square("behind", -2)}}, along_z, -3.0f, 10.0f,
+           Hit{-2, 2}, "In the window [-3, 10]: t = -4 is before tmin, t = 1 and t = -2 are inside; the "
+           "smallest, -2, wins: index 2.");
+}
+
 TEST_CASE("an object before tmin is skipped for the next one" * doctest::description("4. The closest hit")) {
     expect(Scene{{square("near", 2), square("far", 5)}}, along_z, 3.0f, inf, Hit{5, 1},
            "t = 2 is before tmin = 3, so the nearest hit in the window is t = 5, index 1.");

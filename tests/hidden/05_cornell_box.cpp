@@ -61,15 +61,34 @@ TEST_CASE("find_intersection in random scenes with ties" * doctest::description(
         const glm::vec3 o = centre_of(aim) + d.uniform(3, 30) * d.direction();
         Ray ray = aimed(o, centre_of(aim), d.uniform(0.2f, 4));
         if (d.integer(0, 4) == 0) ray.direction = -ray.direction;
-        const float tmax = d.integer(0, 3) == 0 ? d.uniform(1, 20) : inf;
-        const auto expected = remote::reference<std::optional<Hit>>("find_intersection", ray, scene, 0.0f, tmax);
-        const auto got = find_intersection(ray, scene, 0.0f, tmax);
+        float tmax = d.integer(0, 3) == 0 ? d.uniform(1, 20) : inf;
+        float tmin = 0.0f;
+        // A third of the draws: a window that reaches behind the origin, and a ray through the
+        // middles of two objects, the origin between them and nearer the second, which it heads
+        // for. The first lies behind, farther from the origin: the smallest t, not the nearest
+        // object, is the closest hit.
+        const int n = static_cast<int>(scene.objects.size());
+        if (n >= 2 && d.integer(0, 2) == 0) {
+            const int ia = d.integer(0, n - 1), ib = (ia + d.integer(1, n - 1)) % n;
+            const glm::vec3 a = centre_of(scene.objects[static_cast<std::size_t>(ia)].shape);
+            const glm::vec3 b = centre_of(scene.objects[static_cast<std::size_t>(ib)].shape);
+            const float gap = glm::length(b - a);
+            if (gap > 1) {
+                const float u = d.uniform(0.6f, 0.9f);
+                ray = aimed(a + u * (b - a), b, d.uniform(0.2f, 4));
+                tmin = -d.uniform(1.2f, 3) * u * gap / glm::length(ray.direction);
+                tmax = inf;
+            }
+        }
+        const auto expected = remote::reference<std::optional<Hit>>("find_intersection", ray, scene, tmin, tmax);
+        const auto got = find_intersection(ray, scene, tmin, tmax);
         if (!same_hit(expected, got)) {
-            FAIL_CHECK(grading::report("find_intersection(ray, scene, 0, tmax)",
-                                       input_note(i, grading::show(ray) + ", tmax " + grading::show(tmax) +
-                                                         ", scene" + grading::show(scene)),
+            FAIL_CHECK(grading::report("find_intersection(ray, scene, tmin, tmax)",
+                                       input_note(i, grading::show(ray) + ", window [" + grading::show(tmin) + ", " +
+                                                         grading::show(tmax) + "], scene" + grading::show(scene)),
                                        grading::show(expected), grading::show(got),
-                                       "The closest hit in the window; on a tie the object listed first."));
+                                       "The closest hit in the window is the smallest t in it (behind the origin "
+                                       "too, when tmin < 0); on a tie the object listed first."));
             return;
         }
     }

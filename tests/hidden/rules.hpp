@@ -81,13 +81,17 @@ namespace raykit::hidden {
 /// A ray (and sphere) that the headers' contract rules say is a miss, `count == 0`: `ok`
 /// with one value spoilt. kind 0: a NaN, kind 1: +inf or -inf, in a random component of
 /// the origin, the direction or (when `centre` is given) the sphere's centre; kind 2 (only
-/// when `overflow`): the direction scaled so that d.d overflows while every component stays
-/// finite (|d| from 1e20 to 1e30). Without `infinite_direction` (step 03, whose precondition is a
+/// when `overflow`): the direction, made unit, scaled by 2^k so that d.d overflows float
+/// (|d| from 1e20 to 1e30) or underflows to 0 in float (|d| from 1e-30 to 1e-23) while every
+/// component stays a finite float: the headers allow a miss or the true roots there.
+/// Returns that k (0 for kinds 0 and 1): the true roots are those of the direction divided
+/// by 2^k (scaled_roots). Without `infinite_direction` (step 03, whose precondition is a
 /// unit direction) an infinity goes into a position only.
-inline void spoil(Draw& d, Ray& ray, glm::vec3* centre, int kind, bool overflow, bool infinite_direction = true) {
+inline int spoil(Draw& d, Ray& ray, glm::vec3* centre, int kind, bool overflow, bool infinite_direction = true) {
     if (kind == 2 && overflow) {
-        ray.direction = std::ldexp(1.0f, d.integer(67, 99)) * glm::normalize(ray.direction);
-        return;
+        const int k = d.coin() ? d.integer(67, 99) : -d.integer(76, 100);
+        ray.direction = std::ldexp(1.0f, k) * glm::normalize(ray.direction);
+        return k;
     }
     const float bad = kind == 0 ? std::numeric_limits<float>::quiet_NaN()
                                 : d.sign() * std::numeric_limits<float>::infinity();
@@ -95,6 +99,44 @@ inline void spoil(Draw& d, Ray& ray, glm::vec3* centre, int kind, bool overflow,
     if (where == 1 && kind == 1 && !infinite_direction) where = 0;
     glm::vec3& v = where == 0 ? ray.origin : where == 1 ? ray.direction : *centre;
     v[d.integer(0, 2)] = bad;
+    return 0;
+}
+
+/// `ray` with its direction divided by 2^k (exact: a power of two on a unit direction).
+inline Ray unscaled(const Ray& ray, int k) { return {ray.origin, std::ldexp(1.0f, -k) * ray.direction}; }
+
+/// The roots `r` of a ray whose direction is then multiplied by 2^k: each root divided by 2^k,
+/// exactly (they stay normal floats for the k spoil draws).
+inline Roots scaled_roots(Roots r, int k) {
+    for (float& t : r.t) t = std::ldexp(t, -k);
+    return r;
+}
+
+/// The headers' rule for a direction whose d.d overflows or underflows float (steps 01 and 02
+/// alike): count 0, or the true roots, computed in a wider type. Never NaN.
+inline bool agree_miss_or_true(const Roots& truth, const Roots& got) {
+    return got.count == 0 || agree(truth, got);
+}
+
+/// A ray well through the sphere (centre `c`, radius `r`) whose direction is tiny: length 2^-k for
+/// k from 20 to 56 (about 1e-6 down to 1.4e-17, shorter than FLT_EPSILON from k = 24, and d.d
+/// still a normal float), so the roots are asked for. Half of them lie in a coordinate plane
+/// through the centre, and the direction's third component, 0 there, becomes a subnormal number
+/// (1e-39 to 1e-45): it moves nothing a float can show. Scaling by a power of two is exact, so
+/// every float formula's answer is its answer for a direction of length 1, scaled.
+inline Ray tiny_ray(Draw& d, const glm::vec3& c, float r) {
+    const bool subnormal = d.coin();
+    const int j = d.integer(0, 2);
+    glm::vec3 out = d.direction(), off = d.direction();
+    if (subnormal) {
+        out[j] = off[j] = 0;
+        if (glm::dot(out, out) < 0.1f) out = d.permute({1, 0, 0}, (j + 1) % 3);
+        out = glm::normalize(out);
+    }
+    Ray ray = aimed(c + d.uniform(1.5f * r, 8 * r) * out, c + d.uniform(0, 0.7f * r) * off, 1);
+    ray.direction *= d.power_of_two(-56, -20);
+    if (subnormal) ray.direction[j] = d.sign() * std::ldexp(d.uniform(1, 2), -d.integer(128, 148));
+    return ray;
 }
 
 }  // namespace raykit::hidden

@@ -553,13 +553,14 @@ def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation
 
 
 def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepResult],
-               isolation: Isolation) -> StepResult:
-    """Runs a built step's cases and says what state the step is in."""
+               isolation: Isolation, tiers: set[str] | None = None) -> StepResult:
+    """Runs a built step's cases and says what state the step is in; only those of `tiers` when given
+    (the fairness table re-runs the hidden cases alone on each draw)."""
     if not built.judge_ok:
         return StepResult(step, BROKEN, detail="the kit's test program does not build (a kit bug):\n" + built.output)
     judge = build.exe(step)
     try:
-        cases = list_cases(judge)
+        cases = [c for c in list_cases(judge) if tiers is None or c.tier in tiers]
     except (RuntimeError, subprocess.TimeoutExpired, OSError) as e:
         return StepResult(step, BROKEN, detail=f"the test program could not list its cases: {e}")
     if built.missing:

@@ -60,7 +60,7 @@ VISIBILITIES = ("hidden", "after_due_date", "after_published", "visible")
 LIMITS = {"case_seconds": 30, "step_seconds": 120, "submission_seconds": 600,
           "step_cpu_seconds": 20, "step_wait_seconds": 10}
 DEGENERATE_NAMES = ["NaN", "infinite", "infinity", "zero direction", "radius of zero", "degenerate",
-                    "empty window", "empty rectangle", "overflow"]
+                    "empty window", "empty rectangle", "overflow", "underflow"]
 
 
 @dataclass

@@ -327,7 +327,7 @@ def selftest_contract_clauses(ctx) -> str:
            f"removing the NaN case of step 01 went unnoticed: {missing}")
     more = dict(headers)
     more["unit_sphere.hpp"] = more["unit_sphere.hpp"].replace(
-        "no\n///         root is ever NaN.", "no\n///         root is ever NaN. An origin at the centre counts as a miss.")
+        "no root is ever NaN.", "no root is ever NaN. An origin at the centre counts as a miss.")
     extra, _ = contract_problems(more, sources)
     expect(any("an origin at the centre" in b and "no case asks" in b for b in extra),
            f"a new rule in unit_sphere.hpp went unnoticed: {extra}")
