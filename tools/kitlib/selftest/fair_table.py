@@ -27,6 +27,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .. import procfs
 from ..build import Build, ensure_configured, submission_build
 from ..checking import build_step, judge_step
 from ..common import ROOT, load_steps
@@ -63,8 +64,7 @@ def fma_prologue() -> str | None:
     machine = platform.machine().lower()
     if machine in ("aarch64", "arm64"):
         return FUSED_GCC_ARM
-    cpu = Path("/proc/cpuinfo")
-    if machine in ("x86_64", "amd64") and cpu.is_file() and " fma " in " " + cpu.read_text().replace("\n", " ") + " ":
+    if machine in ("x86_64", "amd64") and "fma" in procfs.cpu_flags():
         return FUSED_GCC_X86
     return None
 
