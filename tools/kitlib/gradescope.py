@@ -95,7 +95,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
         # Extra credit (course.json: a group's "extra_credit"): worth its points when passed, 0 at most
         # otherwise, so the tests' maxima still add up to the assignment's points (Gradescope takes a
         # score above a test's max_score as extra credit).
-        shown = shown_shares([c.points for c in counted], course) + [course.number(c.points) for c in bonus]
+        shown = shown_shares([c.points for c in counted], course) + shown_shares([c.points for c in bonus], course)
         for i, (c, points) in enumerate(zip(counted + bonus, shown), 1):
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
             extra = course.extra_credit(c.group)
