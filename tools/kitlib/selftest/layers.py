@@ -222,6 +222,12 @@ def selftest_one_proc_reader(ctx) -> str:
     expect(sys.executable.split("/")[-1] in procfs.cmdline(me), f"this process's command line: {procfs.cmdline(me)!r}")
     child = subprocess.Popen(["sleep", "30"], start_new_session=True)
     try:
+        # Popen returns once the exec has begun; the new program's command line is readable a moment
+        # later (an empty one was read here on a loaded machine), so wait for it, up to 10 s.
+        for _ in range(1000):
+            if procfs.cmdline(child.pid):
+                break
+            time.sleep(0.01)
         expect(procfs.session(child.pid) == child.pid and procfs.comm(child.pid) == "sleep"
                and procfs.cmdline(child.pid) == "sleep 30",
                f"a child read wrong: session {procfs.session(child.pid)}, {procfs.comm(child.pid)!r}")
