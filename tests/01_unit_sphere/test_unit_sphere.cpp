@@ -35,6 +35,16 @@ void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> exp
 // The ray most window cases use: along +x from (-3, 0, 0), roots 2 and 4.
 const Ray through_centre{{-3, 0, 0}, {1, 0, 0}};
 
+// A window cut exactly at a root of through_centre: a root within the basic tolerance of 2 or 4 may fall
+// on either side of the end, so a root the function's own rounding puts just outside may be skipped
+// (grading.hpp, check_hit_at_end).
+void expect_hit_at_end(float tmin, float tmax, float expected, const std::string& why) {
+    check_hit_at_end("intersect_unit_sphere(ray, tmin, tmax)",
+                     show(through_centre) + ", window [" + show(tmin) + ", " + show(tmax) + "]", tmin, tmax,
+                     expected, [&](float lo, float hi) { return intersect_unit_sphere(through_centre, lo, hi); },
+                     why, two(2, 4));
+}
+
 }  // namespace
 
 TEST_SUITE_BEGIN("basic");
@@ -266,21 +276,21 @@ TEST_CASE("window: a sphere behind the ray is no hit" *
 }
 
 TEST_CASE("window: a root exactly at tmin counts" * doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, 2, 10, 2.0f, "The window is closed: tmin <= t, so t = tmin = 2 is a hit.");
+    expect_hit_at_end(2, 10, 2.0f, "The window is closed: tmin <= t, so t = tmin = 2 is a hit.");
 }
 
 TEST_CASE("window: the far root exactly at tmin counts" *
           doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, 4, 10, 4.0f, "t = 2 < tmin, and t = 4 = tmin is inside the closed window.");
+    expect_hit_at_end(4, 10, 4.0f, "t = 2 < tmin, and t = 4 = tmin is inside the closed window.");
 }
 
 TEST_CASE("window: a root exactly at tmax counts" * doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, 0, 2, 2.0f, "The window is closed: t <= tmax, so t = tmax = 2 is a hit.");
+    expect_hit_at_end(0, 2, 2.0f, "The window is closed: t <= tmax, so t = tmax = 2 is a hit.");
 }
 
 TEST_CASE("window: the far root exactly at tmax counts" *
           doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, 3, 4, 4.0f, "t = 2 < tmin = 3, and t = 4 = tmax is inside the closed window.");
+    expect_hit_at_end(3, 4, 4.0f, "t = 2 < tmin = 3, and t = 4 = tmax is inside the closed window.");
 }
 
 TEST_CASE("window: a negative tmin accepts roots behind the origin" *

@@ -44,6 +44,18 @@ const Sphere ball{{5, -2, 3}, 2};
 // Along that line from x = -1 with steps of length 2: x = 3 at t = 2, x = 7 at t = 4.
 const Ray through_centre{{-1, -2, 3}, {2, 0, 0}};
 
+// A window cut exactly at a root of through_centre and ball: a root within the basic tolerance of 2 or 4
+// may fall on either side of the end, so a root the function's own rounding puts just outside may be
+// skipped (grading.hpp, check_hit_at_end).
+void expect_hit_at_end(float tmin, float tmax, float expected, const std::string& why) {
+    check_hit_at_end("intersect_sphere(ray, sphere, tmin, tmax)",
+                     show(through_centre) + "; sphere " + show(ball) + "; window [" + show(tmin) + ", " +
+                         show(tmax) + "]",
+                     tmin, tmax, expected,
+                     [&](float lo, float hi) { return intersect_sphere(through_centre, ball, lo, hi); }, why,
+                     two(2, 4));
+}
+
 }  // namespace
 
 TEST_SUITE_BEGIN("basic");
@@ -321,19 +333,19 @@ TEST_CASE("window: a sphere behind the ray is no hit" * doctest::description("5.
 }
 
 TEST_CASE("window: a root exactly at tmin counts" * doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, ball, 2, 10, 2.0f, "The window is closed: tmin <= t, so t = tmin = 2 is a hit.");
+    expect_hit_at_end(2, 10, 2.0f, "The window is closed: tmin <= t, so t = tmin = 2 is a hit.");
 }
 
 TEST_CASE("window: the far root exactly at tmin counts" * doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, ball, 4, 10, 4.0f, "t = 2 < tmin, and t = 4 = tmin is inside the closed window.");
+    expect_hit_at_end(4, 10, 4.0f, "t = 2 < tmin, and t = 4 = tmin is inside the closed window.");
 }
 
 TEST_CASE("window: a root exactly at tmax counts" * doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, ball, 0, 2, 2.0f, "The window is closed: t <= tmax, so t = tmax = 2 is a hit.");
+    expect_hit_at_end(0, 2, 2.0f, "The window is closed: t <= tmax, so t = tmax = 2 is a hit.");
 }
 
 TEST_CASE("window: the far root exactly at tmax counts" * doctest::description("5. The closest root in a window")) {
-    expect_hit(through_centre, ball, 3, 4, 4.0f, "t = 2 < tmin = 3, and t = 4 = tmax is inside the closed window.");
+    expect_hit_at_end(3, 4, 4.0f, "t = 2 < tmin = 3, and t = 4 = tmax is inside the closed window.");
 }
 
 TEST_CASE("window: a negative tmin accepts roots behind the origin" *

@@ -8,25 +8,10 @@
 
 namespace raykit::hidden {
 
-inline bool agree(const Roots& expected, const Roots& got) {
-    if (got.count != expected.count) return false;
-    if (got.count == 2 && !(got.t[0] <= got.t[1])) return false;
-    if (got.count == 1 && !(got.t[0] == got.t[1])) return false;
-    for (int i = 0; i < expected.count; ++i)
-        if (!grading::close(expected.t[i], got.t[i])) return false;
-    return true;
-}
-
-inline bool agree(const std::optional<float>& expected, const std::optional<float>& got) {
-    return expected.has_value() == got.has_value() && (!expected || grading::close(*expected, *got));
-}
-
-/// The smallest of `roots` inside the closed window [tmin, tmax], or none.
-inline std::optional<float> first_in_window(const Roots& roots, float tmin, float tmax) {
-    for (int i = 0; i < roots.count; ++i)
-        if (roots.t[i] >= tmin && roots.t[i] <= tmax) return roots.t[i];
-    return std::nullopt;
-}
+// The basic tier's yes/no rules (agree, first_in_window) live in grading.hpp, where the visible
+// window-end cases use them too.
+using grading::agree;
+using grading::first_in_window;
 
 /// Whether `got` is a right answer for the window, judged without a knife's edge. Right is the
 /// reference's answer; and, where the code's own roots (`own`) agree with the reference's within

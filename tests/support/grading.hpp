@@ -131,6 +131,29 @@ inline void check_hit(const std::string& call, const std::string& input,
 /// The basic tier's tolerance at `x` (close()'s): how far a sensible formula's root may lie from it.
 inline float tolerance_at(float x) { return 1e-5f * std::fabs(x) + 1e-6f; }
 
+/// The basic tier's rules as yes/no answers (check_roots's and check_hit's tolerance, a pair in order,
+/// a tangent's two equal roots), for cases and hidden families that judge before they report.
+inline bool agree(const Roots& expected, const Roots& got) {
+    if (got.count != expected.count) return false;
+    if (got.count == 2 && !(got.t[0] <= got.t[1])) return false;
+    if (got.count == 1 && !(got.t[0] == got.t[1])) return false;
+    for (int i = 0; i < expected.count; ++i)
+        if (!close(expected.t[i], got.t[i])) return false;
+    return true;
+}
+
+inline bool agree(const std::optional<float>& expected, const std::optional<float>& got) {
+    return expected.has_value() == got.has_value() && (!expected || close(*expected, *got));
+}
+
+/// The smallest of `roots` inside the closed window [tmin, tmax], or none.
+inline std::optional<float> first_in_window(const Roots& roots, float tmin, float tmax) {
+    for (int i = 0; i < roots.count; ++i)
+        if (roots.t[i] >= tmin && roots.t[i] <= tmax) return roots.t[i];
+    return std::nullopt;
+}
+
+
 /// Why a windowed answer is wrong, measured on it where it can be: the expected hit lies exactly at an
 /// end of the window, the answer did not take it, and the same function given the window widened by the
 /// basic tier's tolerance at each end (`widened`) does take a root close to it. Which root it takes
@@ -172,6 +195,36 @@ void check_hit_in(const std::string& call, const std::string& input, float tmin,
         got = f(tmin, tmax);
     }
     check_hit(call, input, expected, got, why + window_cause(tmin, tmax, expected, got, widened));
+}
+
+/// check_hit_in for a case whose exact hit lies on an end of the window, where a root within the basic
+/// tolerance may fall on either side of it (1.9999999 for an exact 2, from an approximate 1/a): the
+/// verdict must not hang on that rounding. So the function is asked again with the window widened by
+/// the basic tolerance at each end (as window_cause does): where the root it gives there is close to
+/// the exact one but outside the window, its own root lies beyond the end by its own rounding, and
+/// skipping it is right; the answer must then be what the window holds without that root (`exact`
+/// holds the ray's exact roots). The hidden families accept the same answers, measured on the step's
+/// roots function (tests/hidden/rules.hpp, agree_in_window). An open window is still caught: float gives these roots exactly, so a function
+/// that skips a root exactly on the end fails, and window_cause names that cause.
+template <class F>
+void check_hit_at_end(const std::string& call, const std::string& input, float tmin, float tmax, float expected,
+                      F f, const std::string& why, const Roots& exact) {
+    const std::optional<float> got = f(tmin, tmax);
+    if (agree(std::optional<float>(expected), got)) return;
+    const std::optional<float> widened = f(tmin - tolerance_at(tmin), tmax + tolerance_at(tmax));
+    if (widened && close(expected, *widened) && (*widened < tmin || *widened > tmax)) {
+        Roots rest;
+        bool dropped = false;
+        for (int i = 0; i < exact.count; ++i) {
+            if (!dropped && exact.t[i] == expected) {
+                dropped = true;
+                continue;
+            }
+            rest.t[rest.count++] = exact.t[i];
+        }
+        if (agree(first_in_window(rest, tmin, tmax), f(tmin, tmax))) return;   // the last call: the case's
+    }
+    check_hit_in(call, input, tmin, tmax, std::optional<float>(expected), f, why);
 }
 
 }  // namespace raykit::grading
