@@ -229,7 +229,11 @@ def main(argv: list[str]) -> int:
         return 2
     cache, command = argv[1], argv[2:]
     out, depfile = option(command, "-o"), option(command, "-MF")
-    cacheable = out is not None and depfile is not None and "-c" in command
+    # Clang's precompiled header (.pch) records the time of the header it was made from and refuses to
+    # load once that time changed, which CMake's re-run does to cmake_pch.hxx with the same text: an entry
+    # made before it would be "modified since the precompiled header was built". So it is always made
+    # here. (GCC's .gch checks the text and the options only, so it is kept.)
+    cacheable = out is not None and depfile is not None and "-c" in command and not out.endswith(".pch")
     bucket = None
     if cacheable:
         try:
