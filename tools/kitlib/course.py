@@ -353,7 +353,7 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     lines.append(f"  hidden cases: {'counted' if course.hidden_enabled else 'left out'}, Gradescope visibility "
                  f"{course.hidden_visibility}, inputs revealed after the due date: "
                  f"{'yes' if course.reveal_after_due_date else 'no'}")
-    lines.append(f"  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
+    lines.append("  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
     lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
                  f"{course.decimals} decimals (half up)")
     lines.append("")

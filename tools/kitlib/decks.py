@@ -20,15 +20,14 @@ a slide, 1280x720). Keys in a deck: arrows, S for the speaker view with the note
 from __future__ import annotations
 
 import html
-import os
 import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import atomic
-from .common import BUILD, ROOT, KitError, note, say
-from .status import FAILED, OK, SETUP, USAGE
+from .common import BUILD, ROOT, KitError
+from .status import FAILED, SETUP, USAGE
 from .webtools import ensure_docs_tools, npm_package
 
 SOURCES = ROOT / "lectures" / "slides"

@@ -374,8 +374,8 @@ def selftest_moved_kit(ctx) -> str:
     with tempfile.TemporaryDirectory() as tmp:
         elsewhere = Path(tmp) / "build"
         elsewhere.mkdir()
-        (elsewhere / "CMakeCache.txt").write_text(f"CMAKE_CACHEFILE_DIR:INTERNAL=/old/kit/build\n"
-                                                  f"CMAKE_HOME_DIRECTORY:INTERNAL=/old/kit\n")
+        (elsewhere / "CMakeCache.txt").write_text("CMAKE_CACHEFILE_DIR:INTERNAL=/old/kit/build\n"
+                                                  "CMAKE_HOME_DIRECTORY:INTERNAL=/old/kit\n")
         try:
             forget_moved_build(elsewhere)
         except KitError as e:

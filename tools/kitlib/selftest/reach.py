@@ -40,7 +40,7 @@ from pathlib import Path
 
 from .. import course as course_file
 from ..common import BUILD, ROOT, load_steps
-from .harness import Failed, Skipped, expect, kit, need_solutions
+from .harness import Skipped, expect, kit, need_solutions
 
 THIRD_PARTY = ROOT.parent / "shared" / "third_party"
 WORK = BUILD / "reach"
