@@ -30,8 +30,7 @@ from pathlib import Path
 from .. import atomic
 from ..common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps
 from ..status import FAILED, OK
-from ..mutants import (CONTEXT_LINES, GRADE_SECONDS, MUTANTS, SOLUTIONS, WORK, Hunk, Mutant, PatchError,  # noqa: F401
-                       apply_patch, failing_cases, grade_files, header_line, patches, read_patch, write_answer,
+from ..mutants import (MUTANTS, SOLUTIONS, WORK, PatchError, apply_patch, failing_cases, grade_files, read_patch,
                        write_patch)
 from ..mutants import _NAME as NAME
 

@@ -147,7 +147,7 @@ def make_mixed_class(root: Path, size: int, salt: str = "") -> dict[str, str]:
     the textbook formulas. Every file but a shipped stub ends with a comment naming `salt`, so a
     class made with a new salt shares no bytes with an earlier one (the kit's object cache persists
     between gradings), while its copies stay byte for byte alike. Returns each student's kind."""
-    from ..commands.mutant import patches, write_answer
+    from ..mutants import patches, write_answer
     steps = load_steps()
     total = sum(n for _, n in CLASS_MIX)
     counts = {kind: 1 for kind, _ in CLASS_MIX}         # every kind at least once, the rest in proportion

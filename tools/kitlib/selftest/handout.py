@@ -23,7 +23,7 @@ import tempfile
 from pathlib import Path
 
 from ..commands import handout as cmd_handout
-from ..commands.mutant import patches, write_answer
+from ..mutants import patches, write_answer
 from ..common import BUILD, ROOT, load_steps
 from .harness import Failed, expect, kit, need_solutions
 

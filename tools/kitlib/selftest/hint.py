@@ -63,7 +63,7 @@ def selftest_hint_looks_at_failure(ctx) -> str:
     import tempfile
     from pathlib import Path
 
-    from ..commands.mutant import MUTANTS, write_answer
+    from ..mutants import MUTANTS, write_answer
     from ..common import BUILD
 
     need_solutions()  # the mutant is the reference with one slip

@@ -336,7 +336,7 @@ def one_slip_folder() -> Path:
     """Steps 01-05 from the solutions, with step 04's edges excluded (`<` for `<=`)."""
     steps = load_steps()
     [rect] = [s for s in steps if s.number == "04"]
-    from ..commands.mutant import write_answer
+    from ..mutants import write_answer
     slip = write_answer(rect, ROOT / "tests" / "mutants" / rect.folder / "edge_excluded.patch",
                         BUILD / "integrity-one-slip-04")
     target = stage_on_reference(BUILD / "integrity-one-slip", rect, steps, slip)

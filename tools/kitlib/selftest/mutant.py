@@ -13,7 +13,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..commands.mutant import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
+from ..mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 from ..common import BUILD, ROOT, load_steps
 from ..status import PARTIAL
 from .harness import Failed, need_solutions

@@ -295,7 +295,7 @@ def rules_here() -> int:
     def signed(c) -> str:
         # report.selftest_signatures_fresh's rule, on this step's mutants only (another step's stale
         # signatures are that step's business, and ./kit test report names them).
-        from ..commands.mutant import patches
+        from ..mutants import patches
         from ..report import signatures
         recorded = json.loads(signatures.FILE.read_text())["mutants"]
         bad = []

@@ -57,7 +57,7 @@ def grade_json(steps_dir: Path, report: Path):
 
 
 def selftest_failing_case(ctx) -> str:
-    from ..commands.mutant import MUTANTS, write_answer
+    from ..mutants import MUTANTS, write_answer
 
     need_solutions()
     step = next(s for s in load_steps() if s.number == "01")

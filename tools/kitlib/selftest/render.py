@@ -8,7 +8,7 @@ import tempfile
 from pathlib import Path
 
 from ..commands import render as cmd_render
-from ..commands.mutant import MUTANTS, write_answer
+from ..mutants import MUTANTS, write_answer
 from ..common import BUILD, ROOT, load_steps
 from ..build import preset_build, submission_build, tools_build
 from ..checking import check_steps

@@ -40,7 +40,7 @@ def _signatures():
 
 def selftest_signatures_fresh(ctx) -> str:
     need_solutions()
-    from ..commands.mutant import patches
+    from ..mutants import patches
     from ..report import signatures
     sigs, notes = _signatures()
     expect(not notes, "tests/mutants/signatures.json: " + "; ".join(notes))
@@ -87,7 +87,7 @@ def _disguise(text: str) -> str:
 
 
 def _make_class(root: Path) -> dict:
-    from ..commands.mutant import write_answer
+    from ..mutants import write_answer
     steps = {s.number: s for s in load_steps()}
     s1, s2 = steps["01"], steps["02"]
     sigs, _ = _signatures()

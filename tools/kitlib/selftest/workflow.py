@@ -7,7 +7,7 @@ import json
 import shutil
 import zipfile
 
-from ..commands.mutant import MUTANTS, write_answer
+from ..mutants import MUTANTS, write_answer
 from ..common import BUILD, ROOT, load_steps
 from ..record import is_record
 from ..status import DONE
