@@ -225,11 +225,22 @@ struct SandboxFailed : CallFailed {
     using CallFailed::CallFailed;
 };
 
+/// nftw's callback for stop() and ~Child(): removes one entry, a link itself and never what it names.
+int remove_entry(const char* path, const struct stat*, int, struct FTW*) {
+    ::remove(path);
+    return 0;
+}
+
 /// One answers process: its pipes, and the sandbox it lives in.
 class Child {
 public:
     Child(std::string exe, bool sandboxed) : exe_(std::move(exe)), sandboxed_(sandboxed) {}
-    ~Child() { stop(); }
+    ~Child() {
+        stop();
+        // A folder made here (no RAYKIT_SCRATCH: the test program run by ctest or by hand) goes with
+        // the child; the kit's own folder is the kit's to remove.
+        if (own_scratch_) ::nftw(scratch_.c_str(), remove_entry, 16, FTW_DEPTH | FTW_PHYS | FTW_MOUNT);
+    }
 
     bool available() const { return !exe_.empty() && ::access(exe_.c_str(), X_OK) == 0; }
     bool running() const { return pid_ > 0; }
@@ -264,6 +275,7 @@ private:
     int req_ = -1, rep_ = -1, out_ = -1;
     std::string scratch_;       // RAYKIT_SCRATCH: the kit's folder, which the student's code cannot write
     std::string run_;           // the current answers process's own folder, fresh at each start (start())
+    bool own_scratch_ = false;  // scratch_ was made by start() (no RAYKIT_SCRATCH): removed with the child
 };
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -343,9 +355,11 @@ void Child::start() {
     if (scratch_.empty()) {
         scratch_ = cfg.scratch;
         if (scratch_.empty()) {
-            char tmpl[] = "/tmp/raykit-answers-XXXXXX";
-            if (::mkdtemp(tmpl) == nullptr) throw CallFailed("the grader could not make a scratch folder");
+            const char* tmp = std::getenv("TMPDIR");
+            std::string tmpl = std::string(tmp != nullptr && *tmp == '/' ? tmp : "/tmp") + "/raykit-answers-XXXXXX";
+            if (::mkdtemp(tmpl.data()) == nullptr) throw CallFailed("the grader could not make a scratch folder");
             scratch_ = tmpl;
+            own_scratch_ = true;
         }
     }
     const bool bounded = sandboxed_ && cfg.isolation != "none";
@@ -469,12 +483,6 @@ void Child::drain_output() {
         output_case += k;
         if (output_case > output_limit) return;
     }
-}
-
-/// nftw's callback for stop(): removes one entry, a link itself and never what it names.
-int remove_entry(const char* path, const struct stat*, int, struct FTW*) {
-    ::remove(path);
-    return 0;
 }
 
 void Child::stop() {

@@ -174,9 +174,9 @@ def configure(build: Build, quiet: bool = True) -> None:
         say(r.stdout)
 
 
-def workflow(name: str) -> subprocess.CompletedProcess:
+def workflow(name: str, env: dict | None = None) -> subprocess.CompletedProcess:
     """What `cmake --workflow --preset NAME` does (configure, build, test), without presets:
-    the same settings, through configure(). stdout holds ctest's summary line."""
+    the same settings, through configure(). stdout holds ctest's summary line; `env` is ctest's."""
     build = preset_build(name)
     try:
         configure(build)
@@ -185,7 +185,8 @@ def workflow(name: str) -> subprocess.CompletedProcess:
     r = subprocess.run(["cmake", "--build", str(build.binary_dir)], cwd=ROOT, capture_output=True, text=True)
     if r.returncode != 0:
         return r
-    return subprocess.run(["ctest", "--output-on-failure"], cwd=build.binary_dir, capture_output=True, text=True)
+    return subprocess.run(["ctest", "--output-on-failure"], cwd=build.binary_dir, capture_output=True, text=True,
+                          env=env)
 
 
 def build_target(build: Build, target: str) -> tuple[bool, str]:

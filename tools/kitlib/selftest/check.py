@@ -5,6 +5,7 @@ bad input with a message."""
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -25,12 +26,17 @@ from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 
 def selftest_reference_builds(ctx: Context) -> str:
     need_solutions()
-    r = workflow("reference")     # the preset's settings, without --preset (CMake 3.18)
+    # ctest runs the test programs as a student would, without the kit: each makes its scratch
+    # folders under TMPDIR, here one of this test's own, and must leave nothing behind.
+    with tempfile.TemporaryDirectory(prefix="raykit-ctest-tmp-") as tmp:
+        r = workflow("reference", env=dict(os.environ, TMPDIR=tmp))  # the preset's settings, without --preset
+        left = sorted(p.name for p in Path(tmp).iterdir())
     tail = (r.stdout + r.stderr)[-4000:]
     expect(r.returncode == 0, f"the reference build (preset reference) failed:\n{tail}")
     m = re.search(r"tests passed, (\d+) tests failed out of (\d+)", r.stdout)
     expect(m is not None and int(m.group(2)) > 0, "ctest ran no test")
-    return f"warnings as errors, ctest {m.group(2)} tests"
+    expect(not left, f"the test programs left {len(left)} folder(s) in TMPDIR: {', '.join(left[:5])}")
+    return f"warnings as errors, ctest {m.group(2)} tests, nothing left in TMPDIR"
 
 
 def selftest_solutions_pass(ctx: Context) -> str:
