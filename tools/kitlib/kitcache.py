@@ -7,7 +7,7 @@ runs their compiles through this launcher (CXX_COMPILER_LAUNCHER of the kit's ow
 when RAYKIT_KIT_CACHE names a folder): a `git clean` of build/, a second handout or a grading slot
 gets them from the cache instead of the compiler.
 
-Never for a student's file: only the kit's targets (raykit_test_support, dispatchNN, test_stepNN) are
+Never for a student's file: only the kit's targets (raykit_test_support, raykit_platform, dispatchNN, test_stepNN) are
 given this launcher, and their command lines read only the kit's files and the system's headers.
 
 How an entry is found (the "direct" way of a compiler cache): the first key is the compiler (its real
@@ -141,46 +141,13 @@ def lookup(bucket: str, out: str, depfile: str | None) -> bool:
     return False
 
 
-PCH_DEPS = ".kitcache-deps"
-
-
-def note_pch_dependencies(out: str, depfile: str | None) -> None:
-    """Beside a precompiled header just made or fetched (OUT.gch), the headers it was made from,
-    in OUT.gch.kitcache-deps: Ninja deletes the dependency file once it has read it, and the
-    compiles that use the header need the list (pch_dependencies)."""
-    if not out.endswith(".gch") or not depfile:
-        return
-    try:
-        with open(depfile) as f:
-            deps = dependencies(f.read())
-        tmp = f"{out}{PCH_DEPS}.{os.getpid()}"
-        with open(tmp, "w") as f:
-            json.dump([os.path.abspath(d) for d in deps], f)
-        os.replace(tmp, out + PCH_DEPS)
-    except OSError:
-        pass
-
-
-def pch_dependencies(command: list[str]) -> list[str]:
-    """What a precompiled header that the compile reads was made from. A compile with `-include P`
-    that finds P.gch lists neither P's headers nor P.gch in its own dependency file, so an entry
-    records the headers P.gch was made from (note_pch_dependencies): a changed GLM or kit_pch.hpp
-    misses. The compiler and flags are already in the first key."""
-    deps: list[str] = []
-    for i, a in enumerate(command[:-1]):
-        if a == "-include" and os.path.isfile(command[i + 1] + ".gch"):
-            with open(command[i + 1] + ".gch" + PCH_DEPS) as f:    # none: not recorded, so not stored
-                deps += json.load(f)
-    return deps
-
-
-def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes, command: list[str]) -> None:
+def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes) -> None:
     try:
         with open(depfile) as f:
             text = f.read()
         if os.path.getsize(out) > MAX_OBJECT:
             return
-        deps = [[os.path.abspath(p), file_hash(p)] for p in dependencies(text) + pch_dependencies(command)]
+        deps = [[os.path.abspath(p), file_hash(p)] for p in dependencies(text)]
         if not deps or any(d is None for _, d in deps):
             return
         digest = hashlib.sha256(json.dumps(deps).encode()).hexdigest()[:32]
@@ -201,7 +168,7 @@ def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes, comman
         except OSError:
             shutil.rmtree(tmp, ignore_errors=True)    # another compile stored the same entry first
         prune(cache)
-    except (OSError, ValueError):       # ValueError: a damaged list of a precompiled header's inputs
+    except (OSError, ValueError):
         return
 
 
@@ -229,11 +196,7 @@ def main(argv: list[str]) -> int:
         return 2
     cache, command = argv[1], argv[2:]
     out, depfile = option(command, "-o"), option(command, "-MF")
-    # Clang's precompiled header (.pch) records the time of the header it was made from and refuses to
-    # load once that time changed, which CMake's re-run does to cmake_pch.hxx with the same text: an entry
-    # made before it would be "modified since the precompiled header was built". So it is always made
-    # here. (GCC's .gch checks the text and the options only, so it is kept.)
-    cacheable = out is not None and depfile is not None and "-c" in command and not out.endswith(".pch")
+    cacheable = out is not None and depfile is not None and "-c" in command
     bucket = None
     if cacheable:
         try:
@@ -241,20 +204,17 @@ def main(argv: list[str]) -> int:
             bucket = os.path.join(cache, key[:2], key)
             if lookup(bucket, out, depfile):
                 log("hit", out)
-                note_pch_dependencies(out, depfile)
                 return 0
         except OSError:
             bucket = None
     r = subprocess.run(command, stderr=subprocess.PIPE)
     sys.stderr.buffer.write(r.stderr)
-    if r.returncode == 0 and out is not None:
-        note_pch_dependencies(out, depfile)
     if r.returncode == 0 and bucket is not None:
         log("miss", out)
         try:
             os.makedirs(cache, mode=0o700, exist_ok=True)     # the kit's user only (common.kit_cache_dir)
             os.makedirs(bucket, exist_ok=True)
-            store(cache, bucket, out, depfile, r.stderr, command)
+            store(cache, bucket, out, depfile, r.stderr)
         except OSError:
             pass
     return r.returncode

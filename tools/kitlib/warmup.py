@@ -6,7 +6,7 @@ doctest's main, the grader's support, a judge and a dispatcher before the first 
 cold check's CPU, and none of it depends on the student's code. So the first check, when it built
 nothing and the build folder is not configured yet, starts `./kit check --warm-up` in the
 background: at the lowest priority, it configures build/student and builds the kit's own targets of
-every step (raykit_test_support, test_stepNN, dispatchNN), which also fills the kit cache.
+every step (raykit_test_support, raykit_platform, test_stepNN, dispatchNN), which also fills the kit cache.
 
 Never two builds in one folder: the warm-up writes its process id to build/student/warm-up.pid,
 and every check of that folder first ends it (stop, called by checking.check_steps). What it
@@ -90,7 +90,7 @@ def run(build: Build, steps) -> int:
     start = time.monotonic()
     ensure_configured(build, steps)
     # Step 01's first (what the newcomer checks next), then the others.
-    phases = [["raykit_test_support", steps[0].target, f"dispatch{steps[0].number}"],
+    phases = [["raykit_test_support", "raykit_platform", steps[0].target, f"dispatch{steps[0].number}"],
               [t for s in steps[1:] for t in (s.target, f"dispatch{s.number}")]]
     ok, out = True, ""
     for targets in phases:

@@ -181,7 +181,7 @@ def warm_up_processes(build_dir: Path) -> list[str]:
 
 # The kit's own targets, the only ones CMake may give the kit cache's launcher (CMakeLists.txt,
 # raykit_kit_cached): never a target that compiles a student's file (stepobjNN, needobjNN).
-KIT_OWN = re.compile(r"raykit_test_support|dispatch\d\d|test_step\d\d")
+KIT_OWN = re.compile(r"raykit_test_support|raykit_platform|dispatch\d\d|test_step\d\d")
 
 
 def kit_cache_targets(build_dir) -> set[str]:
