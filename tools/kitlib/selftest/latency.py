@@ -229,13 +229,13 @@ def selftest_kit_cache(ctx: Context) -> str:
         (work / "h.hpp").write_text("inline int answer() { return 41; }\n")
         expect(compile_() == (0, "hit") and (work / "a.o").read_bytes() == first,
                "the header as it was did not find its old entry")
-        for manifest in cache.rglob("manifest.json"):
+        for manifest in cache.rglob("manifest"):
             manifest.write_text("{ damaged")
         expect(compile_() == (0, "miss"), "a damaged entry was used, or stopped the compile")
         (work / "a.cpp").write_text("int f() { return undefined_name; }\n")
-        before = len(list(cache.rglob("manifest.json")))
+        before = len(list(cache.rglob("manifest")))
         code, said = compile_()
-        expect(code != 0 and said == "none" and len(list(cache.rglob("manifest.json"))) == before,
+        expect(code != 0 and said == "none" and len(list(cache.rglob("manifest"))) == before,
                f"a failing compile: exit {code}, logged {said}, or it stored an entry")
         (work / "a.cpp").write_text('#include "h.hpp"\nint f() { return answer() + 1; }\n')
         blocked = Path(tmp) / "not-a-folder"

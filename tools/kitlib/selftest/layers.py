@@ -137,7 +137,7 @@ OTHER_RENAMES = {
     "commands.handout": (1, "a staged folder, swapped whole"),
     "commands.docs": (2, "the site's folder, swapped whole"),
     "decks": (2, "the decks' folder, swapped whole"),
-    "kitcache": (3, "a compiler launcher run as a script (python3 -S), outside the package"),
+    "kitcache": (2, "a compiler launcher run as a script (python3 -S), outside the package"),
 }
 
 
