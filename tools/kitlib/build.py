@@ -146,11 +146,11 @@ def kit_cache_dir() -> Path | None:
 
 
 def configure(build: Build, quiet: bool = True) -> None:
+    """Runs `cmake -S -B` for `build` with its preset's settings (a submission: the base preset's
+    and its own steps folder). Works from CMake 3.18: no --preset."""
     if os.environ.get(QUICK_TIER) == "1":
         raise KitError(f"configuring {build.binary_dir.name}: a self-test of the quick tier builds nothing "
                        "(move it out of harness.QUICK)")
-    """Runs `cmake -S -B` for `build` with its preset's settings (a submission: the base preset's
-    and its own steps folder). Works from CMake 3.18: no --preset."""
     generator, _, variables = preset_settings(build.preset or "base")
     variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"

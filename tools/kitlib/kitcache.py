@@ -7,8 +7,9 @@ runs their compiles through this launcher (CXX_COMPILER_LAUNCHER of the kit's ow
 when RAYKIT_KIT_CACHE names a folder): a `git clean` of build/, a second handout or a grading slot
 gets them from the cache instead of the compiler.
 
-Never for a student's file: only the kit's targets (raykit_test_support, raykit_platform, dispatchNN, test_stepNN) are
-given this launcher, and their command lines read only the kit's files and the system's headers.
+Never for a student's file: only the kit's targets (raykit_test_support, raykit_platform,
+dispatchNN, test_stepNN) are given this launcher, and their command lines read only the kit's files and
+the system's headers.
 
 How an entry is found (the "direct" way of a compiler cache): the first key is the compiler (its real
 path, size and time stamp), the working folder, the command line and the environment variables that
