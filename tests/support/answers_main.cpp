@@ -12,7 +12,6 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -20,7 +19,6 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
-#include <memory>
 #include <new>
 #include <string>
 #include <tuple>
@@ -131,7 +129,8 @@ void* allocate(std::size_t size) {
     if (decoding > 0 && guarded_count < max_guarded) {
         // The largest power of two dividing the size, up to what `new` promises: an array of T
         // (size n * sizeof(T)) then ends exactly at the guard.
-        const std::size_t align = std::min<std::size_t>(size & (~size + 1), __STDCPP_DEFAULT_NEW_ALIGNMENT__);
+        const std::size_t lowest = size & (~size + 1), most = __STDCPP_DEFAULT_NEW_ALIGNMENT__;
+        const std::size_t align = lowest < most ? lowest : most;
         if (void* p = platform::guarded_allocate(size, align)) {
             guarded[guarded_count++] = {p, size};
             fence(p, size, decoding, true);
@@ -179,13 +178,24 @@ T* slot() {
     return static_cast<T*>(memory);
 }
 
-/// An argument in its slot, destroyed (its guarded lists given back) when the call is over.
+/// An argument in its slot, destroyed (its guarded lists given back) when the call is over. (Not a
+/// std::unique_ptr with a deleter: <memory> and <algorithm> were a tenth of this file's compile.)
 template <class T>
-struct Destroy {
-    void operator()(T* p) const { p->~T(); }
+class Held {
+public:
+    explicit Held(T* p) : p_(p) {}
+    Held(Held&& other) noexcept : p_(other.p_) { other.p_ = nullptr; }
+    Held(const Held&) = delete;
+    Held& operator=(const Held&) = delete;
+    Held& operator=(Held&&) = delete;
+    ~Held() {
+        if (p_ != nullptr) p_->~T();
+    }
+    T& operator*() const { return *p_; }
+
+private:
+    T* p_;
 };
-template <class T>
-using Held = std::unique_ptr<T, Destroy<T>>;
 
 template <class T, std::size_t I>
 Held<T> hold(wire::Reader& in) {
