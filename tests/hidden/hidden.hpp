@@ -22,7 +22,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
-#include <random>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -44,12 +43,42 @@ inline std::uint64_t seed_for(const char* family) {
 }
 
 /// The random source of one family: seeded by the submission and the family's name.
+///
+/// Written out rather than taken from <random>: the standard fixes std::mt19937_64's sequence but
+/// not what std::uniform_real_distribution and std::uniform_int_distribution make of it, so
+/// libstdc++ and libc++ drew different inputs from one seed (a Mac's check and the grader would
+/// not meet the same hidden cases); and <random> was a fifth of each judge's compile. The
+/// generator is SplitMix64 (G. L. Steele, D. Lea, C. H. Flood, "Fast splittable pseudorandom
+/// number generators", OOPSLA 2014): a 64-bit counter, scrambled.
 class Draw {
 public:
-    explicit Draw(const char* family) : rng_(seed_for(family)) {}
+    explicit Draw(const char* family) : state_(seed_for(family)) {}
 
-    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng_); }
-    int integer(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+    /// 64 random bits.
+    std::uint64_t bits() {
+        std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    }
+    /// A float in [lo, hi): 24 random bits make a fraction exact in float; a result that rounds
+    /// up to `hi` is drawn again.
+    float uniform(float lo, float hi) {
+        for (;;) {
+            const float fraction = static_cast<float>(bits() >> 40) * 0x1p-24f;
+            const float x = lo + (hi - lo) * fraction;
+            if (x < hi || !(lo < hi)) return x;
+        }
+    }
+    /// An integer in [lo, hi], every value equally likely (a draw past the last whole multiple
+    /// of the range is drawn again).
+    int integer(int lo, int hi) {
+        const std::uint64_t range = static_cast<std::uint64_t>(static_cast<std::int64_t>(hi) - lo) + 1;
+        const std::uint64_t limit = ~std::uint64_t{0} - (~std::uint64_t{0} % range + 1) % range;
+        std::uint64_t x = bits();
+        while (x > limit) x = bits();
+        return static_cast<int>(static_cast<std::int64_t>(lo) + static_cast<std::int64_t>(x % range));
+    }
     bool coin() { return integer(0, 1) == 1; }
     float sign() { return coin() ? 1.0f : -1.0f; }
     /// 2^k for k in [lo, hi]: scales a direction without rounding anything.
@@ -74,7 +103,7 @@ public:
     }
 
 private:
-    std::mt19937_64 rng_;
+    std::uint64_t state_;
 };
 
 /// The ray from `o` towards `target`, its direction of length `length`.

@@ -266,6 +266,11 @@ private:
     bool sandbox_starts();
     void drain_output();
     std::string died(const std::string& call);
+public:
+    /// The signal that ended the program at the last died() ("SIGSEGV"), or "".
+    const std::string& last_signal() const { return signal_; }
+private:
+    std::string signal_;
     double cpu_now();
 
     std::string exe_;
@@ -592,14 +597,19 @@ std::string Child::died(const std::string& call) {
     for (int i = 0; i < 200 && (got = ::waitpid(pid_, &status, WNOHANG)) == 0; ++i) ::usleep(1000);
     drain_output();
     std::string how;
-    if (got == pid_ && WIFSIGNALED(status)) {
-        how = "it was killed by " + signal_name(WTERMSIG(status));
+    signal_.clear();
+    // bwrap passes on the sandboxed program's status; 128+N is a signal.
+    const int sig = got != pid_ ? 0
+                    : WIFSIGNALED(status) ? WTERMSIG(status)
+                    : WIFEXITED(status) && WEXITSTATUS(status) > 128 && WEXITSTATUS(status) < 128 + 65
+                        ? WEXITSTATUS(status) - 128
+                        : 0;
+    if (sig != 0) {
+        how = "it was killed by " + signal_name(sig);
+        signal_ = signal_name(sig).substr(0, signal_name(sig).find(','));
     } else if (got == pid_ && WIFEXITED(status)) {
-        // bwrap passes on the sandboxed program's status; 128+N is a signal.
-        const int code = WEXITSTATUS(status);
-        how = code > 128 && code < 128 + 65 ? "it was killed by " + signal_name(code - 128)
-                                            : "the program ended (exit status " + std::to_string(code) +
-                                                  "): does your code call exit() or close the grader's pipes?";
+        how = "the program ended (exit status " + std::to_string(WEXITSTATUS(status)) +
+              "): does your code call exit() or close the grader's pipes?";
     } else {
         how = "it closed the connection to the grader";
     }
@@ -749,7 +759,7 @@ std::string exchange(Target target, const std::string& function, const std::stri
         // The step's budget is used up: the remaining calls fail without running, the student's.
         const std::string text = "Not called: your code has used up " + b.which() + ", so the remaining cases "
                                  "fail without calling it. " + capitalised(b.figures()) + ".";
-        s.incident = {"timed_out", text};
+        s.incident = {"timed_out", text, function, ""};
         throw CallFailed(text);
     }
     std::string request(1, static_cast<char>(function.size()));
@@ -787,14 +797,15 @@ std::string exchange(Target target, const std::string& function, const std::stri
             text = "Time out: " + call + " was stopped because your code used up " + b.which() + " " +
                    (kind == "cpu" ? "of CPU" : "for waiting") + ": " + b.figures() + ".";
         }
-        s.incident = {"timed_out", text};
+        s.incident = {"timed_out", text, function, ""};
         throw CallFailed(text);
     } catch (const CallFailed& e) {
         if (target == Target::student) {
             const std::string what = e.what();
             const bool hung = what.rfind("Time out", 0) == 0;
             const bool grader = dynamic_cast<const SandboxFailed*>(&e) != nullptr;
-            s.incident = {grader ? "grader_error" : hung ? "timed_out" : "crashed", what};
+            s.incident = {grader ? "grader_error" : hung ? "timed_out" : "crashed", what, function,
+                          grader || hung ? "" : child.last_signal()};
         }
         throw;
     }
@@ -812,7 +823,7 @@ std::string exchange(Target target, const std::string& function, const std::stri
                 message = "(no message)";
             }
             const std::string text = "Your code threw an exception in " + call + ": " + message;
-            if (target == Target::student && s.incident.message.empty()) s.incident = {"threw", text};
+            if (target == Target::student && s.incident.message.empty()) s.incident = {"threw", text, function, ""};
             throw CallFailed(text);
         }
         case wire::Kind::unknown:

@@ -43,8 +43,10 @@ enum class Target { student, reference };
 
 /// How a call went wrong, beyond a wrong answer.
 struct Incident {
-    std::string status;   ///< "crashed", "timed_out", "threw" or "" (none)
-    std::string message;  ///< one sentence for the student, naming the call
+    std::string status;    ///< "crashed", "timed_out", "threw" or "" (none)
+    std::string message;   ///< one sentence for the student, naming the call
+    std::string function;  ///< the student's function whose call it was ("" when none was called)
+    std::string signal;    ///< the signal that ended the program ("SIGSEGV"), when one did
 };
 
 /// Thrown by a proxy when its call crashed, timed out, threw or replied garbage.

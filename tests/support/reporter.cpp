@@ -154,6 +154,10 @@ private:
         }
         out_ << "], \"output\": " << json_string(record_.output.c_str())
              << ", \"output_bytes\": " << record_.output_bytes;
+        // What went wrong beyond a wrong answer, as data (the class report groups crashes by it).
+        if (!record_.incident.status.empty() && !record_.incident.function.empty())
+            out_ << ", \"incident\": {\"function\": " << json_string(record_.incident.function.c_str())
+                 << ", \"signal\": " << json_string(record_.incident.signal.c_str()) << "}";
         // The geometry of the first failing check, for its picture (case_figure.hpp).
         if (!raykit::figure::record().empty()) out_ << ", \"figure\": " << raykit::figure::record();
         out_ << "}\n";

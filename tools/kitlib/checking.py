@@ -69,6 +69,7 @@ class Case:
     picture_summary: str = ""   # one line: what the picture shows, or why there is none
     runs: int = 1               # how many times the grader ran it (rerun_timeouts runs a timed-out case again)
     rerun: dict | None = None   # when runs > 1: {"why", "first": {"status", "messages"}, "kept": the run shown}
+    incident: dict | None = None  # a crash, time-out or throw: {"function": the call's, "signal": "SIGSEGV" or ""}
 
     share: Fraction | None = None   # its exact points on the course's scale (set by StepResult)
 
@@ -160,7 +161,8 @@ class StepResult:
                        "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                        "picture": c.picture or None, "picture_summary": c.picture_summary or None,
                        "figure": c.figure or None,  # the geometry, so ./kit report can draw the case
-                       "runs": c.runs, **({"rerun": c.rerun} if c.rerun else {})}
+                       "runs": c.runs, **({"rerun": c.rerun} if c.rerun else {}),
+                       **({"incident": c.incident} if c.incident else {})}
                       for c in self.cases],
         }
 
@@ -411,8 +413,8 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
             again.messages = list(again.messages)
             if again.status == TIMED_OUT:
                 again.messages.append("(It timed out twice: the case was run again on its own.)")
-            c.status, c.messages, c.output, c.output_bytes, c.figure = (
-                again.status, again.messages, again.output, again.output_bytes, again.figure)
+            c.status, c.messages, c.output, c.output_bytes, c.figure, c.incident = (
+                again.status, again.messages, again.output, again.output_bytes, again.figure, again.incident)
             c.rerun["kept"] = c.runs
 
 
@@ -422,6 +424,9 @@ def _take(c: Case, e: dict) -> None:
     c.messages = [printable(str(m)) for m in e.get("messages", [])]
     c.output, c.output_bytes = printable(str(e.get("output", ""))), int(e.get("output_bytes", 0))
     c.figure = e.get("figure") if isinstance(e.get("figure"), dict) else None
+    incident = e.get("incident")
+    c.incident = ({"function": printable(str(incident.get("function", ""))),
+                   "signal": printable(str(incident.get("signal", "")))} if isinstance(incident, dict) else None)
 
 
 def submission_seed(build: Build, step: Step) -> str:
@@ -749,7 +754,8 @@ class Verdicts:
             return None
         shown = str(self.build.shown_dir)
         cases = [Case(c["name"], c["tier"], c["lecture"], c["status"], c["messages"], c["output"],
-                      c["output_bytes"], c["figure"], runs=c.get("runs", 1), rerun=c.get("rerun"))
+                      c["output_bytes"], c["figure"], runs=c.get("runs", 1), rerun=c.get("rerun"),
+                      incident=c.get("incident"))
                  for c in d["cases"]]
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
                           isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []))
@@ -762,7 +768,8 @@ class Verdicts:
                 "includes": result.includes,
                 "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                            "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
-                           "figure": c.figure, "runs": c.runs, "rerun": c.rerun} for c in result.cases]}
+                           "figure": c.figure, "runs": c.runs, "rerun": c.rerun, "incident": c.incident}
+                          for c in result.cases]}
         try:
             atomic.write(self._path(result.step), json.dumps(data))
         except OSError:

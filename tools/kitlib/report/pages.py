@@ -118,14 +118,15 @@ def compile_kind(detail: str) -> tuple[str, str]:
 
 
 def crash_kind(case: dict) -> tuple[str, str]:
+    """A crash, time-out or throw grouped by what the record says of it (the case's "incident": the
+    function called, the signal), never by its message's words; and the message, as an example."""
     text = " ".join(case.get("messages") or [])
-    signal = re.search(r"\bSIG[A-Z]+\b", text)
-    func = re.search(r"\bin ([A-Za-z_][A-Za-z0-9_:]*)\(", text)
+    incident = case.get("incident") if isinstance(case.get("incident"), dict) else {}
     what = STATUS_WORDS.get(case.get("status"), case.get("status"))
     parts = [what]
-    if signal and case.get("status") == CRASHED:
-        parts.append(signal.group(0))
-    parts.append(f"in {func.group(1)}()" if func else "")
+    if incident.get("signal") and case.get("status") == CRASHED:
+        parts.append(incident["signal"])
+    parts.append(f"in {incident['function']}()" if incident.get("function") else "")
     return " ".join(p for p in parts if p), text[:400]
 
 

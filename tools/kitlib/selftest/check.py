@@ -209,6 +209,15 @@ def selftest_grader_fixtures(ctx: Context) -> str:
             expect(not odd, f"fixture {name}: a timed-out case without its two runs recorded: {odd[:2]}")
         if some_pass:
             expect(r.passed("basic") > 0, f"fixture {name}: grading stopped, no other case passed")
+        # A crash, time-out or throw is data in the record: the function called (one of the step's)
+        # and the signal that ended the program, when one did (the class report groups by them).
+        if status in (CRASHED, TIMED_OUT, THREW):
+            bad = [f"{c.name}: {c.incident}" for c in r.cases if c.status == status and not (
+                c.incident and c.incident.get("function") in steps[0].functions
+                and (c.incident.get("signal") == "" or (status == CRASHED and
+                                                          re.fullmatch(r"SIG[A-Z]+", c.incident["signal"]))))]
+            expect(not bad, f"fixture {name}: {status} cases without their call's function and signal recorded: "
+                            f"{bad[:2]}")
         seen.append(name)
     r = kit("check", "1", "--steps", "tests/fixtures/wrong")
     expect(r.returncode == 1, f"a wrong answer must exit 1, got {r.returncode}")

@@ -411,7 +411,26 @@ def _browser(*pages_: Path) -> str:
         str(s.relative_to(ROOT)) if s.is_relative_to(ROOT) else str(s) for s in shots)
 
 
+def selftest_crash_kind(ctx) -> str:
+    """The report's incidents are grouped by the record's data (a case's "incident": the function
+    called, the signal), never by words of its message: a message that names another function and
+    another signal, in a student's output or a translation, does not move a crash to another group."""
+    from ..report.pages import crash_kind
+    from ..status import CRASHED, STATUS_WORDS, TIMED_OUT
+    misleading = ["Your code crashed in fake_function(1, 2): it was killed by SIGBUS, a bad memory access."]
+    found = [crash_kind({"status": CRASHED, "messages": misleading,
+                         "incident": {"function": "intersect_unit_sphere", "signal": "SIGSEGV"}})[0],
+             crash_kind({"status": TIMED_OUT, "messages": misleading,
+                         "incident": {"function": "render", "signal": ""}})[0],
+             crash_kind({"status": CRASHED, "messages": misleading})[0]]
+    want = [f"{STATUS_WORDS[CRASHED]} SIGSEGV in intersect_unit_sphere()", f"{STATUS_WORDS[TIMED_OUT]} in render()",
+            STATUS_WORDS[CRASHED]]
+    expect(found == want, f"crash kinds {found}, expected {want}")
+    return "grouped by the record's function and signal: " + "; ".join(found)
+
+
 def selftests():
     return [("report: the mutants' signatures are current", selftest_signatures_fresh),
+            ("report: crashes grouped by the record, not by words", selftest_crash_kind),
             ("report: a synthetic class's report", selftest_class_report),
             ("report: similar submissions, a class sharing one file", selftest_similar_groups)]
