@@ -11,8 +11,11 @@ without it, only sooner.
 
 The kit builds one such file per step header, from the kit's own public headers and outside the
 sandbox (nothing of a student's goes in), keyed by the compiler and the options of the compile it
-serves, and kept in build/student-pch/ with the list of every file it read (size and time): a
-changed header, GLM or compiler makes it be built again. The graded compile sees it beside the
+serves (the compiler named as the kit's caches name it, kitcache.compiler_identity), and kept in
+build/student-pch/ with the list of every file it read (from its dependency file, read by the kit's
+one parser, kitcache.dependencies), each with its size and time, as the object cache records the
+headers a compile read outside its folder (objcache.py): a changed header, GLM or compiler makes it
+be built again. Size and time, not content: the list is checked at every graded compile. The graded compile sees it beside the
 header in its private include folder, hard-linked there (copied where links cannot be made).
 
 Building the six costs about 3 s of CPU, so they are built only where many compiles follow:
@@ -26,13 +29,13 @@ import hashlib
 import json
 import os
 import re
-import shutil
 import subprocess
 import threading
 from pathlib import Path
 
 from . import atomic
 from .common import BUILD, ROOT
+from .kitcache import compiler_identity, dependencies
 
 ENV = "RAYKIT_STUDENT_PCH"
 STORE = BUILD / "student-pch"
@@ -97,12 +100,6 @@ def _absolute(options: list[str], cwd: Path) -> list[str]:
     return out
 
 
-def _identity(compiler: str) -> str:
-    path = shutil.which(compiler) or compiler
-    st = os.stat(path)
-    return f"{os.path.realpath(path)} {st.st_size} {st.st_mtime_ns}"
-
-
 def _is_gcc(compiler: str) -> bool:
     if compiler not in _gcc:
         try:
@@ -126,11 +123,6 @@ def _deps_current(deps_file: Path) -> bool:
         return False
 
 
-def _read_depfile(text: str) -> list[str]:
-    body = text.replace("\\\n", " ").split(":", 1)[-1]
-    return [p.replace("\\ ", " ") for p in re.split(r"(?<!\\)\s+", body) if p]
-
-
 def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path) -> bool:
     gch.parent.mkdir(parents=True, exist_ok=True)
     tmp = gch.with_name(f".{gch.name}.{os.getpid()}.{id(options)}")
@@ -141,7 +133,7 @@ def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path)
         if r.returncode != 0 or not tmp.is_file():
             return False
         deps = []
-        for p in _read_depfile(dep.read_text(errors="replace")):
+        for p in dependencies(dep.read_text(errors="replace")):
             path = os.path.abspath(os.path.join(cwd, p))     # the options' paths are the build folder's
             st = os.stat(path)
             deps.append([path, st.st_size, st.st_mtime_ns])
@@ -169,7 +161,7 @@ def for_compile(argv: list[str], source: str, cwd: Path) -> list[tuple[Path, str
     compiler = argv[0]
     options = options_of(argv)
     try:
-        key = hashlib.sha256(json.dumps([_identity(compiler), _absolute(options, cwd)]).encode()).hexdigest()[:24]
+        key = hashlib.sha256(json.dumps([compiler_identity(compiler), _absolute(options, cwd)]).encode()).hexdigest()[:24]
     except OSError:
         return []
     folder = STORE / key
