@@ -1,0 +1,103 @@
+"""The CPU of a cold `./kit check`, measured the bench's way: revisions of the kit side by side,
+interleaved in one run (the order reversed every round), several rounds, medians.
+
+    python3 docs/cold_check.py [--rounds N] [--steps 1|all] REV [REV ...]
+
+Each REV (a commit, a branch, HEAD) is cloned from this repository into a temporary folder and
+its steps are written from its own solutions (step 01 only, or every step with --steps all).
+A round runs `./kit check 1` (or `./kit check`) once in each clone, as a newcomer without the
+warm-up would: a fresh build/ folder, an empty kit cache (a fresh XDG_CACHE_HOME), no compiled
+Python beside the sources. What is counted is the CPU (user + system) of every process the
+check ran, read with getrusage(RUSAGE_CHILDREN); the wall time and the load average are printed
+beside it, since a loaded machine makes every figure larger. Bad input: a message and exit 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def fail(message: str) -> None:
+    print(f"cold_check: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def clone(rev: str, where: Path, all_steps: bool) -> Path:
+    folder = where / rev.replace("/", "_")
+    r = subprocess.run(["git", "clone", "-q", str(ROOT), str(folder)], capture_output=True, text=True)
+    if r.returncode == 0:
+        r = subprocess.run(["git", "checkout", "-q", rev], cwd=folder, capture_output=True, text=True)
+    if r.returncode != 0:
+        fail(f"cannot check out {rev}: {r.stderr.strip()}")
+    shared = ROOT.parent / "shared"
+    if shared.is_dir() and not (where / "shared").exists():
+        (where / "shared").symlink_to(shared)
+    for step in sorted((folder / "solutions").iterdir()):
+        if step.is_dir() and (all_steps or step.name.startswith("01_")):
+            for f in step.glob("*.cpp"):
+                shutil.copy(f, folder / "steps" / step.name / f.name)
+    return folder
+
+
+def one_run(folder: Path, command: list[str]) -> dict:
+    shutil.rmtree(folder / "build", ignore_errors=True)
+    for cache in folder.joinpath("tools").rglob("__pycache__"):
+        shutil.rmtree(cache, ignore_errors=True)
+    with tempfile.TemporaryDirectory(prefix="cold-cache-") as home:
+        env = dict(os.environ, XDG_CACHE_HOME=home, RAYKIT_NO_WARMUP="1")
+        for name in ("RAYKIT_KIT_CACHE_DIR", "PYTHONPYCACHEPREFIX"):
+            env.pop(name, None)
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        load = os.getloadavg()[0]
+        start = time.monotonic()
+        r = subprocess.run(command, cwd=folder, env=env, capture_output=True, text=True)
+        wall = time.monotonic() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if r.returncode != 0:
+        fail(f"{' '.join(command)} in {folder} exited {r.returncode}:\n{(r.stdout + r.stderr)[-1500:]}")
+    return {"cpu": round(cpu, 2), "wall": round(wall, 2), "load": round(load, 2)}
+
+
+def main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("revs", nargs="+", metavar="REV", help="revisions to compare (commits, branches)")
+    p.add_argument("--rounds", type=int, default=5, help="rounds, each running every revision once (5)")
+    p.add_argument("--steps", choices=["1", "all"], default="1", help="step 01 written, or every step (1)")
+    args = p.parse_args(argv)
+    if args.rounds < 1:
+        p.error("--rounds must be at least 1")
+    command = ["./kit", "check", "1"] if args.steps == "1" else ["./kit", "check"]
+    with tempfile.TemporaryDirectory(prefix="cold-check-") as tmp:
+        folders = {rev: clone(rev, Path(tmp), args.steps == "all") for rev in args.revs}
+        runs: dict[str, list[dict]] = {rev: [] for rev in args.revs}
+        for round_ in range(args.rounds):
+            order = args.revs if round_ % 2 == 0 else list(reversed(args.revs))
+            for rev in order:
+                run = one_run(folders[rev], command)
+                runs[rev].append(run)
+                print(json.dumps({"round": round_ + 1, "rev": rev, **run}), flush=True)
+    first = statistics.median(r["cpu"] for r in runs[args.revs[0]])
+    print(f"\ncold `{' '.join(command)}`, {args.rounds} rounds interleaved; CPU seconds, median (all runs):")
+    for rev, rs in runs.items():
+        cpu = statistics.median(r["cpu"] for r in rs)
+        each = ", ".join("%.2f" % r["cpu"] for r in rs)
+        loads = [r["load"] for r in rs]
+        print(f"  {rev:>12}  {cpu:6.2f}  x{cpu / first:.3f}  ({each}; load {min(loads):.1f}-{max(loads):.1f})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
