@@ -244,6 +244,8 @@ public:
 
     bool available() const { return !exe_.empty() && ::access(exe_.c_str(), X_OK) == 0; }
     bool running() const { return pid_ > 0; }
+    /// The signal that ended the program at the last died() ("SIGSEGV"), or "".
+    const std::string& last_signal() const { return signal_; }
 
     /// Sends a request, returns the reply body, or throws CallFailed (OverBudget when `bounds`, not
     /// the call's own `seconds`, stopped it); `cost` says what the call took, whatever happened.
@@ -266,11 +268,6 @@ private:
     bool sandbox_starts();
     void drain_output();
     std::string died(const std::string& call);
-public:
-    /// The signal that ended the program at the last died() ("SIGSEGV"), or "".
-    const std::string& last_signal() const { return signal_; }
-private:
-    std::string signal_;
     double cpu_now();
 
     std::string exe_;
@@ -281,6 +278,7 @@ private:
     std::string scratch_;       // RAYKIT_SCRATCH: the kit's folder, which the student's code cannot write
     std::string run_;           // the current answers process's own folder, fresh at each start (start())
     bool own_scratch_ = false;  // scratch_ was made by start() (no RAYKIT_SCRATCH): removed with the child
+    std::string signal_;        // what ended the program at the last died(), as last_signal() says
 };
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -605,8 +603,9 @@ std::string Child::died(const std::string& call) {
                         ? WEXITSTATUS(status) - 128
                         : 0;
     if (sig != 0) {
-        how = "it was killed by " + signal_name(sig);
-        signal_ = signal_name(sig).substr(0, signal_name(sig).find(','));
+        const std::string name = signal_name(sig);    // "SIGSEGV, a bad memory access"
+        how = "it was killed by " + name;
+        signal_ = name.substr(0, name.find(','));
     } else if (got == pid_ && WIFEXITED(status)) {
         how = "the program ended (exit status " + std::to_string(WEXITSTATUS(status)) +
               "): does your code call exit() or close the grader's pipes?";

@@ -45,7 +45,8 @@ enum class Target { student, reference };
 struct Incident {
     std::string status;    ///< "crashed", "timed_out", "threw" or "" (none)
     std::string message;   ///< one sentence for the student, naming the call
-    std::string function;  ///< the student's function whose call it was ("" when none was called)
+    std::string function;  ///< the student's function the call was to (made, or refused once the
+                           ///< step's budget was used up)
     std::string signal;    ///< the signal that ended the program ("SIGSEGV"), when one did
 };
 
