@@ -15,8 +15,9 @@ serves (the compiler named as the kit's caches name it, kitcache.compiler_identi
 build/student-pch/ with the list of every file it read (from its dependency file, read by the kit's
 one parser, kitcache.dependencies), each with its size and time, as the object cache records the
 headers a compile read outside its folder (objcache.py): a changed header, GLM or compiler makes it
-be built again. Size and time, not content: the list is checked at every graded compile. The graded compile sees it beside the
-header in its private include folder, hard-linked there (copied where links cannot be made).
+be built again. Size and time, not content: the list is checked at every graded compile. The graded
+compile sees it beside the header in its private include folder, hard-linked there (copied where
+links cannot be made).
 
 Building the six costs about 3 s of CPU, so they are built only where many compiles follow:
 RAYKIT_STUDENT_PCH=build (set by ./kit grade and by the autograders' set-up); otherwise those already
@@ -161,7 +162,8 @@ def for_compile(argv: list[str], source: str, cwd: Path) -> list[tuple[Path, str
     compiler = argv[0]
     options = options_of(argv)
     try:
-        key = hashlib.sha256(json.dumps([compiler_identity(compiler), _absolute(options, cwd)]).encode()).hexdigest()[:24]
+        named = json.dumps([compiler_identity(compiler), _absolute(options, cwd)])
+        key = hashlib.sha256(named.encode()).hexdigest()[:24]
     except OSError:
         return []
     folder = STORE / key
