@@ -220,13 +220,18 @@ def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes) -> Non
         return
 
 
+FORMER_MANIFEST = "manifest.json"   # an entry of raykit-kitcache-1: never found again, pruned first
+
+
 def prune(cache: str) -> None:
-    """Keeps the cache under MAX_BYTES: past it, the least recently used entries go until half is left."""
+    """Keeps the cache under MAX_BYTES: past it, the least recently used entries go until half is left
+    (an entry of a former version first: no key of this one leads to it)."""
     entries, total = [], 0
     for root, dirs, files in os.walk(cache):
-        if MANIFEST in files:
+        if MANIFEST in files or FORMER_MANIFEST in files:
             size = sum(os.path.getsize(os.path.join(root, f)) for f in files)
-            entries.append((os.path.getmtime(os.path.join(root, MANIFEST)), size, root))
+            used = os.path.getmtime(os.path.join(root, MANIFEST)) if MANIFEST in files else 0.0
+            entries.append((used, size, root))
             total += size
             dirs[:] = []
     if total <= MAX_BYTES:

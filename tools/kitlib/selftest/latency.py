@@ -241,8 +241,24 @@ def selftest_kit_cache(ctx: Context) -> str:
         blocked = Path(tmp) / "not-a-folder"
         blocked.write_text("")
         expect(compile_(blocked)[0] == 0 and (work / "a.o").is_file(), "a cache that cannot be written broke the compile")
+        # Past its limit the cache is pruned to half, an entry of a former version (never found again)
+        # before the least recently used of this one.
+        from .. import kitcache
+        former = cache / "zz" / "former" / "entry"
+        former.mkdir(parents=True)
+        (former / kitcache.FORMER_MANIFEST).write_text("{}")
+        (former / "object").write_bytes(b"\0" * 4096)
+        current = [p.parent for p in cache.rglob(kitcache.MANIFEST)]
+        size = sum(f.stat().st_size for f in cache.rglob("*") if f.is_file())
+        limit, kitcache.MAX_BYTES = kitcache.MAX_BYTES, size - 1
+        try:
+            kitcache.prune(str(cache))
+        finally:
+            kitcache.MAX_BYTES = limit
+        expect(not former.exists() and current and all(p.is_dir() for p in current),
+               "a prune kept an entry of a former version, or removed a current one first")
     return ("a hit gives the same object; an edited header, a damaged entry compile again; a failing compile "
-            "stores nothing; an unwritable cache only costs the cache")
+            "stores nothing; an unwritable cache only costs the cache; a former version's entries pruned first")
 
 
 def selftest_recorded(ctx: Context) -> str:
