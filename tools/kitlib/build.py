@@ -217,14 +217,14 @@ def ninja_of(build: Build) -> str | None:
 
 
 def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool, str]:
-    if os.environ.get(QUICK_TIER) == "1":
-        raise KitError(f"building {', '.join(targets)[:80]}: a self-test of the quick tier builds nothing "
-                       "(move it out of harness.QUICK)")
     """Builds `targets` in one call of the build tool (in parallel; with Ninja, -k 0 goes on past a
     failure so every target that can be built is). `progress(done, total)` follows Ninja's count.
     Ninja is called directly where CMake generated for it: `cmake --build` would only start it, at
     20 ms of CPU a call, five calls a check (and Ninja itself runs CMake again when a CMakeLists.txt
     changed)."""
+    if os.environ.get(QUICK_TIER) == "1":
+        raise KitError(f"building {', '.join(targets)[:80]}: a self-test of the quick tier builds nothing "
+                       "(move it out of harness.QUICK)")
     ninja = ninja_of(build)
     if ninja:
         cmd = [ninja, *(["-k", "0"] if len(targets) > 1 else []), *targets]     # run in the build folder

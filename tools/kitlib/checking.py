@@ -23,7 +23,6 @@ import signal
 import subprocess
 import tempfile
 import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -34,7 +33,7 @@ from . import course as course_file
 from . import includes
 from . import waits
 from . import warmup
-from .common import BUILD, ROOT, Step, prerequisites, printable
+from .common import BUILD, ROOT, InOrder, Step, map_in_threads, prerequisites, printable
 from .build import Build, build_target, build_targets, ensure_configured, ninja_of, shown_text
 from .objcache import ObjectCache
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
@@ -544,8 +543,7 @@ def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation
             progress(done[0], total)
         return result
 
-    with ThreadPoolExecutor(max_workers=max(1, min(len(commands.compiles), os.cpu_count() or 1))) as pool:
-        compiled = list(pool.map(compile_one, commands.compiles))
+    compiled = map_in_threads(compile_one, commands.compiles, os.cpu_count() or 1)
     texts = [text for _, text in compiled]
     ok = all(status == 0 for status, _ in compiled)
     if ok:
@@ -828,12 +826,14 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
         if step.number in wanted:
             progress.result(results[step.number])
 
-    with ThreadPoolExecutor(max_workers=1) as worker:    # one worker: steps are judged in order
-        pending = []
+    judges = InOrder()      # steps are judged in course order, each while the next one builds
+    try:
         for s in order:
             built = None if s.number in quick or s.number in known else \
                 build_step(build, s, lambda done, total, s=s: progress.building(s, done, total), isolation)
-            pending.append(worker.submit(judge, s, built))
-        for f in pending:
-            f.result()
+            judges.submit(judge, s, built)
+    except BaseException:
+        judges.finish(raising=False)    # the build's error, not a judge's, once the judges have ended
+        raise
+    judges.finish()
     return [results[s.number] for s in steps]

@@ -8,6 +8,7 @@ import os
 import re
 import shutil
 import sys
+import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -173,3 +174,66 @@ def resolve_steps_dir(path: str) -> Path:
 
 
 QUICK_TIER = "RAYKIT_SELFTEST_QUICK"    # set by ./kit test --quick: its self-tests build nothing
+
+
+# concurrent.futures' ThreadPoolExecutor would do what these two do, but importing it imports
+# `logging` too: 55 ms of CPU at every start of ./kit check (measured, Python 3.11), for two loops.
+
+def map_in_threads(function, items: list, workers: int) -> list:
+    """function(item) for every item, in up to `workers` threads at once; the results in the
+    items' order. An exception in any call is raised here, once every call has ended."""
+    results: list = [None] * len(items)
+    errors: list[BaseException] = []
+    indexes = iter(range(len(items)))
+    lock = threading.Lock()
+
+    def work() -> None:
+        while True:
+            with lock:
+                i = next(indexes, None)
+            if i is None:
+                return
+            try:
+                results[i] = function(items[i])
+            except BaseException as e:      # raised again by the caller's thread, below
+                errors.append(e)
+
+    threads = [threading.Thread(target=work) for _ in range(max(1, min(workers, len(items))))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        raise errors[0]
+    return results
+
+
+class InOrder:
+    """Calls run one at a time in a background thread, each after the one given before it, while
+    the caller goes on (the judge of one step while the next step builds). finish() waits for
+    every call and raises the first exception any raised."""
+
+    def __init__(self) -> None:
+        self._last: threading.Thread | None = None
+        self._errors: list[BaseException] = []
+
+    def submit(self, function, *args) -> None:
+        before = self._last
+
+        def run() -> None:
+            if before is not None:
+                before.join()
+            try:
+                function(*args)
+            except BaseException as e:
+                self._errors.append(e)
+
+        self._last = threading.Thread(target=run)
+        self._last.start()
+
+    def finish(self, raising: bool = True) -> None:
+        if self._last is not None:
+            self._last.join()
+        if self._errors and raising:
+            raise self._errors[0]
+

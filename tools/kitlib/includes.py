@@ -2,7 +2,7 @@
 standard library.
 
 A file that uses std::unique_ptr without #include <memory> compiles where another header happens to
-bring <memory> (a Mac's libc++ does, through <functional>) and fails where none does (the grader's
+bring <memory> (a Mac's libc++ does, through <vector> or <functional>) and fails where none does (the grader's
 libstdc++). The C++ standard says which header declares each name, so the kit reads the student's
 file and says, in its own words and the same words everywhere, which header to add: under the step
 in the student's own `./kit check`, and first in the compile error a grader shows when the file

@@ -260,6 +260,8 @@ class Isolation:
             if uid:
                 kill_uid(uid)
                 self.clean_files(uid)
+        if not (self.uid or self.compile_uid):
+            return                  # no id of the sandbox's: nothing of the graded code's to reap
         for _ in range(25):     # a process killed a moment ago becomes a zombie a moment later
             reap_orphans({self.uid, self.compile_uid})
             if not any(procfs.parent(p) == os.getpid() and procfs.real_uid(p) in (self.uid, self.compile_uid)
@@ -655,6 +657,8 @@ def reap_orphans(uids: set[int]) -> None:
     is this process), each by its pid: never waitpid(-1), which could take a build's exit status
     from the subprocess that waits for it."""
     me, wanted = str(os.getpid()), {str(u) for u in uids if u}
+    if not wanted:
+        return
     for p in procfs.pids():
         fields = procfs.status(p)         # one read: state, parent and owner of the same moment
         if (fields.get("State", "").startswith("Z") and fields.get("PPid") == me
