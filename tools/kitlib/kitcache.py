@@ -65,15 +65,22 @@ def compiler_identity(compiler: str) -> str:
     return f"{real}\0{st.st_size}\0{st.st_mtime_ns}"
 
 
-def first_key(compiler: str, args: list[str]) -> str:
+def first_key(compiler: str, args: list[str], cwd: str | None = None) -> str:
+    """The key of a compile run in `cwd` (the launcher's own folder, where the build tool started it)."""
     h = hashlib.sha256(VERSION)
-    h.update(f"{compiler_identity(compiler)}\0{os.getcwd()}\0".encode())
+    h.update(f"{compiler_identity(compiler)}\0{cwd or os.getcwd()}\0".encode())
     h.update(f"{len(args)}\0".encode() + "\0".join(args).encode())
     h.update("\0".join(f"{v}={os.environ[v]}" for v in ENV_READ if v in os.environ).encode())
     return h.hexdigest()
 
 
-def file_hash(path: str) -> str | None:
+def file_hash(path: str, memo: dict | None = None) -> str | None:
+    """The SHA-256 of a file's content; None when it cannot be read. `memo` keeps those already
+    read by this process (the fill hashes the headers the kit's compiles share once)."""
+    if memo is not None:
+        if path not in memo:
+            memo[path] = file_hash(path)
+        return memo[path]
     try:
         with open(path, "rb") as f:
             return hashlib.sha256(f.read()).hexdigest()
@@ -188,20 +195,20 @@ def lookup(bucket: str, out: str, depfile: str | None) -> bool:
     return False
 
 
-def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes) -> None:
+def store(cache: str, bucket: str, out: str, text: str, stderr: bytes, memo: dict | None = None) -> bool:
+    """Keeps the object `out` under `bucket`, with `text` (its dependency file) and what the compile
+    printed: an entry per set of files read and their contents. Whether it is (now) in the cache."""
     try:
-        with open(depfile) as f:
-            text = f.read()
         if os.path.getsize(out) > MAX_OBJECT:
-            return
-        deps = [(os.path.abspath(p), file_hash(p)) for p in dependencies(text)]
+            return False
+        deps = [(os.path.abspath(p), file_hash(os.path.abspath(p), memo)) for p in dependencies(text)]
         if not deps or any(d is None or "\n" in p for p, d in deps):
-            return
+            return False
         manifest = "".join(f"{d} {p}\n" for p, d in deps)
         digest = hashlib.sha256(manifest.encode()).hexdigest()[:32]
         entry = os.path.join(bucket, digest)
         if os.path.isdir(entry):
-            return
+            return True
         tmp = os.path.join(bucket, f".{digest}.{os.getpid()}")
         os.makedirs(tmp)
         copy(out, os.path.join(tmp, "object"))
@@ -216,8 +223,34 @@ def store(cache: str, bucket: str, out: str, depfile: str, stderr: bytes) -> Non
         except OSError:
             remove_tree(tmp)    # another compile stored the same entry first
         prune(cache)
+        return os.path.isdir(entry)
     except (OSError, ValueError):
-        return
+        return False
+
+
+def depfile_text(out: str, deps: list[str]) -> str:
+    """A dependency file naming `deps` for `out`, escaped as dependencies() reads it (and Ninja)."""
+    def escaped(name: str) -> str:
+        return name.replace("\\", "\\\\").replace(" ", "\\ ").replace("#", "\\#").replace("$", "$$")
+    return escaped(out) + ":" + "".join(f" \\\n  {escaped(d)}" for d in deps) + "\n"
+
+
+def fill(cache: str, cwd: str, command: list[str], deps: list[str], memo: dict) -> bool:
+    """Stores an object a build compiled without this launcher, under the key the launcher would have
+    given its compile: `command` as the build tool ran it in `cwd`, `deps` the files it read (the
+    build tool's record, absolute). The fill of a first build (kitlib/build.py, fill_kit_cache): one
+    process for all the kit's compiles instead of one launcher each. Whether it is in the cache."""
+    out, depfile = option(command, "-o"), option(command, "-MF")
+    if out is None or depfile is None or "-c" not in command or not deps:
+        return False
+    try:
+        key = first_key(command[0], command[1:], cwd)
+        bucket = os.path.join(cache, key[:2], key)
+        os.makedirs(cache, mode=0o700, exist_ok=True)
+        os.makedirs(bucket, exist_ok=True)
+    except OSError:
+        return False
+    return store(cache, bucket, os.path.join(cwd, out), depfile_text(out, deps), b"", memo)
 
 
 FORMER_MANIFEST = "manifest.json"   # an entry of raykit-kitcache-1: never found again, pruned first
@@ -289,7 +322,8 @@ def main(argv: list[str]) -> int:
         try:
             os.makedirs(cache, mode=0o700, exist_ok=True)     # the kit's user only (common.kit_cache_dir)
             os.makedirs(bucket, exist_ok=True)
-            store(cache, bucket, out, depfile, stderr)
+            with open(depfile) as f:
+                store(cache, bucket, out, f.read(), stderr)
         except OSError:
             pass
     return returncode

@@ -129,10 +129,11 @@ def _latency(ctx: Context) -> str:
            f"{screen.text[-1500:]}")
     expect("01" in cold, "step 01's row never showed a verdict")
     expect("building the test program" in screen.text, "no progress line while building")
+    # The kit cache was empty: the build ran without its launcher and the kit filled the cache after it.
     launched = kit_cache_targets(HANDOUT_DIR / "build" / "student")
-    expect(launched and all(KIT_OWN.fullmatch(t) for t in launched),
-           f"the kit cache's launcher is given to other targets than the kit's own: {sorted(launched)}")
-    # A clean of build/ (or a second handout): the kit's own objects come from its cache.
+    expect(not launched, f"with an empty kit cache, the launcher still ran for {sorted(launched)}")
+    # A clean of build/ (or a second handout): the kit's own objects come from its cache, each found
+    # under the key the launcher computes: the fill's keys are the launcher's.
     shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
     cache_log = BUILD / "latency-kit-cache.log"
     cache_log.unlink(missing_ok=True)
@@ -147,6 +148,11 @@ def _latency(ctx: Context) -> str:
     hits = [l for l in lines if l.startswith("hit ")]
     expect(hits and len(hits) == len([l for l in lines if l]),
            f"after a clean of build/, the kit's own objects were not all from the cache: {lines[:20]}")
+    launched = kit_cache_targets(HANDOUT_DIR / "build" / "student")
+    expect(launched and all(KIT_OWN.fullmatch(t) for t in launched),
+           f"the kit cache's launcher is given to other targets than the kit's own: {sorted(launched)}")
+    hit_targets = {m.group(1) for l in hits for m in [re.search(r"CMakeFiles/(\w+)\.dir/", l)] if m}
+    expect(hit_targets == launched, f"hits for {sorted(hit_targets)}, the launcher's targets {sorted(launched)}")
     cache_log.unlink(missing_ok=True)
     # An edit: a comment changes the file, so the step is rebuilt and checked again.
     step = ctx.steps[0]
@@ -257,8 +263,27 @@ def selftest_kit_cache(ctx: Context) -> str:
             kitcache.MAX_BYTES = limit
         expect(not former.exists() and current and all(p.is_dir() for p in current),
                "a prune kept an entry of a former version, or removed a current one first")
+        # The fill (kitcache.fill, after a first build without the launcher): the object compiled
+        # by the compiler alone, stored with the files it read, is what the launcher then finds,
+        # and a header named with a space in its path is read back as one name.
+        filled = Path(tmp) / "filled"
+        (work / "my h.hpp").write_text("inline int more() { return 1; }\n")
+        (work / "a.cpp").write_text('#include "h.hpp"\n#include "my h.hpp"\nint f() { return answer() + more(); }\n')
+        argv = [compiler, "-MD", "-MT", "a.o", "-MF", "a.o.d", "-O1", "-o", "a.o", "-c", "a.cpp"]
+        expect(subprocess.run(argv, cwd=work).returncode == 0, "the plain compile failed")
+        deps = [str(work / p) for p in kitcache.dependencies((work / "a.o.d").read_text())]
+        expect(str(work / "my h.hpp") in deps, f"the dependency file's names, read: {deps}")
+        expect(kitcache.fill(str(filled), os.path.realpath(work), argv, deps, {}), "the fill stored nothing")
+        alone = (work / "a.o").read_bytes()
+        expect(compile_(filled) == (0, "hit") and (work / "a.o").read_bytes() == alone,
+               "the launcher did not find what the fill stored, or gave another object")
+        stored = next(filled.rglob("depfile")).read_text()
+        expect(set(kitcache.dependencies(stored)) == set(deps), f"the stored dependency file reads {stored!r}")
+        (work / "my h.hpp").write_text("inline int more() { return 2; }\n")
+        expect(compile_(filled) == (0, "miss"), "a header edited since the fill was not compiled again")
     return ("a hit gives the same object; an edited header, a damaged entry compile again; a failing compile "
-            "stores nothing; an unwritable cache only costs the cache; a former version's entries pruned first")
+            "stores nothing; an unwritable cache only costs the cache; a former version's entries pruned first; "
+            "what the fill stores, the launcher finds (and misses once a header it read is edited)")
 
 
 def selftest_recorded(ctx: Context) -> str:
