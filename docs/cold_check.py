@@ -57,7 +57,7 @@ def one_run(folder: Path, command: list[str]) -> dict:
         shutil.rmtree(cache, ignore_errors=True)
     with tempfile.TemporaryDirectory(prefix="cold-cache-") as home:
         env = dict(os.environ, XDG_CACHE_HOME=home, RAYKIT_NO_WARMUP="1")
-        for name in ("RAYKIT_KIT_CACHE_DIR", "PYTHONPYCACHEPREFIX"):
+        for name in ("RAYKIT_KIT_CACHE_DIR", "PYTHONPYCACHEPREFIX", "RAYKIT_PYCACHE"):
             env.pop(name, None)
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         load = os.getloadavg()[0]

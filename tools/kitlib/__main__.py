@@ -2,6 +2,10 @@
 
 import sys
 
-from .cli import main
+from . import pycache
+
+pycache.install()       # before any other of the kit's modules loads
+
+from .cli import main  # noqa: E402
 
 sys.exit(main(sys.argv[1:]))

@@ -17,6 +17,11 @@ change what the compiler reads. Under it, each entry lists every file the compil
 dependency file) with the SHA-256 of its content; an entry is used only when every one of those files
 still has that content. So an edited header, a new GLM or another compiler misses, and compiles.
 
+A first build with an empty cache has nothing to find and would only store, at one Python start per
+compile: the kit configures such a folder without this launcher and, after each build, stores what
+it compiled itself (fill, called by kitlib/build.py's fill_kit_cache: one process for all, each
+header hashed once), under the key the launcher computes, with the files Ninja recorded as read.
+
 Usage (by CMake, not by hand):  python3 -S kitcache.py CACHE_DIR COMPILER ARGS...
 Any trouble with the cache (unwritable, damaged, full disk) falls back to running the compiler.
 Set RAYKIT_KIT_CACHE_LOG to a file to have a line appended per compile: "hit OBJ" or "miss OBJ".

@@ -15,6 +15,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from kitlib import pycache  # noqa: E402
+
+pycache.install()       # the kit's modules compiled once, into the kit's cache folder
+
 from kitlib.objcache import ObjectCache  # noqa: E402
 from kitlib.sandbox import Isolation  # noqa: E402
 

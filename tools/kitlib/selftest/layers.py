@@ -13,6 +13,7 @@ self-test package itself stands above all of it. And one module reads /proc: pro
 from __future__ import annotations
 
 import ast
+import os
 import re
 import time
 from pathlib import Path
@@ -24,7 +25,7 @@ KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
-              "waits", "submissions", "kitcache", "procfs"]),
+              "waits", "submissions", "kitcache", "procfs", "pycache"]),
     ("boundary", ["sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants"]),
@@ -247,7 +248,33 @@ def selftest_one_proc_reader(ctx) -> str:
             "a child's session, its zombie and its end read right")
 
 
+def selftest_compiled_modules(ctx) -> str:
+    """./kit compiles the kit's own modules once, into its cache folder (kitlib/pycache.py), and no
+    other module there: the standard library reads those installed beside it. Nothing is written
+    beside the kit's sources. A cheap command (./kit check --help) with a fresh cache folder, twice."""
+    import subprocess
+    import tempfile
+    before = {p for p in (ROOT / "tools").rglob("__pycache__")}
+    with tempfile.TemporaryDirectory(prefix="raykit-pycache-") as home:
+        env = {k: v for k, v in os.environ.items() if k not in ("RAYKIT_PYCACHE", "PYTHONPYCACHEPREFIX")}
+        env["XDG_CACHE_HOME"] = home
+        for _ in range(2):
+            r = subprocess.run([str(ROOT / "kit"), "check", "--help"], cwd=ROOT, env=env, capture_output=True,
+                               text=True, timeout=120)
+            expect(r.returncode == 0, f"./kit check --help: {r.returncode} {r.stderr[-300:]}")
+        folder = Path(home) / "raykit" / "pycache"
+        compiled = sorted(p for p in folder.rglob("*.pyc")) if folder.is_dir() else []
+        kit = [p for p in compiled if (KITLIB.resolve().as_posix().lstrip("/") + "/") in p.as_posix()]
+        other = [p.relative_to(folder).as_posix() for p in compiled if p not in kit]
+        expect(kit, f"no module of the kit's compiled into {folder}")
+        expect(not other, f"modules other than the kit's compiled into the kit's cache: {other[:5]}")
+    after = {p for p in (ROOT / "tools").rglob("__pycache__")}
+    expect(after <= before, f"compiled modules written beside the kit's sources: {sorted(after - before)[:3]}")
+    return f"{len(kit)} of the kit's modules compiled into its cache folder, none other, none beside the sources"
+
+
 def selftests():
     return [("layers: imports go downwards, no cycle", selftest_layers),
             ("layers: one atomic write", selftest_atomic_write),
-            ("layers: one /proc reader", selftest_one_proc_reader)]
+            ("layers: one /proc reader", selftest_one_proc_reader),
+            ("layers: the kit's modules compiled once, into its cache", selftest_compiled_modules)]
