@@ -200,12 +200,12 @@ def fill_kit_cache(build: Build, targets: list[str]) -> int:
     (kitcache.fill), with the files Ninja recorded that it read. An object already stored (its time
     and size in the mark) is not stored again. How many were stored."""
     mark = build.binary_dir / FILL_MARK
-    ninja = ninja_of(build)
     try:
         cache, *done = mark.read_text().splitlines()
     except (OSError, ValueError):
         return 0
-    if not ninja:
+    ninja = ninja_of(build)
+    if not ninja or os.environ.get("RAYKIT_NO_KIT_CACHE") == "1":     # turned off since the configure
         return 0
     r = subprocess.run([ninja, "-t", "commands", *targets], cwd=build.binary_dir, capture_output=True, text=True)
     fresh: dict[str, tuple[list[str], str]] = {}
