@@ -16,8 +16,8 @@ import subprocess
 
 from ..common import ROOT
 from ..sandbox import bwrap_works
-from .harness import (CANNOT_ENV, NEEDS, SECURITY_MODULES, Skipped, collect, expect, partly_skipped, run_one,
-                      security)
+from .harness import (CANNOT_ENV, NEEDS, RECAP_LINES, SECURITY_MODULES, Failed, Skipped, collect, expect,
+                      partly_skipped, recap, run_one, security)
 
 
 def forced_skip(_ctx):
@@ -88,5 +88,36 @@ def selftest_security_skips(ctx) -> str:
             f"{' '.join(words) or 'nothing'} (this machine: {', '.join(w for w, v in facts.items() if not v)} work)")
 
 
+def selftest_recap(_ctx) -> str:
+    """CI shows the tail of a long run: every failure is said again just above the last line, with
+    its reason, so the tail names what failed even when its first line scrolled away."""
+    def long_failure(_c):
+        raise Failed("the planted reason\n" + "\n".join(f"detail {i}" for i in range(40)))
+
+    def a_pass(_c):
+        return "fine"
+
+    def a_crash(_c):
+        raise ValueError("planted bug")
+    failures: list[str] = []
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        got = [run_one(None, f.__name__, f, failures) for f in (long_failure, a_pass, a_crash, a_pass)]
+        recap(failures)
+    expect(got == ["failed", "passed", "failed", "passed"], f"outcomes {got}")
+    text = out.getvalue()
+    tail = text[text.rindex("a_pass: fine"):]
+    expect("failed (2):" in tail and "long_failure: the planted reason" in tail and "a_crash: the self-test itself failed"
+           in tail, f"the recap after the last test does not name both failures: {tail!r}")
+    expect(f"detail {RECAP_LINES - 2}" in tail and f"detail {RECAP_LINES}" not in tail and "more lines above" in tail,
+           f"the recap does not keep {RECAP_LINES} lines of a long failure: {tail!r}")
+    quiet = io.StringIO()
+    with contextlib.redirect_stdout(quiet):
+        recap([])
+    expect(quiet.getvalue() == "", f"a run without failures has a recap: {quiet.getvalue()!r}")
+    return f"2 failures of 4 said again after the last test, {RECAP_LINES} lines each at most"
+
+
 def selftests():
-    return [("ci: a skipped security test fails in CI", selftest_security_skips)]
+    return [("ci: a skipped security test fails in CI", selftest_security_skips),
+            ("ci: failures said again at the end", selftest_recap)]

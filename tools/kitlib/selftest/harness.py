@@ -54,7 +54,7 @@ QUICK = {
     "hint": ["hint order: what fails first"],
     "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write", "layers: one /proc reader",
                "layers: the kit's modules compiled once, into its cache"],
-    "ci": ["ci: a skipped security test fails in CI"],
+    "ci": ["ci: a skipped security test fails in CI", "ci: failures said again at the end"],
     "lectures": ["numbers quoted from the benchmark are current", "★ grading figures are current",
                  "the pitfalls' pictures are committed and current", "lecture 05's tables are the scene file's",
                  "hints point to lecture sections that exist", "every rule a header states has a case",
@@ -241,10 +241,17 @@ def collect(modules: list[str] | None = None, words: str = "", quick: bool = Fal
     return found
 
 
-def run_one(ctx: Context, name: str, fn) -> str:
-    """Runs one self-test and prints its line; "passed", "failed" or "skipped"."""
+def run_one(ctx: Context, name: str, fn, failures: list[str] | None = None) -> str:
+    """Runs one self-test and prints its line; "passed", "failed" or "skipped". A failure's line is
+    also appended to `failures`, for the recap at the end of the run."""
     start = time.monotonic()
     _running["security"] = bool(getattr(fn, "security", False))
+
+    def failed(line: str) -> str:
+        say(line)
+        if failures is not None:
+            failures.append(line)
+        return "failed"
     try:
         detail = fn(ctx)
         say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
@@ -252,18 +259,33 @@ def run_one(ctx: Context, name: str, fn) -> str:
     except Skipped as e:
         refused = skip_refused(e.need)
         if refused:
-            say(f"{paint('✗', 'red')} {name}: skipped ({e}), but {refused}")
-            return "failed"
+            return failed(f"{paint('✗', 'red')} {name}: skipped ({e}), but {refused}")
         say(f"{paint('-', 'dim')} {name}: skipped, {e}")
         return "skipped"
     except (Failed, KitError) as e:
-        say(f"{paint('✗', 'red')} {name}: {e}")
-        return "failed"
+        return failed(f"{paint('✗', 'red')} {name}: {e}")
     except Exception:  # a bug in the self-test itself: still report and go on
-        say(f"{paint('✗', 'red')} {name}: the self-test itself failed\n{traceback.format_exc()}")
-        return "failed"
+        return failed(f"{paint('✗', 'red')} {name}: the self-test itself failed\n{traceback.format_exc()}")
     finally:
         _running["security"] = False
+
+
+# A failure's recap at the end of the run keeps this many lines of it: a log read from its tail (CI
+# shows the last lines of a long run) still names what failed and why.
+RECAP_LINES = 12
+
+
+def recap(failures: list[str]) -> None:
+    """Says each failure again, shortened, just above the run's last line."""
+    if not failures:
+        return
+    say()
+    say(f"failed ({len(failures)}):")
+    for line in failures:
+        lines = line.splitlines()
+        say("\n".join(lines[:RECAP_LINES]))
+        if len(lines) > RECAP_LINES:
+            say(f"  ... {len(lines) - RECAP_LINES} more lines above")
 
 
 def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False,
@@ -280,8 +302,10 @@ def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", qui
     if not chosen:
         asked = " ".join(list(modules or []) + ([f"-k {words!r}"] if words else []))
         raise KitError(f"no self-test matches {asked}")
+    failures: list[str] = []
     for name, fn in chosen:
-        counts[run_one(ctx, name, fn)] += 1
+        counts[run_one(ctx, name, fn, failures)] += 1
+    recap(failures)
     say()
     say(f"selftest: {counts['passed']} passed, {counts['failed']} failed, {counts['skipped']} skipped")
     return FAILED if counts["failed"] else OK
