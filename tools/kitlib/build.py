@@ -240,6 +240,7 @@ def fill_kit_cache(build: Build, targets: list[str]) -> int:
     stored = [seen for out, (argv, seen) in fresh.items()
               if deps.get(out) and kitcache.fill(cache, cwd, argv, deps[out], _hashes)]
     if stored:
+        kitcache.prune(cache)       # once for the whole fill (a launcher prunes after its own store)
         atomic.write(mark, "\n".join([cache, *done, *stored]) + "\n")
     return len(stored)
 

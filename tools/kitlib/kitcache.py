@@ -200,9 +200,11 @@ def lookup(bucket: str, out: str, depfile: str | None) -> bool:
     return False
 
 
-def store(cache: str, bucket: str, out: str, text: str, stderr: bytes, memo: dict | None = None) -> bool:
+def store(cache: str, bucket: str, out: str, text: str, stderr: bytes, memo: dict | None = None,
+          pruned: bool = True) -> bool:
     """Keeps the object `out` under `bucket`, with `text` (its dependency file) and what the compile
-    printed: an entry per set of files read and their contents. Whether it is (now) in the cache."""
+    printed: an entry per set of files read and their contents. Whether it is (now) in the cache.
+    `pruned` False leaves the cache's size to the caller (a fill prunes once, after all its stores)."""
     try:
         if os.path.getsize(out) > MAX_OBJECT:
             return False
@@ -227,7 +229,8 @@ def store(cache: str, bucket: str, out: str, text: str, stderr: bytes, memo: dic
             os.rename(tmp, entry)
         except OSError:
             remove_tree(tmp)    # another compile stored the same entry first
-        prune(cache)
+        if pruned:
+            prune(cache)
         return os.path.isdir(entry)
     except (OSError, ValueError):
         return False
@@ -244,7 +247,8 @@ def fill(cache: str, cwd: str, command: list[str], deps: list[str], memo: dict) 
     """Stores an object a build compiled without this launcher, under the key the launcher would have
     given its compile: `command` as the build tool ran it in `cwd`, `deps` the files it read (the
     build tool's record, absolute). The fill of a first build (kitlib/build.py, fill_kit_cache): one
-    process for all the kit's compiles instead of one launcher each. Whether it is in the cache."""
+    process for all the kit's compiles instead of one launcher each; it prunes the cache once, after
+    the last fill, not here. Whether it is in the cache."""
     out, depfile = option(command, "-o"), option(command, "-MF")
     if out is None or depfile is None or "-c" not in command or not deps:
         return False
@@ -255,7 +259,7 @@ def fill(cache: str, cwd: str, command: list[str], deps: list[str], memo: dict) 
         os.makedirs(bucket, exist_ok=True)
     except OSError:
         return False
-    return store(cache, bucket, os.path.join(cwd, out), depfile_text(out, deps), b"", memo)
+    return store(cache, bucket, os.path.join(cwd, out), depfile_text(out, deps), b"", memo, pruned=False)
 
 
 FORMER_MANIFEST = "manifest.json"   # an entry of raykit-kitcache-1: never found again, pruned first
