@@ -189,9 +189,22 @@ def configure(build: Build, quiet: bool = True) -> None:
 
 
 FILL_MARK = "raykit-kitcache-fill.txt"   # the kit cache to fill, then a line per object stored
-# The kit's own objects, the only ones the kit cache keeps (CMakeLists.txt, raykit_kit_cached).
-KIT_OBJECT = re.compile(r"CMakeFiles/(raykit_test_support|raykit_platform|dispatch\d\d|test_step\d\d)\.dir/.+\.o")
+# The kit's own targets, the only ones whose objects the kit cache keeps: CMakeLists.txt writes them,
+# a line each, as it gives them the launcher (raykit_kit_cached).
+KIT_CACHED_TARGETS = "raykit-kit-cached.txt"
 _hashes: dict = {}      # each header's hash, read once a process
+
+
+def kit_object_pattern(build: Build) -> re.Pattern | None:
+    """What an object of one of the kit's own targets is called in `build` (Ninja's output path);
+    None where the configure wrote no list of them."""
+    try:
+        targets = (build.binary_dir / KIT_CACHED_TARGETS).read_text().split()
+    except OSError:
+        return None
+    if not targets:
+        return None
+    return re.compile(r"CMakeFiles/(" + "|".join(map(re.escape, targets)) + r")\.dir/.+\.o")
 
 
 def fill_kit_cache(build: Build, targets: list[str]) -> int:
@@ -204,8 +217,9 @@ def fill_kit_cache(build: Build, targets: list[str]) -> int:
         cache, *done = mark.read_text().splitlines()
     except (OSError, ValueError):
         return 0
-    ninja = ninja_of(build)
-    if not ninja or os.environ.get("RAYKIT_NO_KIT_CACHE") == "1":     # turned off since the configure
+    ninja, kit_object = ninja_of(build), kit_object_pattern(build)
+    # RAYKIT_NO_KIT_CACHE: the cache turned off since the configure.
+    if not ninja or not kit_object or os.environ.get("RAYKIT_NO_KIT_CACHE") == "1":
         return 0
     r = subprocess.run([ninja, "-t", "commands", *targets], cwd=build.binary_dir, capture_output=True, text=True)
     fresh: dict[str, tuple[list[str], str]] = {}
@@ -215,7 +229,7 @@ def fill_kit_cache(build: Build, targets: list[str]) -> int:
         except ValueError:
             continue
         out = kitcache.option(argv, "-o")
-        if out and "-c" in argv and KIT_OBJECT.fullmatch(out):
+        if out and "-c" in argv and kit_object.fullmatch(out):
             try:
                 st = (build.binary_dir / out).stat()
             except OSError:
