@@ -15,6 +15,7 @@ from .status import FAILED, SETUP
 
 DOCS = ROOT / "docs"
 NPM_DIR = BUILD / "docs" / "npm"
+NPM_ATTEMPTS = 2
 
 
 def ensure_docs_tools() -> None:
@@ -48,8 +49,16 @@ def npm_package(name: str, needed: str, what: str) -> Path:
         shutil.copyfile(DOCS / f, NPM_DIR / f)
     versions = ", ".join(f"{p} {v}" for p, v in sorted(wanted.items()))
     note(f"kit: installing {versions} with npm into {NPM_DIR.relative_to(ROOT)} (once)")
-    r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
-                       cwd=NPM_DIR, capture_output=True, text=True)
+    # Twice at most: npm retries each request itself, but an install the network failed anyway is
+    # tried once more before a docs build (or CI) fails on it.
+    for attempt in range(NPM_ATTEMPTS):
+        r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
+                           cwd=NPM_DIR, capture_output=True, text=True)
+        if r.returncode == 0 and (root / needed).is_file():
+            break
+        if attempt + 1 < NPM_ATTEMPTS:
+            said = (r.stdout + r.stderr).strip().splitlines()
+            note(f"kit: npm failed ({said[-1] if said else f'exit {r.returncode}'}); trying once more")
     if r.returncode != 0 or not (root / needed).is_file():
         raise KitError(f"npm could not install {name}, which {what} "
                        f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)

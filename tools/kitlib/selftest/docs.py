@@ -296,9 +296,69 @@ def selftest_student_loop_workflow(ctx) -> str:
     return f"parses; macOS and Ubuntu; {len(lines)} ./kit lines ({', '.join(used)}) the kit's parser takes"
 
 
+def selftest_npm_once_more(ctx) -> str:
+    """An npm install the network failed is tried once more, and only once: a stand-in npm on the
+    PATH (which fails its first N runs, then installs what docs/package-lock.json pins) into a
+    scratch folder. Needs no network."""
+    import contextlib
+    import io
+    import json
+    import os
+    import tempfile
+    from .. import webtools
+    lock = json.loads((ROOT / "docs" / "package-lock.json").read_text())
+    pinned = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
+              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+    name = sorted(pinned)[0]
+    saved = (webtools.NPM_DIR, os.environ.get("PATH", ""))
+    said = []
+    with tempfile.TemporaryDirectory(prefix="npm-selftest-", dir=BUILD) as tmp:   # NPM_DIR is under ROOT
+        bin_dir = Path(tmp) / "bin"
+        bin_dir.mkdir()
+        fake = bin_dir / "npm"
+        install = "".join(f"mkdir -p node_modules/{p} && printf '{{\"version\": \"{v}\"}}' > "
+                          f"node_modules/{p}/package.json && touch node_modules/{p}/needed\n"
+                          for p, v in pinned.items())
+        fake.write_text("#!/bin/sh\nn=$(cat \"$RUNS\" 2>/dev/null || echo 0); echo $((n + 1)) > \"$RUNS\"\n"
+                        "if [ \"$n\" -lt \"$FAILS\" ]; then echo 'npm ERR! code ECONNRESET' >&2; exit 1; fi\n"
+                        + install)
+        fake.chmod(0o755)
+        runs = Path(tmp) / "runs"
+        outcome = {}
+        try:
+            os.environ["PATH"] = f"{bin_dir}{os.pathsep}{saved[1]}"
+            for fails in (0, 1, 2):
+                webtools.NPM_DIR = Path(tmp) / f"npm-{fails}"
+                runs.unlink(missing_ok=True)
+                os.environ.update(RUNS=str(runs), FAILS=str(fails))
+                notes = io.StringIO()
+                try:
+                    with contextlib.redirect_stderr(notes):
+                        webtools.npm_package(name, "needed", "the self-test needs")
+                    outcome[fails] = "installed"
+                except KitError as e:
+                    outcome[fails] = "failed"
+                    said.append(str(e))
+                outcome[fails] += f" after {runs.read_text().strip()} run(s)"
+                if fails:
+                    expect("npm failed (npm ERR! code ECONNRESET); trying once more" in notes.getvalue(),
+                           f"the retry is not said: {notes.getvalue()!r}")
+        finally:
+            webtools.NPM_DIR, os.environ["PATH"] = saved
+            for k in ("RUNS", "FAILS"):
+                os.environ.pop(k, None)
+    want = {0: "installed after 1 run(s)", 1: "installed after 2 run(s)",
+            2: f"failed after {webtools.NPM_ATTEMPTS} run(s)"}
+    expect(outcome == want, f"npm failing 0, 1, 2 times: {outcome}, expected {want}")
+    expect(said and "npm could not install" in said[0] and "ECONNRESET" in said[0],
+           f"the failure does not say npm's words: {said}")
+    return "a failed install tried once more (one failure: installed; two: the error, with npm's words)"
+
+
 def selftests() -> list:
     return [
         ("docs: math filter", selftest_math_filter),
+        ("docs: an npm install the network failed is tried once more", selftest_npm_once_more),
         ("docs: site builds without warnings", selftest_site_builds),
         ("docs: no solution in the student site", selftest_no_solutions),
         ("docs: formulas and images in a browser", selftest_browser),

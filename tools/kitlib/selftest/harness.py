@@ -49,7 +49,7 @@ QUICK = {
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the student's summary"],
-    "docs": ["docs: math filter", "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
+    "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more", "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
     "handout": ["handout: no step code"],
     "hint": ["hint order: what fails first"],
     "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write", "layers: one /proc reader",
