@@ -28,12 +28,17 @@ def ensure_docs_tools() -> None:
         raise KitError(f"doxygen is not on the PATH; install it: {install_line('doxygen', 'doxygen')}", SETUP)
 
 
+def pinned_versions() -> dict[str, str]:
+    """The npm packages docs/package-lock.json pins at the top of node_modules, and their versions."""
+    lock = json.loads((DOCS / "package-lock.json").read_text())
+    return {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
+            if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+
+
 def npm_package(name: str, needed: str, what: str) -> Path:
     """A package of docs/package.json (MathJax, reveal.js), installed once into build/docs/npm at the
     versions docs/package-lock.json pins; `needed` is a file it must have."""
-    lock = json.loads((DOCS / "package-lock.json").read_text())
-    wanted = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
-              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+    wanted = pinned_versions()
     root = NPM_DIR / "node_modules" / name
 
     def installed(pkg: str) -> str | None:

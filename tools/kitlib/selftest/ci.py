@@ -111,11 +111,19 @@ def selftest_recap(_ctx) -> str:
            in tail, f"the recap after the last test does not name both failures: {tail!r}")
     expect(f"detail {RECAP_LINES - 2}" in tail and f"detail {RECAP_LINES}" not in tail and "more lines above" in tail,
            f"the recap does not keep {RECAP_LINES} lines of a long failure: {tail!r}")
+    many = io.StringIO()
+    with contextlib.redirect_stdout(many):
+        recap([f"✗ test {i}: reason {i}\nmore {i}\nand more {i}" for i in range(40)])
+    said = many.getvalue()
+    expect(all(f"test {i}: reason {i}\nmore {i}\n" in said for i in range(40)) and "and more" not in said
+           and len(said.splitlines()) <= 3 * 40 + 2,
+           f"40 failures: the recap does not keep two lines of each: {said[:300]!r}")
     quiet = io.StringIO()
     with contextlib.redirect_stdout(quiet):
         recap([])
     expect(quiet.getvalue() == "", f"a run without failures has a recap: {quiet.getvalue()!r}")
-    return f"2 failures of 4 said again after the last test, {RECAP_LINES} lines each at most"
+    return (f"2 failures of 4 said again after the last test, {RECAP_LINES} lines each at most; "
+            "40 failures two lines each")
 
 
 def selftests():

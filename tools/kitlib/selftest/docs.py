@@ -302,13 +302,10 @@ def selftest_npm_once_more(ctx) -> str:
     scratch folder. Needs no network."""
     import contextlib
     import io
-    import json
     import os
     import tempfile
     from .. import webtools
-    lock = json.loads((ROOT / "docs" / "package-lock.json").read_text())
-    pinned = {k[len("node_modules/"):]: v["version"] for k, v in lock["packages"].items()
-              if k.startswith("node_modules/") and k.count("node_modules/") == 1}
+    pinned = webtools.pinned_versions()
     name = sorted(pinned)[0]
     saved = (webtools.NPM_DIR, os.environ.get("PATH", ""))
     said = []

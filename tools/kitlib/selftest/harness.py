@@ -49,7 +49,8 @@ QUICK = {
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the student's summary"],
-    "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more", "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
+    "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more",
+             "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
     "handout": ["handout: no step code"],
     "hint": ["hint order: what fails first"],
     "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write", "layers: one /proc reader",
@@ -270,22 +271,25 @@ def run_one(ctx: Context, name: str, fn, failures: list[str] | None = None) -> s
         _running["security"] = False
 
 
-# A failure's recap at the end of the run keeps this many lines of it: a log read from its tail (CI
-# shows the last lines of a long run) still names what failed and why.
+# The recap at the end of a run keeps at most RECAP_LINES lines of a failure, and about RECAP_TOTAL
+# in all (two a failure at least): a log read from its tail (CI shows the last lines of a long run)
+# still names each failure and why.
 RECAP_LINES = 12
+RECAP_TOTAL = 48
 
 
 def recap(failures: list[str]) -> None:
     """Says each failure again, shortened, just above the run's last line."""
     if not failures:
         return
+    keep = max(2, min(RECAP_LINES, RECAP_TOTAL // len(failures)))
     say()
     say(f"failed ({len(failures)}):")
     for line in failures:
         lines = line.splitlines()
-        say("\n".join(lines[:RECAP_LINES]))
-        if len(lines) > RECAP_LINES:
-            say(f"  ... {len(lines) - RECAP_LINES} more lines above")
+        say("\n".join(lines[:keep]))
+        if len(lines) > keep:
+            say(f"  ... {len(lines) - keep} more lines above")
 
 
 def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False,
