@@ -60,11 +60,9 @@ def npm_package(name: str, needed: str, what: str) -> Path:
         r = subprocess.run(["npm", "ci", "--no-audit", "--no-fund", "--ignore-scripts", "--loglevel=error"],
                            cwd=NPM_DIR, capture_output=True, text=True)
         if r.returncode == 0 and (root / needed).is_file():
-            break
+            return root
         if attempt + 1 < NPM_ATTEMPTS:
             said = (r.stdout + r.stderr).strip().splitlines()
             note(f"kit: npm failed ({said[-1] if said else f'exit {r.returncode}'}); trying once more")
-    if r.returncode != 0 or not (root / needed).is_file():
-        raise KitError(f"npm could not install {name}, which {what} "
-                       f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
-    return root
+    raise KitError(f"npm could not install {name}, which {what} "
+                   f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
