@@ -57,7 +57,8 @@ endfunction()
 # A declaration is read as the kit's headers write one: at the start of a line, `TYPE NAME(PARAMS);`,
 # the parameters possibly over several lines, each one named (the proxy forwards them by name). A
 # name with no such declaration, or with two, stops the configure with the function's and step's names.
-function(raykit_remote_lines manifest include_dir out)
+# The step's "functions" (its manifest's list of the functions a student writes), in `out`.
+function(raykit_manifest_functions manifest out)
   file(READ "${manifest}" text)
   set(functions "")
   if(text MATCHES "\"functions\"[ \t\r\n]*:[ \t\r\n]*\\[([^]]*)\\]")
@@ -67,6 +68,11 @@ function(raykit_remote_lines manifest include_dir out)
       list(APPEND functions "${item}")
     endforeach()
   endif()
+  set(${out} "${functions}" PARENT_SCOPE)
+endfunction()
+
+function(raykit_remote_lines manifest include_dir out)
+  raykit_manifest_functions("${manifest}" functions)
   file(GLOB headers "${include_dir}/raykit/*.hpp")
   list(SORT headers)
   set(api "")

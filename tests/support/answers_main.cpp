@@ -30,6 +30,7 @@
 #include "raykit/not_implemented.hpp"
 #include "fd_io.hpp"
 #include "platform.hpp"
+#include "standin.hpp"
 #include "wire.hpp"
 
 // The declarations of every step function: each header of include/raykit/, listed by CMake.
@@ -156,6 +157,10 @@ void release(void* p) noexcept {
 
 }  // namespace
 
+// Set by a stand-in's object when the program has one (standin_04.cpp); constant-initialised, so
+// set before any dynamic initialiser may read it.
+raykit::standin::Receiver raykit::standin::receiver = nullptr;
+
 void* operator new(std::size_t size) { return allocate(size); }
 void* operator new[](std::size_t size) { return allocate(size); }
 void operator delete(void* p) noexcept { release(p); }
@@ -230,6 +235,12 @@ std::string type_name(const std::type_info& t) {
 }
 
 void answer(const std::string& function, wire::Reader& in, wire::Writer& out) {
+    if (function == standin::message) {     // the judge's script for a stand-in (standin.hpp)
+        if (standin::receiver == nullptr) return out.raw(wire::Kind::unknown);
+        standin::receiver(in);
+        out.raw(wire::Kind::value);
+        return wire::put(out, 0);
+    }
 #define RAYKIT_REMOTE(ret, name, params, args) \
     if (function == #name) return serve(&raykit::name, in, out);
 #include RAYKIT_REMOTE_LIST
