@@ -729,12 +729,72 @@ def selftest_slow_case(ctx) -> str:
     return "the student's timeout: " + "; ".join(found)
 
 
+# --- no reference code in a graded process (issue 43, 1) -------------------------------------------
+STANDIN_SYMBOL = "_ZN6raykit14intersect_rectERKNS_3RayERKNS_4RectEff"     # raykit::intersect_rect
+
+
+def function_bytes(program: Path, symbol: str) -> bytes:
+    """The machine code of `symbol` in the ELF `program`, read through nm's address and size and
+    readelf's section table (binutils: every machine that has g++)."""
+    nm = subprocess.run(["nm", "-S", "--defined-only", str(program)], capture_output=True, text=True, check=True)
+    found = [l.split() for l in nm.stdout.splitlines() if l.split()[-1:] == [symbol]]
+    if not found or len(found[0]) < 4:
+        raise Failed(f"{program.name} has no sized symbol {symbol}")
+    address, size = int(found[0][0], 16), int(found[0][1], 16)
+    sections = subprocess.run(["readelf", "-SW", str(program)], capture_output=True, text=True, check=True).stdout
+    for line in sections.splitlines():
+        words = line.replace("[ ", "[").split()
+        if len(words) > 5 and words[1] == ".text":
+            start, offset = int(words[3], 16), int(words[4], 16)
+            data = program.read_bytes()
+            return data[offset + address - start: offset + address - start + size]
+    raise Failed(f"{program.name} has no .text section")
+
+
+def alike(a: bytes, b: bytes) -> float:
+    """The share of equal bytes, position by position, over the shorter (call offsets differ from one
+    program's layout to another's; the rest of a function's code does not)."""
+    n = min(len(a), len(b))
+    return sum(x == y for x, y in zip(a[:n], b[:n])) / n if n else 0.0
+
+
+def selftest_reference_out_of_reach(ctx) -> str:
+    """A step 05 that dumps the code at &intersect_rect and asks intersect_rect questions of its own
+    gets neither the reference's code nor its answers (tests/fixtures/hostile/dump_reference)."""
+    def one(mode: str) -> str:
+        _, got, _, _ = grade_json(HOSTILE / "dump_reference", ["05"], mode)
+        out = printed(got)
+        dumps = [l.split("bytes ", 1)[1].strip() for l in out.splitlines() if l.startswith("dump_reference: bytes ")]
+        expect(dumps, f"dump_reference ({mode}): its dump is not in the JSON; did the attack run at all?")
+        oracle = sorted({l for l in out.splitlines() if l.startswith("dump_reference: oracle") and "refused" not in l})
+        expect(not oracle, f"dump_reference ({mode}): step 04 answered its own questions: " + "; ".join(oracle))
+        # The detector, checked on the kit's own programs: the reference's function in step 04's
+        # reference program and in step 05's (which links it) are alike; the dump must not be.
+        programs = sorted(BUILD.glob("*/reference_answers_step05"), key=lambda p: p.stat().st_mtime)
+        expect(programs, "no reference_answers_step05 under build/ to compare with")
+        folder = programs[-1].parent
+        reference = function_bytes(folder / "reference_answers_step04", STANDIN_SYMBOL)
+        calibration = alike(reference, function_bytes(folder / "reference_answers_step05", STANDIN_SYMBOL))
+        expect(calibration >= 0.8, f"the detector cannot tell the reference's code ({calibration:.0%} alike in "
+                                   "two reference programs)")
+        shares = [alike(bytes.fromhex(d), reference) for d in dumps]
+        expect(max(shares) < 0.5, f"dump_reference ({mode}): the code at &intersect_rect is "
+                                  f"{max(shares):.0%} the reference's (the reference's in two programs: "
+                                  f"{calibration:.0%})")
+        return (f"3 questions refused, the code at &intersect_rect {max(shares):.0%} alike the reference's "
+                f"(the reference's own in two programs: {calibration:.0%})")
+
+    need_solutions()
+    return run_modes(one)
+
+
 def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
     return [("integrity: one scale", selftest_one_scale),
             ("integrity: forged verdicts", selftest_forge_verdicts),
             ("integrity: lingering writer", selftest_lingering_writer),
             ("integrity: read the answers", selftest_read_answers),
+            ("integrity: no reference code in a graded step 05", selftest_reference_out_of_reach),
             ("integrity: read a classmate's files", selftest_read_classmate),
             ("integrity: table of the visible inputs", selftest_table_of_visible_inputs),
             ("integrity: scratch folder spy", selftest_scratch_spy),
