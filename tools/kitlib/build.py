@@ -47,7 +47,9 @@ class Build:
 
     @property
     def reference_needs(self) -> bool:
-        """Whether a step that needs another is graded on the reference's code for it."""
+        """Whether the reference is here (a grading): a step that needs another then runs most of its
+        cases on a stand-in the judge scripts from the reference's program (tests/support/standin.hpp),
+        never on the reference's code itself."""
         return (ROOT / "solutions").is_dir()
 
     def exe(self, step: Step) -> Path:
