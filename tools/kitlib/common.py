@@ -125,13 +125,14 @@ def select_steps(steps: list[Step], wanted: list[str]) -> list[Step]:
 
 
 def prerequisites(step: Step, steps: list[Step]) -> list[Step]:
-    """The steps `step` links, directly or through another, in course order."""
+    """The steps `step` links, directly or through another, in course order; only those of `steps`
+    (a self-test of one step passes that step alone)."""
     by_number = {s.number: s for s in steps}
     found: set[str] = set()
     todo = list(step.needs)
     while todo:
         n = todo.pop()
-        if n not in found:
+        if n not in found and n in by_number:
             found.add(n)
             todo += by_number[n].needs
     return [s for s in steps if s.number in found]
