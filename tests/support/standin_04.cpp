@@ -4,6 +4,7 @@
 // renamed (raykit_own_intersect_rect, by a -D on its compile: CMakeLists.txt), for the picture cases.
 // Without it, the weak definition below stands in: those cases then wait for step 04.
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
