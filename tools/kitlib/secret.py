@@ -16,7 +16,11 @@ know or steer, yet the same when one submission is graded again:
   ("prairielearn:SEED"); empty for `./kit check` and `./kit grade`, where the files alone name
   the submission (a student never sees a result of those before it is final, and copies judged
   once by content stay judged once).
-- the files' hashes: a changed file is another submission.
+- the files' hashes, of their code only (`code_only`: comments gone, white space folded): a changed
+  line of code is another submission, a changed comment or indentation is not. Two students with the
+  same code, or one who only re-comments a file, meet the same hidden inputs, so one bug gets one
+  hidden mark within a course (issue 46: a comment moved 3 to 6 hidden results in a class of 46). The
+  price: nothing a student can see, since the secret alone makes the draw.
 
 64 bits of seed (the judge reads it as one unsigned 64-bit number, tests/hidden/hidden.hpp); a
 file searched to meet a given seed needs the secret, which the search cannot have.
@@ -116,11 +120,66 @@ def copy_into(target: Path) -> None:
         os.close(fd)
 
 
+def code_only(data: bytes) -> bytes:
+    """A C++ file's tokens without its comments, each run of white space one space (none at the ends):
+    what the compiler reads, so that a comment or a re-indentation draws no other hidden inputs.
+    String and character literals are kept byte for byte (a `//` inside one is no comment); a
+    backslash-newline joins lines as the preprocessor does. Anything it cannot read (an unfinished
+    literal or comment) is kept as it is: a file that does not compile draws on its bytes."""
+    text = data.replace(b"\\\r\n", b"").replace(b"\\\n", b"")
+    out = bytearray()
+    i, n = 0, len(text)
+    pending_space = False
+
+    def emit(chunk: bytes) -> None:
+        nonlocal pending_space
+        if pending_space and out:
+            out.append(0x20)
+        pending_space = False
+        out.extend(chunk)
+
+    while i < n:
+        c = text[i]
+        if c in b" \t\r\n\f\v":
+            pending_space = True
+            i += 1
+        elif text.startswith(b"//", i):
+            end = text.find(b"\n", i)
+            i = n if end < 0 else end
+            pending_space = True
+        elif text.startswith(b"/*", i):
+            end = text.find(b"*/", i + 2)
+            if end < 0:
+                return data
+            i = end + 2
+            pending_space = True
+        elif c in b"\"'":
+            j = i + 1
+            while j < n and text[j] != c:
+                if text[j] == 0x5C:        # a backslash escapes the next byte
+                    j += 1
+                elif text[j] == 0x0A:
+                    return data
+                j += 1
+            if j >= n:
+                return data
+            emit(text[i:j + 1])
+            i = j + 1
+        else:
+            j = i + 1
+            while j < n and text[j] not in b" \t\r\n\f\v\"'" and not text.startswith(b"//", j) \
+                    and not text.startswith(b"/*", j):
+                j += 1
+            emit(text[i:j])
+            i = j
+    return bytes(out)
+
+
 def hidden_seed(step_folder: str, files: list[bytes | None], identity: str = "", key: bytes | None = None) -> str:
     """The seed of one step's hidden cases for one submission (see the module's text)."""
     mac = hmac.new(key if key is not None else secret(), digestmod=hashlib.sha256)
-    mac.update(b"raykit-hidden-seed-2\0")
+    mac.update(b"raykit-hidden-seed-3\0")
     mac.update(step_folder.encode() + b"\0" + identity.encode("utf-8", "surrogateescape") + b"\0")
     for data in files:
-        mac.update(hashlib.sha256(data).digest() if data is not None else b"\0missing")
+        mac.update(hashlib.sha256(code_only(data)).digest() if data is not None else b"\0missing")
     return mac.hexdigest()[:SEED_HEX]
