@@ -246,6 +246,31 @@ _CLAUSES = [re.compile(p, re.I) for p in (
 )]
 
 
+def drop_asides(text: str) -> str:
+    """The text without its parenthesised asides, nested ones included: `(\`dot(n, d)\` is +0 or -0)`
+    goes whole, innermost parentheses first (a single `[^)]*` stopped at the first `)`)."""
+    while True:
+        shorter = re.sub(r"\s*\([^()]*\)", "", text)
+        if shorter == text:
+            return text
+        text = shorter
+
+
+def asides_after(text: str, opening: str) -> list[str]:
+    """The insides of every balanced `(OPENING ...)` aside in text, nested parentheses kept."""
+    found, at = [], text.find("(" + opening)
+    while at >= 0:
+        depth, i = 0, at
+        while i < len(text):
+            depth += {"(": 1, ")": -1}.get(text[i], 0)
+            if depth == 0:
+                found.append(text[at + 1 + len(opening):i])
+                break
+            i += 1
+        at = text.find("(" + opening, at + 1)
+    return found
+
+
 def contract_clauses(text: str) -> list[tuple[str, str]]:
     """(function or type, condition) for every "no answer" rule the header text states, in order."""
     out: list[tuple[str, str]] = []
@@ -255,9 +280,9 @@ def contract_clauses(text: str) -> list[tuple[str, str]]:
             for m in pat.finditer(t):
                 if i in (1, 4) and " when " in m.group(1):
                     continue  # a subject that runs over a "when" list belongs to the first pattern
-                bare = re.sub(r"\s*\([^)]*\)", "", m.group(1)).strip(" ,.")
+                bare = drop_asides(m.group(1)).strip(" ,.")
                 out += [(name, p.strip(" ,.").lower()) for p in _SPLIT.split(bare) if p.strip(" ,.")]
-                for extra in re.findall(r"\(always for ([^)]*)\)", t[m.start():m.end() + 80]):
+                for extra in asides_after(t[m.start():m.end() + 80], "always for "):
                     out += [(name, e.strip().lower()) for e in re.split(r"\s+or\s+", extra)]
         if re.search(r", or no value\b", t, re.I):
             out.append((name, "nothing in the window"))
@@ -331,8 +356,13 @@ def selftest_contract_clauses(ctx) -> str:
     extra, _ = contract_problems(more, sources)
     expect(any("an origin at the centre" in b and "no case asks" in b for b in extra),
            f"a new rule in unit_sphere.hpp went unnoticed: {extra}")
+    # An instructor's rule with a nested aside (issue 46): the aside goes whole, the rule stays.
+    nested = contract_clauses("/// A disc facing the ray edge-on (`dot(normal, d)` is +0 or -0) counts as a miss.\n"
+                              "std::optional<float> intersect_disc(const Ray& ray, const Disc& disc);\n")
+    expect(nested == [("intersect_disc", "a disc facing the ray edge-on")],
+           f"a rule with nested parentheses read as {nested}")
     return f"{n} rules of include/raykit/*.hpp, each asked by a case (basic for steps 01-03); " \
-           "a removed case and an unasked rule are caught"
+           "a removed case and an unasked rule are caught; nested parentheses read"
 
 
 def selftest_readme_steps(ctx) -> str:
