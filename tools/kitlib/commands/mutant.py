@@ -130,15 +130,20 @@ def _save(step: Step, args, target: Path) -> int:
     for case in args.caught_by:
         if known and case not in known:
             raise KitError(f"--caught-by {case!r}: step {step.number} has no such case")
+    if not failing:
+        # Refused, not written: a mutant no case catches is either equivalent (the reference's answers
+        # on every case: nothing to catch) or a hole in the suite, and a kept one fails ./kit test
+        # until someone knows which (issue 46).
+        state = result["state"] if result else f"exit status {code}"
+        drop = f"rm -r {rel_copy}" + (f" {rel_target}" if target.exists() else "")
+        raise KitError(f"not saved: no basic case catches this slip ({state}). Either it gives the reference's "
+                       f"answers on every case (an equivalent mutant: drop it with `{drop}`), or the suite lacks "
+                       f"the case that would show it: add one to tests/{step.folder}/ and save again.")
     cases = args.caught_by or failing
     text = write_patch(step, args.name, slip, cases, changed)
     target.parent.mkdir(parents=True, exist_ok=True)
     atomic.write(target, text)      # never a half-written patch
     say(f"wrote {rel_target} ({sum(len(h) for h in read_patch(target, step).files.values())} hunk(s))")
-    if not failing:
-        state = result["state"] if result else f"exit status {code}"
-        say(f"no basic case catches it yet ({state}): ./kit test fails until a case does; add one to tests/{step.folder}/")
-        return FAILED
     missed = [c for c in cases if c not in failing]
     say(f"caught by {len(failing)} basic case(s); the patch names: " + ", ".join(cases))
     if not args.caught_by and len(cases) > 2:

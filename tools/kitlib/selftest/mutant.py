@@ -273,7 +273,33 @@ def selftest_measured_causes(ctx) -> str:
     return "the failure names the measured cause: " + ", ".join(named)
 
 
+def selftest_save_refuses_uncaught(ctx) -> str:
+    """`./kit mutant save` writes no patch for a slip no basic case catches (an equivalent mutant), and
+    says how to drop it (issue 46)."""
+    from .harness import expect, kit
+    need_solutions()
+    step = ctx.steps[0]
+    name = "selftest_equivalent"
+    target = MUTANTS / step.folder / f"{name}.patch"
+    copy = BUILD / "mutants" / step.folder / name
+    try:
+        r = kit("mutant", "new", str(int(step.number)), name)
+        expect(r.returncode == 0, f"./kit mutant new: exit {r.returncode}\n{r.stdout}{r.stderr}")
+        source = next(p for p in sorted(copy.iterdir()) if p.suffix == ".cpp")
+        source.write_text(source.read_text() + "\n// The same code: no case can tell.\n")
+        r = kit("mutant", "save", str(int(step.number)), name, "--slip", "nothing at all")
+        said = r.stdout + r.stderr
+        expect(r.returncode != 0, f"an equivalent mutant was saved (exit 0):\n{said}")
+        expect(not target.exists(), f"an equivalent mutant was written to {target.relative_to(ROOT)}")
+        expect("not saved" in said and "rm -r" in said, f"the refusal does not say why or how to drop it:\n{said}")
+    finally:
+        shutil.rmtree(copy, ignore_errors=True)
+        target.unlink(missing_ok=True)
+    return f"step {step.number}: a comment-only slip refused, no patch written, the way to drop it named"
+
+
 def selftests():
     return [("mutants are caught", selftest_mutants),
+            ("mutant save refuses a slip no case catches", selftest_save_refuses_uncaught),
             ("a failure names the cause planted in the answer", selftest_planted_causes),
             ("a failure names the measured cause, not the one it reads like", selftest_measured_causes)]
