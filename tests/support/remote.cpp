@@ -110,8 +110,8 @@ using platform::queued_seconds;
 ///   RAYKIT_BUDGET_NOTE  what the reference needs, said after the figures
 ///   RAYKIT_LEDGER       a file of the grader's where the step's totals are kept across the judge's
 ///                       runs (a restart after a crash, a case run again): "CPU WAIT CALLS CPU★
-///                       WAIT★ CALLS★ CASE_WALL SINCE", SINCE the steady clock's seconds when a call
-///                       in flight began, or 0
+///                       WAIT★ CALLS★ CASE_WALL SINCE LOOPED", SINCE the steady clock's seconds when a
+///                       call in flight began, or 0; LOOPED 1 once a call used up its CPU limit
 /// The ★ cases (suite "robust": optional, run first, many calls each) have an account of their own
 /// with half the budget, so that they never spend what the scored cases need. Without
 /// RAYKIT_BUDGET, only each call's own limit applies.
@@ -126,6 +126,11 @@ struct Budget {
     };
     Account accounts[2];        // the scored cases', the ★ cases'
     int current = 0;            // the account of the case running
+    // A call of this step used up its own CPU limit (an endless loop, or code far too slow): every
+    // later call may use only loop_seconds of CPU, as a correct call needs microseconds. An endless
+    // loop then costs its step one call's limit and a fraction of a second a case, not the budget.
+    bool looped = false;
+    static constexpr double loop_seconds = 0.2;
     double case_spent = 0;      // wall seconds of the running case's calls
     static constexpr int ledger_line = 200;
     int ledger_fd = -1;
@@ -136,9 +141,15 @@ struct Budget {
         if (limits >> c >> w >> k) cpu = c, wait = w, case_wall = k;
         std::ifstream in(ledger);
         Account a, b;
-        if (!ledger.empty() && (in >> a.cpu >> a.wait >> a.calls >> b.cpu >> b.wait >> b.calls))
+        double case_wall_spent = 0, since = 0;
+        int loop = 0;
+        if (!ledger.empty() && (in >> a.cpu >> a.wait >> a.calls >> b.cpu >> b.wait >> b.calls)) {
             accounts[0] = a, accounts[1] = b;
+            if (in >> case_wall_spent >> since >> loop) looped = loop != 0;
+        }
     }
+    /// The CPU seconds the next call may use: its own limit, or loop_seconds after a loop.
+    double call_limit(double seconds) const { return looped ? std::min(seconds, loop_seconds) : seconds; }
     bool set() const { return cpu < none; }
     const Account& now() const { return accounts[current]; }
     double share() const { return current ? 0.5 : 1.0; }     // the ★ cases': half
@@ -172,9 +183,9 @@ struct Budget {
         if (ledger_fd < 0) ledger_fd = ::open(ledger.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
         if (ledger_fd < 0) return;
         char line[ledger_line + 1];
-        const int n = std::snprintf(line, sizeof line, "%.3f %.3f %ld %.3f %.3f %ld %.3f %.3f", accounts[0].cpu,
+        const int n = std::snprintf(line, sizeof line, "%.3f %.3f %ld %.3f %.3f %ld %.3f %.3f %d", accounts[0].cpu,
                                     accounts[0].wait, accounts[0].calls, accounts[1].cpu, accounts[1].wait,
-                                    accounts[1].calls, case_spent, since);
+                                    accounts[1].calls, case_spent, since, looped ? 1 : 0);
         if (n < 0 || n >= ledger_line) return;
         std::memset(line + n, ' ', static_cast<std::size_t>(ledger_line - n));
         line[ledger_line - 1] = '\n';
@@ -218,6 +229,11 @@ struct CallBounds {
 };
 struct CallCost {
     double cpu = 0, waited = 0, wall = 0;
+};
+
+/// A call stopped by its own CPU limit: it computed without end (the step's later calls get less).
+struct CpuTimeout : CallFailed {
+    using CallFailed::CallFailed;
 };
 
 /// The sandbox itself failed to start (not the student's code): the grader's error.
@@ -645,7 +661,11 @@ std::string Child::exchange(const std::string& request, const std::string& call,
     const pid_t measured = answers_pid_;
     // Queued for a CPU, the answers program or the judge reading its reply: the machine's load.
     const double queued_start = by_cpu ? queued_seconds(measured) + queued_seconds(0) : 0;
-    const double wall = by_cpu ? std::max(4 * seconds, seconds + 6) : seconds;
+    // Where CPU time is read, a call that waits (sleeps, blocks) is stopped after `waiting` seconds
+    // waited, time queued for a CPU left out: on a loaded machine a loop reaches its CPU limit and is
+    // called a loop, however long the queue made it take. The wall clock is a last backstop only.
+    const double waiting = std::max(3 * seconds, seconds + 2);
+    const double wall = by_cpu ? std::max(40 * seconds, seconds + 60) : seconds;
     const auto began = Clock::now();
     const auto deadline = began + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall));
     CallCost spent;
@@ -673,13 +693,25 @@ std::string Child::exchange(const std::string& request, const std::string& call,
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
         measure();
         const double used = spent.cpu;
-        if (left <= 0 || used > seconds) {
+        char limit[32];
+        if (by_cpu && used > seconds) {
             stop();
-            char limit[32];
-            std::snprintf(limit, sizeof limit, "%g", left <= 0 ? wall : seconds);
-            throw CallFailed("Time out: " + call + " did not return within " + limit +
-                             (left <= 0 && by_cpu ? " s (it was waiting, not computing?)" :
-                              by_cpu ? " s of CPU time. An endless loop?" : " s. An endless loop?"));
+            std::snprintf(limit, sizeof limit, "%g", seconds);
+            throw CpuTimeout("Time out: your code computed for " + std::string(limit) + " s of CPU time in " + call +
+                             " without returning. An endless loop?");
+        }
+        if (by_cpu && spent.waited > waiting) {
+            stop();
+            std::snprintf(limit, sizeof limit, "%g", waiting);
+            throw CallFailed("Time out: your code waited " + std::string(limit) + " s in " + call +
+                             " without returning (sleeping or blocked, not computing).");
+        }
+        if (left <= 0) {
+            stop();
+            std::snprintf(limit, sizeof limit, "%g", wall);
+            throw CallFailed("Time out: your code did not return from " + call + " within " + limit +
+                             (by_cpu ? " s of wall time (the machine is very busy, or your code is stopped)."
+                                     : " s. An endless loop?"));
         }
         if (used > bounds.cpu || spent.waited > bounds.wait || spent.wall > bounds.wall) {
             stop();
@@ -764,7 +796,7 @@ std::string exchange(Target target, const std::string& function, const std::stri
     std::string request(1, static_cast<char>(function.size()));
     request += function;
     request += arguments;
-    const double limit = settings().call_seconds;
+    const double limit = target == Target::student ? b.call_limit(settings().call_seconds) : settings().call_seconds;
     std::string body;
     CallCost cost;
     try {
@@ -774,6 +806,16 @@ std::string exchange(Target target, const std::string& function, const std::stri
             b.begin_call();
             try {
                 body = child.exchange(request, call, limit, bounds, &cost);
+            } catch (const CpuTimeout& e) {
+                const bool first = !b.looped;
+                b.looped = true;
+                b.add(cost.cpu, cost.waited, cost.wall);
+                if (first) throw;
+                char words[200];
+                std::snprintf(words, sizeof words,
+                              " (An earlier call of this step already computed without end, so each later call "
+                              "may use %g s of CPU: a correct one needs microseconds.)", limit);
+                throw CpuTimeout(std::string(e.what()) + words);
             } catch (const CallFailed&) {
                 b.add(cost.cpu, cost.waited, cost.wall);
                 throw;

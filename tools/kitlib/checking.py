@@ -246,9 +246,10 @@ class Budget:
             f = self.ledger.read_text().split()
             cpu, wait, calls = float(f[0]) + float(f[3]), float(f[1]) + float(f[4]), int(f[2]) + int(f[5])
             case, since = float(f[6]), float(f[7])
+            looped = len(f) > 8 and f[8] == "1"
         except (OSError, ValueError, IndexError):
-            cpu, wait, calls, case, since = 0.0, 0.0, 0, 0.0, 0.0
-        return {"cpu": cpu, "wait": wait, "calls": calls, "case": case, "since": since}
+            cpu, wait, calls, case, since, looped = 0.0, 0.0, 0, 0.0, 0.0, False
+        return {"cpu": cpu, "wait": wait, "calls": calls, "case": case, "since": since, "looped": looped}
 
     def case_seconds_now(self) -> float:
         """Wall seconds the student's calls have taken in the current case, the one in flight included."""
@@ -380,7 +381,7 @@ RERUN_WHY = "timed out: run once more, alone, before it is failed"
 
 
 def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
-                   fresh: Callable[[], None] | None = None) -> None:
+                   fresh: Callable[[], None] | None = None, looped: bool = False) -> None:
     """A case that timed out is run once more, on its own, before it is failed: a loaded machine,
     a slow first start, must not fail correct code. The second verdict is the one kept (the first
     when the second gives none); the case records both runs (Case.runs, Case.rerun: why, the first
@@ -388,10 +389,17 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
 
     It runs after the hidden cases and students see what it prints, so it must start from nothing
     they left: its judge is a new process (a new answers process, in a new scratch folder, see
-    sandbox.Scratch), and `fresh` clears what else the code could write (Scratch.between_runs)."""
+    sandbox.Scratch), and `fresh` clears what else the code could write (Scratch.between_runs).
+
+    `looped`: a call of the step computed for its whole CPU limit (the judge's ledger says so). Then
+    only the first case that timed out runs again: every later call gets a fraction of a second of
+    CPU, so the others, run again, would only time out again, and an endless loop would cost its
+    step a re-run a case."""
+    again_left = 1 if looped else len(cases)
     for c in cases:
-        if c.status != TIMED_OUT:
+        if c.status != TIMED_OUT or again_left == 0:
             continue
+        again_left -= 1
         if fresh is not None:
             fresh()
         again = Case(c.name, c.tier, c.lecture)
@@ -610,7 +618,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         if not isolation.sandboxed:
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
         run_cases(judge, cases, env, *course_file.load().case_limits(), budget=budget)   # course.json time_limits
-        rerun_timeouts(judge, cases, env, scratch.between_runs)
+        rerun_timeouts(judge, cases, env, scratch.between_runs, looped=budget.spent()["looped"])
         record_reference_time(build, step, budget, cases)
         spent = budget.spent()
         cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],

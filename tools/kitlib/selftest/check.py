@@ -203,10 +203,23 @@ def selftest_grader_fixtures(ctx: Context) -> str:
         expect(r.state == state, f"fixture {name}: graded {r.state}, expected {state}")
         if status:
             expect(any(c.status == status for c in r.cases), f"fixture {name}: no case is {status}")
-        if status == TIMED_OUT:     # each was run again alone, timed out again, and the case says so
-            odd = [f"{c.name}: {c.runs} runs, {c.rerun}" for c in r.cases if c.status == TIMED_OUT
-                   and not (c.runs == 2 and c.rerun and c.rerun["first"]["status"] == TIMED_OUT)]
-            expect(not odd, f"fixture {name}: a timed-out case without its two runs recorded: {odd[:2]}")
+        if status == TIMED_OUT:
+            # An endless loop: the first case that timed out was run again alone, timed out again and
+            # says so; after it every call gets a fraction of a second of CPU (remote.cpp, Budget::
+            # looped), so the others are not run again, and the loop costs its step about one call's
+            # limit, not its budget: measured in CPU seconds, whatever the machine's load.
+            timed = [c for c in r.cases if c.status == TIMED_OUT]
+            odd = [f"{c.name}: {c.runs} runs, {c.rerun}" for c in timed[:1]
+                   if not (c.runs == 2 and c.rerun and c.rerun["first"]["status"] == TIMED_OUT)]
+            odd += [f"{c.name}: {c.runs} runs" for c in timed[1:] if c.runs != 1]
+            expect(not odd, f"fixture {name}: not one timed-out case run again: {odd[:2]}")
+            spent = (r.cost or {}).get("cpu", 0.0)
+            bound = 2 * 2.0 + 0.2 * (len(timed) + 1) + 2.0
+            expect(spent <= bound, f"fixture {name}: the loop cost its step {spent:.1f} s of CPU, beyond the "
+                                   f"{bound:.1f} s of two full calls and a fifth of a second for each other case")
+            later = [c for c in timed[1:] if not any("0.2 s of CPU" in m for m in c.messages)]
+            expect(not later, f"fixture {name}: a later time-out does not say calls get 0.2 s after a loop: "
+                              f"{later[0].messages if later else ''}")
         if some_pass:
             expect(r.passed("basic") > 0, f"fixture {name}: grading stopped, no other case passed")
         # A crash, time-out or throw is data in the record: the function called (one of the step's)
