@@ -779,8 +779,11 @@ class Verdicts:
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
                           isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []))
 
+    KEEP_TIMEOUTS = False   # a grading's copies each get their own chance at a case that timed out
+
     def store(self, result: StepResult) -> None:
-        if result.state == BROKEN or any(c.status in (TIMED_OUT, GRADER_ERROR) for c in result.cases):
+        if result.state == BROKEN or any(c.status == GRADER_ERROR for c in result.cases) or \
+                (not self.KEEP_TIMEOUTS and any(c.status == TIMED_OUT for c in result.cases)):
             return
         shown = str(self.build.shown_dir)
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
@@ -793,6 +796,36 @@ class Verdicts:
             atomic.write(self._path(result.step), json.dumps(data))
         except OSError:
             pass
+
+
+class LastCheck(Verdicts):
+    """The student's last `./kit check`, step by step, by content (build/last-check/): `./kit hint` takes
+    its first failing case from there instead of running the step's cases again while the step's files
+    (and those of the steps it needs), the isolation and the judge program are the same as then."""
+
+    FOLDER = BUILD / "last-check"
+    KEEP_TIMEOUTS = True    # what the student was shown, a loop included
+
+    def __init__(self, build: Build, all_steps: list[Step], isolation: Isolation):
+        super().__init__(self.FOLDER, build, all_steps, isolation)
+
+    def _path(self, step: Step) -> Path:
+        if step.number not in self.paths:
+            try:
+                st = self.build.exe(step).stat()
+                judge = f"{st.st_size}-{st.st_mtime_ns}"
+            except OSError:
+                judge = "no judge"
+            key = verdict_key(self.build, step, self.all_steps, self.isolation)
+            self.paths[step.number] = self.folder / f"{key[:32]}-{hashlib.sha256(judge.encode()).hexdigest()[:16]}.json"
+        return self.paths[step.number]
+
+    def keep(self, results: list[StepResult]) -> None:
+        self.folder.mkdir(parents=True, exist_ok=True)
+        for old in sorted(self.folder.glob("*.json"), key=lambda p: p.stat().st_mtime)[:-64]:
+            old.unlink(missing_ok=True)       # the last few dozen checks are plenty
+        for r in results:
+            self.store(r)
 
 
 class Progress:

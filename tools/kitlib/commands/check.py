@@ -129,6 +129,9 @@ def run(args) -> int:
         classroomresults.write(args.classroom, results)
     if not args.quiet:
         scoreboard(results, display, args.all, args.reveal, table_shown=True)
+    if not args.quiet and not args.json and not args.prairielearn and not args.classroom:
+        from ..checking import LastCheck       # for ./kit hint: the same files need no new run
+        LastCheck(build, all_steps, isolation).keep(results)
     if not args.steps and not args.quiet and not args.json and not args.classroom and warmup.wanted(build):
         warmup.start(build)     # nothing was built: the kit's own programs, while the task is read
         if warmup.running(build):

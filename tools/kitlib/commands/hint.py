@@ -1,6 +1,7 @@
 """./kit hint N: the step's hints, one more each time (a nudge first, then the formula; never code).
 
-The first hint given is the one about the lecture section the first failing case points to (the step's
+The first hint given is the one about the lecture section the first failing case points to (taken from
+the last ./kit check when the step's files are the same as then, checking.LastCheck; else the step's
 cases are run for that, as ./kit check N would; the first failing case is the one ./kit check shows,
 StepResult.first_problem: of the section whose cases fail in the largest share); of two hints about that section, the one that names
 the function the case called comes before one that names none, and one about another function of the
@@ -97,8 +98,10 @@ def write_state(path, order: list[int]) -> None:
 
 
 def first_failing(step, steps_dir: str | None):
-    """The first case of `step` that fails (basic, then hidden, then ★), or None; runs the step's cases."""
-    from ..checking import check_steps          # imported here: ./kit hint --no-run builds nothing
+    """The first case of `step` that fails (basic, then hidden, then ★), or None: from the last ./kit
+    check when the step's files are the same as then (checking.LastCheck), else by running its cases.
+    The third value says which."""
+    from ..checking import LastCheck, check_steps   # imported here: ./kit hint --no-run builds nothing
     from ..common import resolve_steps_dir
     from ..build import preset_build, submission_build
     from ..packages import ensure_packages
@@ -108,14 +111,21 @@ def first_failing(step, steps_dir: str | None):
         build, isolation = submission_build(resolve_steps_dir(steps_dir), "submission"), isolation_for("auto", 0)
     else:
         build, isolation = preset_build("student"), NONE_OWN
-    [result] = check_steps(build, [step], load_steps(), isolation)
+    result = LastCheck(build, load_steps(), isolation).load(step)
+    reused = result is not None
+    if result is None:
+        say(paint(f"kit: running step {step.number}'s cases to see what fails (--no-run: the hints in order)", "dim"))
+        [result] = check_steps(build, [step], load_steps(), isolation)
+    else:
+        say(paint(f"kit: step {step.number}'s files are as your last ./kit check saw them: its first failing case "
+                  "is taken from there", "dim"))
     if result.state not in (PARTIAL, DONE):
-        return result.state, None
+        return result.state, None, reused
     for tier in ("basic", "hidden", "robust"):
         case = result.first_problem(tier)
         if case is not None:
-            return result.state, case
-    return result.state, None
+            return result.state, case, reused
+    return result.state, None, reused
 
 
 def run(args) -> int:
@@ -137,9 +147,8 @@ def run(args) -> int:
     case, why = None, ""
     if not args.no_run and len(shown) < len(hints):
         # On stdout, as the hint is: piped or redirected, the two keep their order.
-        say(paint(f"kit: running step {step.number}'s cases to see what fails (--no-run: the hints in order)", "dim"))
         try:
-            status, case = first_failing(step, args.steps)
+            status, case, _ = first_failing(step, args.steps)
         except KitError:
             raise          # a mistake the user can fix (--steps names no folder): say so
         except Exception as e:  # a hint must still come when the grading cannot run

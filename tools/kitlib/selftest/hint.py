@@ -88,10 +88,23 @@ def selftest_hint_looks_at_failure(ctx) -> str:
                f"the second ./kit hint {n} does not go on with the fixed order:\n{second.stdout}")
         plain = kit("hint", n, "--no-run")
         expect("Hint 2 of" in plain.stdout, f"--no-run after hints {tied[0]} and 1 does not give hint 2:\n{plain.stdout}")
+        # After a ./kit check of the same files, the hint takes the failing case from it: no run.
+        kit("check", n, "--steps", str(work))
+        kit("hint", n, "--reset")
+        reused = kit("hint", n, "--steps", str(work))
+        expect("kit: running step" not in reused.stdout and "as your last ./kit check saw them" in reused.stdout
+               and f"Hint {tied[0]} of {len(hints)}" in reused.stdout,
+               f"after ./kit check, ./kit hint {n} ran the cases again or chose another hint:\n{reused.stdout}")
+        source = next(p for p in (work / step.folder).iterdir() if p.suffix == ".cpp")
+        source.write_text(source.read_text() + "\nint raykit_selftest_changed = 1;\n")
+        kit("hint", n, "--reset")
+        changed = kit("hint", n, "--steps", str(work))
+        expect("kit: running step" in changed.stdout, f"a changed file reused the last check:\n{changed.stdout}")
     finally:
         kit("hint", n, "--reset")
         shutil.rmtree(work, ignore_errors=True)
-    return f"an open window fails in section 5: hint {tied[0]} first, then 1, 2; piped, the progress line first"
+    return (f"an open window fails in section 5: hint {tied[0]} first, then 1, 2; piped, the progress line first; "
+            "after ./kit check the same files' case is reused, a changed file is run")
 
 
 def selftest_hint_end(ctx) -> str:
