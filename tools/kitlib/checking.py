@@ -781,9 +781,11 @@ class Verdicts:
 
     KEEP_TIMEOUTS = False   # a grading's copies each get their own chance at a case that timed out
 
-    def store(self, result: StepResult) -> None:
-        if result.state == BROKEN or any(c.status == GRADER_ERROR for c in result.cases) or \
-                (not self.KEEP_TIMEOUTS and any(c.status == TIMED_OUT for c in result.cases)):
+    def store(self, result: StepResult, everything: bool = False) -> None:
+        """Keeps `result` for its content; not one the grader failed (BROKEN, a sandbox that could not
+        start), unless `everything`."""
+        if not everything and (result.state == BROKEN or any(c.status == GRADER_ERROR for c in result.cases) or
+                               (not self.KEEP_TIMEOUTS and any(c.status == TIMED_OUT for c in result.cases))):
             return
         shown = str(self.build.shown_dir)
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
@@ -826,6 +828,17 @@ class LastCheck(Verdicts):
             old.unlink(missing_ok=True)       # the last few dozen checks are plenty
         for r in results:
             self.store(r)
+
+
+class OneResult(Verdicts):
+    """One step's result in a file of its own (./kit watch's check, run in a child process)."""
+
+    def __init__(self, path: Path, build: Build, all_steps: list[Step]):
+        super().__init__(path.parent, build, all_steps, NONE_OWN)
+        self.path = path
+
+    def _path(self, step: Step) -> Path:
+        return self.path
 
 
 class Progress:

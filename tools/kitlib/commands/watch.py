@@ -5,6 +5,10 @@ saved last; a step stays on screen until its ★ robust cases pass too, or the s
 Saves are seen by each file's size and modification time; every CONTENT_SECONDS the contents are
 compared as well, so an editor or a network folder that keeps the time stamp is noticed (and said).
 Keys: r re-check now, n next step, q quit.
+
+Each check runs in a process of its own (`Check`), so a save, a key or q while it runs stops it at once,
+with every process it started (a build, a judge, a student's endless loop), and the next check starts
+from the file as saved: a fix is checked when it is saved, not after the check of the broken file ends.
 """
 
 from __future__ import annotations
@@ -13,6 +17,8 @@ import argparse
 import hashlib
 import os
 import select
+import signal
+import subprocess
 import sys
 import termios
 import time
@@ -20,7 +26,8 @@ import tty
 from pathlib import Path
 
 from .. import picture
-from ..checking import check_steps
+from ..checking import LastCheck, OneResult, check_steps
+from ..sandbox import NONE_OWN
 from ..common import BUILD, ROOT, load_steps, paint, resolve_steps_dir, say, select_steps
 from ..build import preset_build, submission_build
 from ..packages import ensure_packages
@@ -90,6 +97,81 @@ class Keys:
         return data.decode(errors="replace").lower()
 
 
+def descendants(pid: int) -> list[int]:
+    """Every process below `pid`, children first found first (`ps`: Linux and macOS alike)."""
+    try:
+        out = subprocess.run(["ps", "-A", "-o", "pid=", "-o", "ppid="], capture_output=True, text=True,
+                             timeout=10).stdout
+    except (OSError, subprocess.TimeoutExpired):
+        return []
+    children: dict[int, list[int]] = {}
+    for line in out.splitlines():
+        words = line.split()
+        if len(words) == 2 and words[0].isdigit() and words[1].isdigit():
+            children.setdefault(int(words[1]), []).append(int(words[0]))
+    found, todo = [], [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            if child not in found:
+                found.append(child)
+                todo.append(child)
+    return found
+
+
+class Check:
+    """One step's check in a child process of its own, which can be stopped whole; its result comes
+    back through the last-check store (checking.LastCheck), as ./kit hint reads it."""
+
+    def __init__(self, build, step, all_steps):
+        self.build, self.step, self.all_steps = build, step, all_steps
+        folder = BUILD / "watch-checks"       # (BUILD / "watch" is --steps's build folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        self.path = folder / f"check-{os.getpid()}.json"
+        self.path.unlink(missing_ok=True)
+        sys.stdout.flush()
+        self.pid = os.fork()
+        if self.pid == 0:       # the child: check, keep the result, leave without Python's clean-up
+            code = 1
+            try:
+                os.setsid()
+                [result] = check_steps(build, [step], all_steps)
+                OneResult(self.path, build, all_steps).store(result, everything=True)
+                LastCheck(build, all_steps, NONE_OWN).keep([result])      # for ./kit hint
+                code = 0
+            except BaseException as e:          # noqa: BLE001: said, then the parent says it failed
+                print(f"kit: the check stopped: {e}", file=sys.stderr)
+            finally:
+                os._exit(code)
+        self.status: int | None = None
+
+    def done(self) -> bool:
+        if self.status is None:
+            pid, status = os.waitpid(self.pid, os.WNOHANG)
+            if pid == self.pid:
+                self.status = status
+        return self.status is not None
+
+    def result(self):
+        if self.status != 0:
+            return None
+        found = OneResult(self.path, self.build, self.all_steps).load(self.step)
+        self.path.unlink(missing_ok=True)
+        return found
+
+    def stop(self) -> None:
+        """Ends the check and everything it started (a judge's answers program runs in a process
+        group of its own, so the group of the check alone would leave a student's loop running)."""
+        if self.done():
+            return
+        for pid in [self.pid] + descendants(self.pid):
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        os.waitpid(self.pid, 0)
+        self.status = -1
+
+
 def clear() -> None:
     if sys.stdout.isatty():
         print("\033[2J\033[H", end="")
@@ -131,14 +213,26 @@ def run(args) -> int:
     banner = ""
     passed: list = []       # the steps found complete one after another since the last save or key
     due = True
+    running: Check | None = None
+    stopped = False         # the check before was stopped by a save or a key
     with Keys() as keys:
         try:
             while True:
                 if due:
                     due = False
+                    if running is not None:
+                        running.stop()
                     clear()
                     say(paint(f"./kit watch · step {current.number} · {time.strftime('%H:%M:%S')} · checking ...", "dim"))
-                    [result] = check_steps(build(), [current], all_steps)
+                    if stopped:
+                        say(paint("(the check that was running stopped: this one checks the files as saved)", "dim"))
+                        stopped = False
+                    running = Check(build(), current, all_steps)
+                if running is not None and running.done():
+                    check, running = running, None
+                    result = check.result()
+                    if result is None:
+                        [result] = check_steps(build(), [current], all_steps)     # the child failed: here
                     picture.draw_results([result], picture.pictures_folder(BUILD, args.steps and source), False)
                     robust = result.tier("robust")
                     complete = result.state == DONE and result.passed("robust") == len(robust)
@@ -190,7 +284,12 @@ def run(args) -> int:
                         if d != contents[s.number]:
                             contents[s.number] = d
                             current, due, blind = s, True, True
+                if due and running is not None:
+                    stopped = True
         except KeyboardInterrupt:
             pass
+        finally:
+            if running is not None:
+                running.stop()
     say("\nstopped watching.")
     return OK

@@ -10,9 +10,37 @@ import os
 import shutil
 import subprocess
 import time
+from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps
 from .harness import CLEAR, Failed, Screen, expect, need_solutions
+
+
+def processes_with(word: str) -> list[int]:
+    """The processes whose command line holds `word` (ps: Linux and macOS alike)."""
+    out = subprocess.run(["ps", "-A", "-o", "pid=", "-o", "args="], capture_output=True, text=True).stdout
+    return [int(l.split(None, 1)[0]) for l in out.splitlines() if word in l and l.split(None, 1)[0].isdigit()]
+
+
+def wait_for_process(word: str, seconds: float) -> list[int]:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        found = processes_with(word)
+        if found:
+            return found
+        time.sleep(0.1)
+    return []
+
+
+def alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except OSError:
+        return False
+    try:        # a zombie is dead
+        return not Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0] == "Z"
+    except OSError:
+        return True
 
 
 def selftest_watch(ctx) -> str:
@@ -26,11 +54,19 @@ def selftest_watch(ctx) -> str:
     notes = []
     try:
         screen.wait_for("not started", 300)
-        # A textbook answer: done, ★ cases failing, so the step stays on screen.
+        # An endless loop saved, then, while its check runs, a textbook answer (done, ★ cases failing, so
+        # the step stays on screen): the loop's check is stopped with its looping program, and the
+        # answer saved is what the screen shows.
+        for f in s1.files:
+            shutil.copyfile(ROOT / "tests" / "fixtures" / "hang" / s1.folder / f, folder / s1.folder / f)
+        looping = wait_for_process(str(BUILD / "watch" / f"answers_step{s1.number}"), 240)   # the watch's own
+        expect(looping, "the endless loop's check never started its answers program")
         for f in s1.files:
             shutil.copyfile(ROOT / "tests" / "fixtures" / "textbook" / s1.folder / f, folder / s1.folder / f)
-        took = screen.wait_for("press n for the next step", 120)
-        notes.append(f"save to verdict {took:.1f} s")
+        screen.wait_for("the check that was running stopped", 60)
+        took = screen.wait_for("press n for the next step", 240)
+        notes.append(f"a save during an endless loop's check: stopped, the fix's verdict {took:.1f} s later")
+        expect(not any(alive(pid) for pid in looping), f"the stopped check left its program running: {looping}")
         expect(f"step {s1.number}" in screen.last(), "the screen after the save is not step 01's")
         # A save the time stamps miss: same size, the old modification time put back.
         target = folder / s1.folder / s1.files[0]
@@ -80,8 +116,8 @@ def selftest_watch(ctx) -> str:
     finally:
         screen.close()
         shutil.rmtree(folder, ignore_errors=True)
-    return ("on a pseudo-terminal: redrawn per check, stays on a done step until ★ or n, moves on by "
-            "itself, r and q work, no 'Then run'; " + ", ".join(notes))
+    return ("on a pseudo-terminal: redrawn per check, a check stopped by a save, stays on a done step until "
+            "★ or n, moves on by itself, r and q work, no 'Then run'; " + ", ".join(notes))
 
 
 def selftests() -> list:
