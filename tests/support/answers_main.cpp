@@ -9,6 +9,7 @@
 // those of the steps it needs, with their headers' signatures: CMake writes the
 // list, cmake/StepManifest.cmake), included through RAYKIT_REMOTE_LIST.
 
+#include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -250,22 +251,35 @@ void answer(const std::string& function, wire::Reader& in, wire::Writer& out) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
     // Line-buffered: what the student prints reaches the judge by the end of the
     // call that printed it, even when a later line crashes.
     std::setvbuf(stdout, nullptr, _IOLBF, 1 << 12);
     watch_faults();
+    // Calls come on fd 0 and answers go to fd 3, from and to the judge. `--replay FILE`: the calls of
+    // one case, recorded by the judge (RAYKIT_CALL_LOG, remote.cpp), from FILE, their answers to
+    // nowhere: ./kit debug runs a case in this one process under the debugger, which then needs to
+    // follow no fork (LLDB on macOS cannot).
+    int calls = 0, answers = 3;
+    if (argc == 3 && std::strcmp(argv[1], "--replay") == 0) {
+        calls = ::open(argv[2], O_RDONLY | O_CLOEXEC);
+        answers = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (calls < 0 || answers < 0) {
+            std::fprintf(stderr, "answers: cannot read the recorded calls in %s\n", argv[2]);
+            return 2;
+        }
+    }
     // An empty frame first: "ready". The judge times each call from here, so neither the sandbox's
     // start nor the program's own is counted against a call.
     const std::uint32_t ready = 0;
-    if (!write_exact(3, reinterpret_cast<const char*>(&ready), sizeof ready)) return 2;
+    if (!write_exact(answers, reinterpret_cast<const char*>(&ready), sizeof ready)) return 2;
     std::string request;
     for (;;) {
         std::uint32_t size = 0;
-        if (!read_exact(0, reinterpret_cast<char*>(&size), sizeof size)) return 0;
+        if (!read_exact(calls, reinterpret_cast<char*>(&size), sizeof size)) return 0;
         if (size == 0 || size > (16u << 20)) return 2;
         request.resize(size);
-        if (!read_exact(0, request.data(), size)) return 2;
+        if (!read_exact(calls, request.data(), size)) return 2;
         const std::size_t name_size = static_cast<unsigned char>(request[0]);
         if (name_size + 1 > size) return 2;
         const std::string function = request.substr(1, name_size);
@@ -292,8 +306,8 @@ int main() {
         std::cout.flush();
         std::cerr.flush();
         const std::uint32_t reply = static_cast<std::uint32_t>(out.bytes.size());
-        if (!write_exact(3, reinterpret_cast<const char*>(&reply), sizeof reply) ||
-            !write_exact(3, out.bytes.data(), out.bytes.size()))
+        if (!write_exact(answers, reinterpret_cast<const char*>(&reply), sizeof reply) ||
+            !write_exact(answers, out.bytes.data(), out.bytes.size()))
             return 2;
     }
 }

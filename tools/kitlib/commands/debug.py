@@ -1,13 +1,13 @@
 """./kit debug N [CASE]: run one case of a step under gdb, or lldb where there is no gdb (a Mac),
 stopped in the student's own function, built without optimisation and with debug information.
 
-The judge (test_stepNN) never runs the student's code itself: it starts the answers program as a
-child and sends it each call. So the debugger follows the child across fork and exec, then sets
-breakpoints on the step's functions (the judge's own functions of the same name are only proxies).
-LLDB on Linux follows the fork and stops at the exec but does not load the new program's symbols:
-the debug build links the answers program at a fixed address (RAYKIT_DEBUGGER_NO_PIE), and the
-script loads them there. The call's time limit is lifted while debugging, or the judge would end a
-paused child after 2 s. The case's name and the debugger are checked before anything is built.
+The case is the one ./kit check shows first (StepResult.first_problem), or the one named. The judge
+(test_stepNN) never runs the student's code itself: it sends each call to the answers program. So the
+case is first run as usual with the judge recording its calls (RAYKIT_CALL_LOG, remote.cpp), and then
+the answers program alone replays them under the debugger (`answers_stepNN --replay FILE`): one
+process, no fork to follow (LLDB on macOS follows none), breakpoints on the step's functions, and
+quitting the debugger is just quitting. The case's name and the debugger are checked before anything
+is built.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
+import subprocess
 import sys
 from pathlib import Path
 
@@ -24,7 +25,6 @@ from ..build import Build, build_targets, preset_build, submission_build
 from ..packages import ensure_packages, family, has_apt, install_line
 from ..status import FAILED, OK, PASS, SETUP
 
-NO_LIMIT_SECONDS = "86400"
 DEBUGGERS = ("gdb", "lldb")
 STOPPED = ("[raykit] Stopped in your code. bt: where; p NAME: a value; n: next line; s: step in; "
            "c: continue; q: quit.")
@@ -43,26 +43,15 @@ def register(p) -> None:
 
 
 def gdb_script(functions: list[str]) -> str:
-    lines = ["set pagination off", "set confirm off",
-             "set follow-fork-mode child", "set detach-on-fork on", "set breakpoint pending on",
-             "catch exec", "run",          # stops once the answers program (your code) has started
-             "delete"]
+    lines = ["set pagination off", "set confirm off", "set breakpoint pending on"]
     lines += [f"break raykit::{f}" for f in functions]
-    lines += [f"echo \\n{STOPPED}\\n", "continue"]
+    lines += [f"echo \\n{STOPPED}\\n", "run"]
     return "\n".join(lines) + "\n"
 
 
-def lldb_script(functions: list[str], answers: Path) -> str:
-    """The same stops as gdb_script's, for LLDB: follow the judge's child; at its exec, load the
-    answers program's symbols at its fixed address (no PIE), then break in the student's functions
-    of that program only."""
-    lines = ["settings set target.process.follow-fork-mode child",
-             "settings set target.process.stop-on-exec true",
-             "process launch",          # stops at the exec of the answers program (your code)
-             f"target modules add {answers}",
-             f"target modules load --file {answers.name} --slide 0"]
-    lines += [f"breakpoint set --shlib {answers.name} --name raykit::{f}" for f in functions]
-    lines += ["continue"]
+def lldb_script(functions: list[str]) -> str:
+    lines = [f"breakpoint set --name raykit::{f}" for f in functions]
+    lines += ["process launch"]
     return "\n".join(lines) + "\n"
 
 
@@ -102,14 +91,30 @@ def match_case(names: list[str], wanted: str, step) -> str:
 
 
 def pick_case(exe: Path, wanted: str | None, build, step, all_steps) -> str:
+    """The case named, or the one ./kit check shows first: its first problem, basic, then ★."""
     names = [c.name for c in list_cases(exe) if c.tier != "hidden"]
     if wanted:
         return match_case(names, wanted, step)
     [result] = check_steps(build, [step], all_steps)
-    failing = [c for c in result.cases if c.status != PASS and c.tier != "hidden"]
-    if not failing:
-        raise KitError(f"every case of step {step.number} passes; name a case to debug it anyway", FAILED)
-    return failing[0].name
+    for tier in ("basic", "robust"):
+        case = result.first_problem(tier)
+        if case is not None and case.tier != "hidden":
+            return case.name
+    raise KitError(f"every case of step {step.number} passes; name a case to debug it anyway", FAILED)
+
+
+def record_calls(build, step, case: str, log: Path) -> int:
+    """Runs the case as ./kit check would and records its calls of the student's code in `log`; how many."""
+    log.unlink(missing_ok=True)
+    env = dict(os.environ, RAYKIT_CALL_LOG=str(log), RAYKIT_SEED=submission_seed(build, step))
+    subprocess.run([str(build.exe(step)), f"--test-case={case}", "--no-breaks=true"], env=env,
+                   stdin=subprocess.DEVNULL, capture_output=True, timeout=600)
+    data = log.read_bytes() if log.is_file() else b""
+    count, at = 0, 0
+    while at + 4 <= len(data):
+        at += 4 + int.from_bytes(data[at:at + 4], sys.byteorder)
+        count += 1
+    return count
 
 
 def run(args) -> int:
@@ -135,24 +140,26 @@ def run(args) -> int:
         raise KitError(f"step {step.number} does not build; ./kit check {int(step.number)} shows why", FAILED)
     case = pick_case(build.exe(step), args.case, build, step, all_steps)
     answers = build.binary_dir / f"answers_step{step.number}"
+    log = build.binary_dir / f"step{step.number}.calls"
+    if record_calls(build, step, case, log) == 0:
+        raise KitError(f"the case \"{case}\" calls none of your code: nothing to debug", FAILED)
     script = build.binary_dir / f"step{step.number}.{debugger}"
     script.parent.mkdir(parents=True, exist_ok=True)
-    script.write_text(gdb_script(step.functions) if debugger == "gdb" else lldb_script(step.functions, answers))
-    env = dict(os.environ, RAYKIT_CALL_SECONDS=NO_LIMIT_SECONDS, RAYKIT_SEED=submission_seed(build, step))
-    judge = [str(build.exe(step)), f"--test-case={case}", "--no-breaks=true"]
+    script.write_text(gdb_script(step.functions) if debugger == "gdb" else lldb_script(step.functions))
+    program = [str(answers), "--replay", str(log)]
     if debugger == "gdb":
         batch = ["-batch", "-ex", "bt"] if args.batch else []
-        argv = ["gdb", "-q", *batch[:1], "-x", str(script), *batch[1:], "--args", *judge]
+        argv = ["gdb", "-q", *batch[:1], "-x", str(script), *batch[1:], "--args", *program]
     else:
         batch = ["--batch", "-o", "bt"] if args.batch else []
-        argv = ["lldb", *batch[:1], "-s", str(script), *batch[1:], "--", *judge]
+        argv = ["lldb", *batch[:1], "-s", str(script), *batch[1:], "--", *program]
     if args.print_only:
-        say(f"RAYKIT_CALL_SECONDS={NO_LIMIT_SECONDS} " + " ".join(a if " " not in a else repr(a) for a in argv))
+        say(" ".join(a if " " not in a else repr(a) for a in argv))
         return OK
-    say(f"Debugging step {step.number}, case \"{case}\": {debugger} stops in your "
-        + ", ".join(step.functions) + ".")
+    say(f"Debugging step {step.number}, case \"{case}\" (its calls of your code, replayed in one program): "
+        f"{debugger} stops in your " + ", ".join(step.functions) + ".")
     if debugger == "lldb":
         say(STOPPED.replace("p NAME", "v NAME"))
     sys.stdout.flush()
-    os.execvpe(debugger, argv, env)
+    os.execvp(debugger, argv)
     return OK  # not reached: the debugger replaced this process
