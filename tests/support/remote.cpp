@@ -25,6 +25,8 @@
 #include <sstream>
 #include <vector>
 
+#include <cxxabi.h>
+
 #include "fd_io.hpp"
 #include "platform.hpp"
 #include "raykit/not_implemented.hpp"
@@ -556,18 +558,91 @@ void Child::reap_leftovers() {
     if (init > 0) platform::end_namespace_rest(init);
 }
 
+/// Whether a line of a stack or a report is in the student's own code (not GLM's, the kit's, the
+/// standard library's or the sanitizer's).
+bool own_line(const std::string& l) {
+    for (const char* kit : {"/glm/", "/include/c++/", "/usr/include/", "answers_main", "wire.hpp", "libsanitizer",
+                            "/raykit/not_implemented", "standin_"})
+        if (l.find(kit) != std::string::npos) return false;
+    return l.find(".cpp:") != std::string::npos;
+}
+
+/// Whether a frame is the dispatcher's that called the student's function (answers_main.cpp's serve,
+/// std::apply and std::invoke around it, main, the C library's start), by its name, demangled or not
+/// (a lambda inside serve may not demangle).
+bool grader_frame(const std::string& name, const std::string& shown) {
+    for (const char* word : {"answers_main", "(anonymous namespace)::serve", "_GLOBAL__N_15serve",
+                             "(anonymous namespace)::answer(", "std::__invoke",
+                             "St13__invoke", "St8__invoke", "std::apply", "St5apply", "std::__apply", "St12__apply",
+                             "libc.so", "__libc_start"})
+        if (shown.find(word) != std::string::npos) return true;
+    return name == "main" || name == "_start";
+}
+
+/// A sanitizer's stack, as a student reads it: each frame's function demangled (`_ZZN12...` from a
+/// frame without debug information), its address left out, the student's own frames marked, and the
+/// grader's frames below them (the dispatcher that called the student's function, the C library)
+/// said in one line. Every other line is kept as it came.
+std::string readable_stack(const std::string& out) {
+    std::istringstream lines(out);
+    std::string line, result;
+    int grader = 0;
+    bool in_stack = false;
+    auto flush = [&]() {
+        if (grader > 0) result += "    (" + std::to_string(grader) + " frame" + (grader == 1 ? "" : "s") +
+                                  " of the grader's program that called your code)\n";
+        grader = 0;
+    };
+    while (std::getline(lines, line)) {
+        std::size_t hash = line.find_first_not_of(' ');
+        const bool frame = hash != std::string::npos && line.compare(hash, 1, "#") == 0 &&
+                           line.find(" in ", hash) != std::string::npos && line.find(" 0x", hash) != std::string::npos;
+        if (!frame) {
+            if (in_stack) flush();
+            in_stack = false;
+            result += line + "\n";
+            continue;
+        }
+        in_stack = true;
+        const std::size_t in = line.find(" in ", hash) + 4;
+        const std::size_t end = line.find(' ', in);
+        std::string name = line.substr(in, end == std::string::npos ? std::string::npos : end - in);
+        std::string rest = end == std::string::npos ? "" : line.substr(end);
+        if (name.rfind("_Z", 0) == 0) {
+            int status = 0;
+            char* plain = abi::__cxa_demangle(name.c_str(), nullptr, nullptr, &status);
+            if (status == 0 && plain != nullptr) name = plain;
+            std::free(plain);
+        }
+        const std::string number = line.substr(hash, line.find(' ', hash) - hash);
+        const std::string shown = name + rest;
+        // The student's: a line of their file, or (a graded build has no line tables) a function of
+        // raykit's namespace that is none of the kit's own.
+        const bool theirs = own_line(shown) || (name.rfind("raykit::", 0) == 0 && name.rfind("raykit::wire", 0) != 0 &&
+                                                name.rfind("raykit::standin", 0) != 0 &&
+                                                name.rfind("raykit::platform", 0) != 0 && shown.find("/glm/") == std::string::npos);
+        if (theirs) {
+            flush();
+            result += "    " + number + " " + shown + "   <- your code\n";
+        } else if (grader_frame(name, shown)) {
+            ++grader;
+        } else {
+            flush();
+            result += "    " + number + " " + shown + "\n";
+        }
+    }
+    if (in_stack) flush();
+    if (!out.empty() && out.back() != '\n' && !result.empty()) result.pop_back();
+    return result;
+}
+
 /// What a sanitizer or an assert said, from the output of the answers program: its one-line reason
 /// and the first line of the student's own code on its stack (not GLM's, the kit's or the system's),
 /// or "" when the output holds no such report.
 std::string sanitizer_finding(const std::string& out) {
     std::istringstream lines(out);
     std::string line, reason, where;
-    auto own = [](const std::string& l) {
-        for (const char* kit : {"/glm/", "/include/c++/", "/usr/include/", "answers_main", "wire.hpp", "libsanitizer",
-                                "/raykit/not_implemented"})
-            if (l.find(kit) != std::string::npos) return false;
-        return l.find(".cpp:") != std::string::npos;
-    };
+    const auto own = own_line;
     while (std::getline(lines, line)) {
         std::size_t at;
         if (reason.empty() && (at = line.find("runtime error: ")) != std::string::npos) {
@@ -899,7 +974,7 @@ void begin_case(const std::string& suite) {
 CaseRecord end_case() {
     State& s = state();
     s.student.reap_leftovers();
-    CaseRecord r{s.incident, s.student.output, s.student.output_case};
+    CaseRecord r{s.incident, readable_stack(s.student.output), s.student.output_case};
     s.incident = {};
     s.student.output.clear();
     s.student.output_case = 0;

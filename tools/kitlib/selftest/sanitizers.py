@@ -92,7 +92,7 @@ def selftest_student_sanitizers(ctx: Context) -> str:
         shutil.rmtree(handout, ignore_errors=True)
         shutil.rmtree(klass, ignore_errors=True)
     took = time.monotonic() - start
-    found = []
+    found, stacks = [], 0
     for student, steps in UB_STUDENTS.items():
         mine, theirs = checked[student], graded[student]
         both = sorted(set(mine) & set(theirs))
@@ -108,8 +108,19 @@ def selftest_student_sanitizers(ctx: Context) -> str:
                 message = " ".join(crashed[0]["messages"])
                 expect(cause in message, f"{student}: {name}'s first crash in {folder} does not say "
                                          f"\"{cause}\": {message[:300]}")
+                # Its stack as a student reads it (remote.cpp, readable_stack): names demangled, the
+                # student's own frame marked, the dispatcher's frames in one line.
+                frames = [l for c in crashed for l in c.get("output", "").splitlines() if l.strip().startswith("#")]
+                expect(not any(" _Z" in l for l in frames), f"{student}: {name} shows a mangled frame in {folder}: "
+                                                           f"{[l for l in frames if ' _Z' in l][:1]}")
+                if frames:
+                    stacks += 1
+                    expect(any("<- your code" in l for l in frames),
+                           f"{student}: {name}'s stack in {folder} marks none of the student's frames: {frames[:4]}")
             found.append(f"{folder[:2]} {cause} ({len(crashed)} cases)")
-    return f"the same status on every shared case, check and grade; caught: {'; '.join(found)} ({took:.0f} s)"
+    expect(stacks > 0, "no crash showed a sanitizer's stack: the readable stack went untested")
+    return (f"the same status on every shared case, check and grade; caught: {'; '.join(found)}; "
+            f"{stacks} stacks demangled, the student's frames marked ({took:.0f} s)")
 
 
 def selftests() -> list:
