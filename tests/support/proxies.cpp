@@ -26,28 +26,44 @@ namespace {
 [[maybe_unused]] const bool programs_known = remote::set_built_programs(RAYKIT_ANSWERS_EXE, RAYKIT_REFERENCE_EXE);
 
 #ifdef RAYKIT_STANDIN
-// The student's step 05 runs on a stand-in for step 04 (standin.hpp): before each call the stand-in
-// is told what to answer. A call of find_intersection: where the case's ray meets each of the scene's
-// rectangles, from the reference's own program (never from the student's process); a call of
-// render: the student's own step 04. Other calls need no script.
+// The student's step 05 runs on a stand-in for step 04 (standin.hpp): before each call that may ask
+// it something, the stand-in is told what to answer, by the reference's own program (never by the
+// student's process): for find_intersection, where the case's ray meets each of the scene's
+// rectangles; for render, the same for the view ray through each pixel's centre. Other calls need
+// no script.
 template <class... A>
 void prepare(const char*, const A&...) {}
 
-void send(standin::Mode mode, const std::vector<standin::Line>& lines) {
-    remote::exchange(remote::Target::student, standin::message, standin::encode(mode, lines), "the case's script");
+void send(standin::For what, const Scene& scene, const std::vector<Ray>& rays) {
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<Rect> rects;
+    for (const Object& o : scene.objects) rects.push_back(o.shape);
+    std::vector<standin::Line> lines;
+    lines.reserve(rays.size());
+    for (const Ray& ray : rays) {
+        standin::Line line{ray, {}};
+        for (const Rect& rect : rects)
+            line.t.push_back(remote::reference<std::optional<float>>("intersect_rect", ray, rect, -inf, inf));
+        lines.push_back(std::move(line));
+    }
+    remote::exchange(remote::Target::student, standin::message, standin::encode(what, rects, lines), "the case's script");
 }
 
 void prepare(const char* function, const Ray& ray, const Scene& scene, float, float) {
-    if (std::strcmp(function, "find_intersection") != 0) return;
-    const float inf = std::numeric_limits<float>::infinity();
-    std::vector<standin::Line> lines;
-    for (const Object& o : scene.objects)
-        lines.push_back({ray, o.shape, remote::reference<std::optional<float>>("intersect_rect", ray, o.shape, -inf, inf)});
-    send(standin::Mode::script, lines);
+    if (std::strcmp(function, "find_intersection") == 0) send(standin::For::find_intersection, scene, {ray});
 }
 
-void prepare(const char* function, const Scene&, const Camera&) {
-    if (std::strcmp(function, "render") == 0) send(standin::Mode::own, {});
+void prepare(const char* function, const Scene& scene, const Camera& camera) {
+    if (std::strcmp(function, "render") != 0) return;
+    // A canvas of no pixels or of more than any case draws (64 k pixels) has no view rays scripted:
+    // the stand-in then refuses whatever it is asked.
+    std::vector<Ray> rays;
+    if (camera.width > 0 && camera.height > 0 && static_cast<long long>(camera.width) * camera.height <= (1 << 16)) {
+        rays.reserve(static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height));
+        for (int j = 0; j < camera.height; ++j)
+            for (int i = 0; i < camera.width; ++i) rays.push_back(remote::reference<Ray>("view_ray", camera, i, j));
+    }
+    send(standin::For::render, scene, rays);
 }
 
 /// The judge's own questions to step 04 (the model's cases find the object a ray sees first) go to

@@ -47,9 +47,9 @@ class Build:
 
     @property
     def reference_needs(self) -> bool:
-        """Whether the reference is here (a grading): a step that needs another then runs most of its
-        cases on a stand-in the judge scripts from the reference's program (tests/support/standin.hpp),
-        never on the reference's code itself."""
+        """Whether the reference is here (a grading): a step that needs another then runs on a stand-in
+        for it that the judge scripts from the reference's program (tests/support/standin.hpp), never on
+        the reference's code itself nor on the student's own earlier step."""
         return (ROOT / "solutions").is_dir()
 
     def exe(self, step: Step) -> Path:

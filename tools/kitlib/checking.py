@@ -552,22 +552,10 @@ def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation
         return result
 
     compiled = map_in_threads(compile_one, commands.compiles, os.cpu_count() or 1)
-    # A needed step's own files (ownobjNN: beside a stand-in, for the picture cases) that do not
-    # compile are left out of the link: the stand-in's default says so to those cases, which wait
-    # for that step, and the rest of this step is graded (one slip costs one step).
-    link = list(commands.link)
-    kept = []
-    for argv, (status, text) in zip(commands.compiles, compiled):
-        out = argv[argv.index("-o") + 1] if "-o" in argv else ""
-        if status != 0 and "/ownobj" in "/" + out:
-            link = [w for w in link if w != out]
-            continue
-        kept.append((status, text))
-    compiled = kept
     texts = [text for _, text in compiled]
     ok = all(status == 0 for status, _ in compiled)
     if ok:
-        status, text = isolation.tool("link", link, build.binary_dir)
+        status, text = isolation.tool("link", commands.link, build.binary_dir)
         texts.append(text)
         ok = status == 0
         if progress:
@@ -639,9 +627,8 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = DONE
     else:
         state = PARTIAL
-    # Cases that run on the student's own earlier steps wait for them (with the reference present:
-    # only those a stand-in cannot script, the picture cases; waits.py).
-    state = waits.wait_on_needs(step, cases, results, state, graded=build.reference_needs)
+    if not build.reference_needs:
+        state = waits.wait_on_needs(step, cases, results, state)
     return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
                       isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
                       cost=cost, includes=found)
@@ -738,7 +725,7 @@ VERDICTS_ENV = "RAYKIT_VERDICTS_DIR"
 def verdict_key(build: Build, step: Step, all_steps: list[Step], isolation: Isolation) -> str:
     h = hashlib.sha256(f"raykit-verdict-2\0{isolation.mode.split(':')[0]}\0{build.reference_needs}\0".encode())
     h.update(build.identity.encode("utf-8", "surrogateescape") + b"\0")   # the hidden cases' draw
-    for s in [step] + prerequisites(step, all_steps):   # the picture cases run on the student's own
+    for s in [step] + ([] if build.reference_needs else prerequisites(step, all_steps)):
         for f in s.files:
             p = build.steps_dir / s.folder / f
             h.update(f"{s.folder}/{f}\0".encode() + (p.read_bytes() if p.is_file() else b"\0missing") + b"\0")
@@ -852,8 +839,8 @@ class Progress:
 
 def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN,
                 progress: Progress | None = None) -> list[StepResult]:
-    """Checks `steps`, and first the steps they need (quietly, to know whether they are done: the
-    cases that run on them wait for them).
+    """Checks `steps`; without a reference, first the steps they need (quietly, to know whether they
+    are done).
 
     Pipelined: while one step's cases run (in a worker thread, in course order), the next step is
     built, so the first verdict comes after one step's build and the others follow as they build.
@@ -863,7 +850,7 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     if build.boundary:
         build.spec = isolation.spec()
     wanted = {s.number for s in steps}
-    needed = {p.number for s in steps for p in prerequisites(s, all_steps)}
+    needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     order = [s for s in all_steps if s.number in wanted or s.number in needed]
     quick = {}
     for s in order:

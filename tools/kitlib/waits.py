@@ -12,12 +12,9 @@ the sections whose cases call no function of step 04. Every other section waits 
 waits until it is listed). A step with no "runs_without" entry for a step it needs waits whole,
 as before.
 
-Where the reference is present (a grading), step 05 runs on a stand-in for step 04 that the judge
-scripts from the reference's program (tests/support/standin.hpp): no reference code is ever in the
-student's process. The sections the stand-in answers for are listed too,
-    "scripted": {"04": ["4. The closest hit", ...]}
-and do not wait; the others (the render loop, the picture: the student's own view rays are the
-questions) run on the student's own step 04 and wait for it when it is not done.
+Where the reference is present (a grading), nothing waits: step 05 runs on a stand-in for step 04
+that the judge scripts from the reference's program (tests/support/standin.hpp), neither the
+reference's code nor the student's own step 04, so one slip costs one step.
 """
 
 from __future__ import annotations
@@ -36,16 +33,10 @@ def _manifest(step: Step) -> dict:
     return data if isinstance(data, dict) else {}
 
 
-def runs_without(step: Step, graded: bool = False) -> dict[str, list[str]]:
-    """The sections of `step` that call nothing of each step it needs; `graded` (the reference is
-    present): also those a stand-in answers for it ("scripted", tests/support/standin.hpp)."""
-    data = _manifest(step)
-    found = data.get("runs_without", {})
-    found = {k: list(v) for k, v in found.items()} if isinstance(found, dict) else {}
-    scripted = data.get("scripted", {}) if graded else {}
-    for need, sections in (scripted.items() if isinstance(scripted, dict) else ()):
-        found.setdefault(need, []).extend(sections)
-    return found
+def runs_without(step: Step) -> dict[str, list[str]]:
+    """The sections of `step` that call nothing of each step it needs."""
+    found = _manifest(step).get("runs_without", {})
+    return {k: list(v) for k, v in found.items()} if isinstance(found, dict) else {}
 
 
 def pending(step: Step, results: dict) -> list[str]:
@@ -63,13 +54,13 @@ def functions_of(number: str) -> list[str]:
     return next((s.functions for s in load_steps() if s.number == number), [])
 
 
-def wait_on_needs(step: Step, cases: list, results: dict, state: str, graded: bool = False) -> str:
+def wait_on_needs(step: Step, cases: list, results: dict, state: str) -> str:
     """After the cases ran: each failed case of a section that needs a step not done yet waits for
     it. Returns the step's state: WAITING when only waiting cases are left, else `state`."""
     waits = pending(step, results)
     if not waits:
         return state
-    free = runs_without(step, graded)
+    free = runs_without(step)
     for c in cases:
         if c.status == PASS or c.tier == "hidden":
             continue
