@@ -151,9 +151,11 @@ inline void check_hit(const std::string& call, const std::string& input,
 inline float tolerance_at(float x) { return 1e-5f * std::fabs(x) + 1e-6f; }
 
 /// The basic tier's rules as yes/no answers (check_roots's and check_hit's tolerance, a pair in order,
-/// a tangent's two equal roots), for cases and hidden families that judge before they report.
+/// a tangent's two equal roots, a miss's entries at 0), for cases and hidden families that judge
+/// before they report.
 inline bool agree(const Roots& expected, const Roots& got) {
     if (got.count != expected.count) return false;
+    if (got.count == 0 && !(got.t[0] == 0 && got.t[1] == 0)) return false;
     if (got.count == 2 && !(got.t[0] <= got.t[1])) return false;
     if (got.count == 1 && !(got.t[0] == got.t[1])) return false;
     for (int i = 0; i < expected.count; ++i)
