@@ -38,6 +38,18 @@
 #include <tuple>
 #include <utility>
 #include <vector>
+
+// abs on a float, unqualified, is found the same on every standard library. libc++'s <stdlib.h>
+// and <math.h> (a Mac's) declare float and double overloads of abs in the global namespace, so
+// `abs(da)` with da = -0.5f is 0.5 there; libstdc++'s <cstdlib> (the grader's, on Linux) declares
+// only C's int abs there, so the same call converts to int and gives 0, and one file got two
+// verdicts. This is the declaration the standard's <stdlib.h> and <math.h> make on both libraries
+// (libstdc++'s own <stdlib.h> reads `using std::abs;`): in the global namespace, and not in
+// raykit's, it reaches a helper outside namespace raykit too, and a student's own abs(float) in
+// namespace raykit still hides it instead of clashing with it. min and max need nothing: neither
+// library declares them outside std, so an unqualified min(a, b) on floats does not compile on
+// either (measured with GCC 12 and libstdc++, clang 14 and libc++), one verdict.
+using std::abs;
 #endif
 
 #include <glm/geometric.hpp>

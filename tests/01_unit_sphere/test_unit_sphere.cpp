@@ -1,10 +1,13 @@
 // Step 01 grading suite: the unit sphere at the origin.
 //
-// Every case has an answer that is exact in float, so the textbook formula
-// passes them all. A case's description names the lecture section to read.
+// Every case has an answer that is exact in float (one, just inside the
+// silhouette, is computed in double from exact inputs, within 1e-10 of what
+// every lecture form gets), so the textbook formula passes them all. A case's
+// description names the lecture section to read.
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <limits>
 
 #include "../support/grading.hpp"
@@ -82,6 +85,21 @@ TEST_CASE("no hit: a ray just outside the silhouette" *
     // y = 1 + 2^-10: outside by less than a thousandth, still exactly negative.
     expect_roots({{-1, 1.0009765625f, 0}, {1, 0, 0}}, none(),
                  "The line y = 1.0009765625 passes just outside the sphere: a miss, not a tangent.");
+}
+
+TEST_CASE("two hits: a ray just inside the silhouette is no tangent" *
+          doctest::description("4. What the discriminant says")) {
+    // y = 1 - 2^-22: 1 - y^2 = 2^-21 - 2^-44, exact in double, so the roots 2 -+ sqrt(1 - y^2) are
+    // computed here with no rounding but the last. In float, y^2 rounds to 1 - 2^-21 and every
+    // lecture form gets h^2 - a c = 2^-21 (about 5e-7) exactly: the roots come out within 1e-10 of
+    // these, and they lie 0.0014 apart, 65 times the tolerance at 2.
+    const double y = 1.0 - std::ldexp(1.0, -22);
+    const double half_chord = std::sqrt(1.0 - y * y);
+    expect_roots({{-2, static_cast<float>(y), 0}, {1, 0, 0}},
+                 two(static_cast<float>(2.0 - half_chord), static_cast<float>(2.0 + half_chord)),
+                 "The line y = 1 - 2^-22 passes just inside the sphere: it enters at t = 1.9993094 and "
+                 "leaves at t = 2.0006905. h^2 - a c is about 5e-7 here, small, but a line that passes "
+                 "inside the sphere meets it twice.");
 }
 
 TEST_CASE("one hit: a tangent ray touches the sphere once" *

@@ -94,6 +94,18 @@ TEST_CASE("the radius matters: a small sphere" * doctest::description("2. Any ra
                  "The sphere of radius 0.5 around (1, 1, 2) spans z from 1.5 to 2.5.");
 }
 
+TEST_CASE("the radius matters: a tiny sphere has two roots and is no tangent" *
+          doctest::description("4. The roots and the discriminant")) {
+    // r = 2^-11 and f = (0, 0, -1), d = (0, 0, 1): h = -1, c' = 1 - 2^-22, h^2 - a c' = a r^2 - |f x d|^2
+    // = 2^-22 (about 2.4e-7), every one of them exact in float, and so are the roots 1 -+ 2^-11. They lie
+    // 0.00098 apart, 89 times the tolerance at 1.
+    expect_roots({{2, -1, 4}, {0, 0, 1}}, {{2, -1, 5}, 0.00048828125f}, two(0.99951171875f, 1.00048828125f),
+                 "The sphere of radius 1/2048 around (2, -1, 5) spans z from 4.99951171875 to 5.00048828125: "
+                 "t = 0.99951171875 and t = 1.00048828125. Its discriminant is r^2 = 2^-22, about 2.4e-7 "
+                 "(4 r^2 if you use b^2 - 4ac): small, but a line through a sphere's centre meets it twice, "
+                 "however small the sphere.");
+}
+
 TEST_CASE("two hits: a ray that does not pass through the centre" *
           doctest::description("4. The roots and the discriminant")) {
     // The line passes 1.2 from the centre of a radius-2 sphere: half chord 1.6.

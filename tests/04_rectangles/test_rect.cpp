@@ -158,6 +158,16 @@ TEST_CASE("a -0 in the direction's in-plane components changes nothing" *
                "Only d.z decides whether the ray is parallel to z = 5. Here d.z = 1: a hit at (2, 0.5, 5).");
 }
 
+TEST_CASE("a direction shorter than 1e-6 along the axis is not parallel: a hit far along the ray" *
+          doctest::description("3. Rays parallel to the plane")) {
+    // d = (2^-22, 0, 2^-21): d.z is about 4.8e-7. t = (5 - 4) / 2^-21 = 2^21 and the hit point
+    // (-1 + 2^21 2^-22, 0.5, 5) = (-0.5, 0.5, 5) are exact in float, whatever the form.
+    expect_hit({{-1, 0.5f, 4}, {0x1p-22f, 0, 0x1p-21f}}, wide, 2097152.0f,
+               "d.z = 4.8e-7 is short but not 0: the ray reaches z = 5 at t = 1 / 2^-21 = 2097152, at "
+               "(-0.5, 0.5, 5), inside. Only d.z == 0 (+0 or -0) is parallel; a test like |d.z| < 1e-6 "
+               "throws real hits away.");
+}
+
 TEST_CASE("a zero direction is no ray: no hit" * doctest::description("3. Rays parallel to the plane")) {
     expect_hit({{0, 0, 0}, {0, 0, 0}}, wide, -inf, inf, std::nullopt,
                "d = 0 is parallel to every plane: there is nothing to intersect. Dividing gives t = inf, "

@@ -559,6 +559,79 @@ def selftest_missing_include_told(ctx) -> str:
             "the kit's headers count, and each probe name is told its header without them")
 
 
+STDLIB_ABS = ROOT / "tests" / "fixtures" / "stdlib_abs"
+
+# abs on a float, unqualified, in namespace raykit and in a helper outside it: 0.5 for -0.5f with
+# a float abs, 0 with C's int abs.
+ABS_PROBE = """#include "raykit/rect.hpp"
+namespace raykit {
+float in_raykit(float da) { return abs(da); }
+}  // namespace raykit
+static float outside(float da) { return abs(da); }
+int main() { std::printf("%g %g\\n", static_cast<double>(raykit::in_raykit(-0.5f)), static_cast<double>(outside(-0.5f))); }
+"""
+
+
+def selftest_abs_one_verdict(ctx) -> str:
+    """One verdict on every standard library (#45 item 5): `abs(da)` on a float called C's int abs
+    with libstdc++ (0 for -0.5) and the float overload with libc++, so a step 04 done on a Mac failed
+    on the Linux grader. include/raykit/ray.hpp brings std::abs's overloads into the global namespace
+    for step files. A probe compiled and run with each library gives 0.5 with the kit's headers, and
+    GCC's gives 0 without that declaration (so the probe tests it); then tests/fixtures/stdlib_abs/
+    is graded as the student's own check with clang and libc++ (a Mac's) and as the grader's with
+    GCC: done on both, every case with the same status."""
+    from ..build import Build
+    from ..common import load_steps
+    need_solutions()    # tests/fixtures/ is not in a handout
+    libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
+    if shutil.which("clang++") is None or subprocess.run(
+            ["clang++", "-stdlib=libc++", "-std=c++17", "-x", "c++", "-", "-o", "/dev/null"],
+            input="#include <vector>\nint main() { return std::vector<int>{0}[0]; }\n",
+            capture_output=True, text=True, timeout=120).returncode != 0:
+        raise Failed("clang++ with libc++ is needed (.ci/run installs clang and libc++-dev)")
+    told = []
+    with tempfile.TemporaryDirectory(prefix="raykit-abs-") as tmp:
+        probe = Path(tmp) / "probe.cpp"
+        probe.write_text(ABS_PROBE)
+        bare = Path(tmp) / "bare"           # the kit's headers without ray.hpp's `using std::abs;`
+        shutil.copytree(ROOT / "include", bare)
+        ray = bare / "raykit" / "ray.hpp"
+        text = ray.read_text()
+        expect(text.count("\nusing std::abs;\n") == 1, "include/raykit/ray.hpp no longer reads `using std::abs;`")
+        ray.write_text(text.replace("\nusing std::abs;\n", "\n"))
+
+        def run(cxx: list[str], include: Path) -> str:
+            exe = Path(tmp) / "probe"
+            built = subprocess.run(cxx + ["-std=c++17", "-w", "-I", str(include), str(probe), "-o", str(exe)],
+                                   capture_output=True, text=True, timeout=120)
+            expect(built.returncode == 0, f"{' '.join(cxx)}: the abs probe does not compile:\n{built.stderr[-800:]}")
+            return subprocess.run([str(exe)], capture_output=True, text=True, timeout=60).stdout.strip()
+        for name, cxx in libraries:
+            got = run(cxx, ROOT / "include")
+            expect(got == "0.5 0.5", f"{name}: abs(-0.5f) in a step file gives {got!r} with the kit's headers, "
+                                     "not 0.5 (in namespace raykit and outside it)")
+            told.append(f"{name}: {got}")
+        without = run(["g++"], bare)
+        expect(without != "0.5 0.5", "GCC gives 0.5 even without ray.hpp's `using std::abs;`: the probe tests "
+                                     "nothing")
+        told.append(f"GCC without the declaration: {without}")
+    all_steps = load_steps()
+    [step] = [s for s in all_steps if s.number == "04"]
+    libcxx = {"CXX": "clang++", "CXXFLAGS": "-stdlib=libc++", "LDFLAGS": "-stdlib=libc++"}
+    own = Build("stdlib-abs-libcxx", BUILD / "stdlib-abs-libcxx", STDLIB_ABS, STDLIB_ABS, preset="student",
+                tools=False)
+    [mac] = with_compiler(libcxx, lambda: check_steps(own, [step], all_steps))
+    [grader] = with_compiler({"CXX": "g++"}, lambda: check_steps(submission_build(STDLIB_ABS, "stdlib-abs-gcc"),
+                                                                 [step], all_steps))
+    for name, r in (("libc++ (the student's check)", mac), ("GCC (the grader)", grader)):
+        failing = [c.name for c in r.cases if c.status != PASS]
+        expect(r.state == DONE, f"{name}: the abs fixture is {r.state}, expected done; failing: {failing[:3]}")
+    on_mac, on_grader = ({c.name: c.status for c in r.cases} for r in (mac, grader))
+    differ = sorted(n for n in on_mac.keys() | on_grader.keys() if on_mac.get(n) != on_grader.get(n))
+    expect(not differ, f"the two libraries grade cases differently: {differ[:4]}")
+    return "; ".join(told) + f"; the fixture is done with libc++ and with GCC, {len(mac.cases)} cases alike"
+
+
 FLOAT_TEXT_CHECK = r"""
 #include <charconv>
 #include <cmath>
@@ -699,6 +772,7 @@ def selftests() -> list:
         ("one verdict on every standard library: a step's missing includes", selftest_one_verdict_per_library),
         ("one verdict: a header the file does not include is told, in the same words by the grader",
          selftest_missing_include_told),
+        ("one verdict: abs on a float is the float overload with libstdc++ and libc++", selftest_abs_one_verdict),
         ("numbers read the same on every standard library", selftest_float_text),
         ("portable by construction: the student-side C++ built as a Mac would", selftest_mac_build),
     ]
