@@ -740,4 +740,11 @@ def selftests():
             ("integrity: scratch folder spy", selftest_scratch_spy),
             ("integrity: a sleeper is stopped by the step's budget", selftest_sleeper),
             ("integrity: slow correct code, the student's timeouts", selftest_slow_correct),
-            ("integrity: a case of many slow calls is the student's timeout", selftest_slow_case)]
+            ("integrity: a case of many slow calls is the student's timeout", selftest_slow_case)] + round_three()
+
+
+def round_three():
+    """Issue 43's attacks (integrity_slots.py): forks, keyrings, a classmate's program, a full /tmp,
+    two kits on one machine."""
+    from . import integrity_slots
+    return integrity_slots.selftests()
