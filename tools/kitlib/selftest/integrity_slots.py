@@ -137,8 +137,13 @@ def selftest_classmate_program(ctx) -> str:
                                            "b_victim": HOSTILE / "slow_correct"}, mode)
         out = printed(records["a_spy"])
         expect("classmate_program: saw" in out, f"classmate_program ({mode}): its output is not in the record")
-        harm = sorted({l for l in out.splitlines() if ours(l) and re.search(r": (could (read|run|list)|learnt)", l)})
+        # Under bubblewrap the one command line it sees is its own sandbox's (bubblewrap's init): its own
+        # program's path. Under the user isolation a compile's command line shows the compile's folder
+        # (root's, 0750, the compile id's group): learnt, not reachable, and not an answers program.
+        harm = sorted({l for l in out.splitlines() if ours(l) and (re.search(r": could (read|run|list) ", l) or (
+            mode != "bwrap" and "learnt" in l and "raykit-sandbox" in l))})
         expect(not harm, f"classmate_program ({mode}): it reached a classmate: " + "; ".join(harm[:5]))
+        learnt = len({l for l in out.splitlines() if ours(l) and "learnt" in l})
         refused = "relay: fork Resource temporarily unavailable" in out
         expect(refused, f"classmate_program ({mode}): its relay's fork was not refused")
         expect(records["a_spy"]["score"] == base["score"],
@@ -146,7 +151,8 @@ def selftest_classmate_program(ctx) -> str:
         seen = max([int(n) for n in re.findall(r"saw (\d+) other answers programs", out)] or [0])
         if mode == "user":      # the classmate's program ran beside it: a test that saw none proves little
             expect(seen >= 1, f"classmate_program (user): saw no other answers program while it looked")
-        return f"saw {seen} other answers programs, learnt no path of this kit's, relay refused ({took:.0f} s)"
+        return (f"saw {seen} other answers programs, none of this kit's readable, runnable or listable, no "
+                f"answers program's path learnt ({learnt} other paths of this kit's seen), relay refused ({took:.0f} s)")
 
     need_solutions()
     return run_modes(one)
@@ -158,7 +164,10 @@ FILLED = re.compile(r"fill_tmp: (its folder|TMPDIR|/tmp|/var/tmp|/dev/shm) wrote
 def selftest_fill_tmp(ctx) -> str:
     def one(mode: str) -> str:
         _, alone, _, _ = grade_json(ROOT / "solutions", ["01"], mode)
-        _, records, took = grade_together({"a_fill": HOSTILE / "fill_tmp", "b_alice": ROOT / "solutions"}, mode)
+        alice = BUILD / "integrity-alice-01"
+        shutil.rmtree(alice, ignore_errors=True)
+        shutil.copytree(ROOT / "solutions" / "01_unit_sphere", alice / "01_unit_sphere")
+        _, records, took = grade_together({"a_fill": HOSTILE / "fill_tmp", "b_alice": alice}, mode)
         out = printed(records["a_fill"])
         filled = {where: (int(mb), why, int(files)) for where, mb, why, files in FILLED.findall(out)}
         expect("its folder" in filled, f"fill_tmp ({mode}): did not run: {out[:300]!r}")
