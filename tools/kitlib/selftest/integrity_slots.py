@@ -209,8 +209,8 @@ USER_ID = re.compile(r"user id (\d+)")
 
 def selftest_two_kits(ctx) -> str:
     """Two copies of the kit (two courses on one machine) grade at the same time, each as root
-    under each isolation: their sandbox ids differ, and each grades the solutions' step 01 as the
-    kit alone does."""
+    under each isolation: their sandbox ids differ, and each grades the solutions' steps 01-02 right
+    (done): neither ends the other's processes nor takes its id."""
     need_solutions()
     modes, skipped = isolations()
     if os.geteuid() != 0:
@@ -220,15 +220,20 @@ def selftest_two_kits(ctx) -> str:
     try:
         copy_of_kit(other)
         for mode in modes:
-            results: dict[str, tuple[int, dict]] = {}
+            results: dict[str, tuple[int, dict, str]] = {}
+            spans: dict[str, tuple[float, float]] = {}
 
             def grade(name: str, kit_root: Path) -> None:
                 out = Path(tempfile.mkdtemp(prefix=f"raykit-two-kits-{name}-"))
+                began = time.monotonic()
                 try:
-                    r = subprocess.run([str(kit_root / "kit"), "check", "1", "--steps", str(ROOT / "solutions"),
+                    # Compiled anew (no object cache), so that the two gradings overlap for seconds.
+                    r = subprocess.run([str(kit_root / "kit"), "check", "1", "2", "--steps", str(ROOT / "solutions"),
                                         "--json", str(out / "gs.json"), "--results", str(out / "rec.json"),
                                         "--isolation", mode, "--quiet"], cwd=kit_root, capture_output=True,
-                                       text=True, timeout=1800, errors="replace")
+                                       text=True, timeout=1800, errors="replace",
+                                       env=dict(os.environ, RAYKIT_NO_OBJCACHE="1"))
+                    spans[name] = (began, time.monotonic())
                     rec = json.loads((out / "rec.json").read_text()) if (out / "rec.json").is_file() else {}
                     results[name] = (r.returncode, rec, r.stderr[-400:])
                 finally:
@@ -246,15 +251,17 @@ def selftest_two_kits(ctx) -> str:
             ids, scores = {}, {}
             for name, (rc, rec, err) in results.items():
                 expect(rc == 0 and rec, f"two kits ({mode}): kit {name} exited {rc}: {err}")
-                [step] = rec["steps"]
-                found = USER_ID.findall(step.get("isolation", ""))
-                expect(bool(found), f"two kits ({mode}): kit {name}'s record names no sandbox id: {step.get('isolation')!r}")
-                ids[name] = int(found[0])
-                scores[name] = (rec["score"], step["state"])
+                found = {int(i) for step in rec["steps"] for i in USER_ID.findall(step.get("isolation", ""))}
+                expect(len(found) == 1, f"two kits ({mode}): kit {name}'s record names sandbox ids {sorted(found)}")
+                ids[name] = found.pop()
+                scores[name] = (rec["score"], [step["state"] for step in rec["steps"]])
+            overlap = min(spans["A"][1], spans["B"][1]) - max(spans["A"][0], spans["B"][0])
+            expect(overlap > 0, f"two kits ({mode}): the two gradings did not run at the same time")
             expect(ids["A"] != ids["B"], f"two kits ({mode}): both graded as sandbox id {ids['A']}")
-            expect(scores["A"] == scores["B"] and scores["A"][1] == "done",
-                   f"two kits ({mode}): the solutions' step 01 scored {scores}")
-            parts.append(f"{mode}: ids {ids['A']} and {ids['B']}, both {scores['A'][0]} points, done [{took:.0f} s]")
+            expect(scores["A"] == scores["B"] and set(scores["A"][1]) == {"done"},
+                   f"two kits ({mode}): the solutions' steps 01-02 scored {scores}")
+            parts.append(f"{mode}: ids {ids['A']} and {ids['B']}, both {scores['A'][0]} points, done, "
+                         f"{overlap:.0f} s at the same time [{took:.0f} s]")
     finally:
         shutil.rmtree(other, ignore_errors=True)
     return "; ".join(parts + skipped)
