@@ -23,6 +23,8 @@ import stat
 import subprocess
 from pathlib import Path
 
+from . import procfs
+
 MiB = 1 << 20
 
 # Processes and threads the answers program may have: itself. A fork or a thread fails with EAGAIN,
@@ -72,11 +74,7 @@ def use_kit_temp() -> str | None:
 
 
 def _mounted(path: str) -> bool:
-    try:
-        with open("/proc/self/mountinfo") as f:
-            return any(line.split()[4] == path for line in f if len(line.split()) > 4)
-    except OSError:
-        return False
+    return path in procfs.mount_points()
 
 
 def mount_scratch(folder: Path, uid: int, size_mb: int) -> str:
@@ -117,7 +115,7 @@ def sweep_scratch_mounts(folder: str) -> None:
         if not name.startswith(SCRATCH_PREFIX):
             continue
         pid = name[len(SCRATCH_PREFIX):].split("-", 1)[0]
-        if not pid.isdigit() or Path(f"/proc/{pid}").exists():
+        if not pid.isdigit() or procfs.status(int(pid)):     # its grading is still running
             continue
         path = Path(folder, name)
         unmount(path)
