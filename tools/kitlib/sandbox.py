@@ -46,8 +46,8 @@ from pathlib import Path
 
 from . import atomic, procfs
 from .common import BUILD, ROOT
-from .sandbox_slots import RUN_PROCESSES, SCRATCH_PREFIX, clear_keyrings, mount_scratch, prepare_keyctl, unmount, \
-    use_kit_temp
+from .sandbox_slots import RUN_PROCESSES, SCRATCH_PREFIX, clear_keyrings, mount_scratch, prepare_keyctl, \
+    scratch_words, unmount, use_kit_temp
 
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
 # sandboxed processes ever has them (an id that has a name there is skipped).
@@ -429,10 +429,13 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
         raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
     elif wanted in ("auto", "user") and root:
         iso = Isolation(f"user:{uid}", f"sandboxed as the unprivileged user id {uid}: it cannot read the kit's "
-                                       "answers and writes only a scratch folder; every process "
-                                       "it starts is ended; the network is NOT isolated (bubblewrap could "
-                                       "not run here)", uid=uid, limits=limits)
+                                       "answers nor another sandbox's files; it writes its own folder and, "
+                                       "like any user, /tmp (its files there removed after each step); its "
+                                       "processes are ended and its keyrings emptied after each case; the "
+                                       "network is NOT isolated (bubblewrap could not run here)",
+                        uid=uid, limits=limits)
         hide_secrets()
+        iso.description += "; " + scratch_words(uid, limits.scratch_mb)
     elif wanted == "user":
         raise RuntimeError("the user isolation needs the kit to run as root")
     elif wanted == "none":

@@ -92,6 +92,21 @@ def mount_scratch(folder: Path, uid: int, size_mb: int) -> str:
     return "" if r.returncode == 0 else (r.stderr.strip() or f"mount exited {r.returncode}")
 
 
+def scratch_words(uid: int, scratch_mb: int) -> str:
+    """For the report, under the user isolation: whether each step's folder will be a sized tmpfs
+    here (a probe mount of one, at once undone), and why not."""
+    import tempfile
+    probe = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-probe-"))
+    try:
+        why = mount_scratch(probe, uid, 1)
+        unmount(probe)
+    finally:
+        shutil.rmtree(probe, ignore_errors=True)
+    if not why:
+        return f"its folder a tmpfs of {scratch_mb} MiB and {SCRATCH_INODES} inodes"
+    return f"its folder NOT size-limited (a tmpfs cannot be mounted here: {why.splitlines()[0][:120]})"
+
+
 def unmount(folder: Path) -> None:
     umount = shutil.which("umount")
     if umount is None or not _mounted(str(folder)):
