@@ -21,6 +21,7 @@
 
 #if defined(__linux__) && !defined(RAYKIT_PLATFORM_POSIX)
 #include <dirent.h>
+#include <sys/syscall.h>
 #define RAYKIT_PLATFORM_LINUX 1
 #endif
 
@@ -198,7 +199,22 @@ void end_namespace_rest(pid_t init) {
     ::closedir(proc);
 }
 
+void clear_keyrings() {
+#if defined(SYS_keyctl)
+    // <linux/keyctl.h>'s numbers, written here: no libkeyutils, and the header is not on every system.
+    constexpr long join_session = 1, clear = 7, get_persistent = 22;
+    constexpr long user_keyring = -4, user_session_keyring = -5, session_keyring = -3;
+    (void)::syscall(SYS_keyctl, join_session, 0L);  // a new anonymous session keyring: the caller's is left
+    (void)::syscall(SYS_keyctl, clear, user_keyring);
+    (void)::syscall(SYS_keyctl, clear, user_session_keyring);
+    const long persistent = ::syscall(SYS_keyctl, get_persistent, -1L, session_keyring);
+    if (persistent > 0) (void)::syscall(SYS_keyctl, clear, persistent);
+#endif
+}
+
 #else   // any other POSIX system: no /proc to read, no bubblewrap to look into
+
+void clear_keyrings() {}
 
 double cpu_seconds(pid_t) { return -1; }
 

@@ -31,6 +31,15 @@ pid_t first_child(pid_t pid);
 /// init and the answers program): what the student's code started during a case.
 void end_namespace_rest(pid_t init);
 
+/// Empties the kernel keyrings of the calling process's user id that outlive its processes (the
+/// user keyring and the user-session keyring; also the persistent keyring where the kernel has one),
+/// then gives the process a fresh session keyring of its own, so that it holds no keyring of the
+/// user id it came from. Called by the judge after it takes a sandbox's user id, before the answers
+/// program starts and again when every process of that id is ended: nothing one run keeps there
+/// reaches the next run (a case re-run alone, the next student in the slot). A no-op where the
+/// system has no such keyrings (not Linux) or refuses keyctl (Docker's default seccomp profile).
+void clear_keyrings();
+
 /// execve of `file` found on the PATH given in `envp` (execvpe is a GNU extension). Returns only
 /// when nothing could be started.
 void exec_on_path(const char* file, char* const argv[], char* const envp[]);

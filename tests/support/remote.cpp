@@ -81,19 +81,31 @@ struct Settings {
     uid_t uid = static_cast<uid_t>(std::strtoul(env("RAYKIT_SANDBOX_UID", "0").c_str(), nullptr, 10));
     std::vector<std::string> cgroups = split(env("RAYKIT_SANDBOX_CGROUPS"), ':');
     std::string inside_exe = env("RAYKIT_SANDBOX_EXE");   // the answers program's path inside the wrapper
-    // "ADDRESS_SPACE PROCESSES FILE_SIZE CPU_SECONDS"
-    unsigned long long memory = 0, processes = 0, file_size = 64ull << 20, cpu = 60;
+    // "ADDRESS_SPACE PROCESSES FILE_SIZE CPU_SECONDS RUN_PROCESSES": PROCESSES is what spawn() sets
+    // after taking the user id (bubblewrap itself needs a few), RUN_PROCESSES what the answers program
+    // has (1 under every isolation: it may start no process or thread, sandbox.RUN_PROCESSES).
+    unsigned long long memory = 0, processes = 0, file_size = 64ull << 20, cpu = 60, run_processes = 0;
     double call_seconds = std::atof(env("RAYKIT_CALL_SECONDS", "2").c_str());
     Settings() {
         std::istringstream limits(env("RAYKIT_SANDBOX_LIMITS"));
-        unsigned long long m = 0, p = 0, f = 0, c = 0;
+        unsigned long long m = 0, p = 0, f = 0, c = 0, r = 0;
         if (limits >> m >> p >> f >> c) memory = m, processes = p, file_size = f, cpu = c;
+        if (limits >> r) run_processes = r;
     }
 };
 
 Settings& settings() {
     static Settings s;
     return s;
+}
+
+/// Said after a failure whose text (an exception's message, what the program printed as it died)
+/// shows a process or thread refused by the sandbox's limit of one: the student's own fault, named.
+std::string process_limit_note(const std::string& text) {
+    if (settings().run_processes != 1 || text.find("Resource temporarily unavailable") == std::string::npos)
+        return "";
+    return " Your code may not start processes or threads: the grader runs it as one process with one thread "
+           "(a limit of 1), so starting another fails with EAGAIN, \"Resource temporarily unavailable\".";
 }
 
 constexpr double start_seconds = 30.0;   // for the answers program to say it is ready (not a call's time)
@@ -312,10 +324,19 @@ std::vector<std::string> split(const std::string& s, char sep) {
 /// the control groups, the rlimits, then the dedicated user id; fds 0-3 as given.
 pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int out, int reply, bool bounded) {
     Settings& cfg = settings();
+    // Outside bubblewrap the program is started by its path, but shown under a fixed name: argv is
+    // what any user reads in /proc/PID/cmdline, while /proc/PID/exe, cwd and environ are closed to
+    // other user ids. No sandbox id learns where another's program or folder is.
+    const bool wrapped = argv[0] == "bwrap";
+    const std::string exe = argv[0];
+    if (bounded && !wrapped) argv[0] = "raykit-answers";
     std::vector<char*> args;
     for (std::string& a : argv) args.push_back(a.data());
     args.push_back(nullptr);
     std::string home = "HOME=" + dir;
+    // Temporary files in the run's own folder (under the user isolation a size- and inode-limited
+    // tmpfs of the slot's where the kit could mount one); bubblewrap's /tmp is the program's own.
+    std::string tmpdir = "TMPDIR=" + dir;
     char path[] = "PATH=/usr/bin:/bin";
     char lang[] = "LANG=C.UTF-8";
     // For a student's files, built with UndefinedBehaviorSanitizer in the check and the grade alike
@@ -324,7 +345,7 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
     char asan[] = "ASAN_OPTIONS=halt_on_error=1:abort_on_error=0:exitcode=86:handle_abort=1:detect_leaks=0:"
                   "print_summary=1:allocator_may_return_null=1";
     char ubsan[] = "UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:exitcode=86";
-    char* envp[] = {path, lang, home.data(), asan, ubsan, nullptr};
+    char* envp[] = {path, lang, home.data(), asan, ubsan, wrapped ? nullptr : tmpdir.data(), nullptr};
     std::fflush(nullptr);
     const pid_t pid = ::fork();
     if (pid != 0) return pid;
@@ -359,6 +380,10 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
             if (::setgroups(0, nullptr) != 0 || ::setgid(cfg.uid) != 0 || ::setuid(cfg.uid) != 0 ||
                 ::getuid() != cfg.uid)
                 ::_exit(126);
+            platform::clear_keyrings();   // nothing an earlier run of this id kept in a keyring
+            // Under the user isolation 1: the answers program may start no process or thread (each
+            // would be CPU the budget does not see); a fork or a thread fails with EAGAIN. Under
+            // bubblewrap bubblewrap's own few, and the program gets 1 from prlimit inside the wrapper.
             if (cfg.processes) {
                 const struct rlimit nproc{cfg.processes, cfg.processes};
                 ::setrlimit(RLIMIT_NPROC, &nproc);
@@ -366,8 +391,8 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
         }
     }
     if (::chdir(dir.c_str()) != 0) ::_exit(126);
-    if (argv[0] == "bwrap") platform::exec_on_path("bwrap", args.data(), envp);
-    else ::execve(args[0], args.data(), envp);
+    if (wrapped) platform::exec_on_path("bwrap", args.data(), envp);
+    else ::execve(exe.c_str(), args.data(), envp);
     ::_exit(127);
 }
 
@@ -521,7 +546,10 @@ void Child::stop() {
         const uid_t uid = static_cast<uid_t>(std::strtoul(mode.c_str() + 5, nullptr, 10));
         const pid_t helper = ::fork();
         if (helper == 0) {
-            if (::setgroups(0, nullptr) == 0 && ::setgid(uid) == 0 && ::setuid(uid) == 0) ::kill(-1, SIGKILL);
+            if (::setgroups(0, nullptr) == 0 && ::setgid(uid) == 0 && ::setuid(uid) == 0) {
+                ::kill(-1, SIGKILL);
+                platform::clear_keyrings();     // and what its processes kept in the id's keyrings
+            }
             ::_exit(0);
         }
         if (helper > 0) ::waitpid(helper, nullptr, 0);
@@ -715,7 +743,7 @@ std::string Child::died(const std::string& call) {
     if (finding.rfind("AddressSanitizer: SEGV", 0) == 0)    // a bad access the sanitizer only saw land
         return "Your code crashed in " + call + ": it was killed by SIGSEGV, a bad memory access (" + finding + ").";
     if (!finding.empty()) return "Your code has undefined behaviour in " + call + ": " + finding + ".";
-    return "Your code crashed in " + call + ": " + how + ".";
+    return "Your code crashed in " + call + ": " + how + "." + process_limit_note(output);
 }
 
 std::string Child::exchange(const std::string& request, const std::string& call, double seconds,
@@ -953,7 +981,7 @@ std::string exchange(Target target, const std::string& function, const std::stri
             } catch (const wire::wire_error&) {
                 message = "(no message)";
             }
-            const std::string text = "Your code threw an exception in " + call + ": " + message;
+            const std::string text = "Your code threw an exception in " + call + ": " + message + process_limit_note(message);
             if (target == Target::student && s.incident.message.empty()) s.incident = {"threw", text, function, ""};
             throw CallFailed(text);
         }

@@ -91,6 +91,12 @@ def sysvipc(kind: str) -> list[str]:
     return (_read_path(f"{PROC}/sysvipc/{kind}") or "").splitlines()
 
 
+def mount_points() -> set[str]:
+    """Where something is mounted, as this process sees it (/proc/self/mountinfo's fifth field)."""
+    lines = (_read_path(f"{PROC}/self/mountinfo") or "").splitlines()
+    return {fields[4] for fields in (line.split() for line in lines) if len(fields) > 4}
+
+
 def _read_path(path: str) -> str | None:
     try:
         with open(path, "rb") as f:

@@ -46,6 +46,8 @@ from pathlib import Path
 
 from . import atomic, procfs
 from .common import BUILD, ROOT
+from .sandbox_slots import RUN_PROCESSES, SCRATCH_PREFIX, clear_keyrings, mount_scratch, prepare_keyctl, \
+    scratch_words, unmount, use_kit_temp
 
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
 # sandboxed processes ever has them (an id that has a name there is skipped).
@@ -92,7 +94,8 @@ class Limits:
     compile_memory_mb: int = 1536       # address space of each compiler process (RLIMIT_AS)
     run_memory_mb: int = 1024           # address space of each process of the answers program
     memory_mb: int = 2048               # the slot's control group, when there is one (all of the above)
-    processes: int = 64                 # processes and threads at once (RLIMIT_NPROC or pids.max)
+    processes: int = 64                 # a compile's processes and threads at once (RLIMIT_NPROC or pids.max);
+                                        # the answers program has sandbox_slots.RUN_PROCESSES (itself)
     file_mb: int = 16                   # any one file written (RLIMIT_FSIZE)
     scratch_mb: int = 64                # the run's writable folder in all (bubblewrap: a sized tmpfs)
     cpu_seconds: int = 60               # CPU time of any one process (RLIMIT_CPU)
@@ -111,8 +114,8 @@ class Limits:
         return limits
 
     def words(self) -> str:
-        return (f"compile {self.compile_seconds:g} s and {self.compile_memory_mb} MiB a process; run "
-                f"{self.run_memory_mb} MiB a process, {self.processes} processes, files of at most "
+        return (f"compile {self.compile_seconds:g} s, {self.compile_memory_mb} MiB a process and {self.processes} "
+                f"processes; run {self.run_memory_mb} MiB, one process and no thread of its own, files of at most "
                 f"{self.file_mb} MiB, scratch {self.scratch_mb} MiB, {self.cpu_seconds} s of CPU a process")
 
 
@@ -180,6 +183,7 @@ class Isolation:
         the control group, the rlimits, then the dedicated user id `uid` (last: joining a control
         group and lowering limits need the rights it drops)."""
         limits, cgroups = self.limits, list(self.cgroups)
+        prepare_keyctl()
 
         def enter() -> None:
             os.setpgid(0, 0)
@@ -196,6 +200,7 @@ class Isolation:
                 os.setgroups([])
                 os.setgid(uid)
                 os.setuid(uid)
+                clear_keyrings()        # nothing an earlier compile or run of this id kept there
                 resource.setrlimit(resource.RLIMIT_NPROC, (limits.processes, limits.processes))
 
         return enter
@@ -213,12 +218,22 @@ class Isolation:
         prefix = self.wrapper([(answers, inside)], [] if sized else [(scratch, work)], work,
                               [(work, self.limits.scratch_mb * MiB)] if sized else [], use="run")
         limits = self.limits
+        # The answers program's own process limit (RUN_PROCESSES): under the user isolation the
+        # judge sets it after taking the id; under bubblewrap, which needs processes of its own, the
+        # last word of the wrapper sets it (nothing of the student's runs before: static
+        # constructors come after the exec). RLIMIT_NPROC counts the processes of the sandbox's user
+        # id in its user namespace (kernels >= 5.14), or of its real uid: 1 either way.
+        prlimit = shutil.which("prlimit", path="/usr/bin:/bin")
+        run_processes = RUN_PROCESSES if self.mode != "bwrap" or prlimit else 0
+        if self.mode == "bwrap" and prlimit:
+            prefix += [prlimit, f"--nproc={RUN_PROCESSES}:{RUN_PROCESSES}", "--"]
+        wrapper_processes = limits.processes if self.mode == "bwrap" else RUN_PROCESSES
         return {"RAYKIT_ISOLATION": self.mode, "RAYKIT_ANSWERS": str(answers), "RAYKIT_SANDBOX_EXE": inside,
                 "RAYKIT_SCRATCH": str(scratch), "RAYKIT_SANDBOX_ARGV": "\x1f".join(prefix),
                 "RAYKIT_SANDBOX_UID": str(self.uid),
                 "RAYKIT_SANDBOX_CGROUPS": ":".join(self.cgroups),
-                "RAYKIT_SANDBOX_LIMITS": f"{limits.run_memory_mb * MiB} {limits.processes} "
-                                         f"{limits.file_mb * MiB} {limits.cpu_seconds}"}
+                "RAYKIT_SANDBOX_LIMITS": f"{limits.run_memory_mb * MiB} {wrapper_processes} "
+                                         f"{limits.file_mb * MiB} {limits.cpu_seconds} {run_processes}"}
 
     # --- the compile and the link -----------------------------------------------------------
     def run_tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> int:
@@ -402,6 +417,8 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
     limits = Limits.from_env()
     root = os.geteuid() == 0
     uid = claim_uid(slot) if root and wanted != "none" else 0
+    if uid:
+        use_kit_temp()      # the kit's own temporary files where graded code cannot fill or list them
     if wanted in ("auto", "bwrap"):
         install_bwrap()
     if wanted in ("auto", "bwrap") and bwrap_works(uid or None):
@@ -412,10 +429,13 @@ def choose(wanted: str = "auto", slot: int = 0) -> Isolation:
         raise RuntimeError("bubblewrap cannot run here (not installed, or namespaces are not allowed)")
     elif wanted in ("auto", "user") and root:
         iso = Isolation(f"user:{uid}", f"sandboxed as the unprivileged user id {uid}: it cannot read the kit's "
-                                       "answers and writes only a scratch folder; every process "
-                                       "it starts is ended; the network is NOT isolated (bubblewrap could "
-                                       "not run here)", uid=uid, limits=limits)
+                                       "answers nor another sandbox's files; it writes its own folder and, "
+                                       "like any user, /tmp (its files there removed after each step); its "
+                                       "processes are ended and its keyrings emptied after each case; the "
+                                       "network is NOT isolated (bubblewrap could not run here)",
+                        uid=uid, limits=limits)
         hide_secrets()
+        iso.description += "; " + scratch_words(uid, limits.scratch_mb)
     elif wanted == "user":
         raise RuntimeError("the user isolation needs the kit to run as root")
     elif wanted == "none":
@@ -674,17 +694,35 @@ class Scratch:
     parent of the folders those runs work in. The judge (tests/support/remote.cpp) makes a fresh one
     inside it at every start of the answers program, a case re-run alone included (owned by the
     sandbox's user id, mode 0700, removed when that program stops): nothing one run writes is there
-    for the next. This folder and the program stay the kit's (0711 and 0755): the code can start the
-    program but neither list, write nor swap anything here."""
+    for the next. This folder and the program stay the kit's: with a sandbox id, the folder 0710 and
+    the program 0750, both root's with the id's group, so that id alone may cross the one and start
+    the other (no other sandbox id may list, read, run or copy them, even knowing the path), and
+    nobody but the kit may write or swap anything here (0711 and 0755 without an id).
+
+    Under the user isolation, where the kit may mount (root with CAP_SYS_ADMIN), the folder is a
+    tmpfs of its own, Limits.scratch_mb plus the program's size and sandbox_slots.SCRATCH_INODES
+    inodes: the runs' folders and their TMPDIR cannot fill a disk. `mount_note` says why not when
+    it is not (a container: Docker's default profile refuses mount)."""
 
     def __init__(self, isolation: Isolation, answers: Path | None):
         self.isolation = isolation
-        self.path = Path(tempfile.mkdtemp(prefix="raykit-sandbox-"))
-        os.chmod(self.path, 0o711)
+        self.mount_note = ""
+        self.mounted = False
+        uid = isolation.uid
+        self.path = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-"))
+        if uid and isolation.mode != "bwrap" and answers is not None and answers.is_file():
+            size = isolation.limits.scratch_mb + answers.stat().st_size // MiB + 1
+            self.mount_note = mount_scratch(self.path, uid, size)
+            self.mounted = not self.mount_note
+        os.chmod(self.path, 0o710 if uid else 0o711)
+        if uid:
+            os.chown(self.path, 0, uid)
         self.answers = None
         if answers is not None and answers.is_file():
             self.answers = self.path / "answers"
-            copy_regular(answers, self.answers, 0o755)
+            copy_regular(answers, self.answers, 0o750 if uid else 0o755)
+            if uid:
+                os.chown(self.answers, 0, uid)
 
     def env(self) -> dict[str, str]:
         if not self.isolation.sandboxed or self.answers is None:
@@ -694,8 +732,8 @@ class Scratch:
 
     def between_runs(self) -> None:
         """Before a case re-run alone (checking.rerun_timeouts), under the user isolation: every
-        process of the sandbox's id is ended and what it wrote to the shared temporary folders is
-        removed, as after a step. Under bubblewrap those folders are each start's own."""
+        process of the sandbox's id is ended, its keyrings emptied, and what it wrote to the shared
+        temporary folders removed, as after a step. Under bubblewrap those are each start's own."""
         if self.isolation.uid and self.isolation.mode != "bwrap":
             kill_uid(self.isolation.uid)
             self.isolation.clean_files(self.isolation.uid)
@@ -706,6 +744,8 @@ class Scratch:
             kill_uid(self.isolation.uid)
             self.isolation.clean_files(self.isolation.uid)
             reap_orphans({self.isolation.uid})
+        if self.mounted:
+            unmount(self.path)
         shutil.rmtree(self.path, ignore_errors=True)
 
 
@@ -865,12 +905,14 @@ def _owned_by(pid: int, uid: int) -> bool:
 
 def kill_uid(uid: int) -> None:
     """Ends every process whose real user id is `uid`: a helper that takes the id and signals all
-    it may signal (kill -1), repeated while any is left (a fork between two rounds)."""
+    it may signal (kill -1), repeated while any is left (a fork between two rounds), and empties the
+    id's keyrings (at least once, with no process left too)."""
     if not uid or os.geteuid() != 0:
         return
-    for _ in range(20):
+    prepare_keyctl()
+    for round in range(20):
         left = [p for p in procfs.pids() if _owned_by(p, uid)]
-        if not left:
+        if not left and round:
             return
         pid = os.fork()
         if pid == 0:
@@ -878,11 +920,16 @@ def kill_uid(uid: int) -> None:
                 os.setgroups([])
                 os.setgid(uid)
                 os.setuid(uid)
-                os.kill(-1, signal.SIGKILL)
+                try:
+                    os.kill(-1, signal.SIGKILL)
+                except OSError:         # none left to signal
+                    pass
+                clear_keyrings()        # what the id's processes kept in its keyrings outlives them
             finally:
                 os._exit(0)
         os.waitpid(pid, 0)
-        time.sleep(0.02)
+        if left:
+            time.sleep(0.02)
 
 
 def session_members(sid: int) -> list[int]:

@@ -26,7 +26,7 @@ KITLIB = ROOT / "tools" / "kitlib"
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
               "waits", "submissions", "kitcache", "procfs", "pycache"]),
-    ("boundary", ["sandbox", "studentpch"]),
+    ("boundary", ["sandbox_slots", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",

@@ -1,0 +1,275 @@
+"""Self-test of grading's integrity, part two (issue 43): what one submission's processes may spend,
+keep or reach beyond its own run, under each sandbox the machine allows (integrity.isolations):
+
+- fork_budget: a correct step whose calls work in a forked child (and try a thread) while the
+  caller waits is refused the child: its cases fail as its own fault, with the limit named, and it
+  scores no better than the same code computed in-process (slow_correct);
+- keyring_rerun: inputs kept in the sandbox id's kernel keyrings reach neither the ★ case re-run
+  alone after the hidden cases nor the next student graded in the same slot;
+- classmate_program: graded beside a classmate by `./kit grade -j 2`, a step that looks through
+  /proc and the temporary folders for the classmate's answers program learns no path of this kit's
+  and can read, list or start nothing of it (a relay would need a process: refused too);
+- fill_tmp: a step that fills every temporary folder it may write leaves a classmate graded at the
+  same time with the classmate's true score, its own folder stopped at its limit where there is one;
+- two kits: two copies of the kit grading on one machine at once take different sandbox ids, and
+  each grades its submission right.
+
+Each prints what it managed to do; the checks read that output from the kit's record.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+from ..common import BUILD, ROOT
+from ..sandbox import Limits
+from ..sandbox_slots import KIT_TEMP_DIRS
+from .harness import Failed, Skipped, expect, need_solutions
+from .integrity import HOSTILE, blamed_on_kit, grade_json, isolations, printed, run_modes, statuses
+
+LIMIT_WORDS = "may not start processes or threads"
+
+
+def messages(data: dict) -> list[str]:
+    return [m for s in data["record"]["steps"] for c in s["cases"] for m in c["messages"]]
+
+
+def selftest_fork_budget(ctx) -> str:
+    def one(mode: str) -> str:
+        _, slow, _, _ = grade_json(HOSTILE / "slow_correct", ["01"], mode)
+        _, forked, _, _ = grade_json(HOSTILE / "fork_budget", ["01"], mode)
+        out = printed(forked)
+        expect("fork_budget: fork refused: Resource temporarily unavailable" in out,
+               f"fork_budget ({mode}): the fork was not refused: {out[:300]!r}")
+        expect("fork_budget: child answered" not in out and "fork_budget: thread started" not in out,
+               f"fork_budget ({mode}): a child or a thread ran: {out[:300]!r}")
+        expect("fork_budget: thread refused" in out, f"fork_budget ({mode}): no thread was tried: {out[:300]!r}")
+        expect(forked["score"] <= slow["score"],
+               f"fork_budget ({mode}): {forked['score']} points, the same code in-process {slow['score']}")
+        named = [m for m in messages(forked) if LIMIT_WORDS in m]
+        expect(bool(named), f"fork_budget ({mode}): no message names the limit: {messages(forked)[:2]}")
+        expect(not blamed_on_kit(forked), f"fork_budget ({mode}): blamed on the kit: {blamed_on_kit(forked)[:2]}")
+        bad = [f"{n}: {st}" for _, n, st in statuses(forked) if st not in ("threw", "fail", "timed_out", "crashed")]
+        expect(not bad, f"fork_budget ({mode}): cases not failed as the student's: {bad[:4]}")
+        return (f"fork and thread refused (EAGAIN), {forked['score']} points (in-process {slow['score']}), "
+                f"{len(named)} messages name the limit")
+
+    need_solutions()
+    return run_modes(one)
+
+
+KEY_NOW = re.compile(r"keyring_rerun: now ([RW](?: [0-9a-f]{8})+)")
+KEY_FOUND = re.compile(r"keyring_rerun: found ([RW](?: [0-9a-f]{8})+)")
+
+
+def selftest_keyring_rerun(ctx) -> str:
+    """The oracle is the fixture's record: the inputs it printed as "now" in the hidden cases must be
+    in no visible or ★ case's output or message, nor anywhere in the next grading in the same slot."""
+    def one(mode: str) -> str:
+        _, first, _, _ = grade_json(HOSTILE / "keyring_rerun", ["01"], mode)
+        [step] = first["record"]["steps"]
+        if not any(c["tier"] == "hidden" for c in step["cases"]):
+            raise Skipped("no hidden cases here, so nothing to keep")
+        hidden = {h for c in step["cases"] if c["tier"] == "hidden" for h in KEY_NOW.findall(c["output"])}
+        shown = "\n".join(x for c in step["cases"] if c["tier"] != "hidden" for x in [c["output"], *c["messages"]])
+        expect(len(hidden) >= 24, f"keyring_rerun ({mode}): only {len(hidden)} hidden inputs recorded; did it run?")
+        [far] = [c for c in step["cases"] if "10000 units" in c["name"]]
+        expect(far["status"] == "timed_out" and far.get("runs") == 2 and "holds" in far["output"],
+               f"keyring_rerun ({mode}): the ★ case was not re-run after timing out: {far['status']}, "
+               f"{far['output'][:200]!r}")
+        leaked = sorted(h for h in hidden if h in shown)
+        expect(not leaked, f"keyring_rerun ({mode}): {len(leaked)} of {len(hidden)} hidden inputs shown in a visible "
+                           f"or ★ case, e.g. {leaked[:2]}")
+        # The next student in the same slot (the same sandbox id: slot 0, claimed again).
+        _, second, _, _ = grade_json(HOSTILE / "keyring_rerun", ["01"], mode, cache=False)
+        found = set(KEY_FOUND.findall(printed(second)))
+        carried = sorted(found & hidden)
+        expect(not carried, f"keyring_rerun ({mode}): the next grading in the slot found {len(carried)} of the "
+                            f"previous one's {len(hidden)} hidden inputs in its keyrings, e.g. {carried[:2]}")
+        holds = sorted({l for l in printed(second).splitlines() if "holds" in l})
+        return f"none of {len(hidden)} hidden inputs shown, none in the next grading ({'; '.join(holds)})"
+
+    need_solutions()
+    return run_modes(one)
+
+
+def grade_together(subs: dict[str, Path], mode: str) -> tuple[dict[str, dict], dict[str, dict], float]:
+    """`./kit grade CLASS -j 2 --isolation MODE` of the folders `subs` (student -> step folders):
+    the CSV's rows and each student's record, by name, and the seconds it took."""
+    klass = Path(tempfile.mkdtemp(prefix="raykit-integrity-together-"))
+    try:
+        for name, folder in subs.items():
+            shutil.copytree(folder, klass / "class" / name)
+        start = time.monotonic()
+        r = subprocess.run([str(ROOT / "kit"), "grade", str(klass / "class"), "--out", str(klass / "grades.csv"),
+                            "--json-dir", str(klass / "json"), "--isolation", mode, "-j", "2"], cwd=ROOT,
+                           capture_output=True, text=True, timeout=1800, errors="replace")
+        took = time.monotonic() - start
+        expect(r.returncode == 0, f"./kit grade -j 2 ({mode}) exited {r.returncode}: {r.stderr[-500:]}")
+        rows = {row["student"]: row for row in csv.DictReader((klass / "grades.csv").open())}
+        records = {p.stem: {"record": rec, "score": rec["score"]}
+                   for p in (klass / "json").glob("*.json") for rec in [json.loads(p.read_text())]}
+    finally:
+        shutil.rmtree(klass, ignore_errors=True)
+    expect(set(subs) <= set(records), f"./kit grade -j 2 ({mode}): records for {sorted(records)} only")
+    return rows, records, took
+
+
+def ours(line: str) -> bool:
+    """Whether a line of classmate_program names a path of this kit's gradings (other kits on the
+    machine, with their own folders, are not this test's to judge)."""
+    return any(top in line for top in [*KIT_TEMP_DIRS, str(ROOT)])
+
+
+def selftest_classmate_program(ctx) -> str:
+    def one(mode: str) -> str:
+        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        _, records, took = grade_together({"a_spy": HOSTILE / "classmate_program",
+                                           "b_victim": HOSTILE / "slow_correct"}, mode)
+        out = printed(records["a_spy"])
+        expect("classmate_program: saw" in out, f"classmate_program ({mode}): its output is not in the record")
+        # Under bubblewrap the one command line it sees is its own sandbox's (bubblewrap's init): its own
+        # program's path. Under the user isolation a compile's command line shows the compile's folder
+        # (root's, 0750, the compile id's group): learnt, not reachable, and not an answers program.
+        harm = sorted({l for l in out.splitlines() if ours(l) and (re.search(r": could (read|run|list) ", l) or (
+            mode != "bwrap" and "learnt" in l and "raykit-sandbox" in l))})
+        expect(not harm, f"classmate_program ({mode}): it reached a classmate: " + "; ".join(harm[:5]))
+        learnt = len({l for l in out.splitlines() if ours(l) and "learnt" in l})
+        refused = "relay: fork Resource temporarily unavailable" in out
+        expect(refused, f"classmate_program ({mode}): its relay's fork was not refused")
+        expect(records["a_spy"]["score"] == base["score"],
+               f"classmate_program ({mode}): {records['a_spy']['score']} points, always_miss {base['score']}")
+        seen = max([int(n) for n in re.findall(r"saw (\d+) other answers programs", out)] or [0])
+        if mode == "user":      # the classmate's program ran beside it: a test that saw none proves little
+            expect(seen >= 1, f"classmate_program (user): saw no other answers program while it looked")
+        return (f"saw {seen} other answers programs, none of this kit's readable, runnable or listable, no "
+                f"answers program's path learnt ({learnt} other paths of this kit's seen), relay refused ({took:.0f} s)")
+
+    need_solutions()
+    return run_modes(one)
+
+
+FILLED = re.compile(r"fill_tmp: (its folder|TMPDIR|/tmp|/var/tmp|/dev/shm) wrote (\d+) MiB \(([^)]*)\), made (\d+)")
+
+
+def selftest_fill_tmp(ctx) -> str:
+    def one(mode: str) -> str:
+        _, alone, _, _ = grade_json(ROOT / "solutions", ["01"], mode)
+        alice = BUILD / "integrity-alice-01"
+        shutil.rmtree(alice, ignore_errors=True)
+        shutil.copytree(ROOT / "solutions" / "01_unit_sphere", alice / "01_unit_sphere")
+        _, records, took = grade_together({"a_fill": HOSTILE / "fill_tmp", "b_alice": alice}, mode)
+        out = printed(records["a_fill"])
+        filled = {where: (int(mb), why, int(files)) for where, mb, why, files in FILLED.findall(out)}
+        expect("its folder" in filled, f"fill_tmp ({mode}): did not run: {out[:300]!r}")
+        expect(records["b_alice"]["score"] == alone["score"],
+               f"fill_tmp ({mode}): the classmate beside it scored {records['b_alice']['score']}, alone {alone['score']}")
+        mb, why, files = filled["its folder"]
+        limit = Limits().scratch_mb
+        bounded = mode == "bwrap" or (mb <= limit and "No space" in why)
+        if mode == "bwrap":
+            expect(mb <= limit, f"fill_tmp (bwrap): wrote {mb} MiB in its folder, the limit is {limit} MiB")
+        left = [str(p) for d in ("/tmp", "/var/tmp", "/dev/shm") for p in Path(d).glob("raykit-hostile-*")]
+        expect(not left, f"fill_tmp ({mode}): files left in the shared temporary folders: {left[:4]}")
+        shared = ", ".join(f"{w} {filled[w][0]} MiB" for w in ("/tmp", "/var/tmp", "/dev/shm") if w in filled)
+        return (f"classmate {records['b_alice']['score']} as alone; its folder {mb} MiB and {files} files "
+                f"({'stopped: ' + why if bounded else 'NOT size-limited here'}); {shared} (its own caps) "
+                f"[{took:.0f} s]")
+
+    need_solutions()
+    return run_modes(one)
+
+
+# --- two kits on one machine (issue 43, item 5) ------------------------------------------------
+
+def copy_of_kit(target: Path) -> None:
+    """The kit's files as git tracks them, and the changes not yet committed, without build/."""
+    names = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                           capture_output=True, check=True).stdout.split(b"\0")
+    for raw in filter(None, names):
+        name = raw.decode()
+        src = ROOT / name
+        if name.startswith("build/") or not src.is_file():
+            continue
+        (target / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(src, target / name)
+
+
+USER_ID = re.compile(r"user id (\d+)")
+
+
+def selftest_two_kits(ctx) -> str:
+    """Two copies of the kit (two courses on one machine) grade at the same time, each as root
+    under each isolation: their sandbox ids differ, and each grades the solutions' steps 01-02 right
+    (done): neither ends the other's processes nor takes its id."""
+    need_solutions()
+    modes, skipped = isolations()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox ids are taken only as root", need="root")
+    other = Path(tempfile.mkdtemp(prefix="raykit-selftest-kitB-"))
+    parts = []
+    try:
+        copy_of_kit(other)
+        for mode in modes:
+            results: dict[str, tuple[int, dict, str]] = {}
+            spans: dict[str, tuple[float, float]] = {}
+
+            def grade(name: str, kit_root: Path) -> None:
+                out = Path(tempfile.mkdtemp(prefix=f"raykit-two-kits-{name}-"))
+                began = time.monotonic()
+                try:
+                    # Compiled anew (no object cache), so that the two gradings overlap for seconds.
+                    r = subprocess.run([str(kit_root / "kit"), "check", "1", "2", "--steps", str(ROOT / "solutions"),
+                                        "--json", str(out / "gs.json"), "--results", str(out / "rec.json"),
+                                        "--isolation", mode, "--quiet"], cwd=kit_root, capture_output=True,
+                                       text=True, timeout=1800, errors="replace",
+                                       env=dict(os.environ, RAYKIT_NO_OBJCACHE="1"))
+                    spans[name] = (began, time.monotonic())
+                    rec = json.loads((out / "rec.json").read_text()) if (out / "rec.json").is_file() else {}
+                    results[name] = (r.returncode, rec, r.stderr[-400:])
+                finally:
+                    shutil.rmtree(out, ignore_errors=True)
+
+            if mode == modes[0]:
+                grade("B", other)        # kit B's first build, alone, so that the two then grade together
+            start = time.monotonic()
+            threads = [threading.Thread(target=grade, args=(n, r)) for n, r in (("A", ROOT), ("B", other))]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            took = time.monotonic() - start
+            ids, scores = {}, {}
+            for name, (rc, rec, err) in results.items():
+                expect(rc == 0 and rec, f"two kits ({mode}): kit {name} exited {rc}: {err}")
+                found = {int(i) for step in rec["steps"] for i in USER_ID.findall(step.get("isolation", ""))}
+                expect(len(found) == 1, f"two kits ({mode}): kit {name}'s record names sandbox ids {sorted(found)}")
+                ids[name] = found.pop()
+                scores[name] = (rec["score"], [step["state"] for step in rec["steps"]])
+            overlap = min(spans["A"][1], spans["B"][1]) - max(spans["A"][0], spans["B"][0])
+            expect(overlap > 0, f"two kits ({mode}): the two gradings did not run at the same time")
+            expect(ids["A"] != ids["B"], f"two kits ({mode}): both graded as sandbox id {ids['A']}")
+            expect(scores["A"] == scores["B"] and set(scores["A"][1]) == {"done"},
+                   f"two kits ({mode}): the solutions' steps 01-02 scored {scores}")
+            parts.append(f"{mode}: ids {ids['A']} and {ids['B']}, both {scores['A'][0]} points, done, "
+                         f"{overlap:.0f} s at the same time [{took:.0f} s]")
+    finally:
+        shutil.rmtree(other, ignore_errors=True)
+    return "; ".join(parts + skipped)
+
+
+def selftests():
+    return [("integrity: a forking step is refused its child", selftest_fork_budget),
+            ("integrity: the keyring keeps nothing for a re-run or the next student", selftest_keyring_rerun),
+            ("integrity: a classmate's program out of reach", selftest_classmate_program),
+            ("integrity: a filled /tmp leaves classmates their scores", selftest_fill_tmp),
+            ("integrity: two kits on one machine", selftest_two_kits)]
