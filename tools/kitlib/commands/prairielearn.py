@@ -376,7 +376,8 @@ question's `info.json` names (`./kit prairielearn --image {image}`):
 
 Then in PrairieLearn: the course's **Sync** page, *Sync* beside the image (PrairieLearn caches it), and
 **Sync** the course itself after copying `questions/`, `courseInstances/` and `serverFilesCourse/` into its
-repository.
+repository and adding the topic and tags to its `infoCourse.json` (`README-raykit.md` beside `graders/`
+lists them).
 
 Without Docker, the kit checks the same image another way: `sudo tools/portability/reach prairielearn
 --root trixie` builds this Dockerfile's root with debootstrap (as Debian's official images are built),
