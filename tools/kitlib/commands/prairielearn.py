@@ -405,6 +405,16 @@ def read_course(folder: str) -> tuple[Path, dict]:
     return where, data
 
 
+def their_timezone(course_dir: Path, instance: str, info: dict) -> str | None:
+    """The timezone an existing instance's dates are read in: its own, else its course's."""
+    try:
+        data = json.loads((course_dir / "courseInstances" / instance / "infoCourseInstance.json").read_text())
+    except (OSError, ValueError):
+        data = {}
+    zone = data.get("timezone") if isinstance(data, dict) else None
+    return zone or info.get("timezone")
+
+
 def undeclared(wanted: dict[str, list[dict]], info: dict | None) -> dict[str, list[dict]]:
     """The entries of `wanted` that the course's infoCourse.json (None: not known) does not declare."""
     if info is None:
@@ -477,6 +487,11 @@ def run(args) -> int:
                        "like https://example.edu/raykit/")
     course_dir, course_info = read_course(args.course) if args.course else (None, None)
     has_instance = bool(course_dir and (course_dir / "courseInstances" / args.instance / "infoCourseInstance.json").is_file())
+    course = course_file.load()
+    zone = their_timezone(course_dir, args.instance, course_info) if has_instance else None
+    zone_note = (f"PrairieLearn reads the due date {course.due_date} in {zone}, the timezone of {course_dir}'s "
+                 f"instance {args.instance}" + (f", not course.json's {course.timezone}" if course.timezone else "")
+                 if course.due_date and zone and zone != course.timezone else "")
     out = Path(args.out).expanduser()
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise KitError(f"{args.out}: exists and is not an empty folder; choose a new one")
@@ -488,7 +503,6 @@ def run(args) -> int:
         raise KitError(f"{args.out}: cannot make its folder ({e.strerror or e})")
     writable_parent(args.out, out)
     image = args.image
-    course = course_file.load()
     steps = load_steps()
     points = {s.number: step_points(s, course) for s in steps}
     staging = out.resolve().parent / f".{out.name}.partial"
@@ -541,6 +555,7 @@ def run(args) -> int:
                   if course.due_date else
                   "course.json gives no due date (`\"due\": {\"date\": \"2027-03-14T23:59:00\", \"timezone\": ...}`): "
                   "the assessment is open for full credit while the course instance is published.")
+        access += f" Note: {zone_note}." if zone_note else ""
         (staging / "README-raykit.md").write_text(setup_readme(args, instance_note, lines, access))
         if out.exists():
             out.rmdir()
@@ -564,6 +579,8 @@ def run(args) -> int:
     say("  access: " + (f"full credit until {course.due_date}" + (f" {course.timezone}" if course.timezone else "")
                         + ", then closed to submissions" if course.due_date
                         else "no due date in course.json: full credit while the instance is published"))
+    if zone_note:
+        say(f"  note: {zone_note}")
     if lines:
         say("  the questions' topic and tags, which PrairieLearn wants declared:")
         for line in lines:

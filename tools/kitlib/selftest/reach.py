@@ -655,6 +655,10 @@ def selftest_prairielearn_complete(ctx) -> str:
                 + course_problems(schemas, assemble(instructors, out, again, WORK / "pl-assembled-2")))
     expect(not problems, "; ".join(problems)[:3000])
     fresh = pl_make(WORK / "pl-new-instance", dated, "--instance", "Spring", "--course", str(base))
+    paris = course_file.parse({**kit_course, "due": {**DUE, "timezone": "Europe/Paris"}}, numbers)
+    moved = pl_make(WORK / "pl-in-course", paris, "--instance", "SectionA", "--course", str(instructors))
+    expect("in America/Chicago" in moved and "America/Chicago" not in again,
+           f"course.json's Europe/Paris against SectionA's America/Chicago: no note: {moved[-600:]}")
     has = json.loads((base / "infoCourse.json").read_text())
     lacks = {k: [e for e in v if e["name"] not in {d["name"] for d in has.get(k, [])}] for k, v in declared.items()}
     expect((WORK / "pl-new-instance" / "courseInstances" / "Spring" / "infoCourseInstance.json").is_file()
