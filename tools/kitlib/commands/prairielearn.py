@@ -440,8 +440,9 @@ def declaration_lines(missing: dict[str, list[dict]]) -> list[str]:
 
 
 def setup_readme(args, instance_note: str, lines: list[str], access: str) -> str:
-    declare = ("The questions' topic and tags must be declared in the course's `infoCourse.json` (PrairieLearn "
-               "does not sync a question whose topic or tags it lacks). Add these entries:\n\n```\n"
+    declare = ("The questions' topic and tags must be declared in the course's `infoCourse.json`: PrairieLearn "
+               "expects every topic and tag a question uses declared there, and its sync flags those that are "
+               "not. Add these entries:\n\n```\n"
                + "\n".join(lines) + "\n```\n" if lines else
                "The questions' topic and tags are declared in the course's `infoCourse.json` already.\n")
     lecture = (f"Each question links its lecture on {args.docs_url} (the site `./kit docs` builds in "
