@@ -24,6 +24,16 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     hidden cases counted or left out; V is their Gradescope
                                     visibility (hidden, after_due_date, after_published, visible);
                                     whether failed hidden cases show their inputs after the due date.
+  "due": {"date": "YYYY-MM-DDTHH:MM[:SS]", "timezone": "Area/City"}
+                                    optional: the homework's due date, a local date and time
+                                    (no offset), in the IANA timezone given (else the course's own
+                                    on PrairieLearn). ./kit prairielearn writes it into the
+                                    assessment's access rules (full credit until then; afterwards
+                                    the assessment stays open to read, closed to submissions) and the
+                                    timezone into the course instance it writes. Gradescope takes
+                                    its dates from the assignment's settings instead. Without it,
+                                    PrairieLearn's assessment is open for full credit for as long as
+                                    the course instance is published.
   "rounding": {"decimals": D}       the total is rounded once, at the end, to D decimals (half up).
   "time_limits": {"case_seconds", "step_seconds", "submission_seconds",
                   "step_cpu_seconds", "step_wait_seconds"}
@@ -85,6 +95,8 @@ class Course:
     extra: set[str] = field(default_factory=set)     # groups whose cases are extra credit
     limits: dict[str, float] = field(default_factory=lambda: dict(LIMITS))
     hidden_cases: dict[str, int] = field(default_factory=dict)    # a handout's record of them (./kit handout)
+    due_date: str | None = None         # "YYYY-MM-DDTHH:MM:SS", local time (course.json "due")
+    timezone: str | None = None         # the due date's IANA timezone, when given
     source: str = "the default scale"
 
     def group(self, tier: str, name: str) -> str:
@@ -193,11 +205,43 @@ def _object(value, where: str) -> dict:
     return value
 
 
+def _due(entry: dict, where: str) -> tuple[str | None, str | None]:
+    """course.json's "due": the date as PrairieLearn writes one ("YYYY-MM-DDTHH:MM:SS", seconds
+    added when left out) and the timezone, each None when not given; KitError on a date that is not
+    one or a timezone unknown to this machine's database."""
+    from datetime import datetime
+    _known(entry, {"date", "timezone"}, where)
+    date, zone = entry.get("date"), entry.get("timezone")
+    if date is not None:
+        if not isinstance(date, str) or not re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d(:\d\d)?", date.strip()):
+            raise KitError(f"{where}.date: {json.dumps(date)} is not a local date and time like "
+                           "\"2027-03-14T23:59:00\" (no offset: the timezone goes in \"timezone\")")
+        try:
+            date = datetime.fromisoformat(date.strip()).strftime("%Y-%m-%dT%H:%M:%S")
+        except ValueError as e:
+            raise KitError(f"{where}.date: {json.dumps(entry['date'])}: {e}")
+    if zone is not None:
+        if not isinstance(zone, str) or not re.fullmatch(r"[A-Za-z_]+(/[A-Za-z0-9_+-]+)*", zone):
+            raise KitError(f"{where}.timezone: {json.dumps(zone)} is not a timezone name like \"America/Chicago\"")
+        try:
+            from zoneinfo import ZoneInfo, available_timezones
+            if available_timezones():           # this machine has a timezone database to ask
+                ZoneInfo(zone)
+        except ImportError:
+            pass
+        except (KeyError, ValueError, OSError):
+            raise KitError(f"{where}.timezone: {json.dumps(zone)} is not in the timezone database "
+                           "(names like \"America/Chicago\", \"Europe/Paris\")")
+        if date is None:
+            raise KitError(f"{where}.timezone: given without a date")
+    return date, zone
+
+
 def parse(data, steps: list[str], where: str = "course.json") -> Course:
     """A Course from the decoded JSON `data`, for the steps numbered `steps`; KitError on bad input."""
     course = Course(source=where)
     data = _object(data, where)
-    _known(data, {"about", "steps", "groups", "hidden", "rounding", "time_limits", "hidden_cases"}, where)
+    _known(data, {"about", "steps", "groups", "hidden", "due", "rounding", "time_limits", "hidden_cases"}, where)
     counts = _object(data.get("hidden_cases", {}), f"{where} hidden_cases")
     for number, n in counts.items():
         if number not in steps or isinstance(n, bool) or not isinstance(n, int) or n < 0:
@@ -239,6 +283,7 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
     if course.hidden_visibility not in VISIBILITIES:
         raise KitError(f"{where} hidden.visibility: {json.dumps(course.hidden_visibility)} is not one of "
                        f"Gradescope's: {', '.join(VISIBILITIES)}")
+    course.due_date, course.timezone = _due(_object(data.get("due", {}), f"{where} due"), f"{where} due")
     rounding = _object(data.get("rounding", {}), f"{where} rounding")
     _known(rounding, {"decimals"}, f"{where} rounding")
     decimals = rounding.get("decimals", 2)
@@ -359,6 +404,10 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     lines.append(f"  hidden cases: {'counted' if course.hidden_enabled else 'left out'}, Gradescope visibility "
                  f"{course.hidden_visibility}, inputs revealed after the due date: "
                  f"{'yes' if course.reveal_after_due_date else 'no'}")
+    lines.append("  due date: " + (f"{course.due_date}" + (f" ({course.timezone})" if course.timezone else
+                                                             " (the PrairieLearn course's timezone)")
+                                     if course.due_date else "none")
+                 + " (PrairieLearn's access rules, ./kit prairielearn; Gradescope uses its assignment's own)")
     lines.append("  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
     lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
                  f"{course.decimals} decimals (half up)")

@@ -10,7 +10,7 @@ only the question page, so the task marks what only the kit's copy has:
 
 and the rest is translated, line by line, from the small part of GitHub's Markdown the tasks use:
 headings, paragraphs, ordered and bulleted lists (nested by indentation), fenced code (as
-<pl-code>), `code`, **bold**, *italics*, links (only http(s) ones stay links: a path into the kit
+<pl-code>), pipe tables (a header row, its |---| line, then rows), `code`, **bold**, *italics*, links (only http(s) ones stay links: a path into the kit
 points at nothing there), figures (the file is copied beside the question, in clientFilesQuestion/,
 and shown from PrairieLearn's URL for it), and math: `$x$` and `$$x$$` (docs/math_filter.py's rules)
 become MathJax's `\\(x\\)` and `\\[x\\]`, which PrairieLearn's pages typeset. The page is a Mustache
@@ -29,6 +29,7 @@ PL_ONLY = re.compile(r"^\s*<!--\s*prairielearn:\s*(.*?)\s*-->\s*$")
 FENCE = re.compile(r"^\s*(`{3,}|~{3,})\s*([\w+-]*)\s*$")
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 ITEM = re.compile(r"^(\s*)(\d+[.)]|[-*+])\s+(.*)$")
+TABLE_RULE = re.compile(r"^\s*\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?\s*$")
 FIGURE_URL = "{{options.client_files_question_url}}/"
 
 
@@ -146,6 +147,24 @@ class Page:
         return (f'<img src="{FIGURE_URL}{html.escape(path.name)}" alt="{alt}" '
                 f'style="max-width: 100%">')
 
+    @staticmethod
+    def rows(lines: list[str], start: int) -> list[str]:
+        """A table's body: the lines from `start` that begin with |."""
+        end = start
+        while end < len(lines) and lines[end].lstrip().startswith("|"):
+            end += 1
+        return lines[start:end]
+
+    def table(self, head: str, body: list[str]) -> str:
+        def cells(row: str) -> list[str]:
+            row = row.strip()
+            row = row[1:] if row.startswith("|") else row
+            row = row[:-1] if row.endswith("|") and not row.endswith("\\|") else row
+            return [c.strip() for c in re.split(r"(?<!\\)\|", row)]
+        top = "".join(f"<th>{self.inline(c)}</th>" for c in cells(head))
+        rest = "".join("<tr>" + "".join(f"<td>{self.inline(c)}</td>" for c in cells(r)) + "</tr>" for r in body)
+        return f'<table class="table table-sm table-bordered w-auto"><thead><tr>{top}</tr></thead><tbody>{rest}</tbody></table>'
+
     def render(self, lines: list[str]) -> str:
         out: list[str] = []
         para: list[str] = []
@@ -197,6 +216,11 @@ class Page:
                 flush_para()
                 blank = True
                 i += 1
+                continue
+            if line.lstrip().startswith("|") and i + 1 < len(lines) and TABLE_RULE.match(lines[i + 1]):
+                flush_para(), close_lists()
+                out.append(self.table(lines[i], [r for r in self.rows(lines, i + 2)]))
+                i += 2 + len(self.rows(lines, i + 2))
                 continue
             heading = HEADING.match(line)
             m = ITEM.match(line)

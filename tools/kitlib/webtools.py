@@ -1,10 +1,12 @@
 """The web pages' tools: Doxygen, and the npm packages the site and the decks use (MathJax,
 reveal.js), installed once into build/docs/npm at the versions docs/package-lock.json pins. Below
-both `./kit docs` (commands/docs.py) and the decks (decks.py), which import it; it imports neither."""
+both `./kit docs` (commands/docs.py) and the decks (decks.py), which import it; it imports neither.
+Also the site's page names (page_id), which ./kit prairielearn links to."""
 
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -16,6 +18,13 @@ from .status import FAILED, SETUP
 DOCS = ROOT / "docs"
 NPM_DIR = BUILD / "docs" / "npm"
 NPM_ATTEMPTS = 2
+
+
+def page_id(path: Path) -> str:
+    """The name Doxygen 1.9 gives the page of a Markdown file: md_ and its path, non-word characters as _
+    (the site's page is this and .html)."""
+    rel = path.resolve().relative_to(ROOT).with_suffix("")
+    return "md_" + re.sub(r"[^A-Za-z0-9_\x80-\uffff]", "_", rel.as_posix())
 
 
 def ensure_docs_tools() -> None:

@@ -31,7 +31,7 @@ from pathlib import Path
 from .. import picture
 from ..decks import build as build_decks
 from ..common import BUILD, ROOT, KitError, Step, load_steps, say
-from ..webtools import ensure_docs_tools, npm_package
+from ..webtools import ensure_docs_tools, npm_package, page_id
 from ..status import FAILED, OK
 
 DOCS = ROOT / "docs"
@@ -50,12 +50,6 @@ SITE_LINKS = [(re.compile(r'href="(?:\.\./)+docs/lab/index\.html"'), 'href="lab/
 
 
 # --- what the site is made of ---------------------------------------------------------
-
-def page_id(path: Path) -> str:
-    """The name Doxygen 1.9 gives the page of a Markdown file: md_ and its path, non-word characters as _."""
-    rel = path.resolve().relative_to(ROOT).with_suffix("")
-    return "md_" + re.sub(r"[^A-Za-z0-9_\x80-\uffff]", "_", rel.as_posix())
-
 
 def title_of(path: Path, fallback: str) -> str:
     """The Markdown file's first-level heading."""

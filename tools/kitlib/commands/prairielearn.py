@@ -7,14 +7,31 @@ kit's steps, ready to sync.
                                       headers it implements, the hints, a <pl-file-editor> per step file
                                       pre-filled with the stub), the stubs, the task's figures in
                                       clientFilesQuestion/, tests/grade.py (the entry point)
+    OUT/courseInstances/INSTANCE/infoCourseInstance.json
+                                      the course instance (uuid from its name, published from today
+                                      until 180 days after the due date, course.json's timezone); not
+                                      written when --course DIR already has courseInstances/INSTANCE/
     OUT/courseInstances/INSTANCE/assessments/raykit/infoAssessment.json
                                       the assessment: one zone, a question per step worth the step's
                                       points on course.json's scale (plus its extra credit, which
-                                      maxBonusPoints puts above maxPoints, the steps' points)
+                                      maxBonusPoints puts above maxPoints, the steps' points), and
+                                      access rules from course.json's due date: full credit until it,
+                                      then open to read and closed to submissions (without one: full
+                                      credit while the instance is published)
     OUT/serverFilesCourse/raykit/     the instructor's kit, solutions included: students never see
                                       serverFilesCourse, so the hidden cases run
     OUT/graders/raykit/Dockerfile     the grading image (tools/prairielearn/Dockerfile), and README.md: how to
                                       build it for linux/amd64, push it under --image and sync the course
+    OUT/README-raykit.md              what to copy, and the lines to add to the course's infoCourse.json:
+                                      the topic and tags the questions use (PrairieLearn wants them
+                                      declared there), also printed; with --course DIR only those DIR's
+                                      infoCourse.json lacks
+
+Each question's page also shows the definitions its functions take (the kit's headers the step's
+contract includes, read from include/raykit/: Ray, Roots, Sphere, Rect, Camera, Canvas, Scene, ...),
+the scene of a step whose contract has one (include/raykit/scenes/NAME.inc, as lecture 05's tables
+give it), and its lecture: a link into the docs site `./kit docs` builds when --docs-url says where
+it is hosted, else the lecture's file named as plain text.
 
 The entry point runs tools/prairielearn/grade.py from the copied kit (`./kit check NN --steps ...
 --prairielearn FILE`) and writes /grade/results/results.json as PrairieLearn reads it. Copy OUT's
@@ -25,10 +42,12 @@ assessment's ids follow).
 from __future__ import annotations
 
 import html
+import importlib.util
 import json
 import re
 import shutil
 import uuid
+from datetime import date, datetime, timedelta
 from pathlib import Path
 
 from fractions import Fraction
@@ -40,7 +59,8 @@ from ..common import ROOT, KitError, load_steps, say, writable_parent
 from ..kitfiles import kit_files, platform_excluded as not_shipped
 from ..plresults import HIDDEN_NOTE
 from ..status import OK
-from ..taskpage import FIGURE_URL, kit_paths_out as for_prairielearn, task_html
+from ..taskpage import FIGURE_URL, Page, kit_paths_out as for_prairielearn, task_html
+from ..webtools import page_id
 
 # The job's budget. Measured with `sudo tools/portability/reach prairielearn --step NN --root trixie`: the
 # grading image built from its Dockerfile in a debootstrap root, a cold job (a fresh copy of the kit, no
@@ -73,7 +93,16 @@ def register(p) -> None:
                         "every info.json names it; graders/raykit/README.md says how to build and push it")
     p.add_argument("--instance", default="raykit", metavar="NAME",
                    help="the course instance the assessment goes in: OUT/courseInstances/NAME/assessments/raykit/ "
-                        "(default raykit; use your instance's folder name)")
+                        "(default raykit; use your instance's folder name). Its infoCourseInstance.json is written "
+                        "too, unless --course DIR has that instance already")
+    p.add_argument("--course", metavar="DIR",
+                   help="your PrairieLearn course repository (the folder of its infoCourse.json), read only: an "
+                        "instance it has is not written again, and only the topic and tags its infoCourse.json "
+                        "lacks are listed to add")
+    p.add_argument("--docs-url", metavar="URL",
+                   help="where the docs site ./kit docs builds (build/docs/student/html/) is hosted, "
+                        "e.g. https://example.edu/raykit/: each question links its lecture's page there "
+                        "(without it, the page names the lecture's file)")
     p.add_argument("--timeout", type=int, default=TIMEOUT,
                    help=f"seconds per grading job (default {TIMEOUT}: 1.6 times the slowest cold job measured under "
                         "PrairieLearn's limits on a loaded machine; at most 600)")
@@ -98,12 +127,29 @@ def question_id(step) -> str:
     return f"raykit/{step.folder}"
 
 
+# The topic and tags the questions use, as infoCourse.json declares them (PrairieLearn's schema: a
+# name and one of its colours each).
+TOPIC = {"name": "Ray tracing", "color": "purple1", "description": "raykit: ray tracing, one step at a time"}
+TAGS = [{"name": "raykit", "color": "purple2", "description": "a step of the raykit ray-tracing kit"},
+        {"name": "c++", "color": "gray1", "description": "written in C++"},
+        {"name": "externally graded", "color": "gray2", "description": "graded in a Docker image of its own"}]
+
+
+def step_tag(step) -> dict:
+    return {"name": f"step{step.number}", "color": "blue1", "description": f"raykit step {step.number}: {step.title}"}
+
+
+def declarations(steps) -> dict[str, list[dict]]:
+    """What infoCourse.json must declare for the questions: {"topics": [...], "tags": [...]}."""
+    return {"topics": [TOPIC], "tags": TAGS[:1] + [step_tag(s) for s in steps] + TAGS[1:]}
+
+
 def info_json(step, image: str, timeout: int) -> dict:
     return {
         "uuid": str(uuid.uuid5(NAMESPACE, f"raykit/{step.folder}")),
         "title": f"raykit step {step.number}: {step.title}",
-        "topic": "Ray tracing",
-        "tags": ["raykit", f"step{step.number}", "c++", "externally graded"],
+        "topic": TOPIC["name"],
+        "tags": [TAGS[0]["name"], step_tag(step)["name"]] + [t["name"] for t in TAGS[1:]],
         "type": "v3",
         "singleVariant": True,
         "gradingMethod": "External",
@@ -142,11 +188,110 @@ def assessment_json(steps, course, points: dict) -> dict:
     }
     if bonus:
         data["maxBonusPoints"] = pl_number(bonus)
+    data["allowAccess"] = access_rules(course)
     return data
 
 
-def lecture_words(step) -> str:
-    return f"lecture {step.number}, <em>{html.escape(step.title)}</em>"
+def access_rules(course) -> list[dict]:
+    """The assessment's access rules (PrairieLearn's allowAccess, dates in the instance's timezone):
+    full credit until course.json's due date, then open to read, closed to submissions; without a due
+    date, full credit whenever the course instance is published."""
+    if not course.due_date:
+        return [{"comment": "course.json gives no due date: full credit while the instance is published",
+                 "credit": 100}]
+    due = datetime.fromisoformat(course.due_date)
+    return [{"comment": "until course.json's due date", "credit": 100, "endDate": course.due_date},
+            {"comment": "after it: the work and its grades can be read, nothing submitted",
+             "startDate": (due + timedelta(seconds=1)).strftime("%Y-%m-%dT%H:%M:%S"), "active": False}]
+
+
+def instance_json(name: str, course, today: date) -> dict:
+    """A course instance to hold the assessment: published from `today` until 180 days after the due
+    date (a year from today without one), in course.json's timezone when it names one."""
+    end = (datetime.fromisoformat(course.due_date) + timedelta(days=180) if course.due_date
+           else datetime.combine(today, datetime.min.time()) + timedelta(days=365))
+    data = {"uuid": str(uuid.uuid5(NAMESPACE, f"raykit/courseInstances/{name}")),
+            "longName": name if name != "raykit" else "raykit: ray tracing",
+            "comment": "written by raykit's ./kit prairielearn; edit the publishing dates as you like"}
+    if course.timezone:
+        data["timezone"] = course.timezone
+    data["publishing"] = {"startDate": f"{today.isoformat()}T00:00:01",
+                          "endDate": end.strftime("%Y-%m-%dT23:59:59")}
+    return data
+
+
+def lecture_words(step, docs_url: str | None = None) -> str:
+    """The step's lecture: a link to its page on the hosted docs site, or, without --docs-url (or
+    before the lecture is written), its name and file as plain text: never a link to nothing."""
+    words = f"lecture {step.number}, <em>{html.escape(step.title)}</em>"
+    lecture = ROOT / step.lecture
+    if not lecture.is_file():
+        return words
+    if docs_url:
+        href = html.escape(docs_url.rstrip("/") + "/" + page_id(lecture) + ".html")
+        return f'<a href="{href}" target="_blank" rel="noopener">{words}</a>'
+    return f"{words} (the kit's lecture file <code>{html.escape(lecture.name)}</code>)"
+
+
+def contract_headers(step) -> list[str]:
+    """The raykit headers the step's files include: the contracts of its functions."""
+    headers = []
+    for f in step.files:
+        for h in re.findall(r'#include "(raykit/[a-z_]+\.hpp)"', (ROOT / "steps" / step.folder / f).read_text()):
+            if h not in headers and h != "raykit/not_implemented.hpp":
+                headers.append(h)
+    return headers
+
+
+def shared_headers(contracts: list[str]) -> list[str]:
+    """The kit's headers the contracts include, at any depth, each after those it includes: where the
+    types the step's functions take (Ray, Roots, Sphere, Rect, Camera, Canvas, Scene, ...) are defined."""
+    found: list[str] = []
+
+    def visit(h: str) -> None:
+        for inc in re.findall(r'^#include "(raykit/[a-z_]+\.hpp)"', (ROOT / "include" / h).read_text(), re.M):
+            if inc not in found and inc not in contracts:
+                visit(inc)
+                if inc not in found:
+                    found.append(inc)
+    for h in contracts:
+        visit(h)
+    return found
+
+
+def defined_names(header: str) -> list[str]:
+    """The types and functions a kit header defines or declares, for the line that introduces it."""
+    code = re.sub(r"//.*", "", (ROOT / "include" / header).read_text())
+    names = re.findall(r"^\s*(?:struct|class)\s+(\w+)\s*[:{]|^\s*using\s+(\w+)\s*=|"
+                       r"^(?:inline\s+)?[\w:<>]+[&*]?\s+(\w+)\([^;]*\)\s*[{;]", code, re.M)
+    return [n for group in names for n in group if n]
+
+
+def scene_html(contracts: list[str]) -> str:
+    """The scene of a contract that has one (include/raykit/scenes/NAME.inc beside raykit/NAME.hpp), as
+    lecture 05's tables give it (docs/scene_tables.py writes those tables from the same file)."""
+    parts = []
+    for h in contracts:
+        inc = ROOT / "include" / "raykit" / "scenes" / (Path(h).stem + ".inc")
+        if not inc.is_file():
+            continue
+        spec = importlib.util.spec_from_file_location("raykit_scene_tables", ROOT / "docs" / "scene_tables.py")
+        tables = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(tables)
+        try:
+            blocks = tables.blocks(tables.read(inc))
+        except tables.SceneError as e:
+            raise KitError(f"{inc.relative_to(ROOT)}: {e}")
+        page = Page(inc)
+        parts += ["<h4>The scene</h4>",
+                  f"<p>The numbers your <code>{html.escape(Path(h).stem)}</code> model takes, from the kit's scene "
+                  f"file <code>{html.escape(inc.name)}</code> (the lecture's tables are written from it). The objects, "
+                  "in list order, each as a <code>Rect</code> (axis, offset, lo, hi: its definition is below) with its "
+                  "colour:</p>",
+                  page.render(blocks["rects"].splitlines()),
+                  "<p>The colours (red, green, blue):</p>", page.render(blocks["colors"].splitlines()),
+                  page.render(blocks["camera"].splitlines())]
+    return "\n".join(parts)
 
 
 def hints_html(step) -> str:
@@ -161,7 +306,7 @@ def hints_html(step) -> str:
     return "\n".join(parts)
 
 
-def question_html(step, course, points) -> tuple[str, list]:
+def question_html(step, course, points, docs_url: str | None = None) -> tuple[str, list]:
     """The question's page and the figures to copy beside it (clientFilesQuestion/)."""
     maximum, bonus, hidden, hidden_cases = points
     task, figures, _dropped = task_html(ROOT / "steps" / step.folder / "README.md")
@@ -177,15 +322,22 @@ def question_html(step, course, points) -> tuple[str, list]:
              f"<p>Your {'file is' if len(step.files) == 1 else 'files are'} {files}: write {'it' if len(step.files) == 1 else 'them'} "
              f"in the editor{'s' if len(step.files) > 1 else ''} below, then <strong>Save &amp; Grade</strong>: every case runs, "
              "and each one that fails says what was called, what was expected and what your code gave, with the "
-             f"lecture section to read ({lecture_words(step)}) and, for the first failing one, a picture.</p>",
+             "section to read of the step's lecture and, for the first failing one, a picture.</p>",
+             f"<p><strong>Read</strong> {lecture_words(step, docs_url)}.</p>",
              f"<p>{worth}{hidden_text}</p>"]
-    headers = []
-    for f in step.files:
-        for h in re.findall(r'#include "(raykit/[a-z_]+\.hpp)"', (ROOT / "steps" / step.folder / f).read_text()):
-            if h not in headers and h != "raykit/not_implemented.hpp":
-                headers.append(h)
+    headers = contract_headers(step)
+    parts.append(scene_html(headers))
     for h in headers:
         parts += [f"<details><summary>The contract: <code>{h}</code> (read it: what your functions must do)</summary>",
+                  '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
+                  "</pl-code></details>"]
+    shared = shared_headers(headers)
+    if shared:
+        parts.append("<p>The definitions your functions take, as the kit's headers give them (the contract "
+                     "includes them for you):</p>")
+    for h in shared:
+        names = ", ".join(f"<code>{n}</code>" for n in defined_names(h))
+        parts += [f"<details><summary>Shared definitions: <code>{h}</code>{' (' + names + ')' if names else ''}</summary>",
                   '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
                   "</pl-code></details>"]
     hints = hints_html(step)
@@ -224,7 +376,8 @@ question's `info.json` names (`./kit prairielearn --image {image}`):
 
 Then in PrairieLearn: the course's **Sync** page, *Sync* beside the image (PrairieLearn caches it), and
 **Sync** the course itself after copying `questions/`, `courseInstances/` and `serverFilesCourse/` into its
-repository.
+repository and adding the topic and tags to its `infoCourse.json` (`README-raykit.md` beside `graders/`
+lists them).
 
 Without Docker, the kit checks the same image another way: `sudo tools/portability/reach prairielearn
 --root trixie` builds this Dockerfile's root with debootstrap (as Debian's official images are built),
@@ -233,6 +386,89 @@ runs its RUN lines in it, and grades a cold job there under PrairieLearn's limit
 The limits PrairieLearn's graders give a job: 2 GiB of memory, 0.9 of a CPU, 1024 processes, no network,
 the question's `timeout` (compile time included). bubblewrap cannot run under Docker's default seccomp
 profile, so the kit grades as a user id of its own there.
+"""
+
+
+def read_course(folder: str) -> tuple[Path, dict]:
+    """--course DIR: the course repository and its infoCourse.json; KitError when it is not one."""
+    where = Path(folder).expanduser()
+    info = where / "infoCourse.json"
+    if not info.is_file():
+        raise KitError(f"--course {folder}: no infoCourse.json there; give the folder of your PrairieLearn "
+                       "course's repository (or leave --course out)")
+    try:
+        data = json.loads(info.read_text())
+    except (OSError, ValueError) as e:
+        raise KitError(f"--course {folder}: infoCourse.json cannot be read ({e})")
+    if not isinstance(data, dict):
+        raise KitError(f"--course {folder}: infoCourse.json is not a JSON object")
+    return where, data
+
+
+def their_timezone(course_dir: Path, instance: str, info: dict) -> str | None:
+    """The timezone an existing instance's dates are read in: its own, else its course's."""
+    try:
+        data = json.loads((course_dir / "courseInstances" / instance / "infoCourseInstance.json").read_text())
+    except (OSError, ValueError):
+        data = {}
+    zone = data.get("timezone") if isinstance(data, dict) else None
+    return zone or info.get("timezone")
+
+
+def undeclared(wanted: dict[str, list[dict]], info: dict | None) -> dict[str, list[dict]]:
+    """The entries of `wanted` that the course's infoCourse.json (None: not known) does not declare."""
+    if info is None:
+        return wanted
+    missing = {}
+    for key, entries in wanted.items():
+        have = {e.get("name") for e in info.get(key) or [] if isinstance(e, dict)}
+        missing[key] = [e for e in entries if e["name"] not in have]
+    return missing
+
+
+def declaration_lines(missing: dict[str, list[dict]]) -> list[str]:
+    """The lines to add to infoCourse.json: one JSON object a line, commas between them."""
+    lines = []
+    for key, entries in missing.items():
+        if not entries:
+            continue
+        lines.append(f'  add to infoCourse.json\'s "{key}" list (a comma between these and its other entries; '
+                     f'start the list, "{key}": [ ... ], if it has none):')
+        lines += [f"    {json.dumps(e, ensure_ascii=False)}{',' if i < len(entries) - 1 else ''}"
+                  for i, e in enumerate(entries)]
+    return lines
+
+
+def setup_readme(args, instance_note: str, lines: list[str], access: str) -> str:
+    declare = ("The questions' topic and tags must be declared in the course's `infoCourse.json`: PrairieLearn "
+               "expects every topic and tag a question uses declared there, and its sync flags those that are "
+               "not. Add these entries:\n\n```\n"
+               + "\n".join(lines) + "\n```\n" if lines else
+               "The questions' topic and tags are declared in the course's `infoCourse.json` already.\n")
+    lecture = (f"Each question links its lecture on {args.docs_url} (the site `./kit docs` builds in "
+               "`build/docs/student/html/`: publish that folder there)." if args.docs_url else
+               "Each question names its lecture's file; with `--docs-url URL` (where the site `./kit docs` "
+               "builds is published) it links the lecture's page instead.")
+    return f"""# raykit for PrairieLearn: what to copy, what to add
+
+Copy `questions/`, `courseInstances/` and `serverFilesCourse/` into the course repository (merging with
+what is there), then build and push the grading image as `graders/raykit/README.md` says. This file and
+`graders/` are not part of the course.
+
+## The course instance
+
+{instance_note}
+
+## infoCourse.json
+
+{declare}
+## Access
+
+{access}
+
+## Lectures
+
+{lecture}
 """
 
 
@@ -247,6 +483,16 @@ def run(args) -> int:
                        "like jdoe/raykit-grader)")
     if not re.fullmatch(r"[A-Za-z0-9][\w.-]*", args.instance):
         raise KitError(f"--instance {args.instance}: a course instance's folder name (letters, digits, . _ -)")
+    if args.docs_url is not None and not re.fullmatch(r"https?://[^\s\"'<>]+", args.docs_url):
+        raise KitError(f"--docs-url {args.docs_url}: the http(s) address where the docs site is hosted, "
+                       "like https://example.edu/raykit/")
+    course_dir, course_info = read_course(args.course) if args.course else (None, None)
+    has_instance = bool(course_dir and (course_dir / "courseInstances" / args.instance / "infoCourseInstance.json").is_file())
+    course = course_file.load()
+    zone = their_timezone(course_dir, args.instance, course_info) if has_instance else None
+    zone_note = (f"PrairieLearn reads the due date {course.due_date} in {zone}, the timezone of {course_dir}'s "
+                 f"instance {args.instance}" + (f", not course.json's {course.timezone}" if course.timezone else "")
+                 if course.due_date and zone and zone != course.timezone else "")
     out = Path(args.out).expanduser()
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise KitError(f"{args.out}: exists and is not an empty folder; choose a new one")
@@ -258,7 +504,6 @@ def run(args) -> int:
         raise KitError(f"{args.out}: cannot make its folder ({e.strerror or e})")
     writable_parent(args.out, out)
     image = args.image
-    course = course_file.load()
     steps = load_steps()
     points = {s.number: step_points(s, course) for s in steps}
     staging = out.resolve().parent / f".{out.name}.partial"
@@ -268,7 +513,7 @@ def run(args) -> int:
             q = staging / "questions" / question_id(step)
             (q / "tests").mkdir(parents=True)
             (q / "info.json").write_text(json.dumps(info_json(step, image, args.timeout), indent=2) + "\n")
-            page, figures = question_html(step, course, points[step.number])
+            page, figures = question_html(step, course, points[step.number], args.docs_url)
             (q / "question.html").write_text(page)
             for path, name in figures:
                 (q / "clientFilesQuestion").mkdir(exist_ok=True)
@@ -280,6 +525,19 @@ def run(args) -> int:
             entry.chmod(0o755)
         assessment = staging / "courseInstances" / args.instance / "assessments" / "raykit"
         assessment.mkdir(parents=True)
+        if has_instance:
+            instance_note = (f"`{course_dir}` has `courseInstances/{args.instance}/` already: the assessment goes "
+                             "into it, and no `infoCourseInstance.json` is written here (the course's stays).")
+        else:
+            (staging / "courseInstances" / args.instance / "infoCourseInstance.json").write_text(
+                json.dumps(instance_json(args.instance, course, date.today()), indent=2) + "\n")
+            instance_note = (f"`courseInstances/{args.instance}/infoCourseInstance.json` makes the instance the "
+                             "assessment goes in, published from today until "
+                             + ("180 days after the due date" if course.due_date else "a year from today")
+                             + (f" ({course_dir} has no such instance)." if course_dir else
+                                ". If your course has this instance already, do not copy that file (yours stays); "
+                                "`--course DIR` checks for you."))
+        lines = declaration_lines(undeclared(declarations(steps), course_info))
         (assessment / "infoAssessment.json").write_text(json.dumps(assessment_json(steps, course, points), indent=2) + "\n")
         kit = staging / "serverFilesCourse" / "raykit"
         for rel in kit_files():
@@ -292,6 +550,14 @@ def run(args) -> int:
         (staging / "graders" / "raykit").mkdir(parents=True)
         shutil.copyfile(DOCKERFILE, staging / "graders" / "raykit" / "Dockerfile")
         (staging / "graders" / "raykit" / "README.md").write_text(image_readme(image))
+        access = (f"Full credit until the due date, {course.due_date}"
+                  + (f" ({course.timezone})" if course.timezone else " (the course's timezone)")
+                  + ", from course.json; afterwards the assessment can be read, not submitted to."
+                  if course.due_date else
+                  "course.json gives no due date (`\"due\": {\"date\": \"2027-03-14T23:59:00\", \"timezone\": ...}`): "
+                  "the assessment is open for full credit while the course instance is published.")
+        access += f" Note: {zone_note}." if zone_note else ""
+        (staging / "README-raykit.md").write_text(setup_readme(args, instance_note, lines, access))
         if out.exists():
             out.rmdir()
         staging.replace(out)
@@ -307,5 +573,20 @@ def run(args) -> int:
         f"courseInstances/{args.instance}/assessments/raykit/ ({course.shown(total)} points"
         + (f", {course.shown(bonus)} of extra credit" if bonus else "") + "),")
     say(f"  the kit in serverFilesCourse/raykit/, the grading image in graders/raykit/ (timeout {args.timeout} s; image {image})")
-    say("  next: graders/raykit/README.md (build, push, sync)")
+    say(f"  course instance {args.instance}: " + (f"{course_dir} has it; its infoCourseInstance.json is left as it is"
+                                                  if has_instance else "infoCourseInstance.json written"
+                                                  + ("" if course_dir else " (if your course has this instance, "
+                                                                           "do not copy that file)")))
+    say("  access: " + (f"full credit until {course.due_date}" + (f" {course.timezone}" if course.timezone else "")
+                        + ", then closed to submissions" if course.due_date
+                        else "no due date in course.json: full credit while the instance is published"))
+    if zone_note:
+        say(f"  note: {zone_note}")
+    if lines:
+        say("  the questions' topic and tags, which PrairieLearn wants declared:")
+        for line in lines:
+            say(line)
+    else:
+        say(f"  the questions' topic and tags: declared in {course_dir}/infoCourse.json already")
+    say(f"  next: {out}/README-raykit.md (what to copy), graders/raykit/README.md (build, push, sync)")
     return OK

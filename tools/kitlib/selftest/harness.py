@@ -50,6 +50,7 @@ QUICK = {
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the student's summary"],
     "draws": ["draws: the hidden draw follows the code, not its comments"],
+    "reach": ["prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures"],
     "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more",
              "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
     "handout": ["handout: no step code"],

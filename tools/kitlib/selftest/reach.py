@@ -16,6 +16,21 @@
     writes results.json that passes tools/prairielearn/check_results.py (externalGraderCommon.ts's
     rules): the solutions score 1 on every step, the stubs 0, one slip in between with the picture of a
     failing case, a compile error 0 with its diagnostic; both checkers are shown to catch a wrong file.
+  - prairielearn, a complete course (#46 item 3; no build, about 8 s): with a due date added to the kit's
+    course.json (and bad ones refused, ./kit course showing it), ./kit prairielearn's output with the
+    defaults holds the instance --instance raykit names; its info.json, infoAssessment.json and
+    infoCourseInstance.json validate against PrairieLearn's schemas; PrairieLearn's example course with
+    an infoCourse.json of its own, the entries the command printed (also in OUT/README-raykit.md) and
+    OUT copied in validates whole, every question's topic and tags declared, every assessment in an
+    instance, every question id a question (and a tag dropped, an instance removed are caught); the
+    assessment's allowAccess gives full credit up to course.json's due date and none after (a day late
+    is caught), the instance its timezone; each page holds the definition of every kit type its
+    contract names, at any depth (found here from include/raykit/, not from the command's list); step
+    05's page holds cornell_box.inc's objects, colours and camera; without --docs-url the lecture's
+    file is named and nothing links, with it each page links the lecture's page ./kit docs makes (and a
+    built site here has). --course: an instance the course has (SectionA) is not written, declared
+    entries not printed again, a missing instance written; --course at no course and a --docs-url
+    without http(s) are refused.
   - noapt: without apt or dpkg, packages.ensure_packages looks in a Homebrew-like prefix: GLM and
     doctest found there (and the prefix passed to CMake in CMAKE_PREFIX_PATH), stb not needed by the
     check but named for ./kit render, doctest removed is named with `brew install doctest`. The full
@@ -323,6 +338,346 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
             + (f" + {data['maxBonusPoints']} extra credit" if bonus else "") + ", pages clean")
 
 
+# --- a complete PrairieLearn course (#46 item 3) ------------------------------------------------------
+
+PL_SCHEMAS = PL_SCHEMA[:-1]
+DOCS_URL = "https://raykit.example.edu/site/"
+DUE = {"date": "2027-03-14T23:59", "timezone": "America/Chicago"}
+
+
+def pl_make(out: Path, course, *options: str) -> str:
+    """./kit prairielearn OUT in this process, with `course` as course.json; what it printed."""
+    import argparse
+    import contextlib
+    import io
+    from ..commands import prairielearn as cmd
+    shutil.rmtree(out, ignore_errors=True)
+    parser = argparse.ArgumentParser()
+    cmd.register(parser)
+    args = parser.parse_args([str(out), "--image", "raykit-selftest/raykit-grader", *options])
+    printed = io.StringIO()
+    with course_file.using(course), contextlib.redirect_stdout(printed):
+        cmd.run(args)
+    return printed.getvalue()
+
+
+def schema_problems(schemas: Path, files: dict[str, list[Path]]) -> list[str]:
+    """PrairieLearn's schema named by each key (infoQuestion.json, ...) against its files."""
+    found = []
+    for schema, paths in files.items():
+        if not paths:
+            continue
+        v = subprocess.run([SYSTEM_PYTHON, str(ROOT / "tools/prairielearn/check_results.py"), "info",
+                            str(schemas / schema), *map(str, paths)], capture_output=True, text=True)
+        if not v.stdout.strip():
+            return [f"check_results.py info {schema}: {v.stderr[-500:]}"]
+        found += [f"{Path(f).name} ({f}) against {schema}: {'; '.join(p)}" for f, p in json.loads(v.stdout).items() if p]
+    return found
+
+
+def pl_files(folder: Path) -> dict[str, list[Path]]:
+    return {"infoQuestion.json": sorted(folder.glob("questions/**/info.json")),
+            "infoAssessment.json": sorted(folder.glob("courseInstances/**/assessments/**/infoAssessment.json")),
+            "infoCourseInstance.json": sorted(folder.glob("courseInstances/**/infoCourseInstance.json")),
+            "infoCourse.json": [folder / "infoCourse.json"] if (folder / "infoCourse.json").is_file() else []}
+
+
+def printed_declarations(printed: str) -> dict[str, list[dict]]:
+    """The entries ./kit prairielearn printed to add to infoCourse.json, by list."""
+    found: dict[str, list[dict]] = {}
+    key = None
+    for line in printed.splitlines():
+        m = re.search(r"""infoCourse\.json's "(\w+)" list""", line)
+        if m:
+            key = m.group(1)
+            found.setdefault(key, [])
+        elif key and line.strip().startswith("{"):
+            found[key].append(json.loads(line.strip().rstrip(",")))
+        else:
+            key = None
+    return found
+
+
+def example_course(example: Path, target: Path) -> Path:
+    """PrairieLearn's example course with an infoCourse.json (its copy here has none) that declares
+    what its own questions use, as a course repository would."""
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(example, target)
+    infos = [json.loads(p.read_text()) for p in target.glob("questions/**/info.json")]
+    topics = sorted({i["topic"] for i in infos})
+    tags = sorted({t for i in infos for t in i.get("tags", [])})
+    (target / "infoCourse.json").write_text(json.dumps({
+        "name": "EX 101", "title": "PrairieLearn's example course", "timezone": "America/Chicago",
+        "topics": [{"name": t, "color": "gray1"} for t in topics],
+        "tags": [{"name": t, "color": "gray2"} for t in tags]}, indent=2) + "\n")
+    return target
+
+
+def assemble(base: Path, out: Path, printed: str, target: Path) -> Path:
+    """A course: `base`, the entries `printed` said to add to its infoCourse.json, OUT's questions and
+    course instances copied in as the README says (the kit's copy in serverFilesCourse left out here)."""
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(base, target)
+    info = json.loads((target / "infoCourse.json").read_text())
+    for key, entries in printed_declarations(printed).items():
+        info.setdefault(key, []).extend(entries)
+    (target / "infoCourse.json").write_text(json.dumps(info, indent=2) + "\n")
+    for part in ("questions", "courseInstances"):
+        if (out / part).is_dir():
+            shutil.copytree(out / part, target / part, dirs_exist_ok=True)
+    return target
+
+
+def course_problems(schemas: Path, course: Path) -> list[str]:
+    """What would keep PrairieLearn from syncing the raykit part of `course`: a file its schema
+    refuses, an undeclared topic or tag, an assessment in a folder that is no course instance, a
+    question id the assessment names that is no question."""
+    found = schema_problems(schemas, pl_files(course))
+    info = json.loads((course / "infoCourse.json").read_text())
+    topics = {t["name"] for t in info.get("topics", [])}
+    tags = {t["name"] for t in info.get("tags", [])}
+    for q in sorted(course.glob("questions/**/info.json")):
+        data = json.loads(q.read_text())
+        if data.get("topic") not in topics:
+            found.append(f"{q.relative_to(course)}: topic {data.get('topic')!r} is not declared in infoCourse.json")
+        found += [f"{q.relative_to(course)}: tag {t!r} is not declared in infoCourse.json"
+                  for t in data.get("tags", []) if t not in tags]
+    for a in sorted(course.glob("courseInstances/*/assessments/**/infoAssessment.json")):
+        instance = a.relative_to(course).parts[1]
+        if not (course / "courseInstances" / instance / "infoCourseInstance.json").is_file():
+            found.append(f"{a.relative_to(course)}: courseInstances/{instance}/ has no infoCourseInstance.json")
+        if "raykit" in a.parts:
+            ids = [q["id"] for z in json.loads(a.read_text())["zones"] for q in z["questions"]]
+            found += [f"{a.relative_to(course)}: question {i} is not in questions/" for i in ids
+                      if not (course / "questions" / i / "info.json").is_file()]
+    return found
+
+
+def access_problems(out: Path, instance: str, course) -> list[str]:
+    """The assessment's access rules follow course.json's due date: full credit up to it and none after;
+    the course instance written (if any) in its timezone."""
+    path = out / "courseInstances" / instance / "assessments" / "raykit" / "infoAssessment.json"
+    rules = json.loads(path.read_text()).get("allowAccess", [])
+    if not rules:
+        return [f"{path.relative_to(out)}: no allowAccess (students cannot open it; due date {course.due_date})"]
+    found = []
+    credited = [r for r in rules if r.get("credit", 0) > 0 and r.get("active", True)]
+    if course.due_date:
+        due = course.due_date
+        if not any(r.get("credit") == 100 and r.get("endDate") == due and "startDate" not in r for r in credited):
+            found.append(f"no rule of full credit up to the due date {due}: {rules}")
+        late = [r for r in credited if r.get("endDate", "9999") > due]
+        if late:
+            found.append(f"credit after the due date {due}: {late}")
+        if not any(r.get("startDate", "") > due and r.get("active") is False for r in rules):
+            found.append(f"after the due date {due}, no rule that keeps the assessment readable and closed: {rules}")
+    elif not any(r.get("credit") == 100 and not {"startDate", "endDate"} & set(r) for r in credited):
+        found.append(f"no due date, yet no rule of full credit at any date: {rules}")
+    made = out / "courseInstances" / instance / "infoCourseInstance.json"
+    if made.is_file() and json.loads(made.read_text()).get("timezone") != course.timezone:
+        found.append(f"{made.relative_to(out)}: timezone {json.loads(made.read_text()).get('timezone')!r}, "
+                     f"course.json's {course.timezone!r}")
+    return found
+
+
+DEFINES = re.compile(r"^\s*(?:struct|class)\s+(\w+)\s*[:{].*$|^\s*using\s+(\w+)\s*=.*$", re.M)
+
+
+def kit_definitions() -> dict[str, tuple[str, str]]:
+    """Each type include/raykit/*.hpp defines: its header and the line that defines it."""
+    found = {}
+    for h in sorted((ROOT / "include" / "raykit").glob("*.hpp")):
+        for m in DEFINES.finditer(h.read_text()):
+            found[m.group(1) or m.group(2)] = (f"raykit/{h.name}", m.group(0).strip())
+    return found
+
+
+def definition_problems(out: Path, steps) -> list[str]:
+    """Each page shows the definition of every kit type its contract's code names, and of every type
+    those definitions' headers name in turn (Ray, Roots, Sphere, Rect, Camera, Canvas, Scene, ...)."""
+    import html as html_module
+    defs = kit_definitions()
+    code = lambda header: re.sub(r"//.*", "", (ROOT / "include" / header).read_text())
+    found = []
+    for step in steps:
+        headers = {h for f in step.files for h in re.findall(r'#include "(raykit/\w+\.hpp)"',
+                                                             (ROOT / "steps" / step.folder / f).read_text())}
+        headers.discard("raykit/not_implemented.hpp")
+        names, todo = set(), list(headers)
+        while todo:
+            for name in re.findall(r"\b[A-Z]\w*\b", code(todo.pop())):
+                if name in defs and name not in names:
+                    names.add(name)
+                    todo.append(defs[name][0])
+        page = (out / "questions" / "raykit" / step.folder / "question.html").read_text()
+        shown = "\n".join(re.findall(r'<pl-code language="cpp">(.*?)</pl-code>', page, re.S))
+        missing = sorted(n for n in names if html_module.escape(defs[n][1], quote=False) not in shown)
+        if missing:
+            found.append(f"step {step.number}'s page lacks the definitions of {', '.join(missing)} "
+                         f"({', '.join(sorted({defs[n][0] for n in missing}))})")
+    return found
+
+
+def scene_problems(out: Path, steps) -> list[str]:
+    """A step whose contract has a scene file (include/raykit/scenes/NAME.inc) shows each object's name,
+    rectangle and colour, the colours and the camera on its page, as the file holds them."""
+    found = []
+    for step in steps:
+        page = (out / "questions" / "raykit" / step.folder / "question.html").read_text()
+        for f in step.files:
+            for h in re.findall(r'#include "raykit/(\w+)\.hpp"', (ROOT / "steps" / step.folder / f).read_text()):
+                inc = ROOT / "include" / "raykit" / "scenes" / f"{h}.inc"
+                if not inc.is_file():
+                    continue
+                text = inc.read_text()
+                value = lambda s: float(s.strip().rstrip("fF"))
+                rows = {re.sub(r"<[^>]+>", " ", r) for r in re.findall(r"<tr>(.*?)</tr>", page, re.S)}
+                row_numbers = lambda key: [[float(x) for x in re.findall(r"-?\d+(?:\.\d+)?", r)] for r in rows if key in r]
+                colors = {}
+                for m in re.finditer(r"^RAYKIT_SCENE_COLOR\((\w+),([^)]*)\)", text, re.M):
+                    colors[m.group(1)] = [value(v) for v in m.group(2).split(",")]
+                    if not any(all(any(abs(x - v) < 1e-9 for x in r) for v in colors[m.group(1)]) for r in row_numbers(m.group(1))):
+                        found.append(f"step {step.number}: the colour {m.group(1)} {colors[m.group(1)]} is not on its page")
+                for m in re.finditer(r'^RAYKIT_SCENE_OBJECT\("([^"]+)",(.*),\s*(\w+)\)', text, re.M):
+                    want = [value(v) for v in m.group(2).split(",") if v.strip()]
+                    if not any(all(any(abs(x - v) < 1e-9 for x in r) for v in want) for r in row_numbers(f'"{m.group(1)}"')):
+                        found.append(f"step {step.number}: the object {m.group(1)!r} ({want}) is not on its page")
+                camera = re.search(r"^RAYKIT_SCENE_CAMERA\(([^)]*)\)", text, re.M)
+                said = [p for p in re.findall(r"<p>(.*?)</p>", page, re.S) if "camera" in p.lower()]
+                numbers = [float(x) for p in said for x in re.findall(r"-?\d+(?:\.\d+)?", p)]
+                missing = [v for v in map(value, camera.group(1).split(",")) if not any(abs(x - v) < 1e-9 for x in numbers)]
+                if missing:
+                    found.append(f"step {step.number}: the camera's numbers {missing} are not on its page")
+    return found
+
+
+def docs_pages() -> dict[str, str]:
+    """The lecture pages ./kit docs makes, by step: the names selftest/docs.py checks in a built site."""
+    from ..commands import docs as cmd_docs
+    return {sp.step.number: cmd_docs.page_id(sp.lecture) + ".html" for sp in cmd_docs.gather(False).steps
+            if sp.lecture}
+
+
+def link_problems(out: Path, steps, docs_url: str | None) -> list[str]:
+    """With --docs-url, each page links its lecture's page of the docs site (a page ./kit docs makes,
+    and one a built site here has); without it, no link but the lecture's file named in plain text."""
+    pages = docs_pages()
+    built = BUILD / "docs" / "student" / "html"
+    found = []
+    for step in steps:
+        page = (out / "questions" / "raykit" / step.folder / "question.html").read_text()
+        hrefs = re.findall(r'<a [^>]*href="([^"]+)"', page)
+        lecture = ROOT / step.lecture
+        if docs_url:
+            into = [h[len(docs_url):] for h in hrefs if h.startswith(docs_url)]
+            if lecture.is_file() and pages.get(step.number) not in into:
+                found.append(f"step {step.number}: no link to {docs_url}{pages.get(step.number)} (links: {hrefs})")
+            found += [f"step {step.number}: {docs_url}{i} is no page of ./kit docs' site" for i in into
+                      if i not in pages.values() or built.is_dir() and not (built / i).is_file()]
+        else:
+            found += [f"step {step.number}: a link to {h}, with no --docs-url" for h in hrefs
+                      if any(p in h for p in pages.values()) or not re.match(r"https?://", h)]
+            prose = re.sub(r"<a .*?</a>", "", page, flags=re.S)
+            if lecture.is_file() and lecture.name not in prose:
+                found.append(f"step {step.number}: its lecture's file {lecture.name} is not named in plain text")
+    return found
+
+
+def selftest_prairielearn_complete(ctx) -> str:
+    """#46 item 3: ./kit prairielearn makes, with the lines it prints, a course PrairieLearn takes whole."""
+    from ..common import KitError
+    need_solutions()
+    schemas = need_third_party(*PL_SCHEMAS)
+    example = need_third_party("prairielearn", "exampleCourse")
+    need_system_python("jsonschema")
+    numbers = [s.number for s in ctx.steps]
+    kit_course = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
+    # course.json's due date: read and normalised, refused when it is not one, shown by ./kit course.
+    try:
+        dated = course_file.parse({**kit_course, "due": DUE}, numbers)
+    except KitError as e:
+        raise AssertionError(f"course.json with \"due\": {DUE}: refused: {e}")
+    undated = course_file.parse({k: v for k, v in kit_course.items() if k != "due"}, numbers)
+    expect((getattr(dated, "due_date", None), getattr(dated, "timezone", None)) == ("2027-03-14T23:59:00", DUE["timezone"]),
+           f"course.json's due {DUE} read as {getattr(dated, 'due_date', None)}, {getattr(dated, 'timezone', None)}")
+    bad = [{"date": "2027-02-30T23:59"}, {"date": "2027-03-14T23:59-05:00"}, {"timezone": "UTC"}, {"date": 20270314}]
+    accepted = []
+    for entry in bad:
+        try:
+            course_file.parse({**kit_course, "due": entry}, numbers)
+            accepted.append(entry)
+        except KitError:
+            pass
+    expect(not accepted, f"course.json's due: these are not due dates, and were taken: {accepted}")
+    table = "\n".join(course_file.table(dated, []))
+    expect("2027-03-14T23:59:00 (America/Chicago)" in table, "./kit course does not show the due date")
+
+    base = example_course(example, WORK / "pl-example-course")
+    # 1. The defaults (--instance raykit, no --course, no --docs-url), due date set: a course made of
+    # the example course, OUT and the printed lines is whole by PrairieLearn's schemas.
+    out = WORK / "pl-complete"
+    printed = pl_make(out, dated)
+    expect((out / "courseInstances" / "raykit" / "infoCourseInstance.json").is_file(),
+           "the default --instance raykit names an instance the output does not provide")
+    problems = (schema_problems(schemas, pl_files(out)) + access_problems(out, "raykit", dated)
+                + definition_problems(out, ctx.steps) + scene_problems(out, ctx.steps) + link_problems(out, ctx.steps, None))
+    expect(not problems, "; ".join(problems)[:3000])
+    readme = (out / "README-raykit.md").read_text() if (out / "README-raykit.md").is_file() else ""
+    declared = printed_declarations(printed)
+    expect(declared and printed_declarations(readme) == declared, f"the lines for infoCourse.json: printed "
+           f"{declared}, in README-raykit.md {printed_declarations(readme)}")
+    course = assemble(base, out, printed, WORK / "pl-assembled")
+    problems = course_problems(schemas, course)
+    expect(not problems, "the example course + OUT + the printed lines: " + "; ".join(problems)[:3000])
+    # The checks catch what they look for: a tag left undeclared, an instance missing, a rule late.
+    info = json.loads((course / "infoCourse.json").read_text())
+    info["tags"] = [t for t in info["tags"] if t["name"] != f"step{ctx.steps[-1].number}"]
+    (course / "infoCourse.json").write_text(json.dumps(info))
+    (course / "courseInstances" / "raykit" / "infoCourseInstance.json").unlink(missing_ok=True)
+    caught = course_problems(schemas, course)
+    expect(len(caught) == 2, f"an undeclared tag and a missing instance: {caught}")
+    late = out / "courseInstances" / "raykit" / "assessments" / "raykit" / "infoAssessment.json"
+    data = json.loads(late.read_text())
+    data["allowAccess"] = [{"credit": 100, "endDate": "2027-03-15T23:59:00"}]
+    late.write_text(json.dumps(data))
+    expect(len(access_problems(out, "raykit", dated)) >= 2, "full credit a day after the due date was not caught")
+    # 2. --course: an instance the course has is not written again, the topic and tags it declares are
+    # not printed again; --docs-url links every lecture; no due date: full credit, no dates.
+    instructors = assemble(base, out, printed, WORK / "pl-instructors-course")
+    again = pl_make(WORK / "pl-in-course", undated, "--instance", "SectionA", "--course", str(instructors),
+                    "--docs-url", DOCS_URL)
+    out = WORK / "pl-in-course"
+    expect(not (out / "courseInstances" / "SectionA" / "infoCourseInstance.json").exists()
+           and "SectionA" in again and not printed_declarations(again),
+           f"--course with SectionA (which it has) and the tags declared: {again[-800:]}")
+    problems = (schema_problems(schemas, pl_files(out)) + access_problems(out, "SectionA", undated)
+                + link_problems(out, ctx.steps, DOCS_URL)
+                + course_problems(schemas, assemble(instructors, out, again, WORK / "pl-assembled-2")))
+    expect(not problems, "; ".join(problems)[:3000])
+    fresh = pl_make(WORK / "pl-new-instance", dated, "--instance", "Spring", "--course", str(base))
+    paris = course_file.parse({**kit_course, "due": {**DUE, "timezone": "Europe/Paris"}}, numbers)
+    moved = pl_make(WORK / "pl-in-course", paris, "--instance", "SectionA", "--course", str(instructors))
+    expect("in America/Chicago" in moved and "America/Chicago" not in again,
+           f"course.json's Europe/Paris against SectionA's America/Chicago: no note: {moved[-600:]}")
+    has = json.loads((base / "infoCourse.json").read_text())
+    lacks = {k: [e for e in v if e["name"] not in {d["name"] for d in has.get(k, [])}] for k, v in declared.items()}
+    expect((WORK / "pl-new-instance" / "courseInstances" / "Spring" / "infoCourseInstance.json").is_file()
+           and printed_declarations(fresh) == {k: v for k, v in lacks.items() if v},
+           f"--course without the instance Spring: no infoCourseInstance.json written, or other lines than the "
+           f"{sum(map(len, lacks.values()))} entries it lacks: {fresh[-1200:]}")
+    for options, what in (((("--course", str(WORK)), "--course at a folder with no infoCourse.json")),
+                          (("--docs-url", "raykit.example.edu"), "--docs-url without http(s)://")):
+        try:
+            pl_make(WORK / "pl-refused", undated, *options)
+            raise AssertionError(f"{what}: taken")
+        except KitError:
+            pass
+    return (f"{len(ctx.steps)} questions, the instance, the assessment and infoCourse.json + {sum(map(len, declared.values()))} "
+            f"printed entries valid by PrairieLearn's schemas, every topic and tag declared; access until "
+            f"{dated.due_date}; each page's definitions, step 05's scene; lectures linked with --docs-url, "
+            "named without; --course keeps SectionA and prints nothing declared")
+
+
 def selftest_noapt(ctx) -> str:
     import os
     from unittest import mock
@@ -460,5 +815,7 @@ def selftest_mac_like(ctx) -> str:
 def selftests():
     return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
             ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
+            ("prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures",
+             selftest_prairielearn_complete),
             ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt),
             ("mac: a Mac-like student machine checks, renders and debugs (lldb) a step", selftest_mac_like)]
