@@ -296,7 +296,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
       "double results (double ulps) have a front each, so a double row is never marked dominated by a float row "
       "or the other way round.\n")
     header = (f"  {'':2}{'variant':<34}{'type':<15}{'ns/ray':>7} {'[min-max]':<13}{'median':>8}{'p99':>8}"
-              f"{'max':>8}  {'missed':>8}{'flops':>7}{'roofl.':>7}\n")
+              f"{'max':>8}  {'misclassified':>13}{'flops':>7}{'roofl.':>7}\n")
     for fam in family_order(data):
         group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
         if not group:
@@ -317,7 +317,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
             flops = fmt_opt(p.raw.get("flops"), ".0f")
             w(f"  {mark} {p.variant['label'][:33]:<34}{precision_word(p.variant):<15}{fmt_ns(p.ns_median):>7} "
               f"{span:<13}{fmt_ulps(p.ulps('median')):>8}{fmt_ulps(p.ulps('p99')):>8}{fmt_ulps(p.ulps('max')):>8}"
-              f"  {fmt_share(p):>8}{flops:>7}{pct:>7}\n")
+              f"  {fmt_share(p):>13}{flops:>7}{pct:>7}\n")
             if p.variant["group"] == "box" and p.raw.get("vs_embree_compared"):
                 w(f"      {'':34}hit distance vs Embree: median {fmt_ulps(p.raw['vs_embree_median'])}, "
                   f"p99 {fmt_ulps(p.raw['vs_embree_p99'])}, max {fmt_ulps(p.raw['vs_embree_max'])} ulps\n")
@@ -357,8 +357,8 @@ def student_summary(data: dict, pts: list[Point]) -> list[str]:
         error = (f"p99 {fmt_ulps(p.ulps('p99'))} {p.result_type} ulps, rank "
                  f"{1 + sum(q.ulps('p99') < p.ulps('p99') for q in alike)} of {len(alike)} {p.result_type} results"
                  + (f" (the kit's {fmt_ulps(kit.ulps('p99'))})" if kit is not None else ""))
-        missed = f", {fmt_share(p)} of the rays misclassified" if p.raw.get("misclassified") else ""
-        out.append(f"  {'◆' if p.pareto else ' '} {fam['label']:<{width}}  {speed}; {error}{missed}")
+        wrong = f", {fmt_share(p)} of the rays misclassified" if p.raw.get("misclassified") else ""
+        out.append(f"  {'◆' if p.pareto else ' '} {fam['label']:<{width}}  {speed}; {error}{wrong}")
     worst = max(mine.values(), key=lambda p: p.ulps("max"))
     out.append(f"  worst error: {fmt_ulps(worst.ulps('max'))} ulps, on {worst.family['label']}"
                + (f"; {sum(p.raw.get('misclassified', 0) for p in mine.values())} rays misclassified in all"
