@@ -191,8 +191,10 @@
     const qq = R(-R(h + copysign(R(Math.sqrt(d4)), h)));
     return result(a, h, c, d4, 2, sorted(R(qq / a), R(c / qq)));
   }
-  // The reference's form (solutions/02): Lagrange's identity D/4 = a r^2 - |f x d|^2, then
-  // t = (-h -+ sqrt(D/4)) / a. The reference computes it in double.
+  // Lagrange's identity D/4 = a r^2 - |f x d|^2, then t = (-h -+ sqrt(D/4)) / a. The reference
+  // (solutions/02) computes exactly this in double, rounding each root to float at the end: the
+  // double row is the reference's answer. The float32 row is the same formula in float32, which the
+  // reference never computes.
   function lagrange(R, s) {
     const v = vec(R, s), f = sub3(R, v.o, v.c);
     const a = dot3(R, v.d, v.d), h = dot3(R, f, v.d);
@@ -210,7 +212,7 @@
     { id: "textbook", name: "textbook", where: "lecture 01, §3", fn: textbook, side: -1, short: "textbook" },
     { id: "halfb", name: "half b", where: "lecture 01, §3", fn: halfB, side: -1, short: "half b" },
     { id: "rewrite", name: "leg + root pair", where: "lecture 03, §5–6", fn: rewrite, side: 1, short: "rewrite" },
-    { id: "lagrange", name: "reference (f × d)", where: "lecture 03, §5; solutions/02", fn: lagrange, side: 1, short: "f × d" },
+    { id: "lagrange", name: "f × d", where: "lecture 03, §5; in double, solutions/02", fn: lagrange, side: 1, short: "f × d" },
   ];
 
   // --- presets: the graded cases (in the plane of the drawing) --------------------------------------
@@ -244,11 +246,11 @@
       section: "Lecture 01, §6. Far and grazing rays; lecture 03, §5", s: { ...shot2d(-960, 200, 0.99, 1), ...UNIT, tmin: 0, tmax: Infinity } },
     { id: "near-root", title: "Tiny root beside a big one", kase: "a tiny root beside a large one (lecture 03's example, in the plane)",
       section: "Lecture 03, §6. Cancellation in the roots", s: { ox: 0.5, oy: 1001, dx: 0, dy: -1, cx: 0, cy: 0, r: 1000, tmin: 0, tmax: Infinity } },
-    { id: "ground", title: "The ground from 1 m (no float form wins)", kase: "the ground seen from a metre or two up (★ of step 02, in the plane): c′ = f·f − r² cancels, and no float rearrangement repairs it",
+    { id: "ground", title: "The ground from 1 m", kase: "the ground seen from a metre or two up (★ of step 02, in the plane): c′ = f·f − r² cancels",
       section: "Lecture 03, §6 (its last paragraph) and the appendix, §A and §D", view: "near",
       s: { ox: 0, oy: 1, dx: 1, dy: -0.1, cx: 0, cy: -6.4e6, r: 6.4e6, tmin: 0, tmax: Infinity } },
-    { id: "pbrt-ranges", title: "pbrt's ranges: 10⁶ away, r = 0.01 (the rewrite miscounts)",
-      kase: "a tiny sphere seen from very far on pbrt's test ranges (★ of step 02, in the plane): a float direction cannot aim this finely, the exact count is 0, and float forms and even the textbook in double count roots",
+    { id: "pbrt-ranges", title: "pbrt's ranges: 10⁶ away, r = 0.01",
+      kase: "a tiny sphere seen from very far on pbrt's test ranges (★ of step 02, in the plane): a float direction cannot aim this finely",
       section: "Lecture 02, §7 The robust cases; lecture 03's appendix, §A", s: { ...shot2d(6e5, -8e5, 0.003, 1), cx: 0, cy: 0, r: 0.01, tmin: 0, tmax: Infinity } },
     { id: "zero-direction", title: "Zero direction", kase: "a zero direction is no ray: no roots",
       section: "Lecture 01, §2. The ray meets the sphere", s: { ox: 0.5, oy: 0, dx: 0, dy: 0, ...UNIT, tmin: 0, tmax: Infinity } },
@@ -317,11 +319,26 @@
     for (const t of roots.t.slice(0, roots.count === 1 ? 1 : 2)) if (state.tmin <= t && t <= state.tmax) return t;
     return null;
   }
+  // What each row gets here, computed from the rows themselves: a wrong count is said as a wrong count
+  // (never as an error in ulps), a right one with its worst root in ulps.
+  function rowVerdict(r, ex) {
+    if (r.count !== ex.count) return `${r.count} root${r.count === 1 ? "" : "s"} (wrong count)`;
+    if (!ex.count) return "no root, right";
+    let u = 0;
+    for (let i = 0; i < ex.count; i++) u = Math.max(u, ulps(F(r.t[i]), ex.t[i]));
+    return u === Infinity ? "NaN" : `worst root ${u} ulp${u === 1 ? "" : "s"}`;
+  }
+  function caseVerdict(res) {
+    const ex = res.exact;
+    const part = (p) => FORMS.map((form) => `${form.short} ${rowVerdict(res.forms[form.id][p], ex)}`).join(", ");
+    return `exact count ${ex.count}. float32: ${part("f32")}. double: ${part("f64")}.`;
+  }
   function showNumbers(res) {
     const ex = res.exact;
     cell("exact-a", fmtD(ex.a)); cell("exact-h", fmtD(ex.h)); cell("exact-c", fmtD(ex.c)); cell("exact-d4", fmtD(ex.d4));
     cell("exact-count", String(ex.count));
     cell("exact-t0", ex.count ? fmt(ex.t[0]) : "—"); cell("exact-t1", ex.count ? fmt(ex.t[1]) : "—");
+    cell("exact-u0", ex.count ? "0" : "—"); cell("exact-u1", ex.count ? "0" : "—");
     const hit = closestInWindow(ex);
     cell("exact-hit", hit === null ? "no hit" : fmt(hit));
     for (const form of FORMS) {
@@ -342,6 +359,7 @@
     }
     const far = Math.hypot(state.ox - state.cx, state.oy - state.cy) / (state.r || 1);
     $("#distance").textContent = `|f| / r = ${fmt(F(far))}`;
+    $("#case-verdict").textContent = caseVerdict(res);
   }
 
   // --- the picture ----------------------------------------------------------------------------------
@@ -576,6 +594,9 @@
     for (const [spots, text, cls] of figLabels) label(spots, text, cls);
     // how far the textbook's float roots are drawn from the exact ones
     const gaps = FORMS.map((form) => {
+      const r = res.forms[form.id].f32;
+      if (r.count !== ex.count) return `${form.name} ${r.count} root${r.count === 1 ? "" : "s"} where the exact count is ${ex.count}`;
+      if (!ex.count) return `${form.name} no root`;
       const worst = marks.filter((m) => m.form === form.id && Number.isFinite(m.exact))
         .reduce((w, m) => (Math.abs(m.t - m.exact) > Math.abs(w.t - w.exact) ? m : w), { t: 0, exact: 0, px: 0 });
       const gap = Math.abs(worst.t - worst.exact) * len;

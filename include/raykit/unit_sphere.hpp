@@ -27,13 +27,17 @@ namespace raykit {
 ///         included: this function knows nothing of windows.
 ///
 /// Long and short directions, the same rule as sphere_roots(): any direction
-/// whose `d.d` is a normal float (a length from about 1e-19 to 1e19: 1e-7,
-/// 2^-60, with components that are subnormal) is a ray, and its roots are
-/// asked for (t counts steps of `d`: a short direction gives large roots).
-/// A direction so large that `d.d` overflows float, or so small that `d.d`
-/// underflows to 0 in float, may count as a miss, or give its true roots,
-/// computed in a wider type (double): where they are representable in
-/// float, computing them in double is right too.
+/// whose `d.d` is a normal float (a length from about 1.1e-19 to 1.8e19:
+/// 1e-7, 2^-60, or (2^-60, 1e-40, -1e-40), whose subnormal components change
+/// nothing) is a ray, and its roots are asked for (t counts steps of `d`: a
+/// short direction gives large roots). A direction so large that `d.d`
+/// overflows float, or so small that `d.d` underflows to 0 in float, may
+/// count as a miss, or give its true roots, computed in a wider type
+/// (double): where they are representable in float, computing them in double
+/// is right too. `d.d` is 0 for lengths below about 2.6e-23, and always when
+/// every component is subnormal. Lengths from about 2.6e-23 to 1.1e-19 give
+/// a `d.d` that is subnormal, not 0, with too few bits to follow the ray in
+/// float: there too both answers are right, no roots or the true roots.
 Roots unit_sphere_roots(const Ray& ray);
 
 /// The closest hit of \p ray with the unit sphere inside the closed window

@@ -62,6 +62,12 @@ class Point:
         return "vector" if self.lanes > 1 else "scalar"
 
     @property
+    def result_type(self) -> str:
+        """The type the error is counted in ("float" or "double"): a float ulp is 2^29 double ulps, so
+        raw ulps compare only within one result type."""
+        return self.variant.get("ulp_of") or self.variant["precision"]
+
+    @property
     def judged(self) -> int:
         return self.raw["rays"] - self.raw["in_band"]
 
@@ -168,13 +174,21 @@ def dominates(a: Point, b: Point) -> bool:
     return all(x <= y for x, y in zip(ka, kb)) and ka != kb
 
 
+def front_key(p: Point) -> tuple[str, str, str]:
+    """The front a point belongs to: its family, its regime and its result type."""
+    return p.family["id"], p.regime, p.result_type
+
+
 def mark_pareto(pts: list[Point]) -> None:
-    """One front per family and regime: scalar variants (one call per ray) are
-    compared with each other, vector variants (a batch per call) likewise."""
-    by_family: dict[tuple[str, str], list[Point]] = {}
+    """One front per family, regime and result type: scalar variants (one call per
+    ray) are compared with each other, vector variants (a batch per call) likewise,
+    and a variant whose error is counted in float ulps only with others counted in
+    float ulps, double with double (a float ulp is 2^29 double ulps: a raw p99
+    compared across the two says nothing)."""
+    by_family: dict[tuple[str, str, str], list[Point]] = {}
     for p in pts:
         if p.timed:
-            by_family.setdefault((p.family["id"], p.regime), []).append(p)
+            by_family.setdefault(front_key(p), []).append(p)
     for group in by_family.values():
         for p in group:
             p.dominated_by = [q.vid for q in group if q is not p and dominates(q, p)]
@@ -277,10 +291,12 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     w("Error: in ulps of the result type against float128, over the rays both call a hit; rays within "
       f"{m['tangent_band']:g} r of a tangent (the family's band where it says so) or {m['edge_band']:g} of an "
       "edge are not judged.\n")
-    w("◆ on the speed/error Pareto front of its family (median time, p99 error, misclassified rays); scalar and "
-      "vector variants have a front each.\n")
+    w("◆ on the speed/error Pareto front of its family (median time, p99 error, misclassified rays). A front "
+      "compares like with like: scalar and vector variants have a front each, and float results (float ulps) and "
+      "double results (double ulps) have a front each, so a double row is never marked dominated by a float row "
+      "or the other way round.\n")
     header = (f"  {'':2}{'variant':<34}{'type':<15}{'ns/ray':>7} {'[min-max]':<13}{'median':>8}{'p99':>8}"
-              f"{'max':>8}  {'missed':>8}{'flops':>7}{'roofl.':>7}\n")
+              f"{'max':>8}  {'misclassified':>13}{'flops':>7}{'roofl.':>7}\n")
     for fam in family_order(data):
         group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
         if not group:
@@ -301,7 +317,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
             flops = fmt_opt(p.raw.get("flops"), ".0f")
             w(f"  {mark} {p.variant['label'][:33]:<34}{precision_word(p.variant):<15}{fmt_ns(p.ns_median):>7} "
               f"{span:<13}{fmt_ulps(p.ulps('median')):>8}{fmt_ulps(p.ulps('p99')):>8}{fmt_ulps(p.ulps('max')):>8}"
-              f"  {fmt_share(p):>8}{flops:>7}{pct:>7}\n")
+              f"  {fmt_share(p):>13}{flops:>7}{pct:>7}\n")
             if p.variant["group"] == "box" and p.raw.get("vs_embree_compared"):
                 w(f"      {'':34}hit distance vs Embree: median {fmt_ulps(p.raw['vs_embree_median'])}, "
                   f"p99 {fmt_ulps(p.raw['vs_embree_p99'])}, max {fmt_ulps(p.raw['vs_embree_max'])} ulps\n")
@@ -323,7 +339,8 @@ def student_summary(data: dict, pts: list[Point]) -> list[str]:
     if not mine:
         return []
     label = next((v["label"] for v in data["variants"] if v["id"] == "student"), "your step")
-    out = [f"{label}, in short (rank among the scalar variants of each family, 1 the best):"]
+    out = [f"{label}, in short (rank among the scalar variants of each family, 1 the best; by error only among "
+           f"those with the same result type):"]
     width = max(len(f["label"]) for f in data["families"] if f["id"] in mine)
     for fam in family_order(data):
         p = mine.get(fam["id"])
@@ -336,10 +353,12 @@ def student_summary(data: dict, pts: list[Point]) -> list[str]:
                  f"{len(timed)}" if p.timed else "not timed")
         if kit is not None and kit.timed and p.timed:
             speed += f" (the kit's {fmt_ns(kit.ns_median)})"
-        error = (f"p99 {fmt_ulps(p.ulps('p99'))} ulps, rank {1 + sum(q.ulps('p99') < p.ulps('p99') for q in rivals)} "
-                 f"of {len(rivals)}" + (f" (the kit's {fmt_ulps(kit.ulps('p99'))})" if kit is not None else ""))
-        missed = f", {fmt_share(p)} of the rays misclassified" if p.raw.get("misclassified") else ""
-        out.append(f"  {'◆' if p.pareto else ' '} {fam['label']:<{width}}  {speed}; {error}{missed}")
+        alike = [q for q in rivals if q.result_type == p.result_type]   # ulps of one type only
+        error = (f"p99 {fmt_ulps(p.ulps('p99'))} {p.result_type} ulps, rank "
+                 f"{1 + sum(q.ulps('p99') < p.ulps('p99') for q in alike)} of {len(alike)} {p.result_type} results"
+                 + (f" (the kit's {fmt_ulps(kit.ulps('p99'))})" if kit is not None else ""))
+        wrong = f", {fmt_share(p)} of the rays misclassified" if p.raw.get("misclassified") else ""
+        out.append(f"  {'◆' if p.pareto else ' '} {fam['label']:<{width}}  {speed}; {error}{wrong}")
     worst = max(mine.values(), key=lambda p: p.ulps("max"))
     out.append(f"  worst error: {fmt_ulps(worst.ulps('max'))} ulps, on {worst.family['label']}"
                + (f"; {sum(p.raw.get('misclassified', 0) for p in mine.values())} rays misclassified in all"
@@ -399,7 +418,9 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
     m = data["meta"]
     lines.append(f"Compiled with {compiler_text(m)} `{m['flags']}`; {m['rays']} rays per family; "
                  f"{m['repetitions']} timed repetitions of {m['batch']} rays (median, min and max of CPU time). "
-                 f"Errors in ulps of the result type against float128; ◆ marks the Pareto front.")
+                 f"Errors in ulps of the result type against float128; ◆ marks the Pareto front, one front for "
+                 f"the float results and one for the double results (a float ulp is 2^29 double ulps), scalar "
+                 f"and vector apart.")
     for fam in family_order(data):
         group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
         if not group:
@@ -432,6 +453,9 @@ COLOURS = {
     "brute force": "#1f77b4",
 }
 SHAPES = {"float": "circle", "double": "square", "float, double inside": "diamond"}
+# One staircase per front (regime, result type): float ulps and double ulps are never joined.
+FRONT_STYLES = {("scalar", "float"): ("#333", "4,3"), ("scalar", "double"): ("#999", "8,3,2,3"),
+                ("vector", "float"): ("#6a3d9a", "1.5,2.5"), ("vector", "double"): ("#c5b0d5", "1.5,2.5")}
 
 
 def _marker(shape: str, x: float, y: float, r: float, fill: str, stroke: str, width: float) -> str:
@@ -509,18 +533,22 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
     s.append(f'<text x="{lx + 614}" y="{ly + 4}">hollow: misclassifies some rays</text>')
     ly += 20
     s.append(f'<path d="M{lx},{ly} h24" stroke="#333" stroke-dasharray="4,3" fill="none"/>')
-    s.append(f'<text x="{lx + 30}" y="{ly + 4}">scalar Pareto front (nothing faster and more accurate)</text>')
-    s.append(f'<path d="M{lx + 330},{ly} h24" stroke="#6a3d9a" stroke-width="1.2" stroke-dasharray="1.5,2.5" '
+    s.append(f'<text x="{lx + 30}" y="{ly + 4}">scalar front, float results</text>')
+    s.append(f'<path d="M{lx + 205},{ly} h24" stroke="#999" stroke-width="1.2" stroke-dasharray="8,3,2,3" '
              f'fill="none"/>')
-    s.append(f'<text x="{lx + 360}" y="{ly + 4}">vector front</text>')
-    s.append(_marker("circle", lx + 450, ly, 5, "#888", "#888", 1))
-    s.append(f'<circle cx="{lx + 450}" cy="{ly}" r="1.4" fill="#000"/>')
-    s.append(f'<text x="{lx + 460}" y="{ly + 4}">vector: a batch of rays per call</text>')
-    s.append(f'<circle cx="{lx + 680}" cy="{ly}" r="9" fill="none" stroke="#000" stroke-width="1.2"/>')
-    s.append(f'<text x="{lx + 694}" y="{ly + 4}">the kit\'s reference solution</text>')
+    s.append(f'<text x="{lx + 235}" y="{ly + 4}">scalar front, double results</text>')
+    s.append(f'<path d="M{lx + 415},{ly} h24" stroke="#6a3d9a" stroke-width="1.2" stroke-dasharray="1.5,2.5" '
+             f'fill="none"/>')
+    s.append(f'<text x="{lx + 445}" y="{ly + 4}">vector front</text>')
+    s.append(_marker("circle", lx + 530, ly, 5, "#888", "#888", 1))
+    s.append(f'<circle cx="{lx + 530}" cy="{ly}" r="1.4" fill="#000"/>')
+    s.append(f'<text x="{lx + 540}" y="{ly + 4}">vector: a batch of rays per call</text>')
+    s.append(f'<circle cx="{lx + 750}" cy="{ly}" r="9" fill="none" stroke="#000" stroke-width="1.2"/>')
+    s.append(f'<text x="{lx + 764}" y="{ly + 4}">the kit\'s reference solution</text>')
     ly += 18
     s.append(f'<text x="{lx}" y="{ly + 4}" fill="#444">Errors below {floor} ulp are drawn at {floor}; '
-             f'Embree\'s sphere error is that of its first hit only.</text>')
+             f'Embree\'s sphere error is that of its first hit only. A front joins only points of one result type: '
+             f'a float ulp is 2^29 double ulps.</text>')
 
     for k, fam in enumerate(fams):
         ox, oy = 10 + (k % cols) * pw, legend_h + (k // cols) * ph
@@ -552,9 +580,9 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
         s.append(f'<text transform="translate({ox + 14},{oy + mt + ih / 2}) rotate(-90)" text-anchor="middle" '
                  f'fill="#444">p99 error, ulps</text>')
         # the fronts, scalar and vector: a staircase through each one's points, fastest first
-        for regime, colour, dash in (("scalar", "#333", "4,3"), ("vector", "#6a3d9a", "1.5,2.5")):
-            front = sorted((p for p in group if p.pareto and p.regime == regime and not math.isinf(p.ulps("p99"))),
-                           key=lambda p: p.ns_median)
+        for (regime, kind), (colour, dash) in FRONT_STYLES.items():
+            front = sorted((p for p in group if p.pareto and p.regime == regime and p.result_type == kind
+                            and not math.isinf(p.ulps("p99"))), key=lambda p: p.ns_median)
             if front:
                 d = f"M{px(front[0].ns_median):.1f},{oy + mt}"
                 d += f" V{py(front[0].ulps('p99')):.1f}"

@@ -48,7 +48,7 @@ QUICK = {
                "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points", "course: ★ as extra credit",
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
-    "bench": ["bench roofline model", "bench: the student's summary"],
+    "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary"],
     "draws": ["draws: the hidden draw follows the code, not its comments"],
     "reach": ["prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures"],
     "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more",

@@ -12,6 +12,10 @@ with the reference solution of step 02) gets the same float inputs and answers:
     C++ (lab_check.cpp, the page's operations in its order; the float32 textbook there is the one the
     lab has always been checked against), count and roots;
   - the page's ulps, on every row, equal tests/support/ulps.hpp's ulp_distance between those roots.
+  - the row the page gives to the reference (f × d in double) equals the reference solution's answer;
+  - a wrong count reads as a wrong count, never as 0 ulps or 0 units: the ulps cells say "count
+    differs", the caption under the picture and the case's computed line ("Here: ...") name the count
+    of every row that differs from the exact one, and the exact row shows 0 ulps only where it has roots.
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
 ones (at least 4 px); the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
 rewrite within them before, and its slider moves the origin; on the grazing and ground presets the
@@ -121,6 +125,8 @@ READ = """(() => {
   for (const key of %s) out.rows[key] = { count: cell(`${key}-count`), t0: cell(`${key}-t0`), t1: cell(`${key}-t1`),
                                           u0: cell(`${key}-u0`), u1: cell(`${key}-u1`) };
   out.caseName = text('#case-name'); out.section = text('#case-section');
+  out.gap = text('#float-gap'); out.verdict = text('#case-verdict');
+  out.exactUlps = [cell('exact-u0'), cell('exact-u1')];
   // the picture: the origin's handle on it, the float32 textbook roots' distance from the exact ones,
   // and any two labels that overlap
   const box = (e) => { const b = e.getBBox(); return [b.x, b.y, b.x + b.width, b.y + b.height]; };
@@ -203,6 +209,7 @@ def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
                               "ulps": [row["u0"], row["u1"]]}
         c["picture"] = {"originOn": shown["originOn"], "textbookPx": shown["textbookPx"], "overlaps": shown["overlaps"],
                         "magnifier": shown["magnifier"]}
+        c["words"] = {"gap": shown["gap"] or "", "verdict": shown["verdict"] or "", "exactUlps": shown["exactUlps"]}
         if shown["farthest"] > 4e6:          # float32 spacing there: half a pixel
             problems.append(f"{name}: the picture draws a point {shown['farthest']:.3g} px away, where a browser's "
                             "float32 puts what crosses the picture pixels off")
@@ -265,7 +272,43 @@ def compare(cases: dict, cxx: dict) -> tuple[list[str], int]:
             elif wr["count"] and wr["ulps"][0] < 0 and pr["ulps"] != ["count differs", "count differs"]:
                 problems.append(f"{name}: the {key} row's count differs from the exact one and the page shows {pr['ulps']}")
             roots += wr["count"]
+        # The row the page gives to the reference (f x d in double) is what the reference solution returns.
+        pr, sol = page["rows"]["lagrange-f64"], want["solution"]
+        if pr["count"] != sol["count"] or any(bits(pr["t"][i]) != bits(sol["t"][i]) for i in range(sol["count"])):
+            problems.append(f"{name}: the reference's row (f × d, double) shows {pr['count']} root(s) {pr['t']}, the "
+                            f"reference solution returns {sol['count']} {sol['t'][:sol['count']]}")
+        problems += word_problems(name, page)
     return problems, roots
+
+
+FORM_SHORT = {"textbook": "textbook", "halfb": "half b", "rewrite": "rewrite", "lagrange": "f × d"}
+FORM_NAME = {"textbook": "textbook", "halfb": "half b", "rewrite": "leg + root pair", "lagrange": "f × d"}
+
+
+def word_problems(name: str, page: dict) -> list[str]:
+    """A wrong count reads as a wrong count, never as 0 ulps or 0 units: in the ulps cells (compare), in the
+    caption under the picture (float32 rows) and in the case's computed line (every row); the exact row shows
+    0 ulps only where it has a root."""
+    problems, n = [], page["exact"]["count"]
+    words = page.get("words", {})
+    gap, verdict = words.get("gap", ""), words.get("verdict", "")
+    if f"exact count {n}." not in verdict:
+        problems.append(f"{name}: the case's line does not give the exact count {n}: {verdict!r}")
+    for key, row in [("textbook-f32", page["textbook"]), *page["rows"].items()]:
+        form, kind = key.split("-")
+        if row["count"] == n:
+            continue
+        part = verdict.split(f"{'float32' if kind == 'f32' else 'double'}:", 1)[-1]
+        if f"{FORM_SHORT[form]} {row['count']} root" not in part or "wrong count" not in part:
+            problems.append(f"{name}: {key} counts {row['count']} where the exact count is {n}, and the case's line "
+                            f"does not say so: {verdict!r}")
+        if kind == "f32" and f"{FORM_NAME[form]} {row['count']} root" not in gap:
+            problems.append(f"{name}: {key} counts {row['count']} where the exact count is {n}, and the caption "
+                            f"does not say so: {gap!r}")
+    want = ["0", "0"] if n else ["—", "—"]
+    if words.get("exactUlps") != want:
+        problems.append(f"{name}: the exact row shows {words.get('exactUlps')} ulps with {n} root(s)")
+    return problems
 
 
 def _browser():
