@@ -10,7 +10,6 @@ import os
 import shutil
 import subprocess
 import time
-from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps
 from .harness import CLEAR, Failed, Screen, expect, need_solutions
@@ -33,14 +32,9 @@ def wait_for_process(word: str, seconds: float) -> list[int]:
 
 
 def alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except OSError:
-        return False
-    try:        # a zombie is dead
-        return not Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0] == "Z"
-    except OSError:
-        return True
+    """Whether `pid` runs (a zombie is dead)."""
+    from .. import procfs
+    return procfs.alive(pid)
 
 
 def selftest_watch(ctx) -> str:
