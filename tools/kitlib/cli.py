@@ -50,6 +50,8 @@ COMMANDS = [
     Command("report", "report", INSTRUCTOR, "the class report of a grading (offline HTML): scores, failed cases, slips, incidents, similar work"),
     Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
     Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
+    Command("refresh", "refresh", INSTRUCTOR, "after a change to the course: rewrite what is stale (tables, pictures, "
+                                              "case lists, exact answers, signatures), run the touched self-tests"),
     Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
     Command("slides", "slides", INSTRUCTOR, "write a slide deck per lecture (lectures/slides/) as offline HTML, --pdf also PDF"),
     Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),

@@ -33,7 +33,7 @@ from ..status import FAILED, OK
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
 MODULES = ["layers", "ci", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity",
            "boundary", "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "report",
-           "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides", "slips", "draws"]
+           "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides", "slips", "draws", "refresh"]
 
 HANDOUT = not (ROOT / "solutions").is_dir()
 
@@ -50,6 +50,7 @@ QUICK = {
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary"],
     "draws": ["draws: the hidden draw follows the code, not its comments"],
+    "refresh": ["refresh: the self-tests a change touches"],
     "reach": ["prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures"],
     "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more",
              "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],

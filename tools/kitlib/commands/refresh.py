@@ -1,0 +1,138 @@
+"""./kit refresh: after a change to the course, make current what the kit records from it, then run the
+self-tests the change touches.
+
+An instructor changes course.json, the scene (include/raykit/scenes/), a step's cases or its reference,
+or adds a step; several files are then derived from those and checked by ./kit test: lecture 05's
+scene tables, the README's step table, the reference pictures (docs/images/), the recorded stubs and
+case lists, the ★ tier's exact answers and the mutants' signatures. Each is rewritten here by the
+command that owns it, only when it is stale (each has a check), in an order where none reads a file a
+later one writes. Then the self-tests of what changed since REV (default HEAD: the uncommitted change,
+new files included) run, with the quick tier.
+
+    ./kit refresh            rewrite what is stale, then run the touched self-tests
+    ./kit refresh --plan     say what it would rewrite and run, and do nothing
+    ./kit refresh --no-test  rewrite only
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from dataclasses import dataclass
+
+from ..common import ROOT, KitError, load_steps, say
+from ..status import FAILED, OK
+
+
+@dataclass(frozen=True)
+class Regenerator:
+    name: str           # what it makes current
+    check: list[str]    # exits 0 when current (from ROOT)
+    write: list[str]    # makes it current
+
+
+KIT = [str(ROOT / "kit")]
+PY = [sys.executable]
+
+# In order: the pictures and the tables read the scene; the case lists and exact answers read the
+# judges; the signatures read the mutants graded against all of them.
+REGENERATORS = [
+    Regenerator("lecture 05's scene tables", PY + ["docs/scene_tables.py", "--check"], PY + ["docs/scene_tables.py"]),
+    Regenerator("the README's step table", PY + ["docs/readme_steps.py", "--check"], PY + ["docs/readme_steps.py"]),
+    Regenerator("the reference pictures (docs/images/)", KIT + ["test", "render:reference pictures are current"], KIT + ["render", "--refresh"]),
+    Regenerator("the recorded stubs and case lists", KIT + ["test", "latency:recorded stubs and case lists"],
+                KIT + ["check", "--record"]),
+    Regenerator("the ★ tier's exact answers", KIT + ["exact"], KIT + ["exact", "--refresh"]),
+    Regenerator("the mutants' signatures", KIT + ["test", "report:signatures are current"], KIT + ["report", "--signatures"]),
+]
+
+
+def register(p) -> None:
+    p.add_argument("--plan", action="store_true", help="say what would be rewritten and run; change nothing")
+    p.add_argument("--no-test", action="store_true", help="rewrite what is stale, run no self-test")
+    p.add_argument("--since", metavar="REV", default="HEAD",
+                   help="the self-tests of what changed since this git revision (default HEAD: the uncommitted change)")
+
+
+def changed_paths(since: str) -> list[str]:
+    """The files changed since `since` in the working tree, untracked ones included."""
+    git = ["git", "-C", str(ROOT)]
+    diff = subprocess.run(git + ["diff", "--name-only", since, "--"], capture_output=True, text=True)
+    if diff.returncode != 0:
+        raise KitError(f"--since {since}: git does not know it ({diff.stderr.strip()[:200]})")
+    new = subprocess.run(git + ["ls-files", "--others", "--exclude-standard"], capture_output=True, text=True)
+    return sorted(set(diff.stdout.split("\n") + new.stdout.split("\n")) - {""})
+
+
+def touched_tests(paths: list[str]) -> list[list[str]]:
+    """The ./kit test calls the changed paths ask for: `--step N` for a step's cases, reference or
+    stubs; the modules that read the course, the scene, the lectures; everything for the kit's code."""
+    numbers = {s.number for s in load_steps()}
+    steps, modules, everything = set(), [], False
+    for p in paths:
+        m = re.match(r"(?:tests|solutions|steps|tests/hidden|tests/mutants)/(\d\d)_", p) or \
+            re.match(r"tests/(?:hidden|mutants)/(\d\d)_", p)
+        if m and m.group(1) in numbers:
+            steps.add(m.group(1))
+        elif p == "course.json":
+            modules += ["course", "customised"]
+        elif p.startswith("include/raykit/scenes/"):
+            modules += ["lectures:scene file", "render", "pictures"]
+            steps.add(max(numbers))
+        elif p.startswith(("lectures/", "docs/")) and not p.startswith("docs/images/"):
+            modules += ["lectures", "slides"]
+        elif p.startswith(("tools/", "tests/support/", "include/", "CMakeLists.txt", "cmake/")):
+            everything = True
+    if everything:
+        return [[]]         # the whole self-test
+    calls = [["--step", n] for n in sorted(steps)]
+    if modules:
+        calls.append(list(dict.fromkeys(modules)))
+    return calls
+
+
+def shown(argv: list[str]) -> str:
+    """A command as the instructor would type it: ./kit ..., python3 docs/..."""
+    if argv[0] == sys.executable:
+        return "python3 " + " ".join(argv[1:])
+    return "./kit " + " ".join(argv[1:])
+
+
+def current(r: Regenerator) -> bool:
+    return subprocess.run(r.check, cwd=ROOT, capture_output=True, text=True).returncode == 0
+
+
+def run(args) -> int:
+    if not (ROOT / "solutions").is_dir():
+        raise KitError("./kit refresh rewrites what the instructor's copy records from the solutions: not in a handout")
+    tests = [] if args.no_test else touched_tests(changed_paths(args.since))
+    failed = []
+    for r in REGENERATORS:
+        if current(r):
+            say(f"  current   {r.name}")
+            continue
+        if args.plan:
+            say(f"  stale     {r.name}: would run {shown(r.write)}")
+            continue
+        say(f"  stale     {r.name}: rewriting ...")
+        done = subprocess.run(r.write, cwd=ROOT)
+        if done.returncode != 0 or not current(r):
+            failed.append(r.name)
+            say(f"  FAILED    {r.name}: still stale; run it alone to see why: {shown(r.write)}")
+        else:
+            say(f"  rewritten {r.name}")
+    calls = [["--quick"]] + tests if tests else []
+    if args.plan:
+        for c in calls:
+            say("  would run ./kit test " + (" ".join(c) if c else "(all of it: the kit's own code changed)"))
+        return OK
+    for c in calls:
+        say("./kit test " + (" ".join(c) if c else "(all of it: the kit's own code changed)"))
+        if subprocess.run(KIT + ["test", *c], cwd=ROOT).returncode != 0:
+            failed.append("./kit test " + " ".join(c))
+    if failed:
+        say("not current: " + "; ".join(failed))
+        return FAILED
+    say("Everything the kit records from the course is current" + ("" if args.no_test else ", and the touched self-tests pass") + ".")
+    return OK
