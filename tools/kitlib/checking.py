@@ -28,7 +28,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Callable
 
-from . import atomic
+from . import atomic, slips
 from . import course as course_file
 from . import includes
 from . import waits
@@ -93,6 +93,7 @@ class StepResult:
     seed: str = ""
     cost: dict | None = None    # what the student's code cost the grader, and the budget (see "Budgets")
     includes: list[str] = field(default_factory=list)   # standard headers the files use and do not include
+    slip: dict | None = None    # the known slip the failing basic cases are exactly (slips.py): its case first
 
     def __post_init__(self) -> None:
         # The step's points shared among its cases by their groups' weights, once, exactly.
@@ -131,6 +132,10 @@ class StepResult:
         failing = [c for c in cases if c.status != PASS]
         if not failing:
             return None
+        if tier == "basic" and self.slip:       # a measured cause first: the known slip's own case
+            named = next((c for c in failing if c.name == self.slip.get("case")), None)
+            if named is not None:
+                return named
         rank = lambda c: 2 if c.status == WAITING else 1 if c.status == NOT_STARTED else 0   # noqa: E731
         best = min(rank(c) for c in failing)
         failing = [c for c in failing if rank(c) == best]
@@ -152,6 +157,7 @@ class StepResult:
             "state": self.state, "detail": self.detail, "isolation": self.isolation, "seed": self.seed,
             **({"cost": self.cost} if self.cost else {}),
             **({"includes": self.includes} if self.includes else {}),
+            **({"slip": self.slip} if self.slip else {}),
             "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
             "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
@@ -629,9 +635,14 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = PARTIAL
     if not build.reference_needs:
         state = waits.wait_on_needs(step, cases, results, state)
+    slip = slips.known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != PASS})
+    if slip is not None:
+        named = next(c for c in cases if c.name == slip["case"])
+        named.messages = [f"Your failing cases are exactly those of a slip the course knows: {slip['slip']}"] \
+            + list(named.messages)
     return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
                       isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
-                      cost=cost, includes=found)
+                      cost=cost, includes=found, slip=slip)
 
 
 # --- untouched steps: no build ---------------------------------------------------------------
@@ -764,7 +775,8 @@ class Verdicts:
                       incident=c.get("incident"))
                  for c in d["cases"]]
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
-                          isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []))
+                          isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []),
+                          slip=d.get("slip"))
 
     KEEP_TIMEOUTS = False   # a grading's copies each get their own chance at a case that timed out
 
@@ -776,7 +788,7 @@ class Verdicts:
             return
         shown = str(self.build.shown_dir)
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
-                "includes": result.includes,
+                "includes": result.includes, "slip": result.slip,
                 "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                            "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                            "figure": c.figure, "runs": c.runs, "rerun": c.rerun, "incident": c.incident}

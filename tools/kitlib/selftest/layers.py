@@ -28,7 +28,7 @@ LAYERS = [
               "waits", "submissions", "kitcache", "procfs", "pycache"]),
     ("boundary", ["sandbox_slots", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
-    ("judge", ["checking", "mutants"]),
+    ("judge", ["checking", "mutants", "slips"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
                  "robust_line", "report", "report.grading", "report.make", "report.pages", "report.plots",
                  "report.signatures",

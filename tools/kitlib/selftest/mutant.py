@@ -16,7 +16,7 @@ from pathlib import Path
 from ..mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 from ..common import BUILD, ROOT, load_steps
 from ..status import PARTIAL
-from .harness import Failed, need_solutions
+from .harness import Failed, expect, need_solutions
 
 MINIMUM_PER_STEP = 8
 
@@ -26,6 +26,9 @@ def stray_files() -> list[str]:
     left behind would go stale as the reference changes."""
     return sorted(str(p.relative_to(MUTANTS)) for p in MUTANTS.rglob("*")
                   if p.is_file() and p.suffix != ".patch" and p.name not in ("README.md", "signatures.json"))
+
+
+NAMED_SLIPS: list[str] = []     # the mutants the check named as a known slip (judge)
 
 
 def judge(step, path, work) -> tuple[bool, bool, list[str]]:
@@ -51,6 +54,16 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
     named = any(c in failing for c in mutant.cases)
     if not named and mutant.cases and not unknown:
         problems.append(f"{label}: caught, but not by its named case(s); it fails: " + ", ".join(failing[:3]))
+    # Its failures are its recorded signature, and no other slip's: the check names this slip, and its
+    # named case comes first (slips.py, StepResult.first_problem).
+    from ..slips import _catalogue
+    alike = [k for k, e in _catalogue().items()
+             if k.startswith(step.folder + "/") and isinstance(e, dict) and set(e.get("fails") or ()) == set(failing)]
+    if named and alike == [f"{step.folder}/{mutant.name}"]:
+        NAMED_SLIPS.append(label)
+        if (result.get("slip") or {}).get("name") != mutant.name:
+            problems.append(f"{label}: its failures are exactly its signature, yet the check names the slip "
+                            f"{(result.get('slip') or {}).get('name')!r}")
     return True, named, problems
 
 
@@ -78,7 +91,9 @@ def selftest_mutants(ctx) -> str:
     table = "\n    " + "\n    ".join(lines)
     if problems:
         raise Failed("mutation score" + table + "\n  " + "\n  ".join(problems))
-    return "mutation score (every mutant caught by its named case)" + table
+    expect(NAMED_SLIPS, "no mutant was named as a known slip by the check: the catalogue match went untested")
+    return (f"mutation score (every mutant caught by its named case; {len(NAMED_SLIPS)} named as the known slip "
+            "they are, their case first)" + table)
 
 
 # Causes planted in the reference's find_intersection, and the words the failure of the ★ case "the hit
