@@ -117,6 +117,12 @@ inline void check_roots(const std::string& call, const std::string& input,
         return fail("A miss leaves both entries of t at 0 (roots.hpp: for count == 0 they are 0); return "
                     "Roots{} or set them to 0, and compute no root before you know there is one.",
                     false);
+    // A NaN root fails every ordering rule below: say what it is first (issue 45: NaN roots were told
+    // "Roots must be sorted").
+    if (got.count >= 1 && (std::isnan(got.t[0]) || (got.count == 2 && std::isnan(got.t[1]))))
+        return fail("A root is NaN (not a number): it came from the square root of a negative number, 0 / 0 or "
+                    "inf - inf. Know the count first, and take the square root only of a discriminant that is not "
+                    "negative.");
     if (got.count == 2 && !(got.t[0] <= got.t[1]))
         return fail("Roots must be sorted: t[0] <= t[1].");
     if (got.count == 1 && !(got.t[0] == got.t[1]))

@@ -209,6 +209,8 @@ MEASURED = [
     ("an inexact in-plane point, not the edges' rule", "rect_object_space", "04",
      "intersect_rect on exact edges and corners of every axis", "the in-plane coordinates your function computes",
      "The rectangle is closed: a hit exactly on an edge"),
+    ("a NaN root, not an order", "nan_roots", "01", "two hits: a ray through the centre enters at t = 2 and leaves at t = 4",
+     "A root is NaN", "Roots must be sorted"),
 ]
 # The edges' own rule, planted by its mutant, must still be named (the same hidden case); so must an open
 # window, planted by its mutant, in the window-end case.
