@@ -141,8 +141,9 @@ def gather(instructor: bool) -> Content:
     if instructor:
         for s in load_steps():
             solutions += [p for p in (ROOT / "solutions" / s.folder / f for f in s.files) if p.is_file()]
-    return Content(steps, others, headers, images,
-                   sorted(bench.glob("*.md")) if bench.is_dir() else [], images_in(bench), solutions)
+    # The benchmark's reading (docs/bench.md, which the lectures cite) first, then its generated table.
+    readings = [p for p in [DOCS / "bench.md"] if p.is_file()] + (sorted(bench.glob("*.md")) if bench.is_dir() else [])
+    return Content(steps, others, headers, images, readings, images_in(bench), solutions)
 
 
 # --- the generated pages -----------------------------------------------------------
