@@ -113,6 +113,64 @@ def cxx_answers(exe: Path, cases: dict[str, dict]) -> dict[str, dict]:
     return out
 
 
+# The picture's labels, as drawn: every two texts that overlap (more than 1 px each way), every text
+# over the magnifier's box that is not part of it, every text reaching out of the picture (640 x 440).
+# Boxes are in the picture's coordinates, through any transform (the magnifier is moved as a group).
+LAYOUT = """(() => {
+  const layer = document.querySelector('#scene-layer'), toLayer = layer.getCTM().inverse();
+  const box = (e) => {
+    const b = e.getBBox(), m = toLayer.multiply(e.getCTM());
+    const pts = [[b.x, b.y], [b.x + b.width, b.y], [b.x, b.y + b.height], [b.x + b.width, b.y + b.height]]
+      .map(([x, y]) => [m.a * x + m.c * y + m.e, m.b * x + m.d * y + m.f]);
+    const xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
+    return [Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)];
+  };
+  const meet = (p, q) => Math.min(p[2], q[2]) - Math.max(p[0], q[0]) > 1 && Math.min(p[3], q[3]) - Math.max(p[1], q[1]) > 1;
+  const labels = Array.from(layer.querySelectorAll('text')).filter((e) => e.textContent.trim());
+  const boxes = labels.map(box);
+  const out = { overlaps: [], outside: [], underMagnifier: [], labels: labels.length };
+  labels.forEach((a, i) => labels.slice(i + 1).forEach((b, j) => {
+    if (meet(boxes[i], boxes[i + 1 + j])) out.overlaps.push(a.textContent + ' / ' + b.textContent);
+  }));
+  labels.forEach((a, i) => {
+    const p = boxes[i];
+    if (p[0] < 0 || p[1] < 0 || p[2] > 640 || p[3] > 440)
+      out.outside.push(a.textContent + ' at [' + p.map((v) => v.toFixed(1)).join(', ') + ']');
+  });
+  const mag = layer.querySelector('#magnifier rect');
+  if (mag) {
+    const m = box(mag);
+    labels.forEach((a, i) => { if (!a.closest('#magnifier') && meet(m, boxes[i])) out.underMagnifier.push(a.textContent); });
+  }
+  return out;
+})()"""
+
+# A font wider than the machine's: the layout must measure what it draws, not assume a font.
+WIDE_FONT = ("(() => { const s = document.createElement('style'); s.id = 'wide-font';"
+             " s.textContent = '#scene text { font-family: monospace !important; letter-spacing: 1px; }';"
+             " document.head.appendChild(s); })()")
+
+
+def layout_problems(b, where: str) -> tuple[list[str], int]:
+    """Loads every preset (each button of the page) and checks its labels: no two overlap, none under the
+    magnifier, none out of the picture. The problems, and how many presets were checked."""
+    problems = []
+    presets = b.evaluate("raykitLab.presets")
+    buttons = b.evaluate("Array.from(document.querySelectorAll('#presets button'), (e) => e.dataset.preset)")
+    if sorted(presets) != sorted(buttons):
+        problems.append(f"{where}: the presets checked {presets} are not the page's buttons {buttons}")
+    for name in presets:
+        b.evaluate(f"raykitLab.load({name!r})")
+        got = b.evaluate(LAYOUT)
+        if got["overlaps"]:
+            problems.append(f"{where}, {name}: labels overlap in the picture: {got['overlaps'][:3]}")
+        if got["underMagnifier"]:
+            problems.append(f"{where}, {name}: labels under the magnifier's box: {got['underMagnifier'][:3]}")
+        if got["outside"]:
+            problems.append(f"{where}, {name}: labels out of the picture: {got['outside'][:3]}")
+    return problems, len(presets)
+
+
 READ = """(() => {
   const text = (sel) => { const e = document.querySelector(sel); return e ? e.textContent : null; };
   const cell = (id) => text(`[data-cell="${id}"]`);
@@ -129,7 +187,6 @@ READ = """(() => {
   out.exactUlps = [cell('exact-u0'), cell('exact-u1')];
   // the picture: the origin's handle on it, the float32 textbook roots' distance from the exact ones,
   // and any two labels that overlap
-  const box = (e) => { const b = e.getBBox(); return [b.x, b.y, b.x + b.width, b.y + b.height]; };
   const o = document.querySelector('#handle-origin');
   out.originOn = [+o.getAttribute('cx'), +o.getAttribute('cy')].every((v, i) => v >= 0 && v <= [640, 440][i]);
   out.magnifier = raykitLab.magnifier();
@@ -147,16 +204,11 @@ READ = """(() => {
     for (const [x, y] of pts) out.farthest = Math.max(out.farthest, Math.abs(x), Math.abs(y));
   }
   out.textbookPx = Math.max(0, ...raykitLab.marks().filter((m) => m.form === 'textbook').map((m) => m.px));
-  const labels = Array.from(document.querySelectorAll('#scene-layer text'));
-  out.overlaps = [];
-  labels.forEach((a, i) => labels.slice(i + 1).forEach((b) => {
-    const p = box(a), q = box(b);
-    if (Math.min(p[2], q[2]) - Math.max(p[0], q[0]) > 1 && Math.min(p[3], q[3]) - Math.max(p[1], q[1]) > 1)
-      out.overlaps.push(a.textContent + ' / ' + b.textContent);
-  }));
+  out.layout = %s;
+  out.overlaps = out.layout.overlaps;
   out.svg = document.querySelectorAll('#scene-layer *').length;
   return out;
-})()""" % (str(INPUTS), str(ROWS))
+})()""" % (str(INPUTS), str(ROWS), LAYOUT)
 
 
 def attach_log(b) -> list[str]:
@@ -217,6 +269,10 @@ def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
             problems.append(f"{name}: the origin's handle is off the picture, where no one can drag it")
         if shown["overlaps"]:
             problems.append(f"{name}: labels overlap in the picture: {shown['overlaps'][:3]}")
+        if shown["layout"]["underMagnifier"]:
+            problems.append(f"{name}: labels under the magnifier's box: {shown['layout']['underMagnifier'][:3]}")
+        if shown["layout"]["outside"]:
+            problems.append(f"{name}: labels out of the picture: {shown['layout']['outside'][:3]}")
         cases[name] = c
         if shots:
             b.screenshot(SCREENSHOTS / f"{name}.png")
@@ -332,6 +388,9 @@ def selftest_lab(ctx) -> str:
     try:
         with browser.Browser(chromium, 1400, 1000) as b:
             cases, problems = read_presets(b, LAB / "index.html", shots=True)
+            b.evaluate(WIDE_FONT)
+            found, _ = layout_problems(b, "in a wider font (monospace, 1 px apart)")
+            problems += found
     except browser.BrowserError as e:
         raise Failed(f"headless Chromium: {e}") from None
     cxx = cxx_answers(exe, cases)
@@ -374,6 +433,12 @@ def selftest_lab(ctx) -> str:
                 if px < 2:
                     problems.append(f"{name}: at 400 px wide the float32 textbook roots are drawn {px:.1f} screen px "
                                     "from the exact ones, too close to see")
+            found, _ = layout_problems(b, "at 400 px wide")
+            problems += found
+            b.evaluate(WIDE_FONT)
+            found, _ = layout_problems(b, "at 400 px wide in a wider font")
+            problems += found
+            b.evaluate("document.getElementById('wide-font').remove()")
             for name in ("grazing", "ground"):
                 b.evaluate(f"raykitLab.load({name!r})")
                 wide = b.evaluate("document.documentElement.scrollWidth")
