@@ -744,8 +744,9 @@
   }
   // --- the distance plot: the same ray moved back along itself, |f| / r from 1 to 10^7 -------------------
   // The line keeps its distance from the centre (in radii) and its direction; only the origin slides
-  // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the cliff where the
-  // textbook loses 2 log2(|f|/r) bits of 24 (|f|/r = 2^12) shows, and where the rewrite holds.
+  // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the textbook loses about
+  // 2 log2(|f|/r) bits of 24, and the cliff where its count first goes wrong is computed for the line
+  // (near |f|/r = 2^12 through the middle, sooner when grazing); where the rewrite holds shows too.
   const PLOT = { W: 640, H: 170, left: 44, right: 10, top: 10, bottom: 30, x0: 0, x1: 7, y1: 8 };
   function family(logDist) {
     const len = Math.hypot(state.dx, state.dy);
@@ -771,7 +772,7 @@
     }
     return out;
   }
-  let plotKey = null, lastPlot = null;
+  let plotKey = null, lastPlot = null, lastCliff = null;
   function plot() {
     const svg = $("#distance-plot");
     if (!svg) return;
@@ -795,9 +796,6 @@
       g("text", { x: 2, y: PLOT.top + 2, class: "plot-text", transform: `rotate(90 2 ${PLOT.top + 2})` }, "worst ulps");
       g("line", { x1: PLOT.left, y1: Y(16), x2: PLOT.W - PLOT.right, y2: Y(16), class: "plot-bound" });
       g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text" }, "16 ulps, the ★ bound");
-      const cliff = Math.log10(4096);
-      g("line", { x1: X(cliff), y1: PLOT.top, x2: X(cliff), y2: PLOT.H - PLOT.bottom, class: "plot-cliff" });
-      g("text", { x: X(cliff) + 3, y: PLOT.top + 10, class: "plot-text" }, "2·log₂(|f|/r) = 24");
       const series = {};
       for (const form of FORMS) series[form.id] = [];
       for (let i = 0; i <= 56; i++) {
@@ -807,9 +805,33 @@
         const err = errorsAt(s);
         for (const form of FORMS) series[form.id].push([v, err[form.id]]);
       }
+      // The cliff, computed for this line: where the textbook has lost all its bits and first gets the
+      // count wrong (the plot's top), between the first such sample and the one before it, bisected
+      // down to 0.01 in log10 |f| / r.
+      const book = series.textbook;
+      const first = book.findIndex(([, u]) => !Number.isFinite(u));
+      let cliff = null;
+      if (first >= 0) {
+        if (first === 0) cliff = book[0][0];
+        else {
+          let lo = book[first - 1][0], hi = book[first][0];
+          while (hi - lo > 0.01) {
+            const mid = (lo + hi) / 2, s = family(mid);
+            if (s && Number.isFinite(errorsAt(s).textbook)) lo = mid; else hi = mid;
+          }
+          cliff = hi;
+        }
+        g("line", { x1: X(cliff), y1: PLOT.top, x2: X(cliff), y2: PLOT.H - PLOT.bottom, class: "plot-cliff" });
+      }
+      lastCliff = cliff;
       for (const form of FORMS) {
         const pts = series[form.id].map(([v, u]) => `${X(v)},${Y(Number.isFinite(u) ? u : 1e9)}`).join(" ");
         g("polyline", { points: pts, class: `plot-line mark-${form.id}` });
+      }
+      if (cliff !== null) {           // over the lines, on a white halo
+        const right = X(cliff) > PLOT.W - 200;
+        g("text", { x: X(cliff) + (right ? -3 : 3), y: PLOT.top + 10, "text-anchor": right ? "end" : "start", class: "plot-text plot-note" },
+          `the textbook's count goes wrong at |f|/r ≈ ${fmt(Number(Math.pow(10, cliff).toPrecision(2)))}`);
       }
       g("line", { id: "plot-here", class: "plot-here" });
       lastPlot = series;
@@ -915,10 +937,11 @@
     forms: FORMS.map((f) => f.id),
     inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
     exactRoots, ulps, hexBits,
-    marks: () => lastMarks,
+    marks: () => lastMarks,                // the float32 roots drawn: form, root, t, pixels from the exact root
     view: () => ({ ...view }),             // the world point at the picture's centre, pixels per unit
-    magnifier: () => lastMagnifier,
-    plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
+    magnifier: () => lastMagnifier,        // which root it shows, the worst float32 form's ulps, the span, its box
+    plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot
+    cliff: () => lastCliff,                // log10 |f|/r where the textbook first miscounts (null: never)
     modified,
   };
 

@@ -18,11 +18,13 @@ with the reference solution of step 02) gets the same float inputs and answers:
     of every row that differs from the exact one, and the exact row shows 0 ulps only where it has roots.
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
 ones (at least 4 px); the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
-rewrite within them before, and its slider moves the origin; on the grazing and ground presets the
+rewrite within them before, its cliff marker sits where the textbook first miscounts on each preset's line
+(none where it never does), and its slider moves the origin; on the grazing and ground presets the
 magnifier (the float grid around a root) shows a float32 root beyond 16 ulps; every preset keeps the
 origin's handle on the picture and draws no line reaching farther than 4e6 px from it (a browser draws
 in float32: farther ends move the lines); a drag turns the case into "(modified)"; at 400 px wide the
-page is no wider than the window; no two labels of the picture overlap.
+page is no wider than the window; on every preset, at 1400 and 400 px wide, in the machine's font and in a
+wider one, no two labels of the picture overlap, none is under the magnifier's box, none leaves the picture.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
 The checks can fail: a copy of the page whose textbook discriminant, or half b's, skips one float
 rounding (what a fused multiply-add does) must be caught.
@@ -418,6 +420,28 @@ def selftest_lab(ctx) -> str:
                 problems.append(f"the distance plot shows the textbook within 16 ulps beyond the cliff: {book[:5]}")
             if not rew or max(u if u is not None else math.inf for u in rew) > 16:
                 problems.append(f"the distance plot shows the rewrite beyond 16 ulps before 10^3.6: {rew[-5:]}")
+            # The cliff marker, computed for each preset's line: where the textbook first gets the count
+            # wrong, between that sample and the one before (no marker when it never does), not fixed at
+            # |f|/r = 4096.
+            cliffs = []
+            for name in b.evaluate("raykitLab.presets"):
+                b.evaluate(f"raykitLab.load({name!r})")
+                pts = [(v, math.inf if u is None else u) for v, u in (b.evaluate("raykitLab.plot()") or {}).get("textbook", [])]
+                xs = b.evaluate("Array.from(document.querySelectorAll('#distance-plot .plot-cliff'), (e) => +e.getAttribute('x1'))")
+                marks = [(x - 44) / (640 - 44 - 10) * 7 for x in xs]       # the plot's X(v), inverted
+                first = next((i for i, (_, u) in enumerate(pts) if u == math.inf), None)
+                if first is None:
+                    if marks:
+                        problems.append(f"{name}: the distance plot marks a cliff at 10^{marks[0]:.2f} where the textbook "
+                                        "never gets the count wrong")
+                    continue
+                lo = pts[first - 1][0] if first else -math.inf
+                hi = pts[first][0]
+                cliffs.append(f"{name} 10^{marks[0]:.2f}" if marks else f"{name} none")
+                if len(marks) != 1 or not lo - 0.005 < marks[0] <= hi + 0.005:
+                    problems.append(f"{name}: the distance plot's cliff marker is at 10^{marks[0] if marks else None}, "
+                                    f"the textbook first gets the count wrong between 10^{lo:.2f} and 10^{hi:.2f}")
+            b.evaluate("raykitLab.load('far-10000')")
             b.evaluate("(() => { const s = document.querySelector('#log-distance'); s.value = '2';"
                        " s.dispatchEvent(new Event('input')); })()")
             far = b.evaluate("(() => { const s = raykitLab.inputs(); return Math.hypot(s.ox - s.cx, s.oy - s.cy) / s.r; })()")
@@ -457,7 +481,9 @@ def selftest_lab(ctx) -> str:
     return (f"{len(cases)} presets, {roots} roots: the exact ones equal reference_roots.hpp and the reference solution, "
             f"all 8 rows (4 formulas, float32 and double) bit for bit as C++ -ffp-contract=off, ulps as ulps.hpp{note}; "
             f"grazing: the float32 textbook roots drawn {graze:.1f} px from the exact ones; origin on the picture in "
-            f"every preset, no label over another, no wider than 400 px at 400 px and the float roots apart there too; "
+            f"every preset, no label over another, under the magnifier or out of the picture (at 1400 and 400 px, "
+            f"in the machine's font and a wider one); the cliff marker, where the textbook first miscounts: "
+            f"{', '.join(cliffs)}; no wider than 400 px at 400 px and the float roots apart there too; "
             f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
 
 
