@@ -747,6 +747,8 @@
   // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the textbook loses about
   // 2 log2(|f|/r) bits of 24, and the cliff where its count first goes wrong is computed for the line
   // (near |f|/r = 2^12 through the middle, sooner when grazing); where the rewrite holds shows too.
+  // W is the plot's width on the screen (at most 640): it is drawn 1:1, so that its text keeps its size
+  // on a narrow screen instead of shrinking with a 640-wide drawing.
   const PLOT = { W: 640, H: 170, left: 44, right: 10, top: 10, bottom: 30, x0: 0, x1: 7, y1: 8 };
   function family(logDist) {
     const len = Math.hypot(state.dx, state.dy);
@@ -777,25 +779,30 @@
     const svg = $("#distance-plot");
     if (!svg) return;
     const len = Math.hypot(state.dx, state.dy);
-    const key = [state.dx / len, state.dy / len, state.r].join(",") + "," +
+    const line = [state.dx / len, state.dy / len, state.r].join(",") + "," +
                 (((state.ox - state.cx) * state.dy - (state.oy - state.cy) * state.dx) / (len * state.r)).toPrecision(6);
     const here = Math.log10(Math.hypot(state.ox - state.cx, state.oy - state.cy) / state.r);
+    const shown = Math.round(svg.clientWidth || 640);
+    if (shown > 0) PLOT.W = Math.max(300, Math.min(640, shown));
+    const key = `${line},${PLOT.W}`;
     const X = (v) => PLOT.left + ((v - PLOT.x0) / (PLOT.x1 - PLOT.x0)) * (PLOT.W - PLOT.left - PLOT.right);
     const Y = (u) => PLOT.H - PLOT.bottom - (Math.min(PLOT.y1, Math.log10(u + 1)) / PLOT.y1) * (PLOT.H - PLOT.top - PLOT.bottom);
     if (key !== plotKey) {
       plotKey = key;
       while (svg.firstChild) svg.removeChild(svg.firstChild);
+      svg.setAttribute("viewBox", `0 0 ${PLOT.W} ${PLOT.H}`);
       const g = (tag, attrs, text) => el(tag, attrs, svg, text);
       g("rect", { x: 0, y: 0, width: PLOT.W, height: PLOT.H, class: "paper" });
       for (let e = 0; e <= PLOT.y1; e += 2) {
         g("line", { x1: PLOT.left, y1: Y(Math.pow(10, e) - 1), x2: PLOT.W - PLOT.right, y2: Y(Math.pow(10, e) - 1), class: "plot-grid" });
         g("text", { x: PLOT.left - 4, y: Y(Math.pow(10, e) - 1) + 4, "text-anchor": "end", class: "plot-text" }, e === 0 ? "0" : `1e${e}`);
       }
-      for (let e = 0; e <= PLOT.x1; e++) g("text", { x: X(e), y: PLOT.H - 12, "text-anchor": "middle", class: "plot-text" }, e === 0 ? "1" : `1e${e}`);
-      g("text", { x: PLOT.W - PLOT.right, y: PLOT.H - 1, "text-anchor": "end", class: "plot-text" }, "|f| / r, the same line moved back");
+      for (let e = 0; e <= PLOT.x1; e++)         // the last one ends at the plot's edge, not past it
+        g("text", { x: e === PLOT.x1 ? PLOT.W - 2 : X(e), y: PLOT.H - PLOT.bottom + 13, "text-anchor": e === PLOT.x1 ? "end" : "middle", class: "plot-text" }, e === 0 ? "1" : `1e${e}`);
+      g("text", { x: PLOT.W - PLOT.right, y: PLOT.H - 4, "text-anchor": "end", class: "plot-text" }, "|f| / r, the same line moved back");
       g("text", { x: 2, y: PLOT.top + 2, class: "plot-text", transform: `rotate(90 2 ${PLOT.top + 2})` }, "worst ulps");
       g("line", { x1: PLOT.left, y1: Y(16), x2: PLOT.W - PLOT.right, y2: Y(16), class: "plot-bound" });
-      g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text" }, "16 ulps, the ★ bound");
+      g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text plot-note" }, "16 ulps, the ★ bound");
       const series = {};
       for (const form of FORMS) series[form.id] = [];
       for (let i = 0; i <= 56; i++) {
@@ -828,10 +835,16 @@
         const pts = series[form.id].map(([v, u]) => `${X(v)},${Y(Number.isFinite(u) ? u : 1e9)}`).join(" ");
         g("polyline", { points: pts, class: `plot-line mark-${form.id}` });
       }
-      if (cliff !== null) {           // over the lines, on a white halo
-        const right = X(cliff) > PLOT.W - 200;
-        g("text", { x: X(cliff) + (right ? -3 : 3), y: PLOT.top + 10, "text-anchor": right ? "end" : "start", class: "plot-text plot-note" },
-          `the textbook's count goes wrong at |f|/r ≈ ${fmt(Number(Math.pow(10, cliff).toPrecision(2)))}`);
+      if (cliff !== null) {           // over the lines, on a white halo; measured, to stay on the plot
+        const at = fmt(Number(Math.pow(10, cliff).toPrecision(2)));
+        const t = g("text", { y: PLOT.top + 10, class: "plot-text plot-note" }, `the textbook's count goes wrong at |f|/r ≈ ${at}`);
+        const fits = () => {
+          const w = t.getBBox().width;
+          if (X(cliff) + 3 + w <= PLOT.W - PLOT.right) { t.setAttribute("x", X(cliff) + 3); t.setAttribute("text-anchor", "start"); return true; }
+          if (X(cliff) - 3 - w >= 2) { t.setAttribute("x", X(cliff) - 3); t.setAttribute("text-anchor", "end"); return true; }
+          return false;
+        };
+        if (!fits()) { t.textContent = `count wrong at ≈ ${at}`; if (!fits()) { t.setAttribute("x", PLOT.W - PLOT.right); t.setAttribute("text-anchor", "end"); } }
       }
       g("line", { id: "plot-here", class: "plot-here" });
       lastPlot = series;
@@ -945,7 +958,17 @@
     modified,
   };
 
+  // Each cell of the numbers names its column (data-label), for the narrow screen, where the rows are
+  // laid out as cards that wrap instead of a table that scrolls its columns off the screen.
+  function labelCells() {
+    const names = { a: "a", h: "h", c: "c′", d4: "D/4", count: "count", t0: "t0", u0: "t0 ulps", t1: "t1", u1: "t1 ulps" };
+    for (const td of document.querySelectorAll("#numbers tbody td")) {
+      const id = td.dataset.cell;
+      td.dataset.label = id ? names[id.slice(id.lastIndexOf("-") + 1)] || "" : "in";
+    }
+  }
   document.addEventListener("DOMContentLoaded", () => {
+    labelCells();
     setupInputs();
     setupHandles();
     const wanted = (location.hash || "").slice(1);
@@ -954,6 +977,7 @@
     // narrow screen's larger labels).
     if (document.fonts && document.fonts.ready) document.fonts.ready.then(() => update());
     window.matchMedia("(max-width: 700px)").addEventListener("change", () => update());
+    window.addEventListener("resize", () => plot());        // the plot is drawn at its width on the screen
     document.body.dataset.ready = "1";
   });
 })();

@@ -23,7 +23,8 @@ rewrite within them before, its cliff marker sits where the textbook first misco
 magnifier (the float grid around a root) shows a float32 root beyond 16 ulps; every preset keeps the
 origin's handle on the picture and draws no line reaching farther than 4e6 px from it (a browser draws
 in float32: farther ends move the lines); a drag turns the case into "(modified)"; at 400 px wide the
-page is no wider than the window; on every preset, at 1400 and 400 px wide, in the machine's font and in a
+page is no wider than the window, every text of the picture and the plot is drawn 9 px or more on the
+screen, and every cell of the numbers shows inside the window (none scrolled off); on every preset, at 1400 and 400 px wide, in the machine's font and in a
 wider one, no two labels of the picture overlap, none is under the magnifier's box, none leaves the picture.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
 The checks can fail: a copy of the page whose textbook discriminant, or half b's, skips one float
@@ -144,6 +145,34 @@ LAYOUT = """(() => {
     const m = box(mag);
     labels.forEach((a, i) => { if (!a.closest('#magnifier') && meet(m, boxes[i])) out.underMagnifier.push(a.textContent); });
   }
+  return out;
+})()"""
+
+# On a narrow screen: every text of the picture and of the distance plot, as drawn on the screen (font
+# size times the drawing's scale), the plot's texts inside it, and every cell of the numbers that shows
+# inside the window and not cut (the table scrolls no column off the screen).
+READABLE = """(() => {
+  const out = { small: [], outPlot: [], offCells: [], cut: [] };
+  for (const e of document.querySelectorAll('#scene text, #distance-plot text')) {
+    if (!e.textContent.trim()) continue;
+    const svg = e.ownerSVGElement, k = svg.clientWidth / svg.viewBox.baseVal.width;
+    const px = parseFloat(getComputedStyle(e).fontSize) * k;
+    if (px < 9) out.small.push(e.textContent + ' ' + px.toFixed(1) + ' px');
+  }
+  const plot = document.querySelector('#distance-plot'), vb = plot.viewBox.baseVal;
+  for (const e of plot.querySelectorAll('text')) {
+    if (e.getAttribute('transform')) continue;       // the rotated axis title
+    const b = e.getBBox();
+    if (b.x < 0 || b.y < 0 || b.x + b.width > vb.width || b.y + b.height > vb.height) out.outPlot.push(e.textContent);
+  }
+  for (const c of document.querySelectorAll('#numbers th, #numbers td')) {
+    const r = c.getBoundingClientRect();
+    if (!r.width) continue;                           // not shown (the narrow screen's header row)
+    if (r.left < -0.5 || r.right > innerWidth + 0.5) out.offCells.push((c.dataset.label || c.textContent.slice(0, 20)) + ': ' + c.textContent.slice(0, 20));
+    if (c.scrollWidth > c.clientWidth + 1) out.cut.push(c.textContent.slice(0, 20));
+  }
+  const box = document.querySelector('.table-box');
+  if (box.scrollWidth > box.clientWidth + 1) out.offCells.push('the table scrolls: ' + box.scrollWidth + ' px in ' + box.clientWidth);
   return out;
 })()"""
 
@@ -428,7 +457,8 @@ def selftest_lab(ctx) -> str:
                 b.evaluate(f"raykitLab.load({name!r})")
                 pts = [(v, math.inf if u is None else u) for v, u in (b.evaluate("raykitLab.plot()") or {}).get("textbook", [])]
                 xs = b.evaluate("Array.from(document.querySelectorAll('#distance-plot .plot-cliff'), (e) => +e.getAttribute('x1'))")
-                marks = [(x - 44) / (640 - 44 - 10) * 7 for x in xs]       # the plot's X(v), inverted
+                width = b.evaluate("document.querySelector('#distance-plot').viewBox.baseVal.width")
+                marks = [(x - 44) / (width - 44 - 10) * 7 for x in xs]       # the plot's X(v), inverted
                 first = next((i for i, (_, u) in enumerate(pts) if u == math.inf), None)
                 if first is None:
                     if marks:
@@ -459,6 +489,18 @@ def selftest_lab(ctx) -> str:
                                     "from the exact ones, too close to see")
             found, _ = layout_problems(b, "at 400 px wide")
             problems += found
+            for name in b.evaluate("raykitLab.presets"):
+                b.evaluate(f"raykitLab.load({name!r})")
+                r = b.evaluate(READABLE)
+                if r["small"]:
+                    problems.append(f"at 400 px wide, {name}: text drawn under 9 px on the screen: {r['small'][:3]}")
+                if r["outPlot"]:
+                    problems.append(f"at 400 px wide, {name}: text out of the distance plot: {r['outPlot'][:3]}")
+                if r["offCells"]:
+                    problems.append(f"at 400 px wide, {name}: {len(r['offCells'])} cells of the numbers off the screen: "
+                                    f"{r['offCells'][:3]}")
+                if r["cut"]:
+                    problems.append(f"at 400 px wide, {name}: cells of the numbers cut: {r['cut'][:3]}")
             b.evaluate(WIDE_FONT)
             found, _ = layout_problems(b, "at 400 px wide in a wider font")
             problems += found
@@ -483,7 +525,8 @@ def selftest_lab(ctx) -> str:
             f"grazing: the float32 textbook roots drawn {graze:.1f} px from the exact ones; origin on the picture in "
             f"every preset, no label over another, under the magnifier or out of the picture (at 1400 and 400 px, "
             f"in the machine's font and a wider one); the cliff marker, where the textbook first miscounts: "
-            f"{', '.join(cliffs)}; no wider than 400 px at 400 px and the float roots apart there too; "
+            f"{', '.join(cliffs)}; no wider than 400 px at 400 px, every text there 9 px or more and every cell of the "
+            f"numbers on the screen, and the float roots apart there too; "
             f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
 
 
