@@ -422,24 +422,62 @@
     const s = clipped(x0, y0, x1 - x0, y1 - y0, 0, 1);
     if (s) el("line", { x1: s[0], y1: s[1], x2: s[2], y2: s[3], class: cls });
   }
-  // Labels never overlap: each tries its spots in turn and takes the first whose box meets no label
-  // already placed (nor the picture's edge); the last spot is used when none is free.
+  // Labels never overlap, whatever font the machine draws them in: each text is measured as drawn
+  // (getBBox, after its class has set the font), then takes the first of its spots whose box meets
+  // nothing already placed and lies inside the picture; when none of them is free, spots on rings
+  // farther and farther out, with a leader line back to what it names; no label for what is off the
+  // picture. What is placed first wins: the handles, the roots and their ticks, the magnifier, the
+  // roots' labels, lecture 03's figure.
   let placed = [];
-  function label(spots, text, cls) {
-    const e = el("text", { "text-anchor": "start", class: cls || "label" }, undefined, text);
+  const EDGE = 2;              // a label keeps this far from the picture's edge
+  function overlapArea(box) {
+    let area = 0;
+    for (const q of placed)
+      area += Math.max(0, Math.min(box[2], q[2]) - Math.max(box[0], q[0])) * Math.max(0, Math.min(box[3], q[3]) - Math.max(box[1], q[1]));
+    return area;
+  }
+  function outsideBy(box) {
+    return Math.max(0, EDGE - box[0]) + Math.max(0, box[2] - (W - EDGE)) + Math.max(0, EDGE - box[1]) + Math.max(0, box[3] - (H - EDGE));
+  }
+  // The box a text draws at (0, 0), anchored at its start: its offset from the anchor and its size.
+  function measure(e) {
+    e.setAttribute("x", 0); e.setAttribute("y", 0); e.setAttribute("text-anchor", "start");
+    const b = e.getBBox();
+    return { dx: b.x, dy: b.y, w: b.width, h: b.height };
+  }
+  function label(spots, text, cls, anchorPoint) {
+    let [ax, ay] = anchorPoint || (spots.length ? spots[0] : [W / 2, H / 2]);
+    if (!(ax >= 0 && ax <= W && ay >= 0 && ay <= H)) return null;     // what it names is off the picture
+    const e = el("text", { class: cls || "label" }, undefined, text);
+    const m = measure(e);
+    const boxAt = (x, y, anchor) => {
+      const x0 = x + m.dx - (anchor === "end" ? m.w : anchor === "middle" ? m.w / 2 : 0), y0 = y + m.dy;
+      return [x0 - 2, y0 - 1, x0 + m.w + 2, y0 + m.h + 1];
+    };
     let best = null;
-    for (const [x, y, anchor] of spots) {
-      e.setAttribute("x", x); e.setAttribute("y", y); e.setAttribute("text-anchor", anchor || "start");
-      const b = e.getBBox(), box = [b.x - 2, b.y - 1, b.x + b.width + 2, b.y + b.height + 1];
-      const outside = Math.max(0, -box[0]) + Math.max(0, box[2] - W) + Math.max(0, -box[1]) + Math.max(0, box[3] - H);
-      let overlap = 0;
-      for (const q of placed)
-        overlap += Math.max(0, Math.min(box[2], q[2]) - Math.max(box[0], q[0])) * Math.max(0, Math.min(box[3], q[3]) - Math.max(box[1], q[1]));
-      const cost = overlap + 100 * outside;
+    const tryAt = (x, y, anchor) => {
+      const box = boxAt(x, y, anchor);
+      const cost = overlapArea(box) + 1000 * outsideBy(box);
       if (best === null || cost < best.cost) best = { cost, x, y, anchor, box };
-      if (cost === 0) break;
+      return cost === 0;
+    };
+    let free = spots.some(([x, y, anchor]) => tryAt(x, y, anchor));
+    // Rings around the point, farther and farther out: the box's centre on the ring.
+    for (let r = 14; !free && r < Math.hypot(W, H); r += 6) {
+      const n = Math.max(12, Math.round(r / 4));
+      for (let k = 0; k < n && !free; k++) {
+        const th = -Math.PI / 2 + (2 * Math.PI * k) / n;
+        const cx = ax + r * Math.cos(th), cy = ay + r * Math.sin(th);
+        free = tryAt(cx - m.w / 2 - m.dx, cy - m.h / 2 - m.dy, "start");
+      }
     }
     e.setAttribute("x", best.x); e.setAttribute("y", best.y); e.setAttribute("text-anchor", best.anchor || "start");
+    const b = best.box;
+    const nx = Math.max(b[0], Math.min(b[2], ax)), ny = Math.max(b[1], Math.min(b[3], ay));
+    if (Math.hypot(nx - ax, ny - ay) > 24) {        // far from what it names: a leader line to it
+      const lead = el("line", { x1: ax, y1: ay, x2: nx, y2: ny, class: "leader" });
+      e.parentNode.insertBefore(lead, e);
+    }
     placed.push(best.box);
     return e;
   }
@@ -448,8 +486,24 @@
                                    [x - 4, y - 2.2 * d, "middle"], [x - 4, y + 2.2 * d + 10, "middle"],
                                    [x + 3 * d, y - 3 * d], [x - 3 * d, y + 3 * d + 10, "end"], [x + 3 * d, y + 3 * d + 10],
                                    [x - 3 * d, y - 3 * d, "end"]];
+  // Lines of text no wider than `most` pixels, in the class `cls`: the pieces joined by `sep`, as
+  // many on a line as fit when measured.
+  function wrapText(pieces, sep, cls, most, parent) {
+    const probe = el("text", { class: cls }, parent, "");
+    const width = (s) => { probe.textContent = s; return probe.getBBox().width; };
+    const lines = [];
+    for (const p of pieces) {
+      const last = lines.length ? lines[lines.length - 1] : null;
+      if (last !== null && width(last + sep + p) <= most) lines[lines.length - 1] = last + sep + p;
+      else lines.push(p);
+    }
+    probe.remove();
+    return lines;
+  }
   // The magnifier: the float32 grid around the exact root that the float32 forms miss most, each form's
-  // root drawn on it in ulps (one tick a float when they fit, else a scale), in the picture's top left.
+  // root drawn on it in ulps (one tick a float when they fit, else a scale). Its texts are measured and
+  // wrapped to the picture's width; the box goes to the corner of the picture that covers the fewest of
+  // the handles, the roots and their ticks, before any label is placed.
   let lastMagnifier = null;
   function magnifier(res) {
     lastMagnifier = null;
@@ -464,12 +518,40 @@
         if (Number.isFinite(u) && u > worst.u) worst = { i, u };
       }
     }
-    const X = 10, Y = 10, Wm = 250, Hm = 74, mid = X + Wm / 2, axis = Y + 40;
     const M = Math.max(4, Math.ceil(worst.u * 1.25));             // ulps each side
-    const px = (u) => mid + (u / M) * (Wm / 2 - 12);
+    const shown = [];
+    const ticks = [];
+    for (const form of FORMS) {
+      const r = res.forms[form.id].f32;
+      if (r.count !== ex.count) continue;
+      const t = F(r.t[worst.i]), o = ordered(t) - ordered(ex.t[worst.i]);
+      if (!Number.isFinite(o)) continue;
+      ticks.push([form, Math.max(-M, Math.min(M, o))]);
+      shown.push(`${form.short} ${o > 0 ? "+" : ""}${o}`);
+    }
+    const name = ex.count === 1 ? "t" : `t${worst.i}`;
     const gm = el("g", { id: "magnifier" });
-    el("rect", { x: X, y: Y, width: Wm, height: Hm, class: "mag-box" }, gm);
-    el("line", { x1: X + 8, y1: axis, x2: X + Wm - 8, y2: axis, class: "mag-axis" }, gm);
+    const rect = el("rect", { x: 0, y: 0, width: 0, height: 0, class: "mag-box" }, gm);
+    const PAD = 6, most = W - 2 * 10 - 2 * PAD;
+    const title = wrapText([`${name} magnified, ±${M} ulps:`, M <= 40 ? "a tick per float" : `a tick per ${Math.pow(10, Math.floor(Math.log10(M)))} ulps`],
+                           " ", "mag-text", most, gm);
+    const forms = shown.length ? wrapText(shown, " · ", "mag-text", most, gm) : ["no float32 form has this count"];
+    // Lay the texts out from the box's top left at (0, 0), line under line, as measured.
+    const texts = [];
+    let y = PAD, wMax = 0;
+    const line = (s) => {
+      const e = el("text", { class: "mag-text" }, gm, s), m = measure(e);
+      e.setAttribute("x", PAD - m.dx); e.setAttribute("y", y - m.dy);
+      texts.push(e); y += m.h; wMax = Math.max(wMax, m.w);
+    };
+    title.forEach(line);
+    const axis = y + 18;                 // the float marks reach 14 px either side of the axis
+    y = axis + 18;
+    forms.forEach(line);
+    const Wm = Math.min(W - 20, Math.max(250, wMax + 2 * PAD)), Hm = y + PAD;
+    const mid = Wm / 2;
+    const px = (u) => mid + (u / M) * (Wm / 2 - 12);
+    el("line", { x1: 8, y1: axis, x2: Wm - 8, y2: axis, class: "mag-axis" }, gm);
     if (M <= 40) {
       for (let u = -M; u <= M; u++) el("line", { x1: px(u), y1: axis - 4, x2: px(u), y2: axis + 4, class: "mag-tick" }, gm);
     } else {
@@ -478,24 +560,20 @@
         el("line", { x1: px(u), y1: axis - 5, x2: px(u), y2: axis + 5, class: "mag-tick" }, gm);
     }
     el("circle", { cx: mid, cy: axis, r: 4, class: "root" }, gm);
-    const shown = [];
-    for (const form of FORMS) {
-      const r = res.forms[form.id].f32;
-      if (r.count !== ex.count) continue;
-      const t = F(r.t[worst.i]), o = ordered(t) - ordered(ex.t[worst.i]);
-      if (!Number.isFinite(o)) continue;
-      const x = px(Math.max(-M, Math.min(M, o)));
-      el("line", { x1: x, y1: axis, x2: x, y2: axis + form.side * 14, class: `float-mark mark-${form.id}` }, gm);
-      shown.push(`${form.short} ${o > 0 ? "+" : ""}${o}`);
+    for (const [form, o] of ticks)
+      el("line", { x1: px(o), y1: axis, x2: px(o), y2: axis + form.side * 14, class: `float-mark mark-${form.id}` }, gm);
+    rect.setAttribute("width", Wm); rect.setAttribute("height", Hm);
+    // The corner that covers least of what is placed so far (top left when it is free).
+    const corners = [[10, 10], [W - 10 - Wm, 10], [10, H - 10 - Hm], [W - 10 - Wm, H - 10 - Hm]];
+    let at = corners[0], least = Infinity;
+    for (const [x, y0] of corners) {
+      const c = overlapArea([x, y0, x + Wm, y0 + Hm]);
+      if (c < least) { least = c; at = [x, y0]; }
+      if (c === 0) break;
     }
-    const name = ex.count === 1 ? "t" : `t${worst.i}`;
-    el("text", { x: X + 6, y: Y + 14, class: "mag-text" }, gm,
-       `${name} magnified, ±${M} ulps: ${M <= 40 ? "a tick per float" : `a tick per ${Math.pow(10, Math.floor(Math.log10(M)))} ulps`}`);
-    el("text", { x: X + 6, y: Y + Hm - 6, class: "mag-text" }, gm, shown.join(" · ") || "no float32 form has this count");
-    const wide = Math.min(W - 2 * X, Math.max(Wm, ...Array.from(gm.querySelectorAll("text"), (e) => e.getBBox().width + 12)));
-    gm.querySelector("rect").setAttribute("width", wide);
-    placed.push([X, Y, X + wide, Y + Hm]);
-    lastMagnifier = { root: worst.i, ulps: worst.u, span: M };
+    gm.setAttribute("transform", `translate(${at[0]} ${at[1]})`);
+    placed.push([at[0], at[1], at[0] + Wm, at[1] + Hm]);
+    lastMagnifier = { root: worst.i, ulps: worst.u, span: M, box: [at[0], at[1], at[0] + Wm, at[1] + Hm] };
   }
   function draw(res) {
     const g = $("#scene-layer");
@@ -551,11 +629,11 @@
       if (ex.count > 0) {
         const dt = Math.sqrt(Math.max(state.r * state.r - lm * lm, 0));
         segment("fig-dt", px, py, px + dt * ux, py + dt * uy);
-        figLabels.push([around(sx(px + dt * ux / 2), sy(py + dt * uy / 2)), "Δt"]);
+        figLabels.push([[sx(px + dt * ux / 2), sy(py + dt * uy / 2)], "Δt"]);
       }
-      figLabels.push([around(sx(px), sy(py)), "t_m"]);
-      figLabels.push([around((sx(px) + sx(state.cx)) / 2, (sy(py) + sy(state.cy)) / 2), "ℓ_m"]);
-      figLabels.push([around((sx(state.ox) + sx(state.cx)) / 2, (sy(state.oy) + sy(state.cy)) / 2), "L", "label dim"]);
+      figLabels.push([[sx(px), sy(py)], "t_m"]);
+      figLabels.push([[(sx(px) + sx(state.cx)) / 2, (sy(py) + sy(state.cy)) / 2], "ℓ_m"]);
+      figLabels.push([[(sx(state.ox) + sx(state.cx)) / 2, (sy(state.oy) + sy(state.cy)) / 2], "L", "label dim"]);
     }
     // each formula's float32 roots: a tick across the ray, the textbook's and half b's on one side,
     // the rewrite's and the reference form's on the other, so that a root off the exact one shows
@@ -571,6 +649,7 @@
           if (!Number.isFinite(x) || !Number.isFinite(y)) return;
           const k = form.side * 18, kx = nx * k, ky = -ny * k;
           el("line", { x1: x, y1: y, x2: x + kx, y2: y + ky, class: `float-mark mark-${form.id}` });
+          placed.push([Math.min(x, x + kx) - 3, Math.min(y, y + ky) - 3, Math.max(x, x + kx) + 3, Math.max(y, y + ky) + 3]);
           const exact = ex.count ? ex.t[Math.min(i, ex.count - 1)] : NaN;
           marks.push({ form: form.id, i, t, x, y, exact,
                        px: Math.hypot(x - sx(state.ox + exact * state.dx), y - sy(state.oy + exact * state.dy)) });
@@ -579,19 +658,22 @@
     }
     // the exact roots and the hit
     const hit = closestInWindow(ex);
-    ex.t.slice(0, ex.count === 1 ? 1 : 2).forEach((t, i) => {
-      const x = sx(state.ox + t * state.dx), y = sy(state.oy + t * state.dy);
+    const roots = ex.t.slice(0, ex.count === 1 ? 1 : 2).map((t) => [t, sx(state.ox + t * state.dx), sy(state.oy + t * state.dy)]);
+    for (const [t, x, y] of roots) {
       el("circle", { cx: x, cy: y, r: 5, class: t === hit ? "root hit" : "root" });
       placed.push([x - 11, y - 11, x + 11, y + 11]);     // the root and its hit ring: no label on them
-      const spots = around(x, y, 10);
-      label(i === 0 ? [spots[3], ...spots] : [spots[0], ...spots], `t${ex.count === 1 ? "" : i} = ${fmt(t)}`, "label root-label");
-    });
+    }
     if (hit !== null) {
       const x = sx(state.ox + hit * state.dx), y = sy(state.oy + hit * state.dy);
       el("circle", { cx: x, cy: y, r: 10, class: "hit-ring" });
     }
+    // then the magnifier, the roots' labels and the figure's, each clear of all placed before it
     magnifier(res);
-    for (const [spots, text, cls] of figLabels) label(spots, text, cls);
+    roots.forEach(([t, x, y], i) => {
+      const spots = around(x, y, 10);
+      label(i === 0 ? [spots[3], ...spots] : [spots[0], ...spots], `t${ex.count === 1 ? "" : i} = ${fmt(t)}`, "label root-label", [x, y]);
+    });
+    for (const [[x, y], text, cls] of figLabels) label(around(x, y), text, cls, [x, y]);
     // how far the textbook's float roots are drawn from the exact ones
     const gaps = FORMS.map((form) => {
       const r = res.forms[form.id].f32;
@@ -662,8 +744,11 @@
   }
   // --- the distance plot: the same ray moved back along itself, |f| / r from 1 to 10^7 -------------------
   // The line keeps its distance from the centre (in radii) and its direction; only the origin slides
-  // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the cliff where the
-  // textbook loses 2 log2(|f|/r) bits of 24 (|f|/r = 2^12) shows, and where the rewrite holds.
+  // back. Each float32 form's worst root error, in ulps, against log10 |f| / r: the textbook loses about
+  // 2 log2(|f|/r) bits of 24, and the cliff where its count first goes wrong is computed for the line
+  // (near |f|/r = 2^12 through the middle, sooner when grazing); where the rewrite holds shows too.
+  // W is the plot's width on the screen (at most 640): it is drawn 1:1, so that its text keeps its size
+  // on a narrow screen instead of shrinking with a 640-wide drawing.
   const PLOT = { W: 640, H: 170, left: 44, right: 10, top: 10, bottom: 30, x0: 0, x1: 7, y1: 8 };
   function family(logDist) {
     const len = Math.hypot(state.dx, state.dy);
@@ -689,33 +774,35 @@
     }
     return out;
   }
-  let plotKey = null, lastPlot = null;
+  let plotKey = null, lastPlot = null, lastCliff = null;
   function plot() {
     const svg = $("#distance-plot");
     if (!svg) return;
     const len = Math.hypot(state.dx, state.dy);
-    const key = [state.dx / len, state.dy / len, state.r].join(",") + "," +
+    const line = [state.dx / len, state.dy / len, state.r].join(",") + "," +
                 (((state.ox - state.cx) * state.dy - (state.oy - state.cy) * state.dx) / (len * state.r)).toPrecision(6);
     const here = Math.log10(Math.hypot(state.ox - state.cx, state.oy - state.cy) / state.r);
+    const shown = Math.round(svg.clientWidth || 640);
+    if (shown > 0) PLOT.W = Math.max(300, Math.min(640, shown));
+    const key = `${line},${PLOT.W}`;
     const X = (v) => PLOT.left + ((v - PLOT.x0) / (PLOT.x1 - PLOT.x0)) * (PLOT.W - PLOT.left - PLOT.right);
     const Y = (u) => PLOT.H - PLOT.bottom - (Math.min(PLOT.y1, Math.log10(u + 1)) / PLOT.y1) * (PLOT.H - PLOT.top - PLOT.bottom);
     if (key !== plotKey) {
       plotKey = key;
       while (svg.firstChild) svg.removeChild(svg.firstChild);
+      svg.setAttribute("viewBox", `0 0 ${PLOT.W} ${PLOT.H}`);
       const g = (tag, attrs, text) => el(tag, attrs, svg, text);
       g("rect", { x: 0, y: 0, width: PLOT.W, height: PLOT.H, class: "paper" });
       for (let e = 0; e <= PLOT.y1; e += 2) {
         g("line", { x1: PLOT.left, y1: Y(Math.pow(10, e) - 1), x2: PLOT.W - PLOT.right, y2: Y(Math.pow(10, e) - 1), class: "plot-grid" });
         g("text", { x: PLOT.left - 4, y: Y(Math.pow(10, e) - 1) + 4, "text-anchor": "end", class: "plot-text" }, e === 0 ? "0" : `1e${e}`);
       }
-      for (let e = 0; e <= PLOT.x1; e++) g("text", { x: X(e), y: PLOT.H - 12, "text-anchor": "middle", class: "plot-text" }, e === 0 ? "1" : `1e${e}`);
-      g("text", { x: PLOT.W - PLOT.right, y: PLOT.H - 1, "text-anchor": "end", class: "plot-text" }, "|f| / r, the same line moved back");
+      for (let e = 0; e <= PLOT.x1; e++)         // the last one ends at the plot's edge, not past it
+        g("text", { x: e === PLOT.x1 ? PLOT.W - 2 : X(e), y: PLOT.H - PLOT.bottom + 13, "text-anchor": e === PLOT.x1 ? "end" : "middle", class: "plot-text" }, e === 0 ? "1" : `1e${e}`);
+      g("text", { x: PLOT.W - PLOT.right, y: PLOT.H - 4, "text-anchor": "end", class: "plot-text" }, "|f| / r, the same line moved back");
       g("text", { x: 2, y: PLOT.top + 2, class: "plot-text", transform: `rotate(90 2 ${PLOT.top + 2})` }, "worst ulps");
       g("line", { x1: PLOT.left, y1: Y(16), x2: PLOT.W - PLOT.right, y2: Y(16), class: "plot-bound" });
-      g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text" }, "16 ulps, the ★ bound");
-      const cliff = Math.log10(4096);
-      g("line", { x1: X(cliff), y1: PLOT.top, x2: X(cliff), y2: PLOT.H - PLOT.bottom, class: "plot-cliff" });
-      g("text", { x: X(cliff) + 3, y: PLOT.top + 10, class: "plot-text" }, "2·log₂(|f|/r) = 24");
+      g("text", { x: PLOT.W - PLOT.right - 2, y: Y(16) - 3, "text-anchor": "end", class: "plot-text plot-note" }, "16 ulps, the ★ bound");
       const series = {};
       for (const form of FORMS) series[form.id] = [];
       for (let i = 0; i <= 56; i++) {
@@ -725,9 +812,39 @@
         const err = errorsAt(s);
         for (const form of FORMS) series[form.id].push([v, err[form.id]]);
       }
+      // The cliff, computed for this line: where the textbook has lost all its bits and first gets the
+      // count wrong (the plot's top), between the first such sample and the one before it, bisected
+      // down to 0.01 in log10 |f| / r.
+      const book = series.textbook;
+      const first = book.findIndex(([, u]) => !Number.isFinite(u));
+      let cliff = null;
+      if (first >= 0) {
+        if (first === 0) cliff = book[0][0];
+        else {
+          let lo = book[first - 1][0], hi = book[first][0];
+          while (hi - lo > 0.01) {
+            const mid = (lo + hi) / 2, s = family(mid);
+            if (s && Number.isFinite(errorsAt(s).textbook)) lo = mid; else hi = mid;
+          }
+          cliff = hi;
+        }
+        g("line", { x1: X(cliff), y1: PLOT.top, x2: X(cliff), y2: PLOT.H - PLOT.bottom, class: "plot-cliff" });
+      }
+      lastCliff = cliff;
       for (const form of FORMS) {
         const pts = series[form.id].map(([v, u]) => `${X(v)},${Y(Number.isFinite(u) ? u : 1e9)}`).join(" ");
         g("polyline", { points: pts, class: `plot-line mark-${form.id}` });
+      }
+      if (cliff !== null) {           // over the lines, on a white halo; measured, to stay on the plot
+        const at = fmt(Number(Math.pow(10, cliff).toPrecision(2)));
+        const t = g("text", { y: PLOT.top + 10, class: "plot-text plot-note" }, `the textbook's count goes wrong at |f|/r ≈ ${at}`);
+        const fits = () => {
+          const w = t.getBBox().width;
+          if (X(cliff) + 3 + w <= PLOT.W - PLOT.right) { t.setAttribute("x", X(cliff) + 3); t.setAttribute("text-anchor", "start"); return true; }
+          if (X(cliff) - 3 - w >= 2) { t.setAttribute("x", X(cliff) - 3); t.setAttribute("text-anchor", "end"); return true; }
+          return false;
+        };
+        if (!fits()) { t.textContent = `count wrong at ≈ ${at}`; if (!fits()) { t.setAttribute("x", PLOT.W - PLOT.right); t.setAttribute("text-anchor", "end"); } }
       }
       g("line", { id: "plot-here", class: "plot-here" });
       lastPlot = series;
@@ -833,18 +950,34 @@
     forms: FORMS.map((f) => f.id),
     inputs: () => Object.fromEntries(FIELDS.map((k) => [k, state[k]])),
     exactRoots, ulps, hexBits,
-    marks: () => lastMarks,
+    marks: () => lastMarks,                // the float32 roots drawn: form, root, t, pixels from the exact root
     view: () => ({ ...view }),             // the world point at the picture's centre, pixels per unit
-    magnifier: () => lastMagnifier,
-    plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot        // which root it shows, the worst float32 form's ulps, the span                // the float32 roots drawn: form, root, t, pixels from the exact root
+    magnifier: () => lastMagnifier,        // which root it shows, the worst float32 form's ulps, the span, its box
+    plot: () => lastPlot,                  // each form's [log10 |f|/r, worst ulps] along the distance plot
+    cliff: () => lastCliff,                // log10 |f|/r where the textbook first miscounts (null: never)
     modified,
   };
 
+  // Each cell of the numbers names its column (data-label), for the narrow screen, where the rows are
+  // laid out as cards that wrap instead of a table that scrolls its columns off the screen.
+  function labelCells() {
+    const names = { a: "a", h: "h", c: "c′", d4: "D/4", count: "count", t0: "t0", u0: "t0 ulps", t1: "t1", u1: "t1 ulps" };
+    for (const td of document.querySelectorAll("#numbers tbody td")) {
+      const id = td.dataset.cell;
+      td.dataset.label = id ? names[id.slice(id.lastIndexOf("-") + 1)] || "" : "in";
+    }
+  }
   document.addEventListener("DOMContentLoaded", () => {
+    labelCells();
     setupInputs();
     setupHandles();
     const wanted = (location.hash || "").slice(1);
     loadPreset(PRESETS.some((p) => p.id === wanted) ? wanted : "two-hits");
+    // The labels are laid out as measured: again when the fonts change (a font that loads late, the
+    // narrow screen's larger labels).
+    if (document.fonts && document.fonts.ready) document.fonts.ready.then(() => update());
+    window.matchMedia("(max-width: 700px)").addEventListener("change", () => update());
+    window.addEventListener("resize", () => plot());        // the plot is drawn at its width on the screen
     document.body.dataset.ready = "1";
   });
 })();

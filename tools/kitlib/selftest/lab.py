@@ -18,11 +18,14 @@ with the reference solution of step 02) gets the same float inputs and answers:
     of every row that differs from the exact one, and the exact row shows 0 ulps only where it has roots.
 The picture: on the grazing and far presets the float32 textbook roots are drawn apart from the exact
 ones (at least 4 px); the distance plot shows the textbook past 16 ulps beyond |f|/r = 2^12 and the
-rewrite within them before, and its slider moves the origin; on the grazing and ground presets the
+rewrite within them before, its cliff marker sits where the textbook first miscounts on each preset's line
+(none where it never does), and its slider moves the origin; on the grazing and ground presets the
 magnifier (the float grid around a root) shows a float32 root beyond 16 ulps; every preset keeps the
 origin's handle on the picture and draws no line reaching farther than 4e6 px from it (a browser draws
 in float32: farther ends move the lines); a drag turns the case into "(modified)"; at 400 px wide the
-page is no wider than the window; no two labels of the picture overlap.
+page is no wider than the window, every text of the picture and the plot is drawn 9 px or more on the
+screen, and every cell of the numbers shows inside the window (none scrolled off); on every preset, at 1400 and 400 px wide, in the machine's font and in a
+wider one, no two labels of the picture overlap, none is under the magnifier's box, none leaves the picture.
 Also: no console error, no request to the network, a screenshot per preset in build/lab/screenshots/.
 The checks can fail: a copy of the page whose textbook discriminant, or half b's, skips one float
 rounding (what a fused multiply-add does) must be caught.
@@ -113,6 +116,92 @@ def cxx_answers(exe: Path, cases: dict[str, dict]) -> dict[str, dict]:
     return out
 
 
+# The picture's labels, as drawn: every two texts that overlap (more than 1 px each way), every text
+# over the magnifier's box that is not part of it, every text reaching out of the picture (640 x 440).
+# Boxes are in the picture's coordinates, through any transform (the magnifier is moved as a group).
+LAYOUT = """(() => {
+  const layer = document.querySelector('#scene-layer'), toLayer = layer.getCTM().inverse();
+  const box = (e) => {
+    const b = e.getBBox(), m = toLayer.multiply(e.getCTM());
+    const pts = [[b.x, b.y], [b.x + b.width, b.y], [b.x, b.y + b.height], [b.x + b.width, b.y + b.height]]
+      .map(([x, y]) => [m.a * x + m.c * y + m.e, m.b * x + m.d * y + m.f]);
+    const xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
+    return [Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)];
+  };
+  const meet = (p, q) => Math.min(p[2], q[2]) - Math.max(p[0], q[0]) > 1 && Math.min(p[3], q[3]) - Math.max(p[1], q[1]) > 1;
+  const labels = Array.from(layer.querySelectorAll('text')).filter((e) => e.textContent.trim());
+  const boxes = labels.map(box);
+  const out = { overlaps: [], outside: [], underMagnifier: [], labels: labels.length };
+  labels.forEach((a, i) => labels.slice(i + 1).forEach((b, j) => {
+    if (meet(boxes[i], boxes[i + 1 + j])) out.overlaps.push(a.textContent + ' / ' + b.textContent);
+  }));
+  labels.forEach((a, i) => {
+    const p = boxes[i];
+    if (p[0] < 0 || p[1] < 0 || p[2] > 640 || p[3] > 440)
+      out.outside.push(a.textContent + ' at [' + p.map((v) => v.toFixed(1)).join(', ') + ']');
+  });
+  const mag = layer.querySelector('#magnifier rect');
+  if (mag) {
+    const m = box(mag);
+    labels.forEach((a, i) => { if (!a.closest('#magnifier') && meet(m, boxes[i])) out.underMagnifier.push(a.textContent); });
+  }
+  return out;
+})()"""
+
+# On a narrow screen: every text of the picture and of the distance plot, as drawn on the screen (font
+# size times the drawing's scale), the plot's texts inside it, and every cell of the numbers that shows
+# inside the window and not cut (the table scrolls no column off the screen).
+READABLE = """(() => {
+  const out = { small: [], outPlot: [], offCells: [], cut: [] };
+  for (const e of document.querySelectorAll('#scene text, #distance-plot text')) {
+    if (!e.textContent.trim()) continue;
+    const svg = e.ownerSVGElement, k = svg.clientWidth / svg.viewBox.baseVal.width;
+    const px = parseFloat(getComputedStyle(e).fontSize) * k;
+    if (px < 9) out.small.push(e.textContent + ' ' + px.toFixed(1) + ' px');
+  }
+  const plot = document.querySelector('#distance-plot'), vb = plot.viewBox.baseVal;
+  for (const e of plot.querySelectorAll('text')) {
+    if (e.getAttribute('transform')) continue;       // the rotated axis title
+    const b = e.getBBox();
+    if (b.x < 0 || b.y < 0 || b.x + b.width > vb.width || b.y + b.height > vb.height) out.outPlot.push(e.textContent);
+  }
+  for (const c of document.querySelectorAll('#numbers th, #numbers td')) {
+    const r = c.getBoundingClientRect();
+    if (!r.width) continue;                           // not shown (the narrow screen's header row)
+    if (r.left < -0.5 || r.right > innerWidth + 0.5) out.offCells.push((c.dataset.label || c.textContent.slice(0, 20)) + ': ' + c.textContent.slice(0, 20));
+    if (c.scrollWidth > c.clientWidth + 1) out.cut.push(c.textContent.slice(0, 20));
+  }
+  const box = document.querySelector('.table-box');
+  if (box.scrollWidth > box.clientWidth + 1) out.offCells.push('the table scrolls: ' + box.scrollWidth + ' px in ' + box.clientWidth);
+  return out;
+})()"""
+
+# A font wider than the machine's: the layout must measure what it draws, not assume a font.
+WIDE_FONT = ("(() => { const s = document.createElement('style'); s.id = 'wide-font';"
+             " s.textContent = '#scene text { font-family: monospace !important; letter-spacing: 1px; }';"
+             " document.head.appendChild(s); })()")
+
+
+def layout_problems(b, where: str) -> tuple[list[str], int]:
+    """Loads every preset (each button of the page) and checks its labels: no two overlap, none under the
+    magnifier, none out of the picture. The problems, and how many presets were checked."""
+    problems = []
+    presets = b.evaluate("raykitLab.presets")
+    buttons = b.evaluate("Array.from(document.querySelectorAll('#presets button'), (e) => e.dataset.preset)")
+    if sorted(presets) != sorted(buttons):
+        problems.append(f"{where}: the presets checked {presets} are not the page's buttons {buttons}")
+    for name in presets:
+        b.evaluate(f"raykitLab.load({name!r})")
+        got = b.evaluate(LAYOUT)
+        if got["overlaps"]:
+            problems.append(f"{where}, {name}: labels overlap in the picture: {got['overlaps'][:3]}")
+        if got["underMagnifier"]:
+            problems.append(f"{where}, {name}: labels under the magnifier's box: {got['underMagnifier'][:3]}")
+        if got["outside"]:
+            problems.append(f"{where}, {name}: labels out of the picture: {got['outside'][:3]}")
+    return problems, len(presets)
+
+
 READ = """(() => {
   const text = (sel) => { const e = document.querySelector(sel); return e ? e.textContent : null; };
   const cell = (id) => text(`[data-cell="${id}"]`);
@@ -129,7 +218,6 @@ READ = """(() => {
   out.exactUlps = [cell('exact-u0'), cell('exact-u1')];
   // the picture: the origin's handle on it, the float32 textbook roots' distance from the exact ones,
   // and any two labels that overlap
-  const box = (e) => { const b = e.getBBox(); return [b.x, b.y, b.x + b.width, b.y + b.height]; };
   const o = document.querySelector('#handle-origin');
   out.originOn = [+o.getAttribute('cx'), +o.getAttribute('cy')].every((v, i) => v >= 0 && v <= [640, 440][i]);
   out.magnifier = raykitLab.magnifier();
@@ -147,16 +235,11 @@ READ = """(() => {
     for (const [x, y] of pts) out.farthest = Math.max(out.farthest, Math.abs(x), Math.abs(y));
   }
   out.textbookPx = Math.max(0, ...raykitLab.marks().filter((m) => m.form === 'textbook').map((m) => m.px));
-  const labels = Array.from(document.querySelectorAll('#scene-layer text'));
-  out.overlaps = [];
-  labels.forEach((a, i) => labels.slice(i + 1).forEach((b) => {
-    const p = box(a), q = box(b);
-    if (Math.min(p[2], q[2]) - Math.max(p[0], q[0]) > 1 && Math.min(p[3], q[3]) - Math.max(p[1], q[1]) > 1)
-      out.overlaps.push(a.textContent + ' / ' + b.textContent);
-  }));
+  out.layout = %s;
+  out.overlaps = out.layout.overlaps;
   out.svg = document.querySelectorAll('#scene-layer *').length;
   return out;
-})()""" % (str(INPUTS), str(ROWS))
+})()""" % (str(INPUTS), str(ROWS), LAYOUT)
 
 
 def attach_log(b) -> list[str]:
@@ -217,6 +300,10 @@ def read_presets(b, page: Path, shots: bool) -> tuple[dict, list[str]]:
             problems.append(f"{name}: the origin's handle is off the picture, where no one can drag it")
         if shown["overlaps"]:
             problems.append(f"{name}: labels overlap in the picture: {shown['overlaps'][:3]}")
+        if shown["layout"]["underMagnifier"]:
+            problems.append(f"{name}: labels under the magnifier's box: {shown['layout']['underMagnifier'][:3]}")
+        if shown["layout"]["outside"]:
+            problems.append(f"{name}: labels out of the picture: {shown['layout']['outside'][:3]}")
         cases[name] = c
         if shots:
             b.screenshot(SCREENSHOTS / f"{name}.png")
@@ -332,6 +419,9 @@ def selftest_lab(ctx) -> str:
     try:
         with browser.Browser(chromium, 1400, 1000) as b:
             cases, problems = read_presets(b, LAB / "index.html", shots=True)
+            b.evaluate(WIDE_FONT)
+            found, _ = layout_problems(b, "in a wider font (monospace, 1 px apart)")
+            problems += found
     except browser.BrowserError as e:
         raise Failed(f"headless Chromium: {e}") from None
     cxx = cxx_answers(exe, cases)
@@ -359,6 +449,29 @@ def selftest_lab(ctx) -> str:
                 problems.append(f"the distance plot shows the textbook within 16 ulps beyond the cliff: {book[:5]}")
             if not rew or max(u if u is not None else math.inf for u in rew) > 16:
                 problems.append(f"the distance plot shows the rewrite beyond 16 ulps before 10^3.6: {rew[-5:]}")
+            # The cliff marker, computed for each preset's line: where the textbook first gets the count
+            # wrong, between that sample and the one before (no marker when it never does), not fixed at
+            # |f|/r = 4096.
+            cliffs = []
+            for name in b.evaluate("raykitLab.presets"):
+                b.evaluate(f"raykitLab.load({name!r})")
+                pts = [(v, math.inf if u is None else u) for v, u in (b.evaluate("raykitLab.plot()") or {}).get("textbook", [])]
+                xs = b.evaluate("Array.from(document.querySelectorAll('#distance-plot .plot-cliff'), (e) => +e.getAttribute('x1'))")
+                width = b.evaluate("document.querySelector('#distance-plot').viewBox.baseVal.width")
+                marks = [(x - 44) / (width - 44 - 10) * 7 for x in xs]       # the plot's X(v), inverted
+                first = next((i for i, (_, u) in enumerate(pts) if u == math.inf), None)
+                if first is None:
+                    if marks:
+                        problems.append(f"{name}: the distance plot marks a cliff at 10^{marks[0]:.2f} where the textbook "
+                                        "never gets the count wrong")
+                    continue
+                lo = pts[first - 1][0] if first else -math.inf
+                hi = pts[first][0]
+                cliffs.append(f"{name} 10^{marks[0]:.2f}" if marks else f"{name} none")
+                if len(marks) != 1 or not lo - 0.005 < marks[0] <= hi + 0.005:
+                    problems.append(f"{name}: the distance plot's cliff marker is at 10^{marks[0] if marks else None}, "
+                                    f"the textbook first gets the count wrong between 10^{lo:.2f} and 10^{hi:.2f}")
+            b.evaluate("raykitLab.load('far-10000')")
             b.evaluate("(() => { const s = document.querySelector('#log-distance'); s.value = '2';"
                        " s.dispatchEvent(new Event('input')); })()")
             far = b.evaluate("(() => { const s = raykitLab.inputs(); return Math.hypot(s.ox - s.cx, s.oy - s.cy) / s.r; })()")
@@ -374,6 +487,24 @@ def selftest_lab(ctx) -> str:
                 if px < 2:
                     problems.append(f"{name}: at 400 px wide the float32 textbook roots are drawn {px:.1f} screen px "
                                     "from the exact ones, too close to see")
+            found, _ = layout_problems(b, "at 400 px wide")
+            problems += found
+            for name in b.evaluate("raykitLab.presets"):
+                b.evaluate(f"raykitLab.load({name!r})")
+                r = b.evaluate(READABLE)
+                if r["small"]:
+                    problems.append(f"at 400 px wide, {name}: text drawn under 9 px on the screen: {r['small'][:3]}")
+                if r["outPlot"]:
+                    problems.append(f"at 400 px wide, {name}: text out of the distance plot: {r['outPlot'][:3]}")
+                if r["offCells"]:
+                    problems.append(f"at 400 px wide, {name}: {len(r['offCells'])} cells of the numbers off the screen: "
+                                    f"{r['offCells'][:3]}")
+                if r["cut"]:
+                    problems.append(f"at 400 px wide, {name}: cells of the numbers cut: {r['cut'][:3]}")
+            b.evaluate(WIDE_FONT)
+            found, _ = layout_problems(b, "at 400 px wide in a wider font")
+            problems += found
+            b.evaluate("document.getElementById('wide-font').remove()")
             for name in ("grazing", "ground"):
                 b.evaluate(f"raykitLab.load({name!r})")
                 wide = b.evaluate("document.documentElement.scrollWidth")
@@ -392,7 +523,10 @@ def selftest_lab(ctx) -> str:
     return (f"{len(cases)} presets, {roots} roots: the exact ones equal reference_roots.hpp and the reference solution, "
             f"all 8 rows (4 formulas, float32 and double) bit for bit as C++ -ffp-contract=off, ulps as ulps.hpp{note}; "
             f"grazing: the float32 textbook roots drawn {graze:.1f} px from the exact ones; origin on the picture in "
-            f"every preset, no label over another, no wider than 400 px at 400 px and the float roots apart there too; "
+            f"every preset, no label over another, under the magnifier or out of the picture (at 1400 and 400 px, "
+            f"in the machine's font and a wider one); the cliff marker, where the textbook first miscounts: "
+            f"{', '.join(cliffs)}; no wider than 400 px at 400 px, every text there 9 px or more and every cell of the "
+            f"numbers on the screen, and the float roots apart there too; "
             f"screenshots in {SCREENSHOTS.relative_to(ROOT)}")
 
 
