@@ -30,6 +30,7 @@ from typing import Callable
 
 from . import atomic
 from . import course as course_file
+from . import faults
 from . import includes
 from . import waits
 from . import warmup
@@ -333,6 +334,8 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                     for e in events[seen:]:
                         if e.get("event") == "start":
                             current, started_at = e["case"], time.monotonic()
+                            if faults.fault("judge", exe.name[-2:]):     # the self-test's crash of the judge
+                                os.kill(proc.pid, signal.SIGABRT)
                         elif e.get("event") == "end" and e["case"] in by_name:
                             c = by_name[e["case"]]
                             _take(c, e)

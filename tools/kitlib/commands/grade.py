@@ -22,6 +22,7 @@ from pathlib import Path
 
 from .. import atomic
 from .. import course as course_file
+from .. import faults
 from .. import studentpch
 from .. import record as results_record
 
@@ -224,7 +225,8 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     proc = subprocess.Popen([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--results", str(report),
                              "--quiet", "--slot", str(slot), "--isolation", isolation],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-                            start_new_session=True, env=dict(os.environ, RAYKIT_UID_FILE=str(uid_file)))
+                            start_new_session=True,
+                            env=faults.child_env(row["student"], dict(os.environ, RAYKIT_UID_FILE=str(uid_file))))
     try:
         _, stderr = proc.communicate(timeout=SUBMISSION_SECONDS)
         timed_out = False
