@@ -86,8 +86,11 @@ public:
         crashed_ = e.is_crash;
         not_started_ = exception_.find("raykit::not_implemented") != std::string::npos;
         if (crashed_) {
-            // The process is about to die: say so while we still can.
-            write_end("crashed");
+            // The process is about to die: say so while we still can. The student's code runs in
+            // the answers process, never here, so this is the judge's own crash: no verdict, the
+            // grader's fault (the case is not graded, kitlib/faults.py), said as data.
+            fault_ = "the kit's test program crashed (" + exception_ + ")";
+            write_end("grader_error");
         }
     }
 
@@ -158,6 +161,7 @@ private:
         if (!record_.incident.status.empty() && !record_.incident.function.empty())
             out_ << ", \"incident\": {\"function\": " << json_string(record_.incident.function.c_str())
                  << ", \"signal\": " << json_string(record_.incident.signal.c_str()) << "}";
+        if (!fault_.empty()) out_ << ", \"fault\": " << json_string(fault_.c_str());
         // The geometry of the first failing check, for its picture (case_figure.hpp).
         if (!raykit::figure::record().empty()) out_ << ", \"figure\": " << raykit::figure::record();
         out_ << "}\n";
@@ -169,6 +173,7 @@ private:
     const doctest::TestCaseData* current_ = nullptr;
     std::vector<std::string> messages_;
     std::string exception_;
+    std::string fault_;         // the judge's own crash, when it is one
     bool not_started_ = false;
     bool crashed_ = false;
     raykit::remote::CaseRecord record_;

@@ -1,4 +1,10 @@
-"""Faults of the grader, as opposed to the student's, caused on purpose by the self-test (selftest/faults.py).
+"""Faults of the grader, as opposed to the student's: how the kit names them, and the self-test's
+hooks that cause them on purpose.
+
+A step is "not graded" (status.NOT_GRADED, a case GRADER_ERROR) when the kit, the machine or the
+accounting failed it: a sandbox that could not start, the judge stopped, a full scratch disk, an
+exception of the kit's own. Such a step has no verdict, so it costs no points and earns none; `./kit
+grade` checks its submission again, alone, and lists it if it stays so (docs/integrity.md).
 
 The hooks (test only, never set by a platform): RAYKIT_FAULT is a comma-separated list of
 KIND@SUBMISSION, where SUBMISSION is the name `./kit grade` gives the child check (RAYKIT_SUBMISSION;
@@ -15,6 +21,8 @@ RAYKIT_FAULT_MARKS), so the retry alone finds the machine well again.
 from __future__ import annotations
 
 import os
+import re
+import shutil
 import signal
 from pathlib import Path
 
@@ -22,6 +30,11 @@ FAULT_ENV = "RAYKIT_FAULT"
 SUBMISSION_ENV = "RAYKIT_SUBMISSION"
 MARKS_ENV = "RAYKIT_FAULT_MARKS"
 DISK_ENV = "RAYKIT_FAULT_DISK"
+
+# Words of a tool's output that mean the machine failed, not the code it was given.
+MACHINE_WORDS = ("No space left on device", "Disk quota exceeded", "cannot create temporary file",
+                 "Read-only file system")
+
 
 def _items() -> list[tuple[str, str]]:
     out = []
@@ -74,3 +87,33 @@ def child_env(name: str, env: dict[str, str]) -> dict[str, str]:
     if env.get(DISK_ENV) and fault("full-disk", name=name):
         env["TMPDIR"] = env[DISK_ENV]
     return env
+
+
+def describe(e: BaseException) -> str:
+    """An exception of the kit's as one line that names the fault (a full disk: its words)."""
+    if isinstance(e, shutil.Error) and e.args and isinstance(e.args[0], list) and e.args[0]:
+        first = e.args[0][0]        # (source, target, "[Errno 28] No space left on device: ...")
+        if isinstance(first, tuple) and len(first) == 3:
+            why = str(first[2]).split("] ", 1)[-1].split(": '", 1)[0]
+            return f"{why}, copying the kit's files into its scratch"[:300]
+        return str(first)[:300]
+    if isinstance(e, OSError) and e.strerror:
+        return f"{e.strerror}" + (f" ({e.filename})" if e.filename else "")
+    return f"{e.__class__.__name__}: {e}"[:300]
+
+
+# A diagnostic about a line of source (FILE.cpp:12:3: error: ...) quotes what the file says: a student's
+# `#error No space left on device` is a compile error of theirs, not the machine's.
+SOURCE_LINE = re.compile(r"[\w./+-]+\.(?:c|cc|cpp|cxx|h|hh|hpp|hxx|inc)[:(]\d+")
+
+
+def machine_fault(text: str) -> str:
+    """The line of a tool's output that says the machine failed it (a full disk), or ""."""
+    return next((line.strip()[:300] for line in text.splitlines()
+                 if any(w in line for w in MACHINE_WORDS) and not SOURCE_LINE.search(line)), "")
+
+
+def to_student(reason: str, again: str = "ask your instructor to grade it again") -> str:
+    """What a student is told of a step the grader failed, on every platform, in its own words after."""
+    return (f"Not graded: the grader could not check this step ({reason}). This is the grader's fault, not "
+            f"your code's: no points are taken away for it, and none are given yet; {again}.")

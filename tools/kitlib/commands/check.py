@@ -101,8 +101,8 @@ def run(args) -> int:
         raise KitError(f"--isolation {wanted}: {e}")
     if args.json:  # fail early on a path we cannot write, before any building
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
-    if args.results:
-        record.write(args.results, record.make([], 0.0))
+    if args.results:    # the placeholder: a record that says it is none (finished: false)
+        record.write(args.results, record.make([], 0.0, finished=False))
     if args.classroom:
         classroomresults.write(args.classroom, [])
     faults.after_placeholder()      # the self-test's killed check (kitlib/faults.py)
