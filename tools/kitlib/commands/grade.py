@@ -34,7 +34,7 @@ from ..packages import ensure_packages
 from ..sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
 from ..submissions import NotFound, locate
-from ..status import OK
+from ..status import FAILED, OK
 
 SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own limit
 NOT_GRADED_WORDS = "not graded"     # a row's status, a step's cells: no verdict, the grader's fault
@@ -469,6 +469,9 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
         if any(r.get("status") != "no steps" for r in not_graded):
             say("  (the grader's fault, not the students': no points were taken; fix the cause, then grade "
                 "these again: docs/integrity.md, \"Not graded\")")
+    # The grading is not whole while the grader failed some submission: the exit status says so too
+    # (FAILED), after every file is written, so a script does not publish it as it is.
+    faulty = any(r.get("status") in (NOT_GRADED_WORDS, "timed out") for r in not_graded)
     if args.report:     # the class report, from the grading just saved (commands/report.py)
-        return from_grade(args, out, json_dir)
-    return OK
+        return from_grade(args, out, json_dir) or (FAILED if faulty else OK)
+    return FAILED if faulty else OK

@@ -105,7 +105,8 @@ def selftest_grade(ctx) -> str:
     finally:
         _unmount()
     said = r.stdout + r.stderr
-    expect(r.returncode == 0, f"./kit grade exited {r.returncode}: {said[-800:]}")
+    expect(r.returncode == 1 and (out / "grades.csv").is_file(),
+           f"./kit grade exited {r.returncode}, not 1 (written, but not whole): {said[-800:]}")
     rows = {row["student"]: row for row in csv.DictReader((out / "grades.csv").open())}
     problems = []
 
@@ -200,6 +201,7 @@ def selftest_platforms(ctx) -> str:
     if not (WORK / "class" / "erin").is_dir():
         _class(["alice", "bob", "carol", "dave", "erin"])
     problems = []
+    who_dir = {"judge aborted": "erin", "full disk": "dave"}
 
     def check(ok: bool, what: str) -> None:
         if not ok:
@@ -229,6 +231,9 @@ def selftest_platforms(ctx) -> str:
               f"{who}: Gradescope's output does not open with NOT GRADED and a regrade: {gs['output'][:200]!r}")
         check(pl.get("gradable") is False and pl.get("format_errors") and "score" not in pl,
               f"{who}: PrairieLearn's results are not gradable: false with format_errors: {str(pl)[:200]}")
+        v = subprocess.run([sys.executable, str(ROOT / "tools/prairielearn/check_results.py"), "results",
+                            str(WORK / "platforms" / who_dir[who] / "prairielearn.json")], capture_output=True, text=True)
+        check(v.returncode == 0, f"{who}: PrairieLearn would not read its results as they are: {v.stdout[:300]}")
         for n, runner in cl["runners"].items():
             want = "error" if n in missed else "pass"
             check(runner["status"] == want and (runner["max_score"] == 0) == (n in missed),
