@@ -389,13 +389,18 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
             c.messages = [f"The kit's test program itself stopped in this case ({how}): not graded, the "
                           "grader's fault, not yours."]
         ended = time.monotonic() < deadline    # the judge ended early, with cases it gave no verdict for
+        # Or the step's wall-clock backstop ran out while the student's code was within its budget of CPU
+        # and waiting: the time went to a busy machine or to the judge, not to the code (see "Budgets").
+        spent = budget.spent() if budget is not None else None
+        within = spent is not None and spent["cpu"] < budget.cpu and spent["wait"] < budget.wait
         for c in cases:
             if c.name not in done and c.status == NOT_RUN:
-                if ended:
+                if ended or within:
+                    fault = ("the kit's test program gave no verdict" if ended else
+                             f"the step's {step_seconds:g} s ran out with the code within its budget (a busy machine)")
                     c.status = GRADER_ERROR
-                    c.incident = {"function": "", "signal": "", "fault": "the kit's test program gave no verdict"}
-                    c.messages = ["The kit's test program ended without a verdict for this case: not graded, "
-                                  "the grader's fault, not yours."]
+                    c.incident = {"function": "", "signal": "", "fault": fault}
+                    c.messages = [f"Not run: {fault}: not graded, the grader's fault, not yours."]
                 else:
                     c.messages = ["Not run: the step's time ran out."]
 

@@ -279,6 +279,36 @@ def selftest_platforms(ctx) -> str:
             f"0 of 0 a step and NOT GRADED, PrairieLearn gradable: false, Classroom error, terminal and record say why")
 
 
+def selftest_busy_machine(ctx) -> str:
+    """The step's wall-clock backstop running out while the student's code is within its budget (a busy
+    machine) leaves the rest of the cases not graded; once the code has spent its budget, they are its."""
+    need_solutions()
+    from collections import Counter
+    from .. import checking
+    step = load_steps()[0]
+    build = BUILD / "submission-7"
+    if not (build / step.target).is_file() or not (build / f"answers_step{step.number}").is_file():
+        if not (WORK / "class" / "alice").is_dir():
+            _class(["alice"])
+        _check("alice", dict(os.environ, RAYKIT_NO_WARMUP="1"))
+    got = {}
+    for name, cpu in (("within", 1000.0), ("spent", 0.0)):
+        cases = checking.list_cases(build / step.target)
+        ledger = WORK / f"ledger-{name}"
+        ledger.unlink(missing_ok=True)
+        budget = checking.Budget(cpu, 1000.0, 24.0, ledger)
+        env = dict(RAYKIT_SEED="1", RAYKIT_ANSWERS=str(build / f"answers_step{step.number}"), **budget.env())
+        checking.run_cases(build / step.target, cases, env, 30, 0.0, budget=budget)    # no time at all
+        got[name] = Counter(c.status for c in cases)
+    expect(got["within"]["grader_error"] > 0 and not got["within"]["not_run"],
+           f"the step's time ran out, the code within its budget: {dict(got['within'])}, no case not graded")
+    expect(not got["spent"]["grader_error"] and got["spent"]["not_run"],
+           f"the code's budget spent: {dict(got['spent'])}, a case not graded")
+    return (f"a step given no time: {got['within']['grader_error']} of {sum(got['within'].values())} cases not graded "
+            f"with the budget unspent; with it spent, none ({dict(got['spent'])})")
+
+
 def selftests():
     return [("faults: ./kit grade says \"not graded\", retries alone, never 0 of 0", selftest_grade),
-            ("faults: every platform says \"not graded\", takes no point", selftest_platforms)]
+            ("faults: every platform says \"not graded\", takes no point", selftest_platforms),
+            ("faults: the step's time out on a busy machine is not graded", selftest_busy_machine)]
