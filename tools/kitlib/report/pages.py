@@ -141,7 +141,7 @@ def incidents(g):
             out["Not graded"][st.row.get("status") or "not graded"].append((st.name, "", st.row.get("note", "")))
             continue
         for number, why in results_record.not_graded(st.data):   # the grader's fault, from the record's data
-            out["Not graded"][f"step {number}: not graded (the grader's fault)"].append((st.name, number, why))
+            out["Not graded"][f"step {number}: {why[:160]}"].append((st.name, number, why))
         for res in st.steps():
             if res.get("state") == NO_COMPILE:
                 kind, line = compile_kind(res.get("detail", ""))
@@ -180,7 +180,10 @@ def build(folder: Path, out: Path) -> dict:
     names = {st.name: st for st in g.students}
     graded = [st for st in g.students if st.data is not None]
 
-    body = [f"<h1>Class report</h1><p>{len(g.students)} submissions, {len(graded)} graded; grading "
+    ungraded = [st for st in g.students if st.row.get("status") in ("not graded", "timed out")]
+    body = [f"<h1>Class report</h1><p>{len(g.students)} submissions, {len(graded) - sum(st.data is not None for st in ungraded)} "
+            f"graded" + (f", <b>{len(ungraded)} not graded</b> (the grader's fault: see Incidents, then grade them "
+                         "again)" if ungraded else "") + "; grading "
             f"<code>{e(g.csv_path)}</code>; written {time.strftime('%Y-%m-%d %H:%M')}.</p>",
             '<nav><a href="#scores">Scores</a><a href="#cases">Cases</a><a href="#slips">Slips</a>'
             '<a href="#incidents">Incidents</a><a href="#similar">Similar submissions</a><a href="#students">Students</a></nav>']

@@ -151,8 +151,9 @@ def selftest_grade(ctx) -> str:
           f"the cases CSV has erin's step {last} crashed (the judge's abort as the student's crash)")
     report = out / "report"
     index = (report / "index.html").read_text()
-    check("Not graded" in index and all(w in index for w in ("carol", "dave", f"step {last}: not graded")),
+    check("Not graded" in index and all(w in index for w in ("carol", "dave", f"step {last}: the kit&#x27;s test program")),
           "the class report's incidents have no \"Not graded\" group naming carol, dave and erin's step")
+    check("3 not graded" in index, "the class report's first line does not count 3 not graded")
     page = next((p for p in (report / "students").glob("erin*.html")), None)
     text = page.read_text() if page else ""
     check("Not graded yet" in text and "Your score" not in text, "erin's page gives a score, or no \"not graded\"")
