@@ -342,7 +342,7 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                         if e.get("event") == "start":
                             current, started_at = e["case"], time.monotonic()
                             if faults.fault("judge", exe.name[-2:]):     # the self-test's crash of the judge
-                                os.kill(proc.pid, signal.SIGABRT)
+                                faults.abort(proc.pid)
                         elif e.get("event") == "end" and e["case"] in by_name:
                             c = by_name[e["case"]]
                             _take(c, e)

@@ -11,6 +11,8 @@ KIND@SUBMISSION, where SUBMISSION is the name `./kit grade` gives the child chec
 "*" for any), KIND one of
 
   killed        the child ./kit check kills itself (SIGKILL) right after writing its placeholder record
+  hang          the child ./kit check sleeps there instead, until ./kit grade's limit for a submission
+                ends it (RAYKIT_FAULT_SUBMISSION_SECONDS, when set, is that limit instead of course.json's)
   judge         the kit's judge is sent SIGABRT as soon as it starts a case (judge#NN: step NN only)
   full-disk     the child's scratch (TMPDIR) is the folder RAYKIT_FAULT_DISK, a disk the test filled
 
@@ -24,12 +26,14 @@ import os
 import re
 import shutil
 import signal
+import time
 from pathlib import Path
 
 FAULT_ENV = "RAYKIT_FAULT"
 SUBMISSION_ENV = "RAYKIT_SUBMISSION"
 MARKS_ENV = "RAYKIT_FAULT_MARKS"
 DISK_ENV = "RAYKIT_FAULT_DISK"
+SECONDS_ENV = "RAYKIT_FAULT_SUBMISSION_SECONDS"
 
 # Words of a tool's output that mean the machine failed, not the code it was given.
 MACHINE_WORDS = ("No space left on device", "Disk quota exceeded", "cannot create temporary file",
@@ -78,6 +82,24 @@ def after_placeholder() -> None:
     """The hook `killed`: ./kit check dies here, its placeholder written, as a crash of the kit would."""
     if fault("killed"):
         os.kill(os.getpid(), signal.SIGKILL)
+    if fault("hang"):
+        time.sleep(24 * 3600)
+
+
+def abort(pid: int) -> None:
+    """The hook `judge`: the judge `pid` aborts (unless it has just ended by itself)."""
+    try:
+        os.kill(pid, signal.SIGABRT)
+    except ProcessLookupError:
+        pass
+
+
+def submission_seconds(limit: int) -> int:
+    """./kit grade's limit for one submission: course.json's, or the self-test's (SECONDS_ENV)."""
+    try:
+        return int(os.environ.get(SECONDS_ENV) or limit)
+    except ValueError:
+        return limit
 
 
 def child_env(name: str, env: dict[str, str]) -> dict[str, str]:

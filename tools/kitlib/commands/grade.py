@@ -244,7 +244,9 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     except (OSError, ValueError):
         pass
     if timed_out:
-        return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s")
+        # Every case and step has its own limit: a whole submission past this one is a stuck or
+        # overloaded grader (its placeholder written, nothing after), so it is graded again alone.
+        return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s", _retry=True)
     r = subprocess.CompletedProcess(proc.args, proc.returncode, "", stderr)
     if not report.exists():
         message = (r.stderr.strip().splitlines() or ["no result"])[-1].removeprefix("kit: ")
@@ -353,7 +355,7 @@ def run(args) -> int:
     if not folders:
         raise KitError(f"{args.submissions}: holds no submission folders or .zip files")
     global SUBMISSION_SECONDS      # the course's limit for one submission (course.json time_limits)
-    SUBMISSION_SECONDS = int(course_file.load().limits["submission_seconds"])
+    SUBMISSION_SECONDS = faults.submission_seconds(int(course_file.load().limits["submission_seconds"]))
     roster = None
     if args.roster:
         roster = read_roster(Path(args.roster), [f.stem if f.is_file() else f.name for f in folders], args.roster_key)

@@ -31,6 +31,7 @@ from .harness import Failed, Skipped, expect, need_solutions
 WORK = BUILD / "faults-test"
 DISK = WORK / "disk"
 DISK_BYTES = 256 * 1024
+HANG_SECONDS = 60       # ./kit grade's limit for a submission in the hang test: a retry alone fits in it
 
 
 def _maxima() -> dict[str, Fraction]:
@@ -161,9 +162,22 @@ def selftest_grade(ctx) -> str:
     check(page is not None and "not graded" in page.read_text(), "carol's page does not say \"not graded\"")
     kept = report / "grading" / "json" / "carol.json"
     check(not kept.exists(), "carol's placeholder was kept as her record")
+    # A check that hangs once after its placeholder: ended by the submission's limit, graded again alone.
+    hung = WORK / "hung"
+    shutil.rmtree(hung, ignore_errors=True)
+    hung.mkdir(parents=True)
+    shutil.copytree(klass / "bob", hung / "frank")
+    r2 = subprocess.run([str(ROOT / "kit"), "grade", str(hung), "-j", "1", "--out", str(out / "hung.csv")], cwd=ROOT,
+                        capture_output=True, text=True, timeout=900,
+                        env=_env("hang-once@frank", RAYKIT_FAULT_SUBMISSION_SECONDS=str(HANG_SECONDS)))
+    frank = next(csv.DictReader((out / "hung.csv").open()), {}) if (out / "hung.csv").is_file() else {}
+    check(r2.returncode == 0 and frank.get("status") == "complete" and frank.get("earned") == total
+          and "over" in frank.get("note", "") and "alone" in frank.get("note", ""),
+          f"frank (hung once): exit {r2.returncode}, {frank.get('status')} {frank.get('earned')}, note "
+          f"{frank.get('note')!r}, not complete {total} after a retry alone")
     if problems:
         raise Failed("; ".join(problems) + f"\n./kit grade said:\n{said[-1500:]}")
-    return (f"killed once: graded again alone, {total} of {total}; killed, full disk, judge aborted in step {last}: "
+    return (f"killed once, hung once: graded again alone, {total} of {total}; killed, full disk, judge aborted in step {last}: "
             f"\"not graded\" with the reason in the CSV, the cases CSV, the list and the report")
 
 
