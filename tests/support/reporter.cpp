@@ -10,7 +10,8 @@
 // (remote.hpp): a call that crashed, hung or threw there is recorded per case,
 // and what the code printed comes back with the case. Status is one of pass,
 // fail, not_started (a stub threw raykit::not_implemented), threw, crashed,
-// timed_out.
+// timed_out, grader_error (no verdict: the judge itself crashed or threw, with
+// "fault" saying so; the step is not graded, kitlib/faults.py).
 
 #include <doctest/doctest.h>
 
@@ -24,6 +25,10 @@
 #include "remote.hpp"
 
 namespace {
+
+// Whether the exception leaving the current case came from a call of the student's code (a proxy's
+// CallFailed: it crashed, hung, threw or sent back what cannot be read) or from the judge's own code.
+bool from_a_call = false;
 
 std::string json_string(const char* text) {
     std::string out = "\"";
@@ -74,6 +79,7 @@ public:
         messages_.clear();
         exception_.clear();
         not_started_ = crashed_ = false;
+        from_a_call = false;
         raykit::remote::begin_case(tc.m_test_suite ? tc.m_test_suite : "");
         raykit::figure::begin_case();
         out_ << "{\"event\": \"start\", \"case\": " << json_string(tc.m_name) << "}\n";
@@ -86,8 +92,11 @@ public:
         crashed_ = e.is_crash;
         not_started_ = exception_.find("raykit::not_implemented") != std::string::npos;
         if (crashed_) {
-            // The process is about to die: say so while we still can.
-            write_end("crashed");
+            // The process is about to die: say so while we still can. The student's code runs in
+            // the answers process, never here, so this is the judge's own crash: no verdict, the
+            // grader's fault (the case is not graded, kitlib/faults.py), said as data.
+            fault_ = "the kit's test program crashed (" + exception_ + ")";
+            write_end("grader_error");
         }
     }
 
@@ -108,8 +117,12 @@ public:
             status = "threw";
             if (exception_.find(record_.incident.message) == std::string::npos)
                 messages_.insert(messages_.begin(), record_.incident.message);
+        } else if (!exception_.empty() && from_a_call) {
+            status = "threw";          // a call's answer the grader cannot read: the student's
         } else if (!exception_.empty()) {
-            status = "threw";
+            // No call behind it: the judge's own code threw. No verdict, the grader's fault.
+            status = "grader_error";
+            fault_ = "the kit's test program threw (" + exception_ + ")";
         } else if (stats.failure_flags != 0 || stats.numAssertsFailedCurrentTest > 0) {
             // failure_flags, not testCaseSuccess: the latter is new in doctest 2.4.6 and Debian 11
             // ships 2.4.5. They differ only for may_fail/should_fail cases, which the kit has none of.
@@ -158,6 +171,7 @@ private:
         if (!record_.incident.status.empty() && !record_.incident.function.empty())
             out_ << ", \"incident\": {\"function\": " << json_string(record_.incident.function.c_str())
                  << ", \"signal\": " << json_string(record_.incident.signal.c_str()) << "}";
+        if (!fault_.empty()) out_ << ", \"fault\": " << json_string(fault_.c_str());
         // The geometry of the first failing check, for its picture (case_figure.hpp).
         if (!raykit::figure::record().empty()) out_ << ", \"figure\": " << raykit::figure::record();
         out_ << "}\n";
@@ -169,6 +183,7 @@ private:
     const doctest::TestCaseData* current_ = nullptr;
     std::vector<std::string> messages_;
     std::string exception_;
+    std::string fault_;         // the judge's own crash, when it is one
     bool not_started_ = false;
     bool crashed_ = false;
     raykit::remote::CaseRecord record_;
@@ -177,3 +192,9 @@ private:
 }  // namespace
 
 REGISTER_REPORTER("raykit", 1, RaykitReporter);
+
+// Marks an exception out of a case as a call's (see from_a_call); its text as doctest would give it.
+REGISTER_EXCEPTION_TRANSLATOR(const raykit::remote::CallFailed& e) {
+    from_a_call = true;
+    return doctest::String(e.what());
+}

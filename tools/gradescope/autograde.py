@@ -55,6 +55,17 @@ def failed(reason: str, name: str = "Autograder", output: str = "") -> dict:
                        "visibility": "visible", "output": reason}]}
 
 
+def not_graded(reason: str) -> dict:
+    """The grader's own failure (the kit died, hung or wrote nothing usable): a test worth 0 of 0, so no
+    point is taken away, that says "not graded" and asks for a regrade (kitlib/faults.py)."""
+    words = (f"NOT GRADED: {reason}\nThis is the grader's fault, not your code's: no points are taken away, "
+             "and none are given yet; ask for a regrade (Request Regrade on this page), or submit again.")
+    return {"score": 0, "output": words, "visibility": "visible", "stdout_visibility": "hidden",
+            "tests": [{"name": "Not graded — the autograder failed", "score": 0, "max_score": 0,
+                       "status": "failed", "visibility": "visible", "output": words, "tags": ["not_graded"]}],
+            "extra_data": {"gradable": False}}
+
+
 def write_results(data: dict) -> None:
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     tmp = RESULTS.with_name(f".results.{os.getpid()}.tmp")
@@ -209,8 +220,8 @@ def grade() -> dict:
             data, problem = None, f"the kit wrote no readable results ({e.__class__.__name__})"
         if problem:
             tail = "\n".join(log.strip().splitlines()[-30:])
-            return failed(f"The autograder could not grade this upload: {problem} (./kit check exit "
-                          f"status {code}).\n{where}\n{tail}".strip())
+            return not_graded(f"The autograder could not grade this upload: {problem} (./kit check exit "
+                              f"status {code}).\n{where}\n{tail}".strip())
         data["output"] = (where + "\n" + str(data.get("output", ""))).strip()
         return data
     finally:
@@ -224,7 +235,7 @@ def main() -> int:
     try:
         data = grade()
     except Exception as e:      # noqa: BLE001 -- whatever happens, Gradescope gets a result
-        data = failed(f"The autograder itself failed: {e.__class__.__name__}: {e}")
+        data = not_graded(f"The autograder itself failed: {e.__class__.__name__}: {e}")
     finally:
         if closed is not None:
             closed.restore()

@@ -30,6 +30,7 @@ from typing import Callable
 
 from . import atomic, slips
 from . import course as course_file
+from . import faults
 from . import includes
 from . import waits
 from . import warmup
@@ -38,7 +39,7 @@ from .build import Build, build_target, build_targets, ensure_configured, ninja_
 from .objcache import ObjectCache
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .secret import hidden_seed
-from .status import GRADER_ERROR, BROKEN, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
+from .status import GRADER_ERROR, NOT_GRADED, CRASHED, DONE, MISSING, NOT_RUN, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT, WAITING
 
 CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
 STEP_SECONDS = 120.0        # backstop: all cases of one step, including restarts
@@ -94,8 +95,11 @@ class StepResult:
     cost: dict | None = None    # what the student's code cost the grader, and the budget (see "Budgets")
     includes: list[str] = field(default_factory=list)   # standard headers the files use and do not include
     slip: dict | None = None    # the known slip the failing basic cases are exactly (slips.py): its case first
+    reason: str = ""            # NOT_GRADED: why, in one line (the grader's fault: no points lost, none earned)
 
     def __post_init__(self) -> None:
+        if self.state == NOT_GRADED and not self.reason:
+            self.reason = next((l.strip() for l in self.detail.splitlines() if l.strip()), "the kit failed")
         # The step's points shared among its cases by their groups' weights, once, exactly.
         course = course_file.load()
         for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases])):
@@ -109,7 +113,10 @@ class StepResult:
 
     @property
     def earned(self) -> Fraction:
-        """Exact; a step that does not compile has every case failed, so it earns 0."""
+        """Exact; a step that does not compile has every case failed, so it earns 0; one not graded has
+        no verdict, so it earns nothing yet (and loses nothing: see faults.py)."""
+        if self.state == NOT_GRADED:
+            return Fraction(0)
         return sum((c.points for c in self.cases if c.status == PASS), Fraction(0))
 
     @property
@@ -158,6 +165,7 @@ class StepResult:
             **({"cost": self.cost} if self.cost else {}),
             **({"includes": self.includes} if self.includes else {}),
             **({"slip": self.slip} if self.slip else {}),
+            **({"not_graded": self.reason} if self.state == NOT_GRADED else {}),
             "earned": course_file.load().number(self.earned), "maximum": course_file.load().number(self.maximum),
             "earned_exact": course_file.exact_text(self.earned), "maximum_exact": course_file.exact_text(self.maximum),
             **{t: {"passed": self.passed(t), "total": len(self.tier(t))} for t in TIERS},
@@ -340,6 +348,8 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                     for e in events[seen:]:
                         if e.get("event") == "start":
                             current, started_at = e["case"], time.monotonic()
+                            if faults.fault("judge", exe.name[-2:]):     # the self-test's crash of the judge
+                                faults.abort(proc.pid)
                         elif e.get("event") == "end" and e["case"] in by_name:
                             c = by_name[e["case"]]
                             _take(c, e)
@@ -375,12 +385,31 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                               f"code is too slow or waits. On this step your code has used {spent['cpu']:.1f} s of "
                               f"CPU and waited {spent['wait']:.1f} s in {spent['calls']} calls; {budget.note()}."]
                 continue
-            c.status = CRASHED
-            c.messages = [f"The kit's test program itself stopped in this case ({reason or proc.returncode}); "
-                          "this is the kit's fault, not yours: please tell your instructor."]
+            # The judge itself stopped (its own crash, a flood, a stop the student's calls did not
+            # cause): no verdict, the grader's fault, so not graded (faults.py), never a crash of theirs.
+            how = reason or (f"signal {signal.Signals(-proc.returncode).name}"
+                             if proc.returncode < 0 and -proc.returncode in signal.valid_signals()
+                             else f"exit status {proc.returncode}")
+            c.status = GRADER_ERROR
+            c.incident = {"function": "", "signal": how.removeprefix("signal ") if how.startswith("signal") else "",
+                          "fault": f"the kit's test program stopped ({how})"}
+            c.messages = [f"The kit's test program itself stopped in this case ({how}): not graded, the "
+                          "grader's fault, not yours."]
+        ended = time.monotonic() < deadline    # the judge ended early, with cases it gave no verdict for
+        # Or the step's wall-clock backstop ran out while the student's code was within its budget of CPU
+        # and waiting: the time went to a busy machine or to the judge, not to the code (see "Budgets").
+        spent = budget.spent() if budget is not None else None
+        within = spent is not None and spent["cpu"] < budget.cpu and spent["wait"] < budget.wait
         for c in cases:
             if c.name not in done and c.status == NOT_RUN:
-                c.messages = ["Not run: the step's time ran out."]
+                if ended or within:
+                    fault = ("the kit's test program gave no verdict" if ended else
+                             f"the step's {step_seconds:g} s ran out with the code within its budget (a busy machine)")
+                    c.status = GRADER_ERROR
+                    c.incident = {"function": "", "signal": "", "fault": fault}
+                    c.messages = [f"Not run: {fault}: not graded, the grader's fault, not yours."]
+                else:
+                    c.messages = ["Not run: the step's time ran out."]
 
 
 RERUN_WHY = "timed out: run once more, alone, before it is failed"
@@ -440,6 +469,10 @@ def _take(c: Case, e: dict) -> None:
     incident = e.get("incident")
     c.incident = ({"function": printable(str(incident.get("function", ""))),
                    "signal": printable(str(incident.get("signal", "")))} if isinstance(incident, dict) else None)
+    if e.get("fault"):      # the judge's own crash (tests/support/reporter.cpp): no verdict, not theirs
+        fault = printable(str(e["fault"]))[:300]
+        c.status, c.incident = GRADER_ERROR, {"function": "", "signal": "", "fault": fault}
+        c.messages = [f"{fault[:1].upper()}{fault[1:]}: not graded, the grader's fault, not yours."] + c.messages
 
 
 def submission_seed(build: Build, step: Step) -> str:
@@ -452,6 +485,15 @@ def submission_seed(build: Build, step: Step) -> str:
         p = build.steps_dir / step.folder / f
         files.append(p.read_bytes() if p.is_file() else None)
     return hidden_seed(step.folder, files, build.identity)
+
+
+def not_graded(step: Step, reason: str, cases: list[Case] | None = None, detail: str = "") -> StepResult:
+    """A step the grader failed: every case without a verdict (GRADER_ERROR), its recorded ones when
+    the judge could not list them, so the step keeps its points' maximum and loses none of them."""
+    cases = cases if cases else (recorded_cases(step) or [])
+    return StepResult(step, NOT_GRADED, _all(cases, GRADER_ERROR, f"not graded: {reason}"),
+                      detail=detail or f"not graded, the grader's fault, not the student's: {reason}",
+                      reason=reason)
 
 
 def _all(cases: list[Case], status: str, message: str) -> list[Case]:
@@ -573,13 +615,16 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
                isolation: Isolation, tiers: set[str] | None = None) -> StepResult:
     """Runs a built step's cases and says what state the step is in; only those of `tiers` when given
     (the fairness table re-runs the hidden cases alone on each draw)."""
-    if not built.judge_ok:
-        return StepResult(step, BROKEN, detail="the kit's test program does not build (a kit bug):\n" + built.output)
+    machine = faults.machine_fault(built.output)
+    if not built.judge_ok or machine:
+        why = (f"the machine failed the build: {machine}" if machine else
+               "the kit's test program does not build (a kit bug)")
+        return not_graded(step, why, detail=why + ":\n" + built.output)
     judge = build.exe(step)
     try:
         cases = [c for c in list_cases(judge) if tiers is None or c.tier in tiers]
     except (RuntimeError, subprocess.TimeoutExpired, OSError) as e:
-        return StepResult(step, BROKEN, detail=f"the test program could not list its cases: {e}")
+        return not_graded(step, f"the test program could not list its cases: {e}")
     if built.missing:
         detail = f"{step.folder}/{built.missing[0]} is missing"
         return StepResult(step, MISSING, _all(cases, MISSING, detail), detail=detail)
@@ -591,8 +636,9 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
             return StepResult(step, WAITING, _all(cases, WAITING, f"needs step {need} done first"), detail=need)
     if not built.answers_ok and SANDBOX_FAILED in built.output:
         line = next(l for l in built.output.splitlines() if SANDBOX_FAILED in l)
-        return StepResult(step, BROKEN, _all(cases, GRADER_ERROR, line), isolation=isolation.description,
-                          detail="not graded, the grader's fault, not the student's: " + line.removeprefix("raykit: "))
+        return StepResult(step, NOT_GRADED, _all(cases, GRADER_ERROR, line), isolation=isolation.description,
+                          detail="not graded, the grader's fault, not the student's: " + line.removeprefix("raykit: "),
+                          reason=line.removeprefix("raykit: "))
     # A standard header the student's files use without including it (includes.py): said in the same
     # words whether the file compiles here (a warning under the step) or not (the error's first line).
     found = includes.step_findings(build.steps_dir, step.folder, step.files, ROOT / "include")
@@ -622,10 +668,13 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         if ledger_dir:
             shutil.rmtree(ledger_dir, ignore_errors=True)
     failed_sandbox = [c for c in cases if c.status == GRADER_ERROR]
-    if failed_sandbox:
-        return StepResult(step, BROKEN, cases, isolation=isolation.description,
-                          detail="the grader's sandbox could not start, so this step was not graded "
-                                 "(the grader's fault, not the student's): " + failed_sandbox[0].messages[0])
+    if failed_sandbox:      # the sandbox, the judge, the disk: no verdict for the step (faults.py)
+        first = failed_sandbox[0].messages[0] if failed_sandbox[0].messages else "no verdict"
+        fault = (failed_sandbox[0].incident or {}).get("fault")
+        reason = f"{fault} in {len(failed_sandbox)} of {len(cases)} cases" if fault else first
+        return StepResult(step, NOT_GRADED, cases, isolation=isolation.description, reason=reason,
+                          detail=f"not graded, the grader's fault, not the student's ({len(failed_sandbox)} of "
+                                 f"{len(cases)} cases without a verdict): {first}")
     scored = [c for c in cases if c.tier == "basic"]
     if scored and all(c.status == NOT_STARTED for c in cases if c.tier != "hidden"):
         state = NOT_STARTED
@@ -776,19 +825,19 @@ class Verdicts:
                  for c in d["cases"]]
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
                           isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []),
-                          slip=d.get("slip"))
+                          slip=d.get("slip"), reason=d.get("reason", ""))
 
     KEEP_TIMEOUTS = False   # a grading's copies each get their own chance at a case that timed out
 
     def store(self, result: StepResult, everything: bool = False) -> None:
-        """Keeps `result` for its content; not one the grader failed (BROKEN, a sandbox that could not
-        start), unless `everything`."""
-        if not everything and (result.state == BROKEN or any(c.status == GRADER_ERROR for c in result.cases) or
+        """Keeps `result` for its content; not one the grader failed (not graded, a sandbox that could
+        not start), unless `everything`."""
+        if not everything and (result.state == NOT_GRADED or any(c.status == GRADER_ERROR for c in result.cases) or
                                (not self.KEEP_TIMEOUTS and any(c.status == TIMED_OUT for c in result.cases))):
             return
         shown = str(self.build.shown_dir)
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
-                "includes": result.includes, "slip": result.slip,
+                "includes": result.includes, "slip": result.slip, "reason": result.reason,
                 "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
                            "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
                            "figure": c.figure, "runs": c.runs, "rerun": c.rerun, "incident": c.incident}
@@ -880,13 +929,18 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
         progress.phase("configuring the build (cmake)")
         ensure_configured(build, all_steps)
 
-    def judge(step: Step, built: Built | None) -> None:
+    def judge(step: Step, built: Built | Exception | None) -> None:
         if step.number in known:
             results[step.number] = known[step.number]
         elif built is None:
             results[step.number] = untouched_result(step, quick[step.number], results, build)
+        elif isinstance(built, Exception):
+            results[step.number] = not_graded(step, f"the kit failed building it: {faults.describe(built)}")
         else:
-            results[step.number] = judge_step(build, step, built, results, isolation)
+            try:
+                results[step.number] = judge_step(build, step, built, results, isolation)
+            except Exception as e:      # noqa: BLE001 -- the kit's fault (a full disk): the step has no verdict
+                results[step.number] = not_graded(step, f"the kit failed running it: {faults.describe(e)}")
             if verdicts is not None:
                 verdicts.store(results[step.number])
         if step.number in wanted:
@@ -895,8 +949,13 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     judges = InOrder()      # steps are judged in course order, each while the next one builds
     try:
         for s in order:
-            built = None if s.number in quick or s.number in known else \
-                build_step(build, s, lambda done, total, s=s: progress.building(s, done, total), isolation)
+            built: Built | Exception | None = None
+            if s.number not in quick and s.number not in known:
+                try:
+                    built = build_step(build, s, lambda done, total, s=s: progress.building(s, done, total),
+                                       isolation)
+                except Exception as e:      # noqa: BLE001 -- the kit's or the machine's: not graded
+                    built = e
             judges.submit(judge, s, built)
     except BaseException:
         judges.finish(raising=False)    # the build's error, not a judge's, once the judges have ended

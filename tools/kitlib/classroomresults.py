@@ -25,6 +25,12 @@ first carrying the compiler's words, so the step's maximum stays the same; in a 
 another, each case that waits says so. Hidden
 cases (none in a handout, which is what Classroom grades) show only their family: Classroom has
 no due date to reveal them after.
+
+A step the grader failed (status.NOT_GRADED, kitlib/faults.py) is a runner with status "error", its
+entries "error" and worth nothing (max_score 0): the reporter then fails the workflow with "Some
+tests errored." (Classroom's own way to say that no grade came), and the entry says why and to run
+it again. The file's "not_graded" lists them; the placeholder written before the check has
+"finished": false, which tools/classroom/result.py turns into such an error for every step.
 """
 
 from __future__ import annotations
@@ -35,11 +41,12 @@ from pathlib import Path
 
 from . import atomic
 from . import course as course_file
+from . import faults
 from .checking import StepResult
 from .common import KitError
 from .gradescope import split_cases
 from .scoreboard import compile_errors
-from .status import BROKEN, MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
+from .status import NOT_GRADED, MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 
 FORMAT = "raykit-classroom"
 VERSION = 1
@@ -67,6 +74,11 @@ def case_message(step_result: StepResult, c) -> str:
 def runner(r: StepResult, course) -> dict:
     s = r.step
     _, counted, bonus, optional = split_cases(r, course)
+    if r.state == NOT_GRADED:      # no verdict: an error worth nothing, never a failed case
+        why = faults.to_student(r.reason, "run the workflow again (Actions: Re-run jobs), and tell your "
+                                          "instructor if it stays so")
+        return {"version": 1, "status": "error", "max_score": 0,
+                "tests": [{**entry(f"Step {s.number} · {s.title}: not graded", False, why), "status": "error"}]}
     if not counted:     # the kit could not list the step's cases: one entry worth nothing, with why
         why = f"{STATE_WORDS[r.state]}. {r.detail}".strip()
         return {"version": 1, "status": "error", "max_score": 0,
@@ -82,14 +94,14 @@ def runner(r: StepResult, course) -> dict:
     if notes:
         note = "\n".join(notes)
         entries[-1]["message"] = entries[-1]["message"][:MESSAGE_CHARS - len(note) - 1] + "\n" + note
-    status = ("error" if r.state == BROKEN else
+    status = ("error" if r.state == NOT_GRADED else
               "pass" if all(e["status"] == "pass" for e in entries) else "fail")
     return {"version": 1, "status": status, "max_score": len(entries), "tests": entries}
 
 
 def classroom(results: list[StepResult]) -> dict:
     course = course_file.load()
-    counted = [split_cases(r, course)[1] for r in results]
+    counted = [split_cases(r, course)[1] if r.state != NOT_GRADED else [] for r in results]   # as the runners
     earned = sum((c.points for cases in counted for c in cases if c.status == PASS), Fraction(0))
     return {"format": FORMAT, "version": VERSION,
             # What the reporter's "Points X/Y" must read: counted cases passed, of all counted cases.
@@ -99,6 +111,8 @@ def classroom(results: list[StepResult]) -> dict:
             # counted case is worth one point).
             "kit_score": course.number(earned),
             "kit_max_score": course.number(sum((r.maximum for r in results), Fraction(0))),
+            "finished": bool(results),     # false: the placeholder, written before the check
+            "not_graded": [{"step": r.step.number, "reason": r.reason} for r in results if r.state == NOT_GRADED],
             "runners": {r.step.number: runner(r, course) for r in results}}
 
 

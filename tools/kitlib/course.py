@@ -64,6 +64,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from .common import ROOT, KitError
+from .status import NOT_GRADED
 
 COURSE_FILE = ROOT / "course.json"
 GROUPS = ("core", "degenerate", "hidden", "robust")
@@ -353,6 +354,12 @@ def score_line(results) -> str:
     earned = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
     has_hidden = any(c.tier == "hidden" for r in results for c in r.cases)
+    missed = [r.step.number for r in results if r.state == NOT_GRADED]
+    if missed:      # no verdict for these: a total would read as the student's, so none is given
+        graded = [r for r in results if r.state != NOT_GRADED]
+        return (f"  not graded: step {', '.join(missed)} (the grader's fault, not yours)" + (
+                f"; the other steps: {course.shown(sum((r.earned for r in graded), Fraction(0)))} of "
+                f"{course.shown(sum((r.maximum for r in graded), Fraction(0)))}" if graded else ""))
     if has_hidden or HIDDEN_SOURCES.is_dir():
         pct = f" ({float(100 * earned / maximum):.0f} %)" if maximum else ""
         return f"  score {course.shown(earned)} of {course.shown(maximum)}{pct}"

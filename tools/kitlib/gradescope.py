@@ -17,7 +17,12 @@ name, number, output, output_format, tags, visibility, extra_data. So:
     max_score 0 and status "passed" whatever they gave (informational: never shown as a failure),
     its output listing the ones that fail;
   - a step that does not compile (or misses a file, or waits for another) is one failed test
-    worth the step's points, carrying the diagnostic; its cases are "not run", not 44 failures.
+    worth the step's points, carrying the diagnostic; its cases are "not run", not 44 failures;
+  - a step the grader failed (status.NOT_GRADED: its fault, not the student's; kitlib/faults.py) is
+    one failed test worth 0 of 0, "Step NN: not graded — REASON", so no point is taken away; the
+    format has no "not graded", so the summary's first line says it and asks for a regrade
+    (Gradescope's Request Regrade), and extra_data carries "gradable" and "not_graded";
+  - the placeholder written before the check (no results yet) is one such test, for the whole upload.
 """
 
 from __future__ import annotations
@@ -29,12 +34,14 @@ from pathlib import Path
 
 from . import atomic
 from . import course as course_file
+from . import faults
 from .checking import StepResult
 from .common import KitError
 from .scoreboard import HIDDEN_NOTE, compile_errors
-from .status import MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
+from .status import MISSING, NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
 
 UNRUN_STATES = (NO_COMPILE, MISSING, WAITING)
+REGRADE = "ask for a regrade (Request Regrade on this page), or submit again"
 
 
 def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
@@ -83,6 +90,12 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     for r in results:
         s = r.step
         cases, counted, bonus, optional = split_cases(r, course)
+        if r.state == NOT_GRADED:   # no verdict: worth 0 of 0 here, so nothing is taken away
+            tests.append({"name": f"Step {s.number} · {s.title}: not graded — {r.reason}"[:300],
+                          "number": f"{int(s.number)}.0", "score": 0, "max_score": 0, "status": "failed",
+                          "visibility": "visible", "output": faults.to_student(r.reason, REGRADE),
+                          "tags": [f"step{s.number}", "not_graded"]})
+            continue
         if r.state in UNRUN_STATES and cases:
             detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
             tests.append({
@@ -128,8 +141,8 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                           "tags": [f"step{s.number}"]})
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
-    summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, {course.shown(r.earned)} of "
-               f"{course.shown(r.maximum)}" for r in results]
+    summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, " + ("no points taken" if r.state == NOT_GRADED else
+               f"{course.shown(r.earned)} of {course.shown(r.maximum)}") for r in results]
     summary.append(f"score {course.shown(exact)} of {course.shown(maximum)}"
                    + (f" (exact {course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)"
                       if exact.denominator != 1 else ""))
@@ -143,11 +156,23 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     isolation = next((r.isolation for r in results if r.isolation), "")
     if isolation:
         summary.append(f"graded code: {isolation}")
+    missed = [r for r in results if r.state == NOT_GRADED]
+    if missed:      # first, where Gradescope shows the output
+        summary.insert(0, f"NOT GRADED: step {', '.join(r.step.number for r in missed)}: the grader could not "
+                          f"check {'them' if len(missed) > 1 else 'it'} (the grader's fault, not your code's). The "
+                          f"score above leaves {'them' if len(missed) > 1 else 'it'} out; {REGRADE}.")
+    if not results:     # the placeholder ./kit check writes before it starts: no result yet
+        why = "the grader stopped before it finished"
+        tests.append({"name": f"Not graded — {why}", "score": 0, "max_score": 0, "status": "failed",
+                      "visibility": "visible", "output": faults.to_student(why, REGRADE), "tags": ["not_graded"]})
+        summary = [f"NOT GRADED: {why} (the grader's fault, not your code's); {REGRADE}."]
     return {"score": float(course.rounded(exact)) if exact.denominator != 1 else exact.numerator,
             "execution_time": round(elapsed, 3), "output": "\n".join(summary),
             "visibility": "visible", "stdout_visibility": "hidden", "tests": tests,
             "extra_data": {"max_score": course.number(maximum), "score_exact": course_file.exact_text(exact),
                            "max_score_exact": course_file.exact_text(maximum), "rounding": course.decimals,
+                           "gradable": bool(results) and not missed,
+                           "not_graded": [{"step": r.step.number, "reason": r.reason} for r in missed],
                            # Each step's state and points, nothing of its cases: the kit's own record
                            # (record.py, with every input and expected answer) stays on the grader's side.
                            "step_scores": [{"step": r.step.number, "state": r.state,

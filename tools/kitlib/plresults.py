@@ -15,6 +15,9 @@ makeGradingResult) and what a PrairieLearn student may see:
                file or waits for another, one failed test with the reason
   images       the picture of the first failing visible case, an SVG data URL (also on its test)
   message      the step's state and score, and a compile error's first diagnostic
+  gradable     false when a step is not graded (the grader's fault, kitlib/faults.py): PrairieLearn then
+               marks the submission "invalid, not gradable", awards and takes no points and charges no
+               attempt (docs/externalGrading.md); format_errors says why, in the student's words
 
 PrairieLearn has no due date to reveal after: a hidden case never shows its input, what the reference
 answered or what the code printed during it, only its family. The adapter
@@ -30,13 +33,15 @@ from pathlib import Path
 
 from . import atomic
 from . import course as course_file
+from . import faults
 from .checking import StepResult
 from .common import KitError
 from .gradescope import UNRUN_STATES, shown_shares, split_cases
 from .scoreboard import compile_errors
-from .status import NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
+from .status import NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 
 TEXT = 4000         # characters per message or output
+AGAIN = "this attempt is not counted: submit again, and tell your instructor if it stays so"
 HIDDEN_WORDS = ("a hidden case: random inputs of this family, drawn for this submission; its inputs are not "
                 "shown here, only whether your code gets them right")
 # PrairieLearn has no "after the due date" for a question's results: what a job wrote is what the student
@@ -64,6 +69,10 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
     for r in results:
         s = r.step
         cases, counted, bonus, optional = split_cases(r, course)
+        if r.state == NOT_GRADED:
+            tests.append({"name": f"Step {s.number} · {s.title}: not graded", "description": "", "points": 0,
+                          "max_points": 0, "message": clean(faults.to_student(r.reason, AGAIN)), "output": ""})
+            continue
         if r.state in UNRUN_STATES and cases:
             detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
             tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
@@ -108,11 +117,16 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
     exact = sum((c.points for r in results for c in r.cases if c.status == PASS), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
     bonus = sum((bonus_maximum(r, course) for r in results), Fraction(0))
-    message = "; ".join(f"step {r.step.number}: {STATE_WORDS[r.state]}, {course.shown(r.earned)} of "
-                        f"{course.shown(r.maximum)}" for r in results)
+    message = "; ".join(f"step {r.step.number}: {STATE_WORDS[r.state]}" + ("" if r.state == NOT_GRADED else
+                        f", {course.shown(r.earned)} of {course.shown(r.maximum)}") for r in results)
     if notes:
         message += "\n" + notes[0]
     extra = f" and {course.shown(bonus)} of extra credit" if bonus else ""
+    missed = [r for r in results if r.state == NOT_GRADED]
+    if missed:      # not gradable: no points given or taken, no attempt used; the student is told why
+        errors = [clean(f"Step {r.step.number}: " + faults.to_student(r.reason, AGAIN)) for r in missed]
+        return {"gradable": False, "format_errors": errors, "message": "\n".join(errors + [message]),
+                "images": images, "tests": tests}
     return {"gradable": True, "score": float(exact / (maximum + bonus)) if maximum + bonus else 0.0,
             "message": message,
             "output": f"score {course.shown(exact)} of {course.shown(maximum)}{extra} ({course.scale_words()})"

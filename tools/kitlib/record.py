@@ -13,7 +13,13 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
      "score": 41, "max_score": 48,                  # on the course's scale, rounded once
      "score_exact": "41", "max_score_exact": "48", "rounding": 2,
      "execution_time": 3.1, "identity": "", "isolation": "...",
+     "finished": true,                              # false: the placeholder ./kit check writes first
+     "gradable": true,                              # false when a step is not graded (the grader's fault)
+     "not_graded": [{"step": "03", "reason": "..."}],
      "steps": [StepResult.to_json(), ...]}          # kitlib/checking.py
+
+A placeholder (finished false, no steps) is not a result: whoever reads one where a result should be
+(the check died after writing it) says "not graded", never "0 of 0".
 """
 
 from __future__ import annotations
@@ -26,13 +32,15 @@ from . import atomic
 from . import course as course_file
 from .checking import StepResult
 from .common import KitError
+from .status import NOT_GRADED, OLD_BROKEN
 
 FORMAT = "raykit-results"
 VERSION = 1
 
 
-def make(results: list[StepResult], elapsed: float, identity: str = "") -> dict:
+def make(results: list[StepResult], elapsed: float, identity: str = "", finished: bool = True) -> dict:
     course = course_file.load()
+    missed = [{"step": r.step.number, "reason": r.reason} for r in results if r.state == NOT_GRADED]
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
     return {"format": FORMAT, "version": VERSION,
@@ -40,6 +48,7 @@ def make(results: list[StepResult], elapsed: float, identity: str = "") -> dict:
             "score_exact": course_file.exact_text(exact), "max_score_exact": course_file.exact_text(maximum),
             "rounding": course.decimals, "execution_time": round(elapsed, 3), "identity": identity,
             "isolation": next((r.isolation for r in results if r.isolation), ""),
+            "finished": finished, "gradable": finished and not missed, "not_graded": missed,
             "steps": [r.to_json() for r in results]}
 
 
@@ -75,3 +84,15 @@ def is_record(data: object) -> bool:
 def cases(data: dict) -> list[dict]:
     """Every case of every step, in order, each with its step's number under "step"."""
     return [dict(c, step=s["step"]) for s in data["steps"] for c in s.get("cases", [])]
+
+
+def finished(data: dict) -> bool:
+    """Whether a record is a result, not the placeholder a check writes first (a record of a kit
+    before "finished": one with steps)."""
+    return bool(data.get("finished", bool(data.get("steps"))))
+
+
+def not_graded(data: dict) -> list[tuple[str, str]]:
+    """(step, reason) of each step of a record that is not graded: from its data, never its words."""
+    return [(str(s.get("step", "")), str(s.get("not_graded") or s.get("detail") or "the grader failed").splitlines()[0])
+            for s in data.get("steps", []) if s.get("state") in (NOT_GRADED, OLD_BROKEN)]

@@ -10,13 +10,14 @@ import threading
 import time
 from pathlib import Path
 
+from . import faults
 from . import includes
 from .checking import Progress, StepResult
 from .course import score_line as course_score_line
 from .common import ROOT, Step, paint, say
 from .robust_line import robust_line
 from .sandbox import NONE_OWN
-from .status import BROKEN, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
+from .status import NOT_GRADED, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
 
 HIDDEN_NOTE = ("a hidden case: random inputs of this family, drawn afresh for each submission; "
                "its inputs are shown after the due date")
@@ -45,8 +46,8 @@ def status_cell(r: StepResult) -> tuple[str, str]:
         text, style, mark = "file missing", "red", "✗"
     elif r.state == WAITING:
         text, style, mark = f"needs step {r.detail} first", "yellow", "…"
-    else:
-        text, style, mark = "could not be checked", "red", "✗"
+    else:   # NOT_GRADED: the grader's fault, no verdict; yellow, not a student's red
+        text, style, mark = f"not graded: {r.reason}"[:120], "yellow", "!"
     extra = ""
     hidden = r.tier("hidden")
     if hidden and r.state in (DONE, PARTIAL):
@@ -57,7 +58,7 @@ def status_cell(r: StepResult) -> tuple[str, str]:
     if r.state == PARTIAL and waiting:
         extra += f"  ({waiting} not started yet)"
     incidents = r.incidents()
-    if incidents and r.state != NOT_STARTED:
+    if incidents and r.state not in (NOT_STARTED, NOT_GRADED):
         kinds = sorted({STATUS_WORDS[c.status] for c in incidents})
         extra += "  (" + ", ".join(f"{k} in {sum(STATUS_WORDS[c.status] == k for c in incidents)} case(s)"
                                    for k in kinds) + ")"
@@ -172,8 +173,9 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
         out.append(f"  {todo.detail}: put the file back (the kit's steps/ folder has the original stub).")
     elif todo.state == WAITING:
         out.append(f"  Step {s.number} uses your step {todo.detail}: finish that one first.")
-    elif todo.state == BROKEN:
-        out.append(f"  {todo.detail}")
+    elif todo.state == NOT_GRADED:
+        out.append(f"  {faults.to_student(todo.reason, 'check again; if it stays so, tell your instructor')}")
+        out.append(f"  {todo.detail.splitlines()[0] if todo.detail else ''}".rstrip())
     else:
         c = todo.first_problem("basic") or todo.first_problem("hidden")
         if c is not None:

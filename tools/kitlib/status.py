@@ -18,19 +18,22 @@ NOT_STARTED = "not_started"     # every case reaches the stub's not_implemented_
 MISSING = "missing"             # a file the step needs is not there
 NO_COMPILE = "no_compile"       # the student's files do not compile or link
 WAITING = "waiting"             # an earlier step it builds on is not done (a handout only)
-BROKEN = "broken"               # the kit itself could not check it (a kit bug)
+NOT_GRADED = "not_graded"       # a fault of the kit, the machine or the accounting: no verdict (notgraded.py)
+OLD_BROKEN = "broken"           # its name in records written before "not graded" (read as not graded)
 
 STATE_WORDS = {
     DONE: "done", PARTIAL: "some cases fail", NOT_STARTED: "not started", MISSING: "a file is missing",
-    NO_COMPILE: "does not compile", WAITING: "waits for an earlier step", BROKEN: "could not be checked",
+    NO_COMPILE: "does not compile", WAITING: "waits for an earlier step", NOT_GRADED: "not graded",
+    OLD_BROKEN: "not graded",
 }
 
 # --- a case's status -----------------------------------------------------------------------
 PASS, FAIL, THREW, CRASHED, TIMED_OUT, NOT_RUN = "pass", "fail", "threw", "crashed", "timed_out", "not_run"
-GRADER_ERROR = "grader_error"   # the sandbox could not start: the grader's fault, the step is not graded
+GRADER_ERROR = "grader_error"   # no verdict, the grader's fault (a sandbox that could not start, the judge
+                                # stopped, a full disk): the step is not graded, no points lost
 
 STATUS_WORDS = {
     PASS: "passed", FAIL: "wrong answer", NOT_STARTED: "not started", THREW: "threw an exception",
     CRASHED: "crashed", TIMED_OUT: "timed out", NOT_RUN: "not run", NO_COMPILE: "does not compile",
-    MISSING: "file missing", WAITING: "waits for an earlier step", GRADER_ERROR: "not graded (the grader's sandbox failed)",
+    MISSING: "file missing", WAITING: "waits for an earlier step", GRADER_ERROR: "not graded (the grader's fault)",
 }

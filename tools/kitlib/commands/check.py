@@ -9,7 +9,7 @@ import argparse
 import time
 
 from ..checking import check_steps
-from .. import classroomresults, picture, plresults, record, warmup
+from .. import classroomresults, faults, picture, plresults, record, warmup
 from ..common import BUILD, ROOT, KitError, load_steps, say, note, printable, resolve_steps_dir, select_steps
 from ..build import build_targets, preset_build, submission_build
 from ..submissions import NotFound, locate
@@ -101,10 +101,11 @@ def run(args) -> int:
         raise KitError(f"--isolation {wanted}: {e}")
     if args.json:  # fail early on a path we cannot write, before any building
         write_json(args.json, [], 0.0, args.hidden_visibility, args.reveal)
-    if args.results:
-        record.write(args.results, record.make([], 0.0))
+    if args.results:    # the placeholder: a record that says it is none (finished: false)
+        record.write(args.results, record.make([], 0.0, finished=False))
     if args.classroom:
         classroomresults.write(args.classroom, [])
+    faults.after_placeholder()      # the self-test's killed check (kitlib/faults.py)
     # The table's heading at once, each step's row as soon as it is checked (a cold build takes a while).
     live = None if args.quiet else LiveProgress(display, steps)
     ensure_packages("build")

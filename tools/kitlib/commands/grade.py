@@ -11,6 +11,7 @@ import io
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -22,19 +23,21 @@ from pathlib import Path
 
 from .. import atomic
 from .. import course as course_file
+from .. import faults
 from .. import studentpch
 from .. import record as results_record
 
 from ..checking import VERDICTS_ENV
-from ..status import CRASHED, DONE, STATE_WORDS, THREW, TIMED_OUT
+from ..status import CRASHED, DONE, GRADER_ERROR, NOT_GRADED, OLD_BROKEN, STATE_WORDS, THREW, TIMED_OUT
 from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
 from ..packages import ensure_packages
 from ..sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
 from ..submissions import NotFound, locate
-from ..status import OK
+from ..status import FAILED, OK
 
 SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own limit
+NOT_GRADED_WORDS = "not graded"     # a row's status, a step's cells: no verdict, the grader's fault
 
 
 def register(p) -> None:
@@ -224,7 +227,8 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     proc = subprocess.Popen([str(ROOT / "kit"), "check", "--steps", str(found.steps_dir), "--results", str(report),
                              "--quiet", "--slot", str(slot), "--isolation", isolation],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-                            start_new_session=True, env=dict(os.environ, RAYKIT_UID_FILE=str(uid_file)))
+                            start_new_session=True,
+                            env=faults.child_env(row["student"], dict(os.environ, RAYKIT_UID_FILE=str(uid_file))))
     try:
         _, stderr = proc.communicate(timeout=SUBMISSION_SECONDS)
         timed_out = False
@@ -240,7 +244,9 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     except (OSError, ValueError):
         pass
     if timed_out:
-        return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s")
+        # Every case and step has its own limit: a whole submission past this one is a stuck or
+        # overloaded grader (its placeholder written, nothing after), so it is graded again alone.
+        return dict(row, status="timed out", note=f"grading took over {SUBMISSION_SECONDS} s", _retry=True)
     r = subprocess.CompletedProcess(proc.args, proc.returncode, "", stderr)
     if not report.exists():
         message = (r.stderr.strip().splitlines() or ["no result"])[-1].removeprefix("kit: ")
@@ -253,11 +259,18 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
                 message += f" (the kit failed, not the submission; its report: {log})"
             except OSError:
                 pass
-        return dict(row, status="not graded", note=message)
+        return dict(row, status=NOT_GRADED_WORDS, note=message, _retry=True)
     try:
         data = results_record.read(report)
     except KitError as e:
-        return dict(row, status="not graded", note=f"the kit wrote no usable record ({e})")
+        return dict(row, status=NOT_GRADED_WORDS, note=f"the kit wrote no usable record ({e})", _retry=True)
+    if not results_record.finished(data):
+        # Only the placeholder: the check died after writing it (a full disk, a crash, a kill). Not
+        # the student's 0 of 0: not graded, with how it ended.
+        how = (f"killed by {signal_name(-r.returncode)}" if r.returncode < 0 else f"exit status {r.returncode}")
+        last = (r.stderr.strip().splitlines() or [""])[-1].removeprefix("kit: ")[:300]
+        return dict(row, status=NOT_GRADED_WORDS, _retry=True,
+                    note=f"the kit's check stopped before it finished ({how})" + (f": {last}" if last else ""))
     course = course_file.load()
     exact = Fraction(data["score_exact"])
     maximum = Fraction(data["max_score_exact"])
@@ -267,10 +280,14 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     row["percent"] = f"{course_file.Decimal(share.numerator) / share.denominator:.1f}" if share is not None else ""
     row["_cases"] = [{"step": s["step"], "case": c["name"], "tier": c["tier"], "group": c.get("group", ""),
                       "status": c["status"], "points": _decimal(c.get("points", "0")),
-                      "earned": _decimal(c.get("points", "0")) if c["status"] == "pass" else "0"}
+                      "earned": NOT_GRADED_WORDS if c["status"] == GRADER_ERROR or s["state"] in (NOT_GRADED, OLD_BROKEN)
+                      else _decimal(c.get("points", "0")) if c["status"] == "pass" else "0"}
                      for s in data["steps"] for c in s["cases"]]
     by_number = {s["step"]: s for s in data["steps"]}
     row["status"] = "complete" if all(s["state"] == DONE for s in by_number.values()) else "incomplete"
+    missed = results_record.not_graded(data)
+    if missed:      # no verdict for a step: no total either, and a retry alone (_grade)
+        row.update(status=NOT_GRADED_WORDS, earned=NOT_GRADED_WORDS, earned_exact="", percent="", _retry=True)
     row["isolation"] = next((s["isolation"] for s in by_number.values() if s.get("isolation")), "")
     notes = []
     for s in steps:
@@ -282,6 +299,10 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         row[f"step{s.number}_maximum"] = course.shown(Fraction(res.get("maximum_exact", res["maximum"])))
         row[f"step{s.number}_robust"] = res["robust"]["passed"]
         row[f"step{s.number}_robust_total"] = res["robust"]["total"]
+        if res["state"] in (NOT_GRADED, OLD_BROKEN):    # no verdict: no points, no ★ count either
+            row[f"step{s.number}_earned"] = NOT_GRADED_WORDS
+            row[f"step{s.number}_robust"] = row[f"step{s.number}_robust_total"] = ""
+            continue
         bad = sorted({c["status"] for c in res["cases"] if c["status"] in (CRASHED, TIMED_OUT, THREW)})
         if bad:
             notes.append(f"step {s.number}: {' '.join(bad)}")
@@ -289,10 +310,21 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         if again:
             notes.append(f"step {s.number}: {len(again)} case(s) run again after a timeout, "
                          f"{sum(c['status'] == 'pass' for c in again)} then passed")
+    why: dict[str, list[str]] = {}
+    for number, reason in missed:       # one note per reason: a full disk fails every step alike
+        why.setdefault(reason, []).append(number)
+    notes[:0] = [f"step {', '.join(numbers)} not graded: {reason}" for reason, numbers in why.items()]
     if found.notes:     # what the upload had that was not graded, whole
         notes.append("left out: " + "; ".join(found.notes))
     row["note"] = "; ".join(notes)
     return row
+
+
+def signal_name(number: int) -> str:
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
 
 
 def run(args) -> int:
@@ -323,7 +355,7 @@ def run(args) -> int:
     if not folders:
         raise KitError(f"{args.submissions}: holds no submission folders or .zip files")
     global SUBMISSION_SECONDS      # the course's limit for one submission (course.json time_limits)
-    SUBMISSION_SECONDS = int(course_file.load().limits["submission_seconds"])
+    SUBMISSION_SECONDS = faults.submission_seconds(int(course_file.load().limits["submission_seconds"]))
     roster = None
     if args.roster:
         roster = read_roster(Path(args.roster), [f.stem if f.is_file() else f.name for f in folders], args.roster_key)
@@ -354,29 +386,57 @@ def run(args) -> int:
 def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) -> int:
     done = [0]
 
-    def one(item: tuple[int, Path]) -> dict:
+    def one(item: tuple[int, Path], slot: int | None = None, again: bool = False) -> dict:
         i, folder = item
-        slot = i % jobs
+        slot = i % jobs if slot is None else slot
         report = BUILD / f"grade-one-{slot}.json"
         row = grade_one(folder, steps, report, slot, args.isolation)
-        if json_dir is not None and report.exists():
-            (json_dir / f"{student_file_name(row['student'])}.json").write_bytes(report.read_bytes())
-        done[0] += 1
-        print(f"[{done[0]}/{len(folders)}] {printable(folder.name)}: {row.get('status')} "
-              f"{row.get('earned', '')}/{row.get('maximum', '')}", file=sys.stderr, flush=True)
+        if json_dir is not None:    # a finished record only: a placeholder is no result (record.finished)
+            kept = json_dir / f"{student_file_name(row['student'])}.json"
+            kept.unlink(missing_ok=True)
+            try:
+                if results_record.finished(results_record.read(report)):
+                    kept.write_bytes(report.read_bytes())
+            except KitError:
+                pass
+        done[0] += 0 if again else 1
+        print(f"[{'again, alone' if again else f'{done[0]}/{len(folders)}'}] {printable(folder.name)}: "
+              f"{row.get('status')} {row.get('earned', '')}/{row.get('maximum', '')}", file=sys.stderr, flush=True)
         return row
 
     # Slot k serves submissions k, k + jobs, ...: one build folder and one sandbox user each.
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         by_slot = [[(i, f) for i, f in enumerate(folders) if i % jobs == k] for k in range(jobs)]
-        rows_by_slot = list(pool.map(lambda items: [one(item) for item in items], by_slot))
-    rows = sorted((r for slot_rows in rows_by_slot for r in slot_rows), key=lambda r: r["student"])
-    case_rows = [dict(c, submission=r["student"], student=r["student"]) for r in rows for c in r.pop("_cases", [])]
-    # No blank score: a submission that could not be graded scores 0 of the one maximum; its status says why.
+        rows_by_slot = list(pool.map(lambda items: [(item, one(item)) for item in items], by_slot))
+    # A submission the grader failed (its check died, left only its placeholder, or a step has no
+    # verdict) is graded once more, alone (-j 1: no neighbour's load, its disk or its ids), before it is
+    # listed as not graded (docs/integrity.md).
+    rows = []
+    for item, row in (pair for slot_rows in rows_by_slot for pair in slot_rows):
+        if row.pop("_retry", False):
+            first = row.get("note", "")
+            row = one(item, slot=0, again=True)
+            if row.pop("_retry", False):
+                row["note"] = (row.get("note") or first) + "; so also when graded again alone"
+            else:
+                row["note"] = "; ".join(n for n in (row.get("note"), f"graded again alone, as the first "
+                                                    f"grading was not: {first}") if n)
+        rows.append(row)
+    rows.sort(key=lambda r: r["student"])
+    case_rows = [dict(c, submission=r["student"], student=r["student"]) for r in rows
+                 for c in r.pop("_cases", None) or ([{"step": "", "case": "", "tier": "", "group": "", "points": "",
+                                                       "status": NOT_GRADED_WORDS, "earned": NOT_GRADED_WORDS}]
+                                                     if r.get("status") in (NOT_GRADED_WORDS, "timed out") else [])]
+    # No blank score: a submission with no steps scores 0 of the one maximum; one the grader failed
+    # says "not graded" where its score would be (never 0, nor "0 of 0"), and its note says why.
     maxima = {r["maximum"] for r in rows if r.get("maximum") not in (None, "")}
     for r in rows:
         if r.get("earned") in (None, "") and len(maxima) == 1:
-            r.update(earned=0, maximum=next(iter(maxima)), percent="0.0")
+            r.update(maximum=next(iter(maxima)))
+            if r.get("status") in (NOT_GRADED_WORDS, "timed out"):
+                r.update(earned=NOT_GRADED_WORDS, percent="")
+            else:
+                r.update(earned=0, percent="0.0")
     cols, missing, unknown = columns(steps), [], []
     if roster is not None:
         cols, rows, missing, unknown = with_roster(roster, rows, steps)
@@ -401,10 +461,19 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
     if skipped:
         say(f"uploads with files left out ({len(skipped)}): "
             + printable(", ".join(r.get("submission") or r.get("student", "") for r in skipped)) + " (see their note)")
-    not_graded = [r.get("submission") or r.get("student", "") for r in rows
-                  if r.get("status") in ("no steps", "not graded", "timed out")]
+    not_graded = [r for r in rows if r.get("status") in ("no steps", NOT_GRADED_WORDS, "timed out")]
     if not_graded:
-        say(f"not graded ({len(not_graded)}): {printable(', '.join(not_graded))}")
+        say(f"not graded ({len(not_graded)}): "
+            + printable(", ".join(r.get("submission") or r.get("student", "") for r in not_graded)))
+        for r in not_graded:    # each with its reason; the grader's faults are its to fix, then grade again
+            if r.get("status") != "no steps":
+                say(f"  {printable(r.get('submission') or r.get('student', ''))}: {printable(str(r.get('note', '')))}")
+        if any(r.get("status") != "no steps" for r in not_graded):
+            say("  (the grader's fault, not the students': no points were taken; fix the cause, then grade "
+                "these again: docs/integrity.md, \"Not graded\")")
+    # The grading is not whole while the grader failed some submission: the exit status says so too
+    # (FAILED), after every file is written, so a script does not publish it as it is.
+    faulty = any(r.get("status") in (NOT_GRADED_WORDS, "timed out") for r in not_graded)
     if args.report:     # the class report, from the grading just saved (commands/report.py)
-        return from_grade(args, out, json_dir)
-    return OK
+        return from_grade(args, out, json_dir) or (FAILED if faulty else OK)
+    return FAILED if faulty else OK

@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 
 from ..common import BUILD, ROOT, KitError, load_steps, paint, say, select_steps
-from ..status import BROKEN, DONE, FAILED, MISSING, NOT_STARTED, NO_COMPILE, OK, PARTIAL, WAITING
+from ..status import NOT_GRADED, DONE, FAILED, MISSING, NOT_STARTED, NO_COMPILE, OK, PARTIAL, WAITING
 
 # "section 4", "sections 5 and 6", "sections 2, 3 and 4", "section 2. The ray meets the sphere".
 SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)", re.I)
@@ -152,7 +152,7 @@ def run(args) -> int:
         except KitError:
             raise          # a mistake the user can fix (--steps names no folder): say so
         except Exception as e:  # a hint must still come when the grading cannot run
-            status, why = BROKEN, f"the cases could not run ({e})"
+            status, why = NOT_GRADED, f"the cases could not run ({e})"
         if case is None and not why:
             why = {NOT_STARTED: "nothing written yet", NO_COMPILE: "the code does not compile",
                    MISSING: "a file is missing", WAITING: "an earlier step comes first",

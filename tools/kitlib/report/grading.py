@@ -107,7 +107,10 @@ def load(folder: Path) -> Grading:
             except KitError as e:
                 problems.append(f"{path.name}: {str(e).split(': ', 1)[-1]}; left out")
                 s.data = None
-        if s.data is not None and (s.data.get("score") != s.earned or s.data.get("max_score") != s.maximum):
+            if s.data is not None and not results_record.finished(s.data):
+                s.data = None       # a placeholder: no result (the CSV says "not graded")
+        ungraded = row.get("status") == "not graded"     # no total: the CSV says so where it would be
+        if s.data is not None and not ungraded and (s.data.get("score") != s.earned or s.data.get("max_score") != s.maximum):
             problems.append(f"{s.name}: the CSV says {s.earned} / {s.maximum}, the record "
                             f"{s.data.get('score')} / {s.data.get('max_score')}")
         if s.data is None and s.earned is not None and row.get("status") not in NOT_GRADED:

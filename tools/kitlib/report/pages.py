@@ -18,9 +18,10 @@ from pathlib import Path
 from .. import atomic
 from .. import course as course_file
 from .. import picture
+from .. import record as results_record
 from ..common import load_steps, prerequisites, printable
 from ..scoreboard import HIDDEN_NOTE
-from ..status import (BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
+from ..status import (NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
                       STATUS_WORDS, THREW, TIMED_OUT, WAITING)
 from . import grading as grading_mod
 from . import plots, signatures, similar
@@ -30,7 +31,7 @@ PICTURES_PER_STEP = 8       # on a student's page
 RUN_LINES = 40              # lines of a matching run shown side by side
 
 STATE_COLOURS = [(DONE, "#2e7d32"), (PARTIAL, "#f2a900"), (NOT_STARTED, "#9e9e9e"), (NO_COMPILE, "#c62828"),
-                 (MISSING, "#6d4c41"), (WAITING, "#90a4ae"), (BROKEN, "#000000")]
+                 (MISSING, "#6d4c41"), (WAITING, "#90a4ae"), (NOT_GRADED, "#f9a825")]
 
 NOT_A_VERDICT = ("This list is not a verdict on any student: a set of failing cases can fit a slip by chance, "
                  "and a slip can be made in ways no mutant has. It is a map of what the class may have "
@@ -139,6 +140,8 @@ def incidents(g):
         if st.data is None:
             out["Not graded"][st.row.get("status") or "not graded"].append((st.name, "", st.row.get("note", "")))
             continue
+        for number, why in results_record.not_graded(st.data):   # the grader's fault, from the record's data
+            out["Not graded"][f"step {number}: {why[:160]}"].append((st.name, number, why))
         for res in st.steps():
             if res.get("state") == NO_COMPILE:
                 kind, line = compile_kind(res.get("detail", ""))
@@ -177,7 +180,10 @@ def build(folder: Path, out: Path) -> dict:
     names = {st.name: st for st in g.students}
     graded = [st for st in g.students if st.data is not None]
 
-    body = [f"<h1>Class report</h1><p>{len(g.students)} submissions, {len(graded)} graded; grading "
+    ungraded = [st for st in g.students if st.row.get("status") in ("not graded", "timed out")]
+    body = [f"<h1>Class report</h1><p>{len(g.students)} submissions, {len(graded) - sum(st.data is not None for st in ungraded)} "
+            f"graded" + (f", <b>{len(ungraded)} not graded</b> (the grader's fault: see Incidents, then grade them "
+                         "again)" if ungraded else "") + "; grading "
             f"<code>{e(g.csv_path)}</code>; written {time.strftime('%Y-%m-%d %H:%M')}.</p>",
             '<nav><a href="#scores">Scores</a><a href="#cases">Cases</a><a href="#slips">Slips</a>'
             '<a href="#incidents">Incidents</a><a href="#similar">Similar submissions</a><a href="#students">Students</a></nav>']
@@ -450,11 +456,22 @@ def student_page(st, steps, matches: dict) -> str:
         body.append(f"<p>Your submission was not graded: {e(st.row.get('status', ''))}. {e(st.row.get('note', ''))}</p>")
         return page(f"{st.name}: results", body)
     earned, maximum = st.data.get("score"), st.data.get("max_score")
-    body.append(f'<p class="total" data-earned="{e(earned)}" data-maximum="{e(maximum)}">Your score: '
-                f"<b>{e(earned)} of {e(maximum)}</b> on the course's scale ({e(course_file.load().scale_words())}).</p>")
+    missed = results_record.not_graded(st.data)
+    if missed:      # no total: it would read as the student's; each step the grader failed, and why
+        body.append(f'<p class="total" data-earned="" data-maximum="{e(maximum)}"><b>Not graded yet</b>: the '
+                    f"grader could not check {len(missed)} step(s), its fault, not yours; no points were taken "
+                    "for them, and your instructor will grade them again.</p><ul>"
+                    + "".join(f"<li>Step {e(n)}: {e(why)}</li>" for n, why in missed) + "</ul>")
+    else:
+        body.append(f'<p class="total" data-earned="{e(earned)}" data-maximum="{e(maximum)}">Your score: '
+                    f"<b>{e(earned)} of {e(maximum)}</b> on the course's scale ({e(course_file.load().scale_words())}).</p>")
     rows = []
     for res in st.steps():
         rob = res.get("robust", {})
+        if res.get("state") in (NOT_GRADED, OLD_BROKEN):
+            rows.append(f'<tr><td>{e(res.get("step"))} {e(res.get("title", ""))}</td><td class="state-not_graded">'
+                        f'not graded</td><td class="n">— / {e(res.get("maximum"))}</td><td class="n">—</td></tr>')
+            continue
         rows.append(f'<tr><td>{e(res.get("step"))} {e(res.get("title", ""))}</td>'
                     f'<td class="state-{e(res.get("state"))}">{e(STATE_WORDS.get(res.get("state"), res.get("state")))}</td>'
                     f'<td class="n">{e(res.get("earned"))} / {e(res.get("maximum"))}</td>'
@@ -482,7 +499,7 @@ def student_page(st, steps, matches: dict) -> str:
         if state == NO_COMPILE:
             body.append(f"<h2>Step {e(res['step'])}: does not compile</h2><pre>{e(res.get('detail', '')[:4000])}</pre>")
             continue
-        if state in (NOT_STARTED, MISSING, WAITING, BROKEN, DONE) and not (state == DONE and bad):
+        if state in (NOT_STARTED, MISSING, WAITING, NOT_GRADED, OLD_BROKEN, DONE) and not (state == DONE and bad):
             continue
         body.append(f"<h2>Step {e(res['step'])}: {len(bad)} case(s) to look at</h2>")
         drawn = 0

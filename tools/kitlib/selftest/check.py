@@ -20,7 +20,7 @@ from ..plresults import prairielearn
 from ..scoreboard import status_cell
 from ..common import BUILD, ROOT, load_steps
 from ..build import build_target, preset_build, submission_build, workflow
-from ..status import BROKEN, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
+from ..status import NOT_GRADED, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
 
 
@@ -58,7 +58,7 @@ def selftest_stubs_not_started(ctx: Context) -> str:
     results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
     if HANDOUT:
         # A student's own copy: their steps may be started. The kit works if every step was graded.
-        broken = [f"step {r.step.number}: {r.detail[:300]}" for r in results if r.state == BROKEN]
+        broken = [f"step {r.step.number}: {r.detail[:300]}" for r in results if r.state == NOT_GRADED]
         expect(not broken, "the grader could not run:\n  " + "\n  ".join(broken))
         return "the student build grades every step (" + ", ".join(f"{r.step.number} {r.state}" for r in results) + ")"
     bad = []

@@ -25,7 +25,7 @@ KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
-              "waits", "submissions", "kitcache", "procfs", "pycache"]),
+              "waits", "submissions", "kitcache", "procfs", "pycache", "faults"]),
     ("boundary", ["sandbox_slots", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants", "slips"]),
