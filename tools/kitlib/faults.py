@@ -107,7 +107,7 @@ def child_env(name: str, env: dict[str, str]) -> dict[str, str]:
     the logs), and with the hook `full-disk`, its scratch on the full disk."""
     env = dict(env, **{SUBMISSION_ENV: name})
     if env.get(DISK_ENV) and fault("full-disk", name=name):
-        env["TMPDIR"] = env[DISK_ENV]
+        env["TMPDIR"] = env["RAYKIT_KIT_TEMP"] = env[DISK_ENV]      # the kit's own temporary folder too
     return env
 
 

@@ -35,6 +35,7 @@ RUN_PROCESSES = 1
 # The kit's temporary folder when it grades as root: root's, mode 0711 (a sandbox id crosses it to
 # its own folders, which are 0710 root:ID or its own 0700), never /tmp.
 KIT_TEMP_DIRS = ["/var/lib/raykit-work", "/run/raykit-work"]
+KIT_TEMP_ENV = "RAYKIT_KIT_TEMP"
 
 # A step's scratch tmpfs: the copy of the answers program, and the runs' folders in SCRATCH_MB of
 # Limits (the program's size is added), at most SCRATCH_INODES files and folders.
@@ -65,7 +66,8 @@ def use_kit_temp() -> str | None:
     """Makes the kit's own temporary files (this process's and its children's: CMake, the launcher,
     the judge) go to kit_temp(). Returns the folder, or None when the system's stays."""
     import tempfile
-    folder = kit_temp()
+    # RAYKIT_KIT_TEMP: a folder of the grader's own choosing (another disk; the fault self-test's full one).
+    folder = os.environ.get(KIT_TEMP_ENV) or kit_temp()
     if folder:
         os.environ["TMPDIR"] = folder
         tempfile.tempdir = folder

@@ -281,7 +281,7 @@ def selftest_platforms(ctx) -> str:
     missed = set()
     if disk:
         try:
-            r, data = _check("dave", _env("", TMPDIR=str(DISK)))
+            r, data = _check("dave", _env("", TMPDIR=str(DISK), RAYKIT_KIT_TEMP=str(DISK)))
         finally:
             _unmount()
         missed = {n["step"] for n in (data["results"] or {}).get("not_graded", [])}
