@@ -687,8 +687,9 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
     slip = slips.known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != PASS})
     if slip is not None:
         named = next(c for c in cases if c.name == slip["case"])
-        named.messages = [f"Your failing cases are exactly those of a slip the course knows: {slip['slip']}"] \
-            + list(named.messages)
+        # Said above the case's own report, in the same message: the case still reports one call.
+        said = f"Your failing cases are exactly those of a slip the course knows: {slip['slip']}"
+        named.messages = [said + ("\n" + named.messages[0] if named.messages else "")] + list(named.messages[1:])
     return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
                       isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
                       cost=cost, includes=found, slip=slip)
