@@ -9,8 +9,9 @@ backstop, and reads its verdicts.
 
 One scale: every case of every step counts, whatever state the step is in. A step
 whose code is missing or does not compile has all its cases failed; a step that
-needs another is graded on top of the reference's code for that other step where
-solutions/ is present, so one slip costs one step.
+needs another is graded, where solutions/ is present, on a stand-in for that other
+step scripted from the reference's program (tests/support/standin.hpp), so one slip
+costs one step and no reference code is in the student's process.
 """
 
 from __future__ import annotations
