@@ -347,6 +347,25 @@ def handout_text() -> str:
     return json.dumps(data, indent=2, ensure_ascii=False) + "\n"
 
 
+def split_extra(results) -> tuple[Fraction, Fraction]:
+    """What `results` earned on the course's points and, apart, on top of them as extra credit."""
+    course = load()
+    extra = sum((c.points for r in results for c in r.cases if c.status == "pass" and course.extra_credit(c.group)),
+                Fraction(0))
+    return sum((r.earned for r in results), Fraction(0)) - extra, extra
+
+
+def score_words(results) -> str:
+    """"score 108.54 of 115 + 7.78 extra credit (94 %)": the points earned of the course's points, the
+    extra credit apart (issue 46: '116.32 of 115' read wrong), the percentage of the points alone."""
+    course = load()
+    base, extra = split_extra(results)
+    maximum = sum((r.maximum for r in results), Fraction(0))
+    pct = f" ({float(100 * base / maximum):.0f} %)" if maximum else ""
+    more = f" + {course.shown(extra)} extra credit" if extra else ""
+    return f"score {course.shown(base)} of {course.shown(maximum)}{more}{pct}"
+
+
 def score_line(results) -> str:
     """The scoreboard's total. The instructor's kit: the score on the course's scale. A handout,
     which has no hidden cases: what it can check, and what the course grade adds."""
@@ -361,8 +380,7 @@ def score_line(results) -> str:
                 f"; the other steps: {course.shown(sum((r.earned for r in graded), Fraction(0)))} of "
                 f"{course.shown(sum((r.maximum for r in graded), Fraction(0)))}" if graded else ""))
     if has_hidden or HIDDEN_SOURCES.is_dir():
-        pct = f" ({float(100 * earned / maximum):.0f} %)" if maximum else ""
-        return f"  score {course.shown(earned)} of {course.shown(maximum)}{pct}"
+        return "  " + score_words(results)
     visible = [c for r in results for c in r.cases if c.tier == "basic" and not course.optional(c.group)]
     passed = sum(c.status == "pass" for c in visible)
     hidden = sum(n for k, n in hidden_counts(course).items() if k in {r.step.number for r in results})

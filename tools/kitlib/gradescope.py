@@ -143,8 +143,8 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     maximum = sum((r.maximum for r in results), Fraction(0))
     summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, " + ("no points taken" if r.state == NOT_GRADED else
                f"{course.shown(r.earned)} of {course.shown(r.maximum)}") for r in results]
-    summary.append(f"score {course.shown(exact)} of {course.shown(maximum)}"
-                   + (f" (exact {course_file.exact_text(exact)}, rounded once to {course.decimals} decimals)"
+    summary.append(course_file.score_words(results)
+                   + (f" (exact {course_file.exact_text(exact)} in all, rounded once to {course.decimals} decimals)"
                       if exact.denominator != 1 else ""))
     hidden = [c for r in results for c in r.cases if c.tier == "hidden" and course.hidden_enabled and c.points > 0]
     if hidden and not reveal and visibility != "visible":

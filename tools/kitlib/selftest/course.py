@@ -505,7 +505,14 @@ def selftest_extra_credit(ctx) -> str:
                f"{len(bonus_tests)} extra-credit tests")
         words = bonus.scale_words()
         expect("extra credit" in words, f"the scale's words do not say ★ is extra credit: {words}")
-    return f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 18 of 16 + 4; '{words}'"
+        # The total a student reads: the points of the course's 16, the extra credit apart (not "18 of 16").
+        said = course_file.score_words(rs)
+        expect(said.startswith("score 14 of 16 + 4 extra credit"), f"the total reads {said!r}, not 14 of 16 + 4 extra")
+        summary = view["output"]
+        expect("14 of 16 + 4 extra credit" in summary and "18 of 16" not in summary,
+               f"Gradescope's summary: {summary!r}")
+    return (f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 18 of 16 + 4; "
+            f"the total reads '{said}'; '{words}'")
 
 
 def selftests():
