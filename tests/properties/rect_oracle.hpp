@@ -21,9 +21,15 @@ inline Truth rect_truth(const Ray& ray, const Rect& rect, float tmin, float tmax
     const long double t = ((long double)rect.offset - ray.origin[k]) / dk;
     const long double pu = ray.origin[u] + t * ray.direction[u];
     const long double pv = ray.origin[v] + t * ray.direction[v];
-    // Margins: a few float ulps of the sizes involved, so rounding cannot flip the answer.
-    const long double eps = 1e-5L;
-    const long double mt = eps * (std::fabs(t) + 1), mu = eps * (std::fabs(pu) + 1), mv = eps * (std::fabs(pv) + 1);
+    // Margins, so that rounding cannot flip the answer: float rounds each term of a sum, so the error
+    // scales with the terms, not with the result. o[u] + t d[u] near 0 from two large terms that cancel
+    // is off by ulps of those terms, and an error in t moves the point by |d[u]| times that error.
+    const long double eps = 1e-5L;  // about 170 float ulps
+    const long double ok = ray.origin[k], off = rect.offset;
+    const long double mt = eps * ((std::fabs(off) + std::fabs(ok)) / std::fabs(dk) + std::fabs(t) + 1);
+    const long double du = ray.direction[u], dv = ray.direction[v];
+    const long double mu = eps * (std::fabs((long double)ray.origin[u]) + std::fabs(t * du) + 1) + std::fabs(du) * mt;
+    const long double mv = eps * (std::fabs((long double)ray.origin[v]) + std::fabs(t * dv) + 1) + std::fabs(dv) * mt;
     const bool in = tmin + mt <= t && t <= tmax - mt && rect.lo.x + mu <= pu && pu <= rect.hi.x - mu &&
                     rect.lo.y + mv <= pv && pv <= rect.hi.y - mv;
     const bool out = t < tmin - mt || t > tmax + mt || pu < rect.lo.x - mu || pu > rect.hi.x + mu ||
