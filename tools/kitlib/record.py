@@ -16,6 +16,7 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
      "finished": true,                              # false: the placeholder ./kit check writes first
      "gradable": true,                              # false when a step is not graded (the grader's fault)
      "not_graded": [{"step": "03", "reason": "..."}],
+     "grader": {"secret": "...", "cases": "..."},   # what drew and judged it (see `grader`)
      "steps": [StepResult.to_json(), ...]}          # kitlib/checking.py
 
 A placeholder (finished false, no steps) is not a result: whoever reads one where a result should be
@@ -24,14 +25,17 @@ A placeholder (finished false, no steps) is not a result: whoever reads one wher
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import json
 from fractions import Fraction
 from pathlib import Path
 
 from . import atomic
 from . import course as course_file
+from . import secret as secret_file
 from .checking import StepResult
-from .common import KitError
+from .common import ROOT, KitError
 from .status import NOT_GRADED, OLD_BROKEN
 
 FORMAT = "raykit-results"
@@ -49,7 +53,32 @@ def make(results: list[StepResult], elapsed: float, identity: str = "", finished
             "rounding": course.decimals, "execution_time": round(elapsed, 3), "identity": identity,
             "isolation": next((r.isolation for r in results if r.isolation), ""),
             "finished": finished, "gradable": finished and not missed, "not_graded": missed,
-            "steps": [r.to_json() for r in results]}
+            "grader": grader(), "steps": [r.to_json() for r in results]}
+
+
+# What decides a grade besides the student's files: the course's scale, the cases and their judges, the
+# hidden families and the reference. Fixtures, mutants, fuzz and property tests decide none.
+_DECIDING = ["course.json", "tests/support", "tests/hidden", "solutions"]
+
+
+@functools.lru_cache(maxsize=None)
+def grader() -> dict:
+    """Which secret drew the hidden inputs (secret.fingerprint) and which cases and scale judged them
+    (a hash of the files that decide a grade): two gradings compare only when both are equal, as the
+    merge of several machines' gradings checks (report/merge.py)."""
+    h = hashlib.sha256(b"raykit-cases-1\0")
+    roots = [ROOT / d for d in _DECIDING] + sorted(p for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir())
+    for top in roots:
+        files = [top] if top.is_file() else sorted(p for p in top.rglob("*") if p.is_file()) if top.is_dir() else []
+        for f in files:
+            if f.name == "secret.key" or "__pycache__" in f.parts:
+                continue
+            try:
+                data = f.read_bytes()
+            except OSError:
+                continue
+            h.update(str(f.relative_to(ROOT)).encode() + b"\0" + hashlib.sha256(data).digest())
+    return {"secret": secret_file.fingerprint(), "cases": h.hexdigest()[:16]}
 
 
 def write(path: str | Path, data: dict) -> None:

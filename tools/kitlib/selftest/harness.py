@@ -163,9 +163,10 @@ def expect(condition: bool, message: str) -> None:
         raise Failed(message)
 
 
-def kit(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+def kit(*args: str, timeout: float = 600, env: dict | None = None) -> subprocess.CompletedProcess:
+    """./kit ARGS; `env`: variables set for it on top of this process's."""
     return subprocess.run([str(ROOT / "kit"), *args], cwd=ROOT, capture_output=True, text=True,
-                          timeout=timeout)
+                          timeout=timeout, env=dict(os.environ, **env) if env else None)
 
 
 CLEAR = "\033[2J"       # a terminal's "erase the screen"

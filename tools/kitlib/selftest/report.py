@@ -429,8 +429,92 @@ def selftest_crash_kind(ctx) -> str:
     return "grouped by the record's function and signal: " + "; ".join(found)
 
 
+# --- one class, several machines ------------------------------------------------------------------
+
+def _merge_class(root: Path) -> dict[str, list[str]]:
+    """Four students on steps 01 and 02 (they build in seconds), split between two machines: a and b."""
+    from ..mutants import patches, write_answer
+    steps = [s for s in load_steps() if s.number in STEPS]
+    shutil.rmtree(root, ignore_errors=True)
+    plan = {"a": ["full", "slip"], "b": ["partial", "stubs"]}
+    for machine, students in plan.items():
+        for who in students:
+            for n, s in enumerate(steps):
+                target = root / machine / who / s.folder
+                if who == "slip" and n == 0 and patches(s):
+                    write_answer(s, patches(s)[0], target)
+                elif who == "stubs" or (who == "partial" and n > 0):
+                    shutil.copytree(ROOT / "steps" / s.folder, target)
+                else:
+                    shutil.copytree(ROOT / "solutions" / s.folder, target)
+    return plan
+
+
+def _grades(path: Path) -> list[dict]:
+    """A CSV's rows as grades: without the columns that say where a grading ran."""
+    with path.open(newline="") as f:
+        return [{k: v for k, v in row.items() if k not in ("isolation", "note")} for row in csv.DictReader(f)]
+
+
+def selftest_merge(ctx) -> str:
+    need_solutions()
+    from ..secret import SECRET_ENV
+    work = WORK / "merge"
+    plan = _merge_class(work / "class")
+    (work / "class" / "all").mkdir()
+    for machine in plan:
+        for who in plan[machine]:
+            shutil.copytree(work / "class" / machine / who, work / "class" / "all" / who)
+    start = time.monotonic()
+    for name in ["a", "b", "all"]:
+        r = kit("grade", str(work / "class" / name), "-j", "2", "--out", str(work / f"{name}.csv"),
+                "--report", str(work / name), timeout=1200)
+        expect((work / name / "grading" / "grades.csv").is_file(),
+               f"./kit grade {name}: exit {r.returncode}: {(r.stderr.strip().splitlines() or ['?'])[-1]}")
+    graded = time.monotonic() - start
+    merged = work / "merged"
+    r = kit("report", str(work / "a" / "grading"), str(work / "b" / "grading"), "--out", str(merged))
+    expect(r.returncode == 0, f"./kit report A B: exit {r.returncode}: {(r.stderr + r.stdout)[-600:]}")
+    one, two = _grades(work / "all" / "grading" / "grades.csv"), _grades(merged / "grading" / "grades.csv")
+    expect(one == two, f"merged from two machines:\n  {two}\none machine:\n  {one}")
+    expect(sorted(p.name for p in (merged / "grading" / "json").iterdir()) ==
+           sorted(p.name for p in (work / "all" / "grading" / "json").iterdir()), "the merged json/ differs")
+    shown = _scores_in((merged / "index.html").read_text(encoding="utf-8"))
+    expect(shown == {row["student"]: f"{row['earned']} / {row['maximum']}" for row in one},
+           f"the merged report shows {shown}")
+
+    # Refused, with nothing written: another secret on one machine; one student graded differently on two.
+    refusals = []
+    before = (merged / "grading" / "grades.csv").read_bytes()
+    r = kit("grade", str(work / "class" / "b"), "-j", "2", "--out", str(work / "other.csv"), "--report",
+            str(work / "other"), timeout=1200, env={SECRET_ENV: "ab" * 32})
+    r = kit("report", str(work / "a" / "grading"), str(work / "other" / "grading"), "--out", str(merged))
+    expect(r.returncode != 0 and "different secrets" in r.stderr and "secret.key" in r.stderr,
+           f"gradings drawn with two secrets were merged: exit {r.returncode}, {r.stderr[-400:]}")
+    refusals.append("two secrets")
+    shutil.copytree(work / "a" / "grading", work / "a2")
+    rows = (work / "a2" / "grades.csv").read_text().splitlines(keepends=True)
+    victim = next(i for i, l in enumerate(rows) if l.startswith("full,"))
+    cells = rows[victim].split(",")
+    cells[1] = str(int(cells[1]) - 1)
+    rows[victim] = ",".join(cells)
+    (work / "a2" / "grades.csv").write_text("".join(rows))
+    r = kit("report", str(work / "a" / "grading"), str(work / "a2"), "--out", str(merged))
+    expect(r.returncode != 0 and "full" in r.stderr and "different results" in r.stderr,
+           f"a student graded two ways was merged: exit {r.returncode}, {r.stderr[-400:]}")
+    refusals.append("one student graded two ways")
+    expect((merged / "grading" / "grades.csv").read_bytes() == before, "a refused merge changed the merged grading")
+    r = kit("report", str(work / "a" / "grading"), str(work / "all" / "grading"), "--out", str(merged))
+    expect(r.returncode == 0 and _grades(merged / "grading" / "grades.csv") == one,
+           f"the same students graded alike on two machines were not kept once: {r.stderr[-300:]}")
+    return (f"{sum(map(len, plan.values()))} students graded on two machines (2 + 2) and on one, in {graded:.0f} s: "
+            f"the merge equals the one machine's grading (CSV, records, report's scores); refused: "
+            + ", ".join(refusals) + "; alike rows kept once")
+
+
 def selftests():
-    return [("report: the mutants' signatures are current", selftest_signatures_fresh),
+    return [("report: one class graded on two machines, merged", selftest_merge),
+            ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
             ("report: a synthetic class's report", selftest_class_report),
             ("report: similar submissions, a class sharing one file", selftest_similar_groups)]
