@@ -103,7 +103,8 @@ class StepResult:
             self.reason = next((l.strip() for l in self.detail.splitlines() if l.strip()), "the kit failed")
         # The step's points shared among its cases by their groups' weights, once, exactly.
         course = course_file.load()
-        for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases])):
+        weights = course.weights_of(self.step.number, [(c.tier, c.name, c.lecture) for c in self.cases])
+        for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases], weights)):
             c.share = share
 
     def tier(self, tier: str) -> list[Case]:

@@ -2,9 +2,17 @@
 
 course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
 
-  "steps":  {"NN": {"points": P}}   the points of step NN. P is an integer, a decimal ("2.5") or a
+  "steps":  {"NN": {"points": P, "weights": {KEY: W}}}
+                                    the points of step NN. P is an integer, a decimal ("2.5") or a
                                     fraction ("41/3"); null means "one point per unit of weight", the
                                     sum of its cases' weights (the default: one point per case).
+                                    "weights" (optional) gives single cases a weight of their own,
+                                    where a group is too coarse: KEY is a case's name as ./kit course
+                                    --cases lists it, or "section N" for every case pointing to its
+                                    lecture's section N; W replaces the group's weight (a name before
+                                    a section). A case of an optional group stays optional, an
+                                    extra-credit one stays extra credit. ./kit course refuses a KEY
+                                    that names no counted case.
   "groups": {"core" | "degenerate" | "hidden" | "robust": {"weight": W}}
                                     every case belongs to exactly one group, by this rule:
                                       - a case of the ★ tier (doctest suite "robust") is "robust";
@@ -96,6 +104,7 @@ class Course:
     extra: set[str] = field(default_factory=set)     # groups whose cases are extra credit
     limits: dict[str, float] = field(default_factory=lambda: dict(LIMITS))
     hidden_cases: dict[str, int] = field(default_factory=dict)    # a handout's record of them (./kit handout)
+    case_weights: dict[str, dict[str, Fraction]] = field(default_factory=dict)   # step -> case name or "section N" -> weight
     due_date: str | None = None         # "YYYY-MM-DDTHH:MM:SS", local time (course.json "due")
     timezone: str | None = None         # the due date's IANA timezone, when given
     source: str = "the default scale"
@@ -113,6 +122,34 @@ class Course:
             return Fraction(0)
         return self.weights.get(group, Fraction(0))
 
+    def weight_key(self, step: str, group: str, name: str, lecture: str = "") -> str | None:
+        """Which key of steps.NN.weights gives this case its weight: its name, else its lecture's
+        section ("section N"); None when its group's weight holds, as for every case of an optional
+        group (it stays worth nothing)."""
+        own = self.case_weights.get(step)
+        if not own or self.weight(group) == 0:
+            return None
+        if name in own:
+            return name
+        section = re.match(r"\s*(\d+)[.)]", lecture or "")
+        key = f"section {section.group(1)}" if section else None
+        return key if key in own else None
+
+    def case_weight(self, step: str, group: str, name: str, lecture: str = "") -> Fraction:
+        """The weight of one case: its own (weight_key), else its group's."""
+        key = self.weight_key(step, group, name, lecture)
+        return self.case_weights[step][key] if key is not None else self.weight(group)
+
+    def weights_of(self, step: str, cases: list[tuple[str, str, str]]) -> list[Fraction]:
+        """The weight of each case of step `step`, given as (tier, name, lecture)."""
+        return [self.case_weight(step, self.group(t, n), n, lec) for t, n, lec in cases]
+
+    def unmatched_weights(self, step: str, cases: list[tuple[str, str, str]]) -> list[str]:
+        """The keys of steps.NN.weights that give no counted case of the step its weight (a misspelt
+        name, a section no case points to, or only optional cases)."""
+        used = {self.weight_key(step, self.group(t, n), n, lec) for t, n, lec in cases}
+        return [k for k in self.case_weights.get(step, {}) if k not in used]
+
     def optional(self, group: str) -> bool:
         """Worth nothing: run and shown like the ★ tier."""
         return self.weight(group) == 0
@@ -121,9 +158,10 @@ class Course:
         """Worth points on top of the step's: passing adds them, failing takes nothing away."""
         return group in self.extra and not self.optional(group)
 
-    def shares(self, step: str, groups: list[str]) -> list[Fraction]:
-        """The exact points of each case of step `step`, given the cases' groups in order."""
-        weights = [self.weight(g) for g in groups]
+    def shares(self, step: str, groups: list[str], weights: list[Fraction] | None = None) -> list[Fraction]:
+        """The exact points of each case of step `step`, given the cases' groups in order (and their own
+        weights, weights_of, where the course gives some)."""
+        weights = [self.weight(g) for g in groups] if weights is None else weights
         # The step's points are shared among the counted groups; an extra-credit case is worth its
         # weight's share of them, on top.
         total = sum((w for w, g in zip(weights, groups) if not self.extra_credit(g)), Fraction(0))
@@ -134,8 +172,9 @@ class Course:
             return [Fraction(0)] * len(groups)
         return [points * w / total for w in weights]
 
-    def step_maximum(self, step: str, groups: list[str]) -> Fraction:
-        return sum((p for p, g in zip(self.shares(step, groups), groups) if not self.extra_credit(g)), Fraction(0))
+    def step_maximum(self, step: str, groups: list[str], weights: list[Fraction] | None = None) -> Fraction:
+        return sum((p for p, g in zip(self.shares(step, groups, weights), groups) if not self.extra_credit(g)),
+                   Fraction(0))
 
     def rounded(self, value: Fraction) -> Decimal:
         """`value` rounded once, half up, to the course's decimals."""
@@ -252,8 +291,14 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
         if number not in steps:
             raise KitError(f"{where} steps: no step {number!r} in this kit (steps: {', '.join(steps)})")
         entry = _object(entry, f"{where} steps.{number}")
-        _known(entry, {"points"}, f"{where} steps.{number}")
+        _known(entry, {"points", "weights"}, f"{where} steps.{number}")
         course.points[number] = _fraction(entry.get("points"), f"{where} steps.{number}.points", allow_none=True)
+        own = _object(entry.get("weights", {}), f"{where} steps.{number}.weights")
+        for key, value in own.items():
+            if not key.strip() or (key.lower().startswith("section") and not re.fullmatch(r"section \d+", key)):
+                raise KitError(f"{where} steps.{number}.weights: {json.dumps(key)} is neither a case's name nor "
+                               "\"section N\" (a lecture section's number)")
+            course.case_weights.setdefault(number, {})[key] = _fraction(value, f"{where} steps.{number}.weights.{key}")
     for name, entry in _object(data.get("groups", {}), f"{where} groups").items():
         if name not in GROUPS:
             raise KitError(f"{where} groups: unknown group {name!r} (groups: {', '.join(GROUPS)})")
@@ -393,12 +438,13 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     """The lines of ./kit course: per step (number, title, [(tier, name)]), the cases per group and
     their points, and the total to enter in Gradescope."""
     lines = [f"Course scale from {course.source}", ""]
-    head = f"  {'step':<36}" + "".join(f"{g:>15}" for g in GROUPS) + f"{'points':>9}"
-    lines += [head, "  " + "-" * (len(head) - 2)]
     total = Fraction(0)
+    own_lines, rows = [], []
     for number, title, cases in cases_by_step:
-        groups = [course.group(t, n) for t, n in cases]
-        shares = course.shares(number, groups)
+        cases = [(c[0], c[1], c[2] if len(c) > 2 else "") for c in cases]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        weights = course.weights_of(number, cases)
+        shares = course.shares(number, groups, weights)
         cells = []
         for g in GROUPS:
             mine = [p for p, gg in zip(shares, groups) if gg == g]
@@ -406,14 +452,25 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
                 cell = "-"
             elif course.optional(g):
                 cell = f"{len(mine)} × 0 ★"
-            elif course.extra_credit(g):
-                cell = f"{len(mine)} × +{exact_text(mine[0])}"
-            else:
-                cell = f"{len(mine)} × {exact_text(mine[0])}"
-            cells.append(f"{cell:>15}")
-        step_max = course.step_maximum(number, groups)
+            else:       # a case with a weight of its own makes a group's cases differ: each value counted
+                sign = "+" if course.extra_credit(g) else ""
+                cell = ", ".join(f"{mine.count(v)} × {sign}{exact_text(v)}" for v in sorted(set(mine), key=mine.index))
+            cells.append(cell)
+        keys = [course.weight_key(number, g, n, lec) for (t, n, lec), g in zip(cases, groups)]
+        for key, w in course.case_weights.get(number, {}).items():
+            hit = [p for k, p in zip(keys, shares) if k == key]
+            own_lines.append(f"  step {number}: weight {exact_text(w)} for " +
+                             (f"lecture {key}" if key.startswith("section ") else repr(key)) +
+                             (f": {len(hit)} case{'s' if len(hit) != 1 else ''}, {course.shown(hit[0])} points each"
+                              if hit else ": NO COUNTED CASE (a misspelt name, or a section no case points to)"))
+        step_max = course.step_maximum(number, groups, weights)
         total += step_max
-        lines.append(f"  {(number + ' ' + title)[:36]:<36}" + "".join(cells) + f"{course.shown(step_max):>9}")
+        rows.append((f"{(number + ' ' + title)[:36]:<36}", cells, course.shown(step_max)))
+    # Each group's column as wide as its widest cell: a case of its own weight makes a cell longer.
+    widths = [max([15] + [len(cells[i]) + 2 for _, cells, _ in rows]) for i in range(len(GROUPS))]
+    head = f"  {'step':<36}" + "".join(f"{g:>{w}}" for g, w in zip(GROUPS, widths)) + f"{'points':>9}"
+    lines += [head, "  " + "-" * (len(head) - 2)]
+    lines += [f"  {name}" + "".join(f"{c:>{w}}" for c, w in zip(cells, widths)) + f"{pts:>9}" for name, cells, pts in rows]
     lines.append("")
     lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
                  "on top of the step's points)")
@@ -422,6 +479,7 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
                                                                  " (extra credit)" if course.extra_credit(g) else "")
                         for g in GROUPS)
     lines.append(f"  group weights: {weights}")
+    lines += own_lines
     auto = [n for n, _, _ in cases_by_step if course.points.get(n) is None]
     if auto:
         lines.append(f"  steps {', '.join(auto)}: one point per unit of weight (points: null), so their points "

@@ -115,12 +115,13 @@ def step_points(step, course) -> tuple[Fraction, Fraction, Fraction, int]:
     cases = recorded_cases(step)
     if cases is None:
         raise KitError(f"step {step.number}: no tests/{step.folder}/cases.json; run ./kit check {int(step.number)} --record")
-    groups = [course.group(c.tier, c.name) for c in cases
-              if c.tier != "hidden" or course.hidden_enabled]
-    shares = course.shares(step.number, groups)
+    cases = [c for c in cases if c.tier != "hidden" or course.hidden_enabled]
+    groups = [course.group(c.tier, c.name) for c in cases]
+    weights = course.weights_of(step.number, [(c.tier, c.name, c.lecture) for c in cases])
+    shares = course.shares(step.number, groups, weights)
     bonus = sum((p for p, g in zip(shares, groups) if course.extra_credit(g)), Fraction(0))
     hidden = sum((p for p, g in zip(shares, groups) if g == "hidden"), Fraction(0))
-    return course.step_maximum(step.number, groups), bonus, hidden, groups.count("hidden")
+    return course.step_maximum(step.number, groups, weights), bonus, hidden, groups.count("hidden")
 
 
 def question_id(step) -> str:

@@ -515,6 +515,55 @@ def selftest_extra_credit(ctx) -> str:
             f"the total reads '{said}'; '{words}'")
 
 
+def selftest_case_weights(ctx) -> str:
+    """steps.NN.weights: one case, or a lecture section's cases, weighed apart from their group, on every
+    output (the results, Gradescope, ./kit course), and a key that weighs nothing refused (issue 46: an
+    all-black picture cost 1.03 of 30 points)."""
+    lectures = ["1. Roots", "6. A view ray per pixel", "6. A view ray per pixel", "2. Data", "", "6. Far", "6. Grazing"]
+    spec = {"steps": {"01": {"points": 12, "weights": {"two hits": 6, "section 6": 2}}},
+            "groups": DEFAULT["groups"]}
+    weighted = course_file.parse(spec, STEPS)
+    with course_file.using(weighted):
+        cases = toy_cases([FAIL] + [PASS] * 6)
+        for c, lec in zip(cases, lectures):
+            c.lecture = lec
+        r = StepResult(toy_step("01"), PARTIAL, cases)
+        # Weights: "two hits" 6 (by name, before its section); two basic cases of section 6: 2; a degenerate
+        # one and the hidden one: 1; the ★ cases stay optional. 6 + 2 + 2 + 1 + 1 = 12 units for 12 points.
+        got = [c.points for c in r.cases]
+        want = [Fraction(6), Fraction(2), Fraction(2), Fraction(1), Fraction(1), Fraction(0), Fraction(0)]
+        expect(got == want, f"the cases are worth {[str(g) for g in got]}, not {[str(w) for w in want]}")
+        expect(r.maximum == 12 and r.earned == 6, f"one heavy case missed: {r.earned} of {r.maximum}, not 6 of 12")
+        view = gradescope([r], 1.0)
+        heavy = [t for t in view["tests"] if "two hits" in t.get("name", "")]
+        expect(heavy and heavy[0]["max_score"] == 6 and heavy[0]["score"] == 0,
+               f"Gradescope's test of the heavy case: {heavy[:1]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        fake = Path(tmp) / "results.json"
+        first = ctx.steps[0].number
+        fake.write_text(json.dumps({"format": "raykit-results", "version": 1, "steps": [
+            {"step": first, "cases": [{"tier": c.tier, "name": c.name, "lecture": lec}
+                                      for c, lec in zip(toy_cases(ALL), lectures)]}]}))
+        good = Path(tmp) / "good.json"
+        good.write_text(json.dumps(dict(spec, steps={first: spec["steps"]["01"]})))
+        shown = kit("course", "--file", str(good), "--results", str(fake))
+        expect(shown.returncode == 0 and "weight 6 for 'two hits': 1 case, 6 points each" in shown.stdout
+               and "weight 2 for lecture section 6: 2 cases, 2 points each" in shown.stdout,
+               f"./kit course does not show the cases' own weights: {shown.stdout[-600:]}{shown.stderr[-300:]}")
+        bad = Path(tmp) / "bad.json"
+        bad.write_text(json.dumps(dict(spec, steps={first: {"points": 12, "weights": {"two hit": 6}}})))
+        refused = kit("course", "--file", str(bad), "--results", str(fake))
+        expect(refused.returncode != 0 and "'two hit'" in refused.stderr,
+               f"a misspelt case name is not refused: exit {refused.returncode}, {refused.stderr[-300:]}")
+    try:
+        course_file.parse(dict(spec, steps={"01": {"weights": {"section six": 2}}}), STEPS)
+        raise Failed("\"section six\" was taken as a weight's key")
+    except KitError as e:
+        expect("section N" in str(e), f"a bad key's message: {e}")
+    return ("a case weighed 6 by name and a section's 2 cases 2 each: 6 + 2 + 2 + 1 + 1 for 12 points, ★ still free; "
+            "Gradescope's test 6 points; ./kit course lists them, refuses a misspelt name and 'section six'")
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale),
             ("course: the kit's course.json as set", selftest_kit_course), ("course: weights, exact", selftest_weighted),
@@ -522,6 +571,7 @@ def selftests():
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: Gradescope's tests add up to each step's points", selftest_gradescope_adds_up),
             ("course: ★ as extra credit", selftest_extra_credit),
+            ("course: weights per case and per section", selftest_case_weights),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),
