@@ -479,7 +479,8 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
                                                                  " (extra credit)" if course.extra_credit(g) else "")
                         for g in GROUPS)
     lines.append(f"  group weights: {weights}")
-    lines += own_lines
+    lines += own_lines or ["  cases with a weight of their own: none (a step's \"weights\" in course.json: "
+                           "{\"CASE NAME\": W} or {\"section N\": W})"]
     auto = [n for n, _, _ in cases_by_step if course.points.get(n) is None]
     if auto:
         lines.append(f"  steps {', '.join(auto)}: one point per unit of weight (points: null), so their points "
