@@ -22,7 +22,7 @@ from .. import record as results_record
 from ..common import load_steps, prerequisites, printable
 from ..scoreboard import HIDDEN_NOTE
 from ..status import (NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
-                      STATUS_WORDS, THREW, TIMED_OUT, WAITING)
+                      STATUS_WORDS, THREW, TIMED_OUT, NOT_RUN, WAITING)
 from . import grading as grading_mod
 from . import plots, signatures, similar
 
@@ -89,6 +89,12 @@ def draw_case(case: dict, title: str) -> str:
 
 # --- what the class did ----------------------------------------------------------------------------
 
+# A case that ran out of time, or never ran because the step's budget was spent, gave no answer: what a
+# loop or a slow step fails says nothing of which slip it is (issue 46: a looping submission was matched
+# exactly to a slip), so such a step is matched to none; the report lists it under "Timed out".
+NO_ANSWER = (TIMED_OUT, NOT_RUN)
+
+
 def analyse(g, steps, sigs):
     by_step = defaultdict(list)
     for s in sigs:
@@ -97,6 +103,8 @@ def analyse(g, steps, sigs):
     for st in g.students:
         for res in st.steps():
             if res.get("state") != PARTIAL:
+                continue
+            if any(c.get("status") in NO_ANSWER for c in res.get("cases", [])):
                 continue
             fails = failing_basic(res)
             if fails:

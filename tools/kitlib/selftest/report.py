@@ -512,8 +512,39 @@ def selftest_merge(ctx) -> str:
             + ", ".join(refusals) + "; alike rows kept once")
 
 
+def selftest_loop_no_slip(ctx) -> str:
+    """A step that timed out is matched to no slip, whatever it failed (issue 46 item 7); the same failing
+    cases answered wrongly are matched to the slip whose signature they are."""
+    from ..report import signatures
+    from ..report.grading import Grading, Student
+    from ..report.pages import analyse
+    sigs, _ = signatures.load()
+    expect(bool(sigs), "no mutant signature recorded (./kit report --signatures)")
+    sig = sigs[0]
+    steps = load_steps()
+
+    def student(name: str, failing: str) -> Student:
+        cases = [{"name": n, "tier": "basic", "status": failing} for n in sorted(sig.fails)]
+        cases.append({"name": "a case that passes", "tier": "basic", "status": "pass"})
+        data = {"steps": [{"step": sig.step, "state": "partial", "cases": cases}]}
+        return Student(name, {"student": name}, data)
+
+    g = Grading(WORK, WORK / "none.csv", [student("wrong", "fail"), student("looping", "timed_out"),
+                                          student("budget", "not_run")], None)
+    found = analyse(g, steps, sigs)
+    wrong = found.get(("wrong", sig.step))
+    expect(wrong is not None and wrong[1].kind == "exact" and sig in wrong[1].signatures,
+           f"wrong answers on {sig.name}'s cases are not matched to it: {wrong}")
+    for who in ("looping", "budget"):
+        expect((who, sig.step) not in found, f"a step whose cases {'timed out' if who == 'looping' else 'never ran'} "
+                                             f"was matched to a slip: {[m.name for m in found[(who, sig.step)][1].signatures] if (who, sig.step) in found else ''}")
+    return (f"{len(sig.fails)} failing cases of step {sig.step}: answered wrongly, matched to {sig.name}; "
+            "timed out or never run, matched to nothing")
+
+
 def selftests():
     return [("report: one class graded on two machines, merged", selftest_merge),
+            ("report: a looping step is matched to no slip", selftest_loop_no_slip),
             ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
             ("report: a synthetic class's report", selftest_class_report),
