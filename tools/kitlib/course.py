@@ -393,11 +393,18 @@ def handout_text() -> str:
 
 
 def split_extra(results) -> tuple[Fraction, Fraction]:
-    """What `results` earned on the course's points and, apart, on top of them as extra credit."""
+    """What `results` earned on the course's points and, apart, on top of them as extra credit (a step
+    not graded earns neither)."""
     course = load()
-    extra = sum((c.points for r in results for c in r.cases if c.status == "pass" and course.extra_credit(c.group)),
-                Fraction(0))
+    extra = sum((c.points for r in results if r.state != NOT_GRADED for c in r.cases
+                 if c.status == "pass" and course.extra_credit(c.group)), Fraction(0))
     return sum((r.earned for r in results), Fraction(0)) - extra, extra
+
+
+def extra_maximum(results) -> Fraction:
+    """The extra credit `results`' cases could add on top of the course's points, all passed."""
+    course = load()
+    return sum((c.points for r in results for c in r.cases if course.extra_credit(c.group)), Fraction(0))
 
 
 def score_words(results) -> str:

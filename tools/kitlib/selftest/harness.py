@@ -46,6 +46,7 @@ QUICK = {
               "numbers read the same on every standard library"],
     "course": ["course: the default scale", "course: weights, exact", "course: bad course files",
                "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points", "course: ★ as extra credit",
+               "course: Gradescope's extra credit on the kit's course",
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary"],
