@@ -11,7 +11,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from .. import course as course_file
-from ..checking import Case, StepResult
+from ..checking import SCORED_TIERS, Case, StepResult
 from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
@@ -114,7 +114,8 @@ def kit_results(course, steps, fail: dict[str, set[str]]) -> list[StepResult]:
             for c in cases:
                 c.status = FAIL if c.group in failed or c.name in failed else PASS
                 c.messages = ["expected 2, got 3"] if c.status == FAIL else []
-            rs.append(StepResult(s, PARTIAL if any(c.status == FAIL for c in cases) else DONE, cases))
+            done = all(c.status == PASS for c in cases if c.tier in SCORED_TIERS)     # as checking.py says
+            rs.append(StepResult(s, DONE if done else PARTIAL, cases))
     return rs
 
 
