@@ -88,18 +88,23 @@ def _expected(course, number: str, groups: list[str]) -> tuple[Fraction, Fractio
     return (points, points * extra / counted) if counted else (Fraction(0), Fraction(0))
 
 
-def extra_credit_course(numbers: list[str]):
+def extra_credit_data(numbers: list[str]) -> dict:
     """The kit's course.json as it stands with its ★ group made extra credit (as the instructor of #46
     did): its own weight when it has one, else 1/20 of a core case's (5 % of a core case each); a course
     whose ★ is extra credit already is taken as it is."""
     data = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
     kit = course_file.parse(data, numbers, "course.json")
     if kit.extra_credit("robust"):
-        return kit
+        return data
     groups = dict(data.get("groups", {}))
     weight = kit.weight("robust") or (kit.weight("core") or Fraction(1)) / 20
     groups["robust"] = {"weight": course_file.exact_text(weight), "extra_credit": True}
-    return course_file.parse(dict(data, groups=groups), numbers, "course.json with ★ as extra credit")
+    return dict(data, groups=groups)
+
+
+def extra_credit_course(numbers: list[str]):
+    """extra_credit_data, parsed."""
+    return course_file.parse(extra_credit_data(numbers), numbers, "course.json with ★ as extra credit")
 
 
 def kit_results(course, steps, fail: dict[str, set[str]]) -> list[StepResult]:
@@ -635,6 +640,43 @@ def selftest_gradescope_extra_credit(ctx) -> str:
             f"summary '{want}'")
 
 
+def selftest_course_extra_credit_example(ctx) -> str:
+    """#46 item 2: ./kit course says, with an example computed from the course as it is (here the kit's
+    course.json with ★ made extra credit, on the steps' recorded cases), how much extra credit makes up
+    for a bug: all of it, the costliest core case it covers and the two totals, bug + extra credit
+    against a correct solution without it."""
+    from ..checking import recorded_cases
+    need_solutions()    # ./kit course is an instructor's command
+    numbers = [s.number for s in ctx.steps]
+    course = extra_credit_course(numbers)
+    total, bonus, core = Fraction(0), Fraction(0), []
+    for s in ctx.steps:
+        cases = [(c.tier, c.name, c.lecture) for c in recorded_cases(s) or []]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        shares = course.shares(s.number, groups, course.weights_of(s.number, cases))
+        total += sum((p for p, g in zip(shares, groups) if not course.extra_credit(g)), Fraction(0))
+        bonus += sum((p for p, g in zip(shares, groups) if course.extra_credit(g)), Fraction(0))
+        core += [p for p, g in zip(shares, groups) if g == "core" and p > 0]
+    if not bonus or not core:
+        raise Skipped(f"{course.source}: no extra-credit case or no core case worth anything")
+    covered = [p for p in core if p <= bonus]
+    bug = max(covered) if covered else min(core)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "course.json"
+        path.write_text(json.dumps(extra_credit_data(numbers)))
+        r = kit("course", "--file", str(path))
+    want = [f"+{course.shown(bonus)}", f"{course.shown(total - bug + bonus)}  a bug that fails step",
+            f"(-{course.shown(bug)}), every extra-credit case passed", f"{course.shown(total)}  a correct solution"]
+    missing = [w for w in want if w not in r.stdout]
+    expect(r.returncode == 0 and not missing, f"./kit course --file (★ as extra credit) does not say {missing}: "
+           f"{r.stdout[-700:]}{r.stderr[-300:]}")
+    plain = kit("course")
+    expect("extra credit against a bug" not in plain.stdout or course_file.load().extra,
+           "./kit course gives the extra-credit example on a course without extra credit")
+    return (f"a core bug (-{course.shown(bug)}) with all the extra credit (+{course.shown(bonus)}): "
+            f"{course.shown(total - bug + bonus)}, a correct solution without it {course.shown(total)}")
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale),
             ("course: the kit's course.json as set", selftest_kit_course), ("course: weights, exact", selftest_weighted),
@@ -644,6 +686,7 @@ def selftests():
             ("course: ★ as extra credit", selftest_extra_credit),
             ("course: weights per case and per section", selftest_case_weights),
             ("course: Gradescope's extra credit on the kit's course", selftest_gradescope_extra_credit),
+            ("course: ./kit course's example of extra credit against a bug", selftest_course_extra_credit_example),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),

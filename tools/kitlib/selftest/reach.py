@@ -826,7 +826,7 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     from fractions import Fraction
     from ..commands.prairielearn import pl_number
     from ..plresults import prairielearn
-    from .course import _expected, extra_credit_course, kit_results
+    from .course import extra_credit_course, kit_results
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     need_system_python("jsonschema")
@@ -844,8 +844,16 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
             from ..checking import recorded_cases
             cases = recorded_cases(s)
             expect(cases is not None, f"step {s.number} has no recorded cases")
-            groups = [course.group(c.tier, c.name) for c in cases if c.tier != "hidden" or course.hidden_enabled]
-            points, extra = _expected(course, s.number, groups)
+            kept = [(c.tier, c.name, c.lecture) for c in cases if c.tier != "hidden" or course.hidden_enabled]
+            groups = [course.group(t, n) for t, n, _ in kept]
+            # course.py's rule: a step's points shared by weight among its counted cases, an extra-credit
+            # case worth its weight's share on top (each case's weight: its own, else its group's).
+            weights = course.weights_of(s.number, kept)
+            counted = sum((w for w, g in zip(weights, groups) if not course.extra_credit(g)), Fraction(0))
+            extra = sum((w for w, g in zip(weights, groups) if course.extra_credit(g)), Fraction(0))
+            given = course.points.get(s.number)
+            points, extra = ((counted, extra) if given is None else (given, given * extra / counted) if counted
+                             else (Fraction(0), Fraction(0)))
             total, bonus = total + points, bonus + extra
             q, x = questions.get(f"raykit/{s.folder}"), questions.get(f"raykit/{s.folder}_extra_credit")
             expect(q and q["autoPoints"] == q.get("maxAutoPoints") == pl_number(points),
