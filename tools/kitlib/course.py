@@ -28,6 +28,15 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     its weight's share as if the group were counted, but on top of the
                                     step's P points (the maximum stays P: ★ at weight 1/20 and extra
                                     credit adds 5 % of a core case's points for each ★ case passed).
+                                    Every output keeps it apart: the total reads "score 108.54 of 115
+                                    + 7.78 extra credit (94 %)", the percentage of the points alone;
+                                    Gradescope shows a step's extra-credit cases as one passed test
+                                    of max_score 0 (a missed one is no failure) and its summary "115 +
+                                    7.78 extra"; PrairieLearn gives them questions of their own, the
+                                    assessment's bonus points (maxBonusPoints); the grades CSV has an
+                                    extra_credit column; the class report's histogram and "at the
+                                    maximum" count the points alone, the extra credit shown apart;
+                                    ./kit course says how much of a bug extra credit can make up for.
   "hidden": {"enabled": true|false, "visibility": V, "reveal_after_due_date": true|false}
                                     hidden cases counted or left out; V is their Gradescope
                                     visibility (hidden, after_due_date, after_published, visible);
