@@ -422,7 +422,9 @@ def score_words(results) -> str:
     course = load()
     base, extra = split_extra(results)
     maximum = sum((r.maximum for r in results), Fraction(0))
-    pct = f" ({float(100 * base / maximum):.0f} %)" if maximum else ""
+    share = float(100 * base / maximum) if maximum else 0.0
+    # Whole percents, but never "100 %" for points short of the maximum (246 of 247 reads 99.6 %).
+    pct = (f" ({share:.0f} %)" if round(share) < 100 or base >= maximum else f" ({int(share * 10) / 10:.1f} %)") if maximum else ""
     more = f" + {course.shown(extra)} extra credit" if extra else ""
     return f"score {course.shown(base)} of {course.shown(maximum)}{more}{pct}"
 

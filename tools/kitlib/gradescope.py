@@ -167,7 +167,8 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
     summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, " + ("no points taken" if r.state == NOT_GRADED else
-               f"{course.shown(r.earned)} of {course.shown(r.maximum)}") for r in results]
+               f"{course.shown(base)} of {course.shown(r.maximum)}" + (f" + {course.shown(extra)} extra" if extra else ""))
+               for r in results for base, extra in [course_file.split_extra([r])]]
     summary.append(course_file.score_words(results)
                    + (f" (exact {course_file.exact_text(exact)} in all, rounded once to {course.decimals} decimals)"
                       if exact.denominator != 1 else ""))

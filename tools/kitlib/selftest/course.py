@@ -636,6 +636,14 @@ def selftest_gradescope_extra_credit(ctx) -> str:
                f"0-point test a step scoring its ★ points {[str(w) for w in worth]}")
         want = f"{course.shown(maximum)} + {course.shown(possible)} extra"
         expect(want in view["output"], f"Gradescope's summary does not say {want!r}: {view['output']!r}")
+        # Each step's line: its points of its points, the extra apart (not "53.15 of 53").
+        for r in slip:
+            extra = sum((c.points for c in r.cases if c.status == PASS and course.extra_credit(c.group)), Fraction(0))
+            line = (f"step {r.step.number}: " + next((l.split(": ", 1)[1] for l in view["output"].splitlines()
+                                                       if l.startswith(f"step {r.step.number}: ")), ""))
+            said = f"{course.shown(r.earned - extra)} of {course.shown(r.maximum)}" + (
+                f" + {course.shown(extra)} extra" if extra else "")
+            expect(line.endswith(said), f"Gradescope's summary says {line!r}, not ... {said!r}")
     return (f"{course.source}: misses every ★ case: no failed test, {course.shown(maximum)}; a core slip: 1 failed test; "
             f"summary '{want}'")
 
