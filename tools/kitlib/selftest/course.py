@@ -657,9 +657,10 @@ def selftest_course_extra_credit_example(ctx) -> str:
     need_solutions()    # ./kit course is an instructor's command
     numbers = [s.number for s in ctx.steps]
     course = extra_credit_course(numbers)
-    total, bonus, core = Fraction(0), Fraction(0), []
+    total, bonus, core, listed = Fraction(0), Fraction(0), [], []
     for s in ctx.steps:
         cases = [(c.tier, c.name, c.lecture) for c in recorded_cases(s) or []]
+        listed.append({"step": s.number, "cases": [{"tier": t, "name": n, "lecture": lec} for t, n, lec in cases]})
         groups = [course.group(t, n) for t, n, _ in cases]
         shares = course.shares(s.number, groups, course.weights_of(s.number, cases))
         total += sum((p for p, g in zip(shares, groups) if not course.extra_credit(g)), Fraction(0))
@@ -672,7 +673,10 @@ def selftest_course_extra_credit_example(ctx) -> str:
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "course.json"
         path.write_text(json.dumps(extra_credit_data(numbers)))
-        r = kit("course", "--file", str(path))
+        # The same cases as here (a step without a record, as a customised copy's new one, has none).
+        cases = Path(tmp) / "results.json"
+        cases.write_text(json.dumps({"format": "raykit-results", "version": 1, "steps": listed}))
+        r = kit("course", "--file", str(path), "--results", str(cases))
     want = [f"+{course.shown(bonus)}", f"{course.shown(total - bug + bonus)}  a bug that fails step",
             f"(-{course.shown(bug)}), every extra-credit case passed", f"{course.shown(total)}  a correct solution"]
     missing = [w for w in want if w not in r.stdout]
@@ -694,7 +698,7 @@ def selftests():
             ("course: ★ as extra credit", selftest_extra_credit),
             ("course: weights per case and per section", selftest_case_weights),
             ("course: Gradescope's extra credit on the kit's course", selftest_gradescope_extra_credit),
-            ("course: ./kit course's example of extra credit against a bug", selftest_course_extra_credit_example),
+            ("course: the scale table's example of extra credit against a bug", selftest_course_extra_credit_example),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),

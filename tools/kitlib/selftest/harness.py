@@ -47,7 +47,7 @@ QUICK = {
     "course": ["course: the default scale", "course: weights, exact", "course: bad course files",
                "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points", "course: ★ as extra credit",
                "course: Gradescope's extra credit on the kit's course",
-               "course: ./kit course's example of extra credit against a bug",
+               "course: the scale table's example of extra credit against a bug",
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
     "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary"],
