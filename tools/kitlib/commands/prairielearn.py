@@ -368,8 +368,8 @@ def extra_question_html(step, course, points) -> str:
     maximum, bonus = points[0], points[1]
     files = ", ".join(f"<code>{html.escape(f)}</code>" for f in step.files)
     parts = ["<pl-question-panel>",
-             f"<p>The extra credit of step {step.number}, <em>{html.escape(step.title)}</em>: its cases marked extra "
-             f"credit (the ★ tier), worth {course.shown(bonus)} points on top of the step's {course.shown(maximum)}. "
+             f"<p>The extra credit of step {step.number}, <em>{html.escape(step.title)}</em>: its extra-credit cases "
+             f"({html.escape(' and '.join(g if g != 'robust' else 'the ★ tier' for g in course_file.GROUPS if course.extra_credit(g)))}), worth {course.shown(bonus)} points on top of the step's {course.shown(maximum)}. "
              "The assessment counts them above its total (its bonus points): missing them takes nothing away.</p>",
              f"<p>Submit here the same {files} as in the step's own question (its page has the task); "
              "<strong>Save &amp; Grade</strong> runs the step's cases and counts the extra-credit ones.</p>",

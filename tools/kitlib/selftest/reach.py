@@ -832,9 +832,15 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     need_system_python("jsonschema")
     course = extra_credit_course([s.number for s in ctx.steps])
     out = WORK / "pl-extra-credit"
-    pl_make(out, course)
+    printed = pl_make(out, course)
     problems = schema_problems(schemas, pl_files(out))
     expect(not problems, "; ".join(problems)[:2000])
+    # Whole in PrairieLearn's example course with the printed lines: every question id a question.
+    example = need_third_party("prairielearn", "exampleCourse")
+    whole = assemble(example_course(example, WORK / "pl-extra-example"), out, printed, WORK / "pl-extra-assembled")
+    problems = course_problems(schemas, whole)
+    expect(not problems, "the example course + OUT (extra-credit questions) + the printed lines: "
+           + "; ".join(problems)[:2000])
     data = json.loads((out / "courseInstances/raykit/assessments/raykit/infoAssessment.json").read_text())
     questions = {q["id"]: q for z in data["zones"] for q in z["questions"]}
     checker = _checker()
@@ -866,6 +872,8 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
                    and "--extra-credit" in (info / "tests" / "grade.py").read_text(),
                    f"step {s.number}'s extra credit ({extra} points): the assessment gives {x}; its question "
                    f"{'is' if (info / 'info.json').is_file() else 'is not'} written")
+            problems = question_problems((info / "question.html").read_text(), info)
+            expect(not problems, f"step {s.number}'s extra-credit question.html: {'; '.join(problems)}")
             # The results: a complete step without ★ (a textbook solution), with ★, a core slip with ★.
             core = next(c.name for c in cases if course.group(c.tier, c.name) == "core")
             for fail, step_score, extra_score in (({"robust"}, 1, 0), (set(), 1, 1), ({core}, None, 1)):
