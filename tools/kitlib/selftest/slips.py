@@ -217,9 +217,9 @@ def selftest_end_on_sketch(ctx) -> str:
 # for step 04 refused. Each is a patch of tests/mutants/05_cornell_box/: (patch, the function the
 # first case calls, words its first message must hold).
 STEP05_DIRECT = [
-    ("aspect_ignored", "view_ray(", "expected  a ray through"),             # x scaled by the film's height
-    ("film_point_as_direction", "view_ray(", "The ray must point forward"),  # all black
-    ("focal_length_forgotten", "view_ray(", "expected  a ray through"),     # all white
+    ("aspect_ignored", "view_ray(", "scale x by the film's width"),          # x scaled by the film's height
+    ("film_point_as_direction", "view_ray(", "Your direction is the film point itself"),   # all black
+    ("focal_length_forgotten", "view_ray(", "your film is not focal_length in front of the eye"),  # all white
     ("compared_with_tmax", "find_intersection(", "compare each t with the best so far, not with tmax"),
     ("miss_dereferenced", "render(", "UndefinedBehaviorSanitizer"),          # an empty optional read
 ]
