@@ -181,10 +181,14 @@ class StepResult:
         failing = [c for c in cases if c.status != PASS]
         if not failing:
             return None
-        if tier == "basic" and self.slip and self.slip.get("case"):   # a measured cause first
+        if tier == "basic" and self.slip:       # the failing set of a known slip first: a case its patch names
             named = next((c for c in failing if c.name == self.slip.get("case")), None)
             if named is not None:
                 return named
+            # Several slips fail alike and name no case in common: one of the cases they name.
+            among = [c for c in failing if c.name in (self.slip.get("cases") or ())]
+            if among:
+                failing = among
         pictures = picture_sections(self.step)
 
         def rank(c: Case) -> int:
@@ -737,12 +741,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
     result = StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
                         isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
                         cost=cost, includes=found, slip=slip)
-    if slip is not None:
-        # Said above the first case's own report, in the same message: the case still reports one call.
-        named = result.first_problem()
-        if named is not None:
-            said = slips.words(slip)
-            named.messages = [said + ("\n" + named.messages[0] if named.messages else "")] + list(named.messages[1:])
+    slips.say(result)
     return result
 
 

@@ -11,8 +11,8 @@ as a possible cause, and a case they all name comes first (else the usual rule c
 the catalogue is (the instructor's copy, the graders' images): a handout ships no mutant. The class
 report matches near signatures too (report/signatures.py); a student is told only an exact failing set.
 
-`python3 -m kitlib.slips RESULTS...` (from tools/) measures, on results of `./kit check --results`
-kept per mutant, how many first messages name their own slip.
+`python3 -m kitlib.selftest.slips RESULTS...` (from tools/) measures, on records of `./kit check
+--results` kept per mutant, how many first messages name their own slip.
 """
 
 from __future__ import annotations
@@ -63,16 +63,20 @@ def alike_slips(step: Step, failing_basic: set[str]) -> list[dict]:
 
 def known_slip(step: Step, failing_basic: set[str]) -> dict | None:
     """What the catalogue says of these failing basic cases, or None when no slip fails exactly them:
-    {"name", "slip", "case", "alike"}. With one slip: its name, words and first named case. With
-    several: "name" and "slip" are the first one's, "alike" lists every one ({"name", "slip"}), and
-    "case" is a case each of them names, or "" when they name none in common (the usual rule then
-    chooses the case shown first)."""
+    {"name", "slip", "case", "cases", "alike"}. With one slip: its name, words and first named case.
+    With several: "name" and "slip" are the first one's, "alike" lists every one ({"name", "slip"}),
+    and "case" is a case each of them names, or "" when they name none in common (the usual rule then
+    chooses among "cases", every case one of them names)."""
     found = alike_slips(step, failing_basic)
     if not found:
         return None
     common = [c for c in found[0]["cases"] if all(c in f["cases"] for f in found)]
+    named = list(dict.fromkeys(c for f in found for c in f["cases"]))
     return {"name": found[0]["name"], "slip": found[0]["slip"], "case": common[0] if common else "",
-            "alike": [{"name": f["name"], "slip": f["slip"]} for f in found]}
+            "cases": named, "alike": [{"name": f["name"], "slip": f["slip"]} for f in found]}
+
+
+SAID = "Your code fails exactly the cases that "   # how words() begins
 
 
 def words(slip: dict) -> str:
@@ -88,44 +92,12 @@ def words(slip: dict) -> str:
             f"cause is one of them{more}: {said}.")
 
 
-# --- the measure: does the first message name the mutant's own slip? ------------------------
-
-def names_own_slip(step: Step, mutant_name: str, result: dict) -> bool:
-    """On a mutant's graded result (./kit check --results, the step's entry): whether the first case a
-    student is shown is one its patch names and its first message says its slip's words."""
-    from .checking import Case, StepResult
-    cases = [Case(c["name"], c["tier"], c["lecture"], c["status"], list(c["messages"]), c.get("output", ""))
-             for c in result["cases"]]
-    first = StepResult(step, result["state"], cases, slip=result.get("slip")).first_problem()
-    if first is None:
-        return False
-    mutant = read_patch(MUTANTS / step.folder / f"{mutant_name}.patch", step)
-    said = first.messages[0] if first.messages else ""
-    return first.name in mutant.cases and mutant.slip.rstrip(".") in said
-
-
-def _main(argv: list[str]) -> int:
-    from pathlib import Path
-    from .common import load_steps
-    steps = {s.folder: s for s in load_steps()}
-    named, total, missed = 0, 0, []
-    for path in argv:
-        data = json.loads(Path(path).read_text())
-        folder, _, name = Path(path).stem.partition("__")
-        if data.get("result") is None:
-            missed.append(f"{folder}/{name} (no result)")
-            continue
-        total += 1
-        if names_own_slip(steps[folder], name, data["result"]):
-            named += 1
-        else:
-            missed.append(f"{folder}/{name}")
-    print(f"{named} of {total} mutants: the first message names their slip")
-    for m in missed:
-        print("  not named:", m)
-    return 0
-
-
-if __name__ == "__main__":
-    import sys
-    raise SystemExit(_main(sys.argv[1:]))
+def say(result) -> None:
+    """Puts the known slip's words (result.slip, when set) above the report of the case a student is
+    shown first, in the same message: the case still reports one call."""
+    if not result.slip:
+        return
+    first = result.first_problem()
+    if first is not None:
+        said = words(result.slip)
+        first.messages = [said + ("\n" + first.messages[0] if first.messages else "")] + list(first.messages[1:])

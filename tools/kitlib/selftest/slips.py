@@ -17,7 +17,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from ..common import BUILD, ROOT, load_steps
+from .. import slips
+from ..common import BUILD, ROOT, Step, load_steps
 from .harness import Failed, expect, kit, need_solutions
 
 SLIPS = ROOT / "tests" / "fixtures" / "slips"
@@ -337,6 +338,57 @@ def selftest_first_problem_order(ctx) -> str:
     return "direct, then a refusal, then the picture; slips said as likely causes"
 
 
+# --- the measure: does the first message name the mutant's own slip? ------------------------
+
+def first_message(step: Step, result: dict) -> tuple[str, str]:
+    """(the case a student is shown first, its first message) for a step's graded record (./kit check
+    --results), the slip matched again with the catalogue as it is now and its words said again."""
+    from ..checking import Case, StepResult
+    cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
+                  [m.split("\n", 1)[1] if m.startswith(slips.SAID) and "\n" in m else m for m in c["messages"]])
+             for c in result["cases"]]
+    slip = slips.known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != "pass"})
+    shown = StepResult(step, result["state"], cases, slip=slip)
+    slips.say(shown)
+    first = shown.first_problem()
+    return (first.name, first.messages[0] if first.messages else "") if first else ("", "")
+
+
+def names_own_slip(step: Step, mutant_name: str, result: dict) -> tuple[bool, bool]:
+    """On a mutant's graded record: (its first message says its slip's words, and the case is one its
+    patch names; its first message says its slip's words, maybe beside other slips that fail alike)."""
+    from ..mutants import read_patch
+    mutant = read_patch(slips.MUTANTS / step.folder / f"{mutant_name}.patch", step)
+    case, said = first_message(step, result)
+    words_said = mutant.slip.rstrip(".") in said
+    return words_said and case in mutant.cases, words_said
+
+
+def measure(argv: list[str]) -> int:
+    from pathlib import Path
+    from ..common import load_steps
+    steps = {s.folder: s for s in load_steps()}
+    own, said, total, lines = 0, 0, 0, []
+    for path in argv:
+        data = json.loads(Path(path).read_text())
+        folder, _, name = Path(path).stem.partition("__")
+        if data.get("result") is None:
+            lines.append(f"  {folder}/{name}: no result")
+            continue
+        total += 1
+        first_own, first_said = names_own_slip(steps[folder], name, data["result"])
+        own += first_own
+        said += first_said
+        if not first_own:
+            case, message = first_message(steps[folder], data["result"])
+            lines.append(f"  {folder}/{name}: {'said among others' if first_said else 'not named'}; "
+                         f"first case {case!r}: {message.splitlines()[0][:100] if message else ''}")
+    print(f"{own} of {total} mutants: the first message says their slip, their case first; "
+          f"{said} of {total} say their slip, alone or beside slips that fail alike")
+    print("\n".join(lines))
+    return 0
+
+
 def selftests():
     return [("slips: waiting step's next command", selftest_waiting_next_command),
             ("slips: a ray seen end-on", selftest_end_on_sketch),
@@ -345,3 +397,8 @@ def selftests():
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
             ("slips: the first message names the planted slip", selftest_planted_slips),
             ("slips: a render turned over", selftest_turned_render)]
+
+
+if __name__ == "__main__":     # python3 -m kitlib.selftest.slips RECORD... (from tools/): the measure
+    import sys
+    raise SystemExit(measure(sys.argv[1:]))
