@@ -159,11 +159,12 @@ class StepResult:
         return sum((c.points for c in self.cases if not course.extra_credit(c.group)), Fraction(0))
 
     def first_problem(self, tier: str = "basic") -> Case | None:
-        """The failing case of `tier` a student is shown first (and ./kit hint, ./kit debug, Gradescope's
-        and PrairieLearn's first failing case start from).
+        """The failing case of `tier` a student is shown first under "Next:" (./kit hint and ./kit debug
+        start from it too).
 
-        A measured cause first: the case a known slip's patch names, when the failing basic cases are
-        exactly that slip's (slips.py). Then, in this order, the failing cases
+        First, when the failing basic cases are exactly a known slip's (slips.py), the case its patch
+        names (of slips that fail alike, one they all name, else one of those they name). Then, in this
+        order, the failing cases
           0. that report their own function's answer (a wrong answer, a crash, a throw of the student's);
           1. whose cause lies elsewhere: a whole picture drawn with every function of the step (the
              sections step.json lists as "picture_sections"), and a call the stand-in for a needed
