@@ -738,7 +738,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = PARTIAL
     if not build.reference_needs:
         state = waits.wait_on_needs(step, cases, results, state)
-    slip = slips.known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != PASS})
+    slip = slips.match(step, cases)
     result = StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
                         isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
                         cost=cost, includes=found, slip=slip)

@@ -311,7 +311,7 @@ def selftest_first_problem_order(ctx) -> str:
     as a likely cause, several slips that fail alike each said."""
     from ..checking import Case, StepResult
     from ..slips import words
-    from ..status import THREW
+    from ..status import THREW, TIMED_OUT
     s = _steps()["05"]
     refusal = ("Your code threw an exception in render(scene{orange}, camera{...}): std::invalid_argument (\"while "
                "grading step 05 the grader answers intersect_rect only for the view rays of the case's camera\")")
@@ -339,7 +339,18 @@ def selftest_first_problem_order(ctx) -> str:
     one = words({"name": "a", "slip": "A."})
     expect("2 slips" in two and "A; or B" in two and "likely" in two, f"two slips alike: {two}")
     expect("likely cause" in one and not one.startswith("Your failing cases are exactly"), f"one slip: {one}")
-    return "a direct case before a refusal and the picture; slips said as likely causes"
+    # The catalogue's match: a mutant's failing set is matched; the same set with a case that timed out
+    # (a loop: no answer) is matched to nothing.
+    if (ROOT / "solutions").is_dir():
+        one = _steps()["01"]
+        fails = slips._catalogue().get(f"{one.folder}/c_without_radius", {}).get("fails") or []
+        expect(fails, "the catalogue has no signature of 01_unit_sphere/c_without_radius")
+        graded = [Case(n, "basic", "", "fail", ["got"]) for n in fails] + [Case("other", "basic", "", "pass", [])]
+        found = slips.match(one, graded)
+        expect(found is not None and found["name"] == "c_without_radius", f"its own failing set: {found}")
+        graded[0].status = TIMED_OUT
+        expect(slips.match(one, graded) is None, "a step with a timed-out case is matched to a slip")
+    return "a direct case before a refusal and the picture; slips said as likely causes; a loop matched to none"
 
 
 # --- the measure: does the first message name the mutant's own slip? ------------------------
@@ -351,7 +362,7 @@ def first_message(step: Step, result: dict) -> tuple[str, str]:
     cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
                   [m.split("\n", 1)[1] if m.startswith(slips.SAID) and "\n" in m else m for m in c["messages"]])
              for c in result["cases"]]
-    slip = slips.known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != "pass"})
+    slip = slips.match(step, cases)
     shown = StepResult(step, result["state"], cases, slip=slip)
     slips.say(shown)
     first = shown.first_problem()
