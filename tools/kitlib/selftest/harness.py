@@ -71,8 +71,10 @@ QUICK = {
                     "messages name the trouble, not the cure"],
     "grade": ["uploads: step files found at any depth, only they"],
     "report": ["report: the mutants' signatures are current", "report: crashes grouped by the record, not by words",
-               "report: extra credit apart, scores on the CSV's decimals"],
-    "slips": ["slips: waiting step's next command", "slips: a ray seen end-on"],
+               "report: extra credit apart, scores on the CSV's decimals",
+               "report: a looping step is matched to no slip"],
+    "slips": ["slips: waiting step's next command", "slips: a ray seen end-on",
+              "slips: the picture and refusals come after direct cases"],
     "slides": ["slides: decks have notes, Ponder answers and the step's command",
                "slides: a deck says what its lecture and its step's cases say"],
 }
