@@ -129,7 +129,7 @@ def count(n: int) -> str:
 
 # Never broken across lines: inline math (the docs' math filter reads it one line at a time), code
 # spans, and a number's groups of digits ("52 936").
-UNBREAKABLE = re.compile(r"\$[^$\n]+\$|`[^`\n]+`|\d(?: \d{3})+\b")
+UNBREAKABLE = re.compile(r"\$[^$\n]+\$|`[^`\n]+`|\d(?: \d{3})+\b|[\d.]+ %")
 HOLD = "\x00"
 
 
@@ -558,8 +558,9 @@ def block_bench_embree_sphere(run: Run) -> list:
     fams = [f for f in r.first if f not in ("huge", "inside") and r.has("embree_sphere", f)]
     return paragraph(
         f"Embree's sphere points have first-hit p99 {span(r.stat('embree_sphere', 'ulps_p99', fams), ulps)} ulps on "
-        f"the families where the stable form has {span(r.stat('stable_f32', 'ulps_p99', fams), ulps)} (like it, they "
-        "lose on *huge*, *origin inside* and the ground), but cost "
+        f"the {count(len(fams))} families of sections 3 and 4 other than *huge* and *origin inside*, where the stable "
+        f"form has {span(r.stat('stable_f32', 'ulps_p99', fams), ulps)}; like it, they lose on those two and on the "
+        "ground, and they cost "
         f"{span(r.ns('embree_sphere'), lambda x: f'{x:.0f}')} ns per ray: `rtcIntersect1` pays for a general scene "
         "traversal that a single sphere does not need. (It is not run on the pbrt families, whose every ray has its "
         "own sphere.)")
@@ -599,7 +600,7 @@ def block_bench_lanes(run: Run) -> list:
         f"{ulps(run.stat(st16, far4, 'ulps_p99'))} ulps there but misclassifies up to "
         f"{pct(max(r.shares(st16, r.pbrt)))} on pbrt's ranges and is off by p99 {ulps(run.stat(st16, earth, 'ulps_p99'))}"
         f" ulps on the Earth. The double lanes take {span(half, times)} times the stable float lanes' time, family by "
-        "family, and give up none of the accuracy.", bullet=True)
+        "family: the price of double's half-width lanes is time, not accuracy.", bullet=True)
     ffmax = max(r.stat(FF_X16, "ulps_max"))
     ffmis = sum(r.stat(FF_X16, "misclassified"))
     out += wrap(
@@ -821,11 +822,15 @@ def block_bench_box_lanes(run: Run) -> list:
 
 def block_bench_box_claim(run: Run) -> list:
     r = Reading(run)
+    plain = all(run.ns("call_plain", f) < run.ns("embree_quads", f) for f in BOX)
     return paragraph(
         "So the claim, measured: brute force over six rectangles, written as a renderer writes its inner loop, is "
         f"{span(r.ratios('embree_quads', 'brute_force', BOX), times)} times faster than Embree on this scene "
         f"({span(r.ratios('embree_quads_x16', 'brute_force_x16_AVX3', BOX), times)} times, 16 rays at a time against "
-        "Embree's 16-ray packets), and stays faster with one call per rectangle as long as the call returns plainly. "
+        "Embree's 16-ray packets)"
+        + (", and stays faster with one call per rectangle as long as the call returns plainly. " if plain
+           else ". Behind one call per rectangle it is not always faster. ")
+        + 
         "The kit keeps `std::optional<float>` in its interface because it reads as the contract (\"a hit, or none\") "
         "to a student; a renderer built on these steps would inline the test or return a plain value.")
 
@@ -842,9 +847,8 @@ def block_bench_times(run: Run) -> list:
         f"a load average of {load[0]:.2f} at its start ({load[1]:.2f} and {load[2]:.2f} over five and fifteen "
         f"minutes). Within the run, a row's slowest repetition is {typical:.0f} % above its median in the median "
         f"row, and {tail:.0f} % or more in one row of ten: compare medians, not single repetitions, and take "
-        "differences of that size for noise. On a busier machine, read the min column. A change of host is not noise: "
-        "it moved some rows by far more than that (section 8), and the table's first line names the processor's "
-        "family and model.", bullet=True)
+        "differences of that size for noise. On a busier machine, read the min column. A change of host is not noise "
+        "either (section 8): the table's first line names the processor's family and model.", bullet=True)
 
 
 def block_lecture03_earth(run: Run) -> list:
