@@ -393,6 +393,31 @@ def half_rate(rate: float) -> str:
     return "half the float rate" if abs(rate - 2) < 0.1 else f"{1 / rate:.2f} times the float rate"
 
 
+FORMULATIONS = [
+    ("textbook", r"$a = \mathbf{d}\cdot\mathbf{d}$, $b = 2\,\mathbf{f}\cdot\mathbf{d}$, $c = \mathbf{f}\cdot\mathbf{f} - r^2$, "
+                 r"$t = (-b \mp \sqrt{b^2 - 4ac})/2a$"),
+    ("half-b", r"$h = \mathbf{f}\cdot\mathbf{d}$, $t = (-h \mp \sqrt{h^2 - ac})/a$"),
+    ("unit-dir", r"$\hat{\mathbf{d}} = \mathbf{d}/\lvert\mathbf{d}\rvert$, then $a = 1$; divide the roots by "
+                 r"$\lvert\mathbf{d}\rvert$"),
+    ("geometric", r"$t_m = (\mathbf{c} - \mathbf{o})\cdot\hat{\mathbf{d}}$, $\ell_m^2 = \lvert\mathbf{c} - "
+                  r"\mathbf{o}\rvert^2 - t_m^2$, $t = t_m \mp \sqrt{r^2 - \ell_m^2}$"),
+    ("stable", r"$\mathbf{l} = \mathbf{f} - (h/a)\,\mathbf{d}$, $D = a\,(r^2 - \mathbf{l}\cdot\mathbf{l})$, "
+               r"$q = -(h + \operatorname{sign}(h)\sqrt{D})$, $t = q/a,\ c/q$"),
+    ("lagrange", r"$\mathbf{g} = \mathbf{f}\times\mathbf{d}$, $D = a\,r^2 - \mathbf{g}\cdot\mathbf{g}$, "
+                 r"$t = (-h \mp \sqrt{D})/a$"),
+    ("exact-float", r"lagrange in float only, with float-float $\mathbf{f}$, $a$, $h$, $\mathbf{g}$, $c$ and $D$ "
+                    r"(section 6)"),
+]
+
+
+def block_bench_formulations(run: Run) -> list:
+    """The formulations and their flops as the counting number type counted them in float on *typical*."""
+    lines = ["| name | roots | flops |", "|---|---|--:|"]
+    for name, roots in FORMULATIONS:
+        lines.append(f"| {name} | {roots} | {run.stat(name + '_f32', 'typical', 'flops'):.0f} |")
+    return lines
+
+
 def block_bench_peaks(run: Run) -> list:
     m, p, r = run.meta, run.peak, Reading(run)
     if not p.get("scalar_gflops_f32"):
@@ -937,6 +962,7 @@ BLOCKS = {
     "lecture03-double": block_lecture03_double,
     "appendix-leg-cross": block_appendix_leg_cross,
     "appendix-lanes": block_appendix_lanes,
+    "bench-formulations": block_bench_formulations,
     "bench-peaks": block_bench_peaks,
     "bench-far": block_bench_far,
     "bench-half-b": block_bench_half_b,
@@ -978,7 +1004,7 @@ _WORD = (r"(?:one|two|three|four|five|six|seven|eight|nine|ten|eleven|twelve|thi
          r"sixteen|twenty|thirty|forty|fifty|hundred)")
 _NUM = r"(?:TEXNUM|\d{1,3}(?:[ \u202f\u00a0]\d{3})+(?:\.\d+)?|\d+(?:\.\d+)?)"
 _RANGE = rf"{_NUM}(?:\s*(?:to|–|-|and|or|/|→)\s*{_NUM})*"
-_UNIT = r"(?:ns\b|µs\b|GFLOP/s|(?:double\s+|float\s+)?ulps?\b|\s?%|\s?per\s?cent\b|\s?×|x\b|times\b)"
+_UNIT = r"(?:ns\b|µs\b|GFLOP/s|flops?\b|(?:double\s+|float\s+)?ulps?\b|\s?%|\s?per\s?cent\b|\s?×|x\b|times\b)"
 FIGURE = re.compile("|".join([
     rf"(?<![\w.\-^{{}}])~?{_RANGE}\s*{_UNIT}",                                    # 7.1 to 9.4 ns, 45 %, 2.2×
     rf"\b{_WORD}\s+(?:times\b|ulps?\b|%|per\s?cent\b)",                             # about three times
