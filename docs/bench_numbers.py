@@ -141,6 +141,8 @@ def paragraph(text: str, **indent) -> list:
 
 
 def span(values: list, fmt) -> str:
+    if not values:
+        raise Stale("a figure the text quotes has no row in results.json (a run without Embree or Highway?)")
     lo, hi = fmt(min(values)), fmt(max(values))
     return lo if lo == hi else f"{lo} to {hi}"
 
@@ -913,6 +915,9 @@ def block_appendix_leg_cross(run: Run) -> list:
         return " and ".join(ulps(run.stat(v, f, key)) for f in fams)
     worst = [run.stat(v, f, "ulps_max") for v in (leg, cross) for f in fams]
     over = sum(1 for x in worst if x > bound)
+    p99 = [run.stat(v, f, "ulps_p99") for v in (leg, cross) for f in fams]
+    alike = "nearly the same" if max(p99) <= 1.2 * min(p99) else "different"
+    order = "of the same order" if max(worst) <= 3 * min(worst) else "of different sizes"
     verdict = ("every one of these worst rays lies over" if over == len(worst) else
                "none of these worst rays lies over" if over == 0 else
                f"{count(over)} of these {count(len(worst))} worst rays lie over")
@@ -920,17 +925,18 @@ def block_appendix_leg_cross(run: Run) -> list:
         "Lecture 03, section 5, gives two careful readings of the discriminant: the leg "
         "$r^2 - |\\mathbf{f} - h\\,\\mathbf{d}|^2$ and Lagrange's form $a r^2 - |\\mathbf{f} \\times \\mathbf{d}|^2$. "
         "The benchmark measures both in float on the same rays, against 113-bit roots of the same float inputs: the "
-        "leg with the root pair of section 6 (its row *stable, float*) and the cross product with the roots "
+        "leg with the root pair of section 6 (its row *stable, float*, with $\\mathbf{f} - (h/a)\\,\\mathbf{d}$ for a "
+        "direction of any length) and the cross product with the roots "
         "$(-h \\mp \\sqrt{D})/a$ (its row *lagrange, float*). The rays are its families "
         + " and ".join(f"*{label(run, f)}*" for f in fams)
         + f" (a unit sphere {' or '.join(radii(f).replace(' radii', '') for f in fams)} radii away, give or take a "
         f"tenth, two rays in three hit), {run.meta.get('rays', '?')} rays each from a fixed seed "
-        "(`bench/families.cpp`; `./kit bench` makes them again). On them the two have nearly the same p99 error "
+        f"(`bench/families.cpp`; `./kit bench` makes them again). On them the two have {alike} p99 error "
         f"({figs(leg, 'ulps_p99')} ulps for the leg, {figs(cross, 'ulps_p99')} for the cross product) and worst rays "
-        f"of the same size: {figs(leg, 'ulps_max')} ulps for the leg, {figs(cross, 'ulps_max')} for the cross product. "
+        f"{order}: {figs(leg, 'ulps_max')} ulps for the leg, {figs(cross, 'ulps_max')} for the cross product. "
         f"So on random rays {verdict} the ★ cases' bound of {bound} ulps (section B). The bound is a judgement on the "
-        "rays of the ★ cases, which these forms pass, not a promise for every ray a float can hold; what no float "
-        "form reaches is listed in section B.")
+        "rays of the ★ cases, not a promise for every ray a float can hold; which of those cases these forms pass, "
+        "and what no float form reaches, is in section B.")
 
 
 def block_appendix_lanes(run: Run) -> list:
