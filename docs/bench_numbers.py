@@ -246,16 +246,27 @@ def block_bench_double_inside(run: Run) -> list:
 # "thousands of ulps", "the same answers") decided by them. The text around the blocks carries no
 # figure with a unit: typed_figures() below finds one, and the self-test fails on it.
 
+_REPORT = []
+
+
 def _report():
     """The benchmark's own report module (tools/kitlib/bench_report.py): the roofline and the Pareto front
-    are computed as the table computes them, not a second time here."""
+    are computed as the table computes them, not a second time here. Loaded once, and compiled without
+    leaving a __pycache__ beside the kit's sources (the kit keeps its bytecode in its own cache)."""
+    if _REPORT:
+        return _REPORT[0]
     path = ROOT / "tools" / "kitlib" / "bench_report.py"
     if not path.is_file():
         raise Stale(f"no {path.relative_to(ROOT)}: the roofline and the fronts cannot be computed")
     spec = importlib.util.spec_from_file_location("bench_report_for_numbers", path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses look their module up by name
-    spec.loader.exec_module(module)
+    was, sys.dont_write_bytecode = sys.dont_write_bytecode, True
+    try:
+        spec.loader.exec_module(module)
+    finally:
+        sys.dont_write_bytecode = was
+    _REPORT.append(module)
     return module
 
 
