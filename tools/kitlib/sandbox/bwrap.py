@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
 import os
 import shutil
 import subprocess
@@ -10,11 +9,8 @@ import tempfile
 from pathlib import Path
 
 from ..common import BUILD, ROOT
-from .limits import SYSTEM, SYSTEM_ETC, SYSTEM_LINKS
+from .limits import HIDDEN, HIDDEN_TMPFS_BYTES, SYSTEM, SYSTEM_ETC, SYSTEM_LINKS
 from .ids import first_uid
-
-if TYPE_CHECKING:        # annotations only: the higher module imports this one
-    from .isolation import Isolation
 
 
 _probe: dict[str, bool] = {}
@@ -111,6 +107,34 @@ def _drop_to(uid: int):
     return drop
 
 
+def bwrap_argv(ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
+               tmpfs: list[tuple[str, int]] = (), use: str = "") -> list[str]:
+    """Bubblewrap's argv prefix (Isolation.wrapper): the allow-list of the machine (system_view), a fresh
+    /dev, /proc and HIDDEN, then `ro` and `rw`, host folders (or files) bound at the paths given, and
+    `tmpfs`, sized empty folders. Nothing else of the machine exists there."""
+    argv = ["bwrap"] + system_view() + ["--dev", "/dev", "--proc", "/proc"]
+    for h in HIDDEN:
+        if bwrap_sizes():       # an empty folder, and no room to fill memory through it
+            argv += ["--size", str(HIDDEN_TMPFS_BYTES)]
+        argv += ["--tmpfs", h]
+    for host, inside in ro:
+        argv += ["--ro-bind", str(host), inside]
+    for host, inside in rw:
+        argv += ["--bind", str(host), inside]
+    for inside, size in tmpfs:
+        if bwrap_sizes():
+            argv += ["--size", str(size)]
+        argv += ["--tmpfs", inside]
+    if use and os.environ.get("RAYKIT_BREAK_SANDBOX") == use:   # the self-test: a sandbox that cannot start
+        argv += ["--ro-bind", "/nonexistent-raykit-selftest", "/nonexistent-raykit-selftest"]
+    # The root itself read-only (bubblewrap makes it a tmpfs the sandbox's user owns): nothing to
+    # write but the folders above.
+    argv += ["--remount-ro", "/"]
+    argv += ["--chdir", chdir, "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
+             "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--"]
+    return argv
+
+
 def bwrap_works(uid: int | None = None) -> bool:
     """Whether bubblewrap starts here as the sandbox will start it: as `uid` when the kit is root
     (the first sandbox id by default), else as the kit's own user."""
@@ -120,7 +144,7 @@ def bwrap_works(uid: int | None = None) -> bool:
     if key not in _probe:
         ok = False
         if shutil.which("bwrap"):
-            probe = Isolation("bwrap", "", uid or 0).wrapper([], [], "/")
+            probe = bwrap_argv([], [], "/")
             # Three tries, a minute each: on a machine at a load of 20 a start can take long, and a
             # grading of another kit's that ends every process of this id can kill a probe. Only a
             # bubblewrap that never starts is one that cannot (issue 46: a probe that said "no" once

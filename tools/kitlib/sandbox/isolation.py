@@ -14,12 +14,12 @@ from pathlib import Path
 
 from .. import procfs
 from ..sandbox_slots import RUN_PROCESSES, clear_keyrings, prepare_keyctl, scratch_words, use_kit_temp
-from .limits import HIDDEN, HIDDEN_TMPFS_BYTES, Limits, MiB
+from .limits import Limits, MiB
 from .ids import COMPILE_UID_OFFSET, claim_uid
 from .reaping import become_subreaper, kill_uid, reap_orphans
 from .ipc import clean_uid_files
 from .cgroups import kill_cgroup, make_cgroups
-from .bwrap import bwrap_sizes, bwrap_works, install_bwrap, system_view
+from .bwrap import bwrap_argv, bwrap_sizes, bwrap_works, install_bwrap
 from .runner import _run_tool
 from .view import hide_secrets
 
@@ -59,29 +59,7 @@ class Isolation:
         nothing. Inside, the allow-list of the machine (system_view), a fresh /dev, /proc and
         HIDDEN, then `ro` and `rw`, host folders (or files) bound at the paths given, and `tmpfs`,
         sized empty folders. Nothing else of the machine exists there."""
-        if self.mode != "bwrap":
-            return []
-        argv = ["bwrap"] + system_view() + ["--dev", "/dev", "--proc", "/proc"]
-        for h in HIDDEN:
-            if bwrap_sizes():       # an empty folder, and no room to fill memory through it
-                argv += ["--size", str(HIDDEN_TMPFS_BYTES)]
-            argv += ["--tmpfs", h]
-        for host, inside in ro:
-            argv += ["--ro-bind", str(host), inside]
-        for host, inside in rw:
-            argv += ["--bind", str(host), inside]
-        for inside, size in tmpfs:
-            if bwrap_sizes():
-                argv += ["--size", str(size)]
-            argv += ["--tmpfs", inside]
-        if use and os.environ.get("RAYKIT_BREAK_SANDBOX") == use:   # the self-test: a sandbox that cannot start
-            argv += ["--ro-bind", "/nonexistent-raykit-selftest", "/nonexistent-raykit-selftest"]
-        # The root itself read-only (bubblewrap makes it a tmpfs the sandbox's user owns): nothing to
-        # write but the folders above.
-        argv += ["--remount-ro", "/"]
-        argv += ["--chdir", chdir, "--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534",
-                 "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--"]
-        return argv
+        return bwrap_argv(ro, rw, chdir, tmpfs, use) if self.mode == "bwrap" else []
 
     def preexec(self, memory_mb: int, uid: int):
         """What a child does between fork and exec to enter the boundary: its own process group,
