@@ -1,5 +1,5 @@
 """Builds: a build folder and the steps folder it compiles, CMake's configure and presets, Ninja, the
-kit's object cache. Above the boundary (sandbox.py, whose spec a graded build carries) and the core
+kit's object cache. Above the boundary (sandbox/, whose spec a graded build carries) and the core
 (common.py); the judge (checking.py) and the commands build through it."""
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ class Build:
     # about 1 s instead of 8 (measured here), which a student waits for on a cold ./kit check.
     tools: bool = True
     # A submission's build: the student's files are compiled and linked inside the trust boundary
-    # (RAYKIT_BOUNDARY; sandbox.py), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
+    # (RAYKIT_BOUNDARY; sandbox/), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
     boundary: bool = False
     spec: str = ""
     # A student's files under UBSan and GLM's asserts (RAYKIT_CHECK_SANITIZE): their own check and a
@@ -137,7 +137,7 @@ def kit_cache_dir() -> Path | None:
     folder = Path(named) if named else base
     try:
         # Only the kit's user may read it: a grading's judges hold the hidden cases, and under the user
-        # isolation the graded code runs as another user of the same machine (sandbox.py).
+        # isolation the graded code runs as another user of the same machine (sandbox/).
         folder.mkdir(parents=True, exist_ok=True, mode=0o700)
         folder.chmod(0o700)
         if not os.access(folder, os.W_OK | os.X_OK):

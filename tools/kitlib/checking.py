@@ -2,7 +2,7 @@
 
 The judge (a step's test program) never loads the student's code: it calls each
 step function in a child process, the answers program, which it starts itself
-(in a sandbox when the folder graded is not the student's own; see sandbox.py),
+(in a sandbox when the folder graded is not the student's own; see sandbox/),
 and judges the answers it gets back. Nothing the student's code prints or writes
 reaches the verdicts. This module runs the judge, with a time limit per case as a
 backstop, and reads its verdicts.

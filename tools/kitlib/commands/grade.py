@@ -388,7 +388,7 @@ def run(args) -> int:
     os.environ.setdefault(studentpch.ENV, "build")
     try:
         # Under the user isolation the graded code runs as another user of this machine: the class
-        # folder is closed to it while the class is graded (sandbox.py), then opened as it was.
+        # folder is closed to it while the class is graded (sandbox/), then opened as it was.
         with WithheldFromOthers(root, folders, args.isolation):
             return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
     finally:
