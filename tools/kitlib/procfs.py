@@ -48,6 +48,23 @@ def state(pid: int) -> str:
     return fields[0] if fields else ""
 
 
+def started(pid: int) -> float | None:
+    """When the process started, in seconds since the machine booted (as uptime() counts); None when gone."""
+    fields = stat(pid)
+    try:
+        return int(fields[19]) / os.sysconf("SC_CLK_TCK")
+    except (IndexError, ValueError, OSError):
+        return None
+
+
+def uptime() -> float:
+    """Seconds since the machine booted (/proc/uptime); 0 where unknown."""
+    try:
+        return float((_read_path(f"{PROC}/uptime") or "0").split()[0])
+    except (ValueError, IndexError):
+        return 0.0
+
+
 def alive(pid: int) -> bool:
     """Whether the process is there and not a zombie waiting for its parent."""
     return state(pid) not in ("", "Z")

@@ -101,13 +101,18 @@ def templated(name: str) -> Path:
     return dst
 
 
-def sandbox_processes() -> list[str]:
-    """Live processes of the sandbox user ids this self-test's gradings took (run or compile)."""
+def sandbox_processes(before: float | None = None) -> list[str]:
+    """Live processes of the sandbox user ids this self-test's gradings took (run or compile); with
+    `before` (procfs.uptime()), only those started before it: once a grading has ended and released its
+    id, another kit on the machine may claim the id and start processes of its own."""
     found = []
     for p in procfs.pids():
         fields = procfs.status(p)
         uid = fields.get("Uid", "").split()[:1]
         if uid and int(uid[0]) in claimed and not fields.get("State", "").startswith("Z"):
+            start = procfs.started(p)
+            if before is not None and start is not None and start > before:
+                continue
             found.append(f"{p} uid {uid[0]} {fields.get('Name', '')}")
     return found
 
@@ -117,9 +122,10 @@ def no_leftovers(what: str) -> None:
     loaded machine (issue 46: three checks said 'left' at a load of 20), so they get 10 s to go; a
     process that really stayed is there after them too."""
     deadline = time.monotonic() + 10
+    ended = procfs.uptime()     # the grading is over: what starts later is not its
     while True:
         time.sleep(0.3)
-        left = sandbox_processes() + processes_named("rk-linger")
+        left = sandbox_processes(ended) + processes_named("rk-linger")
         if not left or time.monotonic() > deadline:
             break
     expect(not left, f"{what}: processes left after grading: {left[:5]}")
