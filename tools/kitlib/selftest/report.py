@@ -460,6 +460,7 @@ def selftest_merge(ctx) -> str:
     need_solutions()
     from ..secret import SECRET_ENV
     work = WORK / "merge"
+    shutil.rmtree(work, ignore_errors=True)     # an earlier run's gradings and copies
     plan = _merge_class(work / "class")
     (work / "class" / "all").mkdir()
     for machine in plan:
