@@ -45,6 +45,17 @@ std::string named(const Scene& scene, std::size_t i) {
 // caller calls the function under test again afterwards, so the call the case records is the checked one.
 std::string loop_cause(const Scene& scene, const Ray& ray, float tmin, float tmax, const std::optional<Hit>& expected,
                        const std::optional<Hit>& got) {
+    if (expected && !got && expected->t < 0 && expected->index < scene.objects.size()) {
+        // No hit where one lies behind the origin: the same object along the reversed ray, ahead of it.
+        const Ray reversed{ray.origin, glm::vec3(0.0f) - ray.direction};
+        const std::optional<Hit> ahead =
+            find_intersection(reversed, Scene{{scene.objects[expected->index]}}, tmin, tmax);
+        if (!ahead || !close(-expected->t, ahead->t)) return "";
+        return " Measured on your answer: given the ray reversed, direction " + show(reversed.direction) + ", and " +
+               named(scene, expected->index) + " alone, your function finds it at t = " + show(ahead->t) +
+               ", ahead; along this ray it is at t = " + show(expected->t) + ", inside the window " + "[" +
+               show(tmin) + ", " + show(tmax) + "], and your function finds no hit: it drops hits at a negative t.";
+    }
     if (!expected || !got || got->index >= scene.objects.size()) return "";
     if (close(expected->t, got->t) && got->index > expected->index)
         return " Measured on your answer: " + named(scene, got->index) + " is hit at the same t = " + show(got->t) +
@@ -166,6 +177,15 @@ TEST_CASE("a window with a negative part: the smallest t wins even behind the or
     expect(Scene{{square("far behind", -4), square("ahead", 1), square("behind", -2)}}, along_z, -3.0f, 10.0f,
            Hit{-2, 2}, "In the window [-3, 10]: t = -4 is before tmin, t = 1 and t = -2 are inside; the "
            "smallest, -2, wins: index 2.");
+}
+
+TEST_CASE("an object behind the origin alone is hit when the window reaches behind it" *
+          doctest::description("4. The closest hit")) {
+    // The negative-window case above without a hit ahead: a loop that drops a negative t (whatever tmin
+    // says) fails here, choosing by distance from the origin does not (issue 45: told apart).
+    expect(Scene{{square("behind", -3)}}, along_z, -5.0f, inf, Hit{-3, 0},
+           "In the window [-5, inf] the ray meets z = -3 at t = -3, inside the window: a hit, behind the "
+           "origin or not. The window's tmin is the only lower bound.");
 }
 
 TEST_CASE("an object before tmin is skipped for the next one" * doctest::description("4. The closest hit")) {
