@@ -220,9 +220,11 @@ def selftest_end_on_sketch(ctx) -> str:
 FORMS = ROOT / "tests" / "fixtures" / "forms"
 
 
-def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = None) -> tuple[str, dict]:
+def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = None,
+            quiet: bool = False) -> tuple[str, dict]:
     """(stdout, the step's record) of ./kit check N --steps DIR: `files` laid over the reference answers
-    (a mutant's), or the folder `fixture` as it is."""
+    (a mutant's), or the folder `fixture` as it is. `quiet` (no scoreboard, so no first block) leaves
+    the last-check store alone, which ./kit hint reads: another self-test hints on the same mutants."""
     from ..common import stage_on_reference
     if fixture is None:
         changed = work / name / "changed"
@@ -231,7 +233,8 @@ def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = Non
             (changed / file_name).write_text(text)
         fixture = stage_on_reference(work / name / "steps", step, load_steps(), changed)
     record = work / f"{name}.json"
-    r = kit("check", str(int(step.number)), "--steps", str(fixture), "--all", "--results", str(record), timeout=900)
+    r = kit("check", str(int(step.number)), "--steps", str(fixture), "--all", "--results", str(record),
+            *(["--quiet"] if quiet else []), timeout=900)
     expect(r.returncode in (0, 1) and record.exists(),
            f"{name}: ./kit check {int(step.number)} exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-800:]}")
     return r.stdout, json.loads(record.read_text())["steps"][0]
@@ -273,7 +276,7 @@ def selftest_fitting_words(ctx) -> str:
             said.append(f"step {number} epsilon below {bound}")
         for number, control in (("01", "open_window"), ("04", "tmin_ignored"), ("04", "open_window")):
             s = steps[number]
-            _, rec = _graded(s, _mutant(s, control), work, f"{control}{number}")
+            _, rec = _graded(s, _mutant(s, control), work, f"{control}{number}", quiet=True)
             failing = {**_failing(rec), **_failing(rec, "hidden")}
             expect(failing, f"step {number}: the mutant {control} fails no case")
             wrong = [k for k, m in failing.items() if "epsilon of its own" in m]
@@ -282,7 +285,7 @@ def selftest_fitting_words(ctx) -> str:
         # The ★ pbrt case computed in double (forms/double_inside): named as the double form's answer,
         # never told "with every operation in float" alone, and every call is explained.
         s = steps["02"]
-        _, rec = _graded(s, {}, work, "double_inside", FORMS / "double_inside")
+        _, rec = _graded(s, {}, work, "double_inside", FORMS / "double_inside", quiet=True)
         pbrt = next((m for k, m in _failing(rec, "robust").items() if "pbrt" in k), None)
         expect(pbrt is not None, "the textbook formula in double passes the ★ pbrt-range case")
         calls = [b for b in re.split(r"\n\s*\n", pbrt) if "why" in b]
@@ -296,7 +299,7 @@ def selftest_fitting_words(ctx) -> str:
         s = steps["05"]
         for name, files, fixture in (("ties_last_to_first", {}, SLIPS / "ties_last_to_first"),
                                      ("tie_goes_to_last", _mutant(s, "tie_goes_to_last"), None)):
-            _, rec = _graded(s, files, work, name, fixture)
+            _, rec = _graded(s, files, work, name, fixture, quiet=True)
             ties = {k: m for k, m in _failing(rec).items() if "tie" in k}
             expect(ties, f"{name}: no tie case fails")
             for k, m in ties.items():
@@ -331,7 +334,7 @@ def selftest_fitting_words(ctx) -> str:
 
         # A slab test that checks d.z == 0 and lets a ray lying in the plane through: not told NaN.
         s = steps["04"]
-        _, rec = _graded(s, {}, work, "in_plane_slab", SLIPS / "in_plane_slab")
+        _, rec = _graded(s, {}, work, "in_plane_slab", SLIPS / "in_plane_slab", quiet=True)
         in_plane = {k: m for k, m in _failing(rec).items() if "plane" in k}
         expect(in_plane, "the slab test fails no in-plane case")
         for k, m in in_plane.items():
