@@ -258,9 +258,10 @@ def selftest_fitting_words(ctx) -> str:
     said = []
     try:
         # An own epsilon, planted by each step's mutant own_epsilon: the first case shown names the bound
-        # measured on the function, and every window case it fails says so; an open window and an ignored
-        # tmin (skipped hits at t = tmin, a hit before tmin) are not called an epsilon.
-        for number, bound in (("01", "0.001"), ("02", "0.0001"), ("04", "0.001")):
+        # measured on the function, and every window case it fails says so; an open window, an ignored
+        # tmin (skipped hits at t = tmin, a hit before tmin), a loop that drops only negative t and one
+        # that searches from 0 are not called an epsilon.
+        for number, bound in (("01", "0.001"), ("02", "0.0001"), ("04", "0.001"), ("05", "0.0001")):
             s = steps[number]
             out, rec = _graded(s, _mutant(s, "own_epsilon"), work, f"epsilon{number}")
             block = _first_block(out)
@@ -274,7 +275,8 @@ def selftest_fitting_words(ctx) -> str:
             expect(all("an epsilon of its own" in m for m in hidden.values()),
                    f"step {number}, an own epsilon: a hidden window family does not name it:\n{hidden}")
             said.append(f"step {number} epsilon below {bound}")
-        for number, control in (("01", "open_window"), ("04", "tmin_ignored"), ("04", "open_window")):
+        for number, control in (("01", "open_window"), ("04", "tmin_ignored"), ("04", "open_window"),
+                                ("05", "negative_t_dropped"), ("05", "window_from_zero")):
             s = steps[number]
             _, rec = _graded(s, _mutant(s, control), work, f"{control}{number}", quiet=True)
             failing = {**_failing(rec), **_failing(rec, "hidden")}
