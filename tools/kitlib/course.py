@@ -28,6 +28,15 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     its weight's share as if the group were counted, but on top of the
                                     step's P points (the maximum stays P: ★ at weight 1/20 and extra
                                     credit adds 5 % of a core case's points for each ★ case passed).
+                                    Every output keeps it apart: the total reads "score 108.54 of 115
+                                    + 7.78 extra credit (94 %)", the percentage of the points alone;
+                                    Gradescope shows a step's extra-credit cases as one passed test
+                                    of max_score 0 (a missed one is no failure) and its summary "115 +
+                                    7.78 extra"; PrairieLearn gives them questions of their own, the
+                                    assessment's bonus points (maxBonusPoints); the grades CSV has an
+                                    extra_credit column; the class report's histogram and "at the
+                                    maximum" count the points alone, the extra credit shown apart;
+                                    ./kit course says how much of a bug extra credit can make up for.
   "hidden": {"enabled": true|false, "visibility": V, "reveal_after_due_date": true|false}
                                     hidden cases counted or left out; V is their Gradescope
                                     visibility (hidden, after_due_date, after_published, visible);
@@ -393,11 +402,18 @@ def handout_text() -> str:
 
 
 def split_extra(results) -> tuple[Fraction, Fraction]:
-    """What `results` earned on the course's points and, apart, on top of them as extra credit."""
+    """What `results` earned on the course's points and, apart, on top of them as extra credit (a step
+    not graded earns neither)."""
     course = load()
-    extra = sum((c.points for r in results for c in r.cases if c.status == "pass" and course.extra_credit(c.group)),
-                Fraction(0))
+    extra = sum((c.points for r in results if r.state != NOT_GRADED for c in r.cases
+                 if c.status == "pass" and course.extra_credit(c.group)), Fraction(0))
     return sum((r.earned for r in results), Fraction(0)) - extra, extra
+
+
+def extra_maximum(results) -> Fraction:
+    """The extra credit `results`' cases could add on top of the course's points, all passed."""
+    course = load()
+    return sum((c.points for r in results for c in r.cases if course.extra_credit(c.group)), Fraction(0))
 
 
 def score_words(results) -> str:
@@ -406,7 +422,9 @@ def score_words(results) -> str:
     course = load()
     base, extra = split_extra(results)
     maximum = sum((r.maximum for r in results), Fraction(0))
-    pct = f" ({float(100 * base / maximum):.0f} %)" if maximum else ""
+    share = float(100 * base / maximum) if maximum else 0.0
+    # Whole percents, but never "100 %" for points short of the maximum (246 of 247 reads 99.6 %).
+    pct = (f" ({share:.0f} %)" if round(share) < 100 or base >= maximum else f" ({int(share * 10) / 10:.1f} %)") if maximum else ""
     more = f" + {course.shown(extra)} extra credit" if extra else ""
     return f"score {course.shown(base)} of {course.shown(maximum)}{more}{pct}"
 
@@ -495,10 +513,49 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     lines.append("  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
     lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
                  f"{course.decimals} decimals (half up)")
+    lines += extra_credit_lines(course, cases_by_step, total)
     lines.append("")
     lines.append(f"  Total to enter in Gradescope (the assignment's points): {exact_text(total)}"
                  + (f" = {course.rounded(total)}" if total.denominator != 1 else ""))
     return lines
+
+
+def bug_and_bonus(course: Course, cases_by_step) -> tuple | None:
+    """How much extra credit can make up for a bug, on this course's cases: (all the extra credit, the
+    counted cases' points as (step, name, points), the example: the costliest core case (else counted
+    case) that all the extra credit makes up for, else the cheapest one); None without extra credit."""
+    bonus, counted = Fraction(0), []
+    for number, _title, cases in cases_by_step:
+        cases = [(c[0], c[1], c[2] if len(c) > 2 else "") for c in cases]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        for (t, n, _), g, p in zip(cases, groups, course.shares(number, groups, course.weights_of(number, cases))):
+            if course.extra_credit(g):
+                bonus += p
+            elif p > 0:
+                counted.append((number, n, p, g))
+    if not bonus or not counted:
+        return None
+    pool = [c for c in counted if c[3] == "core"] or counted      # a bug in the core, where there is one
+    covered = [c for c in pool if c[2] <= bonus]
+    example = max(covered, key=lambda c: c[2]) if covered else min(pool, key=lambda c: c[2])
+    return bonus, [c[:3] for c in counted], example[:3]
+
+
+def extra_credit_lines(course: Course, cases_by_step, total: Fraction) -> list[str]:
+    """./kit course's example of what extra credit can do (#46: a student with a bug and the ★ points,
+    121.91, outscored a correct solution without them, 118.90, and nothing said it could happen)."""
+    found = bug_and_bonus(course, cases_by_step)
+    if found is None:
+        return []
+    bonus, counted, (number, name, points) = found
+    covered = sum(p <= bonus for _, _, p in counted)
+    bugged = total - points + bonus
+    return ["", f"  extra credit against a bug: the extra-credit cases add up to +{course.shown(bonus)}, so they make up for",
+            f"  any one missed case worth up to that ({covered} of the {len(counted)} counted cases). For example:",
+            f"    {course.shown(bugged):>9}  a bug that fails step {number}'s case {name[:60]!r} "
+            f"(-{course.shown(points)}), every extra-credit case passed",
+            f"    {course.shown(total):>9}  a correct solution that passes no extra-credit case"
+            + (", less" if total < bugged else ", the same" if total == bugged else ", more")]
 
 
 class using:

@@ -12,6 +12,8 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
     {"format": "raykit-results", "version": 1,
      "score": 41, "max_score": 48,                  # on the course's scale, rounded once
      "score_exact": "41", "max_score_exact": "48", "rounding": 2,
+     "extra_credit_exact": "3/2",                   # of the score, what extra-credit cases added on
+     "extra_credit_max_exact": "5/2",               # top of max_score, and what they could have
      "execution_time": 3.1, "identity": "", "isolation": "...",
      "finished": true,                              # false: the placeholder ./kit check writes first
      "gradable": true,                              # false when a step is not graded (the grader's fault)
@@ -47,9 +49,12 @@ def make(results: list[StepResult], elapsed: float, identity: str = "", finished
     missed = [{"step": r.step.number, "reason": r.reason} for r in results if r.state == NOT_GRADED]
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
+    _, extra = course_file.split_extra(results)
     return {"format": FORMAT, "version": VERSION,
             "score": course.number(exact), "max_score": course.number(maximum),
             "score_exact": course_file.exact_text(exact), "max_score_exact": course_file.exact_text(maximum),
+            "extra_credit_exact": course_file.exact_text(extra),
+            "extra_credit_max_exact": course_file.exact_text(course_file.extra_maximum(results)),
             "rounding": course.decimals, "execution_time": round(elapsed, 3), "identity": identity,
             "isolation": next((r.isolation for r in results if r.isolation), ""),
             "finished": finished, "gradable": finished and not missed, "not_graded": missed,
@@ -119,6 +124,12 @@ def finished(data: dict) -> bool:
     """Whether a record is a result, not the placeholder a check writes first (a record of a kit
     before "finished": one with steps)."""
     return bool(data.get("finished", bool(data.get("steps"))))
+
+
+def extra_credit(data: dict) -> tuple[Fraction, Fraction]:
+    """What a record's score holds of extra credit, on top of its max_score, and what it could have
+    held (0 and 0 for a record written before extra credit was kept apart)."""
+    return Fraction(data.get("extra_credit_exact", "0")), Fraction(data.get("extra_credit_max_exact", "0"))
 
 
 def not_graded(data: dict) -> list[tuple[str, str]]:

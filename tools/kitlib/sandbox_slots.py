@@ -1,5 +1,5 @@
 """What keeps one sandbox user id's runs apart from another's under the user isolation, where no
-namespace does it (sandbox.py holds the boundary itself):
+namespace does it (sandbox/ holds the boundary itself):
 
 - the kit's own temporary files (the compile's private folders, the steps' scratch folders, the
   judge's records and ledgers) in a folder of root's outside /tmp (`kit_temp`), which graded code
@@ -20,7 +20,6 @@ import os
 import platform
 import shutil
 import stat
-import subprocess
 from pathlib import Path
 
 from . import procfs
@@ -79,19 +78,29 @@ def _mounted(path: str) -> bool:
     return path in procfs.mount_points()
 
 
+# mount(2) and umount2(2) called from this process, never the mount and umount commands: a command's
+# argv, the scratch folder's path, is what every user reads in /proc/PID/cmdline while it runs, and a
+# classmate's program under the user isolation looks there (selftest/integrity_slots.py, classmate_program).
+MS_NOSUID, MS_NODEV, MNT_DETACH = 2, 4, 2
+
+
+def _mount_libc():
+    try:
+        return ctypes.CDLL(None, use_errno=True) if platform.system() == "Linux" else None
+    except OSError:
+        return None
+
+
 def mount_scratch(folder: Path, uid: int, size_mb: int) -> str:
     """Mounts a tmpfs of `size_mb` MiB and SCRATCH_INODES inodes on `folder`, mode 0710, owner root,
     group `uid` (the sandbox id crosses it, nobody else). "" when done, else why not."""
-    mount = shutil.which("mount")
-    if os.geteuid() != 0 or mount is None or os.environ.get("RAYKIT_NO_SCRATCH_MOUNT") == "1":
-        return "not root" if os.geteuid() != 0 else "no mount command" if mount is None else "RAYKIT_NO_SCRATCH_MOUNT=1"
-    options = f"size={size_mb}m,nr_inodes={SCRATCH_INODES},mode=0710,uid=0,gid={uid},nosuid,nodev"
-    try:
-        r = subprocess.run([mount, "-t", "tmpfs", "-o", options, "raykit-scratch", str(folder)],
-                           capture_output=True, text=True, timeout=20)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        return str(e)
-    return "" if r.returncode == 0 else (r.stderr.strip() or f"mount exited {r.returncode}")
+    libc = _mount_libc()
+    if os.geteuid() != 0 or libc is None or os.environ.get("RAYKIT_NO_SCRATCH_MOUNT") == "1":
+        return "not root" if os.geteuid() != 0 else "not Linux" if libc is None else "RAYKIT_NO_SCRATCH_MOUNT=1"
+    options = f"size={size_mb}m,nr_inodes={SCRATCH_INODES},mode=0710,uid=0,gid={uid}"
+    if libc.mount(b"raykit-scratch", os.fsencode(folder), b"tmpfs", MS_NOSUID | MS_NODEV, options.encode()) != 0:
+        return f"mount: {os.strerror(ctypes.get_errno())}"
+    return ""
 
 
 def scratch_words(uid: int, scratch_mb: int) -> str:
@@ -110,15 +119,12 @@ def scratch_words(uid: int, scratch_mb: int) -> str:
 
 
 def unmount(folder: Path) -> None:
-    umount = shutil.which("umount")
-    if umount is None or not _mounted(str(folder)):
+    libc = _mount_libc()
+    if libc is None or not _mounted(str(folder)):
         return
-    for extra in ([], ["-l"]):
-        try:
-            if subprocess.run([umount, *extra, str(folder)], capture_output=True, timeout=20).returncode == 0:
-                return
-        except (OSError, subprocess.TimeoutExpired):
-            pass
+    for flags in (0, MNT_DETACH):       # then lazily, should a process still hold it
+        if libc.umount2(os.fsencode(folder), flags) == 0:
+            return
 
 
 def sweep_scratch_mounts(folder: str) -> None:

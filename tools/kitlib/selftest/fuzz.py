@@ -33,7 +33,7 @@ def selftest_fuzz(ctx) -> str:
     if shutil.which("clang++") is None:
         raise Skipped("clang++ is not installed (apt-get install clang libclang-rt-14-dev)")
     try:
-        configure(preset_build("fuzz"))   # the preset's settings, without --preset (CMake 3.18)
+        configure(preset_build("fuzz"))
     except KitError as e:
         raise Failed(f"configuring the fuzz build failed:\n{str(e)[-1500:]}")
     r = subprocess.run(["cmake", "--build", str(BUILD / "fuzz")], cwd=ROOT, capture_output=True, text=True)
@@ -43,6 +43,7 @@ def selftest_fuzz(ctx) -> str:
     expect(bool(targets), "no fuzz target was built")
     full = os.environ.get("RAYKIT_SELFTEST_FULL") == "1"
     seed = random.randrange(1, 2**31) if full else SEED
+    (BUILD / "fuzz-corpus").mkdir(parents=True, exist_ok=True)     # libFuzzer's -artifact_prefix must exist
     runs, replayed = [], 0
     for exe in targets:
         known = sorted(p for p in (REGRESSIONS / exe.name).glob("*") if p.is_file())
@@ -58,7 +59,6 @@ def selftest_fuzz(ctx) -> str:
                                 f"-artifact_prefix={BUILD / 'fuzz-corpus'}/", corpus],
                                cwd=BUILD, capture_output=True, text=True, timeout=FULL_SECONDS_PER_TARGET * 3)
         if r.returncode != 0:
-            (BUILD / "fuzz-corpus").mkdir(parents=True, exist_ok=True)
             raise Failed(f"{exe.name} found a failing input (seed {seed}; the input is in build/fuzz-corpus/; "
                          f"add it to {REGRESSIONS.relative_to(ROOT)}/{exe.name}/ once understood):\n  "
                          + "\n  ".join(_finding(r.stderr)))

@@ -5,8 +5,8 @@
 core (paths, steps, the course, the secret, packages), the boundary (where graded code runs), builds,
 the judge (running a step's cases), the outputs (the record and each platform's rendering, the class
 report), the site (docs, decks, the lab's browser, the bench's report) and the commands (one module
-each; none imports another). Every import counts, at the top of a module or inside a function: a
-cycle or an upward arrow fails, and so does a module no layer names (place it in LAYERS). The
+each; none imports another). Every import counts, at the top of a module or inside a function (not
+one under `if TYPE_CHECKING:`, which never runs): a cycle or an upward arrow fails, and so does a module no layer names (place it in LAYERS). The
 self-test package itself stands above all of it. And one module reads /proc: procfs.py.
 """
 
@@ -26,7 +26,8 @@ KITLIB = ROOT / "tools" / "kitlib"
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
               "waits", "submissions", "kitcache", "procfs", "pycache", "faults"]),
-    ("boundary", ["sandbox_slots", "sandbox", "studentpch"]),
+    ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
+                  "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants", "slips"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
@@ -53,8 +54,13 @@ def imports(name: str, path: Path, known: set[str]) -> set[str]:
     """The kit's modules `name` imports, anywhere in it."""
     package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
     found = set()
-    for node in ast.walk(ast.parse(path.read_text())):
-        if not isinstance(node, ast.ImportFrom) or not node.level:
+    tree = ast.parse(path.read_text())
+    # An import for annotations only (`if TYPE_CHECKING:`) runs never: it makes no arrow.
+    typing_only = {id(n) for block in ast.walk(tree) if isinstance(block, ast.If)
+                   and isinstance(block.test, ast.Name) and block.test.id == "TYPE_CHECKING"
+                   for stmt in block.body for n in ast.walk(stmt)}
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.ImportFrom) or not node.level or id(node) in typing_only:
             continue
         base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
         target = ".".join(base + ([node.module] if node.module else []))
@@ -198,7 +204,7 @@ def selftest_atomic_write(ctx) -> str:
 
 
 # A path under /proc opened in code: a string that starts with /proc/, or Path of /proc itself.
-# (sandbox.py's bubblewrap mounts a fresh /proc, which opens nothing; render's self-test writes to
+# (sandbox/'s bubblewrap mounts a fresh /proc, which opens nothing; render's self-test writes to
 # a /proc path on purpose, to fail.)
 PROC_READ = re.compile(r"""(?:["']/proc/(?!raykit-cannot-exist)|Path\(\s*f?["']/proc["']\s*\))""")
 

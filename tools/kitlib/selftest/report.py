@@ -542,10 +542,98 @@ def selftest_loop_no_slip(ctx) -> str:
             "timed out or never run, matched to nothing")
 
 
+def selftest_extra_credit(ctx) -> str:
+    """#46 item 2 and item 7's last point, in the report (no build, a few seconds): a class graded on the
+    kit's course.json with ★ made extra credit (records of each step's recorded cases, the CSV written
+    by ./kit grade's own record_row) is reported with its histogram and "at the maximum" on the points
+    without the extra credit (a student with a core slip carried past the maximum by ★ is not at it, and
+    no one falls outside the histogram's 100 %), the extra credit apart (its own sentence and chart), and
+    every score on the course's decimals as the CSV writes them (108.90, not 108.9)."""
+    from fractions import Fraction
+    from .. import course as course_file
+    from .. import record as results_record
+    from ..checking import recorded_cases
+    from ..commands.grade import columns, csv_text, record_row
+    from ..report.grading import load
+    from ..report.pages import build, class_scores
+    from .course import extra_credit_course, kit_results
+    need_solutions()
+    steps = [s for s in load_steps() if recorded_cases(s)]
+    if not steps:
+        raise Skipped("no step has a recorded case list (tests/NN_topic/cases.json)")
+    course = extra_credit_course([s.number for s in load_steps()])
+    with course_file.using(course):
+        first = steps[0]
+        core = next(c.name for c in recorded_cases(first) if course.group(c.tier, c.name) == "core")
+        stars = {s.number: [c.name for c in recorded_cases(s) if course.extra_credit(course.group(c.tier, c.name))]
+                 for s in steps}
+        everyone = {"textbook": {s.number: {"robust"} for s in steps}, "complete": {},
+                    "slip-carried": {first.number: {core}}}
+        # A slip with some ★ cases whose total shows a trailing zero on the course's decimals (108.90).
+        for s in steps:
+            for k in range(1, len(stars[s.number]) + 1):
+                fail = {n.number: {"robust"} for n in steps if n.number != s.number}
+                fail[s.number] = set(stars[s.number][k:]) | fail.get(s.number, set())
+                fail[first.number] = fail.get(first.number, set()) | {core}
+                if s.number != first.number:
+                    fail[first.number] |= {"robust"}
+                total = sum((r.earned for r in kit_results(course, steps, fail)), Fraction(0))
+                if "." in course.shown(total) and course.shown(total).endswith("0"):
+                    everyone["slip-trailing-zero"] = fail
+                    break
+            if "slip-trailing-zero" in everyone:
+                break
+        everyone["slip-no-star"] = {**{s.number: {"robust"} for s in steps}, first.number: {core, "robust"}}
+        folder = WORK / "extra-credit" / "grading"
+        shutil.rmtree(folder.parent, ignore_errors=True)
+        (folder / "json").mkdir(parents=True)
+        rows, want_at_max, want_some = [], 0, 0
+        for name, fail in everyone.items():
+            rs = kit_results(course, steps, fail)
+            data = results_record.make(rs, 1.0)
+            results_record.write(folder / "json" / f"{name}.json", data)
+            rows.append(record_row({"student": name}, data, steps))
+            # Expected from the cases: at the maximum when no counted case fails; extra credit when a ★ passes.
+            want_at_max += all(c.status == "pass" for r in rs for c in r.cases if not course.extra_credit(c.group))
+            want_some += any(c.status == "pass" for r in rs for c in r.cases if course.extra_credit(c.group))
+        (folder / "grades.csv").write_text(csv_text(columns(steps), rows))
+        out = WORK / "extra-credit" / "report"
+        build(folder, out)
+        g = load(folder)
+        scores = class_scores(g)
+        index = (out / "index.html").read_text(encoding="utf-8")
+        expect(len(scores["percents"]) == len(everyone) and max(scores["percents"]) <= 100,
+               f"the histogram holds {len(scores['percents'])} of {len(everyone)} students, up to "
+               f"{max(scores['percents'] or [0]):.1f} % (a student past 100 % is left out of its bins)")
+        expect(f'data-at-maximum="{want_at_max}"' in index,
+               f"'at the maximum' is not {want_at_max} (the students with no counted case failed): "
+               + (re.search(r"data-at-maximum=\"\d+\">[^<]*", index) or [""])[0])
+        expect(f'data-extra-credit="{want_some}"' in index and index.count("<img") >= 3,
+               f"the extra credit is not shown apart ({want_some} earned some; a sentence and a chart): "
+               + (re.search(r'data-extra-credit="[^<]*', index) or ["no sentence"])[0])
+        with (folder / "grades.csv").open(newline="") as f:
+            csv_rows = {row["student"]: row for row in csv.DictReader(f)}
+        shown = _scores_in(index)
+        for st in g.students:
+            row = csv_rows[st.name]
+            expect(shown.get(st.name) == f"{row['earned']} / {row['maximum']}",
+                   f"{st.name}: the CSV says {row['earned']} / {row['maximum']}, the report {shown.get(st.name)}")
+            text = (out / "students" / f"{st.page}.html").read_text(encoding="utf-8")
+            m = re.search(r'data-earned="([^"]*)" data-maximum="([^"]*)"', text)
+            expect(m and m.groups() == (row["earned"], row["maximum"]),
+                   f"{st.name}: the CSV says {row['earned']} / {row['maximum']}, their page {m and m.groups()}")
+        trailing = csv_rows.get("slip-trailing-zero", {}).get("earned", "")
+    return (f"{course.source}: {len(everyone)} students, {want_at_max} at the maximum without the extra credit, "
+            f"{want_some} with some apart; the histogram holds all, up to {max(scores['percents']):.0f} %; "
+            + (f"'{trailing}' on the CSV and the report alike" if trailing else
+               "no score with a trailing zero on this course (the decimals compared as they are)"))
+
+
 def selftests():
     return [("report: one class graded on two machines, merged", selftest_merge),
             ("report: a looping step is matched to no slip", selftest_loop_no_slip),
             ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
+            ("report: extra credit apart, scores on the CSV's decimals", selftest_extra_credit),
             ("report: a synthetic class's report", selftest_class_report),
             ("report: similar submissions, a class sharing one file", selftest_similar_groups)]
