@@ -28,11 +28,15 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
     check_roots("unit_sphere_roots(ray)", show(ray), expected, unit_sphere_roots(ray), why);
 }
 
+// An own epsilon's probe (grading.hpp, own_epsilon): from (-2, 0, 0) with the direction (1/t, 0, 0) the
+// ray meets x = -1 at t (exactly, for t a power of two), and the window [0, inf] holds it.
+std::optional<float> hit_at(float t) { return intersect_unit_sphere({{-2, 0, 0}, {1 / t, 0, 0}}, 0, inf); }
+
 void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
     check_hit_in("intersect_unit_sphere(ray, tmin, tmax)",
                  show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", tmin, tmax, expected,
-                 [&](float lo, float hi) { return intersect_unit_sphere(ray, lo, hi); }, why);
+                 [&](float lo, float hi) { return intersect_unit_sphere(ray, lo, hi); }, why, hit_at);
 }
 
 // The ray most window cases use: along +x from (-3, 0, 0), roots 2 and 4.

@@ -29,12 +29,18 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
                 sphere_roots(ray, sphere), why);
 }
 
+// An own epsilon's probe (grading.hpp, own_epsilon): from (-2, 0, 0) with the direction (1/t, 0, 0) the
+// ray meets the unit sphere at the origin at t (exactly, for t a power of two), in the window [0, inf].
+std::optional<float> hit_at(float t) {
+    return intersect_sphere({{-2, 0, 0}, {1 / t, 0, 0}}, Sphere{{0, 0, 0}, 1}, 0, inf);
+}
+
 void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
     check_hit_in("intersect_sphere(ray, sphere, tmin, tmax)",
                  show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
                  tmin, tmax, expected, [&](float lo, float hi) { return intersect_sphere(ray, sphere, lo, hi); },
-                 why);
+                 why, hit_at);
 }
 
 // Most cases use this sphere: centre (5, -2, 3), radius 2. It spans x from 3

@@ -25,16 +25,52 @@ std::string show(const Rect& r) {
            grading::show(r.lo) + ", hi " + grading::show(r.hi) + "}";
 }
 
+// An own epsilon's probe (grading.hpp, own_epsilon): from the origin with the direction (0, 0, 1/t) the
+// ray meets the square z = 1, -1 <= x, y <= 1, at t (exactly, for t a power of two), in the window [0, inf].
+std::optional<float> hit_at(float t) {
+    return intersect_rect({{0, 0, 0}, {0, 0, 1 / t}}, Rect{2, 1.0f, {-1.0f, -1.0f}, {1.0f, 1.0f}}, 0, inf);
+}
+
 void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
+    // A wrong answer is measured first (an epsilon of the code's own), then the call checked is made again.
+    std::string because = why;
+    const std::optional<float> first = intersect_rect(ray, rect, tmin, tmax);
+    if (!agree(expected, first)) because += epsilon_cause(tmin, tmax, expected, first, hit_at);
     check_hit("intersect_rect(ray, rect, tmin, tmax)",
               grading::show(ray) + ",\n            " + show(rect) + ", window [" + grading::show(tmin) +
                   ", " + grading::show(tmax) + "]",
-              expected, intersect_rect(ray, rect, tmin, tmax), why);
+              expected, intersect_rect(ray, rect, tmin, tmax), because);
 }
 
 void expect_hit(const Ray& ray, const Rect& rect, std::optional<float> expected, const std::string& why) {
     expect_hit(ray, rect, 0.0f, inf, expected, why);
+}
+
+// A ray lying in the rectangle's plane: no hit. The why fits the answer, measured: a NaN t is `if_nan`'s
+// cause (a division by d[axis] = 0 that the window test let through); a number means the code did not
+// divide by 0 but let a ray in the plane through as a hit (a slab test's "inside this slab for every t"),
+// and the words say so, with the point it returned.
+void expect_in_plane_miss(const Ray& ray, const Rect& rect, float tmin, float tmax, const std::string& why,
+                          const std::string& if_nan) {
+    const std::optional<float> first = intersect_rect(ray, rect, tmin, tmax);
+    std::string because = why;
+    if (first && std::isnan(*first)) {
+        because += " " + if_nan;
+    } else if (first) {
+        const int u = rect.axis == 0 ? 1 : 0, v = rect.axis == 2 ? 1 : 2;
+        const double t = *first;
+        const double pu = double(ray.origin[u]) + t * double(ray.direction[u]);
+        const double pv = double(ray.origin[v]) + t * double(ray.direction[v]);
+        const bool inside = rect.lo.x <= pu && pu <= rect.hi.x && rect.lo.y <= pv && pv <= rect.hi.y;
+        const bool edge = inside && (pu == rect.lo.x || pu == rect.hi.x || pv == rect.lo.y || pv == rect.hi.y);
+        because += " Your function returns a number, t = " + grading::show(*first) + ", not NaN: the point " +
+                   grading::show(point_at(ray, *first)) + (edge ? ", where the ray, lying in the plane, meets the "
+                   "rectangle's edge" : inside ? ", inside the rectangle, in its plane" : ", in the plane") +
+                   ". A ray with d[axis] == 0 is parallel to the plane whether or not it lies in it: no hit, for any "
+                   "origin.";
+    }
+    expect_hit(ray, rect, tmin, tmax, std::nullopt, because);
 }
 
 // The plane z = 5, with -3 <= x <= 3 and -1 <= y <= 1: six wide, two tall.
@@ -128,15 +164,16 @@ TEST_CASE("a ray parallel to the plane beside it is no hit" *
 
 TEST_CASE("a ray lying in the plane is no hit and no NaN" *
           doctest::description("3. Rays parallel to the plane")) {
-    expect_hit({{-10, 0, 5}, {1, 0, 0}}, wide, std::nullopt,
-               "The ray runs inside the plane z = 5 across the rectangle: it sees it edge-on, so no hit. "
-               "(5 - 5) / 0 is NaN; test d.z == 0 before dividing.");
+    expect_in_plane_miss({{-10, 0, 5}, {1, 0, 0}}, wide, 0.0f, inf,
+                         "The ray runs inside the plane z = 5 across the rectangle: it sees it edge-on, so no hit.",
+                         "(5 - 5) / 0 is NaN; test d.z == 0 before dividing.");
 }
 
 TEST_CASE("a ray lying in the plane with a negative tmin is still no hit" *
           doctest::description("3. Rays parallel to the plane")) {
-    expect_hit({{0, 0, 5}, {0, 1, 0}}, wide, -inf, inf, std::nullopt,
-               "A ray in the plane has no single t, whatever the window; a NaN must not pass the window test.");
+    expect_in_plane_miss({{0, 0, 5}, {0, 1, 0}}, wide, -inf, inf,
+                         "A ray in the plane has no single t, whatever the window.",
+                         "Yours is NaN: a NaN must not pass the window test.");
 }
 
 TEST_CASE("a direction with -0 along the axis is parallel too" *
@@ -147,9 +184,9 @@ TEST_CASE("a direction with -0 along the axis is parallel too" *
 
 TEST_CASE("a direction with -0 along the axis lying in the plane is no hit" *
           doctest::description("3. Rays parallel to the plane")) {
-    expect_hit({{-10, 0, 5}, {1, 0, -0.0f}}, wide, -inf, inf, std::nullopt,
-               "d.z = -0 and the ray lies in z = 5: (5 - 5) / -0 is NaN, which must not come back as a hit. "
-               "-0.0f == 0.0f is true.");
+    expect_in_plane_miss({{-10, 0, 5}, {1, 0, -0.0f}}, wide, -inf, inf,
+                         "d.z = -0 and the ray lies in z = 5: it is parallel to the plane, no hit.",
+                         "(5 - 5) / -0 is NaN, which must not come back as a hit. -0.0f == 0.0f is true.");
 }
 
 TEST_CASE("a -0 in the direction's in-plane components changes nothing" *

@@ -162,10 +162,16 @@ TEST_CASE("intersect_sphere with random windows and exact window ends" *
         const auto expected = remote::reference<std::optional<float>>("intersect_sphere", in.ray, in.sphere, tmin, tmax);
         const auto got = intersect_sphere(in.ray, in.sphere, tmin, tmax);
         if (!agree_in_window(expected, got, r, [&] { return sphere_roots(in.ray, in.sphere); }, tmin, tmax)) {
+            // A skipped hit below a bound of the code's own (grading.hpp, own_epsilon), then the call again
+            // for the picture.
+            const std::string epsilon = grading::epsilon_cause(tmin, tmax, expected, got, [](float t) {
+                return intersect_sphere({{-2, 0, 0}, {1 / t, 0, 0}}, Sphere{{0, 0, 0}, 1}, 0, grading::inf);
+            });
+            if (!epsilon.empty()) (void)intersect_sphere(in.ray, in.sphere, tmin, tmax);
             grading::check_hit("intersect_sphere(ray, sphere, tmin, tmax)",
                                input_note(i, shown(in) + "; window [" + grading::show(tmin) + ", " +
                                                  grading::show(tmax) + "]"),
-                               expected, got, "The smallest root in the closed window, or no hit.");
+                               expected, got, "The smallest root in the closed window, or no hit." + epsilon);
             return;
         }
     }

@@ -51,12 +51,13 @@ struct RecordedRoots {
 /// One recorded sphere_roots answer: key = origin, direction, centre, radius
 /// (10 float bit patterns); the exact roots rounded to float; then what the
 /// usual wrong formulas give on the same inputs (the suspects of a failure:
-/// a = 1, c' in float, the textbook formula and the shortcut in float; reference_roots.hpp).
+/// a = 1, c' in float, the textbook formula and the shortcut in float, the textbook formula in double;
+/// reference_roots.hpp).
 struct RootsEntry {
     std::uint32_t key[10];
     int count;
     std::uint32_t t[2];
-    RecordedRoots suspects[4];
+    RecordedRoots suspects[5];
 };
 
 /// One recorded hit: key = the roots' key, then tmin and tmax; hit is 0 or 1.
@@ -183,14 +184,15 @@ inline Roots roots_of(const RootsEntry& e) { return roots_of(e.count, e.t); }
 /// What the usual wrong formulas give on a case's inputs, for naming the cause of a failure
 /// (grading::measured_cause): the exact roots of the formula that takes a = d.d as 1; the exact
 /// formula with only f and c' = f.f - r^2 computed in float; the textbook formula in float; the
-/// unit-direction shortcut -h -+ sqrt(h^2 - c') in float.
+/// unit-direction shortcut -h -+ sqrt(h^2 - c') in float; the textbook formula in double.
 struct Suspects {
-    Roots a_one, float_cprime, textbook_float, shortcut_float;
+    Roots a_one, float_cprime, textbook_float, shortcut_float, textbook_double;
 };
 
 inline Suspects suspects_of(const RootsEntry& e) {
     return {roots_of(e.suspects[0].count, e.suspects[0].t), roots_of(e.suspects[1].count, e.suspects[1].t),
-            roots_of(e.suspects[2].count, e.suspects[2].t), roots_of(e.suspects[3].count, e.suspects[3].t)};
+            roots_of(e.suspects[2].count, e.suspects[2].t), roots_of(e.suspects[3].count, e.suspects[3].t),
+            roots_of(e.suspects[4].count, e.suspects[4].t)};
 }
 
 inline std::string recorded_text(const Roots& r) {
@@ -220,7 +222,8 @@ inline void record(const std::string& line) {
 /// Records one roots entry: the inputs' key, the exact roots and the suspects' (./kit exact --refresh).
 inline void record_roots(const Ray& ray, const Sphere& sphere, const Roots& r, const reference::SuspectRoots& m) {
     record("roots " + hex(key_of(ray, sphere)) + recorded_text(r) + recorded_text(m.a_one) +
-           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float));
+           recorded_text(m.float_cprime) + recorded_text(m.textbook_float) + recorded_text(m.shortcut_float) +
+           recorded_text(m.textbook_double));
 }
 #endif
 
@@ -251,7 +254,8 @@ inline std::optional<SphereCase> sphere_roots(const Ray& ray, const Sphere& sphe
     const bool same = entry && same_roots(r, RecordedRoots{entry->count, {entry->t[0], entry->t[1]}}) &&
                       same_roots(m.a_one, entry->suspects[0]) &&
                       same_roots(m.float_cprime, entry->suspects[1]) && same_roots(m.textbook_float, entry->suspects[2]) &&
-                      same_roots(m.shortcut_float, entry->suspects[3]);
+                      same_roots(m.shortcut_float, entry->suspects[3]) &&
+                      same_roots(m.textbook_double, entry->suspects[4]);
     if (!same) {
         missing("roots", key, why_missing(entry));
         return std::nullopt;

@@ -208,20 +208,97 @@ inline std::string window_cause(float tmin, float tmax, const std::optional<floa
            "approximate 1/a).";
 }
 
+/// What own_epsilon measured on a windowed function: `found` when, given the window [0, inf], it takes a
+/// hit at t = 1 and at every t down to `kept`, and skips every hit from `dropped` down to 2^-40 (9e-13):
+/// a lower bound of its own (t > 1e-3), where the window's tmin is the only one.
+struct OwnEpsilon {
+    bool found = false;
+    float dropped = 0, kept = 0;
+};
+
+/// Measures an own epsilon on a windowed function through `hit_at(t)`: the function called with the
+/// window [0, inf] on a ray and an object whose nearest hit in it is at t, the object fixed and the ray's
+/// direction scaled by 1/t (exact for t a power of two). A hit is taken when the answer is within a
+/// thousandth of t. Powers of two from 1 down to 2^-40 find the first skipped one; every smaller one
+/// must be skipped too (a bound, not a rounding at one t); then halving the interval between the last
+/// taken and the first skipped to a ten-thousandth of it gives the bound's value.
+template <class HitAt>
+OwnEpsilon own_epsilon(HitAt hit_at) {
+    auto taken = [&](float t) {
+        const std::optional<float> got = hit_at(t);
+        return got.has_value() && std::fabs(*got - t) <= 1e-3f * t;
+    };
+    OwnEpsilon out;
+    if (!taken(1.0f)) return out;
+    int first = 0;
+    for (int k = 1; k <= 40 && !first; ++k)
+        if (!taken(std::ldexp(1.0f, -k))) first = k;
+    if (!first) return out;
+    for (int k = first + 1; k <= 40; ++k)
+        if (taken(std::ldexp(1.0f, -k))) return out;
+    float lo = std::ldexp(1.0f, -first), hi = 2 * lo;
+    while (hi - lo > 1e-4f * hi) {
+        const float mid = lo / 2 + hi / 2;
+        if (mid <= lo || mid >= hi) break;
+        (taken(mid) ? hi : lo) = mid;
+    }
+    out.found = true;
+    out.dropped = lo;
+    out.kept = hi;
+    return out;
+}
+
+/// A bound in two significant digits, as a student wrote it: 0.001, 0.0001, 1e-5.
+inline std::string bound_text(float x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2g", static_cast<double>(x));
+    std::string s = buf;
+    const std::size_t e = s.find("e-0");
+    if (e != std::string::npos) s.erase(e + 2, 1);
+    return s;
+}
+
+/// Why a windowed answer skipped the expected hit, measured on the function (own_epsilon through
+/// `hit_at`) where the expected hit lies below the bound it measures: an epsilon of the code's own.
+/// Empty when the answer is right, no hit was expected, or no such bound is measured. Calls the function
+/// again: the caller calls the function under test once more afterwards.
+template <class HitAt>
+std::string epsilon_cause(float tmin, float tmax, const std::optional<float>& expected,
+                          const std::optional<float>& got, HitAt hit_at) {
+    if (!expected || (got && close(*expected, *got)) || !(*expected < 1.0f)) return "";
+    const OwnEpsilon e = own_epsilon(hit_at);
+    if (!e.found || !(*expected < e.dropped)) return "";
+    return " Measured on your answer: your code skips hits below t = " + bound_text(e.kept) +
+           ", an epsilon of its own. With the window [0, inf] and rays whose hit is at t (their direction "
+           "scaled by 1/t), it takes the hit at t = " + show(e.kept) + " and skips it at t = " + show(e.dropped) +
+           " and at every t below, down to 1e-12. The window's tmin is the only lower bound: t = " +
+           show(*expected) + " lies in [" + show(tmin) + ", " + show(tmax) + "], so it is the hit.";
+}
+
 /// check_hit for a call `f(tmin, tmax)` with a window: adds window_cause to the why.
 template <class F>
 void check_hit_in(const std::string& call, const std::string& input, float tmin, float tmax,
                   const std::optional<float>& expected, F f, const std::string& why) {
+    check_hit_in(call, input, tmin, tmax, expected, f, why, [](float) { return std::optional<float>(); });
+}
+
+/// check_hit_in with `hit_at(t)` for epsilon_cause (own_epsilon's probe: the function with the window
+/// [0, inf] on a ray whose nearest hit is at t): a skipped hit below the code's own bound is named.
+template <class F, class HitAt>
+void check_hit_in(const std::string& call, const std::string& input, float tmin, float tmax,
+                  const std::optional<float>& expected, F f, const std::string& why, HitAt hit_at) {
     // The call under test first (./kit debug stops at it) and, when its answer is not exactly the
-    // expected one, the widened window for the diagnosis and the call again, so that the last call,
-    // which the case's picture records, is still the one checked.
+    // expected one, the widened window and the epsilon probe for the diagnosis and the call again, so
+    // that the last call, which the case's picture records, is still the one checked.
     std::optional<float> got = f(tmin, tmax);
     std::optional<float> widened = got;
+    std::string epsilon;
     if (got.has_value() != expected.has_value() || (got && *got != *expected)) {
         widened = f(tmin - tolerance_at(tmin), tmax + tolerance_at(tmax));
+        epsilon = epsilon_cause(tmin, tmax, expected, got, hit_at);
         got = f(tmin, tmax);
     }
-    check_hit(call, input, expected, got, why + window_cause(tmin, tmax, expected, got, widened));
+    check_hit(call, input, expected, got, why + window_cause(tmin, tmax, expected, got, widened) + epsilon);
 }
 
 /// check_hit_in for a case whose exact hit lies on an end of the window, where a root within the basic

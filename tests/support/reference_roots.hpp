@@ -128,7 +128,10 @@ inline Roots sphere_roots_rounded(const Ray& ray, const Sphere& sphere) {
 //  - a_one: the roots of t^2 + 2 h t + c' = 0, exact: the formula that takes a = d.d as 1;
 //  - float_cprime: exact, except that f = o - c and c' = f.f - r^2 are computed in float;
 //  - textbook_float: the textbook formula with every operation rounded to float;
-//  - shortcut_float: the unit-direction shortcut -h -+ sqrt(h^2 - c') (a taken as 1), in float.
+//  - shortcut_float: the unit-direction shortcut -h -+ sqrt(h^2 - c') (a taken as 1), in float;
+//  - textbook_double: the textbook formula with every operation in double, from the float inputs (the
+//    roots rounded to float last), the form tests/fixtures/forms/double_inside/ computes: where even a
+//    double cannot hold h^2 - a c' (pbrt's test ranges), a failure in double is named for what it is.
 // They are recorded with the exact roots (./kit exact --refresh), so a handout carries only their
 // values on the graded inputs, never the code.
 
@@ -144,8 +147,33 @@ inline float fl_dot(const float* x, const float* y) {
 }
 
 struct SuspectRoots {
-    Roots a_one, float_cprime, textbook_float, shortcut_float;
+    Roots a_one, float_cprime, textbook_float, shortcut_float, textbook_double;
 };
+
+// The same in double: one operation, rounded to double and never fused with the next.
+inline double dl(double x) {
+    volatile double v = x;
+    return v;
+}
+inline double dl_dot(const double* x, const double* y) {
+    return dl(dl(dl(x[0] * y[0]) + dl(x[1] * y[1])) + dl(x[2] * y[2]));
+}
+
+/// -h -+ sqrt(disc), over a, with every operation in double, each root rounded to float last; the
+/// contract's count and order.
+inline Roots double_pair(double a, double h, double disc) {
+    Roots t;
+    if (!(a > 0.0) || !std::isfinite(a) || !std::isfinite(disc) || !(disc >= 0.0)) return t;
+    if (disc == 0.0) {
+        const float root = static_cast<float>(dl(-h / a));
+        return {1, {root, root}};
+    }
+    const double s = dl(std::sqrt(disc));
+    float t0 = static_cast<float>(dl(dl(-h - s) / a)), t1 = static_cast<float>(dl(dl(-h + s) / a));
+    if (t0 > t1) std::swap(t0, t1);
+    if (std::isnan(t0) || std::isnan(t1)) return {};
+    return {2, {t0, t1}};
+}
 
 /// -h -+ sqrt(disc), over a, with every operation in float; the contract's count and order.
 inline Roots float_pair(float a, float h, float disc) {
@@ -192,6 +220,18 @@ inline SuspectRoots suspect_roots(const Ray& ray, const Sphere& sphere) {
     const float a = fl_dot(fd, fd), h = fl_dot(ff, fd);
     out.textbook_float = float_pair(a, h, fl(fl(h * h) - fl(a * cf)));
     out.shortcut_float = float_pair(1.0f, h, fl(fl(h * h) - cf));
+    // The textbook formula in double: f = o - c, a, h and c' = f.f - r^2 each rounded to double, then the
+    // discriminant h^2 - a c' and the roots (b = 2h and b^2 - 4ac round to the same numbers, as in float).
+    {
+        double df[3], dd[3];
+        for (int i = 0; i < 3; ++i) {
+            df[i] = dl(double(ray.origin[i]) - double(sphere.center[i]));
+            dd[i] = double(ray.direction[i]);
+        }
+        const double da = dl_dot(dd, dd), dh = dl_dot(df, dd);
+        const double dc = dl(dl_dot(df, df) - dl(double(r) * double(r)));
+        out.textbook_double = double_pair(da, dh, dl(dl(dh * dh) - dl(da * dc)));
+    }
     return out;
 }
 

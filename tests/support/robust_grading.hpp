@@ -109,7 +109,7 @@ constexpr std::int64_t count_match_ulps = 1 << 13;
 /// A failure's cause, measured on the answer (lecture 03; the self-test "a failure names the cause planted
 /// in the answer" plants each one). The answer is compared with what each suspect gives on the same
 /// inputs (exact::Suspects: the formula that takes a = 1 solved exactly, c' computed in float, the
-/// textbook formula in float, the unit-direction shortcut in float). A suspect explains the answer when
+/// textbook formula in float, the unit-direction shortcut in float, the textbook formula in double). A suspect explains the answer when
 /// it is itself wrong here (over the bound) and the answer is at least twice as near to it as to
 /// the exact roots (for a wrong count: the same count, and roots within count_match_ulps; an answer of no
 /// roots leaves nothing to compare and names none). The nearest such suspect is named; ties go to the
@@ -153,10 +153,12 @@ UnitProbe unit_probe(F f, const Ray& ray, const Sphere& sphere) {
 inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got, const exact::Suspects& s,
                             const UnitProbe* probe = nullptr) {
     constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
-    enum { a_one, cprime, textbook, shortcut, count };
-    const Roots* suspects[count] = {&s.a_one, &s.float_cprime, &s.textbook_float, &s.shortcut_float};
+    enum { a_one, cprime, textbook, shortcut, textbook_double, count };
+    const Roots* suspects[count] = {&s.a_one, &s.float_cprime, &s.textbook_float, &s.shortcut_float,
+                                    &s.textbook_double};
     const char* names[count] = {"the formula that takes a = 1", "c' computed in float",
-                                "the textbook formula in float", "the shortcut -h -+ sqrt(h^2 - c') in float"};
+                                "the textbook formula in float", "the shortcut -h -+ sqrt(h^2 - c') in float",
+                                "the textbook formula in double"};
     const std::int64_t off = roots_distance(exact, got);
     std::int64_t distance[count], own[count];
     int best = -1;
@@ -214,6 +216,14 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
                           "not repair it: c' needs more digits than float holds (lecture 03, appendix, section A)."};
         case textbook:
         {
+            // The same answer from the formula in double too: the cause is the formula, whatever the precision.
+            const bool also_double = own[textbook_double] > robust_max_ulps &&
+                                     distance[textbook_double] == distance[textbook];
+            if (also_double)
+                return {true, within(textbook) + "the textbook formula, (-h -+ sqrt(h^2 - a c')) / a, gives "
+                              "computed in float and computed in double alike: h^2 and a c' agree here to more "
+                              "digits than even a double holds, so their difference, the discriminant, keeps few "
+                              "correct digits in either precision (lecture 03, section 5)."};
             std::string text = within(textbook) + "the textbook formula, (-h -+ sqrt(h^2 - a c')) / a with every "
                                "operation in float, gives: " + where("h^2 and a c'") + ".";
             if (own[cprime] > robust_max_ulps)
@@ -229,6 +239,12 @@ inline Cause measured_cause(const Ray& ray, const Roots& exact, const Roots& got
                         "alone " + costs(a_one) + " (lecture 03, section 1).";
             return {true, text};
         }
+        case textbook_double:
+            return {true, within(textbook_double) + "the textbook formula, (-h -+ sqrt(h^2 - a c')) / a, gives "
+                          "with every operation in double (from the float inputs, the roots rounded to float "
+                          "last): h^2 and a c' agree here to more digits than even a double holds, so their "
+                          "difference, the discriminant, keeps few correct digits even in double: the precision "
+                          "is not the cause, the subtraction is (lecture 03, section 5)."};
         default: break;
     }
     if (got.count == 0 && exact.count > 0 && s.a_one.count == 0 && probe && probe->holds())
@@ -381,7 +397,8 @@ inline void check_hit_case(const std::string& call, const std::string& input, co
         const exact::Suspects hits{hit_as_roots(first_in(s.a_one, c.tmin, c.tmax)),
                                    hit_as_roots(first_in(s.float_cprime, c.tmin, c.tmax)),
                                    hit_as_roots(first_in(s.textbook_float, c.tmin, c.tmax)),
-                                   hit_as_roots(first_in(s.shortcut_float, c.tmin, c.tmax))};
+                                   hit_as_roots(first_in(s.shortcut_float, c.tmin, c.tmax)),
+                                   hit_as_roots(first_in(s.textbook_double, c.tmin, c.tmax))};
         because = because_of(measured_cause(c.ray, hit_as_roots(c.t), hit_as_roots(got), hits), why);
     }
     check_hit_ulps(call, input, c.t, got, because + graded);

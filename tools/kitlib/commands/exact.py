@@ -60,7 +60,7 @@ def _entries(lines: list[str]) -> tuple[list[tuple], list[tuple]]:
         if not words:
             continue
         values = tuple(int(w, 0) for w in words[1:])
-        if words[0] == "roots" and len(values) == 25:
+        if words[0] == "roots" and len(values) == 28:
             roots.add(values)
         elif words[0] == "hit" and len(values) == 14:
             hits.add(values)
@@ -83,7 +83,8 @@ def data_text(step: Step, lines: list[str]) -> str:
            "// Do not edit: ./kit test checks that regenerating gives these bytes. Keys are the float",
            "// inputs' bit patterns: origin, direction, centre, radius (then tmin, tmax for a hit). A roots",
            "// entry ends with what the usual wrong formulas give (a = 1, c' in float, the textbook",
-           "// formula and the shortcut in float), from which a failure's cause is measured.",
+           "// formula and the shortcut in float, the textbook formula in double), from which a failure's",
+           "// cause is measured.",
            "",
            '#include "../support/exact_answers.hpp"',
            "",
@@ -94,7 +95,7 @@ def data_text(step: Step, lines: list[str]) -> str:
     if roots:
         out.append("const RootsEntry roots[] = {")
         out += [f"    {{{{{_hex(e[:10])}}}, {e[10]}, {{{_hex(e[11:13])}}}, {{"
-                + ", ".join(f"{{{e[i]}, {{{_hex(e[i + 1:i + 3])}}}}}" for i in (13, 16, 19, 22)) + "}},"
+                + ", ".join(f"{{{e[i]}, {{{_hex(e[i + 1:i + 3])}}}}}" for i in (13, 16, 19, 22, 25)) + "}},"
                 for e in roots]
         out += ["};", ""]
     if hits:

@@ -404,6 +404,144 @@ def measure(argv: list[str]) -> int:
     return 0
 
 
+# ---- words that fit the code (issue 45, item 6) ----------------------------------------------------------
+#
+# Each slip below is graded as a student's work (./kit check N --steps DIR); the cases it fails must say
+# the cause measured on its answer, and no other code's words. Beside each, a control: a slip whose
+# failure reads alike but whose cause differs must not be given these words.
+
+FORMS = ROOT / "tests" / "fixtures" / "forms"
+
+
+def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = None,
+            quiet: bool = False) -> tuple[str, dict]:
+    """(stdout, the step's record) of ./kit check N --steps DIR: `files` laid over the reference answers
+    (a mutant's), or the folder `fixture` as it is. `quiet` (no scoreboard, so no first block) leaves
+    the last-check store alone, which ./kit hint reads: another self-test hints on the same mutants."""
+    from ..common import stage_on_reference
+    if fixture is None:
+        changed = work / name / "changed"
+        changed.mkdir(parents=True, exist_ok=True)
+        for file_name, text in files.items():
+            (changed / file_name).write_text(text)
+        fixture = stage_on_reference(work / name / "steps", step, load_steps(), changed)
+    record = work / f"{name}.json"
+    r = kit("check", str(int(step.number)), "--steps", str(fixture), "--all", "--results", str(record),
+            *(["--quiet"] if quiet else []), timeout=900)
+    expect(r.returncode in (0, 1) and record.exists(),
+           f"{name}: ./kit check {int(step.number)} exited {r.returncode}:\n{r.stdout[-1500:]}{r.stderr[-800:]}")
+    return r.stdout, json.loads(record.read_text())["steps"][0]
+
+
+def _mutant(step, name: str) -> dict:
+    from ..mutants import MUTANTS, apply_patch, read_patch
+    return apply_patch(read_patch(MUTANTS / step.folder / f"{name}.patch", step))
+
+
+def _failing(rec: dict, tier: str = "basic") -> dict:
+    return {c["name"]: "\n".join(c["messages"]) for c in rec["cases"] if c["tier"] == tier and c["status"] != "pass"}
+
+
+def selftest_fitting_words(ctx) -> str:
+    """Each slip's failures name the cause measured on its answer (an own epsilon, a double computation, a
+    tie kept by a loop from last to first, negative t dropped, a slab's in-plane hit), and no other."""
+    need_solutions()
+    steps = _steps()
+    work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-words-"))
+    said = []
+    try:
+        # An own epsilon, planted by each step's mutant own_epsilon: the first case shown names the bound
+        # measured on the function, and every window case it fails says so; an open window, an ignored
+        # tmin (skipped hits at t = tmin, a hit before tmin), a loop that drops only negative t and one
+        # that searches from 0 are not called an epsilon.
+        for number, bound in (("01", "0.001"), ("02", "0.0001"), ("04", "0.001"), ("05", "0.0001")):
+            s = steps[number]
+            out, rec = _graded(s, _mutant(s, "own_epsilon"), work, f"epsilon{number}")
+            block = _first_block(out)
+            words = f"your code skips hits below t = {bound}, an epsilon of its own"
+            expect(words in block, f"step {number}, an own epsilon: the first case shown does not say '{words}':\n{block}")
+            failing = _failing(rec)
+            expect(failing and all(words in m for m in failing.values()),
+                   f"step {number}, an own epsilon: a failing case does not name it:\n" +
+                   "\n".join(f"{k}: {m[-400:]}" for k, m in failing.items() if words not in m))
+            hidden = _failing(rec, "hidden")
+            expect(all("an epsilon of its own" in m for m in hidden.values()),
+                   f"step {number}, an own epsilon: a hidden window family does not name it:\n{hidden}")
+            said.append(f"step {number} epsilon below {bound}")
+        for number, control in (("01", "open_window"), ("04", "tmin_ignored"), ("04", "open_window"),
+                                ("05", "negative_t_dropped"), ("05", "window_from_zero")):
+            s = steps[number]
+            _, rec = _graded(s, _mutant(s, control), work, f"{control}{number}", quiet=True)
+            failing = {**_failing(rec), **_failing(rec, "hidden")}
+            expect(failing, f"step {number}: the mutant {control} fails no case")
+            wrong = [k for k, m in failing.items() if "epsilon of its own" in m]
+            expect(not wrong, f"step {number}: the mutant {control} is called an own epsilon in {wrong}")
+
+        # The ★ pbrt case computed in double (forms/double_inside): named as the double form's answer,
+        # never told "with every operation in float" alone, and every call is explained.
+        s = steps["02"]
+        _, rec = _graded(s, {}, work, "double_inside", FORMS / "double_inside", quiet=True)
+        pbrt = next((m for k, m in _failing(rec, "robust").items() if "pbrt" in k), None)
+        expect(pbrt is not None, "the textbook formula in double passes the ★ pbrt-range case")
+        calls = [b for b in re.split(r"\n\s*\n", pbrt) if "why" in b]
+        for b in calls:
+            expect("in double" in b and "every operation in float" not in b and "matches none" not in b,
+                   f"★ pbrt range in double: a call is not named as the double form's:\n{b}")
+        said.append(f"double on pbrt's ranges: {len(calls)} calls named")
+
+        # smallpt's loop, last to first with <: the tie is read off the answer, with each loop order's
+        # comparison, not "use <" alone; the <= mutant gets the same words.
+        s = steps["05"]
+        for name, files, fixture in (("ties_last_to_first", {}, SLIPS / "ties_last_to_first"),
+                                     ("tie_goes_to_last", _mutant(s, "tie_goes_to_last"), None)):
+            _, rec = _graded(s, files, work, name, fixture, quiet=True)
+            ties = {k: m for k, m in _failing(rec).items() if "tie" in k}
+            expect(ties, f"{name}: no tie case fails")
+            for k, m in ties.items():
+                expect("gives the tie to the object listed later" in m and "a loop from the last to the first" in m
+                       and "keep the strict comparison" not in m,
+                       f"{name}: the tie case '{k}' is not told what its answer shows:\n{m[-700:]}")
+        said.append("a tie kept by the later object, either loop")
+
+        # Negative t dropped, and the distance from the origin: each told its own cause, measured with the
+        # expected object alone (or along the reversed ray), in every call of the cases it fails, and the
+        # first message shown never names the other (the slip catalogue included: their failing cases differ).
+        cases = ["a window with a negative part: the smallest t wins even behind the origin",
+                 "an object behind the origin alone is hit when the window reaches behind it"]
+        for name, files, fixture, words, not_words in (
+                ("negative_t_dropped", {}, SLIPS / "negative_t_dropped", "drops hits at a negative t", "distance"),
+                ("negative_t_dropped mutant", _mutant(s, "negative_t_dropped"), None, "drops hits at a negative t",
+                 "distance"),
+                ("closest_by_distance", _mutant(s, "closest_by_distance"), None,
+                 "chooses by distance from the origin", "drops hits")):
+            out, rec = _graded(s, files, work, name.replace(" ", "_"), fixture)
+            failing = _failing(rec)
+            asked = [c for c in cases if c in failing]
+            expect(cases[0] in asked, f"{name}: the case '{cases[0]}' passes")
+            for case in asked:
+                calls = [b for b in re.split(r"\n\s*\n", failing[case]) if "why" in b]
+                expect(calls and all(words in b and not_words not in b.split("why", 1)[-1] for b in calls),
+                       f"{name}: '{case}' does not say '{words}' (or also says '{not_words}'):\n{failing[case][-900:]}")
+            block = _first_block(out)
+            expect(words in block and not_words not in block,
+                   f"{name}: the first message does not say '{words}', or says '{not_words}':\n{block}")
+            said.append(f"{name}: {words}")
+
+        # A slab test that checks d.z == 0 and lets a ray lying in the plane through: not told NaN.
+        s = steps["04"]
+        _, rec = _graded(s, {}, work, "in_plane_slab", SLIPS / "in_plane_slab", quiet=True)
+        in_plane = {k: m for k, m in _failing(rec).items() if "plane" in k}
+        expect(in_plane, "the slab test fails no in-plane case")
+        for k, m in in_plane.items():
+            why = m.split("why", 1)[-1]
+            expect("is NaN" not in why and "a NaN must not" not in why and "a number" in why,
+                   f"the slab test's in-plane case '{k}' is told about a NaN it does not return:\n{m[-600:]}")
+        said.append(f"a slab's in-plane hit: {len(in_plane)} cases without NaN")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return "; ".join(said)
+
+
 def selftests():
     return [("slips: waiting step's next command", selftest_waiting_next_command),
             ("slips: a ray seen end-on", selftest_end_on_sketch),
@@ -411,7 +549,8 @@ def selftests():
             ("slips: step 05's first message is a direct case's", selftest_step05_direct_first),
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
             ("slips: the first message names the planted slip", selftest_planted_slips),
-            ("slips: a render turned over", selftest_turned_render)]
+            ("slips: a render turned over", selftest_turned_render),
+            ("slips: words that fit the code", selftest_fitting_words)]
 
 
 if __name__ == "__main__":     # python3 -m kitlib.selftest.slips RECORD... (from tools/): the measure
