@@ -64,8 +64,13 @@ def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
 def split_cases(r: StepResult, course) -> tuple[list, list, list, list]:
     """A step's cases as every platform's results show them: those shown at all (hidden ones only when
     the course counts them), then the counted ones, the extra-credit ones and the optional ones
-    (worth nothing), each in the step's order."""
+    (worth nothing), each in the step's order but for the case `./kit check` shows first
+    (StepResult.first_problem: the best-explained failure), which leads, so that the first failed test
+    on Gradescope, PrairieLearn's picture and Classroom's first line say what the terminal says."""
     cases = [c for c in r.cases if c.tier != "hidden" or course.hidden_enabled]
+    lead = r.first_problem("basic") or r.first_problem("hidden") if r.cases else None
+    if lead is not None and lead in cases:
+        cases = [lead] + [c for c in cases if c is not lead]
     scored = [c for c in cases if c.points > 0]
     return (cases, [c for c in scored if not course.extra_credit(c.group)],
             [c for c in scored if course.extra_credit(c.group)], [c for c in cases if c.points == 0])

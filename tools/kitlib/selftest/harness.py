@@ -75,7 +75,8 @@ QUICK = {
                "report: extra credit apart, scores on the CSV's decimals",
                "report: a looping step is matched to no slip"],
     "slips": ["slips: waiting step's next command", "slips: a ray seen end-on",
-              "slips: the picture and refusals come after direct cases"],
+              "slips: the picture and refusals come after direct cases",
+              "slips: every platform leads with the terminal's case"],
     "slides": ["slides: decks have notes, Ponder answers and the step's command",
                "slides: a deck says what its lecture and its step's cases say"],
 }

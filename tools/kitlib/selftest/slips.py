@@ -542,9 +542,45 @@ def selftest_fitting_words(ctx) -> str:
     return "; ".join(said)
 
 
+def selftest_platforms_lead_alike(ctx) -> str:
+    """Gradescope's first failed test, PrairieLearn's picture and Classroom's first failing line are the
+    case the terminal shows first (StepResult.first_problem), not the first failing case in the suite's
+    order (issue 45 item 1)."""
+    from ..checking import Case, StepResult
+    from ..classroomresults import classroom
+    from ..gradescope import gradescope
+    from ..plresults import prairielearn
+    from ..status import FAIL, PARTIAL, PASS
+    step = Step(folder="01_toy", title="a toy step", files=["toy.cpp"], needs=[], lecture="lectures/toy.md")
+    pictures = Path(tempfile.mkdtemp(prefix="raykit-lead-"))
+    # Section 1 fails 1 of 2 cases, section 2 both of its 2: the terminal leads with section 2's first.
+    spec = [("a: the first in the suite", "1. Roots", FAIL), ("b: the one the terminal shows", "2. The window", FAIL),
+            ("c: its section's other", "2. The window", FAIL), ("d: passes", "1. Roots", PASS)]
+    cases = []
+    for k, (n, lec, st) in enumerate(spec):
+        svg = pictures / f"case{k}.svg"
+        svg.write_text("<svg xmlns='http://www.w3.org/2000/svg' width='4' height='4'></svg>")
+        cases.append(Case(n, "basic", lec, status=st, messages=[] if st == PASS else [f"{n} is wrong"],
+                          picture=str(svg) if st != PASS else "", picture_summary=f"picture of {n}"))
+    r = StepResult(step, PARTIAL, cases)
+    lead = r.first_problem("basic")
+    expect(lead is not None and lead.name.startswith("b:"), f"the terminal leads with {lead and lead.name}, not b")
+    gs = next(t for t in gradescope([r], 1.0)["tests"] if t["status"] == "failed")
+    expect(lead.name in gs["name"], f"Gradescope's first failed test is {gs['name']!r}, not the terminal's {lead.name!r}")
+    pl = prairielearn([r])
+    label = (pl.get("images") or [{}])[0].get("label", "")
+    expect(lead.name in label, f"PrairieLearn's picture is {label!r}, not the terminal's case")
+    cl = json.dumps(classroom([r]))
+    shutil.rmtree(pictures, ignore_errors=True)
+    expect(cl.find(lead.name) != -1 and (cl.find(cases[0].name) == -1 or cl.find(lead.name) < cl.find(cases[0].name)),
+           "Classroom's results name the suite's first failing case before the terminal's")
+    return f"the terminal's first case ({lead.name!r}) leads on Gradescope, PrairieLearn's picture and Classroom"
+
+
 def selftests():
     return [("slips: waiting step's next command", selftest_waiting_next_command),
             ("slips: a ray seen end-on", selftest_end_on_sketch),
+            ("slips: every platform leads with the terminal's case", selftest_platforms_lead_alike),
             ("slips: the picture and refusals come after direct cases", selftest_first_problem_order),
             ("slips: step 05's first message is a direct case's", selftest_step05_direct_first),
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
