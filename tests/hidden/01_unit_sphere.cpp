@@ -37,16 +37,13 @@ void window_family(const char* family, MakeCall make, const char* why) {
         if (!agree(expected, got) &&
             !agree_in_window(expected, got, remote::reference<Roots>("unit_sphere_roots", ray),
                              [&] { return unit_sphere_roots(ray); }, tmin, tmax)) {
-            // A skipped hit below a bound of the code's own (grading.hpp, own_epsilon), then the call again
-            // for the picture.
-            const std::string epsilon = grading::epsilon_cause(tmin, tmax, expected, got, [](float t) {
-                return intersect_unit_sphere({{-2, 0, 0}, {1 / t, 0, 0}}, 0, grading::inf);
-            });
-            if (!epsilon.empty()) (void)intersect_unit_sphere(ray, tmin, tmax);
+            // No probe of an own epsilon here (grading.hpp, own_epsilon): its rays are fixed, so a hidden
+            // case that made those calls would show a submission inputs a visible case shows too, which the
+            // integrity self-tests count as hidden inputs carried over. The visible cases name it.
             grading::check_hit("intersect_unit_sphere(ray, tmin, tmax)",
                                input_note(i, grading::show(ray) + ", window [" + grading::show(tmin) + ", " +
                                                  grading::show(tmax) + "]"),
-                               expected, got, why + epsilon);
+                               expected, got, why);
             return;
         }
     }

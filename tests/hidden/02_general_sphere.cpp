@@ -162,16 +162,13 @@ TEST_CASE("intersect_sphere with random windows and exact window ends" *
         const auto expected = remote::reference<std::optional<float>>("intersect_sphere", in.ray, in.sphere, tmin, tmax);
         const auto got = intersect_sphere(in.ray, in.sphere, tmin, tmax);
         if (!agree_in_window(expected, got, r, [&] { return sphere_roots(in.ray, in.sphere); }, tmin, tmax)) {
-            // A skipped hit below a bound of the code's own (grading.hpp, own_epsilon), then the call again
-            // for the picture.
-            const std::string epsilon = grading::epsilon_cause(tmin, tmax, expected, got, [](float t) {
-                return intersect_sphere({{-2, 0, 0}, {1 / t, 0, 0}}, Sphere{{0, 0, 0}, 1}, 0, grading::inf);
-            });
-            if (!epsilon.empty()) (void)intersect_sphere(in.ray, in.sphere, tmin, tmax);
+            // No probe of an own epsilon here (grading.hpp, own_epsilon): its rays are fixed, so a hidden
+            // case that made those calls would show a submission inputs a visible case shows too, which the
+            // integrity self-tests count as hidden inputs carried over. The visible cases name it.
             grading::check_hit("intersect_sphere(ray, sphere, tmin, tmax)",
                                input_note(i, shown(in) + "; window [" + grading::show(tmin) + ", " +
                                                  grading::show(tmax) + "]"),
-                               expected, got, "The smallest root in the closed window, or no hit." + epsilon);
+                               expected, got, "The smallest root in the closed window, or no hit.");
             return;
         }
     }

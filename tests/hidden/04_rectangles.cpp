@@ -81,16 +81,12 @@ void family(const char* family, Make make, const char* why) {
             // put a point on an edge must not decide the verdict (issue 45: an object-space transform
             // failed 8 of 10 identities). Leaving the edges out is still caught, on every draw.
             if (cause.rounding) continue;
-            // A skipped hit below a bound of the code's own (grading.hpp, own_epsilon).
-            const std::string epsilon = cause.matched ? std::string() : grading::epsilon_cause(
-                in.tmin, in.tmax, expected, got, [](float t) {
-                    return intersect_rect({{0, 0, 0}, {0, 0, 1 / t}}, Rect{2, 1.0f, {-1.0f, -1.0f}, {1.0f, 1.0f}}, 0,
-                                          grading::inf);
-                });
-            if (cause.matched || !epsilon.empty())
-                (void)intersect_rect(in.ray, in.rect, in.tmin, in.tmax);   // the call the picture records
+            // No probe of an own epsilon here (grading.hpp, own_epsilon): its rays are fixed, so a hidden
+            // case that made those calls would show a submission inputs a visible case shows too, which the
+            // integrity self-tests count as hidden inputs carried over. The visible cases name it.
+            if (cause.matched) (void)intersect_rect(in.ray, in.rect, in.tmin, in.tmax);   // the call the picture records
             grading::check_hit("intersect_rect(ray, rect, tmin, tmax)", input_note(i, shown(in)), expected, got,
-                               cause.matched ? cause.text : why + epsilon);
+                               cause.matched ? cause.text : why);
             return;
         }
     }

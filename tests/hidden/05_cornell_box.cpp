@@ -83,25 +83,15 @@ TEST_CASE("find_intersection in random scenes with ties" * doctest::description(
         const auto expected = remote::reference<std::optional<Hit>>("find_intersection", ray, scene, tmin, tmax);
         const auto got = find_intersection(ray, scene, tmin, tmax);
         if (!same_hit(expected, got)) {
-            // A skipped hit below a bound of the code's own (grading.hpp, own_epsilon), probed on a square
-            // z = 1 hit at t along the direction (0, 0, 1/t); then the call again for the picture.
-            std::string epsilon;
-            if (expected && (!got || got->t > expected->t)) {
-                epsilon = grading::epsilon_cause(
-                    tmin, tmax, std::optional<float>(expected->t),
-                    got ? std::optional<float>(got->t) : std::nullopt, [](float t) -> std::optional<float> {
-                        const Scene probe{{Object{"probe", Rect{2, 1.0f, {-1.0f, -1.0f}, {1.0f, 1.0f}}, Color{}}}};
-                        const std::optional<Hit> hit = find_intersection({{0, 0, 0}, {0, 0, 1 / t}}, probe, 0, inf);
-                        return hit ? std::optional<float>(hit->t) : std::nullopt;
-                    });
-                if (!epsilon.empty()) (void)find_intersection(ray, scene, tmin, tmax);
-            }
+            // No probe of an own epsilon here (grading.hpp, own_epsilon): its rays are fixed, so a hidden
+            // case that made those calls would show a submission inputs a visible case shows too, which the
+            // integrity self-tests count as hidden inputs carried over. The visible cases name it.
             FAIL_CHECK(grading::report("find_intersection(ray, scene, tmin, tmax)",
                                        input_note(i, grading::show(ray) + ", window [" + grading::show(tmin) + ", " +
                                                          grading::show(tmax) + "], scene" + grading::show(scene)),
                                        grading::show(expected), grading::show(got),
                                        "The closest hit in the window is the smallest t in it (behind the origin "
-                                       "too, when tmin < 0); on a tie the object listed first." + epsilon));
+                                       "too, when tmin < 0); on a tie the object listed first."));
             return;
         }
     }
