@@ -26,6 +26,7 @@ from .. import course as course_file
 from ..checking import StepResult, recorded_cases
 from ..common import BUILD, ROOT, load_steps
 from ..status import DONE
+from . import scale
 from .harness import Failed, Skipped, expect, need_solutions, partly_skipped
 
 WORK = BUILD / "faults-test"
@@ -119,10 +120,21 @@ def selftest_grade(ctx) -> str:
         if not ok:
             problems.append(what)
 
+    # Full marks on the course as set: the maximum, and the extra credit a copy of the solutions passes on
+    # top when a group is extra credit (scale.py), from each one's record (--report keeps them).
+    records = {}
+    for j in (out / "report" / "grading" / "json").glob("*.json"):
+        try:
+            records[j.stem] = json.loads(j.read_text())
+        except ValueError:
+            pass
+    full = {w: scale.shown(scale.full_total(rec)) for w, rec in records.items() if rec.get("steps")}
     for who in ("alice", "bob"):
         row = rows[who]
-        check(row["status"] == "complete" and row["earned"] == total and row["maximum"] == total,
-              f"{who}: {row['status']} {row['earned']} of {row['maximum']}, not complete {total} of {total}")
+        short = scale.record_short_of_full(records[who]) if who in records else "no record kept"
+        check(row["status"] == "complete" and not short and row["earned"] == full.get(who) and row["maximum"] == total,
+              f"{who}: {row['status']} {row['earned']} of {row['maximum']}, not complete {full.get(who)} of {total}"
+              + (f" ({short})" if short else ""))
     check("again" in rows["bob"]["note"] and "alone" in rows["bob"]["note"],
           f"bob (killed once): the note does not say it was graded again alone: {rows['bob']['note']!r}")
     faulty = [(w, words) for w, words in (("carol", "SIGKILL"), ("dave", "No space left on device"),
@@ -141,7 +153,7 @@ def selftest_grade(ctx) -> str:
         if s != last:
             check(erin[f"step{s}_earned"] == course.shown(points),
                   f"erin's step {s}: {erin[f'step{s}_earned']!r} of {course.shown(points)}, though only step {last} failed")
-    zero = [w for w, row in rows.items() if row["maximum"] in ("0", "") or row["status"] == "complete" and row["earned"] != total]
+    zero = [w for w, row in rows.items() if row["maximum"] in ("0", "") or row["status"] == "complete" and row["earned"] != full.get(w)]
     check(not zero, f"a submission with steps reads 0 of 0 or complete short of the total: {zero}")
     listed = next((line for line in said.splitlines() if line.strip().startswith("not graded (")), "")
     check(listed.strip().startswith(f"not graded ({len(faulty)})") and all(w in listed for w, _ in faulty),
@@ -247,8 +259,10 @@ def selftest_platforms(ctx) -> str:
         check(tagged == missed, f"{who}: Gradescope's not-graded tests are for steps {sorted(tagged)}, not {sorted(missed)}")
         lost = [t["name"] for t in gs["tests"] if t["status"] == "failed" and t.get("max_score", 0) > 0]
         check(not lost, f"{who}: Gradescope takes points away: {lost[:3]}")
-        graded = sum((p for n, p in maxima.items() if n not in missed), Fraction(0))
-        check(Fraction(str(gs["score"])) == course.rounded(graded),
+        # The graded steps' full marks: their maxima, and the extra credit their cases passed (scale.py).
+        graded = sum((p for n, p in maxima.items() if n not in missed), Fraction(0)) + sum(
+            (scale.bonus(s["cases"]) for s in rec["steps"] if s["step"] not in missed), Fraction(0))
+        check(scale.exact(gs["score"]) == course.rounded(graded),
               f"{who}: Gradescope's score {gs['score']}, not the graded steps' {course.shown(graded)}")
         check(gs["output"].startswith("NOT GRADED") and "regrade" in gs["output"].lower(),
               f"{who}: Gradescope's output does not open with NOT GRADED and a regrade: {gs['output'][:200]!r}")
