@@ -482,8 +482,10 @@ def selftest_gradescope_adds_up(ctx) -> str:
         view = gradescope(rs, 1.0, "after_due_date")
         for r in rs:
             shown = [t["max_score"] for t in view["tests"] if f"step{r.step.number}" in t["tags"]]
-            expect(round(sum(shown), 6) == float(thirds.rounded(r.maximum)),
-                   f"step {r.step.number}'s tests add up to {sum(shown)}, its points are {r.maximum}: {shown}")
+            # Summed exactly, each max_score as the decimal it is written as (scale.py), not as floats.
+            expect(scale.exact_sum(shown) == Fraction(thirds.rounded(r.maximum)),
+                   f"step {r.step.number}'s tests add up to {scale.exact_sum(shown)} exactly, its points are "
+                   f"{r.maximum} ({thirds.rounded(r.maximum)}): {shown}")
         fractions = [line for line in view["output"].splitlines() if re.match(r"step \d+: .*\d/\d+ of", line)]
         expect(not fractions, f"Gradescope's summary gives a step's points as a fraction, not in decimals: {fractions}")
         held = [line for line in view["output"].splitlines() if "hidden cases hold" in line]
