@@ -16,6 +16,7 @@ import subprocess
 import sys
 import time
 import zipfile
+from fractions import Fraction
 from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps, student_file_name
@@ -268,10 +269,10 @@ def selftest_class_speed(ctx) -> str:
     for kind in ("partial", "started"):
         expect(len(by_kind.get(kind, {""})) == 1, f"identical {kind} submissions scored differently: {by_kind[kind]}")
     slipped = [w for w, k in plan.items() if k in ("slip", "twoslips", "nocompile")]
-    counted = {w: sum((scale.base(s) for s in records[w]["steps"]), scale.Fraction(0)) for w in slipped}
-    expect(all(counted[w] < scale.exact(top) for w in slipped),
+    kept = {w: sum((scale.base(s) for s in records[w]["steps"]), Fraction(0)) for w in slipped}
+    expect(all(kept[w] < scale.exact(top) for w in slipped),
            "a slip or a step that does not compile got full marks: "
-           + ", ".join(f"{w} ({scale.shown(counted[w])} of {top} counted)" for w in slipped if counted[w] >= scale.exact(top)))
+           + ", ".join(f"{w} ({scale.shown(kept[w])} of {top} counted)" for w in slipped if kept[w] >= scale.exact(top)))
     isolation = sorted({row["isolation"].split(":")[0].split(";")[0] for row in rows.values() if row["isolation"]})
     # A step the grading judged once for every copy of its files (checking.Verdicts) has the verdict
     # a grading of that submission alone gives it, case by case.
