@@ -31,7 +31,7 @@ def manifests(root: Path = ROOT) -> list[tuple[str, dict]]:
 
 def table(root: Path = ROOT) -> str:
     steps = manifests(root)
-    drawer = next((folder[:2] for folder, m in steps if "render" in m.get("functions", [])), None)
+    drawer = next((folder[:2] for folder, m in steps if "render" in [f["name"] if isinstance(f, dict) else f for f in m.get("functions", [])]), None)
     header = ("the picture it takes part in" + (f" (drawn with your step {drawer}'s camera and loop, so once step "
                                                 f"{drawer} is written)" if drawer else ""))
     lines = [f"| step | what you write | {header} |", "|---|---|---|"]

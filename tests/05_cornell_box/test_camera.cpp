@@ -49,6 +49,38 @@ std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const 
     return "";
 }
 
+// Measured on the answer: the film point's offset from the film's centre scaled, across the film only
+// (the film's width taken from another length: its height, an inverted aspect) or across and along up
+// alike (the film at another distance: the focal length left out or used twice). Empty otherwise.
+std::string scale_cause(const Camera& camera, const glm::vec3& expected, const glm::vec3& got) {
+    const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
+    const glm::vec3 e = expected - centre, g = got - centre;
+    const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
+    const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
+    const float tol = 1e-4f * (1.0f + glm::length(e));
+    if (!(glm::length(ea) > tol)) return "";
+    const float k = glm::dot(ga, ea) / glm::dot(ea, ea);
+    if (!(k > 0.0f) || std::fabs(k - 1.0f) <= 1e-3f || glm::length(ga - k * ea) > tol) return "";
+    if (std::fabs(gu - eu) <= tol)
+        return "Your point's offset across the film is " + show(k) + " times the expected one, and its offset "
+               "along up is right: scale x by the film's width, film_height * width / height, not by its "
+               "height or another length (lecture 05, section 5). ";
+    if (std::fabs(eu) > tol && std::fabs(gu - k * eu) <= tol)
+        return "Your point's offset from the film's centre is " + show(k) + " times the expected one, across and "
+               "along up alike: your film is not focal_length in front of the eye. The direction's forward "
+               "part is focal_length * forward (lecture 05, sections 5 and 6). ";
+    return "";
+}
+
+// Measured on the answer: the direction is the film point itself, not the film point minus the eye.
+std::string film_point_cause(const Camera& camera, const Ray& ray, const glm::vec3& expected) {
+    const float tol = 1e-5f * (1.0f + glm::length(expected));
+    if (glm::length(camera.eye) > tol && glm::length(ray.direction - expected) <= tol)
+        return "Your direction is the film point itself: a direction is where the ray goes minus where it "
+               "starts, the film point minus the eye (lecture 05, section 6). ";
+    return "";
+}
+
 void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expected, const std::string& why) {
     const Ray ray = view_ray(camera, i, j);
     const std::string call = "view_ray(camera, " + std::to_string(i) + ", " + std::to_string(j) + ")";
@@ -61,7 +93,8 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     const float along = glm::dot(ray.direction, camera.forward);
     if (!(along > 0.0f)) {
         FAIL_CHECK(report(call, input, "a direction through " + show(expected), "direction " + show(ray.direction),
-                          "The ray must point forward, through the film in front of the eye."));
+                          film_point_cause(camera, ray, expected) +
+                              "The ray must point forward, through the film in front of the eye."));
         return;
     }
     const glm::vec3 got = ray.origin + ray.direction * (camera.focal_length / along);
@@ -69,7 +102,8 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     if (!ok) {
         FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
                           "a ray through " + show(got) + " (direction " + show(ray.direction) + ")",
-                          mirror_cause(camera, expected, got) + why));
+                          mirror_cause(camera, expected, got) + scale_cause(camera, expected, got) +
+                              film_point_cause(camera, ray, expected) + why));
     }
 }
 

@@ -76,6 +76,11 @@ void family(const char* family, Make make, const char* why) {
             const grading::EdgeCause cause = grading::edge_cause(
                 [](const Ray& ray, const Rect& rect, float tmin, float tmax) { return intersect_rect(ray, rect, tmin, tmax); },
                 in.ray, in.rect, in.tmin, in.tmax, expected, got);
+            // Closed comparisons, and a point computed an ulp or so outside an exact edge: right within
+            // rounding, like a root a few ulps past a window end, so both sides are accepted. Which draws
+            // put a point on an edge must not decide the verdict (issue 45: an object-space transform
+            // failed 8 of 10 identities). Leaving the edges out is still caught, on every draw.
+            if (cause.rounding) continue;
             if (cause.matched) (void)intersect_rect(in.ray, in.rect, in.tmin, in.tmax);   // the call the picture records
             grading::check_hit("intersect_rect(ray, rect, tmin, tmax)", input_note(i, shown(in)), expected, got,
                                cause.matched ? cause.text : why);

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 // The declarations of every step function: each header of include/raykit/, listed by CMake.
@@ -88,8 +89,12 @@ R forward_call(const char* function, const std::tuple<A...>& args) {
 
 }  // namespace
 
-// `ret name(params)` sends (args) to the student's answers process.
-#define RAYKIT_REMOTE(ret, name, params, args) \
+// `ret name(params)` sends (args) to the student's answers process. The signature comes from the
+// step's manifest (step.json's "functions"); it must be the header's, or this would define an overload
+// of its own and leave the declared function undefined: the assertion names the function instead.
+#define RAYKIT_REMOTE(ret, name, params, args)                                                        \
+    static_assert(std::is_same_v<decltype(&name), ret(*) params>,                                     \
+                  "step.json's \"functions\" entry for " #name " has another signature than its header"); \
     ret name params { return forward_call<ret>(#name, std::forward_as_tuple args); }
 #include RAYKIT_REMOTE_LIST
 #undef RAYKIT_REMOTE

@@ -71,7 +71,7 @@ std::string signal_name(int sig) {
 
 std::vector<std::string> split(const std::string& s, char sep);
 
-/// How to start the answers program, as the kit's boundary (tools/kitlib/sandbox.py) says: the
+/// How to start the answers program, as the kit's boundary (tools/kitlib/sandbox/) says: the
 /// wrapper (bubblewrap's options, or nothing), the user id to take, the control groups to join and
 /// the rlimits. The kit builds all of it in one place, for the compile and for this run alike.
 struct Settings {

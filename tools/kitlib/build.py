@@ -1,11 +1,10 @@
 """Builds: a build folder and the steps folder it compiles, CMake's configure and presets, Ninja, the
-kit's object cache. Above the boundary (sandbox.py, whose spec a graded build carries) and the core
+kit's object cache. Above the boundary (sandbox/, whose spec a graded build carries) and the core
 (common.py); the judge (checking.py) and the commands build through it."""
 
 from __future__ import annotations
 
 import filecmp
-import json
 import os
 import re
 import shlex
@@ -36,7 +35,7 @@ class Build:
     # about 1 s instead of 8 (measured here), which a student waits for on a cold ./kit check.
     tools: bool = True
     # A submission's build: the student's files are compiled and linked inside the trust boundary
-    # (RAYKIT_BOUNDARY; sandbox.py), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
+    # (RAYKIT_BOUNDARY; sandbox/), whose spec the build tool is given in RAYKIT_BOUNDARY_SPEC.
     boundary: bool = False
     spec: str = ""
     # A student's files under UBSan and GLM's asserts (RAYKIT_CHECK_SANITIZE): their own check and a
@@ -96,36 +95,6 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
     return Build(slot, BUILD / slot, staging, source, tools=False, boundary=True, sanitize_student=detect_undefined())
 
 
-def preset_settings(name: str) -> tuple[str | None, Path, dict[str, str]]:
-    """The generator, build folder and cache variables of configure preset `name`, read from
-    CMakePresets.json with its `inherits` resolved.
-
-    Why not `cmake --preset`: presets need CMake 3.19 (this file's version 6 needs 3.25) and
-    Debian 11 ships 3.18. The presets stay the one place the builds are described (IDEs and
-    `cmake --workflow` read them too); the kit passes the same settings as -G and -D options.
-    """
-    data = json.loads((ROOT / "CMakePresets.json").read_text())
-    presets = {p["name"]: p for p in data.get("configurePresets", [])}
-    if name not in presets:
-        raise KitError(f"CMakePresets.json has no configure preset {name!r}", FAILED)
-    chain, todo = [], [name]
-    while todo:                       # this preset, then what it inherits, nearest first
-        p = presets[todo.pop(0)]
-        chain.append(p)
-        parents = p.get("inherits", [])
-        todo += [parents] if isinstance(parents, str) else parents
-    generator, binary_dir, variables = None, None, {}
-    for p in reversed(chain):         # the farthest ancestor first, so nearer ones override
-        generator = p.get("generator", generator)
-        binary_dir = p.get("binaryDir", binary_dir)
-        for key, value in p.get("cacheVariables", {}).items():
-            if isinstance(value, dict):   # {"type": "BOOL", "value": "ON"}
-                value = value.get("value", "")
-            variables[key] = str(value).replace("${sourceDir}", str(ROOT))
-    folder = Path(binary_dir.replace("${sourceDir}", str(ROOT))) if binary_dir else BUILD / name
-    return generator, folder, variables
-
-
 def kit_cache_dir() -> Path | None:
     """Where the kit's own compiled objects are kept across build folders (tools/kitlib/kitcache.py):
     RAYKIT_KIT_CACHE_DIR, else $XDG_CACHE_HOME/raykit/objects or ~/.cache/raykit/objects; None when
@@ -137,7 +106,7 @@ def kit_cache_dir() -> Path | None:
     folder = Path(named) if named else base
     try:
         # Only the kit's user may read it: a grading's judges hold the hidden cases, and under the user
-        # isolation the graded code runs as another user of the same machine (sandbox.py).
+        # isolation the graded code runs as another user of the same machine (sandbox/).
         folder.mkdir(parents=True, exist_ok=True, mode=0o700)
         folder.chmod(0o700)
         if not os.access(folder, os.W_OK | os.X_OK):
@@ -150,33 +119,33 @@ def kit_cache_dir() -> Path | None:
 
 
 def configure(build: Build, quiet: bool = True) -> None:
-    """Runs `cmake -S -B` for `build` with its preset's settings (a submission: the base preset's
-    and its own steps folder). Works from CMake 3.18: no --preset."""
+    """Runs `cmake --preset PRESET -S -B` for `build` (a submission: the "submission" preset) with the
+    kit's own settings on top (-D: the steps folder, the tools, the boundary, the sanitizer). The
+    presets (CMakePresets.json) are the one place the builds are described; -B puts the folder where
+    the kit wants it."""
     if os.environ.get(QUICK_TIER) == "1":
         raise KitError(f"configuring {build.binary_dir.name}: a self-test of the quick tier builds nothing "
                        "(move it out of harness.QUICK)")
-    generator, _, variables = preset_settings(build.preset or "base")
-    variables["RAYKIT_STEPS_DIR"] = str(build.steps_dir)
+    variables = {"RAYKIT_STEPS_DIR": str(build.steps_dir)}
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
     variables["RAYKIT_BOUNDARY"] = "ON" if build.boundary else "OFF"
     variables["RAYKIT_CHECK_SANITIZE"] = "ON" if build.sanitize_student and not build.tools else "OFF"
     variables["RAYKIT_PYTHON"] = sys.executable
-    gen = []
-    if generator == "Ninja" and shutil.which("ninja") is None and shutil.which("ninja-build") is None:
-        generator = None              # CMake's default (Makefiles) rather than a failure
     cache = build.binary_dir / "CMakeCache.txt"
+    has_ninja = shutil.which("ninja") is not None or shutil.which("ninja-build") is not None
+    # The presets ask for Ninja; without it, CMake's default (Makefiles) rather than a failure. An
+    # existing build folder keeps the generator it has.
+    gen = ["-G", "Unix Makefiles"] if not has_ninja and not cache.is_file() else []
+    ninja_folder = has_ninja and (not cache.is_file() or "CMAKE_GENERATOR:INTERNAL=Ninja\n" in cache.read_text(errors="replace"))
     cache_dir = kit_cache_dir() if not build.tools else None
     # An empty kit cache (a newcomer, a fresh grader image): the launcher would miss on every compile
     # and only store; with Ninja the build runs without it and fill_kit_cache stores what it built,
     # one process for all instead of one per compile (0.04 s of CPU each). A folder keeps what it was
     # configured with until it is configured again.
-    filling = (cache_dir is not None and generator == "Ninja" and not any(cache_dir.iterdir())
-               and (not cache.is_file() or "CMAKE_GENERATOR:INTERNAL=Ninja\n" in cache.read_text(errors="replace")))
+    filling = cache_dir is not None and ninja_folder and not any(cache_dir.iterdir())
     variables["RAYKIT_KIT_CACHE"] = str(cache_dir) if cache_dir is not None and not filling else ""
     forget_moved_build(build.binary_dir)    # a moved kit
-    if generator and not cache.is_file():
-        gen = ["-G", generator]       # an existing build folder keeps the generator it has
-    cmd = ["cmake", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
+    cmd = ["cmake", "--preset", build.preset or "submission", "-S", str(ROOT), "-B", str(build.binary_dir), *gen,
            *(f"-D{k}={v}" for k, v in sorted(variables.items()))]
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if r.returncode != 0:
@@ -262,8 +231,8 @@ def fill_kit_cache(build: Build, targets: list[str]) -> int:
 
 
 def workflow(name: str, env: dict | None = None) -> subprocess.CompletedProcess:
-    """What `cmake --workflow --preset NAME` does (configure, build, test), without presets:
-    the same settings, through configure(). stdout holds ctest's summary line; `env` is ctest's."""
+    """Preset NAME configured (configure()), built and tested: what `cmake --preset NAME`, `cmake --build
+    --preset NAME` and `ctest --preset NAME` do by hand. stdout holds ctest's summary line; `env` is ctest's."""
     build = preset_build(name)
     try:
         configure(build)

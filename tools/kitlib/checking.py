@@ -2,7 +2,7 @@
 
 The judge (a step's test program) never loads the student's code: it calls each
 step function in a child process, the answers program, which it starts itself
-(in a sandbox when the folder graded is not the student's own; see sandbox.py),
+(in a sandbox when the folder graded is not the student's own; see sandbox/),
 and judges the answers it gets back. Nothing the student's code prints or writes
 reaches the verdicts. This module runs the judge, with a time limit per case as a
 backstop, and reads its verdicts.
@@ -16,9 +16,11 @@ costs one step and no reference code is in the student's process.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -54,6 +56,32 @@ def lecture_section(pointer: str) -> float:
     without one ("", "A. What the robust form costs") sorts after every numbered section."""
     head = (pointer or "").split(".", 1)[0].strip()
     return int(head) if head.isdigit() else float("inf")
+
+
+# The stand-in's refusal (tests/support/standin_04.cpp): "while grading step 05 the grader answers
+# intersect_rect only for ...". The student's code threw nothing itself; it asked a question the
+# script for the case does not hold, which an earlier function of theirs (a view ray) explains.
+_STANDIN_REFUSAL = re.compile(r"while grading step \d+ the grader answers \w+ only for")
+
+
+def standin_refused(case: "Case") -> bool:
+    """Whether the case failed because the stand-in for a needed step refused a call."""
+    return case.status == THREW and any(_STANDIN_REFUSAL.search(m) for m in case.messages)
+
+
+@functools.lru_cache(maxsize=None)
+def _picture_sections(folder: str) -> frozenset[str]:
+    try:
+        found = json.loads((ROOT / "tests" / folder / "step.json").read_text()).get("picture_sections", [])
+    except (OSError, ValueError, AttributeError):
+        return frozenset()
+    return frozenset(s for s in found if isinstance(s, str)) if isinstance(found, list) else frozenset()
+
+
+def picture_sections(step: Step) -> frozenset[str]:
+    """The lecture sections of `step` whose cases draw a whole picture with every function of the step
+    (step.json "picture_sections"): a failure there says the picture is wrong, not why."""
+    return _picture_sections(step.folder)
 
 
 @dataclass
@@ -103,7 +131,8 @@ class StepResult:
             self.reason = next((l.strip() for l in self.detail.splitlines() if l.strip()), "the kit failed")
         # The step's points shared among its cases by their groups' weights, once, exactly.
         course = course_file.load()
-        for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases])):
+        weights = course.weights_of(self.step.number, [(c.tier, c.name, c.lecture) for c in self.cases])
+        for c, share in zip(self.cases, course.shares(self.step.number, [c.group for c in self.cases], weights)):
             c.share = share
 
     def tier(self, tier: str) -> list[Case]:
@@ -130,21 +159,45 @@ class StepResult:
         return sum((c.points for c in self.cases if not course.extra_credit(c.group)), Fraction(0))
 
     def first_problem(self, tier: str = "basic") -> Case | None:
-        """The failing case of `tier` a student is shown first (and ./kit hint starts from): of the
-        lecture section whose cases fail in the largest share, the earliest section on a tie, the first
-        failing case in the suite's order. A slip in what one section teaches fails nearly all of that
-        section's cases and only some of the others' (a radius not squared: both of "2. Any radius",
-        10 of 12 of section 4), so that section's case is the one that names it. A wrong answer comes
-        before a function not written yet, which comes before a case waiting for another step."""
+        """The failing case of `tier` a student is shown first under "Next:" (./kit hint and ./kit debug
+        start from it too).
+
+        First, when the failing basic cases are exactly a known slip's (slips.py), the case its patch
+        names (of slips that fail alike, one they all name, else one of those they name). Then, in this
+        order, the failing cases
+          0. that report their own function's answer (a wrong answer, a crash, a throw of the student's);
+          1. whose cause lies elsewhere: a whole picture drawn with every function of the step (the
+             sections step.json lists as "picture_sections"), and a call the stand-in for a needed
+             step refused (the student's code asked it a question its script does not hold, so an
+             earlier function, a view ray say, is wrong: standin.hpp);
+          2. of a function not written yet;
+          3. waiting for another step.
+        Of the first of these groups that has a case: the lecture section whose cases fail in the
+        largest share, the earliest section on a tie, its first failing case in the suite's order. A
+        slip in what one section teaches fails nearly all of that section's cases and only some of the
+        others' (a radius not squared: both of "2. Any radius", 10 of 12 of section 4), so that
+        section's case is the one that names it. A picture at 100 % would always win that rule, with
+        words about the picture, not the cause: it comes first only when no direct case fails."""
         cases = self.tier(tier)
         failing = [c for c in cases if c.status != PASS]
         if not failing:
             return None
-        if tier == "basic" and self.slip:       # a measured cause first: the known slip's own case
+        if tier == "basic" and self.slip:       # the failing set of a known slip first: a case its patch names
             named = next((c for c in failing if c.name == self.slip.get("case")), None)
             if named is not None:
                 return named
-        rank = lambda c: 2 if c.status == WAITING else 1 if c.status == NOT_STARTED else 0   # noqa: E731
+            # Several slips fail alike and name no case in common: one of the cases they name.
+            among = [c for c in failing if c.name in (self.slip.get("cases") or ())]
+            if among:
+                failing = among
+        pictures = picture_sections(self.step)
+
+        def rank(c: Case) -> int:
+            if c.status == WAITING:
+                return 3
+            if c.status == NOT_STARTED:
+                return 2
+            return 1 if c.lecture in pictures or standin_refused(c) else 0
         best = min(rank(c) for c in failing)
         failing = [c for c in failing if rank(c) == best]
         total: dict[str, int] = {}
@@ -685,15 +738,12 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         state = PARTIAL
     if not build.reference_needs:
         state = waits.wait_on_needs(step, cases, results, state)
-    slip = slips.known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != PASS})
-    if slip is not None:
-        named = next(c for c in cases if c.name == slip["case"])
-        # Said above the case's own report, in the same message: the case still reports one call.
-        said = f"Your failing cases are exactly those of a slip the course knows: {slip['slip']}"
-        named.messages = [said + ("\n" + named.messages[0] if named.messages else "")] + list(named.messages[1:])
-    return StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
-                      isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
-                      cost=cost, includes=found, slip=slip)
+    slip = slips.match(step, cases)
+    result = StepResult(step, state, cases, detail=",".join(waits.pending(step, results)) if state == WAITING else "",
+                        isolation=isolation.description, seed=seed if any(c.tier == "hidden" for c in cases) else "",
+                        cost=cost, includes=found, slip=slip)
+    slips.say(result)
+    return result
 
 
 # --- untouched steps: no build ---------------------------------------------------------------

@@ -105,7 +105,7 @@ def load_steps() -> list[Step]:
         data = json.loads(manifest.read_text())
         steps.append(Step(folder=manifest.parent.name, title=data["title"], files=data["files"],
                           needs=data.get("needs", []), lecture=data["lecture"],
-                          functions=data.get("functions", []), contract=data.get("contract", {})))
+                          functions=[f["name"] if isinstance(f, dict) else f for f in data.get("functions", [])], contract=data.get("contract", {})))
     return steps
 
 

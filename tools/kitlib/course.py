@@ -2,9 +2,17 @@
 
 course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
 
-  "steps":  {"NN": {"points": P}}   the points of step NN. P is an integer, a decimal ("2.5") or a
+  "steps":  {"NN": {"points": P, "weights": {KEY: W}}}
+                                    the points of step NN. P is an integer, a decimal ("2.5") or a
                                     fraction ("41/3"); null means "one point per unit of weight", the
                                     sum of its cases' weights (the default: one point per case).
+                                    "weights" (optional) gives single cases a weight of their own,
+                                    where a group is too coarse: KEY is a case's name as ./kit course
+                                    --cases lists it, or "section N" for every case pointing to its
+                                    lecture's section N; W replaces the group's weight (a name before
+                                    a section). A case of an optional group stays optional, an
+                                    extra-credit one stays extra credit. ./kit course refuses a KEY
+                                    that names no counted case.
   "groups": {"core" | "degenerate" | "hidden" | "robust": {"weight": W}}
                                     every case belongs to exactly one group, by this rule:
                                       - a case of the ★ tier (doctest suite "robust") is "robust";
@@ -20,6 +28,15 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     its weight's share as if the group were counted, but on top of the
                                     step's P points (the maximum stays P: ★ at weight 1/20 and extra
                                     credit adds 5 % of a core case's points for each ★ case passed).
+                                    Every output keeps it apart: the total reads "score 108.54 of 115
+                                    + 7.78 extra credit (94 %)", the percentage of the points alone;
+                                    Gradescope shows a step's extra-credit cases as one passed test
+                                    of max_score 0 (a missed one is no failure) and its summary "115 +
+                                    7.78 extra"; PrairieLearn gives them questions of their own, the
+                                    assessment's bonus points (maxBonusPoints); the grades CSV has an
+                                    extra_credit column; the class report's histogram and "at the
+                                    maximum" count the points alone, the extra credit shown apart;
+                                    ./kit course says how much of a bug extra credit can make up for.
   "hidden": {"enabled": true|false, "visibility": V, "reveal_after_due_date": true|false}
                                     hidden cases counted or left out; V is their Gradescope
                                     visibility (hidden, after_due_date, after_published, visible);
@@ -96,6 +113,7 @@ class Course:
     extra: set[str] = field(default_factory=set)     # groups whose cases are extra credit
     limits: dict[str, float] = field(default_factory=lambda: dict(LIMITS))
     hidden_cases: dict[str, int] = field(default_factory=dict)    # a handout's record of them (./kit handout)
+    case_weights: dict[str, dict[str, Fraction]] = field(default_factory=dict)   # step -> case name or "section N" -> weight
     due_date: str | None = None         # "YYYY-MM-DDTHH:MM:SS", local time (course.json "due")
     timezone: str | None = None         # the due date's IANA timezone, when given
     source: str = "the default scale"
@@ -113,6 +131,34 @@ class Course:
             return Fraction(0)
         return self.weights.get(group, Fraction(0))
 
+    def weight_key(self, step: str, group: str, name: str, lecture: str = "") -> str | None:
+        """Which key of steps.NN.weights gives this case its weight: its name, else its lecture's
+        section ("section N"); None when its group's weight holds, as for every case of an optional
+        group (it stays worth nothing)."""
+        own = self.case_weights.get(step)
+        if not own or self.weight(group) == 0:
+            return None
+        if name in own:
+            return name
+        section = re.match(r"\s*(\d+)[.)]", lecture or "")
+        key = f"section {section.group(1)}" if section else None
+        return key if key in own else None
+
+    def case_weight(self, step: str, group: str, name: str, lecture: str = "") -> Fraction:
+        """The weight of one case: its own (weight_key), else its group's."""
+        key = self.weight_key(step, group, name, lecture)
+        return self.case_weights[step][key] if key is not None else self.weight(group)
+
+    def weights_of(self, step: str, cases: list[tuple[str, str, str]]) -> list[Fraction]:
+        """The weight of each case of step `step`, given as (tier, name, lecture)."""
+        return [self.case_weight(step, self.group(t, n), n, lec) for t, n, lec in cases]
+
+    def unmatched_weights(self, step: str, cases: list[tuple[str, str, str]]) -> list[str]:
+        """The keys of steps.NN.weights that give no counted case of the step its weight (a misspelt
+        name, a section no case points to, or only optional cases)."""
+        used = {self.weight_key(step, self.group(t, n), n, lec) for t, n, lec in cases}
+        return [k for k in self.case_weights.get(step, {}) if k not in used]
+
     def optional(self, group: str) -> bool:
         """Worth nothing: run and shown like the ★ tier."""
         return self.weight(group) == 0
@@ -121,9 +167,10 @@ class Course:
         """Worth points on top of the step's: passing adds them, failing takes nothing away."""
         return group in self.extra and not self.optional(group)
 
-    def shares(self, step: str, groups: list[str]) -> list[Fraction]:
-        """The exact points of each case of step `step`, given the cases' groups in order."""
-        weights = [self.weight(g) for g in groups]
+    def shares(self, step: str, groups: list[str], weights: list[Fraction] | None = None) -> list[Fraction]:
+        """The exact points of each case of step `step`, given the cases' groups in order (and their own
+        weights, weights_of, where the course gives some)."""
+        weights = [self.weight(g) for g in groups] if weights is None else weights
         # The step's points are shared among the counted groups; an extra-credit case is worth its
         # weight's share of them, on top.
         total = sum((w for w, g in zip(weights, groups) if not self.extra_credit(g)), Fraction(0))
@@ -134,8 +181,9 @@ class Course:
             return [Fraction(0)] * len(groups)
         return [points * w / total for w in weights]
 
-    def step_maximum(self, step: str, groups: list[str]) -> Fraction:
-        return sum((p for p, g in zip(self.shares(step, groups), groups) if not self.extra_credit(g)), Fraction(0))
+    def step_maximum(self, step: str, groups: list[str], weights: list[Fraction] | None = None) -> Fraction:
+        return sum((p for p, g in zip(self.shares(step, groups, weights), groups) if not self.extra_credit(g)),
+                   Fraction(0))
 
     def rounded(self, value: Fraction) -> Decimal:
         """`value` rounded once, half up, to the course's decimals."""
@@ -252,8 +300,14 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
         if number not in steps:
             raise KitError(f"{where} steps: no step {number!r} in this kit (steps: {', '.join(steps)})")
         entry = _object(entry, f"{where} steps.{number}")
-        _known(entry, {"points"}, f"{where} steps.{number}")
+        _known(entry, {"points", "weights"}, f"{where} steps.{number}")
         course.points[number] = _fraction(entry.get("points"), f"{where} steps.{number}.points", allow_none=True)
+        own = _object(entry.get("weights", {}), f"{where} steps.{number}.weights")
+        for key, value in own.items():
+            if not key.strip() or (key.lower().startswith("section") and not re.fullmatch(r"section \d+", key)):
+                raise KitError(f"{where} steps.{number}.weights: {json.dumps(key)} is neither a case's name nor "
+                               "\"section N\" (a lecture section's number)")
+            course.case_weights.setdefault(number, {})[key] = _fraction(value, f"{where} steps.{number}.weights.{key}")
     for name, entry in _object(data.get("groups", {}), f"{where} groups").items():
         if name not in GROUPS:
             raise KitError(f"{where} groups: unknown group {name!r} (groups: {', '.join(GROUPS)})")
@@ -348,11 +402,18 @@ def handout_text() -> str:
 
 
 def split_extra(results) -> tuple[Fraction, Fraction]:
-    """What `results` earned on the course's points and, apart, on top of them as extra credit."""
+    """What `results` earned on the course's points and, apart, on top of them as extra credit (a step
+    not graded earns neither)."""
     course = load()
-    extra = sum((c.points for r in results for c in r.cases if c.status == "pass" and course.extra_credit(c.group)),
-                Fraction(0))
+    extra = sum((c.points for r in results if r.state != NOT_GRADED for c in r.cases
+                 if c.status == "pass" and course.extra_credit(c.group)), Fraction(0))
     return sum((r.earned for r in results), Fraction(0)) - extra, extra
+
+
+def extra_maximum(results) -> Fraction:
+    """The extra credit `results`' cases could add on top of the course's points, all passed."""
+    course = load()
+    return sum((c.points for r in results for c in r.cases if course.extra_credit(c.group)), Fraction(0))
 
 
 def score_words(results) -> str:
@@ -361,7 +422,9 @@ def score_words(results) -> str:
     course = load()
     base, extra = split_extra(results)
     maximum = sum((r.maximum for r in results), Fraction(0))
-    pct = f" ({float(100 * base / maximum):.0f} %)" if maximum else ""
+    share = float(100 * base / maximum) if maximum else 0.0
+    # Whole percents, but never "100 %" for points short of the maximum (246 of 247 reads 99.6 %).
+    pct = (f" ({share:.0f} %)" if round(share) < 100 or base >= maximum else f" ({int(share * 10) / 10:.1f} %)") if maximum else ""
     more = f" + {course.shown(extra)} extra credit" if extra else ""
     return f"score {course.shown(base)} of {course.shown(maximum)}{more}{pct}"
 
@@ -393,12 +456,13 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     """The lines of ./kit course: per step (number, title, [(tier, name)]), the cases per group and
     their points, and the total to enter in Gradescope."""
     lines = [f"Course scale from {course.source}", ""]
-    head = f"  {'step':<36}" + "".join(f"{g:>15}" for g in GROUPS) + f"{'points':>9}"
-    lines += [head, "  " + "-" * (len(head) - 2)]
     total = Fraction(0)
+    own_lines, rows = [], []
     for number, title, cases in cases_by_step:
-        groups = [course.group(t, n) for t, n in cases]
-        shares = course.shares(number, groups)
+        cases = [(c[0], c[1], c[2] if len(c) > 2 else "") for c in cases]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        weights = course.weights_of(number, cases)
+        shares = course.shares(number, groups, weights)
         cells = []
         for g in GROUPS:
             mine = [p for p, gg in zip(shares, groups) if gg == g]
@@ -406,14 +470,25 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
                 cell = "-"
             elif course.optional(g):
                 cell = f"{len(mine)} × 0 ★"
-            elif course.extra_credit(g):
-                cell = f"{len(mine)} × +{exact_text(mine[0])}"
-            else:
-                cell = f"{len(mine)} × {exact_text(mine[0])}"
-            cells.append(f"{cell:>15}")
-        step_max = course.step_maximum(number, groups)
+            else:       # a case with a weight of its own makes a group's cases differ: each value counted
+                sign = "+" if course.extra_credit(g) else ""
+                cell = ", ".join(f"{mine.count(v)} × {sign}{exact_text(v)}" for v in sorted(set(mine), key=mine.index))
+            cells.append(cell)
+        keys = [course.weight_key(number, g, n, lec) for (t, n, lec), g in zip(cases, groups)]
+        for key, w in course.case_weights.get(number, {}).items():
+            hit = [p for k, p in zip(keys, shares) if k == key]
+            own_lines.append(f"  step {number}: weight {exact_text(w)} for " +
+                             (f"lecture {key}" if key.startswith("section ") else repr(key)) +
+                             (f": {len(hit)} case{'s' if len(hit) != 1 else ''}, {course.shown(hit[0])} points each"
+                              if hit else ": NO COUNTED CASE (a misspelt name, or a section no case points to)"))
+        step_max = course.step_maximum(number, groups, weights)
         total += step_max
-        lines.append(f"  {(number + ' ' + title)[:36]:<36}" + "".join(cells) + f"{course.shown(step_max):>9}")
+        rows.append((f"{(number + ' ' + title)[:36]:<36}", cells, course.shown(step_max)))
+    # Each group's column as wide as its widest cell: a case of its own weight makes a cell longer.
+    widths = [max([15] + [len(cells[i]) + 2 for _, cells, _ in rows]) for i in range(len(GROUPS))]
+    head = f"  {'step':<36}" + "".join(f"{g:>{w}}" for g, w in zip(GROUPS, widths)) + f"{'points':>9}"
+    lines += [head, "  " + "-" * (len(head) - 2)]
+    lines += [f"  {name}" + "".join(f"{c:>{w}}" for c, w in zip(cells, widths)) + f"{pts:>9}" for name, cells, pts in rows]
     lines.append("")
     lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
                  "on top of the step's points)")
@@ -422,6 +497,8 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
                                                                  " (extra credit)" if course.extra_credit(g) else "")
                         for g in GROUPS)
     lines.append(f"  group weights: {weights}")
+    lines += own_lines or ["  cases with a weight of their own: none (a step's \"weights\" in course.json: "
+                           "{\"CASE NAME\": W} or {\"section N\": W})"]
     auto = [n for n, _, _ in cases_by_step if course.points.get(n) is None]
     if auto:
         lines.append(f"  steps {', '.join(auto)}: one point per unit of weight (points: null), so their points "
@@ -436,10 +513,49 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     lines.append("  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
     lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
                  f"{course.decimals} decimals (half up)")
+    lines += extra_credit_lines(course, cases_by_step, total)
     lines.append("")
     lines.append(f"  Total to enter in Gradescope (the assignment's points): {exact_text(total)}"
                  + (f" = {course.rounded(total)}" if total.denominator != 1 else ""))
     return lines
+
+
+def bug_and_bonus(course: Course, cases_by_step) -> tuple | None:
+    """How much extra credit can make up for a bug, on this course's cases: (all the extra credit, the
+    counted cases' points as (step, name, points), the example: the costliest core case (else counted
+    case) that all the extra credit makes up for, else the cheapest one); None without extra credit."""
+    bonus, counted = Fraction(0), []
+    for number, _title, cases in cases_by_step:
+        cases = [(c[0], c[1], c[2] if len(c) > 2 else "") for c in cases]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        for (t, n, _), g, p in zip(cases, groups, course.shares(number, groups, course.weights_of(number, cases))):
+            if course.extra_credit(g):
+                bonus += p
+            elif p > 0:
+                counted.append((number, n, p, g))
+    if not bonus or not counted:
+        return None
+    pool = [c for c in counted if c[3] == "core"] or counted      # a bug in the core, where there is one
+    covered = [c for c in pool if c[2] <= bonus]
+    example = max(covered, key=lambda c: c[2]) if covered else min(pool, key=lambda c: c[2])
+    return bonus, [c[:3] for c in counted], example[:3]
+
+
+def extra_credit_lines(course: Course, cases_by_step, total: Fraction) -> list[str]:
+    """./kit course's example of what extra credit can do (#46: a student with a bug and the ★ points,
+    121.91, outscored a correct solution without them, 118.90, and nothing said it could happen)."""
+    found = bug_and_bonus(course, cases_by_step)
+    if found is None:
+        return []
+    bonus, counted, (number, name, points) = found
+    covered = sum(p <= bonus for _, _, p in counted)
+    bugged = total - points + bonus
+    return ["", f"  extra credit against a bug: the extra-credit cases add up to +{course.shown(bonus)}, so they make up for",
+            f"  any one missed case worth up to that ({covered} of the {len(counted)} counted cases). For example:",
+            f"    {course.shown(bugged):>9}  a bug that fails step {number}'s case {name[:60]!r} "
+            f"(-{course.shown(points)}), every extra-credit case passed",
+            f"    {course.shown(total):>9}  a correct solution that passes no extra-credit case"
+            + (", less" if total < bugged else ", the same" if total == bugged else ", more")]
 
 
 class using:

@@ -16,6 +16,11 @@ name, number, output, output_format, tags, visibility, extra_data. So:
   - the optional cases (the ★ tier, and any group of weight 0) are one test per step with
     max_score 0 and status "passed" whatever they gave (informational: never shown as a failure),
     its output listing the ones that fail;
+  - the extra-credit cases (a group's "extra_credit" in course.json) are one test per step with
+    max_score 0, the extra points they earned as its score (a score above max_score is extra credit
+    to Gradescope) and status "passed" whatever they gave: missing one takes nothing from the
+    assignment, so it never reads as a failed test; its output names those missed. The summary
+    says the assignment's points and the extra apart ("115 + 7.78 extra");
   - a step that does not compile (or misses a file, or waits for another) is one failed test
     worth the step's points, carrying the diagnostic; its cases are "not run", not 44 failures;
   - a step the grader failed (status.NOT_GRADED: its fault, not the student's; kitlib/faults.py) is
@@ -80,6 +85,28 @@ def shown_shares(values: list[Fraction], course) -> list[int | float]:
     return [course.number(f * unit) for f in floors]
 
 
+def extra_credit_test(r: StepResult, bonus: list, number: int, course, visibility: str, reveal: bool) -> dict:
+    """A step's extra-credit cases (course.json: a group's "extra_credit") as one test: max_score 0 and
+    the points they earned as its score (Gradescope counts a score above a test's max_score as extra
+    credit), and status "passed" whatever they gave: a missed extra-credit case takes nothing from the
+    assignment, so it is never a failed test of it. Its output names the ones missed, and why."""
+    s = r.step
+    earned = [c for c in bonus if c.status == PASS]
+    points = sum((c.points for c in earned), Fraction(0))
+    most = sum((c.points for c in bonus), Fraction(0))
+    lines = [f"Extra credit, on top of the step's {course.shown(r.maximum)} points: {len(earned)} of {len(bonus)} "
+             f"cases pass, {course.shown(points)} of {course.shown(most)} extra points."]
+    for c in bonus:
+        if c.status != PASS:
+            lines += [f"not earned: {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
+    hidden = any(c.tier == "hidden" for c in bonus)
+    return {"name": f"Step {s.number} ★ · extra credit: {len(earned)} of {len(bonus)} cases, "
+                    f"+{course.shown(points)} of {course.shown(most)}",
+            "number": f"{int(s.number)}.{number}", "score": course.number(points), "max_score": 0,
+            "status": "passed", "visibility": visibility if hidden else "visible",
+            "output": "\n".join(lines)[:8000], "tags": [f"step{s.number}", "extra_credit"]}
+
+
 def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
                reveal: bool = False) -> dict:
     """The results in Gradescope's autograder format (results.json); hidden_visibility None: the
@@ -105,23 +132,21 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                 "output": f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()[:8000],
                 "tags": [f"step{s.number}", r.state]})
             continue
-        # Extra credit (course.json: a group's "extra_credit"): worth its points when passed, 0 at most
-        # otherwise, so the tests' maxima still add up to the assignment's points (Gradescope takes a
-        # score above a test's max_score as extra credit).
-        shown = shown_shares([c.points for c in counted], course) + shown_shares([c.points for c in bonus], course)
-        for i, (c, points) in enumerate(zip(counted + bonus, shown), 1):
+        shown = shown_shares([c.points for c in counted], course)
+        for i, (c, points) in enumerate(zip(counted, shown), 1):
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
-            extra = course.extra_credit(c.group)
             tests.append({
-                "name": f"Step {s.number}{mark} · {c.name}" + (" (extra credit)" if extra else ""),
+                "name": f"Step {s.number}{mark} · {c.name}",
                 "number": f"{int(s.number)}.{i}",
                 "score": points if c.status == PASS else 0,
-                "max_score": 0 if extra else points,
+                "max_score": points,
                 "status": "passed" if c.status == PASS else "failed",
                 "visibility": visibility if c.tier == "hidden" else "visible",
                 "output": "\n".join(_case_lines(r, c, reveal)),
                 "tags": [f"step{s.number}", c.tier, c.group],
             })
+        if bonus:
+            tests.append(extra_credit_test(r, bonus, len(counted) + 1, course, visibility, reveal))
         if optional:
             passed = sum(c.status == PASS for c in optional)
             groups = sorted({"★ tier" if c.group == "robust" else c.group for c in optional})
@@ -131,7 +156,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                     lines += [f"✗ {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
             tests.append({
                 "name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
-                "number": f"{int(s.number)}.{len(counted) + len(bonus) + 1}",
+                "number": f"{int(s.number)}.{len(counted) + bool(bonus) + 1}",
                 "score": 0, "max_score": 0, "status": "passed", "visibility": "visible",
                 "output": "\n".join(lines)[:8000], "tags": [f"step{s.number}", "optional"]})
         if not r.cases:  # the kit's own test program failed: say so
@@ -142,10 +167,15 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
     summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, " + ("no points taken" if r.state == NOT_GRADED else
-               f"{course.shown(r.earned)} of {course.shown(r.maximum)}") for r in results]
+               f"{course.shown(base)} of {course.shown(r.maximum)}" + (f" + {course.shown(extra)} extra" if extra else ""))
+               for r in results for base, extra in [course_file.split_extra([r])]]
     summary.append(course_file.score_words(results)
                    + (f" (exact {course_file.exact_text(exact)} in all, rounded once to {course.decimals} decimals)"
                       if exact.denominator != 1 else ""))
+    possible = course_file.extra_maximum(results)
+    if possible:
+        summary.append(f"the assignment is worth {course.shown(maximum)} points + {course.shown(possible)} extra: "
+                       "extra-credit cases add their points when they pass and take nothing away when they do not")
     hidden = [c for r in results for c in r.cases if c.tier == "hidden" and course.hidden_enabled and c.points > 0]
     if hidden and not reveal and visibility != "visible":
         held = sum((c.points for c in hidden), Fraction(0))

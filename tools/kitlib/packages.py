@@ -30,7 +30,7 @@ from .status import SETUP
 PACKAGES = {
     "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev"],
     "render": ["libstb-dev"],           # ./kit render's PNG reader and writer, two headers (in "build" too where apt is)
-    "sandbox": ["bubblewrap"],          # grading a folder the kit did not write (sandbox.py)
+    "sandbox": ["bubblewrap"],          # grading a folder the kit did not write (sandbox/)
     "debug": ["gdb"],                   # ./kit debug
     # ./kit bench: Google Benchmark is needed; Embree (the comparison) and Google Highway (the
     # vector rows; Debian 12 and later) are installed when they can be, and skipped with a note.

@@ -4,15 +4,19 @@ Rendered from the same results as the terminal, Gradescope's file and the kit's 
 module knows PrairieLearn's fields (docs/externalGrading.md, read by externalGraderCommon.ts's
 makeGradingResult) and what a PrairieLearn student may see:
 
-  score        earned / (maximum + extra credit) on the course's scale, in [0, 1]: the question is worth
-               the step's points plus its extra credit (./kit prairielearn's info and assessment: the
-               assessment's maxPoints counts the steps' points, maxBonusPoints the extra credit), so
-               score × the question's points is what the student earned, extra credit included
-  tests[]      one per scored case: name, description (the lecture section), points, max_points (adding
-               up to the step's points, and its extra credit, on the course's decimals), message, output
-               (what the code printed);
-               the optional (★) cases one 0-point test a step; a step that does not compile, misses a
-               file or waits for another, one failed test with the reason
+  score        what a question's cases earned of its points, in [0, 1] (PrairieLearn's range for a
+               submission). PrairieLearn gives bonus points one way: an assessment's maxBonusPoints,
+               points earned above its maxPoints, from questions of their own (its docs, "Assessment
+               points"). So a step with extra-credit cases (course.json: a group's "extra_credit") is
+               two questions (./kit prairielearn): the step's, worth its points, whose score leaves the
+               extra-credit cases out (a complete step scores 1), and the step's extra credit, worth the
+               extra points, graded on those cases alone (part "extra", --prairielearn-part extra)
+  tests[]      one per scored case of the question: name, description (the lecture section), points,
+               max_points (adding up to the question's points on the course's decimals), message,
+               output (what the code printed); the optional (★) cases one 0-point test a step, and in
+               the step's question its extra-credit cases one 0-point test naming the question that
+               counts them; a step that does not compile, misses a file or waits for another, one
+               failed test with the reason
   images       the picture of the first failing visible case, an SVG data URL (also on its test)
   message      the step's state and score, and a compile error's first diagnostic
   gradable     false when a step is not graded (the grader's fault, kitlib/faults.py): PrairieLearn then
@@ -59,16 +63,28 @@ def picture_url(path: str | None) -> str | None:
     return None
 
 
-def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
+PARTS = ("step", "extra")
+
+
+def prairielearn(results: list[StepResult], shown_dir: str = "", part: str = "step") -> dict:
+    """The results as PrairieLearn's question `part` reads them: "step", the step's points; "extra",
+    its extra-credit cases alone (the bonus question of ./kit prairielearn)."""
+    if part not in PARTS:
+        raise KitError(f"--prairielearn-part {part}: one of {', '.join(PARTS)}")
     course = course_file.load()
+    extra_part = part == "extra"
 
     def clean(text: str) -> str:        # the student knows their file by its name, not our folder
         return (text.replace(shown_dir.rstrip("/") + "/", "") if shown_dir else text)[:TEXT]
 
     tests, images, notes = [], [], []
+    earned, maximum = Fraction(0), Fraction(0)
     for r in results:
         s = r.step
         cases, counted, bonus, optional = split_cases(r, course)
+        scored = bonus if extra_part else counted
+        worth = sum((c.points for c in scored), Fraction(0))
+        maximum += worth
         if r.state == NOT_GRADED:
             tests.append({"name": f"Step {s.number} · {s.title}: not graded", "description": "", "points": 0,
                           "max_points": 0, "message": clean(faults.to_student(r.reason, AGAIN)), "output": ""})
@@ -76,7 +92,7 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
         if r.state in UNRUN_STATES and cases:
             detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
             tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
-                          "description": "", "points": 0, "max_points": course.number(r.maximum),
+                          "description": "", "points": 0, "max_points": course.number(worth),
                           "message": clean(f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()),
                           "output": ""})
             if r.state == NO_COMPILE:
@@ -84,12 +100,10 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
                 if first:
                     notes.append(clean(first))
             continue
-        # Extra credit: the question is worth the step's points and its bonus (the assessment counts the
-        # bonus above its maxPoints), so its cases are scored tests, named as extra credit.
-        shares = shown_shares([c.points for c in counted], course) + shown_shares([c.points for c in bonus], course)
-        for c, points in zip(counted + bonus, shares):
+        earned += sum((c.points for c in scored if c.status == PASS), Fraction(0))
+        for c, points in zip(scored, shown_shares([c.points for c in scored], course)):
             hidden = c.tier == "hidden"
-            extra = " (extra credit)" if course.extra_credit(c.group) else ""
+            extra = " (extra credit)" if extra_part else ""
             test = {"name": f"Step {s.number}{' (hidden)' if hidden else ''}{extra} · {c.name}",
                     "description": f"lecture section: {c.lecture}" if c.lecture else "",
                     "points": points if c.status == PASS else 0, "max_points": points,
@@ -105,7 +119,16 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
                         test["images"] = [image]
                         images.append(image)
             tests.append(test)
-        if optional:
+        if bonus and not extra_part:        # counted in the step's extra-credit question, not here
+            passed = sum(c.status == PASS for c in bonus)
+            tests.append({"name": f"Step {s.number} ★ · extra credit: {passed} of {len(bonus)} pass",
+                          "description": "", "points": 0, "max_points": 0,
+                          "message": clean(f"Extra credit, counted by this step's extra-credit question (submit "
+                                           f"the same code there): {passed} of {len(bonus)} cases pass here, worth "
+                                           f"{course.shown(sum((c.points for c in bonus if c.status == PASS), Fraction(0)))} "
+                                           f"of {course.shown(sum((c.points for c in bonus), Fraction(0)))} extra "
+                                           "points."), "output": ""})
+        if optional and not extra_part:
             passed = sum(c.status == PASS for c in optional)
             lines = [f"Optional, worth no points: {passed} of {len(optional)} pass."]
             for c in optional:
@@ -114,25 +137,31 @@ def prairielearn(results: list[StepResult], shown_dir: str = "") -> dict:
             tests.append({"name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
                           "description": "", "points": 0, "max_points": 0, "message": clean("\n".join(lines)),
                           "output": ""})
-    exact = sum((c.points for r in results for c in r.cases if c.status == PASS), Fraction(0))
-    maximum = sum((r.maximum for r in results), Fraction(0))
-    bonus = sum((bonus_maximum(r, course) for r in results), Fraction(0))
+    what = "extra credit" if extra_part else "score"
     message = "; ".join(f"step {r.step.number}: {STATE_WORDS[r.state]}" + ("" if r.state == NOT_GRADED else
-                        f", {course.shown(r.earned)} of {course.shown(r.maximum)}") for r in results)
+                        f", {course.shown(sum(mine[0]))} of {course.shown(sum(mine[1]))}" + (" extra" if extra_part else ""))
+                        for r in results for mine in [part_points(r, course, extra_part)])
     if notes:
         message += "\n" + notes[0]
-    extra = f" and {course.shown(bonus)} of extra credit" if bonus else ""
     missed = [r for r in results if r.state == NOT_GRADED]
     if missed:      # not gradable: no points given or taken, no attempt used; the student is told why
         errors = [clean(f"Step {r.step.number}: " + faults.to_student(r.reason, AGAIN)) for r in missed]
         return {"gradable": False, "format_errors": errors, "message": "\n".join(errors + [message]),
                 "images": images, "tests": tests}
-    return {"gradable": True, "score": float(exact / (maximum + bonus)) if maximum + bonus else 0.0,
+    return {"gradable": True, "score": float(earned / maximum) if maximum else 0.0,
             "message": message,
-            "output": f"score {course.shown(exact)} of {course.shown(maximum)}{extra} ({course.scale_words()})"
+            "output": f"{what} {course.shown(earned)} of {course.shown(maximum)}" + (
+                      " (the extra-credit cases; the assessment counts these points above its total)" if extra_part
+                      else f" ({course.scale_words()})")
                       + (f". {HIDDEN_NOTE}" if any(c.tier == "hidden" for r in results for c in r.cases
-                                                   if course.hidden_enabled) else ""),
+                                                   if course.hidden_enabled) and not extra_part else ""),
             "images": images, "tests": tests}
+
+
+def part_points(r: StepResult, course, extra_part: bool) -> tuple[list[Fraction], list[Fraction]]:
+    """The points a step's cases of one part earned, and those they are worth."""
+    scored = split_cases(r, course)[2 if extra_part else 1]
+    return ([c.points for c in scored if c.status == PASS] or [Fraction(0)], [c.points for c in scored] or [Fraction(0)])
 
 
 def bonus_maximum(r: StepResult, course) -> Fraction:
@@ -140,11 +169,11 @@ def bonus_maximum(r: StepResult, course) -> Fraction:
     return sum((c.points for c in split_cases(r, course)[2]), Fraction(0))
 
 
-def write(path: str, results: list[StepResult], shown_dir: str = "") -> None:
+def write(path: str, results: list[StepResult], shown_dir: str = "", part: str = "step") -> None:
     target = Path(path)
     if not target.parent.is_dir():
         raise KitError(f"--prairielearn {path}: folder {target.parent} does not exist")
     try:
-        atomic.write(target, json.dumps(prairielearn(results, shown_dir), ensure_ascii=False))
+        atomic.write(target, json.dumps(prairielearn(results, shown_dir, part), ensure_ascii=False))
     except OSError as e:
         raise KitError(f"--prairielearn {path}: cannot write it ({e.strerror})")

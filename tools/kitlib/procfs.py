@@ -1,6 +1,6 @@
 """The kit's one reader of Linux's /proc: processes, their owners, states, sessions and command lines.
 
-The boundary (sandbox.py: ending a sandbox user's or a session's processes, reaping orphans) and the
+The boundary (sandbox/: ending a sandbox user's or a session's processes, reaping orphans) and the
 self-tests (leftover processes) ask the same few questions of /proc; they ask them here. Every
 function answers for a process that has gone, or a /proc that is not there (macOS), as "nothing":
 an empty list, None or "". Standard library only, nothing of the kit: the core layer.

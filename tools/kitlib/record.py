@@ -12,10 +12,13 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
     {"format": "raykit-results", "version": 1,
      "score": 41, "max_score": 48,                  # on the course's scale, rounded once
      "score_exact": "41", "max_score_exact": "48", "rounding": 2,
+     "extra_credit_exact": "3/2",                   # of the score, what extra-credit cases added on
+     "extra_credit_max_exact": "5/2",               # top of max_score, and what they could have
      "execution_time": 3.1, "identity": "", "isolation": "...",
      "finished": true,                              # false: the placeholder ./kit check writes first
      "gradable": true,                              # false when a step is not graded (the grader's fault)
      "not_graded": [{"step": "03", "reason": "..."}],
+     "grader": {"secret": "...", "cases": "..."},   # what drew and judged it (see `grader`)
      "steps": [StepResult.to_json(), ...]}          # kitlib/checking.py
 
 A placeholder (finished false, no steps) is not a result: whoever reads one where a result should be
@@ -24,14 +27,17 @@ A placeholder (finished false, no steps) is not a result: whoever reads one wher
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import json
 from fractions import Fraction
 from pathlib import Path
 
 from . import atomic
 from . import course as course_file
+from . import secret as secret_file
 from .checking import StepResult
-from .common import KitError
+from .common import ROOT, KitError
 from .status import NOT_GRADED, OLD_BROKEN
 
 FORMAT = "raykit-results"
@@ -43,13 +49,41 @@ def make(results: list[StepResult], elapsed: float, identity: str = "", finished
     missed = [{"step": r.step.number, "reason": r.reason} for r in results if r.state == NOT_GRADED]
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
+    _, extra = course_file.split_extra(results)
     return {"format": FORMAT, "version": VERSION,
             "score": course.number(exact), "max_score": course.number(maximum),
             "score_exact": course_file.exact_text(exact), "max_score_exact": course_file.exact_text(maximum),
+            "extra_credit_exact": course_file.exact_text(extra),
+            "extra_credit_max_exact": course_file.exact_text(course_file.extra_maximum(results)),
             "rounding": course.decimals, "execution_time": round(elapsed, 3), "identity": identity,
             "isolation": next((r.isolation for r in results if r.isolation), ""),
             "finished": finished, "gradable": finished and not missed, "not_graded": missed,
-            "steps": [r.to_json() for r in results]}
+            "grader": grader(), "steps": [r.to_json() for r in results]}
+
+
+# What decides a grade besides the student's files: the course's scale, the cases and their judges, the
+# hidden families and the reference. Fixtures, mutants, fuzz and property tests decide none.
+_DECIDING = ["course.json", "tests/support", "tests/hidden", "solutions"]
+
+
+@functools.lru_cache(maxsize=None)
+def grader() -> dict:
+    """Which secret drew the hidden inputs (secret.fingerprint) and which cases and scale judged them
+    (a hash of the files that decide a grade): two gradings compare only when both are equal, as the
+    merge of several machines' gradings checks (report/merge.py)."""
+    h = hashlib.sha256(b"raykit-cases-1\0")
+    roots = [ROOT / d for d in _DECIDING] + sorted(p for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir())
+    for top in roots:
+        files = [top] if top.is_file() else sorted(p for p in top.rglob("*") if p.is_file()) if top.is_dir() else []
+        for f in files:
+            if f.name == "secret.key" or "__pycache__" in f.parts:
+                continue
+            try:
+                data = f.read_bytes()
+            except OSError:
+                continue
+            h.update(str(f.relative_to(ROOT)).encode() + b"\0" + hashlib.sha256(data).digest())
+    return {"secret": secret_file.fingerprint(), "cases": h.hexdigest()[:16]}
 
 
 def write(path: str | Path, data: dict) -> None:
@@ -90,6 +124,12 @@ def finished(data: dict) -> bool:
     """Whether a record is a result, not the placeholder a check writes first (a record of a kit
     before "finished": one with steps)."""
     return bool(data.get("finished", bool(data.get("steps"))))
+
+
+def extra_credit(data: dict) -> tuple[Fraction, Fraction]:
+    """What a record's score holds of extra credit, on top of its max_score, and what it could have
+    held (0 and 0 for a record written before extra credit was kept apart)."""
+    return Fraction(data.get("extra_credit_exact", "0")), Fraction(data.get("extra_credit_max_exact", "0"))
 
 
 def not_graded(data: dict) -> list[tuple[str, str]]:

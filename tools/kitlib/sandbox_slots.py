@@ -1,5 +1,5 @@
 """What keeps one sandbox user id's runs apart from another's under the user isolation, where no
-namespace does it (sandbox.py holds the boundary itself):
+namespace does it (sandbox/ holds the boundary itself):
 
 - the kit's own temporary files (the compile's private folders, the steps' scratch folders, the
   judge's records and ledgers) in a folder of root's outside /tmp (`kit_temp`), which graded code

@@ -108,6 +108,17 @@ def secret(path: Path = SECRET_FILE) -> bytes:
         raise KitError(f"{path}: cannot make the hidden cases' secret ({e.strerror})")
 
 
+def fingerprint(path: Path = SECRET_FILE) -> str:
+    """A name for the secret that reveals nothing of it (an HMAC of a fixed text under it), for a results
+    record to say which secret drew its hidden inputs: gradings merged from several machines must share
+    one (report/merge.py). Empty when there is no secret yet; never makes one."""
+    pinned = os.environ.get(SECRET_ENV)
+    key = secret() if pinned else _read(path)
+    if key is None:
+        return ""
+    return hmac.new(key, b"raykit-secret-fingerprint-1", hashlib.sha256).hexdigest()[:16]
+
+
 def copy_into(target: Path) -> None:
     """Puts the kit's secret at `target` (inside an autograder's copy of the kit), mode 0600."""
     key = secret()

@@ -1,22 +1,35 @@
 """A submission's step matched against the slip catalogue (tests/mutants/, issue 45 item 2).
 
 Each mutant is one realistic slip, and tests/mutants/signatures.json records which basic cases it
-fails (./kit report --signatures). When a step's failing basic cases are exactly one slip's, that is a
-measured cause: the case its patch names as catching it is the one shown first (StepResult.first_problem),
-and the slip is said in the slip's own words above that case's. Only where the catalogue is (the
-instructor's copy, the graders' images): a handout ships no mutant. The class report matches near
-signatures too (report/signatures.py); a student is told only an exact match.
+fails (./kit report --signatures). When a step's failing basic cases are exactly a slip's, that is
+what is measured: the same failing set, not the same code. Another slip can fail the same cases
+(`c = dot(o, o) + 1` fails what `c = dot(o, o)` fails), so the student is told the failing set as a
+fact and the slip's words as its likely cause, never as a fact about their code: "Your code fails
+exactly the cases a known slip fails; the likely cause: ...". The case its patch names as catching
+it is the one shown first (StepResult.first_problem). Where several slips fail alike, each is said
+as a possible cause, and a case they all name comes first (else the usual rule chooses). Only where
+the catalogue is (the instructor's copy, the graders' images): a handout ships no mutant. The class
+report matches near signatures too (report/signatures.py); a student is told only an exact failing set.
+
+`python3 -m kitlib.selftest.slips RESULTS...` (from tools/) measures, on records of `./kit check
+--results` kept per mutant, how many first messages name their own slip.
 """
 
 from __future__ import annotations
 
 import functools
 import json
+import os
 
 from .common import ROOT, Step
 from .mutants import MUTANTS, PatchError, read_patch
+from .status import NOT_RUN, PASS, TIMED_OUT
 
 SIGNATURES = MUTANTS / "signatures.json"
+# Set (to anything), the catalogue is not read: a self-test measures the first message code the kit
+# never saw would get, from the cases alone.
+NO_CATALOGUE = "RAYKIT_NO_SLIP_CATALOGUE"
+MOST_SAID = 3       # slips that fail alike: at most this many are said
 
 
 @functools.lru_cache(maxsize=1)
@@ -29,14 +42,13 @@ def _catalogue() -> dict:
         return {}
 
 
-def known_slip(step: Step, failing_basic: set[str]) -> dict | None:
-    """{"name", "slip", "case"} of the one slip of `step` whose recorded signature is exactly the
-    failing basic cases given (and whose patch names a case among them), or None: no match, or
-    several slips that fail alike (then no single cause is measured)."""
-    if not failing_basic or not (ROOT / "solutions").is_dir():
-        return None
+def alike_slips(step: Step, failing_basic: set[str]) -> list[dict]:
+    """{"name", "slip", "cases"} of every slip of `step` whose recorded signature is exactly the
+    failing basic cases given and whose patch names a case among them, in the catalogue's order."""
+    if not failing_basic or not (ROOT / "solutions").is_dir() or os.environ.get(NO_CATALOGUE):
+        return []
     found = []
-    for key, entry in _catalogue().items():
+    for key, entry in sorted(_catalogue().items()):
         folder, _, name = key.partition("/")
         if folder != step.folder or not isinstance(entry, dict) or set(entry.get("fails") or ()) != failing_basic:
             continue
@@ -44,7 +56,58 @@ def known_slip(step: Step, failing_basic: set[str]) -> dict | None:
             mutant = read_patch(MUTANTS / folder / f"{name}.patch", step)
         except (OSError, PatchError):
             continue
-        case = next((c for c in mutant.cases if c in failing_basic), None)
-        if case is not None:
-            found.append({"name": name, "slip": mutant.slip, "case": case})
-    return found[0] if len(found) == 1 else None
+        cases = [c for c in mutant.cases if c in failing_basic]
+        if cases:
+            found.append({"name": name, "slip": mutant.slip, "cases": cases})
+    return found
+
+
+def known_slip(step: Step, failing_basic: set[str]) -> dict | None:
+    """What the catalogue says of these failing basic cases, or None when no slip fails exactly them:
+    {"name", "slip", "case", "cases", "alike"}. With one slip: its name, words and first named case.
+    With several: "name" and "slip" are the first one's, "alike" lists every one ({"name", "slip"}),
+    and "case" is a case each of them names, or "" when they name none in common (the usual rule then
+    chooses among "cases", every case one of them names)."""
+    found = alike_slips(step, failing_basic)
+    if not found:
+        return None
+    common = [c for c in found[0]["cases"] if all(c in f["cases"] for f in found)]
+    named = list(dict.fromkeys(c for f in found for c in f["cases"]))
+    return {"name": found[0]["name"], "slip": found[0]["slip"], "case": common[0] if common else "",
+            "cases": named, "alike": [{"name": f["name"], "slip": f["slip"]} for f in found]}
+
+
+SAID = "Your code fails exactly the cases that "   # how words() begins
+
+
+def match(step: Step, cases) -> dict | None:
+    """known_slip for a step's graded cases (anything with .name, .tier and .status): None when a case
+    timed out or never ran (the step's budget spent). Such a case gave no answer, so what a loop or a
+    slow step fails says nothing of which slip it is (the class report skips it too, issue 46)."""
+    if any(c.status in (TIMED_OUT, NOT_RUN) for c in cases):
+        return None
+    return known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != PASS})
+
+
+def words(slip: dict) -> str:
+    """The line said above the first case's report: the failing set as measured, the slip's words as
+    the likely cause (the code itself is not compared: another slip may fail the same cases)."""
+    alike = slip.get("alike") or [{"name": slip.get("name", ""), "slip": slip.get("slip", "")}]
+    if len(alike) == 1:
+        return ("Your code fails exactly the cases that a slip the course knows fails, so that slip is the "
+                f"likely cause (check that your code has it): {alike[0]['slip']}")
+    said = "; or ".join(a["slip"].rstrip(".") for a in alike[:MOST_SAID])
+    more = f" (and {len(alike) - MOST_SAID} more)" if len(alike) > MOST_SAID else ""
+    return (f"Your code fails exactly the cases that {len(alike)} slips the course knows fail; the likely "
+            f"cause is one of them{more}: {said}.")
+
+
+def say(result) -> None:
+    """Puts the known slip's words (result.slip, when set) above the report of the case a student is
+    shown first, in the same message: the case still reports one call."""
+    if not result.slip:
+        return
+    first = result.first_problem()
+    if first is not None:
+        said = words(result.slip)
+        first.messages = [said + ("\n" + first.messages[0] if first.messages else "")] + list(first.messages[1:])

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """PrairieLearn's entry point for one kit step: grade /grade/student, write /grade/results/results.json.
 
-    python3 grade.py NN [GRADE]        (GRADE: the job's folder, default /grade)
+    python3 grade.py NN [GRADE] [--extra-credit]
+                                        (GRADE: the job's folder, default /grade; --extra-credit: the
+                                        step's extra-credit question, graded on those cases alone)
 
 Each question's tests/grade.py runs this file from the kit in /grade/serverFilesCourse/raykit/ with the
 question's step. The student's files (one <pl-file-editor> per step file) are copied into a steps folder
@@ -76,7 +78,7 @@ def identity(grade_dir: Path) -> str:
     return f"prairielearn:{seed}" if isinstance(seed, (int, str)) and str(seed) else ""
 
 
-def grade(number: str, grade_dir: Path) -> int:
+def grade(number: str, grade_dir: Path, part: str = "step") -> int:
     results_dir = grade_dir / "results"
     steps = {p.parent.name[:2]: p for p in (KIT / "tests").glob("[0-9][0-9]_*/step.json")}
     number = number.zfill(2)
@@ -97,7 +99,7 @@ def grade(number: str, grade_dir: Path) -> int:
         out = Path(tmp) / "results.json"
         try:
             r = subprocess.run([str(KIT / "kit"), "check", number, "--steps", str(staged), "--prairielearn", str(out),
-                                "--identity", identity(grade_dir)],
+                                "--prairielearn-part", part, "--identity", identity(grade_dir)],
                                capture_output=True, text=True,  # not --quiet: it draws the pictures
                                timeout=max(budget - (time.monotonic() - started), 1), cwd=KIT)
         except subprocess.TimeoutExpired:
@@ -114,12 +116,14 @@ def grade(number: str, grade_dir: Path) -> int:
 
 
 def main(argv: list[str]) -> int:
+    part = "extra" if "--extra-credit" in argv else "step"
+    argv = [a for a in argv if a != "--extra-credit"]
     if not argv or len(argv) > 2:
-        print("usage: grade.py NN [GRADE]", file=sys.stderr)
+        print("usage: grade.py NN [GRADE] [--extra-credit]", file=sys.stderr)
         return 2
     grade_dir = Path(argv[1] if len(argv) > 1 else "/grade")
     try:
-        return grade(argv[0], grade_dir)
+        return grade(argv[0], grade_dir, part)
     except OSError as e:
         try:
             return not_gradable(grade_dir / "results", f"{e}")

@@ -436,6 +436,10 @@ def run(args) -> int:
         write_atomic(target / name, text)
     shown = os.path.relpath(target, Path.cwd()) if str(target).startswith(str(Path.cwd())) else str(target)
     say(f"\nwrote {', '.join(shown + '/' + n for n in OUTPUTS)}")
+    if target.resolve() == COMMITTED.parent.resolve() and (ROOT / "docs" / "bench_numbers.py").is_file():
+        # docs/bench.md and lecture 03's appendix quote this run in generated blocks, now stale.
+        say("docs/bench.md and lecture 03's appendix quote this run: python3 docs/bench_numbers.py (or ./kit refresh) "
+            "rewrites their figures")
 
     if old is not None:
         new = read_csv(target / "results.csv")

@@ -29,6 +29,9 @@ def register(p) -> None:
                         "inputs included; for the grader's side only")
     p.add_argument("--prairielearn", metavar="FILE",
                    help="also write the results in PrairieLearn's external-grader format (kitlib/plresults.py)")
+    p.add_argument("--prairielearn-part", choices=["step", "extra"], default="step",
+                   help="which question --prairielearn grades: the step's points (default), or its extra-credit "
+                        "cases alone (the step's extra-credit question of ./kit prairielearn)")
     p.add_argument("--classroom", metavar="FILE",
                    help="also write each step's GitHub Classroom result, for tools/classroom/result.py "
                         "(kitlib/classroomresults.py)")
@@ -125,7 +128,7 @@ def run(args) -> int:
     if args.json:
         write_json(args.json, results, elapsed, args.hidden_visibility, args.reveal)
     if args.prairielearn:
-        plresults.write(args.prairielearn, results, str(display) if args.steps else "")
+        plresults.write(args.prairielearn, results, str(display) if args.steps else "", args.prairielearn_part)
     if args.classroom:
         classroomresults.write(args.classroom, results)
     if not args.quiet:

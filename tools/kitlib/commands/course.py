@@ -21,10 +21,10 @@ def register(p) -> None:
                         "(tests/NN_topic/cases.json, written by ./kit check --record)")
 
 
-def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str]]]:
+def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str, str]]]:
     try:
         data = results_record.read(path)
-        return {s["step"]: [(c["tier"], c["name"]) for c in s["cases"]] for s in data["steps"]}
+        return {s["step"]: [(c["tier"], c["name"], c.get("lecture", "")) for c in s["cases"]] for s in data["steps"]}
     except (KeyError, TypeError) as e:
         raise KitError(f"--results {path}: a record without its cases ({e.__class__.__name__})")
 
@@ -38,7 +38,7 @@ def cases_recorded(steps) -> dict[str, list[tuple[str, str]]] | None:
         cases = recorded_cases(s)
         if cases is None:
             return None
-        found[s.number] = [(c.tier, c.name) for c in cases]
+        found[s.number] = [(c.tier, c.name, c.lecture) for c in cases]
     return found
 
 
@@ -56,7 +56,7 @@ def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
     ok, out = build_targets(build, [s.target for s in steps])
     if not ok:
         raise KitError("the steps' test programs do not build:\n" + out[-3000:], FAILED)
-    return {s.number: [(c.tier, c.name) for c in list_cases(build.exe(s))] for s in steps}
+    return {s.number: [(c.tier, c.name, c.lecture) for c in list_cases(build.exe(s))] for s in steps}
 
 
 def run(args) -> int:
@@ -69,4 +69,9 @@ def run(args) -> int:
              else None if args.build else cases_recorded(steps)) or cases_from_build(steps)
     for line in course_file.table(course, [(s.number, s.title, found.get(s.number, [])) for s in steps]):
         say(line)
+    unmatched = [f"steps.{s.number}.weights {k!r}" for s in steps
+                 for k in course.unmatched_weights(s.number, found.get(s.number, []))]
+    if unmatched:
+        raise KitError(f"{course.source}: {', '.join(unmatched)} gives no counted case its weight: a case's "
+                       "name as the table's step lists it, or \"section N\" of the step's lecture")
     return OK

@@ -63,8 +63,11 @@ def register(p) -> None:
 
 
 def columns(steps) -> list[str]:
-    """The grades CSV: the total rounded once (course.json's decimals) and exact, then each step."""
-    cols = ["student", "earned", "maximum", "percent", "status"]
+    """The grades CSV: the total rounded once (course.json's decimals) and exact, then each step. With
+    extra credit (course.json), "earned" is the total with it, "extra_credit" what of it is extra credit,
+    and "percent" the points without it of the maximum, as the terminal's "(88 %)" says (empty
+    extra_credit: the course has none)."""
+    cols = ["student", "earned", "maximum", "percent", "extra_credit", "status"]
     for s in steps:
         cols += [f"step{s.number}_state", f"step{s.number}_earned", f"step{s.number}_maximum",
                  f"step{s.number}_robust", f"step{s.number}_robust_total"]
@@ -149,7 +152,7 @@ def read_roster(path: Path, names: list[str], key: str | None = None) -> Roster:
     header = [h.strip() for h in rows[0]]
     if any(not h for h in header) or len(set(header)) != len(header):
         raise KitError(f"--roster {path}: every column needs a name of its own in the header line ({rows[0]})")
-    kit_columns = set(CASE_COLUMNS) | {"student", "earned", "maximum", "percent", "status", "earned_exact",
+    kit_columns = set(CASE_COLUMNS) | {"student", "earned", "maximum", "percent", "extra_credit", "status", "earned_exact",
                                        "isolation", "note"}
     clash = next((c for c in header if c in kit_columns or re.match(r"step\d\d_", c)), None)
     if clash:
@@ -271,12 +274,21 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
         last = (r.stderr.strip().splitlines() or [""])[-1].removeprefix("kit: ")[:300]
         return dict(row, status=NOT_GRADED_WORDS, _retry=True,
                     note=f"the kit's check stopped before it finished ({how})" + (f": {last}" if last else ""))
+    return record_row(row, data, steps, found.notes)
+
+
+def record_row(row: dict, data: dict, steps, left_out: list[str] = ()) -> dict:
+    """A submission's row of the grades CSV from its results record (kitlib/record.py): the total on
+    the course's decimals, the extra credit it holds apart, each step; `left_out`, what its upload had
+    that was not graded."""
     course = course_file.load()
     exact = Fraction(data["score_exact"])
     maximum = Fraction(data["max_score_exact"])
     row["earned"], row["earned_exact"] = course.shown(exact), course_file.exact_text(exact)
     row["maximum"] = course.shown(maximum)
-    share = 100 * exact / maximum if maximum else None
+    extra, possible = results_record.extra_credit(data)
+    row["extra_credit"] = course.shown(extra) if possible else ""
+    share = 100 * (exact - extra) / maximum if maximum else None
     row["percent"] = f"{course_file.Decimal(share.numerator) / share.denominator:.1f}" if share is not None else ""
     row["_cases"] = [{"step": s["step"], "case": c["name"], "tier": c["tier"], "group": c.get("group", ""),
                       "status": c["status"], "points": _decimal(c.get("points", "0")),
@@ -287,7 +299,8 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     row["status"] = "complete" if all(s["state"] == DONE for s in by_number.values()) else "incomplete"
     missed = results_record.not_graded(data)
     if missed:      # no verdict for a step: no total either, and a retry alone (_grade)
-        row.update(status=NOT_GRADED_WORDS, earned=NOT_GRADED_WORDS, earned_exact="", percent="", _retry=True)
+        row.update(status=NOT_GRADED_WORDS, earned=NOT_GRADED_WORDS, earned_exact="", percent="", extra_credit="",
+                   _retry=True)
     row["isolation"] = next((s["isolation"] for s in by_number.values() if s.get("isolation")), "")
     notes = []
     for s in steps:
@@ -314,8 +327,8 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     for number, reason in missed:       # one note per reason: a full disk fails every step alike
         why.setdefault(reason, []).append(number)
     notes[:0] = [f"step {', '.join(numbers)} not graded: {reason}" for reason, numbers in why.items()]
-    if found.notes:     # what the upload had that was not graded, whole
-        notes.append("left out: " + "; ".join(found.notes))
+    if left_out:        # what the upload had that was not graded, whole
+        notes.append("left out: " + "; ".join(left_out))
     row["note"] = "; ".join(notes)
     return row
 
@@ -375,7 +388,7 @@ def run(args) -> int:
     os.environ.setdefault(studentpch.ENV, "build")
     try:
         # Under the user isolation the graded code runs as another user of this machine: the class
-        # folder is closed to it while the class is graded (sandbox.py), then opened as it was.
+        # folder is closed to it while the class is graded (sandbox/), then opened as it was.
         with WithheldFromOthers(root, folders, args.isolation):
             return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
     finally:

@@ -11,10 +11,14 @@ kit's steps, ready to sync.
                                       the course instance (uuid from its name, published from today
                                       until 180 days after the due date, course.json's timezone); not
                                       written when --course DIR already has courseInstances/INSTANCE/
+    OUT/questions/raykit/NN_topic_extra_credit/
+                                      a step's extra-credit cases (course.json: a group's "extra_credit"),
+                                      a question of their own worth those points: PrairieLearn's bonus
+                                      points come from questions above the assessment's maxPoints
     OUT/courseInstances/INSTANCE/assessments/raykit/infoAssessment.json
                                       the assessment: one zone, a question per step worth the step's
-                                      points on course.json's scale (plus its extra credit, which
-                                      maxBonusPoints puts above maxPoints, the steps' points), and
+                                      points on course.json's scale and one per step's extra credit
+                                      (maxPoints the steps' points, maxBonusPoints the extra credit), and
                                       access rules from course.json's due date: full credit until it,
                                       then open to read and closed to submissions (without one: full
                                       credit while the instance is published)
@@ -82,7 +86,7 @@ import os
 import sys
 
 GRADER = "/grade/serverFilesCourse/raykit/tools/prairielearn/grade.py"
-os.execv(sys.executable, [sys.executable, GRADER, "{number}", "/grade"])
+os.execv(sys.executable, [sys.executable, GRADER, "{number}", "/grade"{part}])
 '''
 
 
@@ -115,16 +119,18 @@ def step_points(step, course) -> tuple[Fraction, Fraction, Fraction, int]:
     cases = recorded_cases(step)
     if cases is None:
         raise KitError(f"step {step.number}: no tests/{step.folder}/cases.json; run ./kit check {int(step.number)} --record")
-    groups = [course.group(c.tier, c.name) for c in cases
-              if c.tier != "hidden" or course.hidden_enabled]
-    shares = course.shares(step.number, groups)
+    cases = [c for c in cases if c.tier != "hidden" or course.hidden_enabled]
+    groups = [course.group(c.tier, c.name) for c in cases]
+    weights = course.weights_of(step.number, [(c.tier, c.name, c.lecture) for c in cases])
+    shares = course.shares(step.number, groups, weights)
     bonus = sum((p for p, g in zip(shares, groups) if course.extra_credit(g)), Fraction(0))
     hidden = sum((p for p, g in zip(shares, groups) if g == "hidden"), Fraction(0))
-    return course.step_maximum(step.number, groups), bonus, hidden, groups.count("hidden")
+    return course.step_maximum(step.number, groups, weights), bonus, hidden, groups.count("hidden")
 
 
-def question_id(step) -> str:
-    return f"raykit/{step.folder}"
+def question_id(step, extra: bool = False) -> str:
+    """A step's question, or (extra) the question of its extra-credit cases."""
+    return f"raykit/{step.folder}" + ("_extra_credit" if extra else "")
 
 
 # The topic and tags the questions use, as infoCourse.json declares them (PrairieLearn's schema: a
@@ -144,10 +150,10 @@ def declarations(steps) -> dict[str, list[dict]]:
     return {"topics": [TOPIC], "tags": TAGS[:1] + [step_tag(s) for s in steps] + TAGS[1:]}
 
 
-def info_json(step, image: str, timeout: int) -> dict:
+def info_json(step, image: str, timeout: int, extra: bool = False) -> dict:
     return {
-        "uuid": str(uuid.uuid5(NAMESPACE, f"raykit/{step.folder}")),
-        "title": f"raykit step {step.number}: {step.title}",
+        "uuid": str(uuid.uuid5(NAMESPACE, question_id(step, extra))),
+        "title": f"raykit step {step.number}" + (" ★ extra credit" if extra else "") + f": {step.title}",
         "topic": TOPIC["name"],
         "tags": [TAGS[0]["name"], step_tag(step)["name"]] + [t["name"] for t in TAGS[1:]],
         "type": "v3",
@@ -170,7 +176,11 @@ def pl_number(value: Fraction) -> int | float:
 
 
 def assessment_json(steps, course, points: dict) -> dict:
-    """The assessment: a question per step, worth its points on the course's scale and its extra credit."""
+    """The assessment: a question per step, worth its points on the course's scale, and one for each
+    step's extra credit, worth those points. PrairieLearn's way with bonus points (its docs, "Assessment
+    points"): maxPoints, the steps' points, make 100 %; maxBonusPoints, the extra credit, may be earned
+    above it, from questions of their own (a question's score is 0 to 100 % of its points, so a step's
+    question cannot hold its bonus without a complete step reading as less than 100 %)."""
     maximum = sum((points[s.number][0] for s in steps), Fraction(0))
     bonus = sum((points[s.number][1] for s in steps), Fraction(0))
     data = {
@@ -183,8 +193,9 @@ def assessment_json(steps, course, points: dict) -> dict:
                             f"({course.scale_words()}); Save & Grade runs its cases.", quote=False),
         "maxPoints": pl_number(maximum),
         "zones": [{"title": "The steps",
-                   "questions": [{"id": question_id(s), "autoPoints": pl_number(sum(points[s.number][:2])),
-                                  "maxAutoPoints": pl_number(sum(points[s.number][:2]))} for s in steps]}],
+                   "questions": [{"id": question_id(s, extra), "autoPoints": pl_number(points[s.number][extra]),
+                                  "maxAutoPoints": pl_number(points[s.number][extra])}
+                                 for s in steps for extra in (False, True) if not extra or points[s.number][1]]}],
     }
     if bonus:
         data["maxBonusPoints"] = pl_number(bonus)
@@ -311,9 +322,10 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
     maximum, bonus, hidden, hidden_cases = points
     task, figures, _dropped = task_html(ROOT / "steps" / step.folder / "README.md")
     files = ", ".join(f"<code>{html.escape(f)}</code>" for f in step.files)
-    worth = (f"This question is worth the step's {course.shown(maximum)} points"
-             + (f" and {course.shown(bonus)} of extra credit, which the assessment counts above its total" if bonus else "")
-             + f" ({html.escape(course.scale_words())}).")
+    worth = (f"This question is worth the step's {course.shown(maximum)} points ({html.escape(course.scale_words())})."
+             + (f" Its extra-credit cases, {course.shown(bonus)} points on top, are counted by a question of their "
+                f"own beside this one, <em>raykit step {step.number} ★ extra credit</em> (submit the same code there; "
+                "the assessment counts its points above its total)." if bonus else ""))
     hidden_text = (f" {hidden_cases} of its cases ({course.shown(hidden)} points) are hidden: random inputs of the "
                    f"visible cases' families, drawn for each submission. A failed hidden case names its family; "
                    f"{html.escape(HIDDEN_NOTE.split('; ', 1)[1])}" if hidden_cases and course.hidden_enabled else "")
@@ -349,6 +361,24 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
     parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
               "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
     return template_safe("\n".join(parts)), figures
+
+
+def extra_question_html(step, course, points) -> str:
+    """The page of a step's extra-credit question: what it counts, the step's files to submit again."""
+    maximum, bonus = points[0], points[1]
+    files = ", ".join(f"<code>{html.escape(f)}</code>" for f in step.files)
+    parts = ["<pl-question-panel>",
+             f"<p>The extra credit of step {step.number}, <em>{html.escape(step.title)}</em>: its extra-credit cases "
+             f"({html.escape(' and '.join(g if g != 'robust' else 'the ★ tier' for g in course_file.GROUPS if course.extra_credit(g)))}), worth {course.shown(bonus)} points on top of the step's {course.shown(maximum)}. "
+             "The assessment counts them above its total (its bonus points): missing them takes nothing away.</p>",
+             f"<p>Submit here the same {files} as in the step's own question (its page has the task); "
+             "<strong>Save &amp; Grade</strong> runs the step's cases and counts the extra-credit ones.</p>",
+             "</pl-question-panel>"]
+    for f in step.files:
+        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
+    parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
+              "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
+    return template_safe("\n".join(parts))
 
 
 def template_safe(page: str) -> str:
@@ -521,8 +551,18 @@ def run(args) -> int:
             for f in step.files:
                 shutil.copyfile(ROOT / "steps" / step.folder / f, q / f)
             entry = q / "tests" / "grade.py"
-            entry.write_text(ENTRY.format(number=step.number))
+            entry.write_text(ENTRY.format(number=step.number, part=""))
             entry.chmod(0o755)
+            if points[step.number][1]:      # its extra credit: a question of its own (assessment_json)
+                x = staging / "questions" / question_id(step, extra=True)
+                (x / "tests").mkdir(parents=True)
+                (x / "info.json").write_text(json.dumps(info_json(step, image, args.timeout, extra=True), indent=2) + "\n")
+                (x / "question.html").write_text(extra_question_html(step, course, points[step.number]))
+                for f in step.files:
+                    shutil.copyfile(ROOT / "steps" / step.folder / f, x / f)
+                entry = x / "tests" / "grade.py"
+                entry.write_text(ENTRY.format(number=step.number, part=', "--extra-credit"'))
+                entry.chmod(0o755)
         assessment = staging / "courseInstances" / args.instance / "assessments" / "raykit"
         assessment.mkdir(parents=True)
         if has_instance:
@@ -569,7 +609,9 @@ def run(args) -> int:
         raise KitError(f"{args.out}: cannot write it ({e.strerror or e})")
     total = sum((points[s.number][0] for s in steps), Fraction(0))
     bonus = sum((points[s.number][1] for s in steps), Fraction(0))
-    say(f"wrote {out}: {len(steps)} questions in questions/raykit/, the assessment in "
+    extras = sum(bool(points[s.number][1]) for s in steps)
+    say(f"wrote {out}: {len(steps) + extras} questions in questions/raykit/"
+        + (f" ({extras} of them the steps' extra credit)" if extras else "") + ", the assessment in "
         f"courseInstances/{args.instance}/assessments/raykit/ ({course.shown(total)} points"
         + (f", {course.shown(bonus)} of extra credit" if bonus else "") + "),")
     say(f"  the kit in serverFilesCourse/raykit/, the grading image in graders/raykit/ (timeout {args.timeout} s; image {image})")

@@ -3,7 +3,8 @@ self-tests the change touches.
 
 An instructor changes course.json, the scene (include/raykit/scenes/), a step's cases or its reference,
 or adds a step; several files are then derived from those and checked by ./kit test: lecture 05's
-scene tables, the README's step table, the reference pictures (docs/images/), the recorded stubs and
+scene tables, the README's step table, the benchmark's figures that docs/bench.md and lecture 03's
+appendix quote from its committed run, the reference pictures (docs/images/), the recorded stubs and
 case lists, the ★ tier's exact answers and the mutants' signatures. Each is rewritten here by the
 command that owns it, only when it is stale (each has a check), in an order where none reads a file a
 later one writes. Then the self-tests of what changed since REV (default HEAD: the uncommitted change,
@@ -40,6 +41,8 @@ PY = [sys.executable]
 REGENERATORS = [
     Regenerator("lecture 05's scene tables", PY + ["docs/scene_tables.py", "--check"], PY + ["docs/scene_tables.py"]),
     Regenerator("the README's step table", PY + ["docs/readme_steps.py", "--check"], PY + ["docs/readme_steps.py"]),
+    Regenerator("the benchmark's figures (docs/bench.md, lecture 03's appendix)",
+                PY + ["docs/bench_numbers.py", "--check"], PY + ["docs/bench_numbers.py"]),
     Regenerator("the reference pictures (docs/images/)", KIT + ["test", "render:reference pictures are current"], KIT + ["render", "--refresh"]),
     Regenerator("the recorded stubs and case lists", KIT + ["test", "latency:recorded stubs and case lists"],
                 KIT + ["check", "--record"]),

@@ -2,6 +2,8 @@
 
     ./kit grade SUBMISSIONS --report DIR      grades, saves the grading in DIR/grading/, writes DIR/index.html
     ./kit report GRADING_DIR --out DIR        the report of a saved grading (grades.csv, json/, files/)
+    ./kit report A B ... --out DIR            gradings of one class from several machines, merged into
+                                              DIR/grading/ (report/merge.py), and their one report
     ./kit report --signatures                 grades every mutant, writes tests/mutants/signatures.json
 
 DIR/index.html is for the instructor: scores, cases by failure rate, the slips the mutant library
@@ -14,17 +16,19 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, load_steps, say, select_steps
+from ..common import BUILD, ROOT, KitError, load_steps, say, select_steps, writable_parent
 from ..report import signatures
 from ..report.grading import load
 from ..report.make import save_submissions, write_report
+from ..report.merge import merge
 from ..status import FAILED, OK
 
 
 def register(p) -> None:
-    p.add_argument("grading", metavar="GRADING_DIR", nargs="?",
+    p.add_argument("grading", metavar="GRADING_DIR", nargs="*",
                    help="a saved grading: grades.csv, json/ (./kit grade --json-dir) and, for the similarity "
-                        "section, files/ (written by ./kit grade --report)")
+                        "section, files/ (written by ./kit grade --report); several: one class graded on "
+                        "several machines, merged into OUT/grading/ first")
     p.add_argument("--out", metavar="DIR", help="the report's folder (default: build/report)")
     p.add_argument("--submissions", metavar="DIR",
                    help="the class's uploads, to compare the submissions (saved into GRADING_DIR/files/)")
@@ -51,8 +55,21 @@ def run(args) -> int:
         return FAILED if data["problems"] else OK
     if not args.grading:
         raise KitError("give a saved grading folder (./kit report GRADING_DIR) or --signatures")
-    folder = Path(args.grading)
     out = Path(args.out) if args.out else BUILD / "report"
+    if len(args.grading) > 1:
+        if args.submissions:
+            raise KitError("--submissions takes one grading; merge gradings that each saved their files "
+                           "(./kit grade --report)")
+        folders = [Path(g) for g in args.grading]
+        if any(out.resolve() == f.resolve() or out.resolve() in f.resolve().parents for f in folders):
+            raise KitError(f"--out {out}: is one of the gradings to merge, or holds one")
+        writable_parent(f"--out {out}", out)
+        out.mkdir(parents=True, exist_ok=True)
+        for note in merge(folders, out / "grading"):
+            say(f"  note: {note}")
+        say(f"merged {len(folders)} gradings into {out / 'grading' / 'grades.csv'}")
+        return write_report(out / "grading", out)
+    folder = Path(args.grading[0])
     if args.submissions:
         submissions = Path(args.submissions)
         if not submissions.is_dir():

@@ -13,8 +13,11 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..common import KitError, Step, printable, student_file_name
+from fractions import Fraction
+
+from .. import course as course_file
 from .. import record as results_record
+from ..common import KitError, Step, printable, student_file_name
 
 
 @dataclass
@@ -31,6 +34,25 @@ class Student:
     @property
     def maximum(self):
         return _number(self.row.get("maximum"))
+
+    def points(self):
+        """(points earned without the extra credit, the maximum, extra credit earned, extra credit the
+        course offered), exact, for a student with a total: from their record, else (nothing
+        submitted, no steps) the CSV's 0 of the maximum; None without a total (not graded)."""
+        if self.earned is None or not self.maximum:
+            return None
+        if self.data is None or not self.data.get("score_exact"):
+            return Fraction(str(self.earned)), Fraction(str(self.maximum)), Fraction(0), Fraction(0)
+        extra, possible = results_record.extra_credit(self.data)
+        return (Fraction(self.data["score_exact"]) - extra, Fraction(self.data["max_score_exact"]), extra, possible)
+
+    def shown(self, exact_text, fallback="") -> str:
+        """A number of this student's record on its course's decimals, as the CSV writes it (course.shown):
+        108.90, never 108.9."""
+        if exact_text in (None, ""):
+            return str(fallback)
+        decimals = (self.data or {}).get("rounding", course_file.load().decimals)
+        return course_file.Course(decimals=decimals).shown(Fraction(str(exact_text)))
 
     def steps(self) -> list[dict]:
         return (self.data or {}).get("steps", [])

@@ -13,6 +13,7 @@ import re
 import shutil
 import time
 from collections import Counter, defaultdict
+from fractions import Fraction
 from pathlib import Path
 
 from .. import atomic
@@ -22,7 +23,7 @@ from .. import record as results_record
 from ..common import load_steps, prerequisites, printable
 from ..scoreboard import HIDDEN_NOTE
 from ..status import (NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
-                      STATUS_WORDS, THREW, TIMED_OUT, WAITING)
+                      STATUS_WORDS, THREW, TIMED_OUT, NOT_RUN, WAITING)
 from . import grading as grading_mod
 from . import plots, signatures, similar
 
@@ -89,6 +90,12 @@ def draw_case(case: dict, title: str) -> str:
 
 # --- what the class did ----------------------------------------------------------------------------
 
+# A case that ran out of time, or never ran because the step's budget was spent, gave no answer: what a
+# loop or a slow step fails says nothing of which slip it is (issue 46: a looping submission was matched
+# exactly to a slip), so such a step is matched to none; the report lists it under "Timed out".
+NO_ANSWER = (TIMED_OUT, NOT_RUN)
+
+
 def analyse(g, steps, sigs):
     by_step = defaultdict(list)
     for s in sigs:
@@ -97,6 +104,8 @@ def analyse(g, steps, sigs):
     for st in g.students:
         for res in st.steps():
             if res.get("state") != PARTIAL:
+                continue
+            if any(c.get("status") in NO_ANSWER for c in res.get("cases", [])):
                 continue
             fails = failing_basic(res)
             if fails:
@@ -166,6 +175,30 @@ def incidents(g):
 
 # --- the index -------------------------------------------------------------------------------------
 
+def class_scores(g) -> dict:
+    """The class's scores, from each student's record (Student.points): the histogram's percentages
+    and "at the maximum" on the points without the extra credit (#46: the ★ points carried a student
+    with a bug to "the maximum", and put others past the histogram's 100 %), and the extra credit
+    apart: how many earned some, all of it, and were carried to the maximum or past it by it."""
+    points = [p for p in (st.points() for st in g.students) if p is not None]
+    percents = [float(100 * base / maximum) for base, maximum, _, _ in points]
+    at_maximum = sum(base >= maximum for base, maximum, _, _ in points)
+    possible = max((p for _, _, _, p in points), default=Fraction(0))
+    extras = [extra for _, _, extra, _ in points]
+    earned_some = sum(x > 0 for x in extras)
+    full = sum(extra >= p > 0 for _, _, extra, p in points)
+    carried = sum(base < maximum <= base + extra for base, maximum, extra, _ in points)
+    course = course_file.load()
+    words = (f"Extra credit, on top of the points (not in the histogram above): {earned_some} of {len(points)} "
+             f"students earned some, {full} all {course.shown(possible)} points of it; it took {carried} student"
+             f"{'' if carried == 1 else 's'} with points missing to the maximum or past it.") if possible else ""
+    top = float(possible)
+    chart = {"kind": "hist", "values": [float(x) for x in extras], "bins": [top * i / 10 for i in range(11)],
+             "xlabel": "extra credit earned (points, on top of the maximum)", "ylabel": "students"}
+    return {"percents": percents, "at_maximum": at_maximum, "possible": possible, "earned_some": earned_some,
+            "full": full, "carried": carried, "words": words, "chart": chart}
+
+
 def link(st) -> str:
     return f'<a href="students/{e(st.page)}.html">{e(st.name)}</a>'
 
@@ -191,7 +224,8 @@ def build(folder: Path, out: Path) -> dict:
         body.append(f'<p class="note">{e(n)}</p>')
 
     # 1. scores
-    percents = [100 * st.earned / st.maximum for st in g.students if st.earned is not None and st.maximum]
+    scores = class_scores(g)
+    percents = scores["percents"]
     counts = {s.number: Counter() for s in steps}
     extra = {s.number: Counter() for s in steps}
     robust = {s.number: [0, 0] for s in steps}
@@ -207,12 +241,15 @@ def build(folder: Path, out: Path) -> dict:
             if res.get("state") == DONE and res.get("robust", {}).get("total"):
                 robust[n][1] += 1
                 robust[n][0] += res["robust"]["passed"] == res["robust"]["total"]
-    charts = [{"kind": "hist", "values": percents, "bins": list(range(0, 101, 5)), "xlabel": "score (% of the maximum)",
+    charts = [{"kind": "hist", "values": percents, "bins": list(range(0, 101, 5)),
+               "xlabel": "score (% of the maximum" + (", extra credit aside)" if scores["possible"] else ")"),
                "ylabel": "students"},
               {"kind": "bars", "labels": [f"step {s.number}" for s in steps], "xlabel": "students",
                "height": 2.2 + 0.25 * len(steps),
                "series": [[STATE_WORDS[k], colour, [counts[s.number][k] for s in steps]] for k, colour in STATE_COLOURS
                           if any(counts[s.number][k] for s in steps)]}]
+    if scores["possible"]:      # the extra credit apart: its own chart, after the others
+        charts.append(scores["chart"])
     svgs, why = plots.draw(charts)
     if why:
         notes.append(why)
@@ -221,11 +258,17 @@ def build(folder: Path, out: Path) -> dict:
         srt = sorted(percents)
         body.append(f"<p>On the course's scale ({e(course_file.load().scale_words())}): "
                     f"median {srt[len(srt) // 2]:.0f} %, lowest {srt[0]:.0f} %, highest {srt[-1]:.0f} %, "
-                    f"{sum(p >= 100 for p in percents)} of {len(percents)} at the maximum.</p>")
+                    f'<span data-at-maximum="{scores["at_maximum"]}">{scores["at_maximum"]} of {len(percents)} '
+                    f"at the maximum</span>" + (" (the points without the extra credit)" if scores["possible"] else "")
+                    + ".</p>")
     if svgs:
         body.append(svg_img(svgs[0], "histogram of the scores", "chart"))
     else:
         body.append(f'<p class="note">{e(why)}</p>')
+    if scores["possible"]:
+        body.append(f'<p data-extra-credit="{scores["earned_some"]}">{e(scores["words"])}</p>')
+        if len(svgs) > 2:
+            body.append(svg_img(svgs[2], "histogram of the extra credit earned", "chart"))
     head = "".join(f"<th>{e(STATE_WORDS[k])}</th>" for k, _ in STATE_COLOURS)
     rows = []
     for s in steps:
@@ -368,7 +411,8 @@ def build(folder: Path, out: Path) -> dict:
                 + "".join(f"<th>step {e(s.number)}</th>" for s in steps) + "</tr>")
     for st in g.students:
         cells = "".join(f"<td>{e(st.row.get(f'step{s.number}_state', ''))}</td>" for s in steps)
-        score = f"{st.earned} / {st.maximum}" if st.earned is not None else "–"
+        score = (f"{st.shown((st.data or {}).get('score_exact'), st.row.get('earned'))} / "
+                 f"{st.shown((st.data or {}).get('max_score_exact'), st.row.get('maximum'))}" if st.earned is not None else "–")
         body.append(f'<tr><td>{link(st)}</td><td class="n" data-score="{e(st.name)}">{e(score)}</td>'
                     f'<td class="n">{e(st.row.get("percent", ""))}</td><td>{e(st.row.get("status", ""))}'
                     f'{" — " + e(st.row["note"]) if st.row.get("note") else ""}</td>{cells}</tr>')
@@ -455,7 +499,8 @@ def student_page(st, steps, matches: dict) -> str:
     if st.data is None:
         body.append(f"<p>Your submission was not graded: {e(st.row.get('status', ''))}. {e(st.row.get('note', ''))}</p>")
         return page(f"{st.name}: results", body)
-    earned, maximum = st.data.get("score"), st.data.get("max_score")
+    earned = st.shown(st.data.get("score_exact"), st.data.get("score"))       # as the CSV writes it
+    maximum = st.shown(st.data.get("max_score_exact"), st.data.get("max_score"))
     missed = results_record.not_graded(st.data)
     if missed:      # no total: it would read as the student's; each step the grader failed, and why
         body.append(f'<p class="total" data-earned="" data-maximum="{e(maximum)}"><b>Not graded yet</b>: the '
@@ -463,18 +508,25 @@ def student_page(st, steps, matches: dict) -> str:
                     "for them, and your instructor will grade them again.</p><ul>"
                     + "".join(f"<li>Step {e(n)}: {e(why)}</li>" for n, why in missed) + "</ul>")
     else:
+        extra, possible = results_record.extra_credit(st.data)
+        total = Fraction(st.data["score_exact"]) if st.data.get("score_exact") else None
+        said = (f"<b>{e(st.shown(course_file.exact_text(total - extra)))} of {e(maximum)}</b> + "
+                f"{e(st.shown(course_file.exact_text(extra)))} extra credit (of {e(st.shown(course_file.exact_text(possible)))} "
+                f"possible), {e(earned)} in all" if possible and total is not None else f"<b>{e(earned)} of {e(maximum)}</b>")
         body.append(f'<p class="total" data-earned="{e(earned)}" data-maximum="{e(maximum)}">Your score: '
-                    f"<b>{e(earned)} of {e(maximum)}</b> on the course's scale ({e(course_file.load().scale_words())}).</p>")
+                    f"{said} on the course's scale ({e(course_file.load().scale_words())}).</p>")
     rows = []
     for res in st.steps():
         rob = res.get("robust", {})
         if res.get("state") in (NOT_GRADED, OLD_BROKEN):
             rows.append(f'<tr><td>{e(res.get("step"))} {e(res.get("title", ""))}</td><td class="state-not_graded">'
-                        f'not graded</td><td class="n">— / {e(res.get("maximum"))}</td><td class="n">—</td></tr>')
+                        f'not graded</td><td class="n">— / {e(st.shown(res.get("maximum_exact"), res.get("maximum")))}</td>'
+                        '<td class="n">—</td></tr>')
             continue
         rows.append(f'<tr><td>{e(res.get("step"))} {e(res.get("title", ""))}</td>'
                     f'<td class="state-{e(res.get("state"))}">{e(STATE_WORDS.get(res.get("state"), res.get("state")))}</td>'
-                    f'<td class="n">{e(res.get("earned"))} / {e(res.get("maximum"))}</td>'
+                    f'<td class="n">{e(st.shown(res.get("earned_exact"), res.get("earned")))} / '
+                    f'{e(st.shown(res.get("maximum_exact"), res.get("maximum")))}</td>'
                     f'<td class="n">{e(rob.get("passed", 0))} / {e(rob.get("total", 0))}</td></tr>')
     body.append("<h2>Scoreboard</h2><table><tr><th>step</th><th>state</th><th>points</th><th>★ robust</th></tr>"
                 + "".join(rows) + "</table>")

@@ -8,8 +8,10 @@ facts that only hold when the float128 yardstick and the ulp measure work.
 from __future__ import annotations
 
 import csv
+import importlib.util
 import json
 import math
+import re
 import subprocess
 import tempfile
 import xml.etree.ElementTree as ET
@@ -309,10 +311,81 @@ def selftest_student_summary(ctx) -> str:
     return f"the student's step summed up in {len(lines)} family lines and its worst error; 'GCC {compiler}'"
 
 
+# --- the reading's figures (docs/bench.md, lecture 03's appendix) --------------------------------
+
+GENERATOR = ROOT / "docs" / "bench_numbers.py"
+
+# One figure of each kind a hand might type, and where it goes: into the text between two blocks.
+PLANTED = ["It takes 7.3 ns per ray.", "It misclassifies 45 % of the rays.", "The peak is 12.7 GFLOP/s.",
+           "The worst rays were 17 and 19 ulps off.", "It runs 2.2× faster.", "It costs about three times as much.",
+           "It takes less than a tenth of the time.", "Within an ulp and a half.", "At a load average of 2.2.",
+           "The textbook form's p99 53000 is large.", "It takes 11.2 to\n13.6 times as long.",
+           "It costs 37 flops against 26.", "The bound is **15 ulps**."]
+
+
+def _bench_numbers():
+    spec = importlib.util.spec_from_file_location("bench_numbers_selftest", GENERATOR)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def selftest_reading_generated(ctx) -> str:
+    """Every figure with a unit in docs/bench.md and lecture 03's appendix sits in a generated block, and every
+    block is what the committed run (docs/bench/results.json) gives. Then the check is shown to fail: each
+    figure of PLANTED typed between two blocks of a copy is found, and a block edited by hand in a copy is
+    stale; every block the generator knows is used somewhere."""
+    if not GENERATOR.is_file() or not (ROOT / "docs" / "bench" / "results.json").is_file():
+        raise Skipped("no docs/bench_numbers.py or no committed benchmark run here")
+    bn = _bench_numbers()
+    files = [p for p in bn.FILES if p.is_file()]
+    expect(any(p.name == "bench.md" for p in files), "docs/bench.md is missing")
+    typed = bn.typed_in_files(files)
+    expect(not typed, f"{len(typed)} figures typed by hand outside a generated block (generate them in "
+                      "docs/bench_numbers.py or reword without a number):\n  " + "\n  ".join(typed[:20]))
+    try:
+        stale = bn.run_files(bn.RESULTS, files, check=True)
+    except bn.Stale as e:
+        raise Failed(f"docs/bench_numbers.py cannot read the committed run: {e}") from None
+    expect(not stale, "generated blocks differ from the committed run (run python3 docs/bench_numbers.py): "
+                      + ", ".join(stale))
+    used = {bn.BEGIN.match(l).group(1) for p in files for l in p.read_text().split("\n") if bn.BEGIN.match(l)}
+    expect(used == set(bn.BLOCKS), f"blocks the generator writes but no text holds: {sorted(set(bn.BLOCKS) - used)}")
+
+    # The check can fail. A typed figure between two blocks of a copy of the reading:
+    reading = next(p for p in files if p.name == "bench.md")
+    text = reading.read_text()
+    cut = text.index(bn.END) + len(bn.END)          # just after the first block
+    missed = []
+    for figure in PLANTED:
+        found = bn.typed_figures(text[:cut] + "\n" + figure + "\n" + text[cut:])
+        if not found:
+            missed.append(figure)
+    expect(not missed, f"typed figures not found: {missed}")
+    # ... and a block edited by hand, in a temporary copy run through the same check as the real files.
+    with tempfile.TemporaryDirectory() as tmp:
+        copy = Path(tmp) / reading.name
+        lines = text.split("\n")
+        first = next(i for i, l in enumerate(lines) if bn.BEGIN.match(l))
+        name = bn.BEGIN.match(lines[first]).group(1)
+        end = lines.index(bn.END, first)
+        edit = next((i for i in range(first + 1, end) if re.search(r"\d", lines[i])), None)
+        expect(edit is not None, f"block '{name}' has no digit to change")
+        lines[edit] = re.sub(r"\d", lambda m: str((int(m.group(0)) + 1) % 10), lines[edit], count=1)
+        copy.write_text("\n".join(lines))
+        stale = bn.run_files(bn.RESULTS, [copy], check=True)
+        expect(stale == [f"{copy.name}: {name}"], f"a digit changed by hand in block '{name}' gave stale = {stale}")
+        expect(copy.read_text() == "\n".join(lines), "the check changed the copy")
+    blocks = sum(1 for p in files for l in p.read_text().split("\n") if bn.BEGIN.match(l))
+    return (f"{blocks} generated blocks current with the committed run, no typed figure in "
+            f"{', '.join(p.name for p in files)}; {len(PLANTED)} planted figures and a hand-edited block caught")
+
+
 def selftests() -> list:
     return [("bench roofline model", selftest_roofline_model),
             ("bench: the front compares like with like", selftest_front_like_with_like),
             ("bench: the student's summary", selftest_student_summary),
+            ("bench: every figure of the reading is generated", selftest_reading_generated),
             ("bench runs and its output parses", _needs_bench(selftest_quick_run)),
             ("bench command line errors", _needs_bench(selftest_bad_input)),
             ("handout's bench data is current", _needs_bench(selftest_handout_data))]

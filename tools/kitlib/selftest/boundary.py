@@ -1,4 +1,4 @@
-"""Self-test of the trust boundary (sandbox.py): hostile submissions from the first byte the compiler
+"""Self-test of the trust boundary (sandbox/): hostile submissions from the first byte the compiler
 reads, graded as an instructor grades them, with the harm checked, not argued.
 
 - compile: a step that #includes, __has_include's or .incbin's the kit's answers does not compile,

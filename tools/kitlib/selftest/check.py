@@ -110,49 +110,76 @@ def selftest_case_names_and_lectures(ctx: Context) -> str:
 
 
 def remote_lines(steps) -> dict[str, str]:
-    """Each step's RAYKIT_REMOTE lines as CMake derives them for the judge (cmake/StepManifest.cmake's
-    raykit_remote_lines: step.json's "functions", the headers' declarations), by step number; Failed
-    with CMake's message when a step's cannot be derived."""
+    """Each step's RAYKIT_REMOTE lines as CMake reads them for the judge (cmake/StepManifest.cmake's
+    raykit_remote_lines, from step.json's "functions"), by step number; Failed with CMake's message
+    when a step's cannot be read."""
     cmake = ROOT / "cmake" / "StepManifest.cmake"
     with tempfile.TemporaryDirectory() as tmp:
         script = Path(tmp) / "remote.cmake"
         lines = [f'include("{cmake}")']
         for step in steps:
             m = ROOT / "tests" / step.folder / "step.json"
-            lines += [f'raykit_remote_lines("{m}" "{ROOT / "include"}" lines)',
-                      f'file(WRITE "{Path(tmp) / step.number}.inc" "${{lines}}")']
+            lines += [f'raykit_remote_lines("{m}" lines)', f'file(WRITE "{Path(tmp) / step.number}.inc" "${{lines}}")']
         script.write_text("\n".join(lines) + "\n")
         r = subprocess.run(["cmake", "-P", str(script)], capture_output=True, text=True)
         if r.returncode != 0:
-            raise Failed(f"CMake cannot derive the judge's list of functions: {(r.stdout + r.stderr).strip()[-600:]}")
+            raise Failed(f"CMake cannot read the judge's list of functions: {(r.stdout + r.stderr).strip()[-600:]}")
         return {step.number: (Path(tmp) / f"{step.number}.inc").read_text() for step in steps}
 
 
 REMOTE_LINE = re.compile(r"^RAYKIT_REMOTE\((.+?), (\w+), \(([^)]*)\), \(([^)]*)\)\)$", re.M)
 
 
+def _proxy_compiles(inc: str) -> subprocess.CompletedProcess:
+    """tests/support/proxies.cpp compiled (syntax only) with `inc` as its list of functions: what the
+    build does with a step's list, without a build folder."""
+    import shutil
+    compiler = shutil.which("c++") or shutil.which("g++") or shutil.which("clang++")
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "list.inc").write_text(inc)
+        headers = sorted((ROOT / "include" / "raykit").glob("*.hpp"))
+        (Path(tmp) / "api.hpp").write_text("".join(f'#include "raykit/{h.name}"\n' for h in headers))
+        return subprocess.run([compiler, "-std=c++17", "-fsyntax-only", f"-I{ROOT / 'include'}",
+                               f"-I{ROOT / 'tests' / 'support'}", f'-DRAYKIT_REMOTE_LIST="{Path(tmp) / "list.inc"}"',
+                               f'-DRAYKIT_API_HEADERS="{Path(tmp) / "api.hpp"}"', '-DRAYKIT_ANSWERS_EXE="answers"',
+                               '-DRAYKIT_REFERENCE_EXE="reference"', str(ROOT / "tests" / "support" / "proxies.cpp")],
+                              capture_output=True, text=True, timeout=300)
+
+
 def selftest_remote_lists(ctx: Context) -> str:
-    """The judge's list of each step's functions, derived by CMake from step.json's "functions" and the
-    headers' declarations, names exactly those functions; a function no header declares stops it with
-    the function's name; and CMake reads step.json's lists (cmake/StepManifest.cmake, by regular
-    expression) as Python's json module does."""
+    """The judge's list of each step's functions, read by CMake from step.json's "functions", names
+    exactly those functions; a signature that is not its header's stops the compile with the function's
+    name; a manifest entry without its return type stops the configure; and CMake reads step.json's
+    lists (cmake/StepManifest.cmake, string(JSON)) as Python's json module does."""
     bad = []
-    for number, text in remote_lines(ctx.steps).items():
+    texts = remote_lines(ctx.steps)
+    for number, text in texts.items():
         step = next(s for s in ctx.steps if s.number == number)
         names = [m.group(2) for m in REMOTE_LINE.finditer(text)]
         if names != step.functions or len(text.splitlines()) != len(names):
             bad.append(f"step {number}: the judge's list names {names}, step.json {step.functions}:\n{text}")
-    # It can fail: a name no header declares.
+    # It can fail: a signature its header does not declare; a manifest entry without its return type.
+    first = texts[ctx.steps[0].number]
+    m = REMOTE_LINE.search(first)
+    expect(m is not None, f"no RAYKIT_REMOTE line for step {ctx.steps[0].number}: {first!r}")
+    drifted = f"RAYKIT_REMOTE({m.group(1)}, {m.group(2)}, ({m.group(3) + ', ' if m.group(3) else ''}int extra), " \
+              f"({m.group(4) + ', ' if m.group(4) else ''}extra))\n"
+    right, wrong = _proxy_compiles(first), _proxy_compiles(drifted)
+    expect(right.returncode == 0, f"proxies.cpp does not compile with step {ctx.steps[0].number}'s list: {right.stderr[-600:]}")
+    expect(wrong.returncode != 0 and f"entry for {m.group(2)} has another signature" in wrong.stderr,
+           f"a signature its header does not declare went through: {wrong.stderr[-400:]}")
     with tempfile.TemporaryDirectory() as tmp:
         fake = Path(tmp) / "tests" / "99_none"
         fake.mkdir(parents=True)
-        (fake / "step.json").write_text(json.dumps({"title": "x", "files": ["x.cpp"], "functions": ["no_such_function"]}))
+        (fake / "step.json").write_text(json.dumps({"title": "x", "files": ["x.cpp"],
+                                                   "functions": [{"name": "no_return", "parameters": []}]}))
         script = Path(tmp) / "fail.cmake"
         script.write_text(f'include("{ROOT / "cmake" / "StepManifest.cmake"}")\n'
-                          f'raykit_remote_lines("{fake / "step.json"}" "{ROOT / "include"}" lines)\n')
+                          f'raykit_remote_lines("{fake / "step.json"}" lines)\n')
         r = subprocess.run(["cmake", "-P", str(script)], capture_output=True, text=True)
-        expect(r.returncode != 0 and "no_such_function" in r.stderr,
-               f"a function no header declares went through: {(r.stdout + r.stderr)[-300:]}")
+        said = " ".join(r.stderr.split())      # CMake wraps a long message's lines
+        expect(r.returncode != 0 and "no \"returns\"" in said and "step.json" in said,
+               f"a manifest entry without its return type went through: {(r.stdout + r.stderr)[-300:]}")
     cmake = ROOT / "cmake" / "StepManifest.cmake"
     with tempfile.TemporaryDirectory() as tmp:
         script = Path(tmp) / "read.cmake"
@@ -170,8 +197,9 @@ def selftest_remote_lists(ctx: Context) -> str:
         if got.get(step.number) != want:
             bad.append(f"step {step.number}: CMake reads {got.get(step.number)!r}, json says {want!r}")
     expect(not bad, "\n  ".join(bad))
-    return (f"{len(ctx.steps)} steps: the judge's functions are step.json's, with their headers' signatures "
-            "(an undeclared one is refused); CMake reads the manifests as json does")
+    return (f"{len(ctx.steps)} steps: the judge's functions are step.json's; a signature not its header's is "
+            "refused by the compiler with the function's name, an entry without its return type by CMake; CMake "
+            "reads the manifests as json does")
 
 
 def selftest_solution_copied_is_done(ctx: Context) -> str:

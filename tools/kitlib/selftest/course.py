@@ -11,12 +11,12 @@ from fractions import Fraction
 from pathlib import Path
 
 from .. import course as course_file
-from ..checking import Case, StepResult
+from ..checking import SCORED_TIERS, Case, StepResult
 from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
 from . import scale
-from .harness import Failed, expect, kit, need_solutions
+from .harness import Failed, Skipped, expect, kit, need_solutions
 
 STEPS = ["01", "02"]
 WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
@@ -87,6 +87,44 @@ def _expected(course, number: str, groups: list[str]) -> tuple[Fraction, Fractio
     if points is None:
         return counted, extra
     return (points, points * extra / counted) if counted else (Fraction(0), Fraction(0))
+
+
+def extra_credit_data(numbers: list[str]) -> dict:
+    """The kit's course.json as it stands with its ★ group made extra credit (as the instructor of #46
+    did): its own weight when it has one, else 1/20 of a core case's (5 % of a core case each); a course
+    whose ★ is extra credit already is taken as it is."""
+    data = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
+    kit = course_file.parse(data, numbers, "course.json")
+    if kit.extra_credit("robust"):
+        return data
+    groups = dict(data.get("groups", {}))
+    weight = kit.weight("robust") or (kit.weight("core") or Fraction(1)) / 20
+    groups["robust"] = {"weight": course_file.exact_text(weight), "extra_credit": True}
+    return dict(data, groups=groups)
+
+
+def extra_credit_course(numbers: list[str]):
+    """extra_credit_data, parsed."""
+    data = extra_credit_data(numbers)
+    same = course_file.COURSE_FILE.is_file() and data == json.loads(course_file.COURSE_FILE.read_text())
+    return course_file.parse(data, numbers, "course.json (★ extra credit)" if same else "course.json with ★ as extra credit")
+
+
+def kit_results(course, steps, fail: dict[str, set[str]]) -> list[StepResult]:
+    """Each step of `steps` with its recorded cases (tests/NN_topic/cases.json) under `course`: every case
+    passes but those `fail[step number]` names, by their name or their group."""
+    from ..checking import recorded_cases
+    rs = []
+    with course_file.using(course):
+        for s in steps:
+            cases = recorded_cases(s) or []
+            failed = fail.get(s.number, set())
+            for c in cases:
+                c.status = FAIL if c.group in failed or c.name in failed else PASS
+                c.messages = ["expected 2, got 3"] if c.status == FAIL else []
+            done = all(c.status == PASS for c in cases if c.tier in SCORED_TIERS)     # as checking.py says
+            rs.append(StepResult(s, DONE if done else PARTIAL, cases))
+    return rs
 
 
 def selftest_kit_course(ctx) -> str:
@@ -512,18 +550,21 @@ def selftest_extra_credit(ctx) -> str:
         maxima = sum(t["max_score"] for t in view["tests"])
         expect(maxima == 16 and view["score"] == 18, f"Gradescope: tests' maxima {maxima} (16 expected), "
                f"score {view['score']} (18 expected)")
-        starred = [t for t in view["tests"] if "(extra credit)" in t["name"]]
-        expect(len(starred) == 4 and all(t["max_score"] == 0 and t["score"] == 1 for t in starred),
-               f"the ★ cases are not 0-point tests scoring 1 each: {starred}")
-        # PrairieLearn: a question is worth its step's points and its bonus (20 here), the assessment counts
-        # 16 with 4 of bonus above (./kit prairielearn), so the score is 18/20.
+        starred = [t for t in view["tests"] if "extra_credit" in t["tags"]]
+        expect(len(starred) == 2 and all(t["max_score"] == 0 and t["score"] == 2 and t["status"] == "passed"
+                                         for t in starred),
+               f"the ★ cases are not one passed 0-point test a step scoring 2: {starred}")
+        # PrairieLearn: a step's question is worth its 8 points, complete at 1; the ★ cases are a question
+        # of their own worth 2 a step (the assessment's bonus: ./kit prairielearn).
         pl = prairielearn(rs)
-        bonus_tests = [t for t in pl["tests"] if "(extra credit)" in t["name"]]
-        expect(pl["score"] == 18 / 20 and sum(t["points"] for t in pl["tests"]) == 18
-               and sum(t["max_points"] for t in pl["tests"]) == 20 and len(bonus_tests) == 4,
-               f"PrairieLearn: score {pl['score']} (18/20 expected: 8 + 8 points, 4 of extra credit, 18 earned), "
-               f"tests {sum(t['points'] for t in pl['tests'])} of {sum(t['max_points'] for t in pl['tests'])}, "
-               f"{len(bonus_tests)} extra-credit tests")
+        plx = prairielearn(rs, part="extra")
+        expect(pl["score"] == 14 / 16 and sum(t["points"] for t in pl["tests"]) == 14
+               and sum(t["max_points"] for t in pl["tests"]) == 16,
+               f"PrairieLearn, the steps' questions: score {pl['score']} (14/16 expected: 8 + 6 points), "
+               f"tests {sum(t['points'] for t in pl['tests'])} of {sum(t['max_points'] for t in pl['tests'])}")
+        expect(plx["score"] == 1 and sum(t["max_points"] for t in plx["tests"]) == 4,
+               f"PrairieLearn, the extra-credit questions: score {plx['score']} of {sum(t['max_points'] for t in plx['tests'])} "
+               "(1 of 4 expected)")
         words = bonus.scale_words()
         expect("extra credit" in words, f"the scale's words do not say ★ is extra credit: {words}")
         # The total a student reads: the points of the course's 16, the extra credit apart (not "18 of 16").
@@ -532,8 +573,143 @@ def selftest_extra_credit(ctx) -> str:
         summary = view["output"]
         expect("14 of 16 + 4 extra credit" in summary and "18 of 16" not in summary,
                f"Gradescope's summary: {summary!r}")
-    return (f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 18 of 16 + 4; "
+    return (f"8 of 8 and a core slip: 10 and 8 of 8 each; Gradescope 18 of 16; PrairieLearn 14 of 16 and 4 of 4 extra; "
             f"the total reads '{said}'; '{words}'")
+
+
+def selftest_case_weights(ctx) -> str:
+    """steps.NN.weights: one case, or a lecture section's cases, weighed apart from their group, on every
+    output (the results, Gradescope, ./kit course), and a key that weighs nothing refused (issue 46: an
+    all-black picture cost 1.03 of 30 points)."""
+    lectures = ["1. Roots", "6. A view ray per pixel", "6. A view ray per pixel", "2. Data", "", "6. Far", "6. Grazing"]
+    spec = {"steps": {"01": {"points": 12, "weights": {"two hits": 6, "section 6": 2}}},
+            "groups": DEFAULT["groups"]}
+    weighted = course_file.parse(spec, STEPS)
+    with course_file.using(weighted):
+        cases = toy_cases([FAIL] + [PASS] * 6)
+        for c, lec in zip(cases, lectures):
+            c.lecture = lec
+        r = StepResult(toy_step("01"), PARTIAL, cases)
+        # Weights: "two hits" 6 (by name, before its section); two basic cases of section 6: 2; a degenerate
+        # one and the hidden one: 1; the ★ cases stay optional. 6 + 2 + 2 + 1 + 1 = 12 units for 12 points.
+        got = [c.points for c in r.cases]
+        want = [Fraction(6), Fraction(2), Fraction(2), Fraction(1), Fraction(1), Fraction(0), Fraction(0)]
+        expect(got == want, f"the cases are worth {[str(g) for g in got]}, not {[str(w) for w in want]}")
+        expect(r.maximum == 12 and r.earned == 6, f"one heavy case missed: {r.earned} of {r.maximum}, not 6 of 12")
+        view = gradescope([r], 1.0)
+        heavy = [t for t in view["tests"] if "two hits" in t.get("name", "")]
+        expect(heavy and heavy[0]["max_score"] == 6 and heavy[0]["score"] == 0,
+               f"Gradescope's test of the heavy case: {heavy[:1]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        fake = Path(tmp) / "results.json"
+        first = ctx.steps[0].number
+        fake.write_text(json.dumps({"format": "raykit-results", "version": 1, "steps": [
+            {"step": first, "cases": [{"tier": c.tier, "name": c.name, "lecture": lec}
+                                      for c, lec in zip(toy_cases(ALL), lectures)]}]}))
+        good = Path(tmp) / "good.json"
+        good.write_text(json.dumps(dict(spec, steps={first: spec["steps"]["01"]})))
+        shown = kit("course", "--file", str(good), "--results", str(fake))
+        expect(shown.returncode == 0 and "weight 6 for 'two hits': 1 case, 6 points each" in shown.stdout
+               and "weight 2 for lecture section 6: 2 cases, 2 points each" in shown.stdout,
+               f"./kit course does not show the cases' own weights: {shown.stdout[-600:]}{shown.stderr[-300:]}")
+        bad = Path(tmp) / "bad.json"
+        bad.write_text(json.dumps(dict(spec, steps={first: {"points": 12, "weights": {"two hit": 6}}})))
+        refused = kit("course", "--file", str(bad), "--results", str(fake))
+        expect(refused.returncode != 0 and "'two hit'" in refused.stderr,
+               f"a misspelt case name is not refused: exit {refused.returncode}, {refused.stderr[-300:]}")
+    try:
+        course_file.parse(dict(spec, steps={"01": {"weights": {"section six": 2}}}), STEPS)
+        raise Failed("\"section six\" was taken as a weight's key")
+    except KitError as e:
+        expect("section N" in str(e), f"a bad key's message: {e}")
+    return ("a case weighed 6 by name and a section's 2 cases 2 each: 6 + 2 + 2 + 1 + 1 for 12 points, ★ still free; "
+            "Gradescope's test 6 points; ./kit course lists them, refuses a misspelt name and 'section six'")
+
+
+def selftest_gradescope_extra_credit(ctx) -> str:
+    """#46 item 2 on Gradescope, on the kit's course with ★ as extra credit and its steps' recorded cases:
+    a solution that misses every ★ case has no failed test (a missed extra-credit case takes nothing from
+    the assignment), one with a core slip has exactly that case failed; the ★ points are each step's
+    extra-credit test's score above its max_score 0; the summary says the points and the extra apart."""
+    from ..checking import recorded_cases
+    course = extra_credit_course([s.number for s in ctx.steps])
+    steps = [s for s in ctx.steps if recorded_cases(s)]
+    if not steps:
+        raise Skipped("no step has a recorded case list (tests/NN_topic/cases.json)")
+    with course_file.using(course):
+        textbook = kit_results(course, steps, {s.number: {"robust"} for s in steps})
+        maximum = sum((r.maximum for r in textbook), Fraction(0))
+        possible = course_file.extra_maximum(textbook)
+        expect(possible > 0, f"no ★ case is worth anything on {course.source}")
+        view = gradescope(textbook, 1.0)
+        failed = [t["name"] for t in view["tests"] if t["status"] == "failed"]
+        expect(not failed, f"a solution that misses only ★ (extra-credit) cases has {len(failed)} failed tests: {failed[:3]}")
+        expect(view["score"] == course.number(maximum), f"it scores {view['score']}, not the course's {maximum}")
+        # A core slip (step 01's first core case) carried by every ★ case.
+        first = next(c.name for c in recorded_cases(steps[0]) if course.group(c.tier, c.name) == "core")
+        slip = kit_results(course, steps, {steps[0].number: {first}})
+        view = gradescope(slip, 1.0)
+        failed = [t["name"] for t in view["tests"] if t["status"] == "failed"]
+        expect(len(failed) == 1 and first in failed[0], f"one core slip: failed tests {failed[:4]}")
+        bonus = [t for t in view["tests"] if "extra_credit" in t["tags"]]
+        worth = [sum((c.points for c in r.cases if course.extra_credit(c.group)), Fraction(0)) for r in slip]
+        expect([(t["score"], t["max_score"], t["status"]) for t in bonus]
+               == [(course.number(w), 0, "passed") for w in worth if w],
+               f"the ★ cases: {[(t['name'], t['score'], t['max_score'], t['status']) for t in bonus]}, not one passed "
+               f"0-point test a step scoring its ★ points {[str(w) for w in worth]}")
+        want = f"{course.shown(maximum)} + {course.shown(possible)} extra"
+        expect(want in view["output"], f"Gradescope's summary does not say {want!r}: {view['output']!r}")
+        # Each step's line: its points of its points, the extra apart (not "53.15 of 53").
+        for r in slip:
+            extra = sum((c.points for c in r.cases if c.status == PASS and course.extra_credit(c.group)), Fraction(0))
+            line = (f"step {r.step.number}: " + next((l.split(": ", 1)[1] for l in view["output"].splitlines()
+                                                       if l.startswith(f"step {r.step.number}: ")), ""))
+            said = f"{course.shown(r.earned - extra)} of {course.shown(r.maximum)}" + (
+                f" + {course.shown(extra)} extra" if extra else "")
+            expect(line.endswith(said), f"Gradescope's summary says {line!r}, not ... {said!r}")
+    return (f"{course.source}: misses every ★ case: no failed test, {course.shown(maximum)}; a core slip: 1 failed test; "
+            f"summary '{want}'")
+
+
+def selftest_course_extra_credit_example(ctx) -> str:
+    """#46 item 2: ./kit course says, with an example computed from the course as it is (here the kit's
+    course.json with ★ made extra credit, on the steps' recorded cases), how much extra credit makes up
+    for a bug: all of it, the costliest core case it covers and the two totals, bug + extra credit
+    against a correct solution without it."""
+    from ..checking import recorded_cases
+    need_solutions()    # ./kit course is an instructor's command
+    numbers = [s.number for s in ctx.steps]
+    course = extra_credit_course(numbers)
+    total, bonus, core, listed = Fraction(0), Fraction(0), [], []
+    for s in ctx.steps:
+        cases = [(c.tier, c.name, c.lecture) for c in recorded_cases(s) or []]
+        listed.append({"step": s.number, "cases": [{"tier": t, "name": n, "lecture": lec} for t, n, lec in cases]})
+        groups = [course.group(t, n) for t, n, _ in cases]
+        shares = course.shares(s.number, groups, course.weights_of(s.number, cases))
+        total += sum((p for p, g in zip(shares, groups) if not course.extra_credit(g)), Fraction(0))
+        bonus += sum((p for p, g in zip(shares, groups) if course.extra_credit(g)), Fraction(0))
+        core += [p for p, g in zip(shares, groups) if g == "core" and p > 0]
+    if not bonus or not core:
+        raise Skipped(f"{course.source}: no extra-credit case or no core case worth anything")
+    covered = [p for p in core if p <= bonus]
+    bug = max(covered) if covered else min(core)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "course.json"
+        path.write_text(json.dumps(extra_credit_data(numbers)))
+        # The same cases as here (a step without a record, as a customised copy's new one, has none).
+        cases = Path(tmp) / "results.json"
+        cases.write_text(json.dumps({"format": "raykit-results", "version": 1, "steps": listed}))
+        r = kit("course", "--file", str(path), "--results", str(cases))
+    want = [f"+{course.shown(bonus)}", f"{course.shown(total - bug + bonus)}  a bug that fails step",
+            f"(-{course.shown(bug)}), every extra-credit case passed", f"{course.shown(total)}  a correct solution"]
+    missing = [w for w in want if w not in r.stdout]
+    expect(r.returncode == 0 and not missing, f"./kit course --file (★ as extra credit) does not say {missing}: "
+           f"{r.stdout[-700:]}{r.stderr[-300:]}")
+    plain = kit("course")
+    expect("extra credit against a bug" not in plain.stdout or course_file.load().extra,
+           "./kit course gives the extra-credit example on a course without extra credit")
+    return (f"a core bug (-{course.shown(bug)}) with all the extra credit (+{course.shown(bonus)}): "
+            f"{course.shown(total - bug + bonus)}, a correct solution without it {course.shown(total)}")
 
 
 def selftests():
@@ -543,6 +719,9 @@ def selftests():
             ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
             ("course: Gradescope's tests add up to each step's points", selftest_gradescope_adds_up),
             ("course: ★ as extra credit", selftest_extra_credit),
+            ("course: weights per case and per section", selftest_case_weights),
+            ("course: Gradescope's extra credit on the kit's course", selftest_gradescope_extra_credit),
+            ("course: the scale table's example of extra credit against a bug", selftest_course_extra_credit_example),
             ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),

@@ -33,7 +33,7 @@ def selftest_fuzz(ctx) -> str:
     if shutil.which("clang++") is None:
         raise Skipped("clang++ is not installed (apt-get install clang libclang-rt-14-dev)")
     try:
-        configure(preset_build("fuzz"))   # the preset's settings, without --preset (CMake 3.18)
+        configure(preset_build("fuzz"))
     except KitError as e:
         raise Failed(f"configuring the fuzz build failed:\n{str(e)[-1500:]}")
     r = subprocess.run(["cmake", "--build", str(BUILD / "fuzz")], cwd=ROOT, capture_output=True, text=True)

@@ -46,12 +46,16 @@ QUICK = {
               "numbers read the same on every standard library"],
     "course": ["course: the default scale", "course: weights, exact", "course: bad course files",
                "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points", "course: ★ as extra credit",
+               "course: Gradescope's extra credit on the kit's course",
+               "course: the scale table's example of extra credit against a bug",
                "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
                "course: a handout's total line", "course: launch.json from the steps"],
-    "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary"],
+    "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary",
+              "bench: every figure of the reading is generated"],
     "draws": ["draws: the hidden draw follows the code, not its comments"],
     "refresh": ["refresh: the self-tests a change touches"],
-    "reach": ["prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures"],
+    "reach": ["prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures",
+              "prairielearn: extra credit as the assessment's bonus points, a complete step 1"],
     "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more",
              "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
     "handout": ["handout: no step code"],
@@ -67,8 +71,11 @@ QUICK = {
     "robust_line": ["★ lines: sections in words", "★ pointers: one section each",
                     "messages name the trouble, not the cure"],
     "grade": ["uploads: step files found at any depth, only they"],
-    "report": ["report: the mutants' signatures are current", "report: crashes grouped by the record, not by words"],
-    "slips": ["slips: waiting step's next command", "slips: a ray seen end-on"],
+    "report": ["report: the mutants' signatures are current", "report: crashes grouped by the record, not by words",
+               "report: extra credit apart, scores on the CSV's decimals",
+               "report: a looping step is matched to no slip"],
+    "slips": ["slips: waiting step's next command", "slips: a ray seen end-on",
+              "slips: the picture and refusals come after direct cases"],
     "slides": ["slides: decks have notes, Ponder answers and the step's command",
                "slides: a deck says what its lecture and its step's cases say"],
 }
@@ -163,9 +170,10 @@ def expect(condition: bool, message: str) -> None:
         raise Failed(message)
 
 
-def kit(*args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+def kit(*args: str, timeout: float = 600, env: dict | None = None) -> subprocess.CompletedProcess:
+    """./kit ARGS; `env`: variables set for it on top of this process's."""
     return subprocess.run([str(ROOT / "kit"), *args], cwd=ROOT, capture_output=True, text=True,
-                          timeout=timeout)
+                          timeout=timeout, env=dict(os.environ, **env) if env else None)
 
 
 CLEAR = "\033[2J"       # a terminal's "erase the screen"

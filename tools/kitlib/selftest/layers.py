@@ -5,8 +5,8 @@
 core (paths, steps, the course, the secret, packages), the boundary (where graded code runs), builds,
 the judge (running a step's cases), the outputs (the record and each platform's rendering, the class
 report), the site (docs, decks, the lab's browser, the bench's report) and the commands (one module
-each; none imports another). Every import counts, at the top of a module or inside a function: a
-cycle or an upward arrow fails, and so does a module no layer names (place it in LAYERS). The
+each; none imports another). Every import counts, at the top of a module or inside a function (not
+one under `if TYPE_CHECKING:`, which never runs): a cycle or an upward arrow fails, and so does a module no layer names (place it in LAYERS). The
 self-test package itself stands above all of it. And one module reads /proc: procfs.py.
 """
 
@@ -26,11 +26,12 @@ KITLIB = ROOT / "tools" / "kitlib"
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
               "waits", "submissions", "kitcache", "procfs", "pycache", "faults"]),
-    ("boundary", ["sandbox_slots", "sandbox", "studentpch"]),
+    ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
+                  "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants", "slips"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
-                 "robust_line", "report", "report.grading", "report.make", "report.pages", "report.plots",
+                 "robust_line", "report", "report.grading", "report.make", "report.merge", "report.pages", "report.plots",
                  "report.signatures",
                  "report.similar"]),
     ("site", ["webtools", "decks", "browser", "bench_report"]),
@@ -53,8 +54,13 @@ def imports(name: str, path: Path, known: set[str]) -> set[str]:
     """The kit's modules `name` imports, anywhere in it."""
     package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
     found = set()
-    for node in ast.walk(ast.parse(path.read_text())):
-        if not isinstance(node, ast.ImportFrom) or not node.level:
+    tree = ast.parse(path.read_text())
+    # An import for annotations only (`if TYPE_CHECKING:`) runs never: it makes no arrow.
+    typing_only = {id(n) for block in ast.walk(tree) if isinstance(block, ast.If)
+                   and isinstance(block.test, ast.Name) and block.test.id == "TYPE_CHECKING"
+                   for stmt in block.body for n in ast.walk(stmt)}
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.ImportFrom) or not node.level or id(node) in typing_only:
             continue
         base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
         target = ".".join(base + ([node.module] if node.module else []))
@@ -134,6 +140,7 @@ OTHER_RENAMES = {
     "studentpch": (1, "the compiler's own output (a precompiled header) moved into place"),
     "objcache": (2, "an object-cache entry's folder, swapped whole"),
     "report.pages": (1, "a folder of pages, swapped whole"),
+    "report.merge": (1, "a merged grading folder, moved into place whole"),
     "commands.prairielearn": (1, "a staged folder, swapped whole"),
     "commands.handout": (1, "a staged folder, swapped whole"),
     "commands.docs": (2, "the site's folder, swapped whole"),
@@ -197,7 +204,7 @@ def selftest_atomic_write(ctx) -> str:
 
 
 # A path under /proc opened in code: a string that starts with /proc/, or Path of /proc itself.
-# (sandbox.py's bubblewrap mounts a fresh /proc, which opens nothing; render's self-test writes to
+# (sandbox/'s bubblewrap mounts a fresh /proc, which opens nothing; render's self-test writes to
 # a /proc path on purpose, to fail.)
 PROC_READ = re.compile(r"""(?:["']/proc/(?!raykit-cannot-exist)|Path\(\s*f?["']/proc["']\s*\))""")
 

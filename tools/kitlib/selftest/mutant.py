@@ -29,6 +29,7 @@ def stray_files() -> list[str]:
 
 
 NAMED_SLIPS: list[str] = []     # the mutants the check named as a known slip (judge)
+FIRST_SAYS: list[tuple[bool, bool]] = []   # per mutant: its first message says its slip (its case first; at all)
 
 
 def judge(step, path, work) -> tuple[bool, bool, list[str]]:
@@ -64,6 +65,8 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
         if (result.get("slip") or {}).get("name") != mutant.name:
             problems.append(f"{label}: its failures are exactly its signature, yet the check names the slip "
                             f"{(result.get('slip') or {}).get('name')!r}")
+    from .slips import names_own_slip
+    FIRST_SAYS.append(names_own_slip(step, mutant.name, result))
     return True, named, problems
 
 
@@ -92,8 +95,10 @@ def selftest_mutants(ctx) -> str:
     if problems:
         raise Failed("mutation score" + table + "\n  " + "\n  ".join(problems))
     expect(NAMED_SLIPS, "no mutant was named as a known slip by the check: the catalogue match went untested")
+    own, said = sum(o for o, _ in FIRST_SAYS), sum(a for _, a in FIRST_SAYS)
     return (f"mutation score (every mutant caught by its named case; {len(NAMED_SLIPS)} named as the known slip "
-            "they are, their case first)" + table)
+            f"they are, their case first; the first message says the slip for {own} of {len(FIRST_SAYS)} with "
+            f"its case first, {said} alone or beside slips that fail alike)" + table)
 
 
 # Causes planted in the reference's find_intersection, and the words the failure of the ★ case "the hit

@@ -304,9 +304,12 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
     bonus = sum((w[1] for w in want.values()), Fraction(0))
     for s in ctx.steps:
         q = questions.get(f"raykit/{s.folder}")
-        worth = pl_number(want[s.number][0] + want[s.number][1])
+        worth = pl_number(want[s.number][0])
         expect(q and q["autoPoints"] == worth and q.get("maxAutoPoints", worth) == worth,
-               f"step {s.number}: the assessment gives {q}, the course {worth} points (with its extra credit)")
+               f"step {s.number}: the assessment gives {q}, the course {worth} points")
+        x = questions.get(f"raykit/{s.folder}_extra_credit")
+        expect((x or {}).get("autoPoints", 0) == pl_number(want[s.number][1]),
+               f"step {s.number}'s extra credit: the assessment gives {x}, the course {want[s.number][1]} points")
         expect((out / "questions" / "raykit" / s.folder / "info.json").is_file(), f"the assessment names "
                f"raykit/{s.folder}, which is no question")
         page = out / "questions" / "raykit" / s.folder / "question.html"
@@ -812,10 +815,93 @@ def selftest_mac_like(ctx) -> str:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def selftest_prairielearn_extra_credit(ctx) -> str:
+    """#46 item 2 on PrairieLearn (no build, a few seconds): on the kit's course.json with ★ made extra
+    credit, a step's question is worth the step's points alone, so a complete step scores 1 (it read
+    0.9748), and the ★ points are PrairieLearn's bonus points: a question of their own per step with ★
+    cases, its points the assessment's maxBonusPoints above maxPoints (PrairieLearn's documented way: a
+    submission scores 0 to 1 of its question). The files validate against PrairieLearn's schemas and the
+    results against externalGraderCommon.ts's rules (check_results.py); expectations from the course's
+    rules on each step's recorded cases."""
+    from fractions import Fraction
+    from ..commands.prairielearn import pl_number
+    from ..plresults import prairielearn
+    from .course import extra_credit_course, kit_results
+    need_solutions()
+    schemas = need_third_party(*PL_SCHEMAS)
+    need_system_python("jsonschema")
+    course = extra_credit_course([s.number for s in ctx.steps])
+    out = WORK / "pl-extra-credit"
+    printed = pl_make(out, course)
+    problems = schema_problems(schemas, pl_files(out))
+    expect(not problems, "; ".join(problems)[:2000])
+    # Whole in PrairieLearn's example course with the printed lines: every question id a question.
+    example = need_third_party("prairielearn", "exampleCourse")
+    whole = assemble(example_course(example, WORK / "pl-extra-example"), out, printed, WORK / "pl-extra-assembled")
+    problems = course_problems(schemas, whole)
+    expect(not problems, "the example course + OUT (extra-credit questions) + the printed lines: "
+           + "; ".join(problems)[:2000])
+    data = json.loads((out / "courseInstances/raykit/assessments/raykit/infoAssessment.json").read_text())
+    questions = {q["id"]: q for z in data["zones"] for q in z["questions"]}
+    checker = _checker()
+    total, bonus, told = Fraction(0), Fraction(0), []
+    with course_file.using(course):
+        for s in ctx.steps:
+            from ..checking import recorded_cases
+            cases = recorded_cases(s)
+            expect(cases is not None, f"step {s.number} has no recorded cases")
+            kept = [(c.tier, c.name, c.lecture) for c in cases if c.tier != "hidden" or course.hidden_enabled]
+            groups = [course.group(t, n) for t, n, _ in kept]
+            # course.py's rule: a step's points shared by weight among its counted cases, an extra-credit
+            # case worth its weight's share on top (each case's weight: its own, else its group's).
+            weights = course.weights_of(s.number, kept)
+            counted = sum((w for w, g in zip(weights, groups) if not course.extra_credit(g)), Fraction(0))
+            extra = sum((w for w, g in zip(weights, groups) if course.extra_credit(g)), Fraction(0))
+            given = course.points.get(s.number)
+            points, extra = ((counted, extra) if given is None else (given, given * extra / counted) if counted
+                             else (Fraction(0), Fraction(0)))
+            total, bonus = total + points, bonus + extra
+            q, x = questions.get(f"raykit/{s.folder}"), questions.get(f"raykit/{s.folder}_extra_credit")
+            expect(q and q["autoPoints"] == q.get("maxAutoPoints") == pl_number(points),
+                   f"step {s.number}'s question: {q}; the course gives the step {points} points, its extra credit apart")
+            if not extra:
+                expect(x is None, f"step {s.number} has no extra-credit case and an extra-credit question {x}")
+                continue
+            info = out / "questions" / "raykit" / f"{s.folder}_extra_credit"
+            expect(x and x["autoPoints"] == x.get("maxAutoPoints") == pl_number(extra) and (info / "info.json").is_file()
+                   and "--extra-credit" in (info / "tests" / "grade.py").read_text(),
+                   f"step {s.number}'s extra credit ({extra} points): the assessment gives {x}; its question "
+                   f"{'is' if (info / 'info.json').is_file() else 'is not'} written")
+            problems = question_problems((info / "question.html").read_text(), info)
+            expect(not problems, f"step {s.number}'s extra-credit question.html: {'; '.join(problems)}")
+            # The results: a complete step without ★ (a textbook solution), with ★, a core slip with ★.
+            core = next(c.name for c in cases if course.group(c.tier, c.name) == "core")
+            for fail, step_score, extra_score in (({"robust"}, 1, 0), (set(), 1, 1), ({core}, None, 1)):
+                [r] = kit_results(course, [s], {s.number: fail})
+                mine, theirs = prairielearn([r]), prairielearn([r], part="extra")
+                for part, got in (("step", mine), ("extra", theirs)):
+                    bad = checker.results_problems(json.dumps(got).encode())
+                    expect(not bad, f"step {s.number}, {part} part: PrairieLearn would not read it: {bad}")
+                expect((mine["score"] == step_score if step_score is not None else 0 < mine["score"] < 1)
+                       and theirs["score"] == extra_score,
+                       f"step {s.number}, failing {sorted(fail) or 'nothing'}: the step's question scores "
+                       f"{mine['score']} (expected {step_score if step_score is not None else 'between 0 and 1'}), "
+                       f"its extra credit {theirs['score']} (expected {extra_score})")
+            told.append(f"{s.number}: {course.shown(points)} + {course.shown(extra)}")
+    expect(data["maxPoints"] == pl_number(total) and data.get("maxBonusPoints", 0) == pl_number(bonus),
+           f"maxPoints {data['maxPoints']}, maxBonusPoints {data.get('maxBonusPoints')}: the course makes {total} "
+           f"and {bonus} of extra credit")
+    expect(bonus > 0, f"{course.source}: no step has a ★ case worth anything, nothing was tested")
+    return (f"{course.source}: maxPoints {data['maxPoints']}, maxBonusPoints {data['maxBonusPoints']}; steps "
+            f"{', '.join(told)}; a complete step 1 without ★ and with, its extra credit 0 and 1")
+
+
 def selftests():
     return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
             ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
             ("prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures",
              selftest_prairielearn_complete),
+            ("prairielearn: extra credit as the assessment's bonus points, a complete step 1",
+             selftest_prairielearn_extra_credit),
             ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt),
             ("mac: a Mac-like student machine checks, renders and debugs (lldb) a step", selftest_mac_like)]

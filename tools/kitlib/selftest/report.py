@@ -429,8 +429,211 @@ def selftest_crash_kind(ctx) -> str:
     return "grouped by the record's function and signal: " + "; ".join(found)
 
 
+# --- one class, several machines ------------------------------------------------------------------
+
+def _merge_class(root: Path) -> dict[str, list[str]]:
+    """Four students on steps 01 and 02 (they build in seconds), split between two machines: a and b."""
+    from ..mutants import patches, write_answer
+    steps = [s for s in load_steps() if s.number in STEPS]
+    shutil.rmtree(root, ignore_errors=True)
+    plan = {"a": ["full", "slip"], "b": ["partial", "stubs"]}
+    for machine, students in plan.items():
+        for who in students:
+            for n, s in enumerate(steps):
+                target = root / machine / who / s.folder
+                if who == "slip" and n == 0 and patches(s):
+                    write_answer(s, patches(s)[0], target)
+                elif who == "stubs" or (who == "partial" and n > 0):
+                    shutil.copytree(ROOT / "steps" / s.folder, target)
+                else:
+                    shutil.copytree(ROOT / "solutions" / s.folder, target)
+    return plan
+
+
+def _grades(path: Path) -> list[dict]:
+    """A CSV's rows as grades: without the columns that say where a grading ran."""
+    with path.open(newline="") as f:
+        return [{k: v for k, v in row.items() if k not in ("isolation", "note")} for row in csv.DictReader(f)]
+
+
+def selftest_merge(ctx) -> str:
+    need_solutions()
+    from ..secret import SECRET_ENV
+    work = WORK / "merge"
+    plan = _merge_class(work / "class")
+    (work / "class" / "all").mkdir()
+    for machine in plan:
+        for who in plan[machine]:
+            shutil.copytree(work / "class" / machine / who, work / "class" / "all" / who)
+    start = time.monotonic()
+    for name in ["a", "b", "all"]:
+        r = kit("grade", str(work / "class" / name), "-j", "2", "--out", str(work / f"{name}.csv"),
+                "--report", str(work / name), timeout=1200)
+        expect((work / name / "grading" / "grades.csv").is_file(),
+               f"./kit grade {name}: exit {r.returncode}: {(r.stderr.strip().splitlines() or ['?'])[-1]}")
+    graded = time.monotonic() - start
+    merged = work / "merged"
+    r = kit("report", str(work / "a" / "grading"), str(work / "b" / "grading"), "--out", str(merged))
+    expect(r.returncode == 0, f"./kit report A B: exit {r.returncode}: {(r.stderr + r.stdout)[-600:]}")
+    one, two = _grades(work / "all" / "grading" / "grades.csv"), _grades(merged / "grading" / "grades.csv")
+    expect(one == two, f"merged from two machines:\n  {two}\none machine:\n  {one}")
+    expect(sorted(p.name for p in (merged / "grading" / "json").iterdir()) ==
+           sorted(p.name for p in (work / "all" / "grading" / "json").iterdir()), "the merged json/ differs")
+    shown = _scores_in((merged / "index.html").read_text(encoding="utf-8"))
+    expect(shown == {row["student"]: f"{row['earned']} / {row['maximum']}" for row in one},
+           f"the merged report shows {shown}")
+
+    # Refused, with nothing written: another secret on one machine; one student graded differently on two.
+    refusals = []
+    before = (merged / "grading" / "grades.csv").read_bytes()
+    r = kit("grade", str(work / "class" / "b"), "-j", "2", "--out", str(work / "other.csv"), "--report",
+            str(work / "other"), timeout=1200, env={SECRET_ENV: "ab" * 32})
+    r = kit("report", str(work / "a" / "grading"), str(work / "other" / "grading"), "--out", str(merged))
+    expect(r.returncode != 0 and "different secrets" in r.stderr and "secret.key" in r.stderr,
+           f"gradings drawn with two secrets were merged: exit {r.returncode}, {r.stderr[-400:]}")
+    refusals.append("two secrets")
+    shutil.copytree(work / "a" / "grading", work / "a2")
+    rows = (work / "a2" / "grades.csv").read_text().splitlines(keepends=True)
+    victim = next(i for i, l in enumerate(rows) if l.startswith("full,"))
+    cells = rows[victim].split(",")
+    cells[1] = str(int(cells[1]) - 1)
+    rows[victim] = ",".join(cells)
+    (work / "a2" / "grades.csv").write_text("".join(rows))
+    r = kit("report", str(work / "a" / "grading"), str(work / "a2"), "--out", str(merged))
+    expect(r.returncode != 0 and "full" in r.stderr and "different results" in r.stderr,
+           f"a student graded two ways was merged: exit {r.returncode}, {r.stderr[-400:]}")
+    refusals.append("one student graded two ways")
+    expect((merged / "grading" / "grades.csv").read_bytes() == before, "a refused merge changed the merged grading")
+    r = kit("report", str(work / "a" / "grading"), str(work / "all" / "grading"), "--out", str(merged))
+    expect(r.returncode == 0 and _grades(merged / "grading" / "grades.csv") == one,
+           f"the same students graded alike on two machines were not kept once: {r.stderr[-300:]}")
+    return (f"{sum(map(len, plan.values()))} students graded on two machines (2 + 2) and on one, in {graded:.0f} s: "
+            f"the merge equals the one machine's grading (CSV, records, report's scores); refused: "
+            + ", ".join(refusals) + "; alike rows kept once")
+
+
+def selftest_loop_no_slip(ctx) -> str:
+    """A step that timed out is matched to no slip, whatever it failed (issue 46 item 7); the same failing
+    cases answered wrongly are matched to the slip whose signature they are."""
+    from ..report import signatures
+    from ..report.grading import Grading, Student
+    from ..report.pages import analyse
+    sigs, _ = signatures.load()
+    expect(bool(sigs), "no mutant signature recorded (./kit report --signatures)")
+    sig = sigs[0]
+    steps = load_steps()
+
+    def student(name: str, failing: str) -> Student:
+        cases = [{"name": n, "tier": "basic", "status": failing} for n in sorted(sig.fails)]
+        cases.append({"name": "a case that passes", "tier": "basic", "status": "pass"})
+        data = {"steps": [{"step": sig.step, "state": "partial", "cases": cases}]}
+        return Student(name, {"student": name}, data)
+
+    g = Grading(WORK, WORK / "none.csv", [student("wrong", "fail"), student("looping", "timed_out"),
+                                          student("budget", "not_run")], None)
+    found = analyse(g, steps, sigs)
+    wrong = found.get(("wrong", sig.step))
+    expect(wrong is not None and wrong[1].kind == "exact" and sig in wrong[1].signatures,
+           f"wrong answers on {sig.name}'s cases are not matched to it: {wrong}")
+    for who in ("looping", "budget"):
+        expect((who, sig.step) not in found, f"a step whose cases {'timed out' if who == 'looping' else 'never ran'} "
+                                             f"was matched to a slip: {[m.name for m in found[(who, sig.step)][1].signatures] if (who, sig.step) in found else ''}")
+    return (f"{len(sig.fails)} failing cases of step {sig.step}: answered wrongly, matched to {sig.name}; "
+            "timed out or never run, matched to nothing")
+
+
+def selftest_extra_credit(ctx) -> str:
+    """#46 item 2 and item 7's last point, in the report (no build, a few seconds): a class graded on the
+    kit's course.json with ★ made extra credit (records of each step's recorded cases, the CSV written
+    by ./kit grade's own record_row) is reported with its histogram and "at the maximum" on the points
+    without the extra credit (a student with a core slip carried past the maximum by ★ is not at it, and
+    no one falls outside the histogram's 100 %), the extra credit apart (its own sentence and chart), and
+    every score on the course's decimals as the CSV writes them (108.90, not 108.9)."""
+    from fractions import Fraction
+    from .. import course as course_file
+    from .. import record as results_record
+    from ..checking import recorded_cases
+    from ..commands.grade import columns, csv_text, record_row
+    from ..report.grading import load
+    from ..report.pages import build, class_scores
+    from .course import extra_credit_course, kit_results
+    need_solutions()
+    steps = [s for s in load_steps() if recorded_cases(s)]
+    if not steps:
+        raise Skipped("no step has a recorded case list (tests/NN_topic/cases.json)")
+    course = extra_credit_course([s.number for s in load_steps()])
+    with course_file.using(course):
+        first = steps[0]
+        core = next(c.name for c in recorded_cases(first) if course.group(c.tier, c.name) == "core")
+        stars = {s.number: [c.name for c in recorded_cases(s) if course.extra_credit(course.group(c.tier, c.name))]
+                 for s in steps}
+        everyone = {"textbook": {s.number: {"robust"} for s in steps}, "complete": {},
+                    "slip-carried": {first.number: {core}}}
+        # A slip with some ★ cases whose total shows a trailing zero on the course's decimals (108.90).
+        for s in steps:
+            for k in range(1, len(stars[s.number]) + 1):
+                fail = {n.number: {"robust"} for n in steps if n.number != s.number}
+                fail[s.number] = set(stars[s.number][k:]) | fail.get(s.number, set())
+                fail[first.number] = fail.get(first.number, set()) | {core}
+                if s.number != first.number:
+                    fail[first.number] |= {"robust"}
+                total = sum((r.earned for r in kit_results(course, steps, fail)), Fraction(0))
+                if "." in course.shown(total) and course.shown(total).endswith("0"):
+                    everyone["slip-trailing-zero"] = fail
+                    break
+            if "slip-trailing-zero" in everyone:
+                break
+        everyone["slip-no-star"] = {**{s.number: {"robust"} for s in steps}, first.number: {core, "robust"}}
+        folder = WORK / "extra-credit" / "grading"
+        shutil.rmtree(folder.parent, ignore_errors=True)
+        (folder / "json").mkdir(parents=True)
+        rows, want_at_max, want_some = [], 0, 0
+        for name, fail in everyone.items():
+            rs = kit_results(course, steps, fail)
+            data = results_record.make(rs, 1.0)
+            results_record.write(folder / "json" / f"{name}.json", data)
+            rows.append(record_row({"student": name}, data, steps))
+            # Expected from the cases: at the maximum when no counted case fails; extra credit when a ★ passes.
+            want_at_max += all(c.status == "pass" for r in rs for c in r.cases if not course.extra_credit(c.group))
+            want_some += any(c.status == "pass" for r in rs for c in r.cases if course.extra_credit(c.group))
+        (folder / "grades.csv").write_text(csv_text(columns(steps), rows))
+        out = WORK / "extra-credit" / "report"
+        build(folder, out)
+        g = load(folder)
+        scores = class_scores(g)
+        index = (out / "index.html").read_text(encoding="utf-8")
+        expect(len(scores["percents"]) == len(everyone) and max(scores["percents"]) <= 100,
+               f"the histogram holds {len(scores['percents'])} of {len(everyone)} students, up to "
+               f"{max(scores['percents'] or [0]):.1f} % (a student past 100 % is left out of its bins)")
+        expect(f'data-at-maximum="{want_at_max}"' in index,
+               f"'at the maximum' is not {want_at_max} (the students with no counted case failed): "
+               + (re.search(r"data-at-maximum=\"\d+\">[^<]*", index) or [""])[0])
+        expect(f'data-extra-credit="{want_some}"' in index and index.count("<img") >= 3,
+               f"the extra credit is not shown apart ({want_some} earned some; a sentence and a chart): "
+               + (re.search(r'data-extra-credit="[^<]*', index) or ["no sentence"])[0])
+        with (folder / "grades.csv").open(newline="") as f:
+            csv_rows = {row["student"]: row for row in csv.DictReader(f)}
+        shown = _scores_in(index)
+        for st in g.students:
+            row = csv_rows[st.name]
+            expect(shown.get(st.name) == f"{row['earned']} / {row['maximum']}",
+                   f"{st.name}: the CSV says {row['earned']} / {row['maximum']}, the report {shown.get(st.name)}")
+            text = (out / "students" / f"{st.page}.html").read_text(encoding="utf-8")
+            m = re.search(r'data-earned="([^"]*)" data-maximum="([^"]*)"', text)
+            expect(m and m.groups() == (row["earned"], row["maximum"]),
+                   f"{st.name}: the CSV says {row['earned']} / {row['maximum']}, their page {m and m.groups()}")
+        trailing = csv_rows.get("slip-trailing-zero", {}).get("earned", "")
+    return (f"{course.source}: {len(everyone)} students, {want_at_max} at the maximum without the extra credit, "
+            f"{want_some} with some apart; the histogram holds all, up to {max(scores['percents']):.0f} %; "
+            + (f"'{trailing}' on the CSV and the report alike" if trailing else
+               "no score with a trailing zero on this course (the decimals compared as they are)"))
+
+
 def selftests():
-    return [("report: the mutants' signatures are current", selftest_signatures_fresh),
+    return [("report: one class graded on two machines, merged", selftest_merge),
+            ("report: a looping step is matched to no slip", selftest_loop_no_slip),
+            ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
+            ("report: extra credit apart, scores on the CSV's decimals", selftest_extra_credit),
             ("report: a synthetic class's report", selftest_class_report),
             ("report: similar submissions, a class sharing one file", selftest_similar_groups)]

@@ -235,7 +235,10 @@ def selftest_same_bits_with_fma(ctx) -> str:
 # The lectures' forms themselves (tests/fixtures/fair/, in float and double, with and without FMA) are
 # graded by the fairness table (selftest/fair_table.py), on 2 draws here, 100 with RAYKIT_SELFTEST_FULL=1.
 FAIR_FORMS = [(ROOT / "solutions", ["1", "2", "3"]), (TEXTBOOK, ["1", "2", "3"]),
-              (FORMS / "float_leg", ["2"]), (FORMS / "float_cross", ["2"]), (FORMS / "double_inside", ["2"])]
+              (FORMS / "float_leg", ["2"]), (FORMS / "float_cross", ["2"]), (FORMS / "double_inside", ["2"]),
+              (FORMS / "object_space", ["4"])]
+# And the other side: a slip a hidden family is there to catch is caught on every draw, not on some.
+ALWAYS_CAUGHT = [("04_rectangles", "edge_excluded", "intersect_rect on exact edges and corners of every axis")]
 
 
 def selftest_fair_on_many_draws(ctx) -> str:
@@ -259,6 +262,27 @@ def selftest_fair_on_many_draws(ctx) -> str:
                         if c["tier"] in ("basic", "hidden") and c["status"] != "pass":
                             unfair.append(f"{folder.name} step {step['step']} draw {k}: {c['name']}: "
                                           + " ".join(c["messages"])[:300])
+    from ..mutants import patches, write_answer
+    caught_always = []
+    with tempfile.TemporaryDirectory(prefix="raykit-always-") as tmp:
+        for folder, name, family in ALWAYS_CAUGHT:
+            step = next(s for s in ctx.steps if s.folder == folder)
+            patch = next((p for p in patches(step) if p.stem == name), None)
+            expect(patch is not None, f"no mutant {folder}/{name}.patch")
+            write_answer(step, patch, Path(tmp) / "steps" / folder)
+            missed = []
+            for k in range(seeds):
+                target = Path(tmp) / "record.json"
+                target.unlink(missing_ok=True)
+                kit("check", str(int(step.number)), "--steps", str(Path(tmp) / "steps"), "--quiet", "--results",
+                    str(target), "--identity", f"fair:{k}", timeout=1200)
+                expect(target.is_file(), f"{name}: no record")
+                cases = [c for st in json.loads(target.read_text())["steps"] for c in st["cases"] if c["name"] == family]
+                expect(len(cases) == 1, f"{name}: the record has no case {family!r}")
+                if cases[0]["status"] == "pass":
+                    missed.append(k)
+            expect(not missed, f"{folder}/{name} passes {family!r} on draws {missed} of {seeds}: a verdict of the draw")
+            caught_always.append(f"{name} on {seeds} of {seeds}")
     from . import fair_table
     rows, note = fair_table.measure(2 if seeds < 100 else 100)
     unfair += fair_table.unfair(rows)
@@ -267,6 +291,7 @@ def selftest_fair_on_many_draws(ctx) -> str:
     return (f"{len(FAIR_FORMS)} folders x {seeds} identities ({graded} gradings), and the fairness table's "
             f"{len(rows)} rows (forms x steps x float, double x contraction) on {2 if seeds < 100 else 100} draws: "
             "every basic and hidden case passes" + (f" ({note})" if note else "")
+            + f"; caught on every draw: {', '.join(caught_always)}"
             + ("" if seeds == 100 else " (100 with RAYKIT_SELFTEST_FULL=1)"))
 
 

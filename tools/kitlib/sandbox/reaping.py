@@ -1,0 +1,106 @@
+"""Ending graded code: every process of a sandbox id, or of a session, killed and reaped, the kit made their subreaper."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+
+from .. import procfs
+from ..sandbox_slots import clear_keyrings, prepare_keyctl
+
+
+def become_subreaper() -> None:
+    """Orphans of the graded code (killed sandboxes' processes) are given to this process, which
+    reaps them (reap_children), instead of to PID 1, which in some containers never does."""
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)     # PR_SET_CHILD_SUBREAPER
+    except (OSError, AttributeError):
+        pass
+
+
+def reap_orphans(uids: set[int]) -> None:
+    """Reaps the graded code's dead orphans given to us (zombies of the sandbox's ids whose parent
+    is this process), each by its pid: never waitpid(-1), which could take a build's exit status
+    from the subprocess that waits for it."""
+    me, wanted = str(os.getpid()), {str(u) for u in uids if u}
+    if not wanted:
+        return
+    for p in procfs.pids():
+        fields = procfs.status(p)         # one read: state, parent and owner of the same moment
+        if (fields.get("State", "").startswith("Z") and fields.get("PPid") == me
+                and fields.get("Uid", "").split()[:1] and fields["Uid"].split()[0] in wanted):
+            try:
+                os.waitpid(p, os.WNOHANG)
+            except ChildProcessError:
+                pass
+
+
+def _owned_by(pid: int, uid: int) -> bool:
+    """Whether process `pid` is alive (not a zombie waiting for its parent) with real user id `uid`."""
+    fields = procfs.status(pid)         # one read: owner and state of the same moment
+    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").startswith("Z")
+
+
+def kill_uid(uid: int) -> None:
+    """Ends every process whose real user id is `uid`: a helper that takes the id and signals all
+    it may signal (kill -1), repeated while any is left (a fork between two rounds), and empties the
+    id's keyrings (at least once, with no process left too)."""
+    if not uid or os.geteuid() != 0:
+        return
+    prepare_keyctl()
+    for round in range(20):
+        left = [p for p in procfs.pids() if _owned_by(p, uid)]
+        if not left and round:
+            return
+        pid = os.fork()
+        if pid == 0:
+            try:
+                os.setgroups([])
+                os.setgid(uid)
+                os.setuid(uid)
+                try:
+                    os.kill(-1, signal.SIGKILL)
+                except OSError:         # none left to signal
+                    pass
+                clear_keyrings()        # what the id's processes kept in its keyrings outlives them
+            finally:
+                os._exit(0)
+        os.waitpid(pid, 0)
+        if left:
+            time.sleep(0.02)
+
+
+def session_members(sid: int) -> list[int]:
+    """The live processes of session `sid` but this one: zombies have ended (as in _owned_by), and
+    one whose parent never reaps it (PID 1 of a container) would otherwise be waited on for ever."""
+    found = []
+    for p in procfs.pids():
+        if p == os.getpid():
+            continue
+        fields = procfs.stat(p)         # one read: state and session of the same moment
+        if len(fields) > 3 and fields[0] != "Z" and fields[3] == str(sid):
+            found.append(p)
+    return found
+
+
+def kill_session(sid: int) -> int:
+    """Ends every process of session `sid` (a child started with start_new_session has sid = its
+    pid; cmake, ninja and the compilers it starts inherit it), repeated until none is left.
+    Returns how many were signalled."""
+    ended = 0
+    if sid <= 1:
+        return 0
+    for _ in range(50):
+        left = session_members(sid)
+        if not left:
+            break
+        for p in left:
+            try:
+                os.kill(p, signal.SIGKILL)
+                ended += 1
+            except OSError:
+                pass
+        time.sleep(0.02)
+    return ended
