@@ -62,11 +62,11 @@ def counted_failed(cases: list[dict]) -> list[str]:
 
 
 def earned(step: dict) -> Fraction:
-    return exact(step.get("earned_exact", step["earned"]))
+    return exact(step["earned_exact"] if "earned_exact" in step else step["earned"])
 
 
 def maximum(step: dict) -> Fraction:
-    return exact(step.get("maximum_exact", step["maximum"]))
+    return exact(step["maximum_exact"] if "maximum_exact" in step else step["maximum"])
 
 
 def base(step: dict) -> Fraction:
@@ -101,8 +101,8 @@ def record_short_of_full(record: dict) -> str:
     course = course_file.load()
     short = [w for w in (short_of_full(s) for s in record["steps"]) if w]
     want = full_total(record)
-    if exact(record.get("score_exact", record["score"])) != want:
-        short.append(f"the score is {record.get('score_exact', record['score'])}, not {course.shown(want)}")
+    if exact(record["score_exact"] if "score_exact" in record else record["score"]) != want:
+        short.append(f"the score is {record['score_exact'] if 'score_exact' in record else record['score']}, not {course.shown(want)}")
     return "; ".join(short)
 
 
