@@ -24,7 +24,7 @@ from pathlib import Path
 
 from .. import course as course_file
 from ..checking import StepResult, recorded_cases
-from ..common import BUILD, ROOT, load_steps
+from ..common import BUILD, ROOT, load_steps, student_file_name
 from ..status import DONE
 from . import scale
 from .harness import Failed, Skipped, expect, need_solutions, partly_skipped
@@ -125,15 +125,17 @@ def selftest_grade(ctx) -> str:
     records = {}
     for j in (out / "report" / "grading" / "json").glob("*.json"):
         try:
-            records[j.stem] = json.loads(j.read_text())
+            records[j.stem] = json.loads(j.read_text())     # named student_file_name(who)
         except ValueError:
             pass
     full = {w: scale.shown(scale.full_total(rec)) for w, rec in records.items() if rec.get("steps")}
     for who in ("alice", "bob"):
         row = rows[who]
-        short = scale.record_short_of_full(records[who]) if who in records else "no record kept"
-        check(row["status"] == "complete" and not short and row["earned"] == full.get(who) and row["maximum"] == total,
-              f"{who}: {row['status']} {row['earned']} of {row['maximum']}, not complete {full.get(who)} of {total}"
+        mine = records.get(student_file_name(who))
+        short = scale.record_short_of_full(mine) if mine else "no record kept"
+        want = full.get(student_file_name(who))
+        check(row["status"] == "complete" and not short and row["earned"] == want and row["maximum"] == total,
+              f"{who}: {row['status']} {row['earned']} of {row['maximum']}, not complete {want} of {total}"
               + (f" ({short})" if short else ""))
     check("again" in rows["bob"]["note"] and "alone" in rows["bob"]["note"],
           f"bob (killed once): the note does not say it was graded again alone: {rows['bob']['note']!r}")
@@ -149,11 +151,16 @@ def selftest_grade(ctx) -> str:
     erin = rows["erin"]
     check(erin[f"step{last}_state"] == "not graded" and erin[f"step{last}_earned"] == "not graded",
           f"erin's step {last}: {erin[f'step{last}_state']!r}, {erin[f'step{last}_earned']!r}")
+    # Her other steps have full marks: their maxima, and the extra credit her record shows they passed.
+    erins = {st["step"]: st for st in records.get(student_file_name("erin"), {}).get("steps", [])}
     for s, points in maxima.items():
         if s != last:
-            check(erin[f"step{s}_earned"] == course.shown(points),
-                  f"erin's step {s}: {erin[f'step{s}_earned']!r} of {course.shown(points)}, though only step {last} failed")
-    zero = [w for w, row in rows.items() if row["maximum"] in ("0", "") or row["status"] == "complete" and row["earned"] != full.get(w)]
+            want = points + (scale.bonus(erins[s]["cases"]) if s in erins else 0)
+            short = scale.short_of_full(erins[s]) if s in erins else f"no step {s} in her record"
+            check(erin[f"step{s}_earned"] == course.shown(want) and not short,
+                  f"erin's step {s}: {erin[f'step{s}_earned']!r}, not {course.shown(want)} ({course.shown(points)} and "
+                  f"its extra credit), though only step {last} failed" + (f": {short}" if short else ""))
+    zero = [w for w, row in rows.items() if row["maximum"] in ("0", "") or row["status"] == "complete" and row["earned"] != full.get(student_file_name(w))]
     check(not zero, f"a submission with steps reads 0 of 0 or complete short of the total: {zero}")
     listed = next((line for line in said.splitlines() if line.strip().startswith("not graded (")), "")
     check(listed.strip().startswith(f"not graded ({len(faulty)})") and all(w in listed for w, _ in faulty),
