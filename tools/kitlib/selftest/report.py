@@ -493,6 +493,7 @@ def selftest_merge(ctx) -> str:
     expect(r.returncode != 0 and "different secrets" in r.stderr and "secret.key" in r.stderr,
            f"gradings drawn with two secrets were merged: exit {r.returncode}, {r.stderr[-400:]}")
     refusals.append("two secrets")
+    shutil.rmtree(work / "a2", ignore_errors=True)      # a run that stopped short leaves it behind
     shutil.copytree(work / "a" / "grading", work / "a2")
     rows = (work / "a2" / "grades.csv").read_text().splitlines(keepends=True)
     victim = next(i for i, l in enumerate(rows) if l.startswith("full,"))
