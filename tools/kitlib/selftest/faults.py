@@ -193,14 +193,20 @@ def selftest_grade(ctx) -> str:
     shutil.rmtree(hung, ignore_errors=True)
     hung.mkdir(parents=True)
     shutil.copytree(klass / "bob", hung / "frank")
-    r2 = subprocess.run([str(ROOT / "kit"), "grade", str(hung), "-j", "1", "--out", str(out / "hung.csv")], cwd=ROOT,
+    r2 = subprocess.run([str(ROOT / "kit"), "grade", str(hung), "-j", "1", "--out", str(out / "hung.csv"),
+                         "--json-dir", str(out / "hung-json")], cwd=ROOT,
                         capture_output=True, text=True, timeout=900,
                         env=_env("hang-once@frank", RAYKIT_FAULT_SUBMISSION_SECONDS=str(HANG_SECONDS)))
     frank = next(csv.DictReader((out / "hung.csv").open()), {}) if (out / "hung.csv").is_file() else {}
-    check(r2.returncode == 0 and frank.get("status") == "complete" and frank.get("earned") == total
+    # Full marks on the course as set, from his record: the maximum and the extra credit he passed.
+    kept = out / "hung-json" / f"{student_file_name('frank')}.json"
+    franks = json.loads(kept.read_text()) if kept.is_file() else None
+    short = scale.record_short_of_full(franks) if franks and franks.get("steps") else "no record kept"
+    want = scale.shown(scale.full_total(franks)) if not short else total
+    check(r2.returncode == 0 and frank.get("status") == "complete" and frank.get("earned") == want and not short
           and "over" in frank.get("note", "") and "alone" in frank.get("note", ""),
           f"frank (hung once): exit {r2.returncode}, {frank.get('status')} {frank.get('earned')}, note "
-          f"{frank.get('note')!r}, not complete {total} after a retry alone")
+          f"{frank.get('note')!r}, not complete {want} of {total} after a retry alone" + (f" ({short})" if short else ""))
     if problems:
         raise Failed("; ".join(problems) + f"\n./kit grade said:\n{said[-1500:]}")
     return (f"killed once, hung once: graded again alone, {total} of {total}; killed, {'full disk, ' if disk else ''}judge aborted in step {last}: "
