@@ -68,6 +68,19 @@ def changed_paths(since: str) -> list[str]:
     return sorted(set(diff.stdout.split("\n") + new.stdout.split("\n")) - {""})
 
 
+def scene_steps(path: str) -> set[str]:
+    """The steps that draw the scene of include/raykit/scenes/NAME.inc: those whose step.json lists
+    NAME among its "scenes" (step 05 in the kit; not the last step, once an instructor adds one)."""
+    import json
+    name = path.rsplit("/", 1)[-1].split(".")[0]
+    found = set()
+    for s in load_steps():
+        data = json.loads((ROOT / "tests" / s.folder / "step.json").read_text())
+        if any(isinstance(e, dict) and e.get("name") == name for e in data.get("scenes", [])):
+            found.add(s.number)
+    return found
+
+
 def touched_tests(paths: list[str]) -> list[list[str]]:
     """The ./kit test calls the changed paths ask for: `--step N` for a step's cases, reference or
     stubs; the modules that read the course, the scene, the lectures; everything for the kit's code."""
@@ -81,8 +94,8 @@ def touched_tests(paths: list[str]) -> list[list[str]]:
         elif p == "course.json":
             modules += ["course", "customised"]
         elif p.startswith("include/raykit/scenes/"):
-            modules += ["lectures:scene file", "render", "pictures"]
-            steps.add(max(numbers))
+            modules += ["lectures:scene file", "render", "pictures", "slips:a render turned over", "customised"]
+            steps |= scene_steps(p) or {max(numbers)}
         elif p.startswith(("lectures/", "docs/")) and not p.startswith("docs/images/"):
             modules += ["lectures", "slides"]
         elif p.startswith(("tools/", "tests/support/", "include/", "CMakeLists.txt", "cmake/")):

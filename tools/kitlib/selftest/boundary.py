@@ -41,6 +41,7 @@ from ..common import BUILD, ROOT
 from ..sandbox import COMPILE_UID_OFFSET, Limits
 from ..sandbox_slots import RUN_PROCESSES
 from ..status import NO_COMPILE
+from . import scale
 from .harness import Failed, Skipped, expect, need_solutions
 from .integrity import HOSTILE, isolations, one_slip_folder, printed, processes_named, run_modes, step_results
 
@@ -197,7 +198,7 @@ def selftest_compile_bombs(ctx) -> str:
     shutil.copytree(ROOT / "solutions", subs / "b_solutions")
     rows = grade_class(subs, ["-j", "2"], limits)
     _, alone, _, _ = check(ROOT / "solutions", [s.number for s in ctx.steps], isolations()[0][0])
-    expect(rows["b_solutions"]["earned"] == str(alone["score"]),
+    expect(scale.exact(rows["b_solutions"]["earned"]) == scale.exact(alone["score"]),   # "131.30" is 131.3
            f"./kit grade -j 2: the solutions beside a compile bomb earned {rows['b_solutions']['earned']}, "
            f"alone {alone['score']}")
     no_leftovers("./kit grade -j 2 with a compile bomb")
@@ -629,9 +630,12 @@ def selftest_load(ctx) -> str:
             p.wait()
         shutil.rmtree(BUILD / f"submission-{slot}", ignore_errors=True)
         shutil.rmtree(BUILD / f"submission-{slot}-src", ignore_errors=True)
-    bad = {n: (s["earned"], s["maximum"]) for n, s in step_results(got).items() if s["earned"] != s["maximum"]}
-    expect(got["score"] == got["extra_data"]["max_score"] and not bad,
-           f"the reference under load ({mode}): {got['score']} of {got['extra_data']['max_score']}: {bad}")
+    # Full marks on the course as set: each step's maximum, and any extra credit on top (scale.py).
+    bad = [w for w in (scale.short_of_full(s) for s in got["record"]["steps"]) if w]
+    full = scale.rounded(scale.full_total(got["record"]))
+    expect(scale.exact(got["score"]) == full and not bad,
+           f"the reference under load ({mode}): {got['score']} of {got['extra_data']['max_score']}, full marks "
+           f"{scale.shown(full)}: {'; '.join(bad)}")
     return f"{got['score']} of {got['extra_data']['max_score']} cold beside two busy loops ({mode}, {took:.0f} s, load {load:.1f})"
 
 

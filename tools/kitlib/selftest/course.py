@@ -15,6 +15,7 @@ from ..checking import SCORED_TIERS, Case, StepResult
 from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
+from . import scale
 from .harness import Failed, Skipped, expect, kit, need_solutions
 
 STEPS = ["01", "02"]
@@ -227,15 +228,18 @@ def selftest_gradescope_views(ctx) -> str:
 
 
 def selftest_reveal(ctx) -> str:
+    """The reveal's rules under a course that reveals and one that never does, each built in memory
+    (the shipped default reveals; an instructor may turn it off); then autograde.py's command under the
+    kit's own course.json as set: --reveal after the due date exactly when that course reveals."""
     due = {"assignment": {"due_date": "2026-03-01T23:59:00.000000-05:00", "late_due_date": None}}
-    with tempfile.TemporaryDirectory() as tmp:
+    reveals = course_file.parse({"hidden": {"reveal_after_due_date": True, "visibility": "after_due_date"}}, STEPS)
+    with tempfile.TemporaryDirectory() as tmp, course_file.using(reveals):
         meta = Path(tmp) / "submission_metadata.json"
-        seen = []
         for made, want in (("2026-03-01T20:00:00-05:00", False), ("2026-03-02T09:00:00-05:00", True)):
             meta.write_text(json.dumps(dict(due, created_at=made)))
             got = "--reveal" in reveal_options(meta)
-            expect(got == want, f"a submission made {made} (due {due['assignment']['due_date']}): reveal {got}")
-            seen.append(got)
+            expect(got == want, f"a course that reveals, a submission made {made} (due "
+                                f"{due['assignment']['due_date']}): reveal {got}")
         late = dict(due, created_at="2026-03-02T09:00:00-05:00",
                     users=[{"assignment": {"due_date": "2026-03-05T23:59:00-05:00"}}])
         meta.write_text(json.dumps(late))
@@ -247,14 +251,19 @@ def selftest_reveal(ctx) -> str:
             meta.write_text(json.dumps(dict(due, created_at="2026-04-01T00:00:00Z")))
             got = reveal_options(meta)
             expect(got == ["--hidden-visibility", "hidden"], f"a course that never reveals passes {got}")
-    # autograde.py passes them on: its ./kit check command, with a due date passed.
+    # autograde.py passes them on: its ./kit check command after the due date, under course.json as set.
     need_solutions()    # tools/gradescope/ is the instructor's
+    kits = course_file.read(course_file.COURSE_FILE, [s.number for s in ctx.steps])
     with tempfile.TemporaryDirectory() as tmp:
         Path(tmp, "submission_metadata.json").write_text(json.dumps(dict(due, created_at="2026-03-03T00:00:00Z")))
         cmd = autograde_command(Path(tmp))
-        expect("--reveal" in cmd and cmd[cmd.index("--hidden-visibility") + 1] == "after_due_date",
-               f"autograde.py after the due date runs {' '.join(cmd[1:])}")
-    return "before the due date: hidden; after: --reveal (autograde.py passes it); an extension, a broken file: hidden"
+    shown = cmd[cmd.index("--hidden-visibility") + 1] if "--hidden-visibility" in cmd else None
+    expect(("--reveal" in cmd) == kits.reveal_after_due_date and shown == kits.hidden_visibility,
+           f"autograde.py after the due date runs {' '.join(cmd[1:])}; course.json says reveal "
+           f"{'yes' if kits.reveal_after_due_date else 'no'}, visibility {kits.hidden_visibility}")
+    return ("a course that reveals: hidden before the due date, --reveal after; an extension, a broken file: "
+            f"hidden; never revealing: hidden. course.json as set (reveal {'yes' if kits.reveal_after_due_date else 'no'}, "
+            f"{kits.hidden_visibility}): autograde.py passes {'--reveal' if '--reveal' in cmd else 'no --reveal'}")
 
 
 def autograde_command(root: Path) -> list[str]:
@@ -360,8 +369,17 @@ def selftest_roster(ctx) -> str:
     expect(sorted(rows) == ["Alice", "bob", "carol", "zed"], f"the CSV's students: {sorted(rows)}")
     a, b, c, z = rows["Alice"], rows["bob"], rows["carol"], rows["zed"]
     n = step.number
-    expect(a["submission"] == "alice" and a[f"step{n}_earned"] == a[f"step{n}_maximum"] != "" and a["earned"] == a[f"step{n}_earned"],
-           f"alice (step {n} solved): {a}")
+    # alice solved step n: full marks on the course as set (its maximum, and on a course with extra credit
+    # the ★ points she passed on top), read from her record (--report keeps it under grading/json/).
+    kept = sorted((report / "grading" / "json").glob("alice*.json"))
+    expect(len(kept) == 1, f"--report keeps no single record of alice's: {[p.name for p in kept]}")
+    [mine_step] = [s for s in json.loads(kept[0].read_text())["steps"] if s["step"] == n]
+    short = scale.short_of_full(mine_step)
+    full = scale.shown(scale.maximum(mine_step) + scale.bonus(mine_step["cases"]))
+    expect(a["submission"] == "alice" and not short and a[f"step{n}_earned"] == full and a["earned"] == full
+           and a[f"step{n}_maximum"] == scale.shown(scale.maximum(mine_step)),
+           f"alice (step {n} solved): {short or 'the CSV says ' + a[f'step{n}_earned'] + ' of ' + a[f'step{n}_maximum']}, "
+           f"full marks are {full}: {a}")
     expect(c["status"] == "not submitted" and c["earned"] == "0" and c["maximum"] == a["maximum"], f"carol (nothing): {c}")
     expect(b["status"] == "no steps" and b["earned"] == "0" and "No step files found" in b["note"], f"bob (empty): {b}")
     expect(z["Student ID"] == "" and z["note"].startswith("not on the roster"), f"zed (not on the roster): {z}")
@@ -377,7 +395,8 @@ def selftest_roster(ctx) -> str:
     mine = [row for row in cases if row["submission"] == "alice"]
     firsts = [row for row in mine if row["step"] == n]
     expect(mine and all(row["Student ID"] == "1001" for row in mine) and firsts
-           and all(row["status"] == "pass" and row["earned"] == row["points"] for row in firsts),
+           and not scale.counted_failed(firsts)
+           and all(row["earned"] == (row["points"] if row["status"] == "pass" else "0") for row in firsts),
            f"the cases CSV has {len(mine)} rows for alice, step {n}'s: {firsts[:2]}")
     shutil.rmtree(root, ignore_errors=True)
     return (f"4 roster rows (id columns first; carol not submitted, 0 of {a['maximum']}; zed on no line); "
@@ -501,8 +520,10 @@ def selftest_gradescope_adds_up(ctx) -> str:
         view = gradescope(rs, 1.0, "after_due_date")
         for r in rs:
             shown = [t["max_score"] for t in view["tests"] if f"step{r.step.number}" in t["tags"]]
-            expect(round(sum(shown), 6) == float(thirds.rounded(r.maximum)),
-                   f"step {r.step.number}'s tests add up to {sum(shown)}, its points are {r.maximum}: {shown}")
+            # Summed exactly, each max_score as the decimal it is written as (scale.py), not as floats.
+            expect(scale.exact_sum(shown) == Fraction(thirds.rounded(r.maximum)),
+                   f"step {r.step.number}'s tests add up to {scale.exact_sum(shown)} exactly, its points are "
+                   f"{r.maximum} ({thirds.rounded(r.maximum)}): {shown}")
         fractions = [line for line in view["output"].splitlines() if re.match(r"step \d+: .*\d/\d+ of", line)]
         expect(not fractions, f"Gradescope's summary gives a step's points as a fraction, not in decimals: {fractions}")
         held = [line for line in view["output"].splitlines() if "hidden cases hold" in line]

@@ -1,21 +1,28 @@
-"""Self-test: the course-dependent self-tests pass on a customised copy of the kit (#35 item 3).
+"""Self-test: the course-dependent self-tests pass on the instructor's course as it stands, and on a
+copy of it changed further (#35 item 3, #46 item 1).
 
-An instructor changes the course: the steps' points (here every step 20, the last one doubled; ★ as
-5 % extra credit: weight 1/20 of a core case, "extra_credit": true), a
-wall's colour in the scene file (include/raykit/scenes/cornell_box.inc, then `python3
-docs/scene_tables.py` as CONTRIBUTING says), and a step of their own (the template of
-tests/fixtures/new_step/ at the next free number, as CONTRIBUTING's "## A step" lists its files). A
-self-test that read the shipped defaults then failed on a kit that is right: CI went red on a
-customisation, and a TA could not tell one from a regression.
+An instructor changes the course: the steps' points, the groups' weights (the ★ tier as extra credit),
+the reveal, a wall's colour in the scene file (include/raykit/scenes/cornell_box.inc), a step of their
+own from the template. A self-test that read the shipped defaults then failed on a kit that is right:
+CI went red on a customisation, and a TA could not tell one from a regression. So the self-tests that
+read the course (DEPENDENT: the scale, the reveal, Gradescope's sums, extra credit and the roster;
+lecture 05's tables and the README's step table; batch grading; the one scale of the stubs, a slip and
+the solutions; the step 05 fixtures that read the scene's colours) run twice here:
 
-A scratch copy of the kit (its files, as ./kit handout lists them, in a git repository of its own under
-build/customised-kit/) gets those three changes, and the self-tests that read the course run there:
-the scale (`course`), lecture 05's tables from the scene file and the README's step table from the
-manifests (`lectures`; the copy ran `python3 docs/readme_steps.py` after adding its step, as CONTRIBUTING
-says), and the new-step test's
-choice of number (the whole new-step test builds a step twice over; a customised copy's run of it is
-in the closing note of #35, not here). The copy's new step is not recorded (`./kit check N --record`
-needs a build): nothing run here reads its records. About 20 s on the shared 2-core machine.
+1. on the kit as it stands, the instructor's course.json, scene and steps (in place, with its builds);
+2. on a scratch copy of it (its files, as ./kit handout lists them, in a git repository of its own under
+   build/customised-kit/) with the kit's own variations on top, each chosen to differ from the course
+   as it stands: every step 20 points, the last 40 and the first 41/3 (a fraction, whose decimals must
+   still add up exactly); the ★ tier as 5 % extra credit (weight 1/20, "extra_credit": true), or back
+   to optional when the course has it as extra credit; the reveal after the due date turned the other
+   way; a wall's colour moved by 0.07 (then `python3 docs/scene_tables.py`); and a step of their own, the
+   template of tests/fixtures/new_step/ at the next free number (then `python3 docs/readme_steps.py`).
+   The copy's new step is not recorded (`./kit check N --record` needs a build): nothing run here reads
+   its records. Then the new-step test's choice of number in the copy: the one after that step.
+
+Run it after each change of course.json or the scene (the README says so): 200 s measured on the kit as
+shipped, 290 s on an instructor's customised course at a load of 9, on the shared 2-core machine (its
+summary line gives each run's time).
 """
 
 from __future__ import annotations
@@ -28,14 +35,15 @@ import sys
 import time
 from pathlib import Path
 
-from ..common import BUILD
+from ..common import BUILD, ROOT
 from .harness import expect, need_solutions
 
 COPY = BUILD / "customised-kit"
 
-# The self-tests run in the copy, by ./kit test's MODULE:WORDS.
-DEPENDENT = ["course:the default scale", "course:course.json as set", "course:./kit course",
-             "lectures:scene file", "lectures:README's step table"]
+# The self-tests that read the course, by ./kit test's MODULE:WORDS: run on the course as it stands,
+# then in the customised copy.
+DEPENDENT = ["course", "lectures:scene file", "lectures:README's step table", "workflow",
+             "slips:a render turned over", "integrity:one scale"]
 
 
 def customise(kit_dir: Path) -> dict:
@@ -46,9 +54,16 @@ def customise(kit_dir: Path) -> dict:
     numbers = sorted(p.name[:2] for p in (kit_dir / "tests").glob("[0-9][0-9]_*") if (p / "step.json").is_file())
     course.setdefault("steps", {})
     for n in numbers:
-        course["steps"][n] = {"points": 40 if n == numbers[-1] else 20}
-    # ★ as 5 % extra credit: each ★ case passed adds a twentieth of a core case's points, on top.
-    course.setdefault("groups", {})["robust"] = {"weight": "1/20", "extra_credit": True}
+        course["steps"][n] = {"points": 40 if n == numbers[-1] else "41/3" if n == numbers[0] else 20}
+    # ★ as 5 % extra credit (each ★ case passed adds a twentieth of a core case's points, on top), or,
+    # where the course has it as extra credit already, back to optional (weight 0, the default).
+    from .. import course as course_file
+    groups = course.setdefault("groups", {})
+    was_extra = course_file.read(course_path, numbers).extra_credit("robust")
+    groups["robust"] = {"weight": 0} if was_extra else {"weight": "1/20", "extra_credit": True}
+    # The reveal after the due date, the other way round from the course's.
+    hidden = course.setdefault("hidden", {})
+    hidden["reveal_after_due_date"] = not hidden.get("reveal_after_due_date", True)
     course_path.write_text(json.dumps(course, indent=2) + "\n")
 
     scene = kit_dir / "include" / "raykit" / "scenes" / "cornell_box.inc"
@@ -67,26 +82,47 @@ def customise(kit_dir: Path) -> dict:
         (kit_dir / rel).write_text(body)
     r = subprocess.run([sys.executable, "docs/readme_steps.py"], cwd=kit_dir, capture_output=True, text=True)
     expect(r.returncode == 0, f"docs/readme_steps.py in the copy: {r.stderr[-400:]}")
-    newstep.commit(kit_dir, "customised: points, a colour, a step")
+    newstep.commit(kit_dir, "customised: points, ★, the reveal, a colour, a step")
     return {"points": {n: course["steps"][n]["points"] for n in numbers}, "colour": f"{m.group(1)} {value:.2f}",
-            "robust": course["groups"]["robust"],
+            "robust": "optional" if was_extra else "extra credit", "reveal": hidden["reveal_after_due_date"],
             "step": number}
+
+
+def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
+    """./kit test DEPENDENT in `kit_dir`: a failure names the self-tests that failed there; else the
+    counts of its summary line and the time, and what it printed."""
+    start = time.monotonic()
+    r = subprocess.run([str(kit_dir / "kit"), "test", *DEPENDENT], cwd=kit_dir, capture_output=True, text=True,
+                       timeout=3600)
+    out = r.stdout + r.stderr
+    m = re.search(r"(?m)^selftest: (\d+) passed, (\d+) failed, (\d+) skipped", out)
+    failed = re.findall(r"(?m)^✗ .*", out)
+    expect(r.returncode == 0 and m and int(m.group(1)) > 0 and m.group(2) == "0",
+           f"on {where}, ./kit test {' '.join(DEPENDENT)}: exit {r.returncode}, "
+           + (f"{m.group(1)} passed, {m.group(2)} failed" if m else "no summary line") + ":\n"
+           + ("\n".join(f[:600] for f in failed[:6]) if failed else out[-1500:]))
+    skipped = [l.split(":", 1)[0][2:] for l in re.findall(r"(?m)^- .*", out)]
+    return (f"{m.group(1)} pass" + (f", {m.group(3)} skipped ({'; '.join(skipped)})" if skipped else "")
+            + f", {time.monotonic() - start:.0f} s"), out
 
 
 def selftest_customised(ctx) -> str:
     need_solutions()
+    from .. import course as course_file
     from . import newstep
     start = time.monotonic()
+    # 1. The instructor's course as it stands.
+    here = course_file.read(course_file.COURSE_FILE, [s.number for s in ctx.steps])
+    as_is, _ = run_dependent(ROOT, "the course as it stands")
+    # 2. A copy of it with the kit's variations on top.
     kit_dir = newstep.scratch_kit(COPY)
     made = customise(kit_dir)
-    r = subprocess.run([str(kit_dir / "kit"), "test", *DEPENDENT], cwd=kit_dir, capture_output=True, text=True,
-                       timeout=900)
-    out = r.stdout + r.stderr
-    passed = re.findall(r"(?m)^✓ ", out)
-    expect(r.returncode == 0 and len(passed) == len(DEPENDENT),
-           f"in a customised copy ({made}), ./kit test {' '.join(DEPENDENT)}: exit {r.returncode}, "
-           f"{len(passed)} of {len(DEPENDENT)} passed:\n{out[-1500:]}")
-    expect(f"{made['colour'].split()[0]}" in out, f"the scene-table test did not change a colour the copy has:\n{out[-600:]}")
+    varied = course_file.read(kit_dir / "course.json", [s.number for s in ctx.steps] + [made["step"]])
+    expect(varied.reveal_after_due_date != here.reveal_after_due_date
+           and varied.extra_credit("robust") != here.extra_credit("robust"),
+           f"the copy's variations do not differ from the course as it stands: {made}")
+    copied, out = run_dependent(kit_dir, f"a customised copy ({made})")
+    expect(made["colour"].split()[0] in out, f"the scene-table test did not name the colour the copy changed:\n{out[-600:]}")
     # The new-step test's number in the copy: the one after the instructor's step.
     r = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, 'tools'); "
                         "from kitlib.selftest import newstep; print(newstep.free_number())"],
@@ -95,10 +131,12 @@ def selftest_customised(ctx) -> str:
     expect(r.stdout.strip() == want, f"the new-step test would add step {r.stdout.strip() or r.stderr[-300:]} to "
                                      f"the copy that has a step {made['step']}, not {want}")
     shutil.rmtree(COPY, ignore_errors=True)
-    points = "/".join(str(p) for p in made["points"].values())
-    return (f"a copy with points {points}, {made['colour']}, a step {made['step']} from the template: "
-            f"{len(DEPENDENT)} course-dependent self-tests pass there, the new-step test takes {want} "
-            f"({time.monotonic() - start:.0f} s)")
+    points = " ".join(str(p) for p in made["points"].values())
+    return (f"the course as it stands ({here.source}: reveal {'on' if here.reveal_after_due_date else 'off'}, ★ "
+            f"{'extra credit' if here.extra_credit('robust') else 'not extra credit'}, {len(ctx.steps)} steps): {as_is}; "
+            f"a copy with points {points}, ★ {made['robust']}, reveal {'on' if made['reveal'] else 'off'}, "
+            f"{made['colour']}, a step {made['step']} from the template: {copied}; the new-step test takes {want} "
+            f"({time.monotonic() - start:.0f} s in all)")
 
 
 def selftests():

@@ -24,8 +24,9 @@ from pathlib import Path
 
 from .. import course as course_file
 from ..checking import StepResult, recorded_cases
-from ..common import BUILD, ROOT, load_steps
+from ..common import BUILD, ROOT, load_steps, student_file_name
 from ..status import DONE
+from . import scale
 from .harness import Failed, Skipped, expect, need_solutions, partly_skipped
 
 WORK = BUILD / "faults-test"
@@ -119,10 +120,23 @@ def selftest_grade(ctx) -> str:
         if not ok:
             problems.append(what)
 
+    # Full marks on the course as set: the maximum, and the extra credit a copy of the solutions passes on
+    # top when a group is extra credit (scale.py), from each one's record (--report keeps them).
+    records = {}
+    for j in (out / "report" / "grading" / "json").glob("*.json"):
+        try:
+            records[j.stem] = json.loads(j.read_text())     # named student_file_name(who)
+        except ValueError:
+            pass
+    full = {w: scale.shown(scale.full_total(rec)) for w, rec in records.items() if rec.get("steps")}
     for who in ("alice", "bob"):
         row = rows[who]
-        check(row["status"] == "complete" and row["earned"] == total and row["maximum"] == total,
-              f"{who}: {row['status']} {row['earned']} of {row['maximum']}, not complete {total} of {total}")
+        mine = records.get(student_file_name(who))
+        short = scale.record_short_of_full(mine) if mine else "no record kept"
+        want = full.get(student_file_name(who))
+        check(row["status"] == "complete" and not short and row["earned"] == want and row["maximum"] == total,
+              f"{who}: {row['status']} {row['earned']} of {row['maximum']}, not complete {want} of {total}"
+              + (f" ({short})" if short else ""))
     check("again" in rows["bob"]["note"] and "alone" in rows["bob"]["note"],
           f"bob (killed once): the note does not say it was graded again alone: {rows['bob']['note']!r}")
     faulty = [(w, words) for w, words in (("carol", "SIGKILL"), ("dave", "No space left on device"),
@@ -137,11 +151,16 @@ def selftest_grade(ctx) -> str:
     erin = rows["erin"]
     check(erin[f"step{last}_state"] == "not graded" and erin[f"step{last}_earned"] == "not graded",
           f"erin's step {last}: {erin[f'step{last}_state']!r}, {erin[f'step{last}_earned']!r}")
+    # Her other steps have full marks: their maxima, and the extra credit her record shows they passed.
+    erins = {st["step"]: st for st in records.get(student_file_name("erin"), {}).get("steps", [])}
     for s, points in maxima.items():
         if s != last:
-            check(erin[f"step{s}_earned"] == course.shown(points),
-                  f"erin's step {s}: {erin[f'step{s}_earned']!r} of {course.shown(points)}, though only step {last} failed")
-    zero = [w for w, row in rows.items() if row["maximum"] in ("0", "") or row["status"] == "complete" and row["earned"] != total]
+            want = points + (scale.bonus(erins[s]["cases"]) if s in erins else 0)
+            short = scale.short_of_full(erins[s]) if s in erins else f"no step {s} in her record"
+            check(erin[f"step{s}_earned"] == course.shown(want) and not short,
+                  f"erin's step {s}: {erin[f'step{s}_earned']!r}, not {course.shown(want)} ({course.shown(points)} and "
+                  f"its extra credit), though only step {last} failed" + (f": {short}" if short else ""))
+    zero = [w for w, row in rows.items() if row["maximum"] in ("0", "") or row["status"] == "complete" and row["earned"] != full.get(student_file_name(w))]
     check(not zero, f"a submission with steps reads 0 of 0 or complete short of the total: {zero}")
     listed = next((line for line in said.splitlines() if line.strip().startswith("not graded (")), "")
     check(listed.strip().startswith(f"not graded ({len(faulty)})") and all(w in listed for w, _ in faulty),
@@ -174,14 +193,20 @@ def selftest_grade(ctx) -> str:
     shutil.rmtree(hung, ignore_errors=True)
     hung.mkdir(parents=True)
     shutil.copytree(klass / "bob", hung / "frank")
-    r2 = subprocess.run([str(ROOT / "kit"), "grade", str(hung), "-j", "1", "--out", str(out / "hung.csv")], cwd=ROOT,
+    r2 = subprocess.run([str(ROOT / "kit"), "grade", str(hung), "-j", "1", "--out", str(out / "hung.csv"),
+                         "--json-dir", str(out / "hung-json")], cwd=ROOT,
                         capture_output=True, text=True, timeout=900,
                         env=_env("hang-once@frank", RAYKIT_FAULT_SUBMISSION_SECONDS=str(HANG_SECONDS)))
     frank = next(csv.DictReader((out / "hung.csv").open()), {}) if (out / "hung.csv").is_file() else {}
-    check(r2.returncode == 0 and frank.get("status") == "complete" and frank.get("earned") == total
+    # Full marks on the course as set, from his record: the maximum and the extra credit he passed.
+    kept = out / "hung-json" / f"{student_file_name('frank')}.json"
+    franks = json.loads(kept.read_text()) if kept.is_file() else None
+    short = scale.record_short_of_full(franks) if franks and franks.get("steps") else "no record kept"
+    want = scale.shown(scale.full_total(franks)) if not short else total
+    check(r2.returncode == 0 and frank.get("status") == "complete" and frank.get("earned") == want and not short
           and "over" in frank.get("note", "") and "alone" in frank.get("note", ""),
           f"frank (hung once): exit {r2.returncode}, {frank.get('status')} {frank.get('earned')}, note "
-          f"{frank.get('note')!r}, not complete {total} after a retry alone")
+          f"{frank.get('note')!r}, not complete {want} of {total} after a retry alone" + (f" ({short})" if short else ""))
     if problems:
         raise Failed("; ".join(problems) + f"\n./kit grade said:\n{said[-1500:]}")
     return (f"killed once, hung once: graded again alone, {total} of {total}; killed, {'full disk, ' if disk else ''}judge aborted in step {last}: "
@@ -247,8 +272,10 @@ def selftest_platforms(ctx) -> str:
         check(tagged == missed, f"{who}: Gradescope's not-graded tests are for steps {sorted(tagged)}, not {sorted(missed)}")
         lost = [t["name"] for t in gs["tests"] if t["status"] == "failed" and t.get("max_score", 0) > 0]
         check(not lost, f"{who}: Gradescope takes points away: {lost[:3]}")
-        graded = sum((p for n, p in maxima.items() if n not in missed), Fraction(0))
-        check(Fraction(str(gs["score"])) == course.rounded(graded),
+        # The graded steps' full marks: their maxima, and the extra credit their cases passed (scale.py).
+        graded = sum((p for n, p in maxima.items() if n not in missed), Fraction(0)) + sum(
+            (scale.bonus(s["cases"]) for s in rec["steps"] if s["step"] not in missed), Fraction(0))
+        check(scale.exact(gs["score"]) == course.rounded(graded),
               f"{who}: Gradescope's score {gs['score']}, not the graded steps' {course.shown(graded)}")
         check(gs["output"].startswith("NOT GRADED") and "regrade" in gs["output"].lower(),
               f"{who}: Gradescope's output does not open with NOT GRADED and a regrade: {gs['output'][:200]!r}")

@@ -53,6 +53,9 @@ def selftest_fuzz(ctx) -> str:
                 raise Failed(f"{exe.name} fails again on an input found before ({REGRESSIONS.relative_to(ROOT)}/"
                              f"{exe.name}):\n  " + "\n  ".join(_finding(r.stderr)))
             replayed += len(known)
+        # libFuzzer refuses to start when its artifact folder is missing (a fresh clone has none), and
+        # then reads as a finding: the folder is made before the run, not after a failure.
+        (BUILD / "fuzz-corpus").mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(prefix="raykit-fuzz-") as corpus:
             budget = [f"-max_total_time={FULL_SECONDS_PER_TARGET}"] if full else [f"-runs={RUNS_PER_TARGET}"]
             r = subprocess.run([str(exe), f"-seed={seed}", *budget, "-print_final_stats=1",

@@ -16,9 +16,11 @@ import subprocess
 import sys
 import time
 import zipfile
+from fractions import Fraction
 from pathlib import Path
 
-from ..common import BUILD, ROOT, load_steps
+from ..common import BUILD, ROOT, load_steps, student_file_name
+from . import scale
 from .harness import Failed, Skipped, expect, need_solutions
 
 
@@ -254,15 +256,23 @@ def selftest_class_speed(ctx) -> str:
     by_kind: dict[str, set[str]] = {}
     for who, kind in plan.items():
         by_kind.setdefault(kind, set()).add(rows[who]["earned"])
+    # Full marks and the counted points on the course as set (scale.py): with a group as extra credit a
+    # complete submission earns its ★ cases' points on top of the maximum, and a slip can too.
+    records = {who: json.loads((CLASS_DIR / "json" / f"{student_file_name(who)}.json").read_text()) for who in plan}
     for kind in ("copy", "own", "textbook"):
-        expect(by_kind.get(kind, {top}) == {top}, f"{kind} submissions scored {by_kind.get(kind)} of {top}")
+        short = {w: scale.record_short_of_full(records[w]) for w, k in plan.items() if k == kind}
+        short = {w: s for w, s in short.items() if s}
+        expect(not short, f"{kind} submissions short of full marks ({top} and their extra credit): "
+                          + "; ".join(f"{w}: {s}" for w, s in list(short.items())[:3]))
+    expect(len(by_kind.get("copy", {""})) == 1, f"copies of one another scored differently: {by_kind.get('copy')}")
     expect(by_kind.get("stubs", {"0"}) == {"0"}, f"the stubs scored {by_kind['stubs']}")
     for kind in ("partial", "started"):
         expect(len(by_kind.get(kind, {""})) == 1, f"identical {kind} submissions scored differently: {by_kind[kind]}")
     slipped = [w for w, k in plan.items() if k in ("slip", "twoslips", "nocompile")]
-    expect(all(float(rows[w]["earned"]) < float(top) for w in slipped),
+    kept = {w: sum((scale.base(s) for s in records[w]["steps"]), Fraction(0)) for w in slipped}
+    expect(all(kept[w] < scale.exact(top) for w in slipped),
            "a slip or a step that does not compile got full marks: "
-           + ", ".join(w for w in slipped if float(rows[w]["earned"]) >= float(top)))
+           + ", ".join(f"{w} ({scale.shown(kept[w])} of {top} counted)" for w in slipped if kept[w] >= scale.exact(top)))
     isolation = sorted({row["isolation"].split(":")[0].split(";")[0] for row in rows.values() if row["isolation"]})
     # A step the grading judged once for every copy of its files (checking.Verdicts) has the verdict
     # a grading of that submission alone gives it, case by case.

@@ -45,6 +45,7 @@ from typing import Callable
 from .. import procfs
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
 from ..status import DONE, NO_COMPILE, PARTIAL
+from . import scale
 from .harness import Failed, Skipped, expect, kit, need_solutions, partly_skipped
 
 HOSTILE = ROOT / "tests" / "fixtures" / "hostile"
@@ -307,7 +308,7 @@ def lingering_under_batch_grading(home: Path) -> str:
     expect(not alive, f"./kit grade: the lingering writer is still running after grading: {alive[:5]}")
     expect(not changed, f"./kit grade: changed after it was written: {changed}")
     expect(not extra and not dropped, f"./kit grade: files dropped: {(extra + [str(p) for p in dropped])[:5]}")
-    expect(len(row) == 2 and row[1].split(",")[1] == str(base["score"]),
+    expect(len(row) == 2 and scale.exact(row[1].split(",")[1]) == scale.exact(base["score"]),    # "3.40" is 3.4
            f"./kit grade: the CSV gives {row[1:]} , the plain wrong answer scores {base['score']}")
     return f"grades.csv and results.json unchanged, score {base['score']} as without the attack [{took:.0f} s]"
 
@@ -323,7 +324,9 @@ def selftest_table_of_visible_inputs(ctx) -> str:
             raise Skipped("no hidden cases yet (the table passes every visible case: "
                           f"{step['basic']['passed']} of {step['basic']['total']})")
         _, reference, _, _ = grade_json(ROOT / "solutions", ["01"], mode)
-        expect(reference["score"] == reference["extra_data"]["max_score"], f"the solutions score {reference['score']}")
+        short = scale.record_short_of_full(reference["record"])
+        expect(not short and scale.exact(reference["score"]) == scale.rounded(scale.full_total(reference["record"])),
+               f"the solutions score {reference['score']} of {reference['extra_data']['max_score']}: {short or 'not the record'}")
         expect(table["score"] < reference["score"] and rc == 1,
                f"table ({mode}): scores {table['score']}, the reference {reference['score']} (exit {rc})")
         hidden = step["hidden"]
@@ -354,9 +357,13 @@ def selftest_one_scale(ctx) -> str:
         for name, folder in (("stubs", ROOT / "steps"), ("one slip", one_slip_folder()),
                              ("solutions", ROOT / "solutions")):
             _, data, _, _ = grade_json(folder, numbers, mode)
-            total = sum(t["max_score"] for t in data["tests"])
-            expect(data["extra_data"]["max_score"] == total,
-                   f"{name} ({mode}): extra_data.max_score {data['extra_data']['max_score']}, tests add up to {total}")
+            # Each test's max_score is a decimal on the course's rounding: their sum is taken exactly (a
+            # float sum of 115's shares reads 114.99999999999982), against the record's exact maximum.
+            total = scale.exact_sum(t["max_score"] for t in data["tests"])
+            want = scale.rounded(scale.exact(data["record"]["max_score_exact"]))
+            expect(scale.exact(data["extra_data"]["max_score"]) == total == want,
+                   f"{name} ({mode}): extra_data.max_score {data['extra_data']['max_score']}, tests add up to "
+                   f"{scale.shown(total)}, the record's maximum is {scale.shown(want)}")
             graded[name] = data
         maxima = {n: d["extra_data"]["max_score"] for n, d in graded.items()}
         expect(len(set(maxima.values())) == 1, f"({mode}) not one scale: maxima {maxima}")
@@ -365,17 +372,26 @@ def selftest_one_scale(ctx) -> str:
                f"({mode}) step maxima differ: {per_step}")
         stubs, slip, full = (step_results(graded[n]) for n in ("stubs", "one slip", "solutions"))
         expect(graded["stubs"]["score"] == 0, f"({mode}) the stubs score {graded['stubs']['score']}")
-        expect(graded["solutions"]["score"] == maxima["solutions"], f"({mode}) the solutions lose points")
-        expect(slip["04"]["state"] == PARTIAL and slip["04"]["earned"] < slip["04"]["maximum"],
-               f"({mode}) the slip in step 04 is not caught: {slip['04']['state']}")
-        expect(slip["05"]["state"] == DONE and slip["05"]["earned"] == slip["05"]["maximum"],
-               f"({mode}) a correct step 05 after a slip in 04: {slip['05']['state']}, "
-               f"{slip['05']['earned']} of {slip['05']['maximum']}")
+        short = scale.record_short_of_full(graded["solutions"]["record"])
+        full_score = scale.rounded(scale.full_total(graded["solutions"]["record"]))
+        expect(not short and scale.exact(graded["solutions"]["score"]) == full_score,
+               f"({mode}) the solutions score {graded['solutions']['score']} of {maxima['solutions']}, not "
+               f"{scale.shown(full_score)}: {short or 'the record and the score differ'}")
+        # The slip loses counted points (its ★ cases, extra credit or not, may still pass: scale.py).
+        expect(slip["04"]["state"] == PARTIAL and scale.base(slip["04"]) < scale.maximum(slip["04"]),
+               f"({mode}) the slip in step 04 is not caught: {slip['04']['state']}, {slip['04']['earned']} of "
+               f"{slip['04']['maximum']}")
+        after = [n for n in numbers if n > "04" and "04" in next(s.needs for s in load_steps() if s.number == n)]
+        for n in after:
+            short = scale.short_of_full(slip[n])
+            expect(slip[n]["state"] == DONE and not short,
+                   f"({mode}) a correct step {n} after a slip in 04: {slip[n]['state']}, {short}")
         others = [n for n in numbers if n != "04"]
-        expect(all(slip[n]["earned"] == full[n]["earned"] for n in others),
+        expect(all(scale.earned(slip[n]) == scale.earned(full[n]) for n in others),
                f"({mode}) the slip in step 04 cost another step points")
         return (f"max {maxima['solutions']} for all; stubs 0, one slip {graded['one slip']['score']}, "
-                f"solutions {graded['solutions']['score']}; step 05 {slip['05']['earned']} of {slip['05']['maximum']}")
+                f"solutions {graded['solutions']['score']}; "
+                + ", ".join(f"step {n} {slip[n]['earned']} of {slip[n]['maximum']}" for n in after))
 
     need_solutions()
     spent = prewarm([ROOT / "steps", one_slip_folder(), ROOT / "solutions"], numbers)

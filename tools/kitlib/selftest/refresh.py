@@ -3,7 +3,9 @@ plan that rewrites nothing on a kit whose records are current."""
 
 from __future__ import annotations
 
-from ..common import load_steps
+import json
+
+from ..common import ROOT, load_steps
 from .harness import expect, kit, need_solutions
 
 
@@ -11,12 +13,20 @@ def selftest_touched(ctx) -> str:
     from ..commands.refresh import touched_tests
     steps = [s.number for s in load_steps()]
     first, last = steps[0], steps[-1]
+    # The step that draws the Cornell box: the one whose step.json lists the scene (05 in the kit; an
+    # instructor's step 06 after it does not draw it).
+    drawn = [s.folder[:2] for s in load_steps()
+             if any(e.get("name") == "cornell_box" for e in json.loads((ROOT / "tests" / s.folder / "step.json")
+                                                                       .read_text()).get("scenes", []))]
+    expect(len(drawn) == 1, f"the steps whose step.json lists the scene cornell_box: {drawn}")
+    box = drawn[0]
     cases = {
         (f"tests/{load_steps()[0].folder}/test_x.cpp",): [["--step", first]],
         (f"solutions/{load_steps()[-1].folder}/render.cpp", f"tests/hidden/{first}_x.cpp"): [["--step", first],
                                                                                             ["--step", last]],
         ("course.json",): [["course", "customised"]],
-        ("include/raykit/scenes/cornell_box.inc",): [["--step", last], ["lectures:scene file", "render", "pictures"]],
+        ("include/raykit/scenes/cornell_box.inc",): [["--step", box], ["lectures:scene file", "render", "pictures",
+                                                                      "slips:a render turned over", "customised"]],
         ("lectures/01-unit-sphere.md",): [["lectures", "slides"]],
         ("tools/kitlib/course.py", "course.json"): [[]],
         ("docs/images/cornell_box.png",): [],

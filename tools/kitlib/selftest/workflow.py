@@ -8,9 +8,10 @@ import shutil
 import zipfile
 
 from ..mutants import MUTANTS, write_answer
-from ..common import BUILD, ROOT, load_steps
+from ..common import BUILD, ROOT, load_steps, student_file_name
 from ..record import is_record
 from ..status import DONE
+from . import scale
 from .harness import expect, kit, need_solutions
 
 # Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
@@ -79,9 +80,18 @@ def selftest_batch_grading(ctx) -> str:
     n = step.number
     expect(set(rows) == {"alice", "bob", "carol", "dave", "erin", "frank", "gina"}, f"CSV rows: {sorted(rows)}")
     a, b, c, d, e, f_, g = (rows[k] for k in ("alice", "bob", "carol", "dave", "erin", "frank", "gina"))
-    expect(a[f"step{n}_state"] == DONE and a[f"step{n}_earned"] == a[f"step{n}_maximum"], f"alice: {a}")
-    expect(b[f"step{n}_state"] == "some cases fail" and int(b[f"step{n}_earned"]) < int(b[f"step{n}_maximum"]),
-           f"bob (open window): {b}")
+    # Full marks and the counted points on the course as set, from each one's record (scale.py): with a
+    # group as extra credit, alice earns her step's maximum and the extra credit on top, and bob's slip
+    # loses counted points whatever his ★ cases earn.
+    mine = {who: json.loads((jsons / f"{student_file_name(who)}.json").read_text()) for who in ("alice", "bob")}
+    [a_step], [b_step] = ([s for s in mine[w]["steps"] if s["step"] == n] for w in ("alice", "bob"))
+    short = scale.short_of_full(a_step)
+    expect(a[f"step{n}_state"] == DONE and not short
+           and a[f"step{n}_earned"] == scale.shown(scale.maximum(a_step) + scale.bonus(a_step["cases"])),
+           f"alice: {short or 'the CSV says ' + a[f'step{n}_earned'] + ' of ' + a[f'step{n}_maximum']}: {a}")
+    expect(b[f"step{n}_state"] == "some cases fail" and scale.base(b_step) < scale.maximum(b_step)
+           and scale.exact(b[f"step{n}_earned"]) == scale.rounded(scale.earned(b_step)),
+           f"bob (open window): {scale.shown(scale.base(b_step))} counted of {b[f'step{n}_maximum']}: {b}")
     expect("crashed" in c["note"] and c[f"step{n}_state"] == "some cases fail", f"carol (crash): {c}")
     expect("timed_out" in d["note"] and d[f"step{n}_state"] == "some cases fail", f"dave (hang): {d}")
     expect(e["status"] == "no steps" and "No step files found" in e["note"], f"erin (empty): {e}")
