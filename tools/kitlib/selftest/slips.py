@@ -451,7 +451,7 @@ def selftest_fitting_words(ctx) -> str:
     said = []
     try:
         # An own epsilon, planted by each step's mutant own_epsilon: the first case shown names the bound
-        # measured on the function, and every window case it fails says so; an open window, an ignored
+        # measured on the function, and every visible case it fails says so (the hidden ones do not probe); an open window, an ignored
         # tmin (skipped hits at t = tmin, a hit before tmin), a loop that drops only negative t and one
         # that searches from 0 are not called an epsilon.
         for number, bound in (("01", "0.001"), ("02", "0.0001"), ("04", "0.001"), ("05", "0.0001")):
@@ -464,9 +464,11 @@ def selftest_fitting_words(ctx) -> str:
             expect(failing and all(words in m for m in failing.values()),
                    f"step {number}, an own epsilon: a failing case does not name it:\n" +
                    "\n".join(f"{k}: {m[-400:]}" for k, m in failing.items() if words not in m))
+            # The hidden families do not probe (tests/hidden/01_unit_sphere.cpp: a probe's fixed rays would
+            # read as hidden inputs carried into a visible case), and so never claim it.
             hidden = _failing(rec, "hidden")
-            expect(all("an epsilon of its own" in m for m in hidden.values()),
-                   f"step {number}, an own epsilon: a hidden window family does not name it:\n{hidden}")
+            expect(not any("an epsilon of its own" in m for m in hidden.values()),
+                   f"step {number}, an own epsilon: a hidden family probed for it:\n{hidden}")
             said.append(f"step {number} epsilon below {bound}")
         for number, control in (("01", "open_window"), ("04", "tmin_ignored"), ("04", "open_window"),
                                 ("05", "negative_t_dropped"), ("05", "window_from_zero")):
