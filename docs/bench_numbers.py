@@ -889,6 +889,22 @@ def block_bench_times(run: Run) -> list:
         "either (section 8): the table's first line names the processor's family and model.", bullet=True)
 
 
+def block_bench_timed_pass(run: Run) -> list:
+    """How one timed pass is made, from the run's own settings: the batch, its size in float (ten inputs a
+    ray), the repetitions and the least time of each."""
+    m = run.meta
+    if not all(isinstance(m.get(k), (int, float)) for k in ("batch", "repetitions", "min_time")):
+        raise Stale("results.json has no batch, repetitions or min_time")
+    kib = m["batch"] * 10 * 4 / 1024
+    return wrap(
+        f"**The time.** Google Benchmark times one pass over the first {m['batch']} rays of a family "
+        f"({kib:.0f} KiB in float: in cache; too many for the branch predictor to learn), {m['repetitions']} "
+        f"repetitions of at least {1000 * m['min_time']:g} ms each, the repetitions of all variants interleaved at "
+        "random (a fixed shuffle, made by the benchmark itself). Every variant is one out-of-line call per ray, "
+        "like the kit's step functions, and writes its answer to memory. The table shows the median CPU time per ray "
+        "with the fastest and slowest repetition.")
+
+
 def block_lecture03_earth(run: Run) -> list:
     r = Reading(run)
     rows = [v for v, _ in LECTURE_VARIANTS if run.labels.get(v, "").endswith(", float") and v.endswith("_f32")]
@@ -1005,6 +1021,7 @@ BLOCKS = {
     "bench-box-lanes": block_bench_box_lanes,
     "bench-box-claim": block_bench_box_claim,
     "bench-times": block_bench_times,
+    "bench-timed-pass": block_bench_timed_pass,
 }
 
 
@@ -1021,7 +1038,7 @@ _WORD = (r"(?:one|two|three|four|five|six|seven|eight|nine|ten|eleven|twelve|thi
          r"sixteen|twenty|thirty|forty|fifty|hundred)")
 _NUM = r"(?:TEXNUM|\d{1,3}(?:[ \u202f\u00a0]\d{3})+(?:\.\d+)?|\d+(?:\.\d+)?)"
 _RANGE = rf"{_NUM}(?:\s*(?:to|–|-|and|or|/|→)\s*{_NUM})*"
-_UNIT = r"(?:ns\b|µs\b|GFLOP/s|flops?\b|(?:double\s+|float\s+)?ulps?\b|\s?%|\s?per\s?cent\b|\s?×|x\b|times\b)"
+_UNIT = r"(?:ns\b|µs\b|ms\b|s\b|min\b|[KMG]iB\b|[KMG]B\b|[MG]Hz\b|GFLOP/s|flops?\b|(?:double\s+|float\s+)?ulps?\b|\s?%|\s?per\s?cent\b|\s?×|x\b|times\b)"
 FIGURE = re.compile("|".join([
     rf"(?<![\w.\-^{{}}])~?{_RANGE}\s*{_UNIT}",                                    # 7.1 to 9.4 ns, 45 %, 2.2×
     rf"\b{_WORD}\s+(?:times\b|ulps?\b|%|per\s?cent\b)",                             # about three times

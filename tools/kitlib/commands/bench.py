@@ -22,7 +22,7 @@ from pathlib import Path
 from .. import atomic
 from .. import bench_report as report
 from ..common import ROOT, KitError, load_steps, note, paint, say
-from ..build import Build, build_target, configure, preset_build, tools_build
+from ..build import Build, build_targets, configure, preset_build, tools_build
 from ..packages import ensure_packages
 from ..status import FAILED, OK
 
@@ -37,7 +37,7 @@ OUTPUTS = ("results.csv", "results.json", "table.md", "plot.svg")
 
 
 def register(p) -> None:
-    p.add_argument("--quick", action="store_true", help="fewer rays and repetitions (about 15 s)")
+    p.add_argument("--quick", action="store_true", help="fewer rays and repetitions (the first run builds the benchmark first, and says so)")
     p.add_argument("--out", metavar="DIR", help=f"where to write {', '.join(OUTPUTS)} (default build/bench)")
     p.add_argument("--compare", metavar="CSV", help="compare with an earlier results.csv: same errors, times "
                                                      "within the noise?")
@@ -121,9 +121,21 @@ def run_bench(exe: Path, args: list[str], timeout: float, who: str, progress: Pr
             return None, f"wrote no readable results ({e})"
 
 
-def build_bench(build: Build) -> tuple[bool, str]:
+def build_bench(build: Build, progress: "Progress | None" = None, what: str = "the benchmark") -> tuple[bool, str]:
+    """Configures `build` and builds raykit_bench with only the step libraries it links, saying what is
+    being built and how far along it is (Ninja's count) while the user waits."""
+    where = os.path.relpath(build.binary_dir, ROOT)
+    if progress:
+        progress.show(f"configuring {what} ({where})", f"configure-{where}")
     configure(build)
-    ok, out = build_target(build, TARGET)
+
+    def compiled(done: int, total: int) -> None:
+        # Ninja's "[0/N]" lines re-check the build's inputs; a log (no terminal) gets a line a quarter.
+        if progress and done > 0:
+            progress.show(f"building {what}: {done} of {total} compile and link steps ({where})",
+                          f"build-{where}-{4 * done // total}")
+
+    ok, out = build_targets(build, [TARGET], progress=compiled)
     if not ok and ("unknown target" in out or f"'{TARGET}'" in out and "no such" in out.lower()):
         cache = build.binary_dir / "CMakeCache.txt"
         why = "Google Benchmark or __float128 support was not found when CMake configured " + str(build.binary_dir)
@@ -140,10 +152,9 @@ def student_label(step: int) -> str:
 def student_subject(progress: Progress, run_args: list[str], timeout: float) -> tuple[dict | None, str, str]:
     """Builds and runs the student's sphere function. Returns (JSON, status, label)."""
     build = tools_build(preset_build("student"))
-    progress.show("building your steps' benchmark (build/student-tools)", "build-student")
     # The bench measures step 02's sphere_roots, or step 01's until step 02 exists.
     label = student_label(2 if any(s.number == "02" for s in load_steps()) else 1)
-    ok, out = build_bench(build)
+    ok, out = build_bench(build, progress, "the benchmark of your step")
     if not ok:
         errors = [l.strip() for l in out.splitlines() if "error:" in l][:1]
         return None, "does not compile" + (f" (first error: {errors[0]})" if errors else ""), label
@@ -351,8 +362,7 @@ def measure(args) -> dict:
         note("kit: Google Highway (libhwy-dev) could not be installed; the vector rows are skipped")
 
     ref = preset_build("reference")
-    progress.show("building the benchmark (build/reference)", "build")
-    ok, out = build_bench(ref)
+    ok, out = build_bench(ref, progress, "the benchmark and the reference steps it times")
     if not ok:
         progress.done()
         raise KitError(f"the benchmark does not build: {out[-3000:]}", FAILED)

@@ -320,7 +320,8 @@ PLANTED = ["It takes 7.3 ns per ray.", "It misclassifies 45 % of the rays.", "Th
            "The worst rays were 17 and 19 ulps off.", "It runs 2.2× faster.", "It costs about three times as much.",
            "It takes less than a tenth of the time.", "Within an ulp and a half.", "At a load average of 2.2.",
            "The textbook form's p99 53000 is large.", "It takes 11.2 to\n13.6 times as long.",
-           "It costs 37 flops against 26.", "The bound is **15 ulps**."]
+           "It costs 37 flops against 26.", "The bound is **15 ulps**.", "It took 29.5 s of user time.",
+           "Each repetition lasts 3 ms.", "The rays fill 160 KiB.", "The core runs at 3.2 GHz."]
 
 
 def _bench_numbers():
