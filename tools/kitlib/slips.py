@@ -23,7 +23,7 @@ import os
 
 from .common import ROOT, Step
 from .mutants import MUTANTS, PatchError, read_patch
-from .status import NOT_RUN, PASS, TIMED_OUT
+from .status import NO_ANSWER, PASS
 
 SIGNATURES = MUTANTS / "signatures.json"
 # Set (to anything), the catalogue is not read: a self-test measures the first message code the kit
@@ -82,9 +82,8 @@ SAID = "Your code fails exactly the cases that "   # how words() begins
 
 def match(step: Step, cases) -> dict | None:
     """known_slip for a step's graded cases (anything with .name, .tier and .status): None when a case
-    timed out or never ran (the step's budget spent). Such a case gave no answer, so what a loop or a
-    slow step fails says nothing of which slip it is (the class report skips it too, issue 46)."""
-    if any(c.status in (TIMED_OUT, NOT_RUN) for c in cases):
+    gave no answer (status.NO_ANSWER: timed out, or never ran)."""
+    if any(c.status in NO_ANSWER for c in cases):
         return None
     return known_slip(step, {c.name for c in cases if c.tier == "basic" and c.status != PASS})
 

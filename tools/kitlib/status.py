@@ -32,6 +32,12 @@ PASS, FAIL, THREW, CRASHED, TIMED_OUT, NOT_RUN = "pass", "fail", "threw", "crash
 GRADER_ERROR = "grader_error"   # no verdict, the grader's fault (a sandbox that could not start, the judge
                                 # stopped, a full disk): the step is not graded, no points lost
 
+# A case that ran out of time, or never ran because the step's budget was spent, gave no answer: what a
+# loop or a slow step fails says nothing of which slip it is (issue 46: a looping submission was matched
+# exactly to a slip), so a step with such a case is matched to no slip, by ./kit check (slips.match) and
+# by the class report (report/pages.analyse) alike.
+NO_ANSWER = (TIMED_OUT, NOT_RUN)
+
 STATUS_WORDS = {
     PASS: "passed", FAIL: "wrong answer", NOT_STARTED: "not started", THREW: "threw an exception",
     CRASHED: "crashed", TIMED_OUT: "timed out", NOT_RUN: "not run", NO_COMPILE: "does not compile",

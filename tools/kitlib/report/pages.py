@@ -23,7 +23,7 @@ from .. import record as results_record
 from ..common import load_steps, prerequisites, printable
 from ..scoreboard import HIDDEN_NOTE
 from ..status import (NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
-                      STATUS_WORDS, THREW, TIMED_OUT, NOT_RUN, WAITING)
+                      STATUS_WORDS, THREW, TIMED_OUT, NO_ANSWER, WAITING)
 from . import grading as grading_mod
 from . import plots, signatures, similar
 
@@ -90,10 +90,6 @@ def draw_case(case: dict, title: str) -> str:
 
 # --- what the class did ----------------------------------------------------------------------------
 
-# A case that ran out of time, or never ran because the step's budget was spent, gave no answer: what a
-# loop or a slow step fails says nothing of which slip it is (issue 46: a looping submission was matched
-# exactly to a slip), so such a step is matched to none; the report lists it under "Timed out".
-NO_ANSWER = (TIMED_OUT, NOT_RUN)
 
 
 def analyse(g, steps, sigs):
