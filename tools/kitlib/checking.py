@@ -94,7 +94,7 @@ class Case:
     output: str = ""            # what the student's code printed during the case (trimmed)
     output_bytes: int = 0
     figure: dict | None = None  # the geometry of the first failing check (tests/support/case_figure.hpp)
-    picture: str = ""           # its SVG (picture.py), when drawn
+    picture: str = ""           # its SVG (picture/), when drawn
     picture_summary: str = ""   # one line: what the picture shows, or why there is none
     runs: int = 1               # how many times the grader ran it (rerun_timeouts runs a timed-out case again)
     rerun: dict | None = None   # when runs > 1: {"why", "first": {"status", "messages"}, "kept": the run shown}

@@ -31,6 +31,8 @@ LAYERS = [
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["checking", "mutants", "slips"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
+                 "picture.basics", "picture.case", "picture.panel", "picture.shapes", "picture.drawing",
+                 "picture.grading", "picture.gallery",
                  "robust_line", "report", "report.grading", "report.make", "report.merge", "report.pages", "report.plots",
                  "report.signatures",
                  "report.similar"]),

@@ -1,11 +1,11 @@
-"""Self-test: the picture of a failing case (picture.py, and the judge's figure behind it).
+"""Self-test: the picture of a failing case (picture/, and the judge's figure behind it).
 
 - a wrong step 01 (a mutant: the far root tried first) graded as a student's work: the failing case's
   SVG exists, parses as XML, and holds the expected t as a green label and the student's as a red one;
   the terminal shows it in characters too (picture.sketch: the origin o, E expected, X the answer);
   `./kit check` prints its path and --json carries it with its summary. The reference, graded the same
   way, leaves no picture behind (so the check cannot pass on stale files);
-- picture.py on degenerate figures (a ray through the centre, a zero direction, an infinite tmax, NaN
+- picture/ on degenerate figures (a ray through the centre, a zero direction, an infinite tmax, NaN
   answers and inputs, huge numbers, garbage): a picture or a PictureError that says why, never a crash;
 - the gallery of pitfalls (docs/pitfalls.md): every expected hit of the table lies on its shape, every
   picture is drawn, and the page shows each one;
@@ -173,7 +173,7 @@ def selftest_degenerate(ctx) -> str:
             refused += 1
             continue
         except Exception as e:  # the point of the check: name the crash
-            raise Failed(f"picture.py crashed on '{name}': {type(e).__name__}: {e}")
+            raise Failed(f"picture/ crashed on '{name}': {type(e).__name__}: {e}")
         expect(must_hold is not None, f"{name}: drew a picture of input it should refuse")
         texts = " ".join(t for ts in labels(path).values() for t in ts)
         expect(must_hold in texts or must_hold in summary, f"{name}: the picture does not say {must_hold!r}")
