@@ -258,12 +258,12 @@ def _report():
     path = ROOT / "tools" / "kitlib" / "bench_report.py"
     if not path.is_file():
         raise Stale(f"no {path.relative_to(ROOT)}: the roofline and the fronts cannot be computed")
-    spec = importlib.util.spec_from_file_location("bench_report_for_numbers", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up by name
+    # Imported as part of its package (tools/kitlib), whose modules it imports in turn (charts.py).
+    if str(path.parents[1]) not in sys.path:
+        sys.path.insert(0, str(path.parents[1]))
     was, sys.dont_write_bytecode = sys.dont_write_bytecode, True
     try:
-        spec.loader.exec_module(module)
+        module = importlib.import_module("kitlib.bench_report")
     finally:
         sys.dont_write_bytecode = was
     _REPORT.append(module)

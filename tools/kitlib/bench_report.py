@@ -13,6 +13,8 @@ import math
 import statistics
 from dataclasses import dataclass, field
 
+from . import charts
+
 # --- one measured point ------------------------------------------------------------
 
 
@@ -458,24 +460,6 @@ FRONT_STYLES = {("scalar", "float"): ("#333", "4,3"), ("scalar", "double"): ("#9
                 ("vector", "float"): ("#6a3d9a", "1.5,2.5"), ("vector", "double"): ("#c5b0d5", "1.5,2.5")}
 
 
-def _marker(shape: str, x: float, y: float, r: float, fill: str, stroke: str, width: float) -> str:
-    style = f'fill="{fill}" stroke="{stroke}" stroke-width="{width}"'
-    if shape == "square":
-        return f'<rect x="{x - r:.1f}" y="{y - r:.1f}" width="{2 * r:.1f}" height="{2 * r:.1f}" {style}/>'
-    if shape == "diamond":
-        q = r * 1.3
-        return f'<path d="M{x:.1f},{y - q:.1f} L{x + q:.1f},{y:.1f} L{x:.1f},{y + q:.1f} L{x - q:.1f},{y:.1f} Z" {style}/>'
-    return f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{r:.1f}" {style}/>'
-
-
-def _ticks_125(lo: float, hi: float) -> list[float]:
-    """1, 2, 5 times powers of ten between lo and hi."""
-    out = []
-    for e in range(math.floor(math.log10(lo)), math.ceil(math.log10(hi)) + 1):
-        out += [m * 10.0 ** e for m in (1, 2, 5) if lo <= m * 10.0 ** e <= hi]
-    return out
-
-
 def short_name(v: dict) -> str:
     """A few characters for a point's label in the plot."""
     special = {"kit": "kit", "student": "yours", "embree": "Embree", "brute force": "brute force"}
@@ -484,15 +468,6 @@ def short_name(v: dict) -> str:
         return special[v["formulation"]] + lanes
     return (v["formulation"] + {"float": " f", "double": " d", "float, double inside": " f/d"}.get(v["precision"], "")
             + lanes)
-
-
-def _decades(lo: float, hi: float) -> tuple[int, int]:
-    a, b = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
-    return a, max(b, a + 1)
-
-
-def _esc(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
 def plot_svg(data: dict, pts: list[Point]) -> str:
@@ -509,27 +484,25 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
     xs = [p.ns_min for p in timed] + [p.ns_max for p in timed]
     # One time axis for every panel, a little wider than the data.
     x0, x1 = (math.log10(max(min(xs), 1e-3) / 1.15), math.log10(max(xs) * 1.15)) if xs else (0.0, 2.0)
-    s = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
-         f'viewBox="0 0 {width} {height}" font-family="Helvetica, Arial, sans-serif" font-size="11">',
-         f'<rect width="{width}" height="{height}" fill="white"/>',
+    s = [charts.svg_open(width, height),
          '<text x="10" y="20" font-size="15" font-weight="bold">Speed against error: ns per ray (CPU time, '
          'median, bar min-max) against p99 error in ulps of the result type</text>',
-         f'<text x="10" y="38" fill="#444">{_esc(subtitle(data))}</text>']
+         f'<text x="10" y="38" fill="#444">{charts.esc(subtitle(data))}</text>']
     # legend
     lx, ly = 10, 58
     for i, (name, colour) in enumerate([(k, v) for k, v in COLOURS.items() if k != "brute force"]):
         x = lx + (i % 10) * 98
-        s.append(_marker("circle", x + 5, ly, 5, colour, colour, 1))
+        s.append(charts.marker("circle", x + 5, ly, 5, colour, colour, 1))
         label = {"kit": "kit reference", "student": "your step", "embree": "Embree"}.get(name, name)
-        s.append(f'<text x="{x + 14}" y="{ly + 4}">{_esc(label)}</text>')
+        s.append(f'<text x="{x + 14}" y="{ly + 4}">{charts.esc(label)}</text>')
     ly += 20
     for i, (name, shape) in enumerate(SHAPES.items()):
         x = lx + i * 200
-        s.append(_marker(shape, x + 5, ly, 5, "#888", "#888", 1))
+        s.append(charts.marker(shape, x + 5, ly, 5, "#888", "#888", 1))
         word = {"float": "float (float ulps)", "double": "double (double ulps)",
                 "float, double inside": "float in/out, double inside"}[name]
         s.append(f'<text x="{x + 14}" y="{ly + 4}">{word}</text>')
-    s.append(_marker("circle", lx + 605, ly, 5, "white", "#888", 1.5))
+    s.append(charts.marker("circle", lx + 605, ly, 5, "white", "#888", 1.5))
     s.append(f'<text x="{lx + 614}" y="{ly + 4}">hollow: misclassifies some rays</text>')
     ly += 20
     s.append(f'<path d="M{lx},{ly} h24" stroke="#333" stroke-dasharray="4,3" fill="none"/>')
@@ -540,7 +513,7 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
     s.append(f'<path d="M{lx + 415},{ly} h24" stroke="#6a3d9a" stroke-width="1.2" stroke-dasharray="1.5,2.5" '
              f'fill="none"/>')
     s.append(f'<text x="{lx + 445}" y="{ly + 4}">vector front</text>')
-    s.append(_marker("circle", lx + 530, ly, 5, "#888", "#888", 1))
+    s.append(charts.marker("circle", lx + 530, ly, 5, "#888", "#888", 1))
     s.append(f'<circle cx="{lx + 530}" cy="{ly}" r="1.4" fill="#000"/>')
     s.append(f'<text x="{lx + 540}" y="{ly + 4}">vector: a batch of rays per call</text>')
     s.append(f'<circle cx="{lx + 750}" cy="{ly}" r="9" fill="none" stroke="#000" stroke-width="1.2"/>')
@@ -554,7 +527,7 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
         ox, oy = 10 + (k % cols) * pw, legend_h + (k // cols) * ph
         group = [p for p in timed if p.family["id"] == fam["id"]]
         ys = [max(p.ulps("p99"), floor) for p in group if not math.isinf(p.ulps("p99"))]
-        y0, y1 = _decades(min(ys) if ys else floor, max(ys) if ys else 1)
+        y0, y1 = charts.decades(min(ys) if ys else floor, max(ys) if ys else 1)
         iw, ih = pw - ml - mr, ph - mt - mb
 
         def px(ns: float) -> float:
@@ -565,9 +538,9 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
             return oy + mt + ih - (math.log10(u) - y0) / (y1 - y0) * ih
 
         title = fam["label"] + (" (hard)" if fam.get("hard") else "")
-        s.append(f'<text x="{ox + ml}" y="{oy + 18}" font-weight="bold">{_esc(title)}</text>')
+        s.append(f'<text x="{ox + ml}" y="{oy + 18}" font-weight="bold">{charts.esc(title)}</text>')
         s.append(f'<rect x="{ox + ml}" y="{oy + mt}" width="{iw}" height="{ih}" fill="#fafafa" stroke="#999"/>')
-        for v in _ticks_125(10 ** x0, 10 ** x1):
+        for v in charts.ticks_125(10 ** x0, 10 ** x1):
             x = px(v)
             s.append(f'<path d="M{x:.1f},{oy + mt} v{ih}" stroke="#e3e3e3"/>')
             s.append(f'<text x="{x:.1f}" y="{oy + mt + ih + 14}" text-anchor="middle">{v:g}</text>')
@@ -599,9 +572,9 @@ def plot_svg(data: dict, pts: list[Point]) -> str:
                      f'stroke-opacity="0.6"/>')
             fill = "white" if p.raw["misclassified"] else colour
             shape = SHAPES.get(p.variant["precision"], "circle")
-            s.append(_marker(shape, px(p.ns_median), y, 4.5 if p.pareto else 3.5, fill, colour,
+            s.append(charts.marker(shape, px(p.ns_median), y, 4.5 if p.pareto else 3.5, fill, colour,
                              1.5 if p.raw["misclassified"] else 0.8)
-                     .replace("/>", f"><title>{_esc(p.variant['label'])}: {fmt_ns(p.ns_median)} ns, p99 "
+                     .replace("/>", f"><title>{charts.esc(p.variant['label'])}: {fmt_ns(p.ns_median)} ns, p99 "
                                     f"{fmt_ulps(u)} ulps, {fmt_share(p)} misclassified</title></"
                                     + ("rect>" if shape == "square" else "path>" if shape == "diamond"
                                        else "circle>")))
@@ -637,6 +610,6 @@ def _place_labels(labels: list, box: tuple) -> list[str]:
             if inside and clear:
                 taken.append(rect)
                 out.append(f'<text x="{x + dx:.1f}" y="{y + dy:.1f}" font-size="9.5" text-anchor="{anchor}" '
-                           f'fill="#222">{_esc(name)}</text>')
+                           f'fill="#222">{charts.esc(name)}</text>')
                 break
     return out

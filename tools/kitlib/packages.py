@@ -41,7 +41,7 @@ PACKAGES = {
     # npm installs MathJax for ./kit docs. Node.js from elsewhere (nodesource) ships its own npm and
     # conflicts with Debian's npm package: this group is installed only when no npm is on the PATH.
     "node": ["nodejs", "npm"],
-    "report": ["similarity-tester", "python3-matplotlib"],   # ./kit report: sim_c++, and its charts
+    "report": ["similarity-tester"],   # ./kit report: sim_c++ (its charts are drawn by charts.py)
     "browser": ["chromium"],            # the browser self-test of the docs
     "fuzz": ["clang", "libclang-rt-14-dev"],   # the fuzzing self-test (libFuzzer)
 }

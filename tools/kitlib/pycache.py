@@ -2,7 +2,7 @@
 
 ./kit names a folder (RAYKIT_PYCACHE: ~/.cache/raykit/pycache) and forbids writing compiled
 modules anywhere else (PYTHONDONTWRITEBYTECODE=1): the standard library and any package the kit
-starts (matplotlib for the report) read the compiled modules installed beside them, and the kit's
+starts read the compiled modules installed beside them, and the kit's
 sources stay as shipped. install() has the kit's own modules, and only those, compiled once into
 that folder: Python's pycache_prefix is set only while one of them loads. Setting the prefix for
 the whole process instead (PYTHONPYCACHEPREFIX) made a first run compile every module of the

@@ -36,7 +36,7 @@ def write_report(folder: Path, out: Path) -> int:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise KitError(f"--out {out}: cannot make the folder ({e.strerror})")
-    try:    # sim_c++ and matplotlib: without them the report says what it left out, and goes on
+    try:    # sim_c++: without it the report says what it left out, and goes on
         ensure_packages("report")
     except KitError as e:
         say(f"  note: {str(e).splitlines()[0]}")

@@ -30,7 +30,7 @@ LAYERS = [
                   "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
     ("judge", ["cases", "runcases", "checking", "mutants", "slips"]),
-    ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
+    ("outputs", ["charts", "record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
                  "picture.basics", "picture.case", "picture.panel", "picture.shapes", "picture.drawing",
                  "picture.grading", "picture.gallery",
                  "robust_line", "report", "report.grading", "report.make", "report.merge", "report.pages", "report.plots",

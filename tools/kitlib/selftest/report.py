@@ -632,8 +632,36 @@ def selftest_extra_credit(ctx) -> str:
                "no score with a trailing zero on this course (the decimals compared as they are)"))
 
 
+def selftest_charts(ctx) -> str:
+    """The report's charts (charts.py, the kit's one drawing path) say what their data says: each bar of a
+    histogram counts the values of its bin, a value at the top end in the last bin; each stacked segment is
+    as long as its value on the axis; names are escaped; a description charts.py cannot read is said on the
+    page, not raised. Read back from the SVG's own elements (each bar carries its count in a title)."""
+    from .. import charts
+    from ..report import plots
+    values = [0, 4.9, 5, 50, 99.9, 100, 100]
+    svg = charts.hist(values, list(range(0, 101, 5)), "score <%>", "students")
+    counts = {m.group(1): int(m.group(2)) for m in re.finditer(r"<title>(\d+ to \d+): (\d+)</title>", svg)}
+    expect(counts == {"0 to 5": 2, "5 to 10": 1, "50 to 55": 1, "95 to 100": 3},
+           f"histogram bars {counts}, expected 0-5: 2, 5-10: 1, 50-55: 1, 95-100: 3 (100 in the last bin)")
+    expect("score &lt;%&gt;" in svg and "score <%>" not in svg, "the axis label is not escaped")
+    bars = charts.stacked_bars(["step 01", "step 02"], [["done", "#0a0", [3, 0]], ["not started", "#999", [1, 4]]],
+                               "students")
+    widths = {m.group(2): float(m.group(1)) for m in
+              re.finditer(r'width="([\d.]+)" height="[\d.]+" fill="[^"]+" stroke="white"><title>([^<]+)</title>', bars)}
+    unit = widths["step 01, done: 3"] / 3
+    expect(abs(widths["step 01, not started: 1"] - unit) < 0.2 and abs(widths["step 02, not started: 4"] - 4 * unit) < 0.2,
+           f"segments not proportional to their values: {widths}")
+    expect("step 02, done" not in bars, "a zero segment was drawn")
+    svgs, why = plots.draw([{"kind": "pie", "xlabel": "x"}])
+    expect(not svgs and "no charts" in why, f"an unknown chart kind gave {svgs!r}, {why!r}")
+    return (f"a histogram of {len(values)} values in {len(counts)} bars, stacked bars in proportion, names escaped, "
+            f"an unreadable description said on the page ({why[:40]}…)")
+
+
 def selftests():
-    return [("report: one class graded on two machines, merged", selftest_merge),
+    return [("report: the charts say what their data says", selftest_charts),
+            ("report: one class graded on two machines, merged", selftest_merge),
             ("report: a looping step is matched to no slip", selftest_loop_no_slip),
             ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
