@@ -42,7 +42,7 @@ from pathlib import Path
 from . import atomic
 from . import course as course_file
 from . import faults
-from .checking import StepResult
+from .cases import StepResult
 from .common import KitError
 from .gradescope import split_cases
 from .scoreboard import compile_errors

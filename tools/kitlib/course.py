@@ -62,7 +62,7 @@ course.json is plain JSON (Python 3.9 reads no TOML). What it holds:
                                     step_wait_seconds spent waiting in calls, neither computing nor
                                     queued for a CPU (default 10); the ★ cases have a budget of their
                                     own, half as large. A step's budget is never below 50 times what
-                                    the reference measured here needs (checking.py, "Budgets"). The
+                                    the reference measured here needs (runcases.py, "Budgets"). The
                                     calls of one case may take 4/5 of case_seconds.
 
 Points are exact fractions (fractions.Fraction) from the file to the total: no float noise. A

@@ -40,7 +40,7 @@ from pathlib import Path
 from . import atomic
 from . import course as course_file
 from . import faults
-from .checking import StepResult
+from .cases import StepResult
 from .common import KitError
 from .scoreboard import HIDDEN_NOTE, compile_errors
 from .status import MISSING, NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING

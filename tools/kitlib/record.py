@@ -19,7 +19,7 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
      "gradable": true,                              # false when a step is not graded (the grader's fault)
      "not_graded": [{"step": "03", "reason": "..."}],
      "grader": {"secret": "...", "cases": "..."},   # what drew and judged it (see `grader`)
-     "steps": [StepResult.to_json(), ...]}          # kitlib/checking.py
+     "steps": [StepResult.to_json(), ...]}          # kitlib/cases.py
 
 A placeholder (finished false, no steps) is not a result: whoever reads one where a result should be
 (the check died after writing it) says "not graded", never "0 of 0".
@@ -36,7 +36,7 @@ from pathlib import Path
 from . import atomic
 from . import course as course_file
 from . import secret as secret_file
-from .checking import StepResult
+from .cases import StepResult
 from .common import ROOT, KitError
 from .status import NOT_GRADED, OLD_BROKEN
 

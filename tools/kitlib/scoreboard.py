@@ -12,7 +12,8 @@ from pathlib import Path
 
 from . import faults
 from . import includes
-from .checking import Progress, StepResult
+from .cases import StepResult
+from .checking import Progress
 from .course import score_line as course_score_line
 from .common import ROOT, Step, paint, say
 from .robust_line import robust_line

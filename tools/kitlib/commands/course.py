@@ -44,7 +44,8 @@ def cases_recorded(steps) -> dict[str, list[tuple[str, str]]] | None:
 
 def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
     """Builds only the steps' test programs (no student code) and lists their cases."""
-    from ..checking import ensure_configured, list_cases
+    from ..checking import ensure_configured
+    from ..runcases import list_cases
     from ..build import build_targets
     from ..packages import ensure_packages
     ensure_packages("build")

@@ -160,7 +160,7 @@ def incidents(g):
                         seen.add((section, kind))
                         out[section][f"step {res['step']}: {kind}"].append((st.name, res["step"], text))
                 rerun = c.get("rerun") if c.get("runs", 1) > 1 else None
-                if isinstance(rerun, dict):     # the record keeps both runs (checking.rerun_timeouts)
+                if isinstance(rerun, dict):     # the record keeps both runs (runcases.rerun_timeouts)
                     first = rerun.get("first") or {}
                     kind = (f"step {res['step']}: {STATUS_WORDS.get(first.get('status'), first.get('status'))}, "
                             f"then {STATUS_WORDS.get(c.get('status'), c.get('status'))}")

@@ -65,7 +65,7 @@ class Scratch:
         return self.isolation.run_env(self.answers, self.path)
 
     def between_runs(self) -> None:
-        """Before a case re-run alone (checking.rerun_timeouts), under the user isolation: every
+        """Before a case re-run alone (runcases.rerun_timeouts), under the user isolation: every
         process of the sandbox's id is ended, its keyrings emptied, and what it wrote to the shared
         temporary folders removed, as after a step. Under bubblewrap those are each start's own."""
         if self.isolation.uid and self.isolation.mode != "bwrap":

@@ -13,7 +13,8 @@ import tempfile
 from pathlib import Path
 
 from .. import record
-from ..checking import RERUN_WHY, check_steps, list_cases
+from ..checking import check_steps
+from ..runcases import RERUN_WHY, list_cases
 from ..classroomresults import classroom
 from ..gradescope import gradescope
 from ..plresults import prairielearn
@@ -269,7 +270,7 @@ def selftest_grader_fixtures(ctx: Context) -> str:
 
 def selftest_rerun_recorded(ctx: Context) -> str:
     """tests/fixtures/timeout_once: its first call loops, so one case times out, is run again alone
-    (checking.rerun_timeouts) and passes. The record says so for that case only (runs, why, the
+    (runcases.rerun_timeouts) and passes. The record says so for that case only (runs, why, the
     first run's verdict, which run is shown), the terminal's row counts it, and none of the outputs
     students get (Gradescope's, even revealed, PrairieLearn's, Classroom's) carries the first run."""
     need_solutions()

@@ -11,7 +11,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from .. import course as course_file
-from ..checking import SCORED_TIERS, Case, StepResult
+from ..cases import SCORED_TIERS, Case, StepResult
 from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS

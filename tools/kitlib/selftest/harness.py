@@ -25,7 +25,7 @@ import time
 import traceback
 from dataclasses import dataclass, field
 
-from ..checking import StepResult
+from ..cases import StepResult
 from ..common import BUILD, QUICK_TIER, ROOT, KitError, load_steps, paint, say
 from ..secret import SECRET_ENV
 from ..status import FAILED, OK

@@ -615,7 +615,7 @@ def selftest_scratch_spy(ctx) -> str:
         return summary + "; without --size: " + check("bwrap without --size", data)
 
     return run_modes(one)
-# --- the grader's time (checking.py, "Budgets") ------------------------------------------
+# --- the grader's time (runcases.py, "Budgets") -----------------------------------------
 BUDGET_BOUND = 120.0         # seconds: one grading of the sleeper, its build included (it may wait 10 s
                              # in the scored cases, 5 s in the ★ ones); the old kit: over 120 s for step 01
 KIT_FAULT = "kit's fault"
@@ -702,7 +702,7 @@ def selftest_slow_case(ctx) -> str:
     call, graded in-process, unsandboxed, with 4 s a case and 14 s of CPU a step: the 41 visible
     calls (one a case) take 8.2 s and pass; the first hidden family, 24 draws, meets the bound (3.2 s
     of calls, or the backstop at 4 s) before the budget is spent."""
-    from .. import checking
+    from .. import checking, runcases
     from .. import course as course_file
     from ..checking import check_steps
     from ..build import submission_build
@@ -719,17 +719,17 @@ def selftest_slow_case(ctx) -> str:
     scale = course_file.load()
     course = course_file.Course(**{**scale.__dict__, "limits": dict(scale.limits, case_seconds=4, step_cpu_seconds=14)})
     found = []
-    saved = getattr(checking, "CASE_SHARE", 0.8), checking.rerun_timeouts   # (the old kit had none)
+    saved = getattr(runcases, "CASE_SHARE", 0.8), checking.rerun_timeouts   # (the old kit had none)
     # 1.5: the judge's bound for a case's calls lies beyond the kit's backstop, which stops the case
     # first. The timed-out cases are not run again here, so that the message read is the first one.
     for share, words in ((saved[0], "a case may take"), (1.5, "this case was stopped after 4 s")):
-        checking.CASE_SHARE, checking.rerun_timeouts = share, lambda *a, **k: None
+        runcases.CASE_SHARE, checking.rerun_timeouts = share, lambda *a, **k: None
         start = time.monotonic()
         try:
             with course_file.using(course):
                 [r] = check_steps(submission_build(source, "fixtures"), steps, ctx.steps)
         finally:
-            checking.CASE_SHARE, checking.rerun_timeouts = saved
+            runcases.CASE_SHARE, checking.rerun_timeouts = saved
         took = time.monotonic() - start
         kit = [m[:160] for c in r.cases for m in c.messages if KIT_FAULT in m]
         expect(not kit, f"slow_correct, {share:g} of a case to its calls: blamed on the kit: {kit[:2]}")

@@ -293,7 +293,8 @@ def selftest_recorded(ctx: Context) -> str:
     need_solutions()
     import json
     import subprocess
-    from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, ensure_configured, file_hash, list_cases
+    from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, ensure_configured, file_hash
+    from ..runcases import list_cases
     from ..build import build_targets, preset_build
     stubs = json.loads(STUBS_FILE.read_text())
     stale = []

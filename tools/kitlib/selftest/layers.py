@@ -29,7 +29,7 @@ LAYERS = [
     ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
                   "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
     ("build", ["build", "objcache", "launch", "warmup"]),
-    ("judge", ["checking", "mutants", "slips"]),
+    ("judge", ["cases", "runcases", "checking", "mutants", "slips"]),
     ("outputs", ["record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
                  "picture.basics", "picture.case", "picture.panel", "picture.shapes", "picture.drawing",
                  "picture.grading", "picture.gallery",

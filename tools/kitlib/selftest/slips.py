@@ -179,7 +179,7 @@ def selftest_turned_render(ctx) -> str:
 
 def selftest_waiting_next_command(ctx) -> str:
     """A step waiting for another names that other step's check as the next command."""
-    from ..checking import StepResult
+    from ..cases import StepResult
     from ..scoreboard import next_steps
     from ..status import WAITING
     needing = [s for s in ctx.steps if s.needs]
@@ -309,7 +309,7 @@ def selftest_first_problem_order(ctx) -> str:
     """first_problem, without a build: a direct case (a throw of the student's own included) before the
     picture and a stand-in's refusal, the picture when nothing else fails; a known slip's words said
     as a likely cause, several slips that fail alike each said."""
-    from ..checking import Case, StepResult
+    from ..cases import Case, StepResult
     from ..slips import words
     from ..status import THREW, TIMED_OUT
     s = _steps()["05"]
@@ -358,7 +358,7 @@ def selftest_first_problem_order(ctx) -> str:
 def first_message(step: Step, result: dict) -> tuple[str, str]:
     """(the case a student is shown first, its first message) for a step's graded record (./kit check
     --results), the slip matched again with the catalogue as it is now and its words said again."""
-    from ..checking import Case, StepResult
+    from ..cases import Case, StepResult
     cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
                   [m.split("\n", 1)[1] if m.startswith(slips.SAID) and "\n" in m else m for m in c["messages"]])
              for c in result["cases"]]
@@ -548,7 +548,7 @@ def selftest_platforms_lead_alike(ctx) -> str:
     """Gradescope's first failed test, PrairieLearn's picture and Classroom's first failing line are the
     case the terminal shows first (StepResult.first_problem), not the first failing case in the suite's
     order (issue 45 item 1)."""
-    from ..checking import Case, StepResult
+    from ..cases import Case, StepResult
     from ..classroomresults import classroom
     from ..gradescope import gradescope
     from ..plresults import prairielearn
