@@ -111,13 +111,16 @@ using RootStage = LaneRoots<DoubleV, hn::Mask<DoubleTag>> (*)(const DoubleOps&, 
 /// With kTwoPasses, two passes over each block split at the quadratic: the
 /// first widens the ten inputs and computes h, D/4 and the scale, the second
 /// takes the square root and the roots and narrows them. The results are
-/// those of one pass, bit for bit. Which is faster depends on the form (8
-/// lanes, AVX3, the test above). The Lagrange form took 0.80-0.84 ns a ray in
-/// one pass, whose loop is one general register short and moves two pointers
-/// back from vector registers on every step, and 0.75-0.78 in two, where
-/// neither loop does and each chain from load to store is half as long.
-/// Half-b, whose two divides fall beside the square root in the second pass,
-/// took 0.75-0.79 in one and 0.83 in two.
+/// those of one pass, bit for bit. Which is faster depends on the form and
+/// the core. On the AMD core of an earlier committed run the Lagrange form
+/// was faster in two passes (its one-pass loop was one general register short
+/// and moved two pointers back from vector registers on every step). On an
+/// Intel core with AVX-512, once its sums of products were chains of fused
+/// multiply-adds, one pass was faster with both vector widths, by about a
+/// fifth, and two passes gained little from the FMAs: in one pass the
+/// divider's divides and square roots are spread over the whole loop, in two
+/// they are bunched into halves. Half-b, whose two divides fall beside the
+/// square root, was faster in one pass on the AMD core too.
 template <QuadraticStage Q, RootStage R, bool kTwoPasses>
 void DoubleLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
     const DoubleTag dd;
