@@ -452,7 +452,8 @@ def block_bench_peaks(run: Run) -> list:
         f"double every {x3['cvt_ns']:.3f} ns ({x2['cvt_ns']:.3f} with AVX2). The *roofline* column is the least time "
         f"the counted work needs at those rates, as a share of the measured time: the adds and multiplies at the FMA "
         f"rate, the divides and the square roots at the divider's, and for double lanes on float rays one conversion "
-        f"per input and per result (section 6), whichever of these takes longest. Every scalar formulation sits at "
+        f"per input and per result (section 6), whichever of these takes longest; two that take turns on one unit "
+        f"add up, as far as a loop of both measures (section 6). Every scalar formulation sits at "
         f"{span(share, lambda x: f'{x:.0f}')} %: {verdict}.")
 
 
@@ -692,30 +693,38 @@ def block_bench_choice(run: Run) -> list:
         f"or more from the ray's origin: they misclassify {span(bad, pct)} of the rays there.", bullet=True)
 
 
-def _ref_costs(run: Run, isa: str) -> tuple:
-    """The vectorized reference's roofline terms on `isa`, ns per ray: (arithmetic, conversions)."""
-    r = Reading(run)
-    v = REF_X8 if isa == "AVX3" else REF_X4
-    t = r.target(isa)
-    row = run.row(v, "typical")
-    arith = max((row["flops"] - row["div"] - row["sqrt"]) / t["gflops_f64"], row["div"] * t["div_ns_f64"],
-                row["sqrt"] * t["sqrt_ns_f64"])
-    return arith, (row.get("cvt") or 0) * t["cvt_ns"], row
+def _ref_costs(run: Run, isa: str) -> dict:
+    """The vectorized reference's roofline terms on `isa`, ns per ray on *typical*: its adds and multiplies,
+    its conversions, its divides and its square roots, and how much each pair that may compete for a unit
+    was measured to share (bench_report.Point.roofline_ns combines them so)."""
+    t = Reading(run).target(isa)
+    row = run.row(REF_X8 if isa == "AVX3" else REF_X4, "typical")
+    if t.get("shared_div_sqrt") is None or t.get("shared_fma_cvt") is None:
+        raise Stale(f"results.json has no measured overlap of the {isa} units (a run before it was measured)")
+    return {"row": row, "add_mul": (row["flops"] - row["div"] - row["sqrt"]) / t["gflops_f64"],
+            "cvt": (row.get("cvt") or 0) * t["cvt_ns"], "div": row["div"] * t["div_ns_f64"],
+            "sqrt": row["sqrt"] * t["sqrt_ns_f64"], "shared_div_sqrt": t["shared_div_sqrt"],
+            "shared_fma_cvt": t["shared_fma_cvt"]}
 
 
 def block_bench_vector_roofline(run: Run) -> list:
     r = Reading(run)
-    arith, cvt, row = _ref_costs(run, "AVX3")
-    without = [100 * arith / x for x in r.ns(REF_X8)]
+    c = _ref_costs(run, "AVX3")
+    row, combined = c["row"], _report().combined
+    units = combined(c["add_mul"], c["cvt"], c["shared_fma_cvt"])
+    divider = combined(c["div"], c["sqrt"], c["shared_div_sqrt"])
+    pct = lambda x: f"{100 * x:.0f} %"
+    beside = lambda x: "they take turns" if x >= 0.5 else "they run mostly beside each other"
     return paragraph(
-        "Without the conversions the roofline would put the vectorized reference at "
-        f"{span(without, lambda x: f'{x:.0f}')} % (AVX-512): its {row['flops']:.0f} counted flops (the divide among "
-        f"them) and {row['sqrt']:.0f} square root would take {arith:.2f} ns per ray, against "
-        f"{span(r.ns(REF_X8), ns2)} measured. But a kernel that takes float rays and computes in double must widen "
-        "each of the ten float arrays it reads and narrow each of the three it writes, and at the measured rate those "
-        f"{row.get('cvt') or 0:.0f} conversions take {cvt:.2f} ns per ray: "
-        + ("more than its arithmetic, so they, not the arithmetic, set the roofline." if cvt > arith
-           else "less than its arithmetic, which sets the roofline."))
+        f"With AVX-512 the reference's roofline has four terms per ray: its {row['flops'] - row['div'] - row['sqrt']:.0f} "
+        f"adds and multiplies take {c['add_mul']:.2f} ns at the FMA rate; a kernel that takes float rays and computes "
+        "in double must widen each of the ten float arrays it reads and narrow each of the three it writes, and its "
+        f"{row.get('cvt') or 0:.0f} conversions take {c['cvt']:.2f} ns; its divide and its square root take "
+        f"{c['div']:.2f} and {c['sqrt']:.2f} ns at the divider's pace. Timed in one loop, divides and square roots "
+        f"add {pct(c['shared_div_sqrt'])} of the shorter's time to the longer's ({beside(c['shared_div_sqrt'])}), "
+        f"multiply-adds and conversions {pct(c['shared_fma_cvt'])} ({beside(c['shared_fma_cvt'])}). So the "
+        + ("divider sets the roofline" if divider >= units else "multiply-adds and conversions set the roofline")
+        + f": {max(units, divider):.2f} ns per ray, against {span(r.ns(REF_X8), ns2)} measured.")
 
 
 def block_bench_vector_reference(run: Run) -> list:
