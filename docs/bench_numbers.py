@@ -483,7 +483,8 @@ def block_bench_half_b(run: Run) -> list:
     return paragraph(
         f"Half-b {answers}, and its median time is within {worst:.0f} % of the textbook form's on every family: use "
         f"it if you use either. Normalising the direction first (unit-dir) or going the geometric way costs a square "
-        f"root and a divide more (up to {ns(max(extra))} ns in the median) and is no more accurate: both still "
+        f"root and a divide more ({'up to' if min(extra) > 0 else 'on most families; up to'} {ns(max(extra))} ns "
+        "in the median) and is no more accurate: both still "
         f"subtract two numbers of size $|\\mathbf{{f}}|^2$ ({span(more, pct)} misclassified at $10^3$ radii, against "
         f"the textbook form's {pct(r.share('textbook_f32', 'far_1e3'))}).")
 
@@ -609,6 +610,17 @@ REF_X8, REF_X4 = "lagrange_f32_in_f64_x8_AVX3", "lagrange_f32_in_f64_x4_AVX2"
 FF_X16, FF_X8 = "exact-float_f32_x16_AVX3", "exact-float_f32_x8_AVX2"
 
 
+def narrower(r: "Reading", x4: str, x8: str) -> str:
+    """How the AVX2 reference's times compare with AVX-512's, family by family, in words."""
+    pairs = [(r.run.ns(x4, f), r.run.ns(x8, f)) for f in r.fids if r.has(x4, f) and r.has(x8, f)]
+    faster = sum(a < b for a, b in pairs)
+    if faster == len(pairs):
+        return "faster than with AVX-512 on every family, on this CPU"
+    if faster == 0:
+        return "slower than with AVX-512 on every family"
+    return f"faster than with AVX-512 on {faster} of the {len(pairs)} families, on this CPU"
+
+
 def block_bench_lanes(run: Run) -> list:
     r = Reading(run)
     x8, x4 = REF_X8, REF_X4
@@ -630,7 +642,7 @@ def block_bench_lanes(run: Run) -> list:
         f"second** ({span(inlined, times)} times its formulation inlined into one call per ray), and it is **within "
         f"{ulps_of(max(r.stat(x8, 'ulps_max')))} ulps on all {count(len(r.fids))} families**: p99 at most "
         f"{max(r.stat(x8, 'ulps_p99')):.2f} ulps, {'nothing' if mis == 0 else f'{mis:.0f} rays'} misclassified. With "
-        f"AVX2 (4 doubles) {span(r.ns(x4), ns2)} ns.", bullet=True)
+        f"AVX2 (4 doubles) {span(r.ns(x4), ns2)} ns: {narrower(r, x4, x8)}.", bullet=True)
     out += wrap(
         f"**Float lanes are faster and wrong far away.** Half-b in 16 float lanes takes {span(r.ns(hb16), ns2)} ns and "
         f"the stable form {span(r.ns(st16), ns2)} ns, but they keep the errors of their formulas: half-b in float "
@@ -657,16 +669,17 @@ def block_bench_lanes(run: Run) -> list:
         f"{span(ff, times)} times the double lanes** (with AVX2, {span(r.ns(FF_X8), ns2)} ns against "
         f"{span(r.ns(x4), ns2)}). On this CPU double is the "
         + ("cheaper" if min(ff) > 1 else "not always the cheaper")
-        + f" way to answers this close, because a vector double operation runs at {half_rate(rate)} "
+        + f" way to answers this close, because a vector double multiply-add runs at {half_rate(rate)} "
         f"(the measured FMA peaks with AVX-512: {x3['gflops_f32']:.0f} and {x3['gflops_f64']:.0f} GFLOP/s). (One ray "
         "at a time, in the kit's scalar build without `-mfma`, every `std::fma` is a call into the C library, and the "
         f"same form takes {span(r.ns('exact-float_f32'), lambda x: f'{x:.0f}')} ns per ray: the scalar row is there "
         "for its errors, which are those of the vector rows, not for its time.)", bullet=True)
     out += wrap(
-        "**When double's half lanes stop mattering, and when they start.** Here a vector double operation runs at "
+        "**When double's half lanes stop mattering, and when they start.** Here a vector double multiply-add runs at "
         f"{half_rate(rate)}, so the double form should win by the factor of {flops:.1f} in flops "
         f"divided by {rate:.1f} in rate, {flops / rate:.1f}; measured, {span(ff, times)} (the double lanes also pay "
-        "their conversions, the float lanes none). On a GPU where double runs at 1/32 or 1/64 of the float rate, the "
+        "their conversions, and a divide and a square root that take longer per lane in double than in float; the "
+        "flop count weighs neither). On a GPU where double runs at 1/32 or 1/64 of the float rate, the "
         f"same arithmetic predicts the opposite: the float-only form would be {32 / flops:.0f} to {64 / flops:.0f} "
         "times faster than double there. (Measured here: the CPU only.)", bullet=True)
     return out
@@ -684,7 +697,8 @@ def block_bench_choice(run: Run) -> list:
         f"{statistics.median(slower):.0f} % slower than half-b in float in the median family "
         f"({span(slower, lambda x: f'{x:.0f}')} %, family by family).", bullet=True) + wrap(
         "**Many rays at once on a CPU**: the same form in double lanes; "
-        f"{span(r.ratios('kit', REF_X8), times)} times the scalar function's speed with AVX-512.", bullet=True) + wrap(
+        f"{span(r.ratios('kit', REF_X8), times)} times the scalar function's speed with AVX-512, "
+        f"{span(r.ratios('kit', REF_X4), times)} with AVX2.", bullet=True) + wrap(
         "**Float only** (a GPU with slow double, or inputs that must stay in float registers): the float-float form "
         f"for answers within {ulps_of(max(r.stat(FF_X16, 'ulps_max')))} ulps; the stable form when a few ulps and "
         "rare misclassifications at extreme scales are acceptable. Neither plain float form can save a huge sphere "
@@ -740,8 +754,9 @@ def block_bench_vector_reference(run: Run) -> list:
         f"roofline with AVX-512 in the committed run{at}, the least on *{label(run, worst)}*, and "
         f"{span(on2, lambda x: f'{x:.0f}')} % with AVX2, at {span(r.ratios('kit', REF_X8), times)} times the scalar "
         "function's rays per second (AVX-512). The conversions belong to the contract (float rays in, float roots "
-        "out, double inside), and no formulation in double lanes can skip them; a renderer that tests many rays "
-        "against one sphere would load the centre and the radius once and save four of the ten widenings. The "
+        "out, double inside), and no formulation in double lanes can skip them; where they set the pace, a renderer "
+        "that tests many rays against one sphere would load the centre and the radius once and save four of the "
+        "ten widenings. The "
         f"float-float form has no conversions and {r.flops(FF_X16) / r.flops(REF_X8):.1f} times the arithmetic, and "
         f"reaches {span(ff3, lambda x: f'{x:.0f}')} % of its roofline with AVX-512 and "
         f"{span(ff2, lambda x: f'{x:.0f}')} % with AVX2, which arithmetic sets.")
@@ -989,8 +1004,9 @@ def block_appendix_lanes(run: Run) -> list:
         f"{ulps_of(max(r.stat(FF_X16, 'ulps_max')))} ulps by error-free transformations (each product and sum kept as a "
         f"float plus its rounding error) in {span(ff, times)} times the double lanes' time. These lanes are compiled "
         "for AVX2 and AVX-512, both with the fused multiply-add, and built with contraction off like the rest of the "
-        "kit: the double lanes fuse nothing, while the float-only form calls the FMA explicitly, since the rounding "
-        "error $e$ of a product $p = a b$ is exactly `fma(a, b, -p)` (lecture 03, section 4). A GPU changes the "
+        "kit: the double lanes call it for their sums of products (fewer instructions, one rounding fewer), and the "
+        "float-only form for its error-free products, since the rounding error $e$ of a product $p = a b$ is exactly "
+        "`fma(a, b, -p)` (lecture 03, section 4). A GPU changes the "
         "arithmetic: there, double often runs at 1/32 or 1/64 of the float rate, so the float-only form, with "
         f"{r.flops(FF_X16) / r.flops(REF_X8):.1f} times as many float operations as the double lanes, becomes the "
         "faster way to answers that accurate.")
