@@ -452,7 +452,8 @@ def block_bench_peaks(run: Run) -> list:
         f"double every {x3['cvt_ns']:.3f} ns ({x2['cvt_ns']:.3f} with AVX2). The *roofline* column is the least time "
         f"the counted work needs at those rates, as a share of the measured time: the adds and multiplies at the FMA "
         f"rate, the divides and the square roots at the divider's, and for double lanes on float rays one conversion "
-        f"per input and per result (section 6), whichever of these takes longest. Every scalar formulation sits at "
+        f"per input and per result (section 6), whichever of these takes longest; two that take turns on one unit "
+        f"add up, as far as a loop of both measures (section 6). Every scalar formulation sits at "
         f"{span(share, lambda x: f'{x:.0f}')} %: {verdict}.")
 
 
@@ -482,7 +483,8 @@ def block_bench_half_b(run: Run) -> list:
     return paragraph(
         f"Half-b {answers}, and its median time is within {worst:.0f} % of the textbook form's on every family: use "
         f"it if you use either. Normalising the direction first (unit-dir) or going the geometric way costs a square "
-        f"root and a divide more (up to {ns(max(extra))} ns in the median) and is no more accurate: both still "
+        f"root and a divide more ({'up to' if min(extra) > 0 else 'on most families; up to'} {ns(max(extra))} ns "
+        "in the median) and is no more accurate: both still "
         f"subtract two numbers of size $|\\mathbf{{f}}|^2$ ({span(more, pct)} misclassified at $10^3$ radii, against "
         f"the textbook form's {pct(r.share('textbook_f32', 'far_1e3'))}).")
 
@@ -608,6 +610,17 @@ REF_X8, REF_X4 = "lagrange_f32_in_f64_x8_AVX3", "lagrange_f32_in_f64_x4_AVX2"
 FF_X16, FF_X8 = "exact-float_f32_x16_AVX3", "exact-float_f32_x8_AVX2"
 
 
+def narrower(r: "Reading", x4: str, x8: str) -> str:
+    """How the AVX2 reference's times compare with AVX-512's, family by family, in words."""
+    pairs = [(r.run.ns(x4, f), r.run.ns(x8, f)) for f in r.fids if r.has(x4, f) and r.has(x8, f)]
+    faster = sum(a < b for a, b in pairs)
+    if faster == len(pairs):
+        return "faster than with AVX-512 on every family, on this CPU"
+    if faster == 0:
+        return "slower than with AVX-512 on every family"
+    return f"faster than with AVX-512 on {faster} of the {len(pairs)} families, on this CPU"
+
+
 def block_bench_lanes(run: Run) -> list:
     r = Reading(run)
     x8, x4 = REF_X8, REF_X4
@@ -629,7 +642,7 @@ def block_bench_lanes(run: Run) -> list:
         f"second** ({span(inlined, times)} times its formulation inlined into one call per ray), and it is **within "
         f"{ulps_of(max(r.stat(x8, 'ulps_max')))} ulps on all {count(len(r.fids))} families**: p99 at most "
         f"{max(r.stat(x8, 'ulps_p99')):.2f} ulps, {'nothing' if mis == 0 else f'{mis:.0f} rays'} misclassified. With "
-        f"AVX2 (4 doubles) {span(r.ns(x4), ns2)} ns.", bullet=True)
+        f"AVX2 (4 doubles) {span(r.ns(x4), ns2)} ns: {narrower(r, x4, x8)}.", bullet=True)
     out += wrap(
         f"**Float lanes are faster and wrong far away.** Half-b in 16 float lanes takes {span(r.ns(hb16), ns2)} ns and "
         f"the stable form {span(r.ns(st16), ns2)} ns, but they keep the errors of their formulas: half-b in float "
@@ -656,16 +669,17 @@ def block_bench_lanes(run: Run) -> list:
         f"{span(ff, times)} times the double lanes** (with AVX2, {span(r.ns(FF_X8), ns2)} ns against "
         f"{span(r.ns(x4), ns2)}). On this CPU double is the "
         + ("cheaper" if min(ff) > 1 else "not always the cheaper")
-        + f" way to answers this close, because a vector double operation runs at {half_rate(rate)} "
+        + f" way to answers this close, because a vector double multiply-add runs at {half_rate(rate)} "
         f"(the measured FMA peaks with AVX-512: {x3['gflops_f32']:.0f} and {x3['gflops_f64']:.0f} GFLOP/s). (One ray "
         "at a time, in the kit's scalar build without `-mfma`, every `std::fma` is a call into the C library, and the "
         f"same form takes {span(r.ns('exact-float_f32'), lambda x: f'{x:.0f}')} ns per ray: the scalar row is there "
         "for its errors, which are those of the vector rows, not for its time.)", bullet=True)
     out += wrap(
-        "**When double's half lanes stop mattering, and when they start.** Here a vector double operation runs at "
+        "**When double's half lanes stop mattering, and when they start.** Here a vector double multiply-add runs at "
         f"{half_rate(rate)}, so the double form should win by the factor of {flops:.1f} in flops "
         f"divided by {rate:.1f} in rate, {flops / rate:.1f}; measured, {span(ff, times)} (the double lanes also pay "
-        "their conversions, the float lanes none). On a GPU where double runs at 1/32 or 1/64 of the float rate, the "
+        "their conversions, and a divide and a square root that take longer per lane in double than in float; the "
+        "flop count weighs neither). On a GPU where double runs at 1/32 or 1/64 of the float rate, the "
         f"same arithmetic predicts the opposite: the float-only form would be {32 / flops:.0f} to {64 / flops:.0f} "
         "times faster than double there. (Measured here: the CPU only.)", bullet=True)
     return out
@@ -683,7 +697,8 @@ def block_bench_choice(run: Run) -> list:
         f"{statistics.median(slower):.0f} % slower than half-b in float in the median family "
         f"({span(slower, lambda x: f'{x:.0f}')} %, family by family).", bullet=True) + wrap(
         "**Many rays at once on a CPU**: the same form in double lanes; "
-        f"{span(r.ratios('kit', REF_X8), times)} times the scalar function's speed with AVX-512.", bullet=True) + wrap(
+        f"{span(r.ratios('kit', REF_X8), times)} times the scalar function's speed with AVX-512, "
+        f"{span(r.ratios('kit', REF_X4), times)} with AVX2.", bullet=True) + wrap(
         "**Float only** (a GPU with slow double, or inputs that must stay in float registers): the float-float form "
         f"for answers within {ulps_of(max(r.stat(FF_X16, 'ulps_max')))} ulps; the stable form when a few ulps and "
         "rare misclassifications at extreme scales are acceptable. Neither plain float form can save a huge sphere "
@@ -692,30 +707,38 @@ def block_bench_choice(run: Run) -> list:
         f"or more from the ray's origin: they misclassify {span(bad, pct)} of the rays there.", bullet=True)
 
 
-def _ref_costs(run: Run, isa: str) -> tuple:
-    """The vectorized reference's roofline terms on `isa`, ns per ray: (arithmetic, conversions)."""
-    r = Reading(run)
-    v = REF_X8 if isa == "AVX3" else REF_X4
-    t = r.target(isa)
-    row = run.row(v, "typical")
-    arith = max((row["flops"] - row["div"] - row["sqrt"]) / t["gflops_f64"], row["div"] * t["div_ns_f64"],
-                row["sqrt"] * t["sqrt_ns_f64"])
-    return arith, (row.get("cvt") or 0) * t["cvt_ns"], row
+def _ref_costs(run: Run, isa: str) -> dict:
+    """The vectorized reference's roofline terms on `isa`, ns per ray on *typical*: its adds and multiplies,
+    its conversions, its divides and its square roots, and how much each pair that may compete for a unit
+    was measured to share (bench_report.Point.roofline_ns combines them so)."""
+    t = Reading(run).target(isa)
+    row = run.row(REF_X8 if isa == "AVX3" else REF_X4, "typical")
+    if t.get("shared_div_sqrt") is None or t.get("shared_fma_cvt") is None:
+        raise Stale(f"results.json has no measured overlap of the {isa} units (a run before it was measured)")
+    return {"row": row, "add_mul": (row["flops"] - row["div"] - row["sqrt"]) / t["gflops_f64"],
+            "cvt": (row.get("cvt") or 0) * t["cvt_ns"], "div": row["div"] * t["div_ns_f64"],
+            "sqrt": row["sqrt"] * t["sqrt_ns_f64"], "shared_div_sqrt": t["shared_div_sqrt"],
+            "shared_fma_cvt": t["shared_fma_cvt"]}
 
 
 def block_bench_vector_roofline(run: Run) -> list:
     r = Reading(run)
-    arith, cvt, row = _ref_costs(run, "AVX3")
-    without = [100 * arith / x for x in r.ns(REF_X8)]
+    c = _ref_costs(run, "AVX3")
+    row, combined = c["row"], _report().combined
+    units = combined(c["add_mul"], c["cvt"], c["shared_fma_cvt"])
+    divider = combined(c["div"], c["sqrt"], c["shared_div_sqrt"])
+    pct = lambda x: f"{100 * x:.0f} %"
+    beside = lambda x: "they take turns" if x >= 0.5 else "they run mostly beside each other"
     return paragraph(
-        "Without the conversions the roofline would put the vectorized reference at "
-        f"{span(without, lambda x: f'{x:.0f}')} % (AVX-512): its {row['flops']:.0f} counted flops (the divide among "
-        f"them) and {row['sqrt']:.0f} square root would take {arith:.2f} ns per ray, against "
-        f"{span(r.ns(REF_X8), ns2)} measured. But a kernel that takes float rays and computes in double must widen "
-        "each of the ten float arrays it reads and narrow each of the three it writes, and at the measured rate those "
-        f"{row.get('cvt') or 0:.0f} conversions take {cvt:.2f} ns per ray: "
-        + ("more than its arithmetic, so they, not the arithmetic, set the roofline." if cvt > arith
-           else "less than its arithmetic, which sets the roofline."))
+        f"With AVX-512 the reference's roofline has four terms per ray: its {row['flops'] - row['div'] - row['sqrt']:.0f} "
+        f"adds and multiplies take {c['add_mul']:.2f} ns at the FMA rate; a kernel that takes float rays and computes "
+        "in double must widen each of the ten float arrays it reads and narrow each of the three it writes, and its "
+        f"{row.get('cvt') or 0:.0f} conversions take {c['cvt']:.2f} ns; its divide and its square root take "
+        f"{c['div']:.2f} and {c['sqrt']:.2f} ns at the divider's pace. Timed in one loop, divides and square roots "
+        f"add {pct(c['shared_div_sqrt'])} of the shorter's time to the longer's ({beside(c['shared_div_sqrt'])}), "
+        f"multiply-adds and conversions {pct(c['shared_fma_cvt'])} ({beside(c['shared_fma_cvt'])}). So the "
+        + ("divider sets the roofline" if divider >= units else "multiply-adds and conversions set the roofline")
+        + f": {max(units, divider):.2f} ns per ray, against {span(r.ns(REF_X8), ns2)} measured.")
 
 
 def block_bench_vector_reference(run: Run) -> list:
@@ -731,8 +754,9 @@ def block_bench_vector_reference(run: Run) -> list:
         f"roofline with AVX-512 in the committed run{at}, the least on *{label(run, worst)}*, and "
         f"{span(on2, lambda x: f'{x:.0f}')} % with AVX2, at {span(r.ratios('kit', REF_X8), times)} times the scalar "
         "function's rays per second (AVX-512). The conversions belong to the contract (float rays in, float roots "
-        "out, double inside), and no formulation in double lanes can skip them; a renderer that tests many rays "
-        "against one sphere would load the centre and the radius once and save four of the ten widenings. The "
+        "out, double inside), and no formulation in double lanes can skip them; where they set the pace, a renderer "
+        "that tests many rays against one sphere would load the centre and the radius once and save four of the "
+        "ten widenings. The "
         f"float-float form has no conversions and {r.flops(FF_X16) / r.flops(REF_X8):.1f} times the arithmetic, and "
         f"reaches {span(ff3, lambda x: f'{x:.0f}')} % of its roofline with AVX-512 and "
         f"{span(ff2, lambda x: f'{x:.0f}')} % with AVX2, which arithmetic sets.")
@@ -980,8 +1004,9 @@ def block_appendix_lanes(run: Run) -> list:
         f"{ulps_of(max(r.stat(FF_X16, 'ulps_max')))} ulps by error-free transformations (each product and sum kept as a "
         f"float plus its rounding error) in {span(ff, times)} times the double lanes' time. These lanes are compiled "
         "for AVX2 and AVX-512, both with the fused multiply-add, and built with contraction off like the rest of the "
-        "kit: the double lanes fuse nothing, while the float-only form calls the FMA explicitly, since the rounding "
-        "error $e$ of a product $p = a b$ is exactly `fma(a, b, -p)` (lecture 03, section 4). A GPU changes the "
+        "kit: the double lanes call it for their sums of products (fewer instructions, one rounding fewer), and the "
+        "float-only form for its error-free products, since the rounding error $e$ of a product $p = a b$ is exactly "
+        "`fma(a, b, -p)` (lecture 03, section 4). A GPU changes the "
         "arithmetic: there, double often runs at 1/32 or 1/64 of the float rate, so the float-only form, with "
         f"{r.flops(FF_X16) / r.flops(REF_X8):.1f} times as many float operations as the double lanes, becomes the "
         "faster way to answers that accurate.")

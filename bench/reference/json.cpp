@@ -120,7 +120,9 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
            << ", \"lanes_f64\": " << t.lanes_f64 << ", \"gflops_f32\": " << number(t.gflops_f32)
            << ", \"gflops_f64\": " << number(t.gflops_f64) << ", \"div_ns_f32\": " << number(t.div_ns_f32)
            << ", \"div_ns_f64\": " << number(t.div_ns_f64) << ", \"sqrt_ns_f32\": " << number(t.sqrt_ns_f32)
-           << ", \"sqrt_ns_f64\": " << number(t.sqrt_ns_f64) << ", \"cvt_ns\": " << number(t.cvt_ns) << "}";
+           << ", \"sqrt_ns_f64\": " << number(t.sqrt_ns_f64) << ", \"cvt_ns\": " << number(t.cvt_ns)
+           << ", \"shared_fma_cvt\": " << number(t.shared_fma_cvt)
+           << ", \"shared_div_sqrt\": " << number(t.shared_div_sqrt) << "}";
     }
     os << "]},\n";
     os << "  \"families\": [\n";

@@ -62,13 +62,13 @@ LaneRoots<V, typename O::M> lanes_half_b(const O& o, V ox, V oy, V oz, V dx, V d
 template <class O, class V = typename O::V>
 Quadratic<V> lagrange_quadratic(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz, V r) {
     const V fx = ox - cx, fy = oy - cy, fz = oz - cz;
-    const V a = dx * dx + dy * dy + dz * dz;
-    const V h = fx * dx + fy * dy + fz * dz;
-    const V gx = fy * dz - fz * dy, gy = fz * dx - fx * dz, gz = fx * dy - fy * dx;
+    const V a = o.fma(dz, dz, o.fma(dy, dy, dx * dx));
+    const V h = o.fma(fz, dz, o.fma(fy, dy, fx * dx));
+    const V gx = o.fms(fy, dz, fz * dy), gy = o.fms(fz, dx, fx * dz), gz = o.fms(fx, dy, fy * dx);
     // One divide here and two multiplies in roots_times() instead of two
     // divides: the divider is this form's bottleneck in vectors, and in
     // double the extra rounding is far below the float result's half ulp.
-    return {h, a * (r * r) - (gx * gx + gy * gy + gz * gz), o.k(1) / a};
+    return {h, o.fms(a, r * r, o.fma(gz, gz, o.fma(gy, gy, gx * gx))), o.k(1) / a};
 }
 
 /// t = (-h -+ sqrt(D/4)) * (1/a), with scale = 1/a.
@@ -76,7 +76,8 @@ template <class O, class V = typename O::V>
 LaneRoots<V, typename O::M> roots_times(const O& o, const Quadratic<V>& q) {
     const auto hit = o.ge(q.disc, o.k(0));
     const V root = o.sqrt(o.zero_unless(hit, q.disc));
-    return {o.zero_unless(hit, (o.neg(q.h) - root) * q.scale), o.zero_unless(hit, (root - q.h) * q.scale), hit};
+    const V hs = q.h * q.scale;
+    return {o.zero_unless(hit, o.nfms(root, q.scale, hs)), o.zero_unless(hit, o.fms(root, q.scale, hs)), hit};
 }
 
 /// The Lagrange-identity discriminant, then as half-b (the kit's reference,
@@ -223,6 +224,8 @@ struct ScalarOps {
     V k(double x) const { return V(static_cast<B>(x)); }
     V neg(V x) const { return -x; }
     V fma(V a, V b, V c) const { return fused(a, b, c); }
+    V fms(V a, V b, V c) const { return fused(a, b, -c); }
+    V nfms(V a, V b, V c) const { return fused(-a, b, -c); }
     V sqrt(V x) const { using std::sqrt; return sqrt(x); }
     V copysign(V mag, V sign) const { using std::copysign; return copysign(mag, sign); }
     V min(V a, V b) const { return b < a ? b : a; }

@@ -43,6 +43,8 @@ struct HwyOps {
     V k(double x) const { return hn::Set(d, static_cast<T>(x)); }
     V neg(V x) const { return hn::Neg(x); }
     V fma(V a, V b, V c) const { return hn::MulAdd(a, b, c); }
+    V fms(V a, V b, V c) const { return hn::MulSub(a, b, c); }
+    V nfms(V a, V b, V c) const { return hn::NegMulSub(a, b, c); }
     V sqrt(V x) const { return hn::Sqrt(x); }
     V copysign(V mag, V sign) const { return hn::CopySign(mag, sign); }
     V min(V a, V b) const { return hn::Min(a, b); }
@@ -109,13 +111,16 @@ using RootStage = LaneRoots<DoubleV, hn::Mask<DoubleTag>> (*)(const DoubleOps&, 
 /// With kTwoPasses, two passes over each block split at the quadratic: the
 /// first widens the ten inputs and computes h, D/4 and the scale, the second
 /// takes the square root and the roots and narrows them. The results are
-/// those of one pass, bit for bit. Which is faster depends on the form (8
-/// lanes, AVX3, the test above). The Lagrange form took 0.80-0.84 ns a ray in
-/// one pass, whose loop is one general register short and moves two pointers
-/// back from vector registers on every step, and 0.75-0.78 in two, where
-/// neither loop does and each chain from load to store is half as long.
-/// Half-b, whose two divides fall beside the square root in the second pass,
-/// took 0.75-0.79 in one and 0.83 in two.
+/// those of one pass, bit for bit. Which is faster depends on the form and
+/// the core. On the AMD core of an earlier committed run the Lagrange form
+/// was faster in two passes (its one-pass loop was one general register short
+/// and moved two pointers back from vector registers on every step). On an
+/// Intel core with AVX-512, once its sums of products were chains of fused
+/// multiply-adds, one pass was faster with both vector widths, by about a
+/// fifth, and two passes gained little from the FMAs: in one pass the
+/// divider's divides and square roots are spread over the whole loop, in two
+/// they are bunched into halves. Half-b, whose two divides fall beside the
+/// square root, was faster in one pass on the AMD core too.
 template <QuadraticStage Q, RootStage R, bool kTwoPasses>
 void DoubleLanes(const Rays& in, std::size_t begin, std::size_t end, float* t0, float* t1, float* hit) {
     const DoubleTag dd;
@@ -247,9 +252,65 @@ HWY_NOINLINE double ConvertChains(D d, long iterations, double seed) {
     return static_cast<double>(hn::GetLane(sum));
 }
 
+/// FmaChains and ConvertChains in one loop. Timed against each alone it
+/// shows whether fused multiply-adds and conversions compete for the same
+/// issue ports (the mix takes about the sum of their times) or run beside
+/// each other (about the longer one); the roofline combines the two terms as
+/// measured here (tools/kitlib/bench_report.py).
+template <class D>
+HWY_NOINLINE double FmaConvertChains(D d, long iterations, double seed) {
+    const hn::Rebind<float, D> f;
+    using T = hn::TFromD<D>;
+    const auto m = hn::Set(d, static_cast<T>(seed)), k = hn::Set(d, static_cast<T>(1 - seed));
+    const T s = static_cast<T>(static_cast<float>(seed));
+    hn::Vec<D> x0 = hn::Set(d, T(1.00)), x1 = hn::Set(d, T(1.01)), x2 = hn::Set(d, T(1.02)),
+               x3 = hn::Set(d, T(1.03)), x4 = hn::Set(d, T(1.04)), x5 = hn::Set(d, T(1.05)),
+               x6 = hn::Set(d, T(1.06)), x7 = hn::Set(d, T(1.07)), x8 = hn::Set(d, T(1.08)),
+               x9 = hn::Set(d, T(1.09)), x10 = hn::Set(d, T(1.10)), x11 = hn::Set(d, T(1.11));
+    hn::Vec<D> y0 = hn::Set(d, s), y1 = hn::Set(d, s + 1), y2 = hn::Set(d, s + 2), y3 = hn::Set(d, s + 3),
+               y4 = hn::Set(d, s + 4), y5 = hn::Set(d, s + 5), y6 = hn::Set(d, s + 6), y7 = hn::Set(d, s + 7),
+               y8 = hn::Set(d, s + 8), y9 = hn::Set(d, s + 9), y10 = hn::Set(d, s + 10), y11 = hn::Set(d, s + 11);
+    auto pair = [&](hn::Vec<D> y) { return hn::PromoteTo(d, hn::DemoteTo(f, y)); };
+    for (long it = 0; it < iterations; ++it) {
+        x0 = hn::MulAdd(x0, m, k), x1 = hn::MulAdd(x1, m, k), x2 = hn::MulAdd(x2, m, k);
+        y0 = pair(y0), y1 = pair(y1), y2 = pair(y2);
+        x3 = hn::MulAdd(x3, m, k), x4 = hn::MulAdd(x4, m, k), x5 = hn::MulAdd(x5, m, k);
+        y3 = pair(y3), y4 = pair(y4), y5 = pair(y5);
+        x6 = hn::MulAdd(x6, m, k), x7 = hn::MulAdd(x7, m, k), x8 = hn::MulAdd(x8, m, k);
+        y6 = pair(y6), y7 = pair(y7), y8 = pair(y8);
+        x9 = hn::MulAdd(x9, m, k), x10 = hn::MulAdd(x10, m, k), x11 = hn::MulAdd(x11, m, k);
+        y9 = pair(y9), y10 = pair(y10), y11 = pair(y11);
+    }
+    const auto sx = ((x0 + x1) + (x2 + x3)) + ((x4 + x5) + (x6 + x7)) + ((x8 + x9) + (x10 + x11));
+    const auto sy = ((y0 + y1) + (y2 + y3)) + ((y4 + y5) + (y6 + y7)) + ((y8 + y9) + (y10 + y11));
+    return static_cast<double>(hn::GetLane(sx + sy));
+}
+
+/// DividerChains' divides and square roots in one loop, 8 chains of each:
+/// timed against each alone, whether the two queue for one divider.
+template <class D>
+HWY_NOINLINE double DivideSqrtChains(D d, long iterations, double seed) {
+    using T = hn::TFromD<D>;
+    const auto m = hn::Set(d, static_cast<T>(seed));
+    hn::Vec<D> x0 = hn::Set(d, T(1.0)), x1 = hn::Set(d, T(1.1)), x2 = hn::Set(d, T(1.2)),
+               x3 = hn::Set(d, T(1.3)), x4 = hn::Set(d, T(1.4)), x5 = hn::Set(d, T(1.5)),
+               x6 = hn::Set(d, T(1.6)), x7 = hn::Set(d, T(1.7));
+    hn::Vec<D> y0 = x0, y1 = x1, y2 = x2, y3 = x3, y4 = x4, y5 = x5, y6 = x6, y7 = x7;
+    for (long it = 0; it < iterations; ++it) {
+        x0 = m / x0, x1 = m / x1, x2 = m / x2, x3 = m / x3;
+        y0 = hn::Sqrt(y0), y1 = hn::Sqrt(y1), y2 = hn::Sqrt(y2), y3 = hn::Sqrt(y3);
+        x4 = m / x4, x5 = m / x5, x6 = m / x6, x7 = m / x7;
+        y4 = hn::Sqrt(y4), y5 = hn::Sqrt(y5), y6 = hn::Sqrt(y6), y7 = hn::Sqrt(y7);
+    }
+    const auto sx = ((x0 + x1) + (x2 + x3)) + ((x4 + x5) + (x6 + x7));
+    const auto sy = ((y0 + y1) + (y2 + y3)) + ((y4 + y5) + (y6 + y7));
+    return static_cast<double>(hn::GetLane(sx + sy));
+}
+
 /// Kernel k(d, iterations, seed): 0 FMA f32, 1 FMA f64, 2 div f32, 3 div f64,
-/// 4 sqrt f32, 5 sqrt f64, 6 float <-> double conversion pairs. Returns a
-/// value that depends on every chain.
+/// 4 sqrt f32, 5 sqrt f64, 6 float <-> double conversion pairs, 7 kernels 1
+/// and 6 mixed, 8 kernels 3 and 5 mixed. Returns a value that depends on
+/// every chain.
 double RunKernel(int k, long iterations, double seed) {
     const hn::ScalableTag<float> f;
     const hn::ScalableTag<double> g;
@@ -260,7 +321,9 @@ double RunKernel(int k, long iterations, double seed) {
         case 3: return DividerChains<true>(g, iterations, seed);
         case 4: return DividerChains<false>(f, iterations, seed);
         case 5: return DividerChains<false>(g, iterations, seed);
-        default: return ConvertChains(g, iterations, seed);
+        case 6: return ConvertChains(g, iterations, seed);
+        case 7: return FmaConvertChains(g, iterations, seed);
+        default: return DivideSqrtChains(g, iterations, seed);
     }
 }
 
@@ -274,7 +337,7 @@ void Describe(Target& t) {
     t.stable_f32 = &FloatLanes<&lanes_stable<F>>;
     t.exact_f32 = &FloatLanes<&lanes_exact_float<F>>;
     t.half_b_f64 = &DoubleLanes<&half_b_quadratic<G>, &roots_over<G>, false>;
-    t.lagrange_f64 = &DoubleLanes<&lagrange_quadratic<G>, &roots_times<G>, true>;
+    t.lagrange_f64 = &DoubleLanes<&lagrange_quadratic<G>, &roots_times<G>, false>;
     t.box_f32 = &BoxLanes;
     t.kernels = &RunKernel;
 }
@@ -351,6 +414,16 @@ void measure(Target& t, double seconds, int repetitions) {
     t.sqrt_ns_f64 = keep_min(t.sqrt_ns_f64, per_lane_ns(5, ld));
     // Two conversions per chain and step.
     t.cvt_ns = keep_min(t.cvt_ns, 1 / best_rate(run, 6, 12 * 2 * ld, seconds, repetitions));
+    // How much of the shorter of two kernels' times a loop of both adds to the longer: 0 when they run
+    // beside each other, 1 when they take turns on the same units. Per loop step, each kernel alone and
+    // mixed, in this call; the least of the calls is kept, as the roofline must not overstate the bound.
+    auto step_ns = [&](int k) { return 1 / best_rate(run, k, 1.0, seconds, repetitions); };
+    auto overlap = [](double a, double b, double both) {
+        return std::clamp((both - std::max(a, b)) / std::min(a, b), 0.0, 1.0);
+    };
+    auto keep_least = [](double old, double now) { return std::isnan(old) ? now : std::min(old, now); };
+    t.shared_fma_cvt = keep_least(t.shared_fma_cvt, overlap(step_ns(1), step_ns(6), step_ns(7)));
+    t.shared_div_sqrt = keep_least(t.shared_div_sqrt, overlap(step_ns(3), step_ns(5), step_ns(8)));
 }
 
 std::string status() {

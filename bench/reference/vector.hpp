@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,12 @@ struct Target {
     /// widening or a narrowing, measured in pairs) when many are in flight:
     /// the double lanes on float rays pay one per input and per result.
     double cvt_ns = 0;
+    /// What a loop of two kernels adds of the shorter one's time to the
+    /// longer one's (0: they run beside each other, 1: they take turns):
+    /// fused multiply-adds with conversions, divides with square roots (in
+    /// double lanes). NaN until measured.
+    double shared_fma_cvt = std::numeric_limits<double>::quiet_NaN();
+    double shared_div_sqrt = std::numeric_limits<double>::quiet_NaN();
     /// The peak kernels measure() runs (vector.cpp: which kernel, iterations, seed).
     double (*kernels)(int kernel, long iterations, double seed) = nullptr;
 };

@@ -80,26 +80,36 @@ class Point:
     def roofline_ns(self, peak: dict) -> float | None:
         """The roofline: the least time this arithmetic needs on one core. The
         adds and multiplies at the peak rate, the divides and the square roots
-        each at the divider's pace, whichever takes longest (optimistic: it
-        does not assume divides and roots queue for the same unit). Scalar
-        variants at the scalar rates; a vector variant at the rates measured
-        with its own vectors (an FMA counts two flops there, as in the count),
-        per lane. Double lanes on float rays also widen every input and narrow
-        every result, one vector conversion each at the measured conversion
-        rate: arithmetic the flop count does not see and the form cannot skip
-        (a run without conversion counts, before they were measured, gets none)."""
+        each at the divider's pace, and for double lanes on float rays one
+        conversion per input and per result at the measured conversion rate
+        (arithmetic the flop count does not see and the form cannot skip).
+        Scalar variants at the scalar rates; a vector variant at the rates
+        measured with its own vectors (an FMA counts two flops there, as in the
+        count), per lane.
+
+        Terms on different units bound the time each on its own: the bound is
+        the longest. Two terms that compete for one unit add up instead, and a
+        vector target measures how much (shared_*, 0 to 1: what a loop of both
+        kernels adds of the shorter one's time to the longer one's): divides
+        with square roots (one divider on the cores measured so far), and the
+        multiply-adds with the conversions. A run or a term without that
+        measurement (scalar rates, runs before it) counts 0: the longest term,
+        the optimistic bound."""
         flops = self.raw.get("flops")
         if flops is None or not peak:
             return None
         wide = self.variant["precision"] != "float"
         kind = "f64" if wide else "f32"
         cvt_ns = 0.0
+        shared_units, shared_divider = 0.0, 0.0
         if self.lanes > 1:
             target = next((t for t in peak.get("vector_targets") or [] if t["isa"] == self.variant.get("isa")), None)
             if target is None:
                 return None
             rate, div_ns, sqrt_ns = target[f"gflops_{kind}"], target[f"div_ns_{kind}"], target[f"sqrt_ns_{kind}"]
             cvt_ns = target.get("cvt_ns") or 0.0
+            shared_units = target.get("shared_fma_cvt") or 0.0
+            shared_divider = target.get("shared_div_sqrt") or 0.0
         else:
             rate = peak[f"scalar_gflops_{kind}"]
             div_ns = peak[f"div_ns_{kind}"]
@@ -107,8 +117,14 @@ class Point:
         if not rate:
             return None
         add_mul = flops - self.raw["div"] - self.raw["sqrt"]
-        return max(add_mul / rate, self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns,
-                   (self.raw.get("cvt") or 0) * cvt_ns)
+        return max(combined(add_mul / rate, (self.raw.get("cvt") or 0) * cvt_ns, shared_units),
+                   combined(self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns, shared_divider))
+
+
+def combined(a: float, b: float, shared: float) -> float:
+    """Two terms of the roofline: the longer, plus the measured share of the shorter (0 to 1) that the
+    two do not overlap."""
+    return max(a, b) + min(max(shared, 0.0), 1.0) * min(a, b)
 
 
 def points(data: dict) -> list[Point]:

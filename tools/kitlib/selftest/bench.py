@@ -209,7 +209,9 @@ def selftest_handout_data(ctx) -> str:
 def selftest_roofline_model(ctx) -> str:
     """The roofline of a vector row takes the slowest of its resources, the float <-> double conversions of
     double lanes on float rays included; a row without a conversion count (runs from before they were counted)
-    keeps the old bound. Made-up rates, so each term is the slowest in turn."""
+    keeps the old bound. Made-up rates, so each term is the slowest in turn. Then terms that share a unit, as
+    measured: divides and square roots that take turns add up, conversions that half-overlap the
+    multiply-adds add half of the shorter term; a run without that measurement keeps the longest term."""
     target = {"isa": "AVX3", "gflops_f32": 200.0, "gflops_f64": 100.0, "div_ns_f32": 0.05, "div_ns_f64": 0.15,
               "sqrt_ns_f32": 0.08, "sqrt_ns_f64": 0.25, "cvt_ns": 0.04}
     peak = {"scalar_gflops_f32": 13.0, "scalar_gflops_f64": 13.0, "div_ns_f32": 0.7, "div_ns_f64": 1.1,
@@ -231,10 +233,20 @@ def selftest_roofline_model(ctx) -> str:
         ("float lanes, no conversions", bound("float", 28, 2, 1, cvt=0, lanes=16), 25 / 200.0),
         ("scalar: the scalar rates", bound("float", 27, 1, 1, cvt=13, lanes=1), 25 / 13.0),
     ]
+    # The same target, with its units' overlaps measured.
+    target.update(shared_div_sqrt=1.0, shared_fma_cvt=0.5)
+    cases += [
+        ("a divider shared by divides and roots", bound(wide, 36, 1, 3, cvt=1), 0.15 + 3 * 0.25),
+        ("conversions half beside the FMAs", bound(wide, 36, 1, 1, cvt=13), 13 * 0.04 + 0.5 * 34 / 100.0),
+        ("scalar rows: no overlap measured", bound("float", 27, 1, 1, cvt=13, lanes=1), 25 / 13.0),
+    ]
+    target.update(shared_div_sqrt=None, shared_fma_cvt=None)    # null in a run's JSON: not measured
+    cases.append(("overlaps not measured", bound(wide, 36, 1, 3, cvt=1), 3 * 0.25))
     for what, got, want in cases:
         expect(got is not None and abs(got - want) < 1e-9 * max(1.0, want),
                f"roofline, {what}: {got} ns, expected {want} ns")
-    return f"{len(cases)} roofline cases: flops, divides, square roots and conversions, each the slowest in turn"
+    return (f"{len(cases)} roofline cases: flops, divides, square roots and conversions, each the slowest in turn, "
+            "and terms that share a unit as measured")
 
 
 def selftest_front_like_with_like(ctx) -> str:
