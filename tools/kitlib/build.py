@@ -125,7 +125,7 @@ def configure(build: Build, quiet: bool = True) -> None:
     the kit wants it."""
     if os.environ.get(QUICK_TIER) == "1":
         raise KitError(f"configuring {build.binary_dir.name}: a self-test of the quick tier builds nothing "
-                       "(move it out of harness.QUICK)")
+                       '(take its @tier("quick") off)')
     variables = {"RAYKIT_STEPS_DIR": str(build.steps_dir)}
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
     variables["RAYKIT_BOUNDARY"] = "ON" if build.boundary else "OFF"
@@ -280,7 +280,7 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     changed)."""
     if os.environ.get(QUICK_TIER) == "1":
         raise KitError(f"building {', '.join(targets)[:80]}: a self-test of the quick tier builds nothing "
-                       "(move it out of harness.QUICK)")
+                       '(take its @tier("quick") off)')
     ninja = ninja_of(build)
     if ninja:
         cmd = [ninja, *(["-k", "0"] if len(targets) > 1 else []), *targets]     # run in the build folder

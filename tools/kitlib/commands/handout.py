@@ -42,6 +42,7 @@ EXCLUDED = [
     # and the scan does not read, and every formula it evaluates is printed in lectures 01-03.
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
     "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
+    "tools/test_selftests.py",                             # unittest's view of the self-test, which stays out
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
 ]

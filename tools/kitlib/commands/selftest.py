@@ -11,7 +11,8 @@ import os
 
 from ..packages import ensure_packages, instructor_groups
 from ..common import KitError, load_steps, say
-from ..selftest.harness import HANDOUT, MODULES, STEP, Context, run_all
+from ..status import OK
+from ..selftest.harness import HANDOUT, MODULES, Context, collect, run_all
 
 
 
@@ -23,11 +24,22 @@ def register(p) -> None:
                    help="everything a change to step N needs, on that step alone: its cases against the solutions "
                         "and the stubs, the recorded case lists, its mutants, the mutants' signatures, its hints', "
                         "lecture's and slides' claims, lecture 05's scene tables (minutes, not the whole run)")
+    p.add_argument("--list", action="store_true",
+                   help="print the names of the self-tests the other options choose, one a line, and run nothing")
     p.add_argument("-k", dest="words", default="", metavar="WORDS",
                    help="run only the self-tests whose names hold WORDS (case ignored)")
     p.add_argument("modules", nargs="*", metavar="MODULE",
                    help=f"run only these modules of kitlib/selftest/ (of: {', '.join(MODULES)}); "
                         "MODULE:WORDS only its self-tests whose names hold WORDS")
+
+
+def prepare() -> None:
+    """The packages and environment of a self-test run (./kit test's, and unittest's in
+    tools/test_selftests.py)."""
+    ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
+    # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
+    # it would build beside the measured ones. The latency test turns it on where it measures it.
+    os.environ["RAYKIT_NO_WARMUP"] = "1"
 
 
 def run(args) -> int:
@@ -45,12 +57,17 @@ def run(args) -> int:
         steps = [s for s in load_steps() if s.number == wanted]
         if not steps:
             raise KitError(f"--step {args.step}: no such step (the steps are {', '.join(s.number for s in load_steps())})")
-        say(f"self-test of step {wanted} ({steps[0].title}): " + ", ".join(
-            f"{m}: {len(names)}" for m, names in STEP.items()) + " self-tests")
-    ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
-    # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
-    # it would build beside the measured ones. The latency test turns it on where it measures it.
-    os.environ["RAYKIT_NO_WARMUP"] = "1"
+    if args.list:
+        chosen = collect(args.modules, args.words, args.quick, step=steps is not None)
+        for name, _ in chosen:
+            say(name)
+        say(f"{len(chosen)} self-tests")
+        return OK
+    if steps:
+        counts = {m: len(collect([m], step=True)) for m in MODULES}
+        say(f"self-test of step {steps[0].number} ({steps[0].title}): " + ", ".join(
+            f"{m}: {n}" for m, n in counts.items() if n) + " self-tests")
+    prepare()
     if steps:
         return run_all(Context(fast=args.fast, steps=steps), args.modules, args.words, step=True)
     return run_all(Context(fast=args.fast), args.modules, args.words, args.quick)

@@ -20,7 +20,7 @@ from pathlib import Path
 from ..commands import bench as cmd_bench
 from ..common import BUILD, ROOT
 from ..status import NOT_STARTED
-from .harness import Failed, HANDOUT, Skipped, expect, kit
+from .harness import Failed, HANDOUT, Skipped, expect, kit, tier
 
 SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",
                    "pbrt_e4", "pbrt_e6", "pbrt_e8", "ground_1e3", "ground_earth"}
@@ -206,6 +206,7 @@ def selftest_handout_data(ctx) -> str:
     return f"the handout's exact roots match the instructor's bench ({len(new)} lines)"
 
 
+@tier("quick")
 def selftest_roofline_model(ctx) -> str:
     """The roofline of a vector row takes the slowest of its resources, the float <-> double conversions of
     double lanes on float rays included; a row without a conversion count (runs from before they were counted)
@@ -249,6 +250,7 @@ def selftest_roofline_model(ctx) -> str:
             "and terms that share a unit as measured")
 
 
+@tier("quick")
 def selftest_front_like_with_like(ctx) -> str:
     """The Pareto front compares like with like: a row whose error is counted in double ulps is never marked
     dominated by one counted in float ulps, nor the other way round (a float ulp is 2^29 double ulps). A
@@ -300,6 +302,7 @@ def selftest_front_like_with_like(ctx) -> str:
             f"the front is as expected in the CSV and the table")
 
 
+@tier("quick")
 def selftest_student_summary(ctx) -> str:
     """After the tables, a short summary of the student's step: one line per family (rank by speed
     and by p99 error, the kit's figures beside), its worst error; the compiler named ("GCC 12.2.0").
@@ -343,6 +346,7 @@ def _bench_numbers():
     return module
 
 
+@tier("quick")
 def selftest_reading_generated(ctx) -> str:
     """Every figure with a unit in docs/bench.md and lecture 03's appendix sits in a generated block, and every
     block is what the committed run (docs/bench/results.json) gives. Then the check is shown to fail: each

@@ -22,7 +22,7 @@ from ..scoreboard import status_cell
 from ..common import BUILD, ROOT, load_steps
 from ..build import build_target, preset_build, submission_build, workflow
 from ..status import NOT_GRADED, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
-from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions
+from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions, tier
 
 
 def selftest_reference_builds(ctx: Context) -> str:
@@ -40,6 +40,7 @@ def selftest_reference_builds(ctx: Context) -> str:
     return f"warnings as errors, ctest {m.group(2)} tests, nothing left in TMPDIR"
 
 
+@tier("step")
 def selftest_solutions_pass(ctx: Context) -> str:
     need_solutions()
     ctx.reference = check_steps(preset_build("reference"), ctx.steps, ctx.steps)
@@ -55,6 +56,7 @@ def selftest_solutions_pass(ctx: Context) -> str:
     return f"{n} cases in {len(ctx.reference)} steps, both tiers"
 
 
+@tier("quick", "step")
 def selftest_stubs_not_started(ctx: Context) -> str:
     results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
     if HANDOUT:
@@ -73,6 +75,7 @@ def selftest_stubs_not_started(ctx: Context) -> str:
     return f"all {n} cases of the {len(results)} shipped stubs report not_implemented (a step that needs another on top of its reference)"
 
 
+@tier("step")
 def selftest_case_names_and_lectures(ctx: Context) -> str:
     bad = []
     total = 0
@@ -147,6 +150,7 @@ def _proxy_compiles(inc: str) -> subprocess.CompletedProcess:
                               capture_output=True, text=True, timeout=300)
 
 
+@tier("step")
 def selftest_remote_lists(ctx: Context) -> str:
     """The judge's list of each step's functions, read by CMake from step.json's "functions", names
     exactly those functions; a signature that is not its header's stops the compile with the function's
@@ -396,6 +400,7 @@ def selftest_all_and_piped(ctx: Context) -> str:
     return f"--all: {len(plain)} basic case(s) first, {len(starred)} ★ case(s) after, marked; piped progress plain"
 
 
+@tier("quick")
 def selftest_handout_pointers(ctx: Context) -> str:
     """A lecture's pointer to a file a handout lacks (lecture 03's appendix: solutions/, the exact-root
     header, the reference build, the textbook fixtures) says, in the handout, that the instructor's
@@ -453,6 +458,7 @@ float probe(const Ray& ray) {
 """
 
 
+@tier("quick")
 def selftest_one_verdict_per_library(ctx) -> str:
     libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ (libstdc++)", ["clang++"]),
                  ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
@@ -694,6 +700,7 @@ int main() {
 """
 
 
+@tier("quick")
 def selftest_float_text(ctx) -> str:
     """The grader writes every number as the shortest text that reads back as the same float, with
     one algorithm on every standard library (tests/support/float_text.hpp): the same as

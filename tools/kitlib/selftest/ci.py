@@ -17,7 +17,7 @@ import subprocess
 from ..common import ROOT
 from ..sandbox import bwrap_works
 from .harness import (CANNOT_ENV, NEEDS, RECAP_LINES, SECURITY_MODULES, Failed, Skipped, collect, expect,
-                      partly_skipped, recap, run_one, security)
+                      partly_skipped, recap, run_one, security, tier)
 
 
 def forced_skip(_ctx):
@@ -46,6 +46,7 @@ def outcome(fn, env: dict[str, str]) -> str:
                 os.environ[k] = v
 
 
+@tier("quick")
 def selftest_security_skips(ctx) -> str:
     secure = {f: security(lambda c, f=f: f(c)) for f in (forced_skip, forced_part, forced_other)}
     for f, s in secure.items():
@@ -88,6 +89,7 @@ def selftest_security_skips(ctx) -> str:
             f"{' '.join(words) or 'nothing'} (this machine: {', '.join(w for w, v in facts.items() if not v)} work)")
 
 
+@tier("quick")
 def selftest_recap(_ctx) -> str:
     """CI shows the tail of a long run: every failure is said again just above the last line, with
     its reason, so the tail names what failed even when its first line scrolled away."""

@@ -16,7 +16,7 @@ from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions
+from .harness import Failed, Skipped, expect, kit, need_solutions, tier
 
 STEPS = ["01", "02"]
 WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
@@ -53,6 +53,7 @@ DEFAULT = {"steps": {}, "groups": {"core": {"weight": 1}, "degenerate": {"weight
                                    "robust": {"weight": 0}}}
 
 
+@tier("quick")
 def selftest_default_scale(ctx) -> str:
     default = course_file.parse(DEFAULT, STEPS, "the default scale")
     code = course_file.Course()
@@ -148,6 +149,7 @@ def selftest_kit_course(ctx) -> str:
             f"{', '.join(told)}; weights {' '.join(str(course.weight(g)) for g in course_file.GROUPS)}")
 
 
+@tier("quick")
 def selftest_weighted(ctx) -> str:
     weighted = course_file.parse(WEIGHTED, STEPS)
     with course_file.using(weighted):
@@ -179,6 +181,7 @@ def selftest_weighted(ctx) -> str:
     return "10 and 15/2 points for every student, a core case 5/2, a slip 15/2, no compile 0, optional group free"
 
 
+@tier("quick")
 def selftest_bad_course_files(ctx) -> str:
     bad = [({"steps": {"01": {"points": "ten"}}}, "steps.01.points"), ({"groups": {"core": {"weight": -1}}}, "negative"),
            ({"steps": {"09": {"points": 1}}}, "no step '09'"), ({"groups": {"bonus": {}}}, "unknown group"),
@@ -208,6 +211,7 @@ def selftest_bad_course_files(ctx) -> str:
             "their defaults; broken JSON: one line, exit 2")
 
 
+@tier("quick")
 def selftest_gradescope_views(ctx) -> str:
     default = course_file.Course()
     with course_file.using(default):
@@ -227,6 +231,7 @@ def selftest_gradescope_views(ctx) -> str:
     return "no compile: 1 failed test with the diagnostic; ★: 1 passed 0-point test; 4 of 10"
 
 
+@tier("quick")
 def selftest_reveal(ctx) -> str:
     """The reveal's rules under a course that reveals and one that never does, each built in memory
     (the shipped default reveals; an instructor may turn it off); then autograde.py's command under the
@@ -303,6 +308,7 @@ def autograde_command(root: Path) -> list[str]:
     return seen[0]
 
 
+@tier("quick")
 def selftest_course_table(ctx) -> str:
     need_solutions()    # ./kit course is an instructor's command
     with tempfile.TemporaryDirectory() as tmp:
@@ -443,6 +449,7 @@ def selftest_moved_kit(ctx) -> str:
     return "a build folder moved to another path is configured again (one line says so); outside build/: one line"
 
 
+@tier("quick")
 def selftest_handout_wording(ctx) -> str:
     """The scoreboard's total: in a handout (no hidden cases), what it checks and what the course adds."""
     handout = course_file.parse({"hidden_cases": {"01": 7, "02": 6}}, STEPS)
@@ -464,6 +471,7 @@ def selftest_handout_wording(ctx) -> str:
     return f"handout: {want!r}; with hidden cases: 'score 4 of 5 (80 %)'"
 
 
+@tier("quick")
 def selftest_step_without_its_need(ctx) -> str:
     """In a handout, step 05's camera cases are checked while step 04 is not done; the cases that
     call step 04's function wait for the student's own, naming it."""
@@ -495,6 +503,7 @@ def selftest_step_without_its_need(ctx) -> str:
             f"wait for {names}")
 
 
+@tier("quick")
 def selftest_launch_json(ctx) -> str:
     """.vscode/launch.json's list of steps is written from the steps (./kit handout does), so a step
     added by CONTRIBUTING's recipe appears there with nothing else to edit."""
@@ -508,6 +517,7 @@ def selftest_launch_json(ctx) -> str:
     return f"launch.json's steps written from step.json: {want}"
 
 
+@tier("quick")
 def selftest_gradescope_adds_up(ctx) -> str:
     """Each step's tests on Gradescope add up to the step's points on the course's decimals (each
     rounded alone, seven shares of 20/7 show 20.02), and before the due date the visible summary says
@@ -534,6 +544,7 @@ def selftest_gradescope_adds_up(ctx) -> str:
     return f"shares of 7/8 and 5/12 add up to 7 and 3.33; {held[0]}"
 
 
+@tier("quick")
 def selftest_extra_credit(ctx) -> str:
     """★ as extra credit (a group's "extra_credit": true): each ★ case passed adds its weight's share on
     top of the step's points; the maximum stays the step's points, on every platform's view."""
@@ -626,6 +637,7 @@ def selftest_case_weights(ctx) -> str:
             "Gradescope's test 6 points; ./kit course lists them, refuses a misspelt name and 'section six'")
 
 
+@tier("quick")
 def selftest_gradescope_extra_credit(ctx) -> str:
     """#46 item 2 on Gradescope, on the kit's course with ★ as extra credit and its steps' recorded cases:
     a solution that misses every ★ case has no failed test (a missed extra-credit case takes nothing from
@@ -671,6 +683,7 @@ def selftest_gradescope_extra_credit(ctx) -> str:
             f"summary '{want}'")
 
 
+@tier("quick")
 def selftest_course_extra_credit_example(ctx) -> str:
     """#46 item 2: ./kit course says, with an example computed from the course as it is (here the kit's
     course.json with ★ made extra credit, on the steps' recorded cases), how much extra credit makes up

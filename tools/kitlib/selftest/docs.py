@@ -21,7 +21,7 @@ from pathlib import Path
 from ..commands import docs as cmd_docs
 from ..common import BUILD, ROOT, KitError
 from ..packages import ensure_packages
-from .harness import Failed, Skipped, expect, need_solutions
+from .harness import Failed, Skipped, expect, need_solutions, tier
 
 SCREENSHOTS = BUILD / "docs" / "screenshots"
 
@@ -33,6 +33,7 @@ def _math_filter():
     return module
 
 
+@tier("quick")
 def selftest_math_filter(ctx) -> str:
     mf = _math_filter()
     bad = mf.selftest()
@@ -245,6 +246,7 @@ def kit_lines(run: str) -> list[list[str]]:
     return found
 
 
+@tier("quick")
 def selftest_student_loop_workflow(ctx) -> str:
     """The GitHub Actions workflow that runs the student loop on macOS and Ubuntu runners (#36 item 5;
     not run here): it parses as YAML, runs on both, says it is not run here, and every ./kit line
@@ -296,6 +298,7 @@ def selftest_student_loop_workflow(ctx) -> str:
     return f"parses; macOS and Ubuntu; {len(lines)} ./kit lines ({', '.join(used)}) the kit's parser takes"
 
 
+@tier("quick")
 def selftest_npm_once_more(ctx) -> str:
     """An npm install the network failed is tried once more, and only once: a stand-in npm on the
     PATH (which fails its first N runs, then installs what docs/package-lock.json pins) into a

@@ -8,7 +8,7 @@ still draws anew. The seed is secret.hidden_seed's, here with a fixed key (no fi
 from __future__ import annotations
 
 from ..secret import code_only, hidden_seed
-from .harness import expect
+from .harness import expect, tier
 
 KEY = bytes(range(32))
 
@@ -38,6 +38,7 @@ OTHER = [
 ]
 
 
+@tier("quick")
 def selftest_draw_follows_code(ctx) -> str:
     seed = hidden_seed("01_unit_sphere", [BASE], key=KEY)
     for i, variant in enumerate(SAME):

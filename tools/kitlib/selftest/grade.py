@@ -21,7 +21,7 @@ from pathlib import Path
 
 from ..common import BUILD, ROOT, load_steps, student_file_name
 from . import scale
-from .harness import Failed, Skipped, expect, need_solutions
+from .harness import Failed, Skipped, expect, need_solutions, tier
 
 
 def _source() -> Path:
@@ -44,6 +44,7 @@ def _same(found: Path, source: Path, folders: list[str]) -> list[str]:
     return problems + [f"{e}: not a step file, copied" for e in extra]
 
 
+@tier("quick")
 def selftest_layouts(ctx) -> str:
     from ..submissions import NotFound, locate
 

@@ -25,7 +25,7 @@ from pathlib import Path
 from ..commands import handout as cmd_handout
 from ..mutants import patches, write_answer
 from ..common import BUILD, ROOT, load_steps
-from .harness import Failed, expect, kit, need_solutions
+from .harness import Failed, expect, kit, need_solutions, tier
 
 TARGET = BUILD / "handout-test"
 
@@ -47,6 +47,7 @@ def _secrets() -> set[str]:
     return lines
 
 
+@tier("quick")
 def selftest_scan(ctx) -> str:
     need_solutions()
     _make_handout()

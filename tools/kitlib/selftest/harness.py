@@ -4,7 +4,8 @@ A self-test is a function `fn(ctx) -> str` that returns a one-line summary when 
 it should, raises `Failed` with the reason when it does not, and raises `Skipped` with the reason
 when it does not apply here (a handout has no solutions/, --fast leaves out a slow build). Each
 module of this package lists its self-tests in `selftests() -> [(name, fn)]`; `MODULES` orders the
-modules. A skip is counted as a skip, never as a pass.
+modules. A self-test of a tier (the quick one of --quick, the step one of --step N) says so next to
+its function, `@tier("quick")`. A skip is counted as a skip, never as a pass.
 
 Security tests (every self-test of SECURITY_MODULES, and any marked with `security`) may not skip
 in CI (CI=true): there a skip is a failure unless the machine truly cannot do what the test needs
@@ -17,9 +18,11 @@ from __future__ import annotations
 
 import hashlib
 import importlib
+import inspect
 import os
 import pty
 import subprocess
+import sys
 import threading
 import time
 import traceback
@@ -37,68 +40,34 @@ MODULES = ["layers", "ci", "check", "course", "bench", "debug", "docs", "fuzz", 
 
 HANDOUT = not (ROOT / "solutions").is_dir()
 
-# The quick tier (./kit test --quick, which .ci/run runs first): the self-tests that build and grade
-# nothing, a few seconds each, about half a minute in all. While it runs, configuring or building
-# anything raises (common.QUICK_TIER), so a test that starts to build is named, not slowly tolerated.
-QUICK = {
-    "check": ["shipped stubs are 'not started'", "a handout's lectures point to what it has",
-              "one verdict on every standard library: a step's missing includes",
-              "numbers read the same on every standard library"],
-    "course": ["course: the default scale", "course: weights, exact", "course: bad course files",
-               "course: Gradescope's ★ and compile-error views", "course: Gradescope's tests add up to each step's points", "course: ★ as extra credit",
-               "course: Gradescope's extra credit on the kit's course",
-               "course: the scale table's example of extra credit against a bug",
-               "course: reveal after the due date", "course: ./kit course", "course: step 05 runs without step 04",
-               "course: a handout's total line", "course: launch.json from the steps"],
-    "bench": ["bench roofline model", "bench: the front compares like with like", "bench: the student's summary",
-              "bench: every figure of the reading is generated"],
-    "draws": ["draws: the hidden draw follows the code, not its comments"],
-    "refresh": ["refresh: the self-tests a change touches"],
-    "reach": ["prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures",
-              "prairielearn: extra credit as the assessment's bonus points, a complete step 1"],
-    "docs": ["docs: math filter", "docs: an npm install the network failed is tried once more",
-             "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
-    "handout": ["handout: no step code"],
-    "hint": ["hint order: what fails first"],
-    "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write", "layers: one /proc reader",
-               "layers: the kit's modules compiled once, into its cache"],
-    "ci": ["ci: a skipped security test fails in CI", "ci: failures said again at the end"],
-    "lectures": ["numbers quoted from the benchmark are current", "★ grading figures are current",
-                 "the pitfalls' pictures are committed and current", "lecture 05's tables are the scene file's",
-                 "hints point to lecture sections that exist", "every rule a header states has a case",
-                 "the README's step table is the steps' manifests'"],
-    "pictures": ["pictures: degenerate input", "pictures: the pitfall gallery"],
-    "robust_line": ["★ lines: sections in words", "★ pointers: one section each",
-                    "messages name the trouble, not the cure"],
-    "grade": ["uploads: step files found at any depth, only they"],
-    "report": ["report: the charts say what their data says",
-               "report: the mutants' signatures are current", "report: crashes grouped by the record, not by words",
-               "report: extra credit apart, scores on the CSV's decimals",
-               "report: a looping step is matched to no slip"],
-    "slips": ["slips: waiting step's next command", "slips: a ray seen end-on",
-              "slips: the picture and refusals come after direct cases",
-              "slips: every platform leads with the terminal's case"],
-    "slides": ["slides: decks have notes, Ponder answers and the step's command",
-               "slides: a deck says what its lecture and its step's cases say"],
-}
+# The tiers a self-test may belong to, marked next to it with @tier(...):
+# - "quick" (./kit test --quick, which .ci/run runs first): the self-tests that build and grade
+#   nothing, a few seconds each, about half a minute in all. While it runs, configuring or building
+#   anything raises (common.QUICK_TIER), so a test that starts to build is named, not slowly tolerated.
+# - "step" (./kit test --step N): everything a change to step N needs, in minutes, run on that step
+#   alone (ctx.steps): its cases against the solutions and the stubs, its case names and manifest, the
+#   recorded stubs and case lists, its mutants, the mutants' signatures, its hints' and lecture's
+#   sections, the header rules its cases ask, its slides, lecture 05's scene tables.
+# A self-test without a marker runs in the whole run only (every self-test runs there).
+TIERS = ("quick", "step")
 
-# ./kit test --step N: everything a change to step N needs, in minutes, run on that step alone
-# (ctx.steps): its cases against the solutions and the stubs, its case names and manifest, the recorded
-# stubs and case lists, its mutants, the mutants' signatures, its hints' and lecture's sections, the
-# header rules its cases ask, its slides, lecture 05's scene tables. Named here, next to QUICK, so a
-# renamed self-test fails loudly (collect checks the names).
-STEP = {
-    "check": ["solutions pass every case", "shipped stubs are 'not started'", "case names and lecture pointers",
-              "step functions and manifests"],
-    "latency": ["recorded stubs and case lists"],
-    "mutant": ["mutants are caught"],
-    "report": ["report: the mutants' signatures are current"],
-    "lectures": ["lecture 05's tables are the scene file's", "hints point to lecture sections that exist",
-                 "every rule a header states has a case", "the README's step table is the steps' manifests'"],
-    "hint": ["hints"],
-    "slides": ["slides: decks have notes, Ponder answers and the step's command",
-               "slides: a deck says what its lecture and its step's cases say"],
-}
+
+def tier(*names: str):
+    """Puts a self-test in the tiers `names` (of TIERS): `@tier("quick")` above its function, or
+    `@tier("quick", "step")`. collect() fails on a marked function its module's selftests() leaves out."""
+    unknown = [n for n in names if n not in TIERS]
+    if unknown or not names:
+        raise ValueError(f"@tier({', '.join(map(repr, names))}): the tiers are {', '.join(TIERS)}")
+
+    def mark(fn):
+        fn.tiers = frozenset(getattr(fn, "tiers", ())) | frozenset(names)
+        return fn
+    return mark
+
+
+def tiers_of(fn) -> frozenset:
+    """The tiers a self-test is marked with (empty: the whole run only)."""
+    return getattr(fn, "tiers", frozenset())
 
 
 @dataclass
@@ -234,20 +203,20 @@ class Screen:
 def collect(modules: list[str] | None = None, words: str = "", quick: bool = False, step: bool = False) -> list:
     """The self-tests of `modules` (default: all), in order. A module may be named MODULE:WORDS to
     take only its self-tests whose names hold WORDS; `words` does the same across all modules
-    (case ignored); `quick` keeps only the quick tier's (QUICK), `step` only those of STEP."""
+    (case ignored); `quick` keeps only the quick tier's (@tier("quick")), `step` only the step tier's."""
     found = []
     for entry in modules or MODULES:
         name, _, only = entry.partition(":")
-        tests = importlib.import_module(f"{__package__}.{name}").selftests()
+        module = importlib.import_module(f"{__package__}.{name}")
+        tests = module.selftests()
+        stray = unlisted_markers(module, tests)
+        if stray:
+            raise KitError(f"{name}: @tier marks functions its selftests() does not list: {', '.join(stray)}")
         if name in SECURITY_MODULES:
             tests = [(n, security(fn)) for n, fn in tests]
-        for tier, table in (("QUICK", QUICK), ("STEP", STEP)):
-            if tier == "QUICK" and not quick or tier == "STEP" and not step:
-                continue
-            missing = [n for n in table.get(name, []) if n not in {t for t, _ in tests}]
-            if missing:
-                raise KitError(f"harness.{tier} names self-tests {name} does not have: {missing}")
-            tests = [(n, fn) for n, fn in tests if n in table.get(name, [])]
+        for wanted, asked in (("quick", quick), ("step", step)):
+            if asked:
+                tests = [(n, fn) for n, fn in tests if wanted in tiers_of(fn)]
         for want in (only, words):
             if want:
                 tests = [(n, fn) for n, fn in tests if want.lower() in n.lower()]
@@ -255,33 +224,53 @@ def collect(modules: list[str] | None = None, words: str = "", quick: bool = Fal
     return found
 
 
+def unlisted_markers(module, tests: list) -> list[str]:
+    """The functions marked with @tier in `module` (and in the modules its listed self-tests come
+    from) that its selftests() does not list: a marker that selects nothing, a test renamed or dropped."""
+    listed = {id(fn) for _, fn in tests}
+    sources = {module.__name__: module}
+    for _, fn in tests:
+        origin = sys.modules.get(getattr(fn, "__module__", "") or "")
+        if origin is not None:
+            sources.setdefault(origin.__name__, origin)
+    return sorted(f"{source}.{fn.__name__}" for source, m in sources.items() for fn in vars(m).values()
+                  if inspect.isfunction(fn) and fn.__module__ == source and tiers_of(fn) and id(fn) not in listed)
+
+
+def judge(ctx: Context, fn) -> tuple[str, str]:
+    """Runs one self-test: ("passed", its summary), ("skipped", why) or ("failed", why), under the
+    rule of security tests in CI (a skip it may not take is a failure)."""
+    _running["security"] = bool(getattr(fn, "security", False))
+    try:
+        return "passed", fn(ctx)
+    except Skipped as e:
+        refused = skip_refused(e.need)
+        if refused:
+            return "failed", f"skipped ({e}), but {refused}"
+        return "skipped", str(e)
+    except (Failed, KitError) as e:
+        return "failed", str(e)
+    except Exception:  # a bug in the self-test itself: still report and go on
+        return "failed", f"the self-test itself failed\n{traceback.format_exc()}"
+    finally:
+        _running["security"] = False
+
+
 def run_one(ctx: Context, name: str, fn, failures: list[str] | None = None) -> str:
     """Runs one self-test and prints its line; "passed", "failed" or "skipped". A failure's line is
     also appended to `failures`, for the recap at the end of the run."""
     start = time.monotonic()
-    _running["security"] = bool(getattr(fn, "security", False))
-
-    def failed(line: str) -> str:
+    outcome, detail = judge(ctx, fn)
+    if outcome == "passed":
+        say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
+    elif outcome == "skipped":
+        say(f"{paint('-', 'dim')} {name}: skipped, {detail}")
+    else:
+        line = f"{paint('✗', 'red')} {name}: {detail}"
         say(line)
         if failures is not None:
             failures.append(line)
-        return "failed"
-    try:
-        detail = fn(ctx)
-        say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
-        return "passed"
-    except Skipped as e:
-        refused = skip_refused(e.need)
-        if refused:
-            return failed(f"{paint('✗', 'red')} {name}: skipped ({e}), but {refused}")
-        say(f"{paint('-', 'dim')} {name}: skipped, {e}")
-        return "skipped"
-    except (Failed, KitError) as e:
-        return failed(f"{paint('✗', 'red')} {name}: {e}")
-    except Exception:  # a bug in the self-test itself: still report and go on
-        return failed(f"{paint('✗', 'red')} {name}: the self-test itself failed\n{traceback.format_exc()}")
-    finally:
-        _running["security"] = False
+    return outcome
 
 
 # The recap at the end of a run keeps at most RECAP_LINES lines of a failure, and about RECAP_TOTAL
@@ -305,15 +294,21 @@ def recap(failures: list[str]) -> None:
             say(f"  ... {len(lines) - keep} more lines above")
 
 
+def prepare() -> None:
+    """What a run of self-tests sets up before the first (./kit test's, and unittest's in
+    tools/test_selftests.py)."""
+    BUILD.mkdir(exist_ok=True)      # the self-tests work in build/, which a fresh clone has not made yet
+    # One secret for the self-test's hidden draws (kitlib/secret.py): the same inputs on every run.
+    os.environ.setdefault(SECRET_ENV, hashlib.sha256(b"raykit self-test secret").hexdigest())
+
+
 def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False,
             step: bool = False) -> int:
     """Runs the self-tests of `modules` (default: all; see collect), one line each; the exit status
     is FAILED when any failed."""
     counts = {"passed": 0, "failed": 0, "skipped": 0}
     chosen = collect(modules, words, quick, step)
-    BUILD.mkdir(exist_ok=True)      # the self-tests work in build/, which a fresh clone has not made yet
-    # One secret for the self-test's hidden draws (kitlib/secret.py): the same inputs on every run.
-    os.environ.setdefault(SECRET_ENV, hashlib.sha256(b"raykit self-test secret").hexdigest())
+    prepare()
     if quick:
         os.environ[QUICK_TIER] = "1"
     if not chosen:

@@ -6,11 +6,12 @@ import re
 
 from ..commands.hint import choose, hint_sections, load_hints
 from ..common import load_steps
-from .harness import Failed, expect, kit, need_solutions
+from .harness import Failed, expect, kit, need_solutions, tier
 
 CODE = re.compile(r";\s*$|[{}]|\bfor\s*\(|\bif\s*\(", re.M)
 
 
+@tier("step")
 def selftest_hints(ctx) -> str:
     counts = []
     for step in ctx.steps:
@@ -30,6 +31,7 @@ def selftest_hints(ctx) -> str:
     return "hints per step: " + ", ".join(map(str, counts)) + "; one more per call; no code in any"
 
 
+@tier("quick")
 def selftest_hint_choice(ctx) -> str:
     """The first hint is the one about the section of the first failing case, then the fixed order."""
 

@@ -26,7 +26,7 @@ from pathlib import Path
 
 from .. import procfs
 from ..common import BUILD, ROOT
-from .harness import Context, Failed, Screen, expect, kit, need_solutions
+from .harness import Context, Failed, Screen, expect, kit, need_solutions, tier
 
 ANSI = re.compile(r"\033\[[0-9;]*[A-Za-z]")
 HANDOUT_DIR = BUILD / "latency-handout"
@@ -286,6 +286,7 @@ def selftest_kit_cache(ctx: Context) -> str:
             "what the fill stores, the launcher finds (and misses once a header it read is edited)")
 
 
+@tier("step")
 def selftest_recorded(ctx: Context) -> str:
     """tests/stubs.json holds the committed stubs' hashes, and each tests/NN_topic/cases.json (with
     tests/hidden/cases.json) the cases its judge lists: else an untouched step would be scored on

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from ..common import ROOT
-from .harness import Skipped, expect
+from .harness import Skipped, expect, tier
 
 KITLIB = ROOT / "tools" / "kitlib"
 
@@ -115,6 +115,7 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
+@tier("quick")
 def selftest_layers(ctx) -> str:
     mods = modules()
     graph = {n: imports(n, p, set(mods)) for n, p in mods.items()}
@@ -163,6 +164,7 @@ def renames(path: Path) -> int:
     return found
 
 
+@tier("quick")
 def selftest_atomic_write(ctx) -> str:
     """One atomic write (kitlib/atomic.py): no other module moves a file into place but those
     OTHER_RENAMES names; and its guarantees, shown: a link planted at the target is replaced, not
@@ -211,6 +213,7 @@ def selftest_atomic_write(ctx) -> str:
 PROC_READ = re.compile(r"""(?:["']/proc/(?!raykit-cannot-exist)|Path\(\s*f?["']/proc["']\s*\))""")
 
 
+@tier("quick")
 def selftest_one_proc_reader(ctx) -> str:
     """procfs.py is the kit's one reader of /proc: no other module of the driver or its self-test opens a
     path there; and what it reads is right: this process's owner, parent, session and command line, a
@@ -257,6 +260,7 @@ def selftest_one_proc_reader(ctx) -> str:
             "a child's session, its zombie and its end read right")
 
 
+@tier("quick")
 def selftest_compiled_modules(ctx) -> str:
     """./kit compiles the kit's own modules once, into its cache folder (kitlib/pycache.py), and no
     other module there: the standard library reads those installed beside it. Nothing is written

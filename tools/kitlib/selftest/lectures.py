@@ -22,7 +22,7 @@ import tempfile
 from pathlib import Path
 
 from ..common import ROOT, load_steps
-from .harness import Failed, Skipped, expect
+from .harness import Failed, Skipped, expect, tier
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"
 ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
@@ -38,6 +38,7 @@ def _generator(path: Path = GENERATOR):
     return module
 
 
+@tier("quick")
 def selftest_bench_numbers(ctx) -> str:
     if not GENERATOR.is_file() or not (ROOT / "docs" / "bench" / "results.json").is_file():
         raise Skipped("no docs/bench_numbers.py or no committed benchmark run here")
@@ -77,6 +78,7 @@ def selftest_bench_numbers(ctx) -> str:
     return f"{blocks} generated blocks current with docs/bench/results.json; stale when the run moves; bad input exits 2"
 
 
+@tier("quick")
 def selftest_robust_numbers(ctx) -> str:
     if not ROBUST_GENERATOR.is_file() or not (ROOT / "solutions").is_dir():
         raise Skipped("no docs/robust_numbers.py or no solutions/ here (a handout)")
@@ -123,6 +125,7 @@ def selftest_robust_numbers(ctx) -> str:
             "forms; stale when the measurement moves or the suites change; bad input exits 2")
 
 
+@tier("quick", "step")
 def selftest_scene_tables(ctx) -> str:
     """Lecture 05's tables are the scene file's (include/raykit/scenes/cornell_box.inc): current, stale when
     a colour changes there, and a broken scene file is a clear error."""
@@ -157,6 +160,7 @@ def selftest_scene_tables(ctx) -> str:
             "a scene file without one of its objects is a clear error")
 
 
+@tier("quick")
 def selftest_pitfall_pictures(ctx) -> str:
     if not PITFALL_PICTURES.is_file():
         raise Skipped("no docs/pitfall_pictures.py here")
@@ -184,6 +188,7 @@ def selftest_pitfall_pictures(ctx) -> str:
 SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)(?:\. ([A-Z][^)\n]*))?", re.I)
 
 
+@tier("quick", "step")
 def selftest_hint_sections(ctx) -> str:
     bad, seen = [], 0
     for step in ctx.steps:
@@ -334,6 +339,7 @@ def contract_problems(headers: dict[str, str], sources: dict[str, str],
     return bad, len(found)
 
 
+@tier("quick", "step")
 def selftest_contract_clauses(ctx) -> str:
     headers = {p.name: p.read_text() for p in sorted((ROOT / "include" / "raykit").glob("*.hpp"))}
     sources = {str(p): p.read_text() for p in sorted((ROOT / "tests").glob("0*_*/test_*.cpp"))}
@@ -365,6 +371,7 @@ def selftest_contract_clauses(ctx) -> str:
            "a removed case and an unasked rule are caught; nested parentheses read"
 
 
+@tier("quick", "step")
 def selftest_readme_steps(ctx) -> str:
     """README.md's step table is the steps' manifests' (docs/readme_steps.py): a row per step, in order,
     and a step added or renamed makes it stale."""

@@ -16,7 +16,7 @@ from pathlib import Path
 from ..mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 from ..common import BUILD, ROOT, load_steps
 from ..status import PARTIAL
-from .harness import Failed, expect, need_solutions
+from .harness import Failed, expect, need_solutions, tier
 
 MINIMUM_PER_STEP = 8
 
@@ -70,6 +70,7 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
     return True, named, problems
 
 
+@tier("step")
 def selftest_mutants(ctx) -> str:
     need_solutions()
     stray = stray_files()

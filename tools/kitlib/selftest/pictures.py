@@ -27,7 +27,7 @@ from pathlib import Path
 from .. import picture
 from ..common import BUILD, ROOT, load_steps
 from . import check
-from .harness import Failed, expect, kit, need_solutions
+from .harness import Failed, expect, kit, need_solutions, tier
 
 WORK = BUILD / "selftest-pictures"
 SVG = "{http://www.w3.org/2000/svg}"
@@ -159,6 +159,7 @@ DEGENERATE = [
 ]
 
 
+@tier("quick")
 def selftest_degenerate(ctx) -> str:
     folder = WORK / "degenerate"
     shutil.rmtree(folder, ignore_errors=True)
@@ -195,6 +196,7 @@ def selftest_degenerate(ctx) -> str:
     return f"{drawn} degenerate figures drawn, {refused} refused with a reason, none crashed"
 
 
+@tier("quick")
 def selftest_gallery(ctx) -> str:
     for name, title, f in picture.PITFALLS:
         case = picture.Case(f)

@@ -55,7 +55,7 @@ from pathlib import Path
 
 from .. import course as course_file
 from ..common import BUILD, ROOT, load_steps
-from .harness import Skipped, expect, kit, need_solutions
+from .harness import Skipped, expect, kit, need_solutions, tier
 
 THIRD_PARTY = ROOT.parent / "shared" / "third_party"
 WORK = BUILD / "reach"
@@ -586,6 +586,7 @@ def link_problems(out: Path, steps, docs_url: str | None) -> list[str]:
     return found
 
 
+@tier("quick")
 def selftest_prairielearn_complete(ctx) -> str:
     """#46 item 3: ./kit prairielearn makes, with the lines it prints, a course PrairieLearn takes whole."""
     from ..common import KitError
@@ -815,6 +816,7 @@ def selftest_mac_like(ctx) -> str:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+@tier("quick")
 def selftest_prairielearn_extra_credit(ctx) -> str:
     """#46 item 2 on PrairieLearn (no build, a few seconds): on the kit's course.json with ★ made extra
     credit, a step's question is worth the step's points alone, so a complete step scores 1 (it read

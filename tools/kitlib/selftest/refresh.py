@@ -6,9 +6,10 @@ from __future__ import annotations
 import json
 
 from ..common import ROOT, load_steps
-from .harness import expect, kit, need_solutions
+from .harness import expect, kit, need_solutions, tier
 
 
+@tier("quick")
 def selftest_touched(ctx) -> str:
     from ..commands.refresh import touched_tests
     steps = [s.number for s in load_steps()]

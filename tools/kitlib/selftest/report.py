@@ -27,7 +27,7 @@ from pathlib import Path
 
 from ..common import BUILD, ROOT, KitError, load_steps
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions
+from .harness import Failed, Skipped, expect, kit, need_solutions, tier
 
 WORK = BUILD / "report-test"
 STEPS = ("01", "02")
@@ -39,6 +39,7 @@ def _signatures():
     return sigs, notes
 
 
+@tier("quick", "step")
 def selftest_signatures_fresh(ctx) -> str:
     need_solutions()
     from ..mutants import patches
@@ -412,6 +413,7 @@ def _browser(*pages_: Path) -> str:
         str(s.relative_to(ROOT)) if s.is_relative_to(ROOT) else str(s) for s in shots)
 
 
+@tier("quick")
 def selftest_crash_kind(ctx) -> str:
     """The report's incidents are grouped by the record's data (a case's "incident": the function
     called, the signal), never by words of its message: a message that names another function and
@@ -515,6 +517,7 @@ def selftest_merge(ctx) -> str:
             + ", ".join(refusals) + "; alike rows kept once")
 
 
+@tier("quick")
 def selftest_loop_no_slip(ctx) -> str:
     """A step that timed out is matched to no slip, whatever it failed (issue 46 item 7); the same failing
     cases answered wrongly are matched to the slip whose signature they are."""
@@ -545,6 +548,7 @@ def selftest_loop_no_slip(ctx) -> str:
             "timed out or never run, matched to nothing")
 
 
+@tier("quick")
 def selftest_extra_credit(ctx) -> str:
     """#46 item 2 and item 7's last point, in the report (no build, a few seconds): a class graded on the
     kit's course.json with ★ made extra credit (records of each step's recorded cases, the CSV written
@@ -632,6 +636,7 @@ def selftest_extra_credit(ctx) -> str:
                "no score with a trailing zero on this course (the decimals compared as they are)"))
 
 
+@tier("quick")
 def selftest_charts(ctx) -> str:
     """The report's charts (charts.py, the kit's one drawing path) say what their data says: each bar of a
     histogram counts the values of its bin, a value at the top end in the last bin; each stacked segment is

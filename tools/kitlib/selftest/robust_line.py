@@ -15,7 +15,7 @@ from pathlib import Path
 
 from ..common import ROOT, load_steps
 from ..robust_line import where
-from .harness import expect, kit, need_solutions
+from .harness import expect, kit, need_solutions, tier
 
 TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 
@@ -53,6 +53,7 @@ def cures(text: str) -> list[str]:
     return [what for what, pattern in CURES if pattern.search(text)]
 
 
+@tier("quick")
 def selftest_no_cure_in_messages(ctx) -> str:
     for sample in SAMPLES:
         expect(cures(sample), f"the check finds no cure in a message that gives one: {sample!r}")
@@ -78,6 +79,7 @@ def selftest_no_cure_in_messages(ctx) -> str:
     return f"{seen} messages in {len(files)} files: none writes the cure, every section named exists"
 
 
+@tier("quick")
 def selftest_one_section_each(ctx) -> str:
     """Every case's pointer names one section: a heading used as a pointer names no other sections."""
 
@@ -96,6 +98,7 @@ def selftest_one_section_each(ctx) -> str:
     return f"{n} pointers, one section each"
 
 
+@tier("quick")
 def selftest_words(ctx) -> str:
     cases = [("lectures/03-unit-direction.md", ["5. Cancellation in the discriminant", "6. Cancellation in the roots",
                                                 "5. Cancellation in the discriminant"], "lecture 03, sections 5 and 6"),

@@ -23,7 +23,7 @@ from pathlib import Path
 from ..common import BUILD, ROOT, KitError
 from .. import decks as cmd_slides
 from ..packages import ensure_packages
-from .harness import Failed, Skipped, expect
+from .harness import Failed, Skipped, expect, tier
 
 SCREENSHOTS = BUILD / "slides-screenshots"     # beside the decks: ./kit slides replaces build/slides whole
 
@@ -80,6 +80,7 @@ def structure_problems(path: Path) -> tuple[list[str], int]:
     return problems, len(slides)
 
 
+@tier("quick", "step")
 def selftest_structure(ctx) -> str:
     decks = cmd_slides.deck_sources()
     if not decks:
@@ -196,6 +197,7 @@ PLANTED = [
 ]
 
 
+@tier("quick", "step")
 def selftest_claims(ctx) -> str:
     from . import deck_claims
     decks = cmd_slides.deck_sources()

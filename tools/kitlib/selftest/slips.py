@@ -19,7 +19,7 @@ from pathlib import Path
 
 from .. import slips
 from ..common import BUILD, ROOT, Step, load_steps
-from .harness import Failed, expect, kit, need_solutions
+from .harness import Failed, expect, kit, need_solutions, tier
 
 SLIPS = ROOT / "tests" / "fixtures" / "slips"
 CASE_LINE = re.compile(r"^\s+✗ (.*?)  \[", re.M)
@@ -177,6 +177,7 @@ def selftest_turned_render(ctx) -> str:
     return "; ".join(said)
 
 
+@tier("quick")
 def selftest_waiting_next_command(ctx) -> str:
     """A step waiting for another names that other step's check as the next command."""
     from ..cases import StepResult
@@ -195,6 +196,7 @@ def selftest_waiting_next_command(ctx) -> str:
     return f"step {s.number} waits for {need}: next ./kit check {int(need)}"
 
 
+@tier("quick")
 def selftest_end_on_sketch(ctx) -> str:
     """The terminal picture of a rectangle seen face on, with the ray along its normal, draws the ray
     as a point and says so; only a zero direction is called one."""
@@ -305,6 +307,7 @@ def selftest_near_slip_words(ctx) -> str:
     return "c = o.o + 1: " + before[before.find("Your code"):].strip()[:90] + " ..."
 
 
+@tier("quick")
 def selftest_first_problem_order(ctx) -> str:
     """first_problem, without a build: a direct case (a throw of the student's own included) before the
     picture and a stand-in's refusal, the picture when nothing else fails; a known slip's words said
@@ -544,6 +547,7 @@ def selftest_fitting_words(ctx) -> str:
     return "; ".join(said)
 
 
+@tier("quick")
 def selftest_platforms_lead_alike(ctx) -> str:
     """Gradescope's first failed test, PrairieLearn's picture and Classroom's first failing line are the
     case the terminal shows first (StepResult.first_problem), not the first failing case in the suite's
