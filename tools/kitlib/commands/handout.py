@@ -247,7 +247,9 @@ def student_side() -> set[Path]:
             for _ in range(node.level - 1):
                 base = base.parent
             mod = base.joinpath(*node.module.split(".")) if node.module else base
-            todo += [mod.with_suffix(".py"), mod / "__init__.py"] + [mod / f"{a.name}.py" for a in node.names]
+            # `from .. import picture` names a module or a package (picture/__init__.py) alike
+            todo += [mod.with_suffix(".py"), mod / "__init__.py"] + [mod / f"{a.name}.py" for a in node.names] \
+                + [mod / a.name / "__init__.py" for a in node.names]
     return {p.relative_to(ROOT) for p in seen}
 
 
