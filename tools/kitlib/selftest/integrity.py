@@ -44,7 +44,7 @@ from typing import Callable
 
 from .. import procfs
 from ..common import BUILD, ROOT, load_steps, stage_on_reference
-from ..status import DONE, NO_COMPILE, PARTIAL
+from ..status import DONE, NO_COMPILE, PARTIAL, TIMED_OUT
 from . import scale
 from .harness import Failed, Skipped, expect, kit, need_solutions, partly_skipped
 
@@ -137,12 +137,27 @@ def printed(data: dict) -> str:
     return "\n".join(c["output"] for s in data["record"]["steps"] for c in s["cases"])
 
 
-def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: dict, base_rc: int) -> None:
-    """The hostile fixture `name` must grade exactly like always_miss: same statuses, score, exit."""
+def same_as_wrong_answer(name: str, isolation: str, got: dict, rc: int, base: dict, base_rc: int,
+                         own_cost: bool = False) -> None:
+    """The hostile fixture `name` must grade exactly like always_miss: same statuses, score, exit.
+
+    With `own_cost`, an attack whose own work depends on the machine (forge_verdicts walks every folder
+    it can read, and a shared machine's /tmp may hold thousands) may run a case out of time: such a
+    case is its own cost, not a verdict it changed, so it is left out of the comparison, and the score
+    may fall below the plain wrong answer's but never rise above it."""
 
     expect(rc == base_rc == 1, f"{name} ({isolation}): exit {rc}, the plain wrong answer {base_rc}; both must be 1")
-    expect(got["score"] == base["score"],
-           f"{name} ({isolation}): scored {got['score']}, the same answers without the attack {base['score']}")
+    if own_cost:
+        slow = {(s["step"], c["name"]) for s in got["record"]["steps"] for c in s["cases"] if c["status"] == TIMED_OUT}
+        expect(got["score"] <= base["score"] and (slow or got["score"] == base["score"]),
+               f"{name} ({isolation}): scored {got['score']}, the same answers without the attack {base['score']}")
+        got = dict(got, record=dict(got["record"], steps=[dict(st, cases=[c for c in st["cases"]
+                   if (st["step"], c["name"]) not in slow]) for st in got["record"]["steps"]]))
+        base = dict(base, record=dict(base["record"], steps=[dict(st, cases=[c for c in st["cases"]
+                    if (st["step"], c["name"]) not in slow]) for st in base["record"]["steps"]]))
+    else:
+        expect(got["score"] == base["score"],
+               f"{name} ({isolation}): scored {got['score']}, the same answers without the attack {base['score']}")
     changed = [(a[1], a[2], b[2]) for a, b in zip(statuses(base), statuses(got)) if a != b]
     diff = [f"{n}: {x} -> {y}" for n, x, y in changed]
     # Hidden cases are drawn from a seed made from the submission's files, so the two meet
@@ -220,7 +235,7 @@ def run_modes(fn, spent: dict[str, float] | None = None) -> str:
 
 # --- the checks ------------------------------------------------------------------------
 
-def attack(name: str, mode: str, ran: str, harm: Callable[[str], bool], what: str) -> dict:
+def attack(name: str, mode: str, ran: str, harm: Callable[[str], bool], what: str, own_cost: bool = False) -> dict:
     """Checks the hostile step 01 `name` under `mode`: its output holds `ran` (the attack ran), no
     line of it shows `harm` (what it says it did: `what`), and it is scored as always_miss, a plain
     wrong answer, is. Returns its results.json."""
@@ -230,15 +245,18 @@ def attack(name: str, mode: str, ran: str, harm: Callable[[str], bool], what: st
     expect(ran in out, f"{name} ({mode}): its output is not in the JSON; did the attack run at all?")
     harmed = sorted({l for l in out.splitlines() if harm(l)})
     expect(not harmed, f"{name} ({mode}): the sandboxed code {what}: " + "; ".join(harmed[:6]))
-    same_as_wrong_answer(name, mode, got, rc, base, base_rc)
+    same_as_wrong_answer(name, mode, got, rc, base, base_rc, own_cost)
     return got
 
 
 def selftest_forge_verdicts(ctx) -> str:
     def one(mode: str) -> str:
         got = attack("forge_verdicts", mode, "forge_verdicts:",
-                     lambda l: l.startswith("forge_verdicts:") and " 0 rewritten" not in l, "rewrote files")
-        return f"{got['score']} of {got['extra_data']['max_score']}, as without forging"
+                     lambda l: l.startswith("forge_verdicts:") and " 0 rewritten" not in l, "rewrote files",
+                     own_cost=True)
+        slow = sum(c["status"] == TIMED_OUT for s in got["record"]["steps"] for c in s["cases"])
+        return (f"{got['score']} of {got['extra_data']['max_score']}, as without forging"
+                + (f" ({slow} cases out of time walking the machine's folders, none passed)" if slow else ""))
 
     need_solutions()
     spent = prewarm([HOSTILE / "always_miss", HOSTILE / "forge_verdicts"], ["01"])
