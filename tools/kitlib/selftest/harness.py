@@ -60,6 +60,7 @@ QUICK = {
              "docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has"],
     "handout": ["handout: no step code"],
     "hint": ["hint order: what fails first"],
+    "mutant": ["fixtures kept as patches apply, a broken one is named"],
     "layers": ["layers: imports go downwards, no cycle", "layers: one atomic write", "layers: one /proc reader",
                "layers: the kit's modules compiled once, into its cache"],
     "ci": ["ci: a skipped security test fails in CI", "ci: failures said again at the end"],
