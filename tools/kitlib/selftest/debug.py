@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ..common import BUILD, ROOT
 from .harness import Skipped, expect, kit, need_solutions
+from .fixtures import fixture_dir
 
 CASE = "window: a root exactly at tmin counts"
 
@@ -22,7 +23,7 @@ def selftest_debug(ctx) -> str:
     need_solutions()   # tests/fixtures/ is not in a handout
     if shutil.which("gdb") is None:
         raise Skipped("gdb is not installed (apt-get install gdb)")
-    wrong = ROOT / "tests" / "fixtures" / "wrong"
+    wrong = fixture_dir("wrong")
     r = kit("debug", "1", CASE, "--steps", str(wrong), "--batch", timeout=600)
     out = r.stdout + r.stderr
     frame = re.search(r"^#0\s+raykit::intersect_unit_sphere \(ray=.*tmin=2, tmax=10\) at (\S+)", out, re.M)
@@ -70,7 +71,7 @@ def selftest_debug_lldb(ctx) -> str:
     need_solutions()
     if shutil.which("lldb") is None:
         raise Skipped("lldb is not installed (apt-get install lldb)")
-    wrong = ROOT / "tests" / "fixtures" / "wrong"
+    wrong = fixture_dir("wrong")
     with tempfile.TemporaryDirectory(prefix="raykit-nogdb-") as tmp:
         no_gdb = path_without(Path(tmp) / "bin", {"gdb"})
         r = kit_with(no_gdb, "debug", "1", CASE, "--steps", str(wrong), "--batch", timeout=900)

@@ -32,8 +32,8 @@ from ..build import Build, ensure_configured, submission_build
 from ..checking import build_step, judge_step
 from ..common import ROOT, load_steps
 from ..sandbox import NONE_OWN
+from .fixtures import fixture_dir
 
-FAIR = ROOT / "tests" / "fixtures" / "fair"
 # Folder -> what it is, per step (step 03's file holds the shortcut and the geometric form).
 FORMS = {
     "textbook": {"01": "textbook", "02": "textbook", "03": "shortcut + geometric, as printed"},
@@ -88,7 +88,7 @@ def make_variant(form: str, real: str, prologue: str | None, dst: Path) -> None:
     """tests/fixtures/fair/<form>/ copied to `dst`, computing in `real`, fused when `prologue` is given."""
     if dst.exists():
         shutil.rmtree(dst)
-    for src in sorted((FAIR / form).glob("*/*.cpp")):
+    for src in sorted((fixture_dir("fair") / form).glob("*/*.cpp")):
         text = src.read_text()
         if REAL_LINE not in text:
             raise SystemExit(f"{src.relative_to(ROOT)} has no line '{REAL_LINE}'")

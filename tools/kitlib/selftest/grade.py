@@ -22,6 +22,7 @@ from pathlib import Path
 from ..common import BUILD, ROOT, load_steps, student_file_name
 from . import scale
 from .harness import Failed, Skipped, expect, need_solutions, tier
+from .fixtures import fixture_dir
 
 
 def _source() -> Path:
@@ -72,9 +73,9 @@ def selftest_layouts(ctx) -> str:
     # A whole kit beside its steps: tests/ and fixtures hold NN_topic folders too; steps/ must win.
     kit = root / "kit" / "raykit"
     steps_copy(kit / "steps")
-    shutil.copytree(ROOT / "tests" / "fixtures" / "crash", kit / "tests" / "fixtures" / "crash")
+    shutil.copytree(fixture_dir("crash"), kit / "tests" / "fixtures" / "crash")
     # ... and an old copy of one step at the top, shallower than steps/: the most steps win.
-    shutil.copytree(ROOT / "tests" / "fixtures" / "crash", kit.parent, dirs_exist_ok=True)
+    shutil.copytree(fixture_dir("crash"), kit.parent, dirs_exist_ok=True)
     uploads["a kit with fixtures beside steps/"] = kit.parent
     zipped = root / "zipped"
     zipped.mkdir()
@@ -162,7 +163,7 @@ def make_mixed_class(root: Path, size: int, salt: str = "") -> dict[str, str]:
     shutil.rmtree(root, ignore_errors=True)
     sol = lambda s: ROOT / "solutions" / s.folder        # noqa: E731
     stub = lambda s: ROOT / "steps" / s.folder           # noqa: E731
-    textbook = ROOT / "tests" / "fixtures" / "textbook"
+    textbook = fixture_dir("textbook")
     plan = {}
     for n, kind in enumerate(kinds):
         who = f"st{n + 1:02d}-{kind}"
@@ -180,7 +181,7 @@ def make_mixed_class(root: Path, size: int, salt: str = "") -> dict[str, str]:
             source = {"partial": sol(s) if s.number <= "03" else stub(s),
                       "started": sol(s) if s.number == "01" else stub(s),
                       "stubs": stub(s),
-                      "nocompile": ROOT / "tests" / "fixtures" / "no_compile" / s.folder,
+                      "nocompile": fixture_dir("no_compile") / s.folder,
                       "textbook": textbook / s.folder}.get(kind, sol(s))
             if not source.is_dir():
                 source = sol(s)
@@ -451,11 +452,11 @@ def selftest_names_are_data(ctx) -> str:
     shutil.rmtree(work, ignore_errors=True)
     klass = work / "class"
     klass.mkdir(parents=True)
-    hostile = ROOT / "tests" / "fixtures" / "hostile"
+    hostile = fixture_dir("hostile")
     shutil.copytree(hostile / "escapes", klass / HOSTILE_NAME)             # prints escapes in every call
     shutil.copytree(hostile / "always_miss", os.fsdecode(bytes(klass) + b"/" + BYTES_NAME))
     shutil.copytree(hostile / "always_miss", klass / "alice")               # and one plain name
-    textbook = ROOT / "tests" / "fixtures" / "textbook" / "01_unit_sphere"
+    textbook = fixture_dir("textbook") / "01_unit_sphere"
     for who in PAIR_NAMES:
         shutil.copytree(textbook, klass / who / textbook.name)
         for f in (klass / who / textbook.name).iterdir():     # inside the code sim_c++ matches, shown

@@ -26,6 +26,7 @@ from ..commands import handout as cmd_handout
 from ..mutants import patches, write_answer
 from ..common import BUILD, ROOT, load_steps
 from .harness import Failed, expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
 TARGET = BUILD / "handout-test"
 
@@ -209,7 +210,7 @@ def selftest_handout_grades(ctx) -> str:
                f"handout: step {s.number} with the solution is not done with every ★ case: {line!r}")
         robust += int(m.group(2)) if m else 0
     # The ★ tier from data still tells a textbook formula from a robust one.
-    textbook = ROOT / "tests" / "fixtures" / "textbook"
+    textbook = fixture_dir("textbook")
     two = next(s for s in steps if s.number == "02")
     put(textbook / two.folder, two)
     r = check("2")

@@ -47,8 +47,8 @@ from ..common import BUILD, ROOT, load_steps, stage_on_reference
 from ..status import DONE, NO_COMPILE, PARTIAL, TIMED_OUT
 from . import scale
 from .harness import Failed, Skipped, expect, kit, need_solutions, partly_skipped
+from .fixtures import fixture_dir
 
-HOSTILE = ROOT / "tests" / "fixtures" / "hostile"
 MARKER = "raykit-hostile"           # in the name of every file the hostile fixtures drop
 LINGERER = "rk-lingerer"            # the process name of lingering_writer's detached writer
 LINGER_WAIT = 3.0                   # seconds to wait after grading before looking again
@@ -239,8 +239,8 @@ def attack(name: str, mode: str, ran: str, harm: Callable[[str], bool], what: st
     """Checks the hostile step 01 `name` under `mode`: its output holds `ran` (the attack ran), no
     line of it shows `harm` (what it says it did: `what`), and it is scored as always_miss, a plain
     wrong answer, is. Returns its results.json."""
-    base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
-    rc, got, _, _ = grade_json(HOSTILE / name, ["01"], mode)
+    base_rc, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
+    rc, got, _, _ = grade_json(fixture_dir("hostile") / name, ["01"], mode)
     out = printed(got)
     expect(ran in out, f"{name} ({mode}): its output is not in the JSON; did the attack run at all?")
     harmed = sorted({l for l in out.splitlines() if harm(l)})
@@ -259,7 +259,7 @@ def selftest_forge_verdicts(ctx) -> str:
                 + (f" ({slow} cases out of time walking the machine's folders, none passed)" if slow else ""))
 
     need_solutions()
-    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "forge_verdicts"], ["01"])
+    spent = prewarm([fixture_dir("hostile") / "always_miss", fixture_dir("hostile") / "forge_verdicts"], ["01"])
     return run_modes(one, spent)
 
 
@@ -267,7 +267,7 @@ def selftest_lingering_writer(ctx) -> str:
     home = Path(os.environ.get("HOME") or "/root")
 
     def one(mode: str) -> str:
-        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        base_rc, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
         before = kit_tree()
         # The Gradescope flow: results in /autograder/results, made by `mkdir -p` (0755) as root.
         tmp = tempfile.mkdtemp(prefix="raykit-integrity-gs-")
@@ -276,7 +276,7 @@ def selftest_lingering_writer(ctx) -> str:
             results = Path(tmp) / "autograder" / "results"
             results.mkdir(parents=True)
             target = results / "results.json"
-            rc, got, raw, _ = grade_json(HOSTILE / "lingering_writer", ["01"], mode, json_path=target)
+            rc, got, raw, _ = grade_json(fixture_dir("hostile") / "lingering_writer", ["01"], mode, json_path=target)
             expect("lingering_writer: detached a writer" in printed(got) or "lingering_writer: fork refused" in printed(got),
                    f"lingering_writer ({mode}): its output is not in the JSON; did it run at all?")
             time.sleep(LINGER_WAIT)
@@ -304,11 +304,11 @@ def lingering_under_batch_grading(home: Path) -> str:
     """`./kit grade` (its own choice of isolation): the CSV and the JSON it keeps stay as written."""
 
     modes, _ = isolations()
-    _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], modes[0])
+    _, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], modes[0])
     tmp = Path(tempfile.mkdtemp(prefix="raykit-integrity-batch-"))
     try:
         os.chmod(tmp, 0o755)
-        shutil.copytree(HOSTILE / "lingering_writer", tmp / "submissions" / "mallory")
+        shutil.copytree(fixture_dir("hostile") / "lingering_writer", tmp / "submissions" / "mallory")
         csv_path, jsons = tmp / "grades.csv", tmp / "json"
         start = time.monotonic()
         r = kit("grade", str(tmp / "submissions"), "--out", str(csv_path), "--json-dir", str(jsons), timeout=1800)
@@ -333,7 +333,7 @@ def lingering_under_batch_grading(home: Path) -> str:
 
 def selftest_table_of_visible_inputs(ctx) -> str:
     def one(mode: str) -> str:
-        rc, table, _, _ = grade_json(HOSTILE / "table_of_visible_inputs", ["01"], mode)
+        rc, table, _, _ = grade_json(fixture_dir("hostile") / "table_of_visible_inputs", ["01"], mode)
         [step] = table["record"]["steps"]
         expect(step["basic"]["passed"] == step["basic"]["total"],
                f"table ({mode}): passes {step['basic']['passed']} of {step['basic']['total']} visible cases; "
@@ -422,7 +422,7 @@ def selftest_read_answers(ctx) -> str:
         return "nothing readable; graded like a wrong answer"
 
     need_solutions()
-    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "read_answers"], ["01"])
+    spent = prewarm([fixture_dir("hostile") / "always_miss", fixture_dir("hostile") / "read_answers"], ["01"])
     return run_modes(one, spent)
 
 
@@ -444,7 +444,7 @@ def class_folder(top: str) -> Path:
     """A class of two under `top`: alice handed in the reference's step 01, mallory read_classmate."""
     folder = Path(top) / CLASS_FOLDER
     world_readable_copy(ROOT / "solutions" / "01_unit_sphere", folder / "alice" / "01_unit_sphere")
-    world_readable_copy(HOSTILE / "read_classmate", folder / "mallory")
+    world_readable_copy(fixture_dir("hostile") / "read_classmate", folder / "mallory")
     return folder
 
 
@@ -532,7 +532,7 @@ def selftest_read_classmate(ctx) -> str:
         same_as_wrong_answer(name, mode, step01, base_rc, base, base_rc)
 
     def one(mode: str) -> str:
-        base_rc, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
+        base_rc, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
         clear()
         try:
             if mode == "bwrap":
@@ -618,8 +618,8 @@ def selftest_scratch_spy(ctx) -> str:
         return f"none of {len(hidden)} hidden inputs shown, the re-run started empty"
 
     def one(mode: str) -> str:
-        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
-        _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode)
+        _, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
+        _, data, _, _ = grade_json(fixture_dir("hostile") / "scratch_spy", ["01"], mode)
         # The ★ case it spins on is worth nothing: the score is the plain wrong answer's.
         expect(data["score"] == base["score"], f"scratch_spy ({mode}): {data['score']} points, always_miss {base['score']}")
         summary = check(mode, data)
@@ -627,7 +627,7 @@ def selftest_scratch_spy(ctx) -> str:
             return summary
         os.environ["RAYKIT_BWRAP_UNSIZED"] = "1"        # sandbox.Isolation.run_env: as Debian 11's 0.4.1
         try:
-            _, data, _, _ = grade_json(HOSTILE / "scratch_spy", ["01"], mode, cache=False)
+            _, data, _, _ = grade_json(fixture_dir("hostile") / "scratch_spy", ["01"], mode, cache=False)
         finally:
             os.environ.pop("RAYKIT_BWRAP_UNSIZED", None)
         return summary + "; without --size: " + check("bwrap without --size", data)
@@ -661,8 +661,8 @@ def not_the_students_time(data: dict) -> list[str]:
 def selftest_sleeper(ctx) -> str:
     """Each call sleeps 1.9 s, within its own limit: the step's budget for waiting ends it."""
     def one(mode: str) -> str:
-        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
-        rc, got, _, took = grade_json(HOSTILE / "sleeper", ["01"], mode)
+        _, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
+        rc, got, _, took = grade_json(fixture_dir("hostile") / "sleeper", ["01"], mode)
         expect("sleeper: slept 1.9 s" in printed(got), f"sleeper ({mode}): its output is not in the JSON; did it run?")
         expect(took < BUDGET_BOUND, f"sleeper ({mode}): grading took {took:.0f} s, the bound is {BUDGET_BOUND:g} s "
                                     "(sleeping within each call's limit still costs the grader without limit)")
@@ -681,14 +681,14 @@ def selftest_sleeper(ctx) -> str:
         return f"{took:.0f} s, score {got['score']} (always_miss {base['score']}), the budget named"
 
     need_solutions()
-    spent = prewarm([HOSTILE / "always_miss", HOSTILE / "sleeper"], ["01"])
+    spent = prewarm([fixture_dir("hostile") / "always_miss", fixture_dir("hostile") / "sleeper"], ["01"])
     return run_modes(one, spent)
 
 
 def selftest_slow_correct(ctx) -> str:
     """The reference's answers, 1.5 s of CPU a call: the budget ends it, the timeouts are the student's."""
     def one(mode: str) -> str:
-        rc, got, _, took = grade_json(HOSTILE / "slow_correct", ["01"], mode)
+        rc, got, _, took = grade_json(fixture_dir("hostile") / "slow_correct", ["01"], mode)
         [step] = got["record"]["steps"]
         expect(not blamed_on_kit(got), f"slow_correct ({mode}): blamed on the kit: {blamed_on_kit(got)[:3]}")
         expect(not not_the_students_time(got), f"slow_correct ({mode}): a timeout not worded as the student's: "
@@ -709,7 +709,7 @@ def selftest_slow_correct(ctx) -> str:
                 f"CPU used {max(u for u, _ in used):g} s of a {max(b for _, b in used):g} s budget")
 
     need_solutions()
-    spent = prewarm([HOSTILE / "slow_correct"], ["01"])
+    spent = prewarm([fixture_dir("hostile") / "slow_correct"], ["01"])
     return run_modes(one, spent)
 
 
@@ -729,7 +729,7 @@ def selftest_slow_case(ctx) -> str:
     steps = [s for s in ctx.steps if s.number == "01"]
     source = BUILD / "selftest-slow-case"
     shutil.rmtree(source, ignore_errors=True)
-    shutil.copytree(HOSTILE / "slow_correct", source)
+    shutil.copytree(fixture_dir("hostile") / "slow_correct", source)
     [cpp] = source.glob("*/*.cpp")
     text = cpp.read_text()
     expect(text.count("burn_cpu(1.5);") == 2, f"{cpp.name}: slow_correct no longer burns 1.5 s in each function")
@@ -796,7 +796,7 @@ def selftest_reference_out_of_reach(ctx) -> str:
     """A step 05 that dumps the code at &intersect_rect and asks intersect_rect questions of its own
     gets neither the reference's code nor its answers (tests/fixtures/hostile/dump_reference)."""
     def one(mode: str) -> str:
-        _, got, _, _ = grade_json(HOSTILE / "dump_reference", ["05"], mode)
+        _, got, _, _ = grade_json(fixture_dir("hostile") / "dump_reference", ["05"], mode)
         out = printed(got)
         dumps = [l.split("bytes ", 1)[1].strip() for l in out.splitlines() if l.startswith("dump_reference: bytes ")]
         expect(dumps, f"dump_reference ({mode}): its dump is not in the JSON; did the attack run at all?")

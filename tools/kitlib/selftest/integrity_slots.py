@@ -34,7 +34,8 @@ from ..common import BUILD, ROOT
 from ..sandbox import Limits
 from ..sandbox_slots import KIT_TEMP_DIRS
 from .harness import Failed, Skipped, expect, need_solutions
-from .integrity import HOSTILE, blamed_on_kit, grade_json, isolations, printed, run_modes, statuses
+from .integrity import blamed_on_kit, grade_json, isolations, printed, run_modes, statuses
+from .fixtures import fixture_dir
 
 LIMIT_WORDS = "may not start processes or threads"
 
@@ -45,8 +46,8 @@ def messages(data: dict) -> list[str]:
 
 def selftest_fork_budget(ctx) -> str:
     def one(mode: str) -> str:
-        _, slow, _, _ = grade_json(HOSTILE / "slow_correct", ["01"], mode)
-        _, forked, _, _ = grade_json(HOSTILE / "fork_budget", ["01"], mode)
+        _, slow, _, _ = grade_json(fixture_dir("hostile") / "slow_correct", ["01"], mode)
+        _, forked, _, _ = grade_json(fixture_dir("hostile") / "fork_budget", ["01"], mode)
         out = printed(forked)
         expect("fork_budget: fork refused: Resource temporarily unavailable" in out,
                f"fork_budget ({mode}): the fork was not refused: {out[:300]!r}")
@@ -75,7 +76,7 @@ def selftest_keyring_rerun(ctx) -> str:
     """The oracle is the fixture's record: the inputs it printed as "now" in the hidden cases must be
     in no visible or ★ case's output or message, nor anywhere in the next grading in the same slot."""
     def one(mode: str) -> str:
-        _, first, _, _ = grade_json(HOSTILE / "keyring_rerun", ["01"], mode)
+        _, first, _, _ = grade_json(fixture_dir("hostile") / "keyring_rerun", ["01"], mode)
         [step] = first["record"]["steps"]
         if not any(c["tier"] == "hidden" for c in step["cases"]):
             raise Skipped("no hidden cases here, so nothing to keep")
@@ -90,7 +91,7 @@ def selftest_keyring_rerun(ctx) -> str:
         expect(not leaked, f"keyring_rerun ({mode}): {len(leaked)} of {len(hidden)} hidden inputs shown in a visible "
                            f"or ★ case, e.g. {leaked[:2]}")
         # The next student in the same slot (the same sandbox id: slot 0, claimed again).
-        _, second, _, _ = grade_json(HOSTILE / "keyring_rerun", ["01"], mode, cache=False)
+        _, second, _, _ = grade_json(fixture_dir("hostile") / "keyring_rerun", ["01"], mode, cache=False)
         found = set(KEY_FOUND.findall(printed(second)))
         carried = sorted(found & hidden)
         expect(not carried, f"keyring_rerun ({mode}): the next grading in the slot found {len(carried)} of the "
@@ -132,9 +133,9 @@ def ours(line: str) -> bool:
 
 def selftest_classmate_program(ctx) -> str:
     def one(mode: str) -> str:
-        _, base, _, _ = grade_json(HOSTILE / "always_miss", ["01"], mode)
-        _, records, took = grade_together({"a_spy": HOSTILE / "classmate_program",
-                                           "b_victim": HOSTILE / "slow_correct"}, mode)
+        _, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
+        _, records, took = grade_together({"a_spy": fixture_dir("hostile") / "classmate_program",
+                                           "b_victim": fixture_dir("hostile") / "slow_correct"}, mode)
         out = printed(records["a_spy"])
         expect("classmate_program: saw" in out, f"classmate_program ({mode}): its output is not in the record")
         # Under bubblewrap the one command line it sees is its own sandbox's (bubblewrap's init): its own
@@ -167,7 +168,7 @@ def selftest_fill_tmp(ctx) -> str:
         alice = BUILD / "integrity-alice-01"
         shutil.rmtree(alice, ignore_errors=True)
         shutil.copytree(ROOT / "solutions" / "01_unit_sphere", alice / "01_unit_sphere")
-        _, records, took = grade_together({"a_fill": HOSTILE / "fill_tmp", "b_alice": alice}, mode)
+        _, records, took = grade_together({"a_fill": fixture_dir("hostile") / "fill_tmp", "b_alice": alice}, mode)
         out = printed(records["a_fill"])
         filled = {where: (int(mb), why, int(files)) for where, mb, why, files in FILLED.findall(out)}
         expect("its folder" in filled, f"fill_tmp ({mode}): did not run: {out[:300]!r}")

@@ -17,6 +17,7 @@ from ..mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_fil
 from ..common import BUILD, ROOT, load_steps
 from ..status import PARTIAL
 from .harness import Failed, expect, need_solutions, tier
+from .fixtures import fixture_dir
 
 MINIMUM_PER_STEP = 8
 
@@ -172,7 +173,6 @@ STEP02_SQRT = "    const double s = std::sqrt(disc);"
 
 def planted_root_causes(work: Path) -> list[str]:
     steps = {s.number: s for s in load_steps()}
-    fixtures = ROOT / "tests" / "fixtures"
     s03 = (ROOT / "solutions" / steps["03"].folder / "unit_direction.cpp").read_text()
     s02 = (ROOT / "solutions" / steps["02"].folder / "general_sphere.cpp").read_text()
     for text, line, where in ((s03, SHORTCUT_LEG, "step 03"), (s02, STEP02_SQRT, "step 02")):
@@ -182,10 +182,10 @@ def planted_root_causes(work: Path) -> list[str]:
         ("the assumption a = 1", "03", {"unit_direction.cpp": s03.replace(SHORTCUT_LEG, SHORTCUT_A_ONE, 1)},
          "shortcut: a unit sphere 1000 units away"),
         ("cancellation in h^2 - a c'", "02",
-         {"general_sphere.cpp": (fixtures / "textbook" / steps["02"].folder / "general_sphere.cpp").read_text()},
+         {"general_sphere.cpp": (fixture_dir("textbook") / steps["02"].folder / "general_sphere.cpp").read_text()},
          "a unit sphere 1000 units away"),
         ("cancellation in c'", "02",
-         {"general_sphere.cpp": (fixtures / "forms" / "float_leg" / steps["02"].folder / "general_sphere.cpp").read_text()},
+         {"general_sphere.cpp": (fixture_dir("forms") / "float_leg" / steps["02"].folder / "general_sphere.cpp").read_text()},
          "the ground seen from a metre or two up"),
         ("no known cause", "02", {"general_sphere.cpp": s02.replace(STEP02_SQRT, STEP02_SQRT[:-1] + " * 1.01;", 1)},
          "a unit sphere 1000 units away"),
@@ -208,7 +208,6 @@ def planted_root_causes(work: Path) -> list[str]:
 # Causes a failure must name where two read alike from the outside, each planted as a student's file
 # (tests/fixtures/causes/, README "Causes a failure must name"): the folder, the step, the case, the words
 # the first failure must use and the words of the cause it is mistaken for, which it must not use.
-CAUSES = ROOT / "tests" / "fixtures" / "causes"
 MEASURED = [
     ("the missing a, with no roots left", "double_a_one", "03", "geometric: a unit sphere 10000 units away",
      ROOT_CAUSE_WORDS["the assumption a = 1"], "h^2 and c' (or |L|^2 and t_m^2) are nearly equal"),
@@ -265,7 +264,7 @@ def selftest_measured_causes(ctx) -> str:
     work.mkdir(parents=True)
     named = []
     for cause, fixture, number, case_name, words, mistaken in MEASURED:
-        status, message = _first_failure(CAUSES / fixture, number, case_name, work)
+        status, message = _first_failure(fixture_dir("causes") / fixture, number, case_name, work)
         if status != "fail":
             raise Failed(f"planted {cause}: the case '{case_name}' did not fail under {IDENTITIES} identities ({status})")
         if words not in message or mistaken in message:
@@ -285,7 +284,7 @@ def selftest_measured_causes(ctx) -> str:
         named.append(f"{what} ({patch})")
     fixture, number, window_cases = ROUNDED_AT_END
     for case_name in window_cases:
-        status, message = _first_failure(CAUSES / fixture, number, case_name, work, identities=1)
+        status, message = _first_failure(fixture_dir("causes") / fixture, number, case_name, work, identities=1)
         if status != "pass":
             raise Failed(f"a root one ulp off at a window end ({fixture}): '{case_name}' is {status}, where the "
                          f"rounding is inside the basic tolerance:\n{message[-900:]}")
@@ -319,8 +318,52 @@ def selftest_save_refuses_uncaught(ctx) -> str:
     return f"step {step.number}: a comment-only slip refused, no patch written, the way to drop it named"
 
 
+@tier("quick")
+def selftest_fixture_patches(ctx) -> str:
+    """Every fixture kept as a patch (tests/fixtures/README.md, "How fixtures are kept") applies to its
+    solution, and one that no longer does fails loudly, naming the fixture: a copy of a patch whose
+    lines the solution no longer has, in a scratch tree of fixtures."""
+    import tempfile
+
+    from ..common import KitError
+    from .fixtures import FIXTURES, fixture_dir, is_patch
+    need_solutions()    # tests/fixtures/ ships in no handout
+    kept = sorted(p for p in FIXTURES.rglob("*.patch") if is_patch(p))
+    expect(kept, "no fixture is kept as a patch")
+    tops = sorted({p.relative_to(FIXTURES).parts[0] for p in FIXTURES.iterdir() if p.is_dir()})
+    for top in tops:
+        fixture_dir(top)                                    # raises, naming the fixture, if one fails
+    for p in kept:
+        rel = p.relative_to(FIXTURES)
+        made = fixture_dir(rel.parent / p.stem)
+        expect(made.is_file(), f"tests/fixtures/{rel} gave no {p.stem}")
+    victim = next(p for p in kept if "\n-" in p.read_text() or "\n+" in p.read_text())
+    rel = victim.relative_to(FIXTURES)
+    with tempfile.TemporaryDirectory(prefix="raykit-fixture-") as tmp:
+        tree = Path(tmp) / "fixtures"
+        shutil.copytree(FIXTURES / rel.parts[0], tree / rel.parts[0])
+        broken = tree / rel
+        lines = broken.read_text().splitlines(keepends=True)
+        at = next(i for i, line in enumerate(lines) if i > 0 and line[:1] in " -" and line.strip(" -\n")
+                  and not line.startswith("--- "))
+        lines[at] = lines[at][0] + "    // a line the solution does not have\n"
+        broken.write_text("".join(lines))
+        try:
+            fixture_dir(rel.parent, fixtures=tree, work=Path(tmp) / "build")
+        except KitError as e:
+            said = str(e)
+        else:
+            raise Failed(f"a copy of {rel} whose lines the solution lacks was applied without a word")
+        expect(rel.as_posix() in said and "no longer applies" in said,
+               f"the broken copy of {rel} failed without naming it: {said}")
+        expect(not (Path(tmp) / "build" / rel.parts[0]).exists(), f"the broken copy of {rel} left a folder")
+    return (f"{len(kept)} fixture files kept as patches, all applied ({len(tops)} fixture folders under "
+            f"build/fixtures/); a broken copy fails: {said[:120]}")
+
+
 def selftests():
     return [("mutants are caught", selftest_mutants),
+            ("fixtures kept as patches apply, a broken one is named", selftest_fixture_patches),
             ("mutant save refuses a slip no case catches", selftest_save_refuses_uncaught),
             ("a failure names the cause planted in the answer", selftest_planted_causes),
             ("a failure names the measured cause, not the one it reads like", selftest_measured_causes)]

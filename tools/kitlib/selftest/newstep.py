@@ -46,8 +46,8 @@ from pathlib import Path
 
 from ..common import BUILD, ROOT
 from .harness import Failed, expect, need_solutions
+from .fixtures import fixture_dir
 
-TEMPLATE = ROOT / "tests" / "fixtures" / "new_step"
 COPY = BUILD / "newstep-kit"
 RULES_LOG = BUILD / "newstep-rules.jsonl"     # what each rule said, kept after the copy is gone
 # The template is written as step 06 (TEMPLATE_NUMBER); a kit whose instructor added steps of their
@@ -128,7 +128,7 @@ def contributing_paths(text: str) -> list[re.Pattern]:
 
 def template_files() -> list[Path]:
     dropped = {d.strip() for d in os.environ.get("RAYKIT_NEWSTEP_DROP", "").split(",") if d.strip()}
-    files = sorted(p.relative_to(TEMPLATE) for p in TEMPLATE.rglob("*") if p.is_file())
+    files = sorted(p.relative_to(fixture_dir("new_step")) for p in fixture_dir("new_step").rglob("*") if p.is_file())
     return [f for f in files if f.as_posix() not in dropped]
 
 
@@ -188,7 +188,7 @@ def selftest_new_step(ctx) -> str:
     expect(not unnamed, "the template has files CONTRIBUTING.md's \"## A step\" does not name: " + ", ".join(unnamed))
     kit_dir = scratch_kit(COPY)
     for f in files:
-        rel, text = numbered(f, (TEMPLATE / f).read_text(), NUMBER)
+        rel, text = numbered(f, (fixture_dir("new_step") / f).read_text(), NUMBER)
         (kit_dir / rel).parent.mkdir(parents=True, exist_ok=True)
         (kit_dir / rel).write_text(text)
     lap("copy")

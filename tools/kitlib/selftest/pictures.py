@@ -28,6 +28,7 @@ from .. import picture
 from ..common import BUILD, ROOT, load_steps
 from . import check
 from .harness import Failed, expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
 WORK = BUILD / "selftest-pictures"
 SVG = "{http://www.w3.org/2000/svg}"
@@ -273,7 +274,6 @@ OFF_WRAPPERS = {
 }
 # The textbook formula in float (a fixture: never in a handout): its ★ cases fail by a few ulps or a
 # flipped count.
-TEXTBOOK_02 = ROOT / "tests" / "fixtures" / "textbook" / "02_general_sphere" / "general_sphere.cpp"
 
 
 def write_off(folder: Path) -> None:
@@ -330,7 +330,7 @@ def selftest_labels(ctx) -> str:
     off, textbook = folder / "off", folder / "textbook"
     write_off(off)
     (textbook / "02_general_sphere").mkdir(parents=True)
-    shutil.copyfile(TEXTBOOK_02, textbook / "02_general_sphere" / "general_sphere.cpp")
+    shutil.copyfile(fixture_dir("textbook/02_general_sphere/general_sphere.cpp"), textbook / "02_general_sphere" / "general_sphere.cpp")
     drawn = {}
     for steps_dir, numbers in ((off, ["1", "2", "3", "4"]), (textbook, ["2"])):
         report = folder / f"{steps_dir.name}.json"

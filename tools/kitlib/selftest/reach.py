@@ -56,6 +56,7 @@ from pathlib import Path
 from .. import course as course_file
 from ..common import BUILD, ROOT, load_steps
 from .harness import Skipped, expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
 THIRD_PARTY = ROOT.parent / "shared" / "third_party"
 WORK = BUILD / "reach"
@@ -802,7 +803,7 @@ def selftest_mac_like(ctx) -> str:
         stb = [l for l in (kit_dir / "build").glob("*/CMakeCache.txt") if "RAYKIT_STB_INCLUDE_DIR" in l.read_text()]
         expect(stb and f"RAYKIT_STB_INCLUDE_DIR:PATH={brew}/include" in stb[0].read_text(),
                "./kit render did not take stb's headers from the Homebrew prefix")
-        shutil.copyfile(ROOT / "tests" / "fixtures" / "wrong" / "01_unit_sphere" / "unit_sphere.cpp",
+        shutil.copyfile(fixture_dir("wrong") / "01_unit_sphere" / "unit_sphere.cpp",
                         kit_dir / "steps" / "01_unit_sphere" / "unit_sphere.cpp")
         if root:
             os.lchown(kit_dir / "steps" / "01_unit_sphere" / "unit_sphere.cpp", 65534, 65534)

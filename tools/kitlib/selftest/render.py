@@ -14,8 +14,8 @@ from ..build import preset_build, submission_build, tools_build
 from ..checking import check_steps
 from ..status import DONE, PARTIAL
 from .harness import expect, kit, need_solutions
+from .fixtures import fixture_dir
 
-WRONG_05 = ROOT / "tests" / "fixtures" / "cornell_wrong"
 
 
 def selftest_pictures_current(ctx) -> str:
@@ -46,7 +46,7 @@ def selftest_wrong_cornell(ctx) -> str:
     need_solutions()  # these render with, or against, the reference solutions
     all_steps = load_steps()
     steps = [s for s in all_steps if s.number in ("04", "05")]
-    r04, r05 = check_steps(submission_build(WRONG_05, "fixtures"), steps, all_steps)
+    r04, r05 = check_steps(submission_build(fixture_dir("cornell_wrong"), "fixtures"), steps, all_steps)
     expect(r04.state == DONE, f"the fixture's (correct) step 04 is graded {r04.state}")
     expect(r05.state == PARTIAL, f"the fixture's step 05 is graded {r05.state}, expected partial")
     failed = {c.name for c in r05.cases if c.status == "fail"}
@@ -54,8 +54,8 @@ def selftest_wrong_cornell(ctx) -> str:
                  "the Cornell box at 48 by 32 pixels matches the reference render"):
         expect(must in failed, f"the fixture's step 05 passes '{must}'")
     with tempfile.TemporaryDirectory() as tmp:
-        r = kit("render", "cornell_box", "--steps", str(WRONG_05), "--out", tmp)
-        expect(r.returncode == 1, f"./kit render --steps {WRONG_05.name} exited {r.returncode}, expected 1:\n"
+        r = kit("render", "cornell_box", "--steps", str(fixture_dir("cornell_wrong")), "--out", tmp)
+        expect(r.returncode == 1, f"./kit render --steps cornell_wrong exited {r.returncode}, expected 1:\n"
                                   f"{r.stdout[-1000:]}{r.stderr[-1000:]}")
         m = re.search(r"(\d+) of (\d+) pixels differ", r.stdout)
         expect(m is not None and int(m.group(1)) > 0, f"no count of differing pixels in:\n{r.stdout[-1000:]}")
@@ -73,7 +73,7 @@ def selftest_render_skips(ctx) -> str:
     crash = Path(tempfile.mkdtemp(dir=BUILD))
     for folder in ("04_rectangles", "05_cornell_box"):
         shutil.copytree(ROOT / "solutions" / folder, crash / folder)
-    shutil.copytree(ROOT / "tests" / "fixtures" / "crash", crash, dirs_exist_ok=True)
+    shutil.copytree(fixture_dir("crash"), crash, dirs_exist_ok=True)
     # Steps 01-04 done, step 05 the stub: the rectangles are drawn with step 05's render loop, and the
     # message names step 05, the step missing, not step 04, the scene's.
     four = Path(tempfile.mkdtemp(dir=BUILD))
@@ -82,7 +82,7 @@ def selftest_render_skips(ctx) -> str:
     for source, scene, words in [("steps", "cornell_box", "not written yet"),
                                  (str(four), "rectangles", "step 05's render is not written yet"),
                                  (str(crash), "unit_sphere", "crashed"),
-                                 ("tests/fixtures/cornell_wrong", "unit_sphere", "unit_sphere.cpp is missing")]:
+                                 (str(fixture_dir("cornell_wrong")), "unit_sphere", "unit_sphere.cpp is missing")]:
         with tempfile.TemporaryDirectory() as tmp:
             r = kit("render", scene, "--steps", source, "--out", tmp)
             expect(r.returncode == 1, f"./kit render {scene} --steps {source} exited {r.returncode}, expected 1")
@@ -97,7 +97,6 @@ def selftest_render_skips(ctx) -> str:
     return "reported and skipped, no file left: " + ", ".join(seen)
 
 
-TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 
 
 def selftest_rounding_rule(ctx) -> str:
@@ -131,7 +130,7 @@ def selftest_render_tolerance(ctx) -> str:
     steps = {s.number: s for s in load_steps()}
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="render-tolerance-"))
     try:
-        textbook = _steps_folder(work / "textbook", {n: TEXTBOOK / steps[n].folder for n in ("01", "02")})
+        textbook = _steps_folder(work / "textbook", {n: fixture_dir("textbook") / steps[n].folder for n in ("01", "02")})
         out = work / "out-textbook"
         r = kit("render", "spheres", "--steps", str(textbook), "--out", str(out))
         expect(r.returncode == 0, f"./kit render spheres with the textbook step 02 exited {r.returncode}, "

@@ -28,6 +28,7 @@ from pathlib import Path
 from ..common import BUILD, ROOT, KitError, load_steps
 from . import scale
 from .harness import Failed, Skipped, expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
 WORK = BUILD / "report-test"
 STEPS = ("01", "02")
@@ -145,9 +146,9 @@ def _make_class(root: Path) -> dict:
     put(who, s1, sol(s1)), put(who, s2, stub(s2))
     plan["odd"].append(who)
     who = name("nocompile")
-    put(who, s1, ROOT / "tests" / "fixtures" / "no_compile" / s1.folder), put(who, s2, sol(s2))
+    put(who, s1, fixture_dir("no_compile") / s1.folder), put(who, s2, sol(s2))
     plan["odd"].append(who)
-    textbook = ROOT / "tests" / "fixtures" / "textbook"
+    textbook = fixture_dir("textbook")
     own, disguised = name("own"), name("other")
     for s in (s1, s2):
         put(own, s, textbook / s.folder)
@@ -289,7 +290,7 @@ def selftest_similar_groups(ctx) -> str:
     from ..report import similar
     from ..report.pages import similar_section
     steps = load_steps()
-    textbook = ROOT / "tests" / "fixtures" / "textbook"
+    textbook = fixture_dir("textbook")
     own = [s for s in steps if len(s.files) == 1 and (textbook / s.folder / s.files[0]).is_file()]
     if len(own) < 2:
         raise Failed("tests/fixtures/textbook/ holds fewer than two steps' own answers")

@@ -22,17 +22,17 @@ from ..build import submission_build
 from ..checking import check_steps
 from ..status import DONE
 from .harness import Failed, Skipped, expect, kit, need_solutions
+from .fixtures import fixture_dir
 
-TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
-FORMS = ROOT / "tests" / "fixtures" / "forms"
 
 # Form (as the suites name it) -> the folders graded as that form, per step. "solutions" is the
-# reference, whose passing every ★ case "solutions pass every case" (selftest/check.py) checks.
+# reference, whose passing every ★ case "solutions pass every case" (selftest/check.py) checks; the
+# others are fixtures (tests/fixtures/NAME, read through fixtures.fixture_dir).
 GRADED = {
-    "01": {"textbook_float": [TEXTBOOK], "float_rewrites": ["solutions"]},
-    "02": {"textbook_float": [TEXTBOOK], "float_rewrites": [FORMS / "float_leg", FORMS / "float_cross"],
-           "double_textbook": [FORMS / "double_inside"], "double_rewrite": ["solutions"]},
-    "03": {"textbook_float": [TEXTBOOK], "float_rewrites": ["solutions"]},
+    "01": {"textbook_float": ["textbook"], "float_rewrites": ["solutions"]},
+    "02": {"textbook_float": ["textbook"], "float_rewrites": ["forms/float_leg", "forms/float_cross"],
+           "double_textbook": ["forms/double_inside"], "double_rewrite": ["solutions"]},
+    "03": {"textbook_float": ["textbook"], "float_rewrites": ["solutions"]},
 }
 # Where the lectures and tasks state how many ★ cases of step 02 the float rewrites pass.
 CLAIMS = ["lectures/02-general-sphere.md", "lectures/03-unit-direction.md", "steps/02_general_sphere/README.md",
@@ -86,9 +86,9 @@ def selftest_forms_named(ctx) -> str:
                 if folder == "solutions":
                     got = {case: True for case in claims}  # the reference: selftest/check.py
                 else:
-                    results = check_steps(submission_build(folder, "forms"), [step], steps)
+                    results = check_steps(submission_build(fixture_dir(folder), "forms"), [step], steps)
                     robust = results[0].tier("robust")
-                    expect(results[0].state == DONE, f"{folder.relative_to(ROOT)} step {number}: graded "
+                    expect(results[0].state == DONE, f"tests/fixtures/{folder} step {number}: graded "
                                                      f"{results[0].state}, expected done")
                     got = {c.name: c.status == "pass" for c in robust}
                     expect(set(got) == set(claims), f"step {number}: the graded ★ cases {sorted(got)} are not "
@@ -120,9 +120,9 @@ def selftest_forms_named(ctx) -> str:
 def selftest_textbook_fails_robust(ctx) -> str:
     need_solutions()   # a handout has neither solutions/ nor tests/fixtures/
     steps = load_steps()
-    chosen = [s for s in steps if (TEXTBOOK / s.folder).is_dir()]
+    chosen = [s for s in steps if (fixture_dir("textbook") / s.folder).is_dir()]
     expect(any(s.number == "02" for s in chosen), "tests/fixtures/textbook/ has no answer for step 02")
-    results = check_steps(submission_build(TEXTBOOK, "fixtures"), chosen, steps)
+    results = check_steps(submission_build(fixture_dir("textbook"), "fixtures"), chosen, steps)
     summary = []
     for r in results:
         basic, robust = r.tier("basic"), r.tier("robust")
@@ -138,7 +138,7 @@ def selftest_textbook_fails_robust(ctx) -> str:
             expect(c.status == "fail", f"{where}: robust case '{c.name}' is {c.status}, expected a wrong answer")
         summary.append(f"step {r.step.number} basic {len(basic)}/{len(basic)}, robust "
                        f"{r.passed('robust')}/{len(robust)}")
-    r = kit("check", "2", "--steps", str(TEXTBOOK))
+    r = kit("check", "2", "--steps", str(fixture_dir("textbook")))
     expect(r.returncode == 0, f"./kit check 2 on the textbook answer exited {r.returncode}, expected 0 (done)")
     expect("done" in r.stdout and "★ robust" in r.stdout,
            f"the scoreboard does not show the basic and robust tiers apart:\n{r.stdout[-1500:]}")
@@ -192,7 +192,7 @@ def selftest_same_bits_with_fma(ctx) -> str:
     has_fma = "fma" in procfs.cpu_flags()
     compilers = [c for c in ("g++", "clang++") if shutil.which(c)]
     sources = {"solutions": ROOT / "solutions" / "02_general_sphere" / "general_sphere.cpp",
-               "textbook": ROOT / "tests" / "fixtures" / "forms" / "float_leg" / "02_general_sphere" / "general_sphere.cpp"}
+               "textbook": fixture_dir("forms") / "float_leg" / "02_general_sphere" / "general_sphere.cpp"}
     sources = {k: v for k, v in sources.items() if v.is_file()}
     expect(bool(sources) and bool(compilers), "no step 02 source or no compiler to try")
     told = []
@@ -234,9 +234,10 @@ def selftest_same_bits_with_fma(ctx) -> str:
 # under several identities, so the hidden families draw other inputs each time.
 # The lectures' forms themselves (tests/fixtures/fair/, in float and double, with and without FMA) are
 # graded by the fairness table (selftest/fair_table.py), on 2 draws here, 100 with RAYKIT_SELFTEST_FULL=1.
-FAIR_FORMS = [(ROOT / "solutions", ["1", "2", "3"]), (TEXTBOOK, ["1", "2", "3"]),
-              (FORMS / "float_leg", ["2"]), (FORMS / "float_cross", ["2"]), (FORMS / "double_inside", ["2"]),
-              (FORMS / "object_space", ["4"])]
+# Each a fixture's name (fixtures.fixture_dir) but "solutions".
+FAIR_FORMS = [("solutions", ["1", "2", "3"]), ("textbook", ["1", "2", "3"]),
+              ("forms/float_leg", ["2"]), ("forms/float_cross", ["2"]), ("forms/double_inside", ["2"]),
+              ("forms/object_space", ["4"])]
 # And the other side: a slip a hidden family is there to catch is caught on every draw, not on some.
 ALWAYS_CAUGHT = [("04_rectangles", "edge_excluded", "intersect_rect on exact edges and corners of every axis")]
 
@@ -249,7 +250,8 @@ def selftest_fair_on_many_draws(ctx) -> str:
     seeds = 100 if os.environ.get("RAYKIT_SELFTEST_FULL") == "1" else 3
     unfair, graded = [], 0
     with tempfile.TemporaryDirectory(prefix="raykit-fair-") as tmp:
-        for folder, numbers in FAIR_FORMS:
+        for name, numbers in FAIR_FORMS:
+            folder = ROOT / "solutions" if name == "solutions" else fixture_dir(name)
             for k in range(seeds):
                 target = Path(tmp) / "record.json"
                 target.unlink(missing_ok=True)

@@ -16,8 +16,8 @@ from pathlib import Path
 from ..common import ROOT, load_steps
 from ..robust_line import where
 from .harness import expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
-TEXTBOOK = ROOT / "tests" / "fixtures" / "textbook"
 
 # Phrases that hand over the cure instead of naming the trouble. Each matched a message before the
 # messages were rewritten (the samples in selftest_no_cure_in_messages), and none of the lecture pointers.
@@ -115,14 +115,14 @@ def selftest_done_step_is_calm(ctx) -> str:
     """The textbook step 01 is done and fails its 3 ★ cases: one line, no case; --all shows them."""
 
     need_solutions()  # the fixture's steps are graded on top of the reference
-    r = kit("check", "1", "--steps", str(TEXTBOOK))
-    expect(r.returncode == 0, f"./kit check 1 --steps {TEXTBOOK.name} exited {r.returncode}:\n{r.stdout[-1500:]}")
+    r = kit("check", "1", "--steps", str(fixture_dir("textbook")))
+    expect(r.returncode == 0, f"./kit check 1 --steps textbook exited {r.returncode}:\n{r.stdout[-1500:]}")
     line = re.search(r"^\s*step 01: (★ robust (\d+) of (\d+), optional: lecture 01, section 6)$", r.stdout, re.M)
     expect(line is not None and line.group(2) != line.group(3),
            f"no line 'step 01: ★ robust k of n, optional: lecture 01, section 6' (k < n) in:\n{r.stdout[-1500:]}")
     expect("✗" not in r.stdout and "expected" not in r.stdout,
            f"a done step shows a failing ★ case without --all:\n{r.stdout[-1500:]}")
-    every = kit("check", "1", "--all", "--steps", str(TEXTBOOK))
+    every = kit("check", "1", "--all", "--steps", str(fixture_dir("textbook")))
     shown = len(re.findall(r"✗ ★ the unit sphere|✗ ★ grazing rays", every.stdout))   # ★ cases are marked
     failing = int(line.group(3)) - int(line.group(2))
     expect(shown == failing, f"--all shows {shown} ★ cases, {failing} fail:\n{every.stdout[-1500:]}")

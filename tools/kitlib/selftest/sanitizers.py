@@ -36,11 +36,12 @@ def _ub_files(student: str, dest) -> None:
     import shutil
 
     from ..common import ROOT
+    from .fixtures import fixture_dir
     for folder, (fixture, _) in UB_STUDENTS[student].items():
         (dest / folder).mkdir(parents=True, exist_ok=True)
         if folder == "05_cornell_box":
             shutil.copyfile(ROOT / "solutions" / folder / "cornell_box.cpp", dest / folder / "cornell_box.cpp")
-        for f in (ROOT / "tests" / "fixtures" / fixture / folder).iterdir():
+        for f in (fixture_dir(fixture) / folder).iterdir():
             shutil.copyfile(f, dest / folder / f.name)
 
 

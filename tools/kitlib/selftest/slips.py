@@ -20,8 +20,8 @@ from pathlib import Path
 from .. import slips
 from ..common import BUILD, ROOT, Step, load_steps
 from .harness import Failed, expect, kit, need_solutions, tier
+from .fixtures import fixture_dir
 
-SLIPS = ROOT / "tests" / "fixtures" / "slips"
 CASE_LINE = re.compile(r"^\s+✗ (.*?)  \[", re.M)
 
 
@@ -56,7 +56,7 @@ def _section_teaching(step, pattern: str, title: bool = False) -> str:
 def _check(step, fixture: str, work: Path) -> tuple[str, dict]:
     """./kit check N --steps DIR on a fixture: (stdout, the step's record)."""
     record = work / f"{fixture}.json"
-    r = kit("check", str(int(step.number)), "--steps", str(SLIPS / fixture), "--results", str(record), timeout=900)
+    r = kit("check", str(int(step.number)), "--steps", str(fixture_dir("slips") / fixture), "--results", str(record), timeout=900)
     expect(r.returncode == 1, f"the planted slip {fixture} exited {r.returncode}, expected 1 (a wrong answer):\n"
                               f"{r.stdout[-1500:]}{r.stderr[-800:]}")
     return r.stdout, json.loads(record.read_text())["steps"][0]
@@ -66,7 +66,7 @@ def _first_hint(step, fixture: str) -> str:
     n = str(int(step.number))
     kit("hint", n, "--reset")
     try:
-        r = kit("hint", n, "--steps", str(SLIPS / fixture), timeout=900)
+        r = kit("hint", n, "--steps", str(fixture_dir("slips") / fixture), timeout=900)
     finally:
         kit("hint", n, "--reset")
     expect(r.returncode == 0 and "Hint " in r.stdout, f"./kit hint {n} on {fixture}:\n{r.stdout[-1200:]}{r.stderr[-500:]}")
@@ -163,8 +163,8 @@ def selftest_turned_render(ctx) -> str:
             # The renderer draws with the folder's own step 04: a correct one from the grader's fixtures.
             folder = work / fixture / "steps"
             for n in steps["05"].needs:
-                shutil.copytree(ROOT / "tests" / "fixtures" / "cornell_wrong" / steps[n].folder, folder / steps[n].folder)
-            shutil.copytree(SLIPS / fixture / steps["05"].folder, folder / steps["05"].folder)
+                shutil.copytree(fixture_dir("cornell_wrong") / steps[n].folder, folder / steps[n].folder)
+            shutil.copytree(fixture_dir("slips") / fixture / steps["05"].folder, folder / steps["05"].folder)
             r = kit("render", "cornell_box", "--steps", str(folder), "--out", str(work / fixture / "out"),
                     timeout=900)
             line = next((l for l in r.stdout.splitlines() if "✗" in l), "")
@@ -287,7 +287,7 @@ def selftest_near_slip_words(ctx) -> str:
     need_solutions()
     from ..mutants import read_patch
     s = _steps()["01"]
-    patch = SLIPS / "c_plus_one.patch"
+    patch = fixture_dir("slips") / "c_plus_one.patch"
     known = read_patch(ROOT / "tests" / "mutants" / s.folder / "c_without_radius.patch", s)
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-near-"))
     try:
@@ -413,7 +413,6 @@ def measure(argv: list[str]) -> int:
 # the cause measured on its answer, and no other code's words. Beside each, a control: a slip whose
 # failure reads alike but whose cause differs must not be given these words.
 
-FORMS = ROOT / "tests" / "fixtures" / "forms"
 
 
 def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = None,
@@ -485,7 +484,7 @@ def selftest_fitting_words(ctx) -> str:
         # The ★ pbrt case computed in double (forms/double_inside): named as the double form's answer,
         # never told "with every operation in float" alone, and every call is explained.
         s = steps["02"]
-        _, rec = _graded(s, {}, work, "double_inside", FORMS / "double_inside", quiet=True)
+        _, rec = _graded(s, {}, work, "double_inside", fixture_dir("forms") / "double_inside", quiet=True)
         pbrt = next((m for k, m in _failing(rec, "robust").items() if "pbrt" in k), None)
         expect(pbrt is not None, "the textbook formula in double passes the ★ pbrt-range case")
         calls = [b for b in re.split(r"\n\s*\n", pbrt) if "why" in b]
@@ -497,7 +496,7 @@ def selftest_fitting_words(ctx) -> str:
         # smallpt's loop, last to first with <: the tie is read off the answer, with each loop order's
         # comparison, not "use <" alone; the <= mutant gets the same words.
         s = steps["05"]
-        for name, files, fixture in (("ties_last_to_first", {}, SLIPS / "ties_last_to_first"),
+        for name, files, fixture in (("ties_last_to_first", {}, fixture_dir("slips") / "ties_last_to_first"),
                                      ("tie_goes_to_last", _mutant(s, "tie_goes_to_last"), None)):
             _, rec = _graded(s, files, work, name, fixture, quiet=True)
             ties = {k: m for k, m in _failing(rec).items() if "tie" in k}
@@ -514,7 +513,7 @@ def selftest_fitting_words(ctx) -> str:
         cases = ["a window with a negative part: the smallest t wins even behind the origin",
                  "an object behind the origin alone is hit when the window reaches behind it"]
         for name, files, fixture, words, not_words in (
-                ("negative_t_dropped", {}, SLIPS / "negative_t_dropped", "drops hits at a negative t", "distance"),
+                ("negative_t_dropped", {}, fixture_dir("slips") / "negative_t_dropped", "drops hits at a negative t", "distance"),
                 ("negative_t_dropped mutant", _mutant(s, "negative_t_dropped"), None, "drops hits at a negative t",
                  "distance"),
                 ("closest_by_distance", _mutant(s, "closest_by_distance"), None,
@@ -534,7 +533,7 @@ def selftest_fitting_words(ctx) -> str:
 
         # A slab test that checks d.z == 0 and lets a ray lying in the plane through: not told NaN.
         s = steps["04"]
-        _, rec = _graded(s, {}, work, "in_plane_slab", SLIPS / "in_plane_slab", quiet=True)
+        _, rec = _graded(s, {}, work, "in_plane_slab", fixture_dir("slips") / "in_plane_slab", quiet=True)
         in_plane = {k: m for k, m in _failing(rec).items() if "plane" in k}
         expect(in_plane, "the slab test fails no in-plane case")
         for k, m in in_plane.items():

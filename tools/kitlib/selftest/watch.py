@@ -13,6 +13,7 @@ import time
 
 from ..common import BUILD, ROOT, load_steps
 from .harness import CLEAR, Failed, Screen, expect, need_solutions
+from .fixtures import fixture_dir
 
 
 def processes_with(word: str) -> list[int]:
@@ -52,11 +53,11 @@ def selftest_watch(ctx) -> str:
         # the step stays on screen): the loop's check is stopped with its looping program, and the
         # answer saved is what the screen shows.
         for f in s1.files:
-            shutil.copyfile(ROOT / "tests" / "fixtures" / "hang" / s1.folder / f, folder / s1.folder / f)
+            shutil.copyfile(fixture_dir("hang") / s1.folder / f, folder / s1.folder / f)
         looping = wait_for_process(str(BUILD / "watch" / f"answers_step{s1.number}"), 240)   # the watch's own
         expect(looping, "the endless loop's check never started its answers program")
         for f in s1.files:
-            shutil.copyfile(ROOT / "tests" / "fixtures" / "textbook" / s1.folder / f, folder / s1.folder / f)
+            shutil.copyfile(fixture_dir("textbook") / s1.folder / f, folder / s1.folder / f)
         screen.wait_for("the check that was running stopped", 60)
         took = screen.wait_for("press n for the next step", 240)
         notes.append(f"a save during an endless loop's check: stopped, the fix's verdict {took:.1f} s later")

@@ -13,6 +13,7 @@ from ..record import is_record
 from ..status import DONE
 from . import scale
 from .harness import expect, kit, need_solutions
+from .fixtures import fixture_dir
 
 # Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
 # Specifications"): anything else is a mistake on our side.
@@ -57,7 +58,7 @@ def selftest_batch_grading(ctx) -> str:
     shutil.rmtree(root, ignore_errors=True)
     wrong = write_answer(step, MUTANTS / step.folder / "open_window.patch", BUILD / "grade-test-mutant" / step.folder)
     sources = {"alice": ROOT / "solutions", "bob": wrong.parent,
-               "carol": ROOT / "tests/fixtures/crash", "dave": ROOT / "tests/fixtures/hang"}
+               "carol": fixture_dir("crash"), "dave": fixture_dir("hang")}
     for student, src in sources.items():
         dst = root / student / step.folder
         dst.mkdir(parents=True)
