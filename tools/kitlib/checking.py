@@ -34,10 +34,10 @@ from . import course as course_file
 from . import faults
 from . import includes
 from . import waits
-from . import warmup
+from . import bundle
 from .cases import SCORED_TIERS, Case, StepResult
-from .common import BUILD, ROOT, InOrder, Step, map_in_threads, prerequisites
-from .build import Build, build_target, build_targets, ensure_configured, ninja_of, shown_text
+from .common import BUILD, ROOT, InOrder, Step, load_steps, map_in_threads, prerequisites
+from .build import Build, detect_undefined, shown_text
 from .objcache import ObjectCache
 from .runcases import list_cases, record_reference_time, rerun_timeouts, run_cases, step_budget
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
@@ -74,93 +74,41 @@ def _all(cases: list[Case], status: str, message: str) -> list[Case]:
 
 @dataclass
 class Built:
-    """What building a step's judge and answers program gave."""
-    judge_ok: bool
+    """What building a step's answers program gave; the judge is the bundle's."""
+    judge: Path | None          # the bundle's judge (None: the kit's side did not build)
     answers_ok: bool
-    output: str                 # the build tool's output (the compiler's errors, if any)
+    output: str                 # the compiler's and the linker's output (the errors, if any)
     missing: list[str] = field(default_factory=list)    # the step's files not there when it was built
 
+    @property
+    def judge_ok(self) -> bool:
+        return self.judge is not None
 
-def build_step(build: Build, step: Step, progress: Callable[[int, int], None] | None = None,
-               isolation: Isolation | None = None) -> Built:
-    """Builds the step's judge and, when its files are all there, its answers program, in one call of
-    the build tool (both in parallel; -k 0 so the judge is built even where the student's code fails).
-    A graded submission's answers program is compiled and linked by the kit itself inside the
-    boundary (build_answers), the rest by the build tool."""
+
+def build_step(build: Build, step: Step, kit: bundle.Bundle, isolation: Isolation,
+               progress: Callable[[int, int], None] | None = None) -> Built:
+    """Compiles the student's files of `step` (and of the steps of theirs it links: a handout's, or one
+    the kit has no stand-in for) in parallel, and links them with the bundle's objects for the step,
+    each inside the boundary (Isolation.tool), into `build`'s folder. Nothing of the kit's is built
+    here (bundle.py), and no build tool is run."""
+    judge = kit.judge(step)
     missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
-    if not missing and build.boundary and isolation is not None:
-        commands = answers_commands(build, step)
-        if commands is not None:
-            return build_answers(build, step, commands, isolation, progress)
-    targets = [step.target] + ([] if missing else [f"answers_step{step.number}"])
-    ok, out = build_targets(build, targets, progress)
-    if ok:
-        return Built(True, not missing, out, missing)
-    judge_ok, judge_out = build_target(build, step.target)     # a no-op when the judge was built
-    return Built(judge_ok, False, out if judge_ok else judge_out, missing)
-
-
-@dataclass
-class AnswersCommands:
-    """How the build tool would make a step's answers program in a submission's build: the compiles
-    of the student's files and the link, each as the sandbox launcher would be given it, and what
-    of the kit's own they need first (the dispatcher's object, the reference's for the steps needed)."""
-    compiles: list[list[str]]
-    link: list[str]
-    kit_inputs: list[str]
-
-
-def answers_commands(build: Build, step: Step) -> AnswersCommands | None:
-    """Read from Ninja (`ninja -t commands answers_stepNN`); None where there is no Ninja build or
-    no such target (a step it needs is missing), and the build tool makes it as before."""
-    import shlex
-    ninja = ninja_of(build)
-    if ninja is None:
-        return None
-    r = subprocess.run([ninja, "-C", str(build.binary_dir), "-t", "commands", f"answers_step{step.number}"],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        return None
-    compiles, link = [], None
-    for line in r.stdout.splitlines():
-        if "tools/kitlib/launch.py" not in line:    # the kit's own commands: not split, not needed
-            continue
-        words = shlex.split(line)
-        segments, part = [], []
-        for w in words + ["&&"]:
-            if w == "&&":
-                segments.append(part)
-                part = []
-            else:
-                part.append(w)
-        for seg in segments:
-            at = next((i for i, w in enumerate(seg) if w.endswith("tools/kitlib/launch.py")), None)
-            if at is None or at + 1 >= len(seg):
-                continue
-            if seg[at + 1] == "compile":
-                compiles.append(seg[at + 2:])
-            elif seg[at + 1] == "link":
-                link = seg[at + 2:]
-    if link is None or not compiles:
-        return None
-    made = {c[c.index("-o") + 1] for c in compiles if "-o" in c}
-    inputs = [w for w in link[1:] if w.endswith((".o", ".a")) and w not in made and not w.startswith("-")]
-    return AnswersCommands(compiles, link, inputs)
-
-
-def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation: Isolation,
-                  progress: Callable[[int, int], None] | None = None) -> Built:
-    """The judge and the kit's inputs by the build tool, then the student's files compiled (in
-    parallel) and linked by this process inside the boundary (Isolation.tool, the code the sandbox
-    launcher runs): no launcher process per compile (0.08 s of CPU each, measured)."""
-    total = len(commands.compiles) + 2
-    judge_ok, out = build_targets(build, [step.target] + commands.kit_inputs)
-    if progress:
-        progress(1, total)
-    if not judge_ok:
-        judge_ok, judge_out = build_target(build, step.target)
-        return Built(judge_ok, False, out if judge_ok else judge_out)
-    done = [1]
+    if missing:
+        return Built(judge, False, "", missing)
+    by_folder = {s.folder: s for s in load_steps()}
+    sources: list[tuple[str, str]] = [(step.folder, f) for f in step.files]
+    for folder in kit.own_needs(step):
+        need = by_folder.get(folder)
+        absent = [f for f in need.files if not (build.steps_dir / folder / f).is_file()] if need else ["?"]
+        if absent:
+            return Built(judge, False, f"{folder}/{absent[0]} is missing: step {folder[:2]} is needed first\n")
+        sources += [(folder, f) for f in need.files]
+    use = "grade" if build.boundary else "check"
+    objects_dir = build.binary_dir / "objects"
+    commands = [kit.compile_command(use, build.steps_dir / folder / f, objects_dir / folder / (f + ".o"))
+                for folder, f in sources]
+    total = len(commands) + 1
+    done = [0]
 
     def compile_one(argv: list[str]) -> tuple[int, str]:
         result = isolation.tool("compile", argv, build.binary_dir, ObjectCache)
@@ -169,16 +117,36 @@ def build_answers(build: Build, step: Step, commands: AnswersCommands, isolation
             progress(done[0], total)
         return result
 
-    compiled = map_in_threads(compile_one, commands.compiles, os.cpu_count() or 1)
+    compiled = map_in_threads(compile_one, commands, os.cpu_count() or 1)
     texts = [text for _, text in compiled]
     ok = all(status == 0 for status, _ in compiled)
     if ok:
-        status, text = isolation.tool("link", commands.link, build.binary_dir)
-        texts.append(text)
-        ok = status == 0
+        answers = build.binary_dir / f"answers_step{step.number}"
+        link = kit.link_command([c[c.index("-o") + 1] for c in commands] + kit.kit_objects(step), answers)
+        key, stamp = _link_key(link), answers.with_name(answers.name + ".inputs")
+        if key is None or not answers.is_file() or not stamp.is_file() or stamp.read_text() != key:
+            stamp.unlink(missing_ok=True)
+            status, text = isolation.tool("link", link, build.binary_dir)
+            texts.append(text)
+            ok = status == 0
+            if ok and key is not None:
+                atomic.write(stamp, key)
         if progress:
             progress(total, total)
-    return Built(True, ok, shown_text(build, "".join(texts)))
+    return Built(judge, ok, shown_text(build, "".join(texts)))
+
+
+def _link_key(link: list[str]) -> str | None:
+    """A link's command and the content of every object it reads, as recorded beside the answers
+    program it made (a check of unchanged files links nothing again); None when an input is unreadable."""
+    h = hashlib.sha256("\0".join(link).encode())
+    try:
+        for arg in link:
+            if arg.endswith(".o"):
+                h.update(Path(arg).read_bytes())
+    except OSError:
+        return None
+    return h.hexdigest()
 
 
 def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepResult],
@@ -190,7 +158,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         why = (f"the machine failed the build: {machine}" if machine else
                "the kit's test program does not build (a kit bug)")
         return not_graded(step, why, detail=why + ":\n" + built.output)
-    judge = build.exe(step)
+    judge = built.judge
     try:
         cases = [c for c in list_cases(judge) if tiers is None or c.tier in tiers]
     except (RuntimeError, subprocess.TimeoutExpired, OSError) as e:
@@ -312,9 +280,9 @@ def untouched_result(step: Step, cases: list[Case], results: dict[str, StepResul
     return StepResult(step, NOT_STARTED, cases)
 
 
-def record(build: Build, steps: list[Step], all_steps: list[Step] | None = None) -> list[Path]:
+def record(kit: bundle.Bundle, steps: list[Step], all_steps: list[Step] | None = None) -> list[Path]:
     """Writes tests/stubs.json from steps/ (every step of `all_steps`, default `steps`) and the case
-    lists of `steps` from their built judges (`build` must have the hidden cases, i.e. solutions/
+    lists of `steps` from the bundle's judges (`kit` must have the hidden cases, i.e. solutions/
     present); the hidden case lists of the other steps are kept. Returns the files written."""
     stubs = {f"{s.folder}/{f}": file_hash(ROOT / "steps" / s.folder / f) for s in all_steps or steps
              for f in s.files}
@@ -327,7 +295,7 @@ def record(build: Build, steps: list[Step], all_steps: list[Step] | None = None)
         kept = {}
     hidden: dict[str, list] = {n: v for n, v in kept.items() if n in known}
     for s in steps:
-        cases = list_cases(build.exe(s))
+        cases = list_cases(kit.judge(s))
         entry = lambda c: {"name": c.name, "tier": c.tier, "lecture": c.lecture}   # noqa: E731
         target = ROOT / "tests" / s.folder / "cases.json"
         target.write_text(json.dumps([entry(c) for c in cases if c.tier != "hidden"], indent=1) + "\n")
@@ -475,9 +443,6 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     built, so the first verdict comes after one step's build and the others follow as they build.
     """
     progress = progress or Progress()
-    warmup.stop(build)      # never two builds in one folder: a check goes first (warmup.py)
-    if build.boundary:
-        build.spec = isolation.spec()
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     order = [s for s in all_steps if s.number in wanted or s.number in needed]
@@ -493,9 +458,16 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
         if found is not None:
             known[s.number] = found
     results: dict[str, StepResult] = {}
+    kit: bundle.Bundle | Exception | None = None
     if len(quick) + len(known) < len(order):
-        progress.phase("configuring the build (cmake)")
-        ensure_configured(build, all_steps)
+        # The kit's side: built once per machine (bundle.py); the first check, or the warm-up, builds it.
+        try:
+            kit = bundle.find(detect_undefined())
+            if kit is None:
+                progress.phase("building the kit's side, once for this machine")
+                kit = bundle.ensure(detect_undefined())
+        except Exception as e:      # noqa: BLE001 -- the kit's or the machine's: every step not graded
+            kit = e
 
     def judge(step: Step, built: Built | Exception | None) -> None:
         if step.number in known:
@@ -520,8 +492,10 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
             built: Built | Exception | None = None
             if s.number not in quick and s.number not in known:
                 try:
-                    built = build_step(build, s, lambda done, total, s=s: progress.building(s, done, total),
-                                       isolation)
+                    if isinstance(kit, Exception):
+                        raise kit
+                    built = build_step(build, s, kit, isolation,
+                                       lambda done, total, s=s: progress.building(s, done, total))
                 except Exception as e:      # noqa: BLE001 -- the kit's or the machine's: not graded
                     built = e
             judges.submit(judge, s, built)

@@ -2,9 +2,9 @@
 
 The same files compiled the same way (copies of the stubs or of a solution across a class) are
 compiled once per build/ folder. The boundary runs the compile (sandbox.Isolation.tool) and asks the
-cache it is handed (launch.py hands it this one) whether the object is known; what decides a hit is
-decided here. The kit's own objects have their cache beside it (kitcache.py); both read dependency
-files with kitcache.dependencies and name the compiler with kitcache.compiler_identity.
+cache it is handed (checking.build_step hands it this one) whether the object is known; what decides
+a hit is decided here. The kit's own objects are not compiled by a check at all (bundle.py). Dependency
+files are read with compilers.dependencies and the compiler named with compilers.compiler_identity.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import stat
 from pathlib import Path
 
 from .common import BUILD, ROOT
-from .kitcache import compiler_identity, dependencies
+from .compilers import compiler_identity, dependencies
 from .sandbox import MiB, SECRET_PARTS, Isolation
 
 
@@ -28,20 +28,20 @@ class ObjectCache:
 
     - the command (the private folder's name aside), every file of the step's folder, the kit's
       headers (the private folder's inputs: a superset of what its dependency file can name there) and
-      the compiler's identity (kitcache.compiler_identity: the program `c++` leads to, its size and
+      the compiler's identity (compilers.compiler_identity: the program `c++` leads to, its size and
       time, so an upgraded compiler misses);
     - the boundary, which decides what the compile could read: its kind (bwrap, user, none), the
       bubblewrap command (what is hidden and bound), under the user isolation the rights "others"
       have on the kit's secret parts, and the compile's limits. An object compiled with
       --isolation none, which may have read the answers, is never given to a sandboxed compile;
     - apart from the key, every other input the compile's dependency file names (the headers it read
-      outside its private folder, the system's: the C++ library, GLM; read with kitcache.dependencies,
+      outside its private folder, the system's: the C++ library, GLM; read with compilers.dependencies,
       the kit's one depfile reader), with their size, time, inode and rights: checked when the entry
       is fetched, so an upgraded header is compiled anew.
 
     Written by the grader from a compile that succeeded, read only by the grader (build/ is out of
     the sandbox's reach); files are read and written without following links. RAYKIT_NO_OBJCACHE=1
-    turns it off. The boundary (sandbox.Isolation.tool) is given this class by its caller (launch.py)
+    turns it off. The boundary (sandbox.Isolation.tool) is given this class by its caller (checking.py)
     and keeps no cache of its own."""
 
     ROOT_DIR = BUILD / "objcache"

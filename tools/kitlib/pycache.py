@@ -10,8 +10,7 @@ standard library it imports again into the folder: 107 modules for `./kit check`
 standard library's, 0.39 s of CPU to import instead of 0.11 s with the kit's 27 alone (Python 3.11,
 measured), paid by every newcomer, every CI run and every fresh grader image.
 
-Standard library only: it runs before any other module of the kit (kitlib/__main__.py,
-kitlib/launch.py).
+Standard library only: it runs before any other module of the kit (kitlib/__main__.py).
 """
 
 from __future__ import annotations

@@ -238,7 +238,7 @@ class LiveProgress(Progress):
 
     def building(self, step: Step, done: int, total: int) -> None:
         with self.lock:
-            self._draw(f"  {step.number}  building the test program and your code  [{done}/{total}]"
+            self._draw(f"  {step.number}  compiling your code  [{done}/{total}]"
                        f"  {time.monotonic() - self.start:.0f} s", kind=f"build {step.number}")
 
     def result(self, result: StepResult) -> None:

@@ -11,9 +11,9 @@ without it, only sooner.
 
 The kit builds one such file per step header, from the kit's own public headers and outside the
 sandbox (nothing of a student's goes in), keyed by the compiler and the options of the compile it
-serves (the compiler named as the kit's caches name it, kitcache.compiler_identity), and kept in
+serves (the compiler named as the kit's caches name it, compilers.compiler_identity), and kept in
 build/student-pch/ with the list of every file it read (from its dependency file, read by the kit's
-one parser, kitcache.dependencies), each with its size and time, as the object cache records the
+one parser, compilers.dependencies), each with its size and time, as the object cache records the
 headers a compile read outside its folder (objcache.py): a changed header, GLM or compiler makes it
 be built again. Size and time, not content: the list is checked at every graded compile. The graded
 compile sees it beside the header in its private include folder, hard-linked there (copied where
@@ -36,7 +36,7 @@ from pathlib import Path
 
 from . import atomic
 from .common import BUILD, ROOT
-from .kitcache import compiler_identity, dependencies
+from .compilers import compiler_identity, dependencies
 
 ENV = "RAYKIT_STUDENT_PCH"
 STORE = BUILD / "student-pch"

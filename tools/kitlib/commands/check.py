@@ -11,7 +11,7 @@ import time
 from ..checking import check_steps
 from .. import classroomresults, faults, picture, plresults, record, warmup
 from ..common import BUILD, ROOT, KitError, load_steps, say, note, printable, resolve_steps_dir, select_steps
-from ..build import build_targets, preset_build, submission_build
+from ..build import preset_build, submission_build
 from ..submissions import NotFound, locate
 from ..gradescope import write_json
 from ..packages import ensure_packages
@@ -56,18 +56,16 @@ def register(p) -> None:
 def record_cases(numbers: list[str]) -> int:
     """Records the stubs' hashes and the case lists of the steps named (all when none is: a new
     step's `./kit check N --record` builds only its own judge)."""
-    from ..checking import ensure_configured, hidden_cases_here, record
+    from .. import bundle
+    from ..build import detect_undefined
+    from ..checking import hidden_cases_here, record
     if not hidden_cases_here():
         raise KitError("--record needs solutions/ and tests/hidden/ (the instructor's copy)")
     ensure_packages("build")
     all_steps = load_steps()
     steps = select_steps(all_steps, numbers)
-    build = preset_build("student")
-    ensure_configured(build, all_steps)
-    ok, out = build_targets(build, [s.target for s in steps])
-    if not ok:
-        raise KitError(f"the judges do not build:\n{out[-2000:]}", FAILED)
-    for path in record(build, steps, all_steps):
+    kit = bundle.ensure(detect_undefined())
+    for path in record(kit, steps, all_steps):
         say(f"wrote {path.relative_to(ROOT)}")
     return OK
 
@@ -77,7 +75,7 @@ def run(args) -> int:
         return record_cases(args.numbers)
     all_steps = load_steps()
     if args.warm_up:
-        return warmup.run(preset_build("student"), all_steps)
+        return warmup.run(preset_build("student"))
     steps = select_steps(all_steps, args.numbers)
     if args.steps:
         # One file finder for every folder the kit did not write (here, ./kit grade, the
@@ -137,7 +135,7 @@ def run(args) -> int:
         from ..checking import LastCheck       # for ./kit hint: the same files need no new run
         LastCheck(build, all_steps, isolation).keep(results)
     if not args.steps and not args.quiet and not args.json and not args.classroom and warmup.wanted(build):
-        warmup.start(build)     # nothing was built: the kit's own programs, while the task is read
+        warmup.start(build)     # nothing was built: the kit's side, while the task is read
         if warmup.running(build):
             note("(the kit's own test programs are building in the background while you read the task, "
                  "so your first check of a step you wrote comes sooner)")

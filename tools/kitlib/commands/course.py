@@ -7,9 +7,8 @@ from pathlib import Path
 
 from .. import course as course_file
 from .. import record as results_record
-from ..common import BUILD, KitError, load_steps, say
-from ..build import preset_build
-from ..status import FAILED, OK
+from ..common import KitError, load_steps, say
+from ..status import OK
 
 
 def register(p) -> None:
@@ -43,21 +42,17 @@ def cases_recorded(steps) -> dict[str, list[tuple[str, str]]] | None:
 
 
 def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
-    """Builds only the steps' test programs (no student code) and lists their cases."""
-    from ..checking import ensure_configured
+    """The kit's side (bundle.py: no student code), built once, and its judges' cases."""
+    from .. import bundle
+    from ..build import detect_undefined
     from ..runcases import list_cases
-    from ..build import build_targets
     from ..packages import ensure_packages
     ensure_packages("build")
-    build = preset_build("student")
-    BUILD.mkdir(exist_ok=True)
-    say(f"building the test programs of {len(steps)} steps to list their cases (a first build takes a minute "
-        "or two; the kit's parts are cached after it) ...")
-    ensure_configured(build, steps)
-    ok, out = build_targets(build, [s.target for s in steps])
-    if not ok:
-        raise KitError("the steps' test programs do not build:\n" + out[-3000:], FAILED)
-    return {s.number: [(c.tier, c.name, c.lecture) for c in list_cases(build.exe(s))] for s in steps}
+    kit = bundle.find(detect_undefined())
+    if kit is None:
+        say(f"building the kit's side once (the test programs of {len(steps)} steps) to list their cases ...")
+        kit = bundle.ensure(detect_undefined())
+    return {s.number: [(c.tier, c.name, c.lecture) for c in list_cases(kit.judge(s))] for s in steps}
 
 
 def run(args) -> int:

@@ -19,10 +19,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-from ..checking import check_steps, ensure_configured, recorded_cases, submission_seed
+from ..checking import check_steps, recorded_cases, submission_seed
 from ..runcases import list_cases
 from ..common import BUILD, KitError, load_steps, resolve_steps_dir, say, select_steps
-from ..build import Build, build_targets, preset_build, submission_build
+from ..build import Build, build_targets, ensure_configured, preset_build, submission_build
 from ..packages import ensure_packages, family, has_apt, install_line
 from ..status import FAILED, OK, PASS, SETUP
 

@@ -229,10 +229,7 @@ def student_side() -> set[Path]:
     import ast
     from ..cli import COMMANDS, STUDENT
     pkg = ROOT / "tools" / "kitlib"
-    # launch.py and kitcache.py are run by CMake, not imported: the compile of a folder the kit did
-    # not write (./kit check --steps) goes through the one, the kit's own objects through the other.
-    todo = [pkg / "cli.py", pkg / "__main__.py", pkg / "__init__.py", pkg / "commands" / "__init__.py",
-            pkg / "launch.py", pkg / "kitcache.py"]
+    todo = [pkg / "cli.py", pkg / "__main__.py", pkg / "__init__.py", pkg / "commands" / "__init__.py"]
     todo += [pkg / "commands" / f"{c.module}.py" for c in COMMANDS if c.audience == STUDENT]
     seen: set[Path] = set()
     while todo:

@@ -3,8 +3,8 @@
 One object, `Isolation`, holds everything that keeps graded code apart, and every path from a
 student's file to a process goes through it:
 
-- the compile and the link of the student's answers program (CMake calls `tools/kitlib/launch.py`
-  for them, which calls `Isolation.run_tool`): the sources are copied into a fresh folder with the
+- the compile and the link of the student's answers program (`Isolation.tool`, called by
+  checking.build_step for each): the sources are copied into a fresh folder with the
   kit's public headers beside them, and the compiler runs inside the boundary, where nothing else
   of the kit can be read — not solutions/, the hidden cases, the mutants, .git, the reference's
   objects, nor other students' folders;

@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import os
 import resource
 import shutil
-import sys
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import procfs
@@ -39,18 +37,6 @@ class Isolation:
     @property
     def sandboxed(self) -> bool:
         return self.mode != "none"
-
-    # --- the spec the launcher reads back (tools/kitlib/launch.py) -------------------------
-    def spec(self) -> str:
-        return json.dumps({"mode": self.mode, "uid": self.uid, "compile_uid": self.compile_uid,
-                           "limits": asdict(self.limits),
-                           "cgroups": self.cgroups, "description": self.description})
-
-    @classmethod
-    def from_spec(cls, text: str) -> "Isolation":
-        d = json.loads(text)
-        return cls(d["mode"], d["description"], uid=d["uid"], compile_uid=d["compile_uid"],
-                   limits=Limits(**d["limits"]), cgroups=d["cgroups"])
 
     # --- processes inside the boundary ------------------------------------------------------
     def wrapper(self, ro: list[tuple[Path, str]], rw: list[tuple[Path, str]], chdir: str,
@@ -119,21 +105,13 @@ class Isolation:
                                          f"{limits.file_mb * MiB} {limits.cpu_seconds} {run_processes}"}
 
     # --- the compile and the link -----------------------------------------------------------
-    def run_tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> int:
-        """Runs one compile (`kind` "compile") or link ("link") command of the student's answers
-        program inside the boundary, as CMake gave it; its outputs are copied to where CMake wants
-        them only when they are regular files. Returns the exit status; prints the diagnostics.
-        `cache`, when given, is the build layer's store of compiled objects (objcache.ObjectCache):
-        called as cache(argv, work, source_dir, isolation, wrapper) for a compile, it answers fetch(out)
-        and store(out, text); the boundary keeps none of its own."""
-        status, text = self.tool(kind, argv, cwd, cache)
-        sys.stdout.write(text)
-        sys.stdout.flush()
-        return status
-
     def tool(self, kind: str, argv: list[str], cwd: Path, cache=None) -> tuple[int, str]:
-        """`run_tool` for a caller in the kit's own process (checking.build_answers): the exit
-        status (0 or 1) and the diagnostics, as the student's own."""
+        """Runs one compile (`kind` "compile") or link ("link") of the student's answers program inside
+        the boundary (checking.build_step): its outputs are copied to where the command names them
+        only when they are regular files. The exit status (0 or 1) and the diagnostics, as the
+        student's own. `cache`, when given, is the build layer's store of compiled objects
+        (objcache.ObjectCache): called as cache(argv, work, source_dir, isolation, wrapper) for a
+        compile, it answers fetch(out) and store(out, text); the boundary keeps none of its own."""
         work = Path(tempfile.mkdtemp(prefix="raykit-build-"))
         try:
             return _run_tool(self, kind, argv, cwd, work, cache)

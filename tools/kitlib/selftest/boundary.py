@@ -918,9 +918,9 @@ def selftest_stale_header(ctx) -> str:
     """The build layer's object cache (objcache.ObjectCache, handed to the boundary's compile): a
     header from outside the kit (a folder given with -isystem, as GLM's is), which only the compile's
     dependency file names (written with -MP, as CMake's Ninja rules do not, so the kit's one reader,
-    kitcache.dependencies, must skip its empty rules), changed with its size kept: the next compile
+    compilers.dependencies, must skip its empty rules), changed with its size kept: the next compile
     of the same file is not served from the cache; nor is one after the compiler changed."""
-    from ..kitcache import dependencies
+    from ..compilers import dependencies
     mp = "o.o: s.cpp /a\\ b/x.hpp \\\n /sys/h$$.hpp\n\n/a\\ b/x.hpp:\n\n/sys/h$$.hpp:\n"
     expect(dependencies(mp) == ["s.cpp", "/a b/x.hpp", "/sys/h$.hpp"],
            f"an -MP dependency file read as {dependencies(mp)}")

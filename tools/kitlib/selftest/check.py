@@ -395,7 +395,7 @@ def selftest_all_and_piped(ctx: Context) -> str:
     expect(max(plain) < min(starred), f"--all lists a basic case after a ★ one:\n{r.stdout[-2000:]}")
     expect("\r" not in r.stdout and "\033[" not in r.stdout,
            f"./kit check into a pipe moves the cursor:\n{r.stdout[:600]!r}")
-    expect(re.search(r"^\s+02\s+building the test program", r.stdout, re.M) is not None,
+    expect(re.search(r"^\s+02\s+compiling your code", r.stdout, re.M) is not None,
            f"./kit check into a pipe prints no progress line while it builds:\n{r.stdout[:800]}")
     return f"--all: {len(plain)} basic case(s) first, {len(starred)} ★ case(s) after, marked; piped progress plain"
 

@@ -25,10 +25,10 @@ KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
-              "waits", "submissions", "kitcache", "procfs", "pycache", "faults"]),
+              "waits", "submissions", "compilers", "procfs", "pycache", "faults"]),
     ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
                   "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
-    ("build", ["build", "objcache", "launch", "warmup"]),
+    ("build", ["build", "bundle", "objcache", "warmup"]),
     ("judge", ["cases", "runcases", "checking", "mutants", "slips"]),
     ("outputs", ["charts", "record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
                  "picture.basics", "picture.case", "picture.panel", "picture.shapes", "picture.drawing",
@@ -148,7 +148,6 @@ OTHER_RENAMES = {
     "commands.handout": (1, "a staged folder, swapped whole"),
     "commands.docs": (2, "the site's folder, swapped whole"),
     "decks": (2, "the decks' folder, swapped whole"),
-    "kitcache": (2, "a compiler launcher run as a script (python3 -S), outside the package"),
 }
 
 

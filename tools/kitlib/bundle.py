@@ -1,0 +1,262 @@
+"""The kit's side, built once per machine: the bundle.
+
+Everything a check runs that never holds a student's code (the judges with doctest's runner, the
+reporter and the remote calls; the dispatchers; the platform layer; the stand-ins; the reference's
+answers programs, and with them the hidden cases) is one CMake build of the kit alone
+(CMakeLists.txt, RAYKIT_BUNDLE; the "bundle" preset). It is built into a folder named by the hash of
+what it is made of (key()): the kit's sources that go into it, the compiler (the program `c++` or
+$CXX leads to, its size and time) and the options that change it. A student's `rm -rf build`, a
+second handout or a grading slot find it there; an edited header or another compiler makes another.
+
+A check then compiles the student's files alone, with the command the bundle's probe was compiled
+with (the flags a student's file gets, from compile_commands.json, with their file put in the
+probe's place), and links them with the bundle's objects for the step (raykit-bundle.json: the
+dispatcher, the platform layer, the stand-ins). No build folder is configured for a check, and the
+build tool's rules are never read.
+
+The bundle is built by whoever needs it first: the warm-up (warmup.py), the autograders' set-up
+(tools/gradescope/setup.sh: `./kit check --bundle`), CI, or a check. One build at a time per key
+(a lock file); a finished bundle is marked `ready` last, so a half-built one is never used, and one
+whose build failed is built again from nothing. The folder is readable by its user only: a grading's
+judges hold the hidden cases and its reference answers programs the reference's code (sandbox/: the
+graded code runs as another user, or where the folder does not exist).
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import json
+import os
+import shlex
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from .common import KitError, ROOT, Step, say
+from .compilers import compiler_identity
+from .status import FAILED
+
+VERSION = b"raykit-bundle-1\0"
+RECIPE = "raykit-bundle.json"
+READY = "ready"
+KEEP = 4                # bundles kept on a machine, the most recently used
+ENV_READ = ("CXX", "CXXFLAGS", "LDFLAGS", "CMAKE_PREFIX_PATH", "CPATH", "CPLUS_INCLUDE_PATH", "RAYKIT_LINKER")
+# The packages whose headers the bundle's programs are compiled with, by their CMake package's folder
+# in the bundle's CMakeCache.txt: an upgrade rewrites the files there, which changes the folder's time,
+# and the bundle is built again (a new compiler changes the key itself).
+PACKAGE_DIRS = ("glm_DIR", "doctest_DIR")
+
+
+def cache_root() -> Path:
+    """RAYKIT_BUNDLE_DIR, else $XDG_CACHE_HOME/raykit/bundles or ~/.cache/raykit/bundles, made
+    readable by its user only."""
+    named = os.environ.get("RAYKIT_BUNDLE_DIR")
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "raykit" / "bundles"
+    folder = Path(named) if named else base
+    try:
+        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
+        folder.chmod(0o700)
+        if folder.parent.name == "raykit":
+            folder.parent.chmod(0o700)
+    except OSError as e:
+        raise KitError(f"the kit's bundle has no folder to live in ({folder}: {e.strerror})", FAILED) from e
+    return folder
+
+
+def compiler() -> str:
+    """The compiler CMake takes: $CXX, else `c++` on PATH."""
+    return os.environ.get("CXX") or "c++"
+
+
+def hidden_here() -> bool:
+    """Whether the bundle holds the reference and the hidden cases (a grading's, the instructor's):
+    solutions/ and tests/hidden/ are here (checking.hidden_cases_here)."""
+    return (ROOT / "solutions").is_dir() and (ROOT / "tests" / "hidden").is_dir()
+
+
+def sources(hidden: bool) -> list[Path]:
+    """Every file the bundle is made of: CMake's, the kit's headers, the judges and their support, and
+    with the reference the hidden cases and the solutions. Not the steps, the fixtures or the tools."""
+    files = [ROOT / "CMakeLists.txt", ROOT / "CMakePresets.json"]
+    folders = [ROOT / "cmake", ROOT / "include", ROOT / "tests" / "support"]
+    folders += sorted(p for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir())
+    if hidden:
+        folders += [ROOT / "tests" / "hidden", ROOT / "solutions"]
+    for folder in folders:
+        files += sorted(p for p in folder.rglob("*") if p.is_file())
+    return files
+
+
+def key(sanitize: bool, hidden: bool | None = None) -> str:
+    hidden = hidden_here() if hidden is None else hidden
+    h = hashlib.sha256(VERSION)
+    h.update(f"sanitize={sanitize}\0hidden={hidden}\0".encode())
+    # What CMake reads from the environment at a first configure, and the linker asked for.
+    for name in ENV_READ:
+        h.update(f"{name}={os.environ.get(name, '')}\0".encode())
+    try:
+        h.update(compiler_identity(compiler()).encode() + b"\0")
+    except OSError as e:
+        raise KitError(f"no C++ compiler to build with: {e}", FAILED) from e
+    for f in sources(hidden):
+        h.update(str(f.relative_to(ROOT)).encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:24]
+
+
+@dataclass
+class Bundle:
+    """A built bundle: its folder and its recipe (raykit-bundle.json)."""
+    folder: Path
+    recipe: dict
+
+    def judge(self, step: Step) -> Path:
+        return Path(self.recipe["steps"][step.number]["judge"])
+
+    def kit_objects(self, step: Step) -> list[str]:
+        return list(self.recipe["steps"][step.number]["kit_objects"])
+
+    def own_needs(self, step: Step) -> list[str]:
+        """The folders of the student's own steps this step's answers program links (a handout, or a
+        needed step the kit has no stand-in for)."""
+        return list(self.recipe["steps"][step.number]["own_needs"])
+
+    def compile_command(self, use: str, source: Path, out: Path) -> list[str]:
+        """How a student's file is compiled (`use`: "check", their own; "grade", a graded one): the
+        probe's command with the file and the object put in its place, and a dependency file beside
+        the object (the object cache reads what the compile read)."""
+        argv = list(self._probes()[use])
+        argv[argv.index("-o") + 1] = str(out)
+        argv[argv.index("-c") + 1] = str(source)
+        return argv[:1] + ["-MD", "-MF", str(out) + ".d"] + argv[1:]
+
+    def link_command(self, objects: list[str], out: Path) -> list[str]:
+        return [self.recipe["compiler"], *self.recipe["link_flags"], *objects, "-o", str(out)]
+
+    def _probes(self) -> dict[str, list[str]]:
+        if "_argv" not in self.recipe:
+            entries = json.loads((self.folder / "compile_commands.json").read_text())
+            found = {}
+            for use, obj in self.recipe["probes"].items():
+                for e in entries:
+                    argv = e["arguments"] if "arguments" in e else shlex.split(e["command"])
+                    out = argv[argv.index("-o") + 1] if "-o" in argv[:-1] else ""
+                    if out and os.path.normpath(os.path.join(e["directory"], out)) == os.path.normpath(obj):
+                        found[use] = argv
+            if set(found) != set(self.recipe["probes"]):
+                raise KitError(f"the kit's bundle in {self.folder} has no probe's command (built by another CMake?)",
+                               FAILED)
+            self.recipe["_argv"] = found
+        return self.recipe["_argv"]
+
+
+def _load(folder: Path) -> Bundle | None:
+    """The bundle in `folder` when it is built and the packages it was built with are unchanged."""
+    try:
+        ready = json.loads((folder / READY).read_text())
+        if any(_mtime(path) != when for path, when in ready["packages"].items()):
+            return None
+        return Bundle(folder, json.loads((folder / RECIPE).read_text()))
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+
+
+def _mtime(path: str) -> int | None:
+    try:
+        return os.stat(path).st_mtime_ns
+    except OSError:
+        return None
+
+
+def _packages(folder: Path) -> dict[str, int | None]:
+    found = {}
+    for line in (folder / "CMakeCache.txt").read_text(errors="replace").splitlines():
+        name, _, value = line.partition(":")
+        if name in PACKAGE_DIRS and "=" in value:
+            path = value.split("=", 1)[1].strip()
+            found[path] = _mtime(path)
+    return found
+
+
+def find(sanitize: bool) -> Bundle | None:
+    """The bundle for this kit and compiler when it is built; None otherwise."""
+    return _load(cache_root() / key(sanitize))
+
+
+def ensure(sanitize: bool, progress=None, quiet: bool = True) -> Bundle:
+    """The bundle for this kit and compiler, built first when there is none (one build at a time per
+    key: a second caller waits for the first's). `progress(done, total)` follows the build tool's
+    count. KitError when it cannot be built: the kit's fault or the machine's, never a student's."""
+    root = cache_root()
+    k = key(sanitize)
+    folder = root / k
+    found = _load(folder)
+    if found is not None:
+        _touch(folder)
+        return found
+    with open(root / f"{k}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        found = _load(folder)           # built by the caller we waited for
+        if found is None:
+            _build(folder, sanitize, progress, quiet)
+            found = _load(folder)
+            if found is None:
+                raise KitError(f"the kit's bundle in {folder} was built but has no recipe", FAILED)
+    _prune(root, keep=folder)
+    return found
+
+
+def _build(folder: Path, sanitize: bool, progress, quiet: bool) -> None:
+    from .build import Build, build_targets, forget_moved_build
+    if folder.exists():
+        shutil.rmtree(folder)          # a build that failed or stopped half way: from nothing
+    has_ninja = shutil.which("ninja") is not None or shutil.which("ninja-build") is not None
+    gen = [] if has_ninja else ["-G", "Unix Makefiles"]
+    forget_moved_build(folder)
+    cmd = ["cmake", "--preset", "bundle", "-S", str(ROOT), "-B", str(folder), *gen,
+           f"-DRAYKIT_CHECK_SANITIZE={'ON' if sanitize else 'OFF'}",
+           f"-DRAYKIT_HIDDEN={'ON' if hidden_here() else 'OFF'}"]
+    linker = os.environ.get("RAYKIT_LINKER")
+    if linker:
+        cmd.append(f"-DRAYKIT_LINKER={linker}")
+    began = time.monotonic()
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise KitError(f"the kit's bundle does not configure:\n{r.stdout[-3000:]}{r.stderr[-3000:]}", FAILED)
+    b = Build("bundle", folder, ROOT / "steps", ROOT / "steps", tools=False)
+    ok, out = build_targets(b, ["all"], progress)
+    if not ok:
+        raise KitError(f"the kit's bundle does not build (a kit bug, or the machine's):\n{out[-3000:]}", FAILED)
+    seconds = time.monotonic() - began
+    (folder / READY).write_text(json.dumps({"seconds": round(seconds, 1), "packages": _packages(folder)}) + "\n")
+    if not quiet:
+        say(f"raykit: the kit's side built once, in {folder} ({seconds:.0f} s)")
+
+
+def _touch(folder: Path) -> None:
+    try:
+        os.utime(folder / READY)
+    except OSError:
+        pass
+
+
+def _prune(root: Path, keep: Path) -> None:
+    """The bundles beyond the KEEP most recently used go (an older kit's, another compiler's); a
+    bundle being built (its lock held) stays."""
+    def used(p: Path) -> float:
+        try:
+            return (p / READY).stat().st_mtime
+        except OSError:
+            return 0.0
+    folders = sorted((p for p in root.iterdir() if p.is_dir() and p != keep), key=used, reverse=True)
+    for old in folders[KEEP - 1:]:
+        lock_path = root / f"{old.name}.lock"
+        try:
+            with open(lock_path, "w") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                shutil.rmtree(old, ignore_errors=True)
+            lock_path.unlink(missing_ok=True)
+        except OSError:
+            continue
