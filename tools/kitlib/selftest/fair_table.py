@@ -28,7 +28,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import procfs
-from ..build import Build, ensure_configured, submission_build
+from .. import bundle
+from ..build import Build, detect_undefined, submission_build
 from ..checking import build_step, judge_step
 from ..common import ROOT, load_steps
 from ..sandbox import NONE_OWN
@@ -120,12 +121,11 @@ def grade_variant(folder: Path, form: str, real: str, fused: bool, seeds: int, s
     steps = load_steps()
     chosen = [s for s in steps if (folder / s.folder).is_dir()]
     build: Build = submission_build(folder, slot)
-    build.spec = NONE_OWN.spec()
-    ensure_configured(build, steps)
+    kit_side = bundle.ensure(detect_undefined())
     rows = []
     for step in chosen:
         row = Row(FORMS[form][step.number], step.number, real, fused)
-        built = build_step(build, step, None, NONE_OWN)
+        built = build_step(build, step, kit_side, NONE_OWN)
         for k in range(seeds):
             build.identity = f"fair:{k}"
             # The basic and ★ cases draw nothing: graded once; the hidden ones on every draw.

@@ -3,10 +3,10 @@
 - first output: a cold `./kit check` in a handout whose steps/ hold the solutions (its build folder
   from nothing), until it prints;
 - first verdict: the same run, until step 01's row shows its verdict;
-- cold check: the same run, until it ends (every step configured, built and checked);
-- after a clean: the build folder removed, `./kit check` again: the kit's own objects (doctest's main,
-  the judges, the dispatchers) come from the kit cache (tools/kitlib/kitcache.py), the student's
-  files compile;
+- cold check: the same run, until it ends (the kit's side built once, every step compiled and checked);
+- after a clean: the build folder removed, `./kit check` again: the kit's side (doctest's runner,
+  the judges, the dispatchers) is the bundle already built (tools/kitlib/bundle.py), only the
+  student's files compile; and its CPU with step 01 alone, the issue 44's measure;
 - edit to verdict: step 01's file changed, `./kit check 1` again, until it ends.
 
 The figures depend on the machine and its load: they are reported beside the goals of issue 13
@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import os
 import re
+import resource
 import shutil
-import sys
 import time
 from pathlib import Path
 
@@ -57,26 +57,37 @@ def run_check(kit_dir, *args: str) -> tuple[Screen, dict]:
 
 def selftest_latency(ctx: Context) -> str:
     """Measured where students run the kit: a handout (no solutions/, so no hidden cases and no
-    reference build), its build folder from nothing: first with the stubs as shipped (a newcomer's
-    first check), then with step 01 written (its first verdict), then every step written."""
+    reference), its build folder from nothing: first with the stubs as shipped (a newcomer's first
+    check), then with step 01 written (its first verdict), then every step written."""
     need_solutions()
     shutil.rmtree(HANDOUT_DIR, ignore_errors=True)
-    # A kit cache of its own, empty: the cold figures are a newcomer's, whose ~/.cache holds nothing yet.
-    cache = BUILD / "latency-kit-cache"
-    shutil.rmtree(cache, ignore_errors=True)
-    saved = os.environ.get("RAYKIT_KIT_CACHE_DIR")
-    os.environ["RAYKIT_KIT_CACHE_DIR"] = str(cache)
+    # A bundle folder of its own, empty: the cold figures are a newcomer's, whose ~/.cache holds nothing yet.
+    bundles = BUILD / "latency-bundles"
+    shutil.rmtree(bundles, ignore_errors=True)
+    saved = os.environ.get("RAYKIT_BUNDLE_DIR")
+    os.environ["RAYKIT_BUNDLE_DIR"] = str(bundles)
     try:
-        return _latency(ctx)
+        return _latency(ctx, bundles)
     finally:
         if saved is None:
-            os.environ.pop("RAYKIT_KIT_CACHE_DIR", None)
+            os.environ.pop("RAYKIT_BUNDLE_DIR", None)
         else:
-            os.environ["RAYKIT_KIT_CACHE_DIR"] = saved
-        shutil.rmtree(cache, ignore_errors=True)
+            os.environ["RAYKIT_BUNDLE_DIR"] = saved
+        shutil.rmtree(bundles, ignore_errors=True)
 
 
-def _latency(ctx: Context) -> str:
+def _cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def _built(bundles: Path) -> list[tuple[str, str]]:
+    """Each bundle in the folder, and what its `ready` says (its build's time): a bundle built again
+    says another."""
+    return sorted((p.name, (p / "ready").read_text()) for p in bundles.iterdir() if (p / "ready").is_file())
+
+
+def _latency(ctx: Context, bundles: Path) -> str:
     r = kit("handout", str(HANDOUT_DIR), "--committed", timeout=600)
     expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-800:]}{r.stderr[-800:]}")
     shutil.copytree(HANDOUT_DIR / "steps", HANDOUT_DIR / "steps.orig")     # the stubs, to restore one
@@ -87,8 +98,15 @@ def _latency(ctx: Context) -> str:
         for f in first.files:
             shutil.copyfile(source / first.folder / f, HANDOUT_DIR / "steps" / first.folder / f)
 
+    def ended(what: str) -> None:
+        began = time.monotonic()
+        while warm_up_processes(student_build) and time.monotonic() - began < 60:
+            time.sleep(0.1)
+        left = warm_up_processes(student_build)
+        expect(not left, f"{what}: {left} still run")
+
     # The newcomer's first check starts the warm-up (kitlib/warmup.py); step 01 written at once
-    # stops it, and its verdict is the cold figure: nothing of the kit built yet.
+    # waits for the bundle the warm-up is building (its lock) and builds nothing twice.
     os.environ.pop("RAYKIT_NO_WARMUP", None)
     try:
         screen, fresh = run_check(HANDOUT_DIR)
@@ -98,11 +116,11 @@ def _latency(ctx: Context) -> str:
         write_step01(ROOT / "solutions")
         screen, one = run_check(HANDOUT_DIR, "1")
         expect(screen.proc.returncode == 0, f"step 01 written: exit {screen.proc.returncode}:\n{screen.text[-800:]}")
-        left = warm_up_processes(student_build)
-        expect(not left, f"the check did not end the warm-up: {left} still run")
+        ended("the warm-up did not end with the bundle built")
+        expect(len(_built(bundles)) == 1, f"the warm-up and the check built {len(_built(bundles))} bundles, not one")
         # Step 01 written after the warm-up has finished (a newcomer reading the task for a minute).
         shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
-        shutil.rmtree(os.environ["RAYKIT_KIT_CACHE_DIR"], ignore_errors=True)
+        shutil.rmtree(bundles, ignore_errors=True)
         write_step01(HANDOUT_DIR / "steps.orig")
         screen, _ = run_check(HANDOUT_DIR)
         began = time.monotonic()
@@ -110,51 +128,42 @@ def _latency(ctx: Context) -> str:
             time.sleep(0.2)
         warm = time.monotonic() - began
         log = (student_build / "warm-up.log").read_text(errors="replace") if (student_build / "warm-up.log").is_file() else ""
-        expect("warm-up: built" in log, f"the warm-up did not build the kit's programs:\n{log[-1500:]}")
+        expect("warm-up: built" in log, f"the warm-up did not build the kit's side:\n{log[-1500:]}")
         write_step01(ROOT / "solutions")
         screen, after_warm = run_check(HANDOUT_DIR, "1")
         expect(screen.proc.returncode == 0, f"step 01 after the warm-up: exit {screen.proc.returncode}:\n"
                f"{screen.text[-800:]}")
     finally:
         os.environ["RAYKIT_NO_WARMUP"] = "1"
+    # The cold figure is a first build's: no bundle, no build folder.
     shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
-    # The cold figure is a first build's: the kit cache emptied of what step 01's check put in it.
-    shutil.rmtree(os.environ["RAYKIT_KIT_CACHE_DIR"], ignore_errors=True)
+    shutil.rmtree(bundles, ignore_errors=True)
     for step in ctx.steps:
         for f in step.files:
             shutil.copyfile(ROOT / "solutions" / step.folder / f, HANDOUT_DIR / "steps" / step.folder / f)
     load = os.getloadavg()[0]
+    cpu = _cpu()
     screen, cold = run_check(HANDOUT_DIR)
+    cold_cpu = _cpu() - cpu
     expect(screen.proc.returncode == 0, f"the cold check of the solutions exited {screen.proc.returncode}:\n"
            f"{screen.text[-1500:]}")
     expect("01" in cold, "step 01's row never showed a verdict")
-    expect("building the test program" in screen.text, "no progress line while building")
-    # The kit cache was empty: the build ran without its launcher and the kit filled the cache after it.
-    launched = kit_cache_targets(HANDOUT_DIR / "build" / "student")
-    expect(not launched, f"with an empty kit cache, the launcher still ran for {sorted(launched)}")
-    # A clean of build/ (or a second handout): the kit's own objects come from its cache, each found
-    # under the key the launcher computes: the fill's keys are the launcher's.
+    expect("compiling your code" in screen.text, "no progress line while compiling")
+    built = _built(bundles)
+    expect(len(built) == 1, f"a cold check built {len(built)} bundles, not one")
+    # A clean of build/ (or a second handout): the bundle is used as it is, nothing of the kit's built.
     shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
-    cache_log = BUILD / "latency-kit-cache.log"
-    cache_log.unlink(missing_ok=True)
-    os.environ["RAYKIT_KIT_CACHE_LOG"] = str(cache_log)
-    try:
-        screen, clean = run_check(HANDOUT_DIR)
-    finally:
-        os.environ.pop("RAYKIT_KIT_CACHE_LOG", None)
+    screen, clean = run_check(HANDOUT_DIR)
     expect(screen.proc.returncode == 0, f"the check after a clean of build/ exited {screen.proc.returncode}:\n"
            f"{screen.text[-1500:]}")
-    lines = cache_log.read_text().split("\n") if cache_log.is_file() else []
-    hits = [l for l in lines if l.startswith("hit ")]
-    expect(hits and len(hits) == len([l for l in lines if l]),
-           f"after a clean of build/, the kit's own objects were not all from the cache: {lines[:20]}")
-    launched = kit_cache_targets(HANDOUT_DIR / "build" / "student")
-    expect(launched and all(KIT_OWN.fullmatch(t) for t in launched),
-           f"the kit cache's launcher is given to other targets than the kit's own: {sorted(launched)}")
-    hit_targets = {m.group(1) for l in hits for m in [re.search(r"CMakeFiles/(\w+)\.dir/", l)] if m}
-    expect(hit_targets == launched, f"hits for {sorted(hit_targets)}, the launcher's targets {sorted(launched)}")
-    cache_log.unlink(missing_ok=True)
-    # An edit: a comment changes the file, so the step is rebuilt and checked again.
+    expect(_built(bundles) == built, "after a clean of build/, the kit's side was built again")
+    # Step 01 alone in a fresh build folder, the bundle there: the issue's cold-path CPU.
+    shutil.rmtree(HANDOUT_DIR / "build", ignore_errors=True)
+    cpu = _cpu()
+    screen, alone = run_check(HANDOUT_DIR, "1")
+    alone_cpu = _cpu() - cpu
+    expect(screen.proc.returncode == 0, f"step 01 in a fresh build folder exited {screen.proc.returncode}")
+    # An edit: a comment changes the file, so the step is compiled and checked again.
     step = ctx.steps[0]
     f = HANDOUT_DIR / "steps" / step.folder / step.files[0]
     f.write_text(f.read_text() + "\n// edited\n")
@@ -165,8 +174,9 @@ def _latency(ctx: Context) -> str:
             f"{fresh['end']:.2f} s (goal 2); step 01 written at once, its first verdict cold {one['end']:.1f} s (goal 6), "
             f"written after the warm-up ({warm:.0f} s in the background) {after_warm['end']:.1f} s; "
             f"all steps written, cold: first output {cold['output']:.2f} s (goal 1), step 01's verdict "
-            f"{cold['01']:.1f} s, all steps {cold['end']:.1f} s (goal 10); the same after a clean of build/, the "
-            f"kit's own objects from its cache, {clean['end']:.1f} s; edit to verdict {edit['end']:.1f} s "
+            f"{cold['01']:.1f} s, all steps {cold['end']:.1f} s (goal 10), {cold_cpu:.1f} s of CPU; after a clean "
+            f"of build/, the bundle as it was, {clean['end']:.1f} s; step 01 alone in a fresh build folder "
+            f"{alone['end']:.2f} s, {alone_cpu:.2f} s of CPU; edit to verdict {edit['end']:.1f} s "
             f"(goal 1); load average {load:.1f} at the start")
 
 
@@ -185,105 +195,70 @@ def warm_up_processes(build_dir: Path) -> list[str]:
     return found
 
 
-# The kit's own targets, the only ones CMake may give the kit cache's launcher (CMakeLists.txt,
-# raykit_kit_cached): never a target that compiles a student's file (stepobjNN, needobjNN).
-KIT_OWN = re.compile(r"raykit_test_support|raykit_platform|dispatch\d\d|test_step\d\d")
-
-
-def kit_cache_targets(build_dir) -> set[str]:
-    """The targets whose compile rule in `build_dir` runs through tools/kitlib/kitcache.py."""
-    rules = (build_dir / "CMakeFiles" / "rules.ninja").read_text()
-    found = set()
-    for m in re.finditer(r"^rule CXX_COMPILER__(\w+)_[A-Za-z]*\n((?:  .*\n)+)", rules, re.M):
-        if "kitcache.py" in m.group(2):
-            found.add(m.group(1))
-    return found
-
-
-def selftest_kit_cache(ctx: Context) -> str:
-    """tools/kitlib/kitcache.py on a small compile: a hit gives the same object, an edited header or a
-    damaged entry compiles again, a failing compile stores nothing, and a cache that cannot be written
-    only costs the cache."""
-    import subprocess
+def selftest_bundle(ctx: Context) -> str:
+    """The bundle (tools/kitlib/bundle.py): it holds nothing of a student's, a student's file is
+    compiled in a check exactly as CMake compiles a step's own file, and it is built again when what
+    it was made with changes (the kit's sources, the options, the environment CMake reads, a package's
+    headers), never otherwise."""
+    import json
     import tempfile
-    from pathlib import Path
-    launcher = ROOT / "tools" / "kitlib" / "kitcache.py"
-    compiler = shutil.which("c++") or shutil.which("g++") or shutil.which("clang++")
-    if compiler is None:
-        raise Failed("no C++ compiler on PATH")
-    with tempfile.TemporaryDirectory(prefix="raykit-kitcache-") as tmp:
-        work, cache, log = Path(tmp) / "w", Path(tmp) / "cache", Path(tmp) / "log"
-        work.mkdir()
-        (work / "h.hpp").write_text("inline int answer() { return 41; }\n")
-        (work / "a.cpp").write_text('#include "h.hpp"\nint f() { return answer() + 1; }\n')
-
-        def compile_(cache_dir=cache) -> tuple[int, str]:
-            (work / "a.o").unlink(missing_ok=True)
-            r = subprocess.run([sys.executable, "-S", str(launcher), str(cache_dir), compiler, "-MD", "-MT", "a.o",
-                                "-MF", "a.o.d", "-O1", "-o", "a.o", "-c", "a.cpp"], cwd=work, capture_output=True,
-                               text=True, env=dict(os.environ, RAYKIT_KIT_CACHE_LOG=str(log)))
-            said = log.read_text().split()[-2] if log.is_file() and log.read_text().strip() else "none"
-            log.unlink(missing_ok=True)
-            return r.returncode, said
-
-        expect(compile_() == (0, "miss"), "the first compile was not a miss")
-        first = (work / "a.o").read_bytes()
-        expect(compile_() == (0, "hit") and (work / "a.o").read_bytes() == first and (work / "a.o.d").is_file(),
-               "the second compile was not a hit giving the same object and its dependency file")
-        (work / "h.hpp").write_text("inline int answer() { return 42; }\n")
-        expect(compile_() == (0, "miss"), "an edited header was not compiled again")
-        (work / "h.hpp").write_text("inline int answer() { return 41; }\n")
-        expect(compile_() == (0, "hit") and (work / "a.o").read_bytes() == first,
-               "the header as it was did not find its old entry")
-        for manifest in cache.rglob("manifest"):
-            manifest.write_text("{ damaged")
-        expect(compile_() == (0, "miss"), "a damaged entry was used, or stopped the compile")
-        (work / "a.cpp").write_text("int f() { return undefined_name; }\n")
-        before = len(list(cache.rglob("manifest")))
-        code, said = compile_()
-        expect(code != 0 and said == "none" and len(list(cache.rglob("manifest"))) == before,
-               f"a failing compile: exit {code}, logged {said}, or it stored an entry")
-        (work / "a.cpp").write_text('#include "h.hpp"\nint f() { return answer() + 1; }\n')
-        blocked = Path(tmp) / "not-a-folder"
-        blocked.write_text("")
-        expect(compile_(blocked)[0] == 0 and (work / "a.o").is_file(), "a cache that cannot be written broke the compile")
-        # Past its limit the cache is pruned to half, an entry of a former version (never found again)
-        # before the least recently used of this one.
-        from .. import kitcache
-        former = cache / "zz" / "former" / "entry"
-        former.mkdir(parents=True)
-        (former / kitcache.FORMER_MANIFEST).write_text("{}")
-        (former / "object").write_bytes(b"\0" * 4096)
-        current = [p.parent for p in cache.rglob(kitcache.MANIFEST)]
-        size = sum(f.stat().st_size for f in cache.rglob("*") if f.is_file())
-        limit, kitcache.MAX_BYTES = kitcache.MAX_BYTES, size - 1
-        try:
-            kitcache.prune(str(cache))
-        finally:
-            kitcache.MAX_BYTES = limit
-        expect(not former.exists() and current and all(p.is_dir() for p in current),
-               "a prune kept an entry of a former version, or removed a current one first")
-        # The fill (kitcache.fill, after a first build without the launcher): the object compiled
-        # by the compiler alone, stored with the files it read, is what the launcher then finds,
-        # and a header named with a space in its path is read back as one name.
-        filled = Path(tmp) / "filled"
-        (work / "my h.hpp").write_text("inline int more() { return 1; }\n")
-        (work / "a.cpp").write_text('#include "h.hpp"\n#include "my h.hpp"\nint f() { return answer() + more(); }\n')
-        argv = [compiler, "-MD", "-MT", "a.o", "-MF", "a.o.d", "-O1", "-o", "a.o", "-c", "a.cpp"]
-        expect(subprocess.run(argv, cwd=work).returncode == 0, "the plain compile failed")
-        deps = [str(work / p) for p in kitcache.dependencies((work / "a.o.d").read_text())]
-        expect(str(work / "my h.hpp") in deps, f"the dependency file's names, read: {deps}")
-        expect(kitcache.fill(str(filled), os.path.realpath(work), argv, deps, {}), "the fill stored nothing")
-        alone = (work / "a.o").read_bytes()
-        expect(compile_(filled) == (0, "hit") and (work / "a.o").read_bytes() == alone,
-               "the launcher did not find what the fill stored, or gave another object")
-        stored = next(filled.rglob("depfile")).read_text()
-        expect(set(kitcache.dependencies(stored)) == set(deps), f"the stored dependency file reads {stored!r}")
-        (work / "my h.hpp").write_text("inline int more() { return 2; }\n")
-        expect(compile_(filled) == (0, "miss"), "a header edited since the fill was not compiled again")
-    return ("a hit gives the same object; an edited header, a damaged entry compile again; a failing compile "
-            "stores nothing; an unwritable cache only costs the cache; a former version's entries pruned first; "
-            "what the fill stores, the launcher finds (and misses once a header it read is edited)")
+    from .. import bundle
+    from ..build import Build, configure, detect_undefined
+    kit_side = bundle.ensure(detect_undefined())
+    # Nothing of a student's: every file the bundle compiled is the kit's (tests/, solutions/) or its own.
+    commands = json.loads((kit_side.folder / "compile_commands.json").read_text())
+    theirs = [c["file"] for c in commands
+              if not any(Path(c["file"]).resolve().is_relative_to(p) for p in
+                         (ROOT / "tests", ROOT / "solutions", kit_side.folder.resolve()))]
+    expect(not theirs, f"the bundle compiles files that are not the kit's: {theirs[:3]}")
+    # The check's command for a student's file is CMake's for a step's own file (stepobjNN), but for
+    # the file and the object's name.
+    with tempfile.TemporaryDirectory(prefix="raykit-bundle-", dir=BUILD) as tmp:
+        build = Build("probe", Path(tmp) / "b", ROOT / "solutions", ROOT / "solutions", preset="submission",
+                      tools=False, sanitize_student=detect_undefined())
+        configure(build)
+        own = json.loads((build.binary_dir / "compile_commands.json").read_text())
+        step = ctx.steps[0]
+        source = ROOT / "solutions" / step.folder / step.files[0]
+        entry = next(c for c in own if Path(c["file"]) == source)
+        cmake = [w for w in __import__("shlex").split(entry["command"])]
+        mine = kit_side.compile_command("check", source, Path(cmake[cmake.index("-o") + 1]))
+        strip = lambda argv: [w for i, w in enumerate(argv) if w not in ("-MD", "-MF") and   # noqa: E731
+                              (i == 0 or argv[i - 1] != "-MF")]
+        expect(sorted(strip(mine)) == sorted(cmake),
+               f"a check compiles a student's file otherwise than CMake does:\n  check {strip(mine)}\n  cmake {cmake}")
+    # The key: the same twice; another with any input changed.
+    same = bundle.key(True, True)
+    expect(same == bundle.key(True, True), "the bundle's key is not the same twice")
+    others = {"no sanitizer": bundle.key(False, True), "no reference": bundle.key(True, False)}
+    saved = os.environ.get("CXXFLAGS")
+    os.environ["CXXFLAGS"] = (saved or "") + " -DRAYKIT_BUNDLE_KEY_TEST"
+    try:
+        others["CXXFLAGS"] = bundle.key(True, True)
+    finally:
+        os.environ.pop("CXXFLAGS") if saved is None else os.environ.__setitem__("CXXFLAGS", saved)
+    header = ROOT / "include" / "raykit" / "ray.hpp"
+    text = header.read_bytes()
+    try:
+        header.write_bytes(text + b"\n")
+        others["a kit header"] = bundle.key(True, True)
+    finally:
+        header.write_bytes(text)
+    expect(all(k != same for k in others.values()), f"the key ignores {[n for n, k in others.items() if k == same]}")
+    # A package upgraded since (its CMake folder's time changed): the bundle is not used.
+    with tempfile.TemporaryDirectory(prefix="raykit-bundle-") as tmp:
+        package, folder = Path(tmp) / "pkg", Path(tmp) / "b"
+        package.mkdir()
+        folder.mkdir()
+        (folder / bundle.RECIPE).write_text("{}")
+        expect(bundle._load(folder) is None, "a bundle without its ready mark is used")
+        (folder / bundle.READY).write_text(json.dumps({"packages": {str(package): package.stat().st_mtime_ns}}))
+        expect(bundle._load(folder) is not None, "a ready bundle is not used")
+        os.utime(package, ns=(0, package.stat().st_mtime_ns + 1))
+        expect(bundle._load(folder) is None, "a bundle built before a package's upgrade is used")
+    return (f"its {len(commands)} compiles are the kit's files; a student's file compiled as CMake compiles "
+            f"stepobj{ctx.steps[0].number}; the key changes with {', '.join(others)}; a package upgraded "
+            "since, or no ready mark, builds it again")
 
 
 @tier("step")
@@ -294,9 +269,10 @@ def selftest_recorded(ctx: Context) -> str:
     need_solutions()
     import json
     import subprocess
-    from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, ensure_configured, file_hash
+    from .. import bundle
+    from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, file_hash
     from ..runcases import list_cases
-    from ..build import build_targets, preset_build
+    from ..build import detect_undefined
     stubs = json.loads(STUBS_FILE.read_text())
     stale = []
     for step in ctx.steps:
@@ -307,13 +283,10 @@ def selftest_recorded(ctx: Context) -> str:
             import hashlib
             if stubs.get(f"{step.folder}/{f}") != hashlib.sha256(data).hexdigest():
                 stale.append(rel)
-    build = preset_build("student")
-    ensure_configured(build, ctx.steps)
-    ok, out = build_targets(build, [s.target for s in ctx.steps])
-    expect(ok, f"the judges do not build: {out[-500:]}")
+    kit_side = bundle.ensure(detect_undefined())
     hidden = json.loads(HIDDEN_CASES_FILE.read_text())
     for step in ctx.steps:
-        listed = [(c.name, c.tier, c.lecture) for c in list_cases(build.exe(step))]
+        listed = [(c.name, c.tier, c.lecture) for c in list_cases(kit_side.judge(step))]
         visible = json.loads((ROOT / "tests" / step.folder / "cases.json").read_text())
         recorded = [(c["name"], c["tier"], c["lecture"]) for c in visible + hidden.get(step.number, [])]
         if sorted(listed) != sorted(recorded):
@@ -324,5 +297,5 @@ def selftest_recorded(ctx: Context) -> str:
 
 
 def selftests() -> list:
-    return [("recorded stubs and case lists", selftest_recorded), ("the kit cache", selftest_kit_cache),
+    return [("recorded stubs and case lists", selftest_recorded), ("the kit's side built once", selftest_bundle),
             ("latency figures", selftest_latency)]
