@@ -8,8 +8,8 @@ cd "$(dirname "$0")"
 # (the same packages as for students: one list, in tools/kitlib/packages.py).
 apt-get update -q
 apt-get install -y -q --no-install-recommends python3 bubblewrap
-# Build once now, in the folder submissions are graded in, by grading the solutions: the judges,
-# the reference and the precompiled step headers (tools/kitlib/studentpch.py), so that each
-# submission only compiles its own step files. (The stubs would build nothing: an untouched step
-# is scored without a build.)
+# Build once now, by grading the solutions: the kit's side (tools/kitlib/bundle.py: the judges,
+# the dispatchers, the reference, in root's ~/.cache/raykit/bundles) and the precompiled step headers
+# (tools/kitlib/studentpch.py), so that each submission only compiles and links its own step files.
+# (The stubs would build nothing: an untouched step is scored without a build.)
 RAYKIT_STUDENT_PCH=build ./kit check --steps solutions --quiet || [ $? -eq 1 ]

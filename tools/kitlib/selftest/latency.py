@@ -214,12 +214,12 @@ def selftest_bundle(ctx: Context) -> str:
     # The check's command for a student's file is CMake's for a step's own file (stepobjNN), but for
     # the file and the object's name.
     with tempfile.TemporaryDirectory(prefix="raykit-bundle-", dir=BUILD) as tmp:
-        build = Build("probe", Path(tmp) / "b", ROOT / "solutions", ROOT / "solutions", preset="submission",
+        build = Build("probe", Path(tmp) / "b", ROOT / "steps", ROOT / "steps", preset="submission",
                       tools=False, sanitize_student=detect_undefined())
         configure(build)
         own = json.loads((build.binary_dir / "compile_commands.json").read_text())
         step = ctx.steps[0]
-        source = ROOT / "solutions" / step.folder / step.files[0]
+        source = ROOT / "steps" / step.folder / step.files[0]
         entry = next(c for c in own if Path(c["file"]) == source)
         cmake = [w for w in __import__("shlex").split(entry["command"])]
         mine = kit_side.compile_command("check", source, Path(cmake[cmake.index("-o") + 1]))
