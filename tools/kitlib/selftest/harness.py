@@ -26,6 +26,7 @@ import sys
 import threading
 import time
 import traceback
+import unittest
 from dataclasses import dataclass, field
 
 from ..cases import StepResult
@@ -256,21 +257,77 @@ def judge(ctx: Context, fn) -> tuple[str, str]:
         _running["security"] = False
 
 
-def run_one(ctx: Context, name: str, fn, failures: list[str] | None = None) -> str:
-    """Runs one self-test and prints its line; "passed", "failed" or "skipped". A failure's line is
-    also appended to `failures`, for the recap at the end of the run."""
-    start = time.monotonic()
-    outcome, detail = judge(ctx, fn)
-    if outcome == "passed":
-        say(f"{paint('✓', 'green')} {name}: {detail} ({time.monotonic() - start:.1f} s)")
-    elif outcome == "skipped":
-        say(f"{paint('-', 'dim')} {name}: skipped, {detail}")
-    else:
-        line = f"{paint('✗', 'red')} {name}: {detail}"
+class Lines(unittest.TestResult):
+    """unittest's result of a ./kit test run, as ./kit test prints it: one line a self-test as it ends
+    (passed with its summary and time, skipped with why, failed with why), the failures kept for the
+    recap. What a test returned (its summary) comes in its `outcome`."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.lines: list[str] = []          # the failures' lines, for the recap
+        self.counts = {"passed": 0, "failed": 0, "skipped": 0}
+        self.began = 0.0
+
+    def startTest(self, test) -> None:
+        super().startTest(test)
+        self.began = time.monotonic()
+
+    def addSuccess(self, test) -> None:
+        super().addSuccess(test)
+        self.counts["passed"] += 1
+        say(f"{paint('✓', 'green')} {test.name}: {test.outcome} ({time.monotonic() - self.began:.1f} s)")
+
+    def addSkip(self, test, reason: str) -> None:
+        super().addSkip(test, reason)
+        self.counts["skipped"] += 1
+        say(f"{paint('-', 'dim')} {test.name}: skipped, {reason}")
+
+    def addFailure(self, test, err) -> None:
+        super().addFailure(test, err)
+        self._failed(test, str(err[1]))
+
+    def addError(self, test, err) -> None:      # judge() turns every exception into an outcome: a bug here
+        super().addError(test, err)
+        self._failed(test, "the harness itself failed\n" + "".join(traceback.format_exception(*err)))
+
+    def _failed(self, test, why: str) -> None:
+        self.counts["failed"] += 1
+        line = f"{paint('✗', 'red')} {test.name}: {why}"
         say(line)
-        if failures is not None:
-            failures.append(line)
-    return outcome
+        self.lines.append(line)
+
+
+class SelfTestCase(unittest.TestCase):
+    """One self-test as a unittest case: judge() runs it, a skip is unittest's skip and a failure its
+    failure, under CI's rule for security tests."""
+
+    def __init__(self, ctx: Context, name: str, fn) -> None:
+        super().__init__("run_selftest")
+        self.ctx, self.name, self.fn, self.outcome = ctx, name, fn, ""
+
+    def run_selftest(self) -> None:
+        outcome, detail = judge(self.ctx, self.fn)
+        if outcome == "skipped":
+            self.skipTest(detail)
+        if outcome == "failed":
+            self.fail(detail)
+        self.outcome = detail
+
+    def id(self) -> str:
+        return self.name
+
+    def __str__(self) -> str:
+        return self.name
+
+
+def run_one(ctx: Context, name: str, fn, failures: list[str] | None = None) -> str:
+    """Runs one self-test through unittest and prints its line; "passed", "failed" or "skipped". A
+    failure's line is also appended to `failures`, for the recap at the end of the run."""
+    result = Lines()
+    SelfTestCase(ctx, name, fn).run(result)
+    if failures is not None:
+        failures += result.lines
+    return next(k for k, n in result.counts.items() if n)
 
 
 # The recap at the end of a run keeps at most RECAP_LINES lines of a failure, and about RECAP_TOTAL
@@ -306,7 +363,6 @@ def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", qui
             step: bool = False) -> int:
     """Runs the self-tests of `modules` (default: all; see collect), one line each; the exit status
     is FAILED when any failed."""
-    counts = {"passed": 0, "failed": 0, "skipped": 0}
     chosen = collect(modules, words, quick, step)
     prepare()
     if quick:
@@ -314,10 +370,12 @@ def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", qui
     if not chosen:
         asked = " ".join(list(modules or []) + ([f"-k {words!r}"] if words else []))
         raise KitError(f"no self-test matches {asked}")
-    failures: list[str] = []
-    for name, fn in chosen:
-        counts[run_one(ctx, name, fn, failures)] += 1
-    recap(failures)
+    # unittest runs them (a suite in ./kit test's order; a later self-test may reuse an earlier one's
+    # builds), Lines prints them as they end.
+    result = Lines()
+    unittest.TestSuite(SelfTestCase(ctx, name, fn) for name, fn in chosen).run(result)
+    counts = result.counts
+    recap(result.lines)
     say()
     say(f"selftest: {counts['passed']} passed, {counts['failed']} failed, {counts['skipped']} skipped")
     return FAILED if counts["failed"] else OK
