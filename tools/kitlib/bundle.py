@@ -130,8 +130,13 @@ class Bundle:
     def compile_command(self, use: str, source: Path, out: Path) -> list[str]:
         """How a student's file is compiled (`use`: "check", their own; "grade", a graded one): the
         probe's command with the file and the object put in its place, and a dependency file beside
-        the object (the object cache reads what the compile read)."""
-        argv = list(self._probes()[use])
+        the object (the object cache reads what the compile read). A bundle built from another copy
+        of the same kit (a second handout: the key holds the content, not the place) names that
+        copy's folders: they are this kit's here."""
+        built_from = self.recipe.get("source_root", "")
+        here = str(ROOT)
+        argv = [a.replace(built_from + "/", here + "/") if built_from and built_from != here else a
+                for a in self._probes()[use]]
         argv[argv.index("-o") + 1] = str(out)
         argv[argv.index("-c") + 1] = str(source)
         return argv[:1] + ["-MD", "-MF", str(out) + ".d"] + argv[1:]

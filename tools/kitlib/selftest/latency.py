@@ -227,6 +227,14 @@ def selftest_bundle(ctx: Context) -> str:
                               (i == 0 or argv[i - 1] != "-MF")]
         expect(sorted(strip(mine)) == sorted(cmake),
                f"a check compiles a student's file otherwise than CMake does:\n  check {strip(mine)}\n  cmake {cmake}")
+    # Built from another copy of the same kit (a second handout, a course's second kit): its folders
+    # are this kit's in the command, or the boundary would not find the headers it copies.
+    elsewhere = bundle.Bundle(kit_side.folder, dict(kit_side.recipe, source_root="/elsewhere/kit"))
+    elsewhere.recipe["_argv"] = {use: [a.replace(str(ROOT) + "/", "/elsewhere/kit/") for a in argv]
+                                 for use, argv in kit_side._probes().items()}
+    moved = elsewhere.compile_command("grade", source, Path("x.o"))
+    expect(moved == kit_side.compile_command("grade", source, Path("x.o")) and f"-I{ROOT}/include" in moved,
+           f"a bundle built from another copy of the kit names its folders: {moved}")
     # The key: the same twice; another with any input changed.
     same = bundle.key(True, True)
     expect(same == bundle.key(True, True), "the bundle's key is not the same twice")
@@ -257,7 +265,7 @@ def selftest_bundle(ctx: Context) -> str:
         os.utime(package, ns=(0, package.stat().st_mtime_ns + 1))
         expect(bundle._load(folder) is None, "a bundle built before a package's upgrade is used")
     return (f"its {len(commands)} compiles are the kit's files; a student's file compiled as CMake compiles "
-            f"stepobj{ctx.steps[0].number}; the key changes with {', '.join(others)}; a package upgraded "
+            f"stepobj{ctx.steps[0].number}, also with a bundle built from another copy; the key changes with {', '.join(others)}; a package upgraded "
             "since, or no ready mark, builds it again")
 
 
