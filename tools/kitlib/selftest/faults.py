@@ -343,21 +343,23 @@ def selftest_busy_machine(ctx) -> str:
     machine) leaves the rest of the cases not graded; once the code has spent its budget, they are its."""
     need_solutions()
     from collections import Counter
-    from .. import runcases
+    from .. import bundle, runcases
+    from ..build import detect_undefined
     step = load_steps()[0]
     build = BUILD / "submission-7"
-    if not (build / step.target).is_file() or not (build / f"answers_step{step.number}").is_file():
+    judge = bundle.ensure(detect_undefined()).judge(step)      # the kit's side: the judge
+    if not (build / f"answers_step{step.number}").is_file():
         if not (WORK / "class" / "alice").is_dir():
             _class(["alice"])
         _check("alice", dict(os.environ, RAYKIT_NO_WARMUP="1"))
     got = {}
     for name, cpu in (("within", 1000.0), ("spent", 0.0)):
-        cases = runcases.list_cases(build / step.target)
+        cases = runcases.list_cases(judge)
         ledger = WORK / f"ledger-{name}"
         ledger.unlink(missing_ok=True)
         budget = runcases.Budget(cpu, 1000.0, 24.0, ledger)
         env = dict(RAYKIT_SEED="1", RAYKIT_ANSWERS=str(build / f"answers_step{step.number}"), **budget.env())
-        runcases.run_cases(build / step.target, cases, env, 30, 0.0, budget=budget)    # no time at all
+        runcases.run_cases(judge, cases, env, 30, 0.0, budget=budget)    # no time at all
         got[name] = Counter(c.status for c in cases)
     expect(got["within"]["grader_error"] > 0 and not got["within"]["not_run"],
            f"the step's time ran out, the code within its budget: {dict(got['within'])}, no case not graded")
