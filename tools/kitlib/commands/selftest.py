@@ -24,6 +24,9 @@ def register(p) -> None:
                    help="everything a change to step N needs, on that step alone: its cases against the solutions "
                         "and the stubs, the recorded case lists, its mutants, the mutants' signatures, its hints', "
                         "lecture's and slides' claims, lecture 05's scene tables (minutes, not the whole run)")
+    p.add_argument("-j", "--jobs", type=int, default=1, metavar="N",
+                   help="run the quick tier's self-tests (which build and measure nothing) in N processes, the "
+                        "others after them one at a time (default 1)")
     p.add_argument("--list", action="store_true",
                    help="print the names of the self-tests the other options choose, one a line, and run nothing")
     p.add_argument("-k", dest="words", default="", metavar="WORDS",
@@ -68,6 +71,8 @@ def run(args) -> int:
         say(f"self-test of step {steps[0].number} ({steps[0].title}): " + ", ".join(
             f"{m}: {n}" for m, n in counts.items() if n) + " self-tests")
     prepare()
+    if args.jobs < 1:
+        raise KitError(f"-j {args.jobs}: at least 1")
     if steps:
-        return run_all(Context(fast=args.fast, steps=steps), args.modules, args.words, step=True)
-    return run_all(Context(fast=args.fast), args.modules, args.words, args.quick)
+        return run_all(Context(fast=args.fast, steps=steps), args.modules, args.words, step=True, jobs=args.jobs)
+    return run_all(Context(fast=args.fast), args.modules, args.words, args.quick, jobs=args.jobs)

@@ -330,6 +330,37 @@ def run_one(ctx: Context, name: str, fn, failures: list[str] | None = None) -> s
     return next(k for k, n in result.counts.items() if n)
 
 
+_shared: dict = {}      # what the worker processes of _in_processes inherit (fork): no pickling of tests
+
+
+def _share(index: int) -> tuple[dict, list[str]]:
+    """A worker's share of the quick tier: every jobs-th self-test from `index`, through unittest."""
+    ctx, tests, jobs = _shared["ctx"], _shared["tests"], _shared["jobs"]
+    os.environ[QUICK_TIER] = "1"
+    result = Lines()
+    unittest.TestSuite(SelfTestCase(ctx, n, fn) for n, fn in tests[index::jobs]).run(result)
+    sys.stdout.flush()
+    return result.counts, result.lines
+
+
+def _in_processes(ctx: Context, tests: list, jobs: int) -> list[tuple[dict, list[str]]]:
+    """The quick tier's self-tests shared among `jobs` forked processes, each printing its lines as
+    its tests end; their counts and failures, for the recap."""
+    import multiprocessing
+    if not tests:
+        return []
+    _shared.update(ctx=ctx, tests=tests, jobs=jobs)
+    saved = os.environ.get(QUICK_TIER)
+    sys.stdout.flush()
+    try:
+        with multiprocessing.get_context("fork").Pool(jobs) as pool:
+            return pool.map(_share, range(jobs))
+    finally:
+        _shared.clear()
+        if saved is None:
+            os.environ.pop(QUICK_TIER, None)
+
+
 # The recap at the end of a run keeps at most RECAP_LINES lines of a failure, and about RECAP_TOTAL
 # in all (two a failure at least): a log read from its tail (CI shows the last lines of a long run)
 # still names each failure and why.
@@ -360,9 +391,11 @@ def prepare() -> None:
 
 
 def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", quick: bool = False,
-            step: bool = False) -> int:
+            step: bool = False, jobs: int = 1) -> int:
     """Runs the self-tests of `modules` (default: all; see collect), one line each; the exit status
-    is FAILED when any failed."""
+    is FAILED when any failed. With `jobs` > 1, the quick tier's among them (they build nothing and
+    measure nothing: common.QUICK_TIER) run first, shared among that many processes; the others
+    after, one at a time (they share build folders, sandbox ids and the machine's time)."""
     chosen = collect(modules, words, quick, step)
     prepare()
     if quick:
@@ -370,12 +403,22 @@ def run_all(ctx: Context, modules: list[str] | None = None, words: str = "", qui
     if not chosen:
         asked = " ".join(list(modules or []) + ([f"-k {words!r}"] if words else []))
         raise KitError(f"no self-test matches {asked}")
+    counts = {"passed": 0, "failed": 0, "skipped": 0}
+    lines: list[str] = []
+    if jobs > 1:
+        apart = [(n, fn) for n, fn in chosen if "quick" in tiers_of(fn)]
+        chosen = [(n, fn) for n, fn in chosen if "quick" not in tiers_of(fn)]
+        for got, failed in _in_processes(ctx, apart, jobs):
+            for k in counts:
+                counts[k] += got[k]
+            lines += failed
     # unittest runs them (a suite in ./kit test's order; a later self-test may reuse an earlier one's
     # builds), Lines prints them as they end.
     result = Lines()
     unittest.TestSuite(SelfTestCase(ctx, name, fn) for name, fn in chosen).run(result)
-    counts = result.counts
-    recap(result.lines)
+    for k in counts:
+        counts[k] += result.counts[k]
+    recap(lines + result.lines)
     say()
     say(f"selftest: {counts['passed']} passed, {counts['failed']} failed, {counts['skipped']} skipped")
     return FAILED if counts["failed"] else OK
