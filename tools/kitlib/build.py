@@ -90,9 +90,9 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
     return Build(slot, BUILD / slot, staging, source, tools=False, boundary=True, sanitize_student=detect_undefined())
 
 
-def configure(build: Build, quiet: bool = True) -> None:
+def configure(build: Build, quiet: bool = True, extra: dict[str, str] | None = None) -> None:
     """Runs `cmake --preset PRESET -S -B` for `build` (a submission: the "submission" preset) with the
-    kit's own settings on top (-D: the steps folder, the tools, the boundary, the sanitizer). The
+    kit's own settings on top (-D: the steps folder, the tools, the sanitizer, then `extra`). The
     presets (CMakePresets.json) are the one place the builds are described; -B puts the folder where
     the kit wants it."""
     if os.environ.get(QUICK_TIER) == "1":
@@ -101,6 +101,7 @@ def configure(build: Build, quiet: bool = True) -> None:
     variables = {"RAYKIT_STEPS_DIR": str(build.steps_dir)}
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
     variables["RAYKIT_CHECK_SANITIZE"] = "ON" if build.sanitize_student and not build.tools else "OFF"
+    variables.update(extra or {})
     cache = build.binary_dir / "CMakeCache.txt"
     has_ninja = shutil.which("ninja") is not None or shutil.which("ninja-build") is not None
     # The presets ask for Ninja; without it, CMake's default (Makefiles) rather than a failure. An

@@ -15,7 +15,7 @@ dispatcher, the platform layer, the stand-ins). No build folder is configured fo
 build tool's rules are never read.
 
 The bundle is built by whoever needs it first: the warm-up (warmup.py), the autograders' set-up
-(tools/gradescope/setup.sh: `./kit check --bundle`), CI, or a check. One build at a time per key
+(tools/gradescope/setup.sh, by grading the solutions), CI, or a check. One build at a time per key
 (a lock file); a finished bundle is marked `ready` last, so a half-built one is never used, and one
 whose build failed is built again from nothing. The folder is readable by its user only: a grading's
 judges hold the hidden cases and its reference answers programs the reference's code (sandbox/: the
@@ -30,12 +30,12 @@ import json
 import os
 import shlex
 import shutil
-import subprocess
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
-from .common import BUILD, KitError, ROOT, Step, say
+from .common import BUILD, KitError, ROOT, Step
 from .compilers import compiler_identity
 from .status import FAILED
 
@@ -194,10 +194,10 @@ def find(sanitize: bool) -> Bundle | None:
     return _load(cache_root() / key(sanitize))
 
 
-def ensure(sanitize: bool, progress=None, quiet: bool = True) -> Bundle:
+def ensure(sanitize: bool, starting: Callable[[], None] | None = None) -> Bundle:
     """The bundle for this kit and compiler, built first when there is none (one build at a time per
-    key: a second caller waits for the first's). `progress(done, total)` follows the build tool's
-    count. KitError when it cannot be built: the kit's fault or the machine's, never a student's."""
+    key: a second caller waits for the first's); `starting()` is called before it builds. KitError
+    when it cannot be built: the kit's fault or the machine's, never a student's."""
     root = cache_root()
     k = key(sanitize)
     folder = root / k
@@ -205,11 +205,13 @@ def ensure(sanitize: bool, progress=None, quiet: bool = True) -> Bundle:
     if found is not None:
         _touch(folder)
         return found
+    if starting is not None:
+        starting()
     with open(root / f"{k}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         found = _load(folder)           # built by the caller we waited for
         if found is None:
-            _build(folder, sanitize, progress, quiet)
+            _build(folder, sanitize)
             found = _load(folder)
             if found is None:
                 raise KitError(f"the kit's bundle in {folder} was built but has no recipe", FAILED)
@@ -217,31 +219,21 @@ def ensure(sanitize: bool, progress=None, quiet: bool = True) -> Bundle:
     return found
 
 
-def _build(folder: Path, sanitize: bool, progress, quiet: bool) -> None:
-    from .build import Build, build_targets, forget_moved_build
+def _build(folder: Path, sanitize: bool) -> None:
+    from .build import Build, build_targets, configure
     if folder.exists():
         shutil.rmtree(folder)          # a build that failed or stopped half way: from nothing
-    has_ninja = shutil.which("ninja") is not None or shutil.which("ninja-build") is not None
-    gen = [] if has_ninja else ["-G", "Unix Makefiles"]
-    forget_moved_build(folder)
-    cmd = ["cmake", "--preset", "bundle", "-S", str(ROOT), "-B", str(folder), *gen,
-           f"-DRAYKIT_CHECK_SANITIZE={'ON' if sanitize else 'OFF'}",
-           f"-DRAYKIT_HIDDEN={'ON' if hidden_here() else 'OFF'}"]
-    linker = os.environ.get("RAYKIT_LINKER")
-    if linker:
-        cmd.append(f"-DRAYKIT_LINKER={linker}")
     began = time.monotonic()
-    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
-    if r.returncode != 0:
-        raise KitError(f"the kit's bundle does not configure:\n{r.stdout[-3000:]}{r.stderr[-3000:]}", FAILED)
-    b = Build("bundle", folder, ROOT / "steps", ROOT / "steps", tools=False)
-    ok, out = build_targets(b, ["all"], progress)
+    b = Build("bundle", folder, ROOT / "steps", ROOT / "steps", preset="bundle", tools=False, sanitize_student=sanitize)
+    extra = {"RAYKIT_HIDDEN": "ON" if hidden_here() else "OFF"}
+    if os.environ.get("RAYKIT_LINKER"):
+        extra["RAYKIT_LINKER"] = os.environ["RAYKIT_LINKER"]
+    configure(b, extra=extra)
+    ok, out = build_targets(b, ["all"])
     if not ok:
         raise KitError(f"the kit's bundle does not build (a kit bug, or the machine's):\n{out[-3000:]}", FAILED)
-    seconds = time.monotonic() - began
-    (folder / READY).write_text(json.dumps({"seconds": round(seconds, 1), "packages": _packages(folder)}) + "\n")
-    if not quiet:
-        say(f"raykit: the kit's side built once, in {folder} ({seconds:.0f} s)")
+    (folder / READY).write_text(json.dumps({"seconds": round(time.monotonic() - began, 1),
+                                            "packages": _packages(folder)}) + "\n")
 
 
 def _touch(folder: Path) -> None:

@@ -95,9 +95,10 @@ def build_step(build: Build, step: Step, kit: bundle.Bundle, isolation: Isolatio
     missing = [f for f in step.files if not (build.steps_dir / step.folder / f).is_file()]
     if missing:
         return Built(judge, False, "", missing)
-    by_folder = {s.folder: s for s in load_steps()}
+    own_needs = kit.own_needs(step)
+    by_folder = {s.folder: s for s in load_steps()} if own_needs else {}
     sources: list[tuple[str, str]] = [(step.folder, f) for f in step.files]
-    for folder in kit.own_needs(step):
+    for folder in own_needs:
         need = by_folder.get(folder)
         absent = [f for f in need.files if not (build.steps_dir / folder / f).is_file()] if need else ["?"]
         if absent:
@@ -462,10 +463,8 @@ def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolatio
     if len(quick) + len(known) < len(order):
         # The kit's side: built once per machine (bundle.py); the first check, or the warm-up, builds it.
         try:
-            kit = bundle.find(detect_undefined())
-            if kit is None:
-                progress.phase("building the kit's side, once for this machine")
-                kit = bundle.ensure(detect_undefined())
+            kit = bundle.ensure(detect_undefined(),
+                                lambda: progress.phase("building the kit's side, once for this machine"))
         except Exception as e:      # noqa: BLE001 -- the kit's or the machine's: every step not graded
             kit = e
 

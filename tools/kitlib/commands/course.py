@@ -48,10 +48,8 @@ def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
     from ..runcases import list_cases
     from ..packages import ensure_packages
     ensure_packages("build")
-    kit = bundle.find(detect_undefined())
-    if kit is None:
-        say(f"building the kit's side once (the test programs of {len(steps)} steps) to list their cases ...")
-        kit = bundle.ensure(detect_undefined())
+    kit = bundle.ensure(detect_undefined(), lambda: say(
+        f"building the kit's side once (the test programs of {len(steps)} steps) to list their cases ..."))
     return {s.number: [(c.tier, c.name, c.lecture) for c in list_cases(kit.judge(s))] for s in steps}
 
 

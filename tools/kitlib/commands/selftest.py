@@ -50,6 +50,8 @@ def run(args) -> int:
     unknown = [m for m in args.modules if m.partition(":")[0] not in MODULES]
     if unknown:
         raise KitError(f"no self-test module {', '.join(unknown)}; the modules are {', '.join(MODULES)}")
+    if args.jobs < 1:
+        raise KitError(f"-j {args.jobs}: at least 1")
     steps = None
     if args.step is not None:
         if args.quick:
@@ -71,8 +73,6 @@ def run(args) -> int:
         say(f"self-test of step {steps[0].number} ({steps[0].title}): " + ", ".join(
             f"{m}: {n}" for m, n in counts.items() if n) + " self-tests")
     prepare()
-    if args.jobs < 1:
-        raise KitError(f"-j {args.jobs}: at least 1")
     if steps:
         return run_all(Context(fast=args.fast, steps=steps), args.modules, args.words, step=True, jobs=args.jobs)
     return run_all(Context(fast=args.fast), args.modules, args.words, args.quick, jobs=args.jobs)

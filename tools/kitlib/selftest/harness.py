@@ -297,6 +297,17 @@ class Lines(unittest.TestResult):
         self.lines.append(line)
 
 
+def judged(case: unittest.TestCase, ctx: Context, fn, label: str = "") -> str:
+    """judge() inside a unittest case (./kit test's SelfTestCase, tools/test_selftests.py's classes):
+    a skip is the case's skip, a failure its failure (after `label`, when given); else the summary."""
+    outcome, detail = judge(ctx, fn)
+    if outcome == "skipped":
+        case.skipTest(detail)
+    if outcome == "failed":
+        case.fail(f"{label}: {detail}" if label else detail)
+    return detail
+
+
 class SelfTestCase(unittest.TestCase):
     """One self-test as a unittest case: judge() runs it, a skip is unittest's skip and a failure its
     failure, under CI's rule for security tests."""
@@ -306,12 +317,7 @@ class SelfTestCase(unittest.TestCase):
         self.ctx, self.name, self.fn, self.outcome = ctx, name, fn, ""
 
     def run_selftest(self) -> None:
-        outcome, detail = judge(self.ctx, self.fn)
-        if outcome == "skipped":
-            self.skipTest(detail)
-        if outcome == "failed":
-            self.fail(detail)
-        self.outcome = detail
+        self.outcome = judged(self, self.ctx, self.fn)
 
     def id(self) -> str:
         return self.name
