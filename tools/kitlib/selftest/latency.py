@@ -207,9 +207,12 @@ def selftest_bundle(ctx: Context) -> str:
     kit_side = bundle.ensure(detect_undefined())
     # Nothing of a student's: every file the bundle compiled is the kit's (tests/, solutions/) or its own.
     commands = json.loads((kit_side.folder / "compile_commands.json").read_text())
+    # The kit's files of the copy it was built from (its source_root: this kit, or another copy with the
+    # same content, as the two-kits self-test's when it ran first).
+    built_from = Path(kit_side.recipe["source_root"]).resolve()
     theirs = [c["file"] for c in commands
               if not any(Path(c["file"]).resolve().is_relative_to(p) for p in
-                         (ROOT / "tests", ROOT / "solutions", kit_side.folder.resolve()))]
+                         (built_from / "tests", built_from / "solutions", kit_side.folder.resolve()))]
     expect(not theirs, f"the bundle compiles files that are not the kit's: {theirs[:3]}")
     # The check's command for a student's file is CMake's for a step's own file (stepobjNN), but for
     # the file and the object's name.
