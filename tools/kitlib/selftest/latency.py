@@ -233,7 +233,7 @@ def selftest_bundle(ctx: Context) -> str:
     # Built from another copy of the same kit (a second handout, a course's second kit): its folders
     # are this kit's in the command, or the boundary would not find the headers it copies.
     elsewhere = bundle.Bundle(kit_side.folder, dict(kit_side.recipe, source_root="/elsewhere/kit"))
-    elsewhere.recipe["_argv"] = {use: [a.replace(str(built_from) + "/", "/elsewhere/kit/") for a in argv]
+    elsewhere.recipe["_argv"] = {use: [a.replace(kit_side.recipe["source_root"] + "/", "/elsewhere/kit/") for a in argv]
                                  for use, argv in kit_side._probes().items()}
     moved = elsewhere.compile_command("grade", source, Path("x.o"))
     expect(moved == kit_side.compile_command("grade", source, Path("x.o")) and f"-I{ROOT}/include" in moved,
