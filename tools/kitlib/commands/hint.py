@@ -166,7 +166,9 @@ def run(args) -> int:
         nxt = shown[-1] if shown else len(hints)
     order = shown + ([nxt] if nxt not in shown else [])
     for i in (order if args.all else [nxt]):
-        say(paint(f"Hint {i} of {len(hints)} · step {step.number}, {step.title}", "bold"))
+        # Numbered in the order this student was given them, which the section of the failing case
+        # chooses: "Hint 3 of 5" for the first one seen, beside "4 hints left", read as a miscount.
+        say(paint(f"Hint {order.index(i) + 1} of {len(hints)} · step {step.number}, {step.title}", "bold"))
         if i == nxt and section and section in hint_sections(hints[i - 1]):
             say(paint(f"(your first failing case, \"{case.name}\", points to section \"{case.lecture}\")", "dim"))
         say(hints[i - 1])

@@ -73,6 +73,12 @@ def selftest_hint_looks_at_failure(ctx) -> str:
     hints = load_hints(step)
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="hint-"))
     n = str(int(step.number))
+
+    def said(number: int, run) -> bool:
+        """Whether `run` printed hint `number` of the file (its first line): the header counts the
+        hints this student has been given, not their place in the file."""
+        return hints[number - 1].strip().splitlines()[0] in run.stdout
+
     try:
         write_answer(step, MUTANTS / step.folder / "open_window.patch", work / step.folder)
         tied = [i for i, h in enumerate(hints, 1) if "5" in hint_sections(h)]
@@ -83,19 +89,19 @@ def selftest_hint_looks_at_failure(ctx) -> str:
         running, shown = first.stdout.find("kit: running step"), first.stdout.find("Hint ")
         expect(0 <= running < shown, "piped, ./kit hint does not print 'kit: running step ...' before the hint:\n"
                + first.stdout[:400])
-        expect(first.returncode == 0 and f"Hint {tied[0]} of {len(hints)}" in first.stdout
+        expect(first.returncode == 0 and f"Hint 1 of {len(hints)}" in first.stdout and said(tied[0], first)
                and "points to section \"5." in first.stdout,
                f"with the window open (a case of section 5 fails), ./kit hint {n} gave:\n{first.stdout}{first.stderr}")
-        expect(second.returncode == 0 and f"Hint 1 of {len(hints)}" in second.stdout,
+        expect(second.returncode == 0 and f"Hint 2 of {len(hints)}" in second.stdout and said(1, second),
                f"the second ./kit hint {n} does not go on with the fixed order:\n{second.stdout}")
         plain = kit("hint", n, "--no-run")
-        expect("Hint 2 of" in plain.stdout, f"--no-run after hints {tied[0]} and 1 does not give hint 2:\n{plain.stdout}")
+        expect("Hint 3 of" in plain.stdout and said(2, plain), f"--no-run after hints {tied[0]} and 1 does not give hint 2:\n{plain.stdout}")
         # After a ./kit check of the same files, the hint takes the failing case from it: no run.
         kit("check", n, "--steps", str(work))
         kit("hint", n, "--reset")
         reused = kit("hint", n, "--steps", str(work))
         expect("kit: running step" not in reused.stdout and "as your last ./kit check saw them" in reused.stdout
-               and f"Hint {tied[0]} of {len(hints)}" in reused.stdout,
+               and f"Hint 1 of {len(hints)}" in reused.stdout and said(tied[0], reused),
                f"after ./kit check, ./kit hint {n} ran the cases again or chose another hint:\n{reused.stdout}")
         source = next(p for p in (work / step.folder).iterdir() if p.suffix == ".cpp")
         source.write_text(source.read_text() + "\nint raykit_selftest_changed = 1;\n")
