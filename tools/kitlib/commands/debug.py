@@ -8,23 +8,32 @@ the answers program alone replays them under the debugger (`answers_stepNN --rep
 process, no fork to follow (LLDB on macOS follows none), breakpoints on the step's functions, and
 quitting the debugger is just quitting. The case's name and the debugger are checked before anything
 is built.
+
+The program is the bundle's dispatcher (bundle.py: the kit's side, already built for ./kit check)
+linked with the student's files compiled without optimisation and with full debug information, from
+where they are (their own folder: the debugger shows their lines) into build/debug/, which stays: the
+debugger reads the objects' information and the sources after this process has gone. No CMake
+configure, no build of a judge: the bundle's judge records the calls.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-from ..checking import check_steps, recorded_cases, submission_seed
-from ..runcases import list_cases
-from ..common import BUILD, KitError, load_steps, resolve_steps_dir, say, select_steps
-from ..build import Build, build_targets, ensure_configured, preset_build, submission_build
+from .. import bundle
+from ..build import Build, detect_undefined, preset_build
+from ..checking import LastCheck, check_steps, recorded_cases, submission_seed
+from ..common import BUILD, ROOT, KitError, load_steps, map_in_threads, resolve_steps_dir, say, select_steps
 from ..packages import ensure_packages, family, has_apt, install_line
-from ..status import FAILED, OK, PASS, SETUP
+from ..runcases import list_cases
+from ..sandbox import NONE_OWN
+from ..status import FAILED, OK, SETUP
 
 DEBUGGERS = ("gdb", "lldb")
 STOPPED = ("[raykit] Stopped in your code. bt: where; p NAME: a value; n: next line; s: step in; "
@@ -91,12 +100,59 @@ def match_case(names: list[str], wanted: str, step) -> str:
     return found[0]
 
 
-def pick_case(exe: Path, wanted: str | None, build, step, all_steps) -> str:
-    """The case named, or the one ./kit check shows first: its first problem, basic, then ★."""
-    names = [c.name for c in list_cases(exe) if c.tier != "hidden"]
+BUGGY_FLAGS = re.compile(r"^-(O[0-9sgz]?|g[0-9]?|ggdb[0-9]?|gline-tables-only|gmlt)$")
+DEBUG_FLAGS = ["-O0", "-g3", "-fno-omit-frame-pointer"]
+
+
+def debug_command(kit: bundle.Bundle, source: Path, out: Path) -> list[str]:
+    """The check's own command for a student's file (the same warnings, standard, sanitizer and
+    no-contraction rule, so what is debugged computes what was checked), without its optimisation
+    and line-tables-only information: every variable can be printed and every line stepped."""
+    argv = [a for a in kit.compile_command("check", source, out) if not BUGGY_FLAGS.match(a)]
+    return argv[:1] + DEBUG_FLAGS + argv[1:]
+
+
+def build_debug(kit: bundle.Bundle, step, steps_dir: Path, folder: Path) -> Path:
+    """The step's answers program for the debugger, in `folder`; a KitError naming the compile error."""
+    sources = [(step.folder, f) for f in step.files]
+    by_folder = {s.folder: s for s in load_steps()}
+    for need in kit.own_needs(step):
+        sources += [(need, f) for f in by_folder[need].files]
+    missing = [f"{d}/{f}" for d, f in sources if not (steps_dir / d / f).is_file()]
+    if missing:
+        raise KitError(f"{missing[0]} is missing; ./kit check {int(step.number)} says what to write", FAILED)
+    commands = [debug_command(kit, steps_dir / d / f, folder / "objects" / d / (f + ".o")) for d, f in sources]
+    for argv in commands:
+        Path(argv[argv.index("-o") + 1]).parent.mkdir(parents=True, exist_ok=True)
+
+    def compile_one(argv: list[str]) -> subprocess.CompletedProcess:
+        return subprocess.run(argv, cwd=folder, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                              errors="replace")
+
+    compiled = map_in_threads(compile_one, commands, os.cpu_count() or 1)
+    failed = next((c for c in compiled if c.returncode != 0), None)
+    if failed is not None:
+        sys.stderr.write(failed.stderr)
+        raise KitError(f"step {step.number} does not compile; ./kit check {int(step.number)} shows why", FAILED)
+    answers = folder / f"answers_step{step.number}"
+    link = subprocess.run(kit.link_command([c[c.index("-o") + 1] for c in commands] + kit.kit_objects(step), answers),
+                          cwd=folder, stdin=subprocess.DEVNULL, capture_output=True, text=True, errors="replace")
+    if link.returncode != 0:
+        sys.stderr.write(link.stderr)
+        raise KitError(f"step {step.number} does not link; ./kit check {int(step.number)} shows why", FAILED)
+    return answers
+
+
+def pick_case(judge: Path, wanted: str | None, check: Build, step, all_steps) -> str:
+    """The case named, or the one ./kit check shows first: its first problem, basic, then ★; taken
+    from the student's last check of the same files when there is one, as ./kit hint does."""
+    names = [c.name for c in list_cases(judge) if c.tier != "hidden"]
     if wanted:
         return match_case(names, wanted, step)
-    [result] = check_steps(build, [step], all_steps)
+    result = LastCheck(check, all_steps, NONE_OWN).load(step)
+    if result is None:
+        say(f"kit: running step {step.number}'s cases to find the first that fails")
+        [result] = check_steps(check, [step], all_steps)
     for tier in ("basic", "robust"):
         case = result.first_problem(tier)
         if case is not None and case.tier != "hidden":
@@ -104,11 +160,12 @@ def pick_case(exe: Path, wanted: str | None, build, step, all_steps) -> str:
     raise KitError(f"every case of step {step.number} passes; name a case to debug it anyway", FAILED)
 
 
-def record_calls(build, step, case: str, log: Path) -> int:
-    """Runs the case as ./kit check would and records its calls of the student's code in `log`; how many."""
+def record_calls(judge: Path, answers: Path, seed: str, case: str, log: Path) -> int:
+    """Runs the case as ./kit check would, with the debug program as the student's, and records its
+    calls of the student's code in `log`; how many."""
     log.unlink(missing_ok=True)
-    env = dict(os.environ, RAYKIT_CALL_LOG=str(log), RAYKIT_SEED=submission_seed(build, step))
-    subprocess.run([str(build.exe(step)), f"--test-case={case}", "--no-breaks=true"], env=env,
+    env = dict(os.environ, RAYKIT_CALL_LOG=str(log), RAYKIT_SEED=seed, RAYKIT_ANSWERS=str(answers))
+    subprocess.run([str(judge), f"--test-case={case}", "--no-breaks=true"], env=env,
                    stdin=subprocess.DEVNULL, capture_output=True, timeout=600)
     data = log.read_bytes() if log.is_file() else b""
     count, at = 0, 0
@@ -118,11 +175,18 @@ def record_calls(build, step, case: str, log: Path) -> int:
     return count
 
 
+def batch_commands(debugger: str, step) -> list[str]:
+    """What --batch (the self-test) asks once stopped: where, the source around, the arguments."""
+    if debugger == "gdb":
+        return ["bt 3", "list", "info args"]
+    return ["bt 3", "source list", "frame variable"]
+
+
 def run(args) -> int:
     all_steps = load_steps()
     [step] = select_steps(all_steps, [args.number])
-    # Before the build (half a minute cold): the case's name, from the step's recorded cases, and
-    # the debugger (--print runs none).
+    # Before any build: the case's name, from the step's recorded cases, and the debugger (--print
+    # runs none).
     recorded = recorded_cases(step)
     if args.case and recorded is not None:
         match_case([c.name for c in recorded if c.tier != "hidden"], args.case, step)
@@ -131,29 +195,32 @@ def run(args) -> int:
     else:
         debugger = choose_debugger(args.debugger)
     ensure_packages("build")
-    # Its own build folder without optimisation (preset "debug"): every variable can be printed and
-    # every line stepped through; a --steps folder is staged first, as ./kit check --steps does.
-    staged = submission_build(resolve_steps_dir(args.steps), "debug") if args.steps else preset_build("student")
-    build = Build("debug", BUILD / "debug-build", staged.steps_dir, staged.shown_dir, preset="debug", tools=False)
-    ensure_configured(build, all_steps)
-    ok, _ = build_targets(build, [step.target, f"answers_step{step.number}"])
-    if not ok:
-        raise KitError(f"step {step.number} does not build; ./kit check {int(step.number)} shows why", FAILED)
-    case = pick_case(build.exe(step), args.case, build, step, all_steps)
-    answers = build.binary_dir / f"answers_step{step.number}"
-    log = build.binary_dir / f"step{step.number}.calls"
-    if record_calls(build, step, case, log) == 0:
+    steps_dir = resolve_steps_dir(args.steps) if args.steps else ROOT / "steps"
+    # The student's own check of these files (their first failing case, the hidden cases' seed):
+    # steps/ is their usual build; another folder is checked as their own code too (it runs as them
+    # under the debugger anyway), in a folder of its own.
+    check = (preset_build("student") if not args.steps else
+             Build("debug-check", BUILD / "debug-check", steps_dir, steps_dir, tools=False,
+                   sanitize_student=detect_undefined()))
+    kit = bundle.ensure(detect_undefined(), lambda: say("kit: building the kit's side, once for this machine"))
+    folder = BUILD / "debug"
+    folder.mkdir(parents=True, exist_ok=True)
+    answers = build_debug(kit, step, steps_dir, folder)
+    judge = kit.judge(step)
+    case = pick_case(judge, args.case, check, step, all_steps)
+    log = folder / f"step{step.number}.calls"
+    if record_calls(judge, answers, submission_seed(check, step), case, log) == 0:
         raise KitError(f"the case \"{case}\" calls none of your code: nothing to debug", FAILED)
-    script = build.binary_dir / f"step{step.number}.{debugger}"
-    script.parent.mkdir(parents=True, exist_ok=True)
+    script = folder / f"step{step.number}.{debugger}"
     script.write_text(gdb_script(step.functions) if debugger == "gdb" else lldb_script(step.functions))
     program = [str(answers), "--replay", str(log)]
+    extra = batch_commands(debugger, step) if args.batch else []
     if debugger == "gdb":
-        batch = ["-batch", "-ex", "bt"] if args.batch else []
-        argv = ["gdb", "-q", *batch[:1], "-x", str(script), *batch[1:], "--args", *program]
+        argv = ["gdb", "-q", *(["-batch"] if args.batch else []), "-x", str(script),
+                *[w for c in extra for w in ("-ex", c)], "--args", *program]
     else:
-        batch = ["--batch", "-o", "bt"] if args.batch else []
-        argv = ["lldb", *batch[:1], "-s", str(script), *batch[1:], "--", *program]
+        argv = ["lldb", *(["--batch"] if args.batch else []), "-s", str(script),
+                *[w for c in extra for w in ("-o", c)], "--", *program]
     if args.print_only:
         say(" ".join(a if " " not in a else repr(a) for a in argv))
         return OK

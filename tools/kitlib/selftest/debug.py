@@ -10,6 +10,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 from ..common import BUILD, ROOT
@@ -30,11 +31,29 @@ def selftest_debug(ctx) -> str:
     expect(frame is not None, f"gdb did not stop in the student's intersect_unit_sphere:\n{out[-1500:]}")
     expect("01_unit_sphere/unit_sphere.cpp" in frame.group(1) and "tests/support" not in frame.group(1),
            f"gdb stopped in {frame.group(1)}, not in the student's file")
+    # No case named: the one ./kit check shows first. The debugger shows the student's own lines
+    # (the objects stay, with the sources where the student keeps them) and prints the arguments.
+    start = time.monotonic()
+    r = kit("debug", "1", "--steps", str(wrong), "--batch", timeout=600)
+    took = time.monotonic() - start
+    out = r.stdout + r.stderr
+    frame = re.search(r"^#0\s+raykit::(\w+) \(ray=.*\) at (\S+):(\d+)$", out, re.M)
+    expect(frame is not None and frame.group(2).endswith("01_unit_sphere/unit_sphere.cpp"),
+           f"./kit debug 1 (first failing case) did not stop in the student's file:\n{out[-1500:]}")
+    source = Path(frame.group(2)).read_text().splitlines()
+    line = int(frame.group(3))
+    shown = [l for l in source[max(0, line - 5):line + 5] if len(l.strip()) > 8 and l.strip() in out]
+    expect(len(shown) >= 3 and "No such file" not in out,
+           f"gdb did not list the student's source around line {line}:\n{out[-1500:]}")
+    expect(re.search(r"^ray = .*origin = .*direction = ", out, re.M) is not None,
+           f"gdb could not print the argument ray:\n{out[-1500:]}")
     r = kit("debug", "1", "no case is called like this", "--steps", str(wrong), "--print", timeout=300)
     expect(r.returncode == 2 and "no case named like" in r.stderr, f"an unknown case: {r.returncode} {r.stderr[-300:]}")
     r = kit("debug", "1", "window", "--steps", str(wrong), "--print", timeout=300)
     expect(r.returncode == 2 and "match 'window'" in r.stderr, f"an ambiguous case: {r.returncode} {r.stderr[-300:]}")
-    return "gdb stops in the student's intersect_unit_sphere(tmin=2, tmax=10); unknown and ambiguous case names refused"
+    return (f"gdb stops in the student's intersect_unit_sphere(tmin=2, tmax=10); the first failing case's "
+            f"{frame.group(1)} with its source listed and ray printed ({took:.1f} s, the kit's side built); "
+            "unknown and ambiguous case names refused")
 
 
 def path_without(folder: Path, hidden: set[str], extra: dict[str, str] | None = None) -> str:
@@ -61,10 +80,9 @@ def kit_with(path: str, *args: str, timeout: float = 600) -> subprocess.Complete
 
 
 def stamp() -> tuple:
-    """The debug build's state: its CMake cache and Ninja log, which any configure or build touches."""
-    folder = BUILD / "debug-build"
-    return tuple((p.name, p.stat().st_mtime_ns) for p in (folder / "CMakeCache.txt", folder / ".ninja_log")
-                 if p.exists())
+    """The debug folder's state: every file any compile or link of ./kit debug writes."""
+    folder = BUILD / "debug"
+    return tuple(sorted((str(p), p.stat().st_mtime_ns) for p in folder.rglob("*") if p.is_file())) if folder.is_dir() else ()
 
 
 def selftest_debug_lldb(ctx) -> str:
