@@ -10,6 +10,7 @@
 // list, cmake/StepManifest.cmake), included through RAYKIT_REMOTE_LIST.
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -85,6 +86,29 @@ void unfence(const void* p, std::size_t size) {
 
 struct sigaction previous_segv, previous_bus;
 
+// The main stack, to tell a stack that ran out (an endless recursion) from any other bad access:
+// its top is an address of main's frame, its size the soft limit the program started with. A fault
+// below the top by most of that limit is the guard below the stack, whatever the platform: POSIX
+// gives getrlimit and si_addr on Linux and macOS alike, and nothing needs the stack's exact bounds.
+std::uintptr_t stack_top = 0;
+std::uintptr_t stack_limit = std::uintptr_t{8} << 20;     // where the limit is infinite: the usual 8 MiB
+
+bool past_the_stack(std::uintptr_t at) {
+    if (stack_top == 0 || at >= stack_top) return false;
+    const std::uintptr_t depth = stack_top - at;
+    return depth > stack_limit / 4 * 3 && depth < stack_limit + (std::uintptr_t{64} << 20);
+}
+
+/// `text` then the decimal digits of `n` into `line` at `n_at`; async-signal-safe.
+std::size_t put(char* line, std::size_t at, const char* text, std::uintptr_t n = ~std::uintptr_t{0}) {
+    for (const char* c = text; *c; ++c) line[at++] = *c;
+    if (n == ~std::uintptr_t{0}) return at;
+    std::uintptr_t digits = 1;
+    while (n / digits >= 10) digits *= 10;
+    for (; digits > 0; digits /= 10) line[at++] = static_cast<char>('0' + n / digits % 10);
+    return at;
+}
+
 /// On a fault in a guard page, says whose (one line on fd 2, "raykit-fault: past argument N"), then
 /// lets the signal end the program as it would have: the judge sees the same death either way.
 void on_fault(int signal, siginfo_t* info, void*) {
@@ -102,14 +126,30 @@ void on_fault(int signal, siginfo_t* info, void*) {
         (void)!::write(2, line, n);
         break;
     }
+    if (past_the_stack(at)) {   // "raykit-fault: stack 8 MiB", what the calls had used when it ran out
+        char line[64];
+        std::size_t n = put(line, 0, "raykit-fault: stack ", (stack_top - at) >> 20);
+        n = put(line, n, " MiB\n");
+        (void)!::write(2, line, n);
+    }
     // Back to what was there before (the default: end the program); the access faults again.
     ::sigaction(signal, signal == SIGBUS ? &previous_bus : &previous_segv, nullptr);
 }
 
 void watch_faults() {
+    // The handler runs on a stack of its own: on the main stack, which a fault at its end has used
+    // up, it could not run at all.
+    static char handler_stack[64 * 1024];
+    stack_t alternate{};
+    alternate.ss_sp = handler_stack;
+    alternate.ss_size = sizeof handler_stack;
+    ::sigaltstack(&alternate, nullptr);
+    struct rlimit limit{};
+    if (::getrlimit(RLIMIT_STACK, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+        stack_limit = static_cast<std::uintptr_t>(limit.rlim_cur);
     struct sigaction on{};
     on.sa_sigaction = on_fault;
-    on.sa_flags = SA_SIGINFO;
+    on.sa_flags = SA_SIGINFO | SA_ONSTACK;
     sigemptyset(&on.sa_mask);
     ::sigaction(SIGSEGV, &on, &previous_segv);
     ::sigaction(SIGBUS, &on, &previous_bus);    // macOS reports some guard-page faults as SIGBUS
@@ -255,6 +295,8 @@ int main(int argc, char** argv) {
     // Line-buffered: what the student prints reaches the judge by the end of the
     // call that printed it, even when a later line crashes.
     std::setvbuf(stdout, nullptr, _IOLBF, 1 << 12);
+    volatile char top = 0;
+    stack_top = reinterpret_cast<std::uintptr_t>(&top);
     watch_faults();
     // Calls come on fd 0 and answers go to fd 3, from and to the judge. `--replay FILE`: the calls of
     // one case, recorded by the judge (RAYKIT_CALL_LOG, remote.cpp), from FILE, their answers to

@@ -699,7 +699,7 @@ std::string sanitizer_finding(const std::string& out) {
 /// What the answers program said of a fault in a guard page ("argument 2", "a list in argument 2":
 /// tests/support/answers_main.cpp), taken out of the output it came in, or "".
 std::string fault_note(std::string& out) {
-    const std::string tag = "raykit-fault: past ";
+    const std::string tag = "raykit-fault: ";
     const std::size_t at = out.find(tag);
     if (at == std::string::npos || (at > 0 && out[at - 1] != '\n')) return "";
     const std::size_t end = out.find('\n', at);
@@ -733,7 +733,16 @@ std::string Child::died(const std::string& call) {
     }
     if (got == pid_) pid_ = -1;
     stop();
-    const std::string past = fault_note(output);
+    const std::size_t before = output.size();
+    const std::string note = fault_note(output);
+    // The note is the kit's, not the student's: neither shown nor counted as what their code printed.
+    output_case -= std::min<std::size_t>(output_case, before - output.size());
+    const bool bad_access = signal_ == "SIGSEGV" || signal_ == "SIGBUS";
+    if (bad_access && note.rfind("stack ", 0) == 0)    // the guard below the main stack (answers_main.cpp)
+        return "Your code crashed in " + call + ": its stack ran out, " + note.substr(6) +
+               " of calls deep (" + how.substr(how.find("SIG")) +
+               "): a function that calls itself with no case that ends it, or a local array too big for the stack.";
+    const std::string past = note.rfind("past ", 0) == 0 ? note.substr(5) : "";
     if (!past.empty())    // the argument's own memory ended there: the same crash in every build
         return "Your code crashed in " + call + ": it read or wrote past the end of " +
                (past.rfind("a list", 0) == 0 ? "the list in " + past.substr(past.find("argument")) : past) +

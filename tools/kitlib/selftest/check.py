@@ -347,6 +347,17 @@ def selftest_student_loop(ctx: Context) -> str:
                      r"(SIGSEGV|null pointer.*unit_sphere\.cpp:\d+)", r.stdout) is not None,
            f"a crash does not name the call and the signal or the sanitizer's reason:\n{r.stdout[-1500:]}")
     solution = (ROOT / "solutions" / step.folder / step.files[0]).read_text()
+    # An endless recursion is named from where the stack ran out (answers_main.cpp), not as any
+    # bad access: a function of the student's own that calls itself deeper on every call.
+    head_at = solution.index("std::optional<float> intersect_unit_sphere(")
+    body_at = solution.index("{", head_at) + 1
+    recursion = (solution[:head_at] + "float deeper(int n) {\n    volatile char pad[64];\n    pad[0] = static_cast<char>(n);\n"
+                 "    return n < 0 ? 0.0f : deeper(n + 1) + pad[0];\n}\n\n" + solution[head_at:body_at]
+                 + "\n    if (tmin >= 0.0f) return deeper(0);" + solution[body_at:])
+    r = check(recursion)
+    expect(re.search(r"crashed in intersect_unit_sphere\(.*its stack ran out, \d+ MiB of calls deep", r.stdout)
+           is not None and "raykit-fault" not in r.stdout,
+           f"an endless recursion is not named as the stack running out:\n{r.stdout[-1500:]}")
     r = check(solution.replace("intersect_unit_sphere(const Ray&", "intersect_unit_spher(const Ray&", 1))
     expect("no definition of" in r.stdout and "raykit::intersect_unit_sphere(" in r.stdout,
            f"a missing function is not named:\n{r.stdout[-1500:]}")
