@@ -374,7 +374,8 @@ def selftest_student_loop(ctx: Context) -> str:
            f"./kit reset 1 --yes: {reset.stdout[-400:]} kept {[k.name for k in kept]}")
     shutil.rmtree(where, ignore_errors=True)
     return ("in a handout: printf shown under the case, two slips listed by --all, a crash named with its "
-            "call and signal, a missing function named, reset keeps the student's file")
+            "call and signal, an endless recursion as its stack running out, a missing function named, reset keeps "
+            "the student's file")
 
 
 def selftest_all_and_piped(ctx: Context) -> str:
