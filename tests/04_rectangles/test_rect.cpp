@@ -307,12 +307,7 @@ TEST_CASE("axis 1: a ray parallel to the plane y = 3" * doctest::description("3.
     expect_hit({{-3, 0, -5}, {0, 0, 1}}, y_plane, std::nullopt, "d.y = 0: the ray never reaches y = 3.");
 }
 
-TEST_SUITE_END();
-
-// ---- ★ robust: input that describes no rectangle or no ray ---------------------------
-
-TEST_SUITE_BEGIN("robust");
-
+// The task's first rule (steps/04_rectangles/README.md): a bad axis is required, not optional.
 TEST_CASE("an axis of 3 is no rectangle" * doctest::description("6. Bad input")) {
     expect_hit(along_z(0, 0), Rect{3, 5.0f, {-3, -1}, {3, 1}}, std::nullopt,
                "Only axes 0, 1 and 2 exist; check the axis before using it as an index.");
@@ -322,6 +317,12 @@ TEST_CASE("an axis of -1 is no rectangle" * doctest::description("6. Bad input")
     expect_hit(along_z(0, 0), Rect{-1, 5.0f, {-3, -1}, {3, 1}}, std::nullopt,
                "Only axes 0, 1 and 2 exist; check the axis before using it as an index.");
 }
+
+TEST_SUITE_END();
+
+// ---- ★ robust: NaN, infinity and an empty rectangle ---------------------------
+
+TEST_SUITE_BEGIN("robust");
 
 TEST_CASE("lo greater than hi is an empty rectangle" * doctest::description("6. Bad input")) {
     expect_hit(along_z(0, 0), Rect{2, 5.0f, {3, 1}, {-3, -1}}, std::nullopt,

@@ -3,7 +3,7 @@
 The decks of lectures/slides/ are short retellings of the lectures, written by hand. These rules tie
 the claims of a deck that have one source to that source, so that a deck cannot drift from it:
 
-- **tiers**: a list item on a slide whose heading carries ★ must not name a case that the step's suite
+- **tiers**: a list item marked ★ (or on a slide whose heading carries ★) must not name a case that the step's suite
   (tests/NN_*/cases.json) has only in the basic tier (the zero direction listed under "Bad input ★");
 - **claims about all the cases**: "no case", "every case", "all the cases" must say which tier they are
   about, basic or ★, as the lectures do (one ★ case of step 02 puts a sphere at the world origin);
@@ -80,10 +80,11 @@ def tier_problems(deck: Path, slides: list[decks.Slide], cases: list[dict]) -> l
     robust = [words(c["name"]) for c in cases if c.get("tier") != "basic"]
     out = []
     for i, s in enumerate(slides, 1):
-        if "★" not in heading(s):
-            continue
+        starred = "★" in heading(s)
         for item in list_items(s):
-            phrase = words(re.split(r":|,|\(", item)[0])
+            if not (starred or item.lstrip().startswith("★")):
+                continue        # a slide of both tiers marks its ★ items one by one
+            phrase = words(re.split(r":|,|\(", item.lstrip().lstrip("★"))[0])
             if len(phrase.split()) < 2:
                 continue
             in_basic = [c for c in cases if c.get("tier") == "basic" and f" {phrase} " in f" {words(c['name'])} "]

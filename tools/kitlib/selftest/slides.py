@@ -190,8 +190,8 @@ PLANTED = [
      "other two, \"a tiny sphere seen from very far on pbrt's test ranges\" and \"the ground seen from a metre or two up\", "
      "need a wider type inside (the appendix, §A): the message of each ★ case says which forms pass it.",
      "The ★ robust cases of steps 01 and 02 test exactly these two rewrites."),
-    ("04-rectangles.md", "- NaN anywhere: no hit, if \"false\" means \"miss\"\n",
-     "- NaN anywhere: no hit, if \"false\" means \"miss\"\n- a zero direction: parallel to every plane\n"),
+    ("04-rectangles.md", "- ★ NaN anywhere: no hit, if \"false\" means \"miss\"\n",
+     "- ★ NaN anywhere: no hit, if \"false\" means \"miss\"\n- ★ a zero direction: parallel to every plane\n"),
     ("03-unit-direction.md", "Note: Lecture 03, §4 Floats have 24 significant bits.", "Note: Lecture 03, §4 Floats have 24 bits."),
     ("01-unit-sphere.md", "floats there are 32 apart", "floats there are 64 apart"),
 ]
