@@ -237,7 +237,7 @@ def selftest_same_bits_with_fma(ctx) -> str:
 # Each a fixture's name (fixtures.fixture_dir) but "solutions".
 FAIR_FORMS = [("solutions", ["1", "2", "3"]), ("textbook", ["1", "2", "3"]),
               ("forms/float_leg", ["2"]), ("forms/float_cross", ["2"]), ("forms/double_inside", ["2"]),
-              ("forms/object_space", ["4"])]
+              ("forms/object_space", ["4"]), ("forms/quad_reciprocal", ["4"])]
 # And the other side: a slip a hidden family is there to catch is caught on every draw, not on some.
 ALWAYS_CAUGHT = [("04_rectangles", "edge_excluded", "intersect_rect on exact edges and corners of every axis")]
 
