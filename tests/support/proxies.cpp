@@ -28,10 +28,16 @@ namespace {
 
 #ifdef RAYKIT_STANDIN
 // The student's step 05 runs on a stand-in for step 04 (standin.hpp): before each call that may ask
-// it something, the stand-in is told what to answer, by the reference's own program (never by the
-// student's process): for find_intersection, where the case's ray meets each of the scene's
-// rectangles; for render, the same for the view ray through each pixel's centre. Other calls need
-// no script.
+// it something, the stand-in is told what to answer, its script, by the reference's own program:
+// for find_intersection, where the case's ray meets each of the scene's rectangles; for render, the
+// same for the view ray of each pixel that the *student's own* view_ray gives, asked of the student's
+// process first, one ordinary call a pixel (so a crash, a hang, a throw or the stub is view_ray's,
+// named as any call's). The script never holds a reference answer for a step 05 function: the case's
+// ray is the case's input, the view rays are the student's, and where a ray meets a rectangle is
+// step 04's answer, which intersect_rect gives anyway. (It once held the reference's view rays, which
+// a render could read out of its own memory and score without a view_ray of its own: issue 52,
+// tests/fixtures/hostile/read_script.) So the render cases wait on the student's view_ray. Other
+// calls need no script.
 template <class... A>
 void prepare(const char*, const A&...) {}
 
@@ -62,7 +68,8 @@ void prepare(const char* function, const Scene& scene, const Camera& camera) {
     if (camera.width > 0 && camera.height > 0 && static_cast<long long>(camera.width) * camera.height <= (1 << 16)) {
         rays.reserve(static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height));
         for (int j = 0; j < camera.height; ++j)
-            for (int i = 0; i < camera.width; ++i) rays.push_back(remote::reference<Ray>("view_ray", camera, i, j));
+            for (int i = 0; i < camera.width; ++i)
+                rays.push_back(remote::call<Ray>(remote::Target::student, "view_ray", camera, i, j));
     }
     send(standin::For::render, scene, rays);
 }

@@ -10,10 +10,16 @@
 // ray the call may cast and each object of the call's scene, where the ray's line meets that
 // rectangle (the reference's answer with an unbounded window), or that it does not. A call of
 // find_intersection casts the case's own ray; a call of render casts one view ray per pixel, which
-// the judge asks of the reference's view_ray. The stand-in answers from the script for any window
-// the student's loop asks about, a ray whose direction is a positive multiple of a scripted one
-// included (a student's own view ray, rounded otherwise, or normalised), and refuses any other
-// question.
+// the judge asks of the student's own view_ray, in the student's process, before it asks the
+// reference where each meets each object. The stand-in answers from the script for any window the
+// student's loop asks about, a ray whose direction is a positive multiple of a scripted one included
+// (a view ray normalised, or computed in the loop in another order), and refuses any other question.
+//
+// What the student's process holds, then, is its own: the case's input, its own view rays, and for
+// each, step 04's answer, which intersect_rect would give it anyway. No reference answer of a step 05
+// function is in it (issue 52: when the script held the reference's view rays, a render could read
+// them out of its own memory and pass with view_ray the stub; tests/fixtures/hostile/read_script).
+// The price: the render cases wait on the student's view_ray (a wrong one fails the picture anyway).
 #pragma once
 
 #include <cstdint>
@@ -33,7 +39,7 @@ inline constexpr const char* message = "raykit.script";
 /// What the script is for, named in the stand-in's refusal.
 enum class For : std::uint8_t {
     find_intersection = 0,  ///< the case's own ray
-    render = 1,             ///< the view ray of each pixel
+    render = 1,             ///< the student's view ray of each pixel
 };
 
 /// One ray of a script and, for each object of the scene in order, where its line meets that

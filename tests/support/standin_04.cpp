@@ -120,9 +120,10 @@ std::optional<float> intersect_rect(const Ray& ray, const Rect& rect, float tmin
     const std::string asked = "your code asked it about " + wire::text(ray) + " and " + wire::text(rect);
     if (what == For::render)
         throw std::invalid_argument(
-            "while grading step 05 the grader answers intersect_rect only for the view rays of the case's camera, "
-            "one through each pixel's centre, and the scene's objects; " + asked +
-            ". Is that ray view_ray's for a pixel of the image, and that rectangle one of the scene's, unchanged?");
+            "while grading step 05 the grader answers intersect_rect only for the rays your view_ray gave for the "
+            "case's camera, one a pixel, and the scene's objects; " + asked +
+            ". Is that ray view_ray's for a pixel of the image (or a positive multiple of its direction), and that "
+            "rectangle one of the scene's, unchanged?");
     throw std::invalid_argument(
         "while grading step 05 the grader answers intersect_rect only for the case's own ray and the case's "
         "objects; " + asked + ". Pass the ray you were given (or a positive multiple of its direction) and each "

@@ -16,6 +16,9 @@ user id when root), and asserts on the JSON and the exit status:
   read from inside the sandbox;
 - read_classmate: a classmate's folder and another copy of the kit kept anywhere on
   the machine (/opt, /tmp) cannot be included at compile time nor read at run time.
+- read_script: a step 05 render that reads its view rays out of its own memory, view_ray the
+  stub, grades like the same step with an honest render: the stand-in's script holds no
+  reference view ray;
 - scratch_spy: what a hidden case's call wrote to its folder or /tmp or kept in
   memory is not there for a case whose output students see (the ★ case re-run
   alone after the hidden cases), also with a bubblewrap that cannot size its
@@ -822,6 +825,38 @@ def selftest_reference_out_of_reach(ctx) -> str:
     return run_modes(one)
 
 
+def selftest_no_reference_answer(ctx) -> str:
+    """A step 05 whose render reads the view rays scripted for the stand-in out of its own memory, with
+    view_ray the stub (tests/fixtures/hostile/read_script), grades exactly like the same step with an
+    honest render (hostile/view_ray_stub): the student's process holds no reference view ray, so it finds
+    none, and the render cases wait on the student's own view_ray (standin.hpp, issue 52)."""
+    from ..cases import picture_sections
+    step = next(s for s in load_steps() if s.number == "05")
+    pictures = picture_sections(step)
+
+    def one(mode: str) -> str:
+        base_rc, base, _, _ = grade_json(fixture_dir("hostile") / "view_ray_stub", ["05"], mode)
+        rc, got, _, _ = grade_json(fixture_dir("hostile") / "read_script", ["05"], mode)
+        found = [l for l in printed(got).splitlines() if l.startswith("read_script:") and "found" in l]
+        expect(not found, f"read_script ({mode}): its render found rays in its memory: " + "; ".join(found[:3]))
+        same_as_wrong_answer("read_script", mode, got, rc, base, base_rc)
+        # Every case it fails waits on view_ray and says so first (view_ray's own cases and the render
+        # cases alike: none a stand-in's refusal); the picture's cases (step.json) are among them.
+        cases = [c for s in got["record"]["steps"] for c in s["cases"] if c["tier"] in ("basic", "hidden")]
+        failing = [c for c in cases if c["status"] != "pass"]
+        unnamed = [c["name"] for c in failing if not any("view_ray" in m for m in c["messages"][:1])]
+        expect(not unnamed, f"read_script ({mode}): failing cases whose first message does not name view_ray: "
+                            f"{unnamed[:5]}")
+        picture = [c for c in cases if c["lecture"] in pictures]
+        expect(picture and all(c["status"] != "pass" for c in picture),
+               f"read_script ({mode}): the picture's cases {[c['name'] for c in picture]} did not all fail")
+        return (f"{got['score']} points as view_ray_stub, {len(failing)} cases waiting on view_ray (the picture's "
+                f"among them), no ray found")
+
+    need_solutions()
+    return run_modes(one)
+
+
 def selftests():
     # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
     return [("integrity: one scale", selftest_one_scale),
@@ -829,6 +864,7 @@ def selftests():
             ("integrity: lingering writer", selftest_lingering_writer),
             ("integrity: read the answers", selftest_read_answers),
             ("integrity: no reference code in a graded step 05", selftest_reference_out_of_reach),
+            ("integrity: no reference answer in a graded step 05", selftest_no_reference_answer),
             ("integrity: read a classmate's files", selftest_read_classmate),
             ("integrity: table of the visible inputs", selftest_table_of_visible_inputs),
             ("integrity: scratch folder spy", selftest_scratch_spy),

@@ -317,7 +317,8 @@ def selftest_first_problem_order(ctx) -> str:
     from ..status import THREW, TIMED_OUT
     s = _steps()["05"]
     refusal = ("Your code threw an exception in render(scene{orange}, camera{...}): std::invalid_argument (\"while "
-               "grading step 05 the grader answers intersect_rect only for the view rays of the case's camera\")")
+               "grading step 05 the grader answers intersect_rect only for the rays your view_ray gave for the "
+               "case's camera\")")
 
     def result(*failing):
         # Each failing case's section also has passing cases, so a failing share below the picture's 100 %
