@@ -402,6 +402,10 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
 
 void Child::start() {
     Settings& cfg = settings();
+    // A program that closes its stdin (the request pipe) must not stop the judge with SIGPIPE at its
+    // next request ("not graded"): the write fails with EPIPE instead, and the call is the student's.
+    static const bool no_sigpipe = ::signal(SIGPIPE, SIG_IGN) != SIG_ERR;
+    (void)no_sigpipe;
     if (scratch_.empty()) {
         scratch_ = cfg.scratch;
         if (scratch_.empty()) {
