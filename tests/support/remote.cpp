@@ -108,7 +108,6 @@ std::string process_limit_note(const std::string& text) {
            "(a limit of 1), so starting another fails with EAGAIN, \"Resource temporarily unavailable\".";
 }
 
-constexpr double start_seconds = 30.0;   // for the answers program to say it is ready (not a call's time)
 
 using platform::cpu_seconds;
 using platform::first_child;
@@ -294,16 +293,21 @@ public:
 
 private:
     void start();
-    void await_ready();
+    int take_ready();
+    std::string not_started(const std::string& call);
     bool sandbox_starts();
     void drain_output();
     std::string died(const std::string& call);
-    double cpu_now();
+    pid_t measured_pid();
 
     std::string exe_;
     bool sandboxed_;
     pid_t pid_ = -1;
     pid_t answers_pid_ = 0;     // the answers program itself (under bubblewrap, a grandchild)
+    bool ready_ = false;        // its "ready" frame came: start-up (constructors, the loader) is over
+    std::size_t ready_have_ = 0;    // bytes of that frame read so far
+    std::uint32_t ready_frame_ = 1;
+    double charged_cpu_ = 0;    // the answers process's CPU seconds already charged to a call
     int req_ = -1, rep_ = -1, out_ = -1;
     std::string scratch_;       // RAYKIT_SCRATCH: the kit's folder, which the student's code cannot write
     std::string run_;           // the current answers process's own folder, fresh at each start (start())
@@ -398,6 +402,10 @@ pid_t spawn(std::vector<std::string> argv, const std::string& dir, int in, int o
 
 void Child::start() {
     Settings& cfg = settings();
+    // A program that closes its stdin (the request pipe) must not stop the judge with SIGPIPE at its
+    // next request ("not graded"): the write fails with EPIPE instead, and the call is the student's.
+    static const bool no_sigpipe = ::signal(SIGPIPE, SIG_IGN) != SIG_ERR;
+    (void)no_sigpipe;
     if (scratch_.empty()) {
         scratch_ = cfg.scratch;
         if (scratch_.empty()) {
@@ -446,10 +454,16 @@ void Child::start() {
     req_ = rq[1];
     rep_ = rp[0];
     out_ = ou[0];
-    answers_pid_ = 0;
+    answers_pid_ = sandboxed_ && cfg.isolation == "bwrap" ? 0 : pid_;
+    ready_ = false;
+    ready_have_ = 0;
+    ready_frame_ = 1;
+    charged_cpu_ = 0;
     ::fcntl(out_, F_SETFL, ::fcntl(out_, F_GETFL) | O_NONBLOCK);
     ::fcntl(rep_, F_SETFL, ::fcntl(rep_, F_GETFL) | O_NONBLOCK);
-    await_ready();
+    // No wait here: the program's start-up (the sandbox's start, the loader, the constructors of its
+    // global variables) is waited for by the call that started it, within that call's limits and
+    // charged to the step's budget like the call itself (exchange()).
 }
 
 /// Whether the sandbox starts a program that does nothing (/bin/true), as it started the answers
@@ -473,56 +487,59 @@ bool Child::sandbox_starts() {
     return false;
 }
 
-/// Waits for the answers program's first frame (empty: "ready"). Its start-up, the sandbox's
-/// included, is not counted against any call's time limit.
-void Child::await_ready() {
-    const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                             std::chrono::duration<double>(start_seconds));
-    std::uint32_t size = 1;
-    std::size_t have = 0;
-    while (have < sizeof size) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-        if (left <= 0) {
-            stop();
-            throw CallFailed("Time out: your code did not start within 30 s (a global variable whose "
-                             "constructor never returns?).");
+/// Reads what has come of the answers program's first frame (empty: "ready"): 1 once it is whole,
+/// 0 while more is to come, -1 when the pipe closed first or the frame is not empty (not_started()).
+/// Under bubblewrap the program's own process is found as soon as it exists, so that its start-up is
+/// measured too.
+int Child::take_ready() {
+    measured_pid();
+    while (ready_have_ < sizeof ready_frame_) {
+        const ssize_t k = ::read(rep_, reinterpret_cast<char*>(&ready_frame_) + ready_have_,
+                                 sizeof ready_frame_ - ready_have_);
+        if (k > 0) {
+            ready_have_ += static_cast<std::size_t>(k);
+            continue;
         }
-        pollfd fds[2] = {{rep_, POLLIN, 0}, {out_, POLLIN, 0}};
-        const int n = ::poll(fds, 2, static_cast<int>(std::min<long long>(left, 100)));
-        if (n < 0 && errno != EINTR) break;
-        if (fds[1].revents) drain_output();
-        if (!fds[0].revents) continue;
-        const ssize_t k = ::read(rep_, reinterpret_cast<char*>(&size) + have, sizeof size - have);
-        if (k == 0 || (k < 0 && errno != EAGAIN && errno != EINTR)) break;
-        if (k > 0) have += static_cast<std::size_t>(k);
+        return k < 0 && (errno == EAGAIN || errno == EINTR) ? 0 : -1;
     }
-    if (have == sizeof size && size == 0) {
-        if (settings().isolation == "bwrap" && sandboxed_) {
-            const pid_t init = first_child(pid_);
-            answers_pid_ = init > 0 ? first_child(init) : 0;
-        } else {
-            answers_pid_ = pid_;
-        }
-        return;
+    ready_ = ready_frame_ == 0;
+    return ready_ ? 1 : -1;
+}
+
+/// The process under bubblewrap's init whose CPU time is the student's: found once it exists.
+pid_t Child::measured_pid() {
+    if (answers_pid_ <= 0 && pid_ > 0 && settings().isolation == "bwrap" && sandboxed_) {
+        const pid_t init = first_child(pid_);
+        answers_pid_ = init > 0 ? first_child(init) : 0;
     }
+    return answers_pid_;
+}
+
+/// Why the program ended, or closed its reply pipe, before its "ready" frame: the sandbox's failure
+/// (checked with a program that does nothing) or the student's own start-up.
+std::string Child::not_started(const std::string& call) {
     const bool bounded = sandboxed_ && settings().isolation != "none";
     std::string printed = output;
-    const std::string how = died("the start of your program");
-    if (bounded && !sandbox_starts())
+    const bool spoke = ready_have_ == sizeof ready_frame_ && ready_frame_ != 0;
+    const std::string how = died("the start of your program (before main: a global variable's constructor?), "
+                                 "before " + call);
+    if (bounded && !spoke && !sandbox_starts())
         throw SandboxFailed("The grader's sandbox could not start (" + settings().isolation +
                             "): this is the grader's fault, not your code's. It said: " +
                             printed.substr(0, 300));
-    if (have == sizeof size) throw CallFailed("Your program sent something before it was called.");
-    throw CallFailed(how);
+    if (spoke) return "Your program sent something before it was called.";
+    return how;
 }
-
-double Child::cpu_now() { return answers_pid_ > 0 ? cpu_seconds(answers_pid_) : -1; }
 
 void Child::drain_output() {
     if (out_ < 0) return;
     char buf[65536];
     for (;;) {
         const ssize_t n = ::read(out_, buf, sizeof buf);
+        if (n == 0) {           // every writer closed it (a program that closed its stdout and stderr)
+            ::close(out_);      // poll() would say so at once for ever: a busy loop of the judge's
+            out_ = -1;
+        }
         if (n <= 0) return;
         const std::size_t k = static_cast<std::size_t>(n);
         if (output.size() < kept_output) output.append(buf, std::min(k, kept_output - output.size()));
@@ -757,40 +774,66 @@ std::string Child::died(const std::string& call) {
 
 std::string Child::exchange(const std::string& request, const std::string& call, double seconds,
                             const CallBounds& bounds, CallCost* cost) {
-    if (!running()) start();
+    // A call that starts the program is charged its start-up like its own work (the sandbox's
+    // start, the loader, the constructors of global variables: all the student's, whatever they do),
+    // from the fork on: its wall time against the call's limits and the case's, the program's CPU
+    // from its first instruction and its time waited against the step's budget. Under the user
+    // isolation every case starts a fresh process, so a start-up that stalls or spins costs each
+    // case a call's limit, and the step its budget, as a call would.
+    const bool fresh = !running();
+    const auto began = Clock::now();
+    if (fresh) start();
     const std::uint32_t size = static_cast<std::uint32_t>(request.size());
     std::string framed(reinterpret_cast<const char*>(&size), sizeof size);
     framed += request;
-    if (!wire::write_exact(req_, framed.data(), framed.size())) throw CallFailed(died(call));
+    // What a failure is said to happen in: the call, or the program's start before it.
+    auto in = [&]() {
+        return ready_ ? call : "the start of your program (before main: a global variable's constructor?), before " + call;
+    };
 
     // The limit is CPU time where it can be read (a loaded machine does not make a call slow), with
     // a wall-clock backstop four times as long for code that waits instead of computing. Time
     // waited (neither computing nor queued for a CPU) also counts against the step's budget, and
     // the call's wall time against the case's (`bounds`): sleeping within each call's own limit
-    // costs the grader, so it costs the student too.
-    const double cpu_start = cpu_now();
-    const bool by_cpu = cpu_start >= 0;
-    const pid_t measured = answers_pid_;
+    // costs the grader, so it costs the student too. The CPU charged is the program's since what the
+    // last call was charged (0 for a fresh process): whatever ran between two calls (a signal
+    // handler, a timer) is charged to the next.
+    const bool by_cpu = cpu_seconds(::getpid()) >= 0;
+    const double cpu_start = fresh ? 0.0 : charged_cpu_;
+    pid_t measured = measured_pid();
     // Queued for a CPU, the answers program or the judge reading its reply: the machine's load.
-    const double queued_start = by_cpu ? queued_seconds(measured) + queued_seconds(0) : 0;
+    auto queued_now = [&]() { return (measured > 0 ? queued_seconds(measured) : 0.0) + queued_seconds(0); };
+    const double queued_start = by_cpu ? (fresh ? queued_seconds(0) : queued_now()) : 0;
     // Where CPU time is read, a call that waits (sleeps, blocks) is stopped after `waiting` seconds
     // waited, time queued for a CPU left out: on a loaded machine a loop reaches its CPU limit and is
     // called a loop, however long the queue made it take. The wall clock is a last backstop only.
     const double waiting = std::max(3 * seconds, seconds + 2);
     const double wall = by_cpu ? std::max(40 * seconds, seconds + 60) : seconds;
-    const auto began = Clock::now();
     const auto deadline = began + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall));
     CallCost spent;
     auto measure = [&]() {
         spent.wall = std::chrono::duration<double>(Clock::now() - began).count();
         if (by_cpu) {
-            const double now = cpu_now();
-            if (now >= 0) spent.cpu = std::max(0.0, now - cpu_start);
-            const double queued = std::max(0.0, queued_seconds(measured) + queued_seconds(0) - queued_start);
+            if (measured <= 0) measured = measured_pid();
+            const double now = measured > 0 ? cpu_seconds(measured) : -1;
+            if (now >= 0) {
+                spent.cpu = std::max(0.0, now - cpu_start);
+                charged_cpu_ = std::max(charged_cpu_, now);
+            }
+            const double queued = std::max(0.0, queued_now() - queued_start);
             spent.waited = std::max(0.0, spent.wall - spent.cpu - queued);
         }
         if (cost) *cost = spent;
     };
+    bool sent = false;
+    auto send = [&]() {
+        if (!wire::write_exact(req_, framed.data(), framed.size())) {
+            measure();
+            throw CallFailed(died(call));
+        }
+        sent = true;
+    };
+    if (!fresh) send();
     std::string reply;
     std::uint32_t want = 0;
     bool have_size = false;
@@ -800,7 +843,7 @@ std::string Child::exchange(const std::string& request, const std::string& call,
             measure();
             stop();
             throw CallFailed("Your code printed more than " + std::to_string(output_limit >> 20) +
-                             " MiB during " + call + " and was stopped.");
+                             " MiB during " + in() + " and was stopped.");
         }
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
         measure();
@@ -809,19 +852,19 @@ std::string Child::exchange(const std::string& request, const std::string& call,
         if (by_cpu && used > seconds) {
             stop();
             std::snprintf(limit, sizeof limit, "%g", seconds);
-            throw CpuTimeout("Time out: your code computed for " + std::string(limit) + " s of CPU time in " + call +
+            throw CpuTimeout("Time out: your code computed for " + std::string(limit) + " s of CPU time in " + in() +
                              " without returning. An endless loop?");
         }
         if (by_cpu && spent.waited > waiting) {
             stop();
             std::snprintf(limit, sizeof limit, "%g", waiting);
-            throw CallFailed("Time out: your code waited " + std::string(limit) + " s in " + call +
+            throw CallFailed("Time out: your code waited " + std::string(limit) + " s in " + in() +
                              " without returning (sleeping or blocked, not computing).");
         }
         if (left <= 0) {
             stop();
             std::snprintf(limit, sizeof limit, "%g", wall);
-            throw CallFailed("Time out: your code did not return from " + call + " within " + limit +
+            throw CallFailed("Time out: your code did not return from " + in() + " within " + limit +
                              (by_cpu ? " s of wall time (the machine is very busy, or your code is stopped)."
                                      : " s. An endless loop?"));
         }
@@ -833,9 +876,24 @@ std::string Child::exchange(const std::string& request, const std::string& call,
         const int n = ::poll(fds, 2, static_cast<int>(std::min<long long>(left, 50)));
         if (n < 0 && errno != EINTR) {
             measure();
-            throw CallFailed(died(call));
+            throw CallFailed(sent ? died(call) : not_started(call));
         }
         if (fds[1].revents) drain_output();
+        if (!sent) {
+            // Start-up: the "ready" frame, then the request. A program that ends or closes its reply
+            // pipe first failed to start: the sandbox's fault or the student's (not_started()).
+            if (!fds[0].revents) {
+                measured_pid();
+                continue;
+            }
+            const int got = take_ready();
+            if (got > 0) send();
+            if (got < 0) {
+                measure();
+                throw CallFailed(not_started(call));
+            }
+            continue;
+        }
         if (!fds[0].revents) continue;
         const ssize_t k = ::read(rep_, buf, sizeof buf);
         if (k == 0 || (k < 0 && errno != EAGAIN && errno != EINTR)) {

@@ -154,10 +154,10 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
                isolation: Isolation, tiers: set[str] | None = None) -> StepResult:
     """Runs a built step's cases and says what state the step is in; only those of `tiers` when given
     (the fairness table re-runs the hidden cases alone on each draw)."""
-    machine = faults.machine_fault(built.output)
-    if not built.judge_ok or machine:
-        why = (f"the machine failed the build: {machine}" if machine else
-               "the kit's test program does not build (a kit bug)")
+    # A full disk is not read here from the build's words (a compiler quotes the student's source): the
+    # boundary raises faults.MachineFault from the kit's own errno or measure (sandbox/runner.py).
+    if not built.judge_ok:
+        why = "the kit's test program does not build (a kit bug)"
         return not_graded(step, why, detail=why + ":\n" + built.output)
     judge = built.judge
     try:

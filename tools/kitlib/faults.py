@@ -22,8 +22,8 @@ RAYKIT_FAULT_MARKS), so the retry alone finds the machine well again.
 
 from __future__ import annotations
 
+import errno
 import os
-import re
 import shutil
 import signal
 import time
@@ -35,9 +35,50 @@ MARKS_ENV = "RAYKIT_FAULT_MARKS"
 DISK_ENV = "RAYKIT_FAULT_DISK"
 SECONDS_ENV = "RAYKIT_FAULT_SUBMISSION_SECONDS"
 
-# Words of a tool's output that mean the machine failed, not the code it was given.
-MACHINE_WORDS = ("No space left on device", "Disk quota exceeded", "cannot create temporary file",
-                 "Read-only file system")
+# The errors of the kit's own writes that mean the machine failed it: a full disk, a quota, a disk
+# mounted read-only. Read from the kit's own OSError (its errno), never from what a tool printed: a
+# compiler quotes the student's source (`#warning No space left on device`, a `#line` naming a file
+# "Read-only file system"), so no word of a diagnostic is the machine's.
+MACHINE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS})
+
+
+class MachineFault(Exception):
+    """The machine failed the kit's own work, by the kit's own evidence: its write's errno, or the
+    free space it measured on its own folder's disk (disk_full). The step is not graded."""
+
+
+def machine_errno(e: BaseException) -> bool:
+    """Whether `e` is the kit's own write failing for the machine (MACHINE_ERRNOS)."""
+    return isinstance(e, OSError) and e.errno in MACHINE_ERRNOS
+
+
+def disk_full(folder: Path | str, room: int) -> str:
+    """Why the disk of the kit's own `folder` is full, by the kit's own measure (statvfs), or "": read-only,
+    no inode free, or less than `room` bytes free for an unprivileged user (the sandbox's ids are)."""
+    try:
+        st = os.statvfs(folder)
+    except OSError as e:
+        return f"the kit could not measure its scratch disk ({e.strerror})" if machine_errno(e) else ""
+    if st.f_flag & os.ST_RDONLY:
+        return "Read-only file system (the kit's scratch disk)"
+    if st.f_files > 0 and st.f_favail == 0:
+        return "No space left on device (the kit's scratch disk has no inode free)"
+    free = st.f_bavail * st.f_frsize
+    if free < room:
+        return f"No space left on device (the kit's scratch disk has {free // 1024} KiB free)"
+    return ""
+
+
+def usage(folder: Path) -> int:
+    """Bytes of the files under `folder` (not following links): what a tool wrote there."""
+    total = 0
+    for top, dirs, files in os.walk(folder):
+        for name in files:
+            try:
+                total += os.lstat(os.path.join(top, name)).st_size
+            except OSError:
+                pass
+    return total
 
 
 def _items() -> list[tuple[str, str]]:
@@ -119,20 +160,11 @@ def describe(e: BaseException) -> str:
             why = str(first[2]).split("] ", 1)[-1].split(": '", 1)[0]
             return f"{why}, copying the kit's files into its scratch"[:300]
         return str(first)[:300]
+    if isinstance(e, MachineFault):
+        return str(e)[:300]
     if isinstance(e, OSError) and e.strerror:
         return f"{e.strerror}" + (f" ({e.filename})" if e.filename else "")
     return f"{e.__class__.__name__}: {e}"[:300]
-
-
-# A diagnostic about a line of source (FILE.cpp:12:3: error: ...) quotes what the file says: a student's
-# `#error No space left on device` is a compile error of theirs, not the machine's.
-SOURCE_LINE = re.compile(r"[\w./+-]+\.(?:c|cc|cpp|cxx|h|hh|hpp|hxx|inc)[:(]\d+")
-
-
-def machine_fault(text: str) -> str:
-    """The line of a tool's output that says the machine failed it (a full disk), or ""."""
-    return next((line.strip()[:300] for line in text.splitlines()
-                 if any(w in line for w in MACHINE_WORDS) and not SOURCE_LINE.search(line)), "")
 
 
 def to_student(reason: str, again: str = "ask your instructor to grade it again") -> str:

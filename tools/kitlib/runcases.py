@@ -162,6 +162,30 @@ def record_reference_time(build: Build, step: Step, budget: Budget, cases: list[
         pass
 
 
+def group_cpu(groups: list[str]) -> float | None:
+    """CPU seconds the processes of the slot's control groups have used (cgroup v2 `cpu.stat`, v1
+    `cpuacct.usage`): every process the student's code ran, start-ups and killed ones included, as the
+    kernel counts them. None where there is no such group (a container: the judge's ledger only)."""
+    total, found = 0.0, False
+    for g in groups:
+        try:
+            stat = dict(line.split() for line in (Path(g) / "cpu.stat").read_text().splitlines() if " " in line)
+            total, found = total + int(stat["usage_usec"]) / 1e6, True
+            continue
+        except (OSError, KeyError, ValueError):
+            pass
+        try:
+            total, found = total + int((Path(g) / "cpuacct.usage").read_text()) / 1e9, True
+        except (OSError, ValueError):
+            pass
+    return total if found else None
+
+
+# A case not run because the step's wall-clock backstop ran out while the student's code held the time:
+# the student's timeout, not run again (the step's time is gone).
+STEP_TIME_OUT = "Time out: the step's time ran out"
+
+
 def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
               case_seconds: float = CASE_SECONDS, step_seconds: float = STEP_SECONDS,
               budget: Budget | None = None) -> None:
@@ -174,7 +198,10 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
     """
     by_name = {c.name: c for c in cases}
     order = [c.name for c in cases]
-    deadline = time.monotonic() + step_seconds
+    began = time.monotonic()
+    deadline = began + step_seconds
+    groups = [g for g in (env or {}).get("RAYKIT_SANDBOX_CGROUPS", "").split(":") if g]
+    group_start = group_cpu(groups)
     done: set[str] = set()
     full_env = dict(os.environ, **(env or {}))
     with tempfile.TemporaryDirectory(prefix="raykit-judge-") as tmp:
@@ -246,20 +273,36 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
             c.messages = [f"The kit's test program itself stopped in this case ({how}): not graded, the "
                           "grader's fault, not yours."]
         ended = time.monotonic() < deadline    # the judge ended early, with cases it gave no verdict for
-        # Or the step's wall-clock backstop ran out while the student's code was within its budget of CPU
-        # and waiting: the time went to a busy machine or to the judge, not to the code (see "Budgets").
+        # Or the step's wall-clock backstop ran out. Whose time was it? The kit's own measurements say:
+        # the judge's ledger (the CPU of the answers processes, their start-up included, and the time
+        # they waited) and, where there is one, the slot's control group (the kernel's count of every
+        # process of the student's). Once the budget is spent, or when the student's processes held
+        # half the step's wall time or more, the cases left are the student's timeouts. Not graded
+        # only when the code was within its budget and held under half the time: the machine (or
+        # the judge) took the rest (see "Budgets").
         spent = budget.spent() if budget is not None else None
+        wall = time.monotonic() - began
+        group_now = group_cpu(groups)
+        kernel_cpu = group_now - group_start if group_now is not None and group_start is not None else 0.0
+        theirs_cpu = max(spent["cpu"] if spent else 0.0, kernel_cpu)
+        theirs = theirs_cpu + (spent["wait"] if spent else 0.0)
         within = spent is not None and spent["cpu"] < budget.cpu and spent["wait"] < budget.wait
+        machine = within and theirs < wall / 2
         for c in cases:
             if c.name not in done and c.status == NOT_RUN:
-                if ended or within:
+                if ended or machine:
                     fault = ("the kit's test program gave no verdict" if ended else
-                             f"the step's {step_seconds:g} s ran out with the code within its budget (a busy machine)")
+                             f"the step's {step_seconds:g} s ran out while the code used {theirs_cpu:.1f} s of CPU "
+                             f"and waited {spent['wait']:.1f} s of {wall:.0f} s, within its budget (a busy machine)")
                     c.status = GRADER_ERROR
                     c.incident = {"function": "", "signal": "", "fault": fault}
                     c.messages = [f"Not run: {fault}: not graded, the grader's fault, not yours."]
                 else:
-                    c.messages = ["Not run: the step's time ran out."]
+                    c.status = TIMED_OUT
+                    c.messages = [f"{STEP_TIME_OUT} ({step_seconds:g} s) before this case: your code's processes "
+                                  f"used {theirs_cpu:.1f} s of CPU and waited "
+                                  f"{spent['wait'] if spent else 0.0:.1f} s of the step's {wall:.0f} s"
+                                  + (f"; {budget.note()}." if budget is not None else ".")]
 
 
 RERUN_WHY = "timed out: run once more, alone, before it is failed"
@@ -282,7 +325,7 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
     step a re-run a case."""
     again_left = 1 if looped else len(cases)
     for c in cases:
-        if c.status != TIMED_OUT or again_left == 0:
+        if c.status != TIMED_OUT or again_left == 0 or (c.messages and c.messages[0].startswith(STEP_TIME_OUT)):
             continue
         again_left -= 1
         if fresh is not None:

@@ -11,7 +11,7 @@ import subprocess
 import time
 from pathlib import Path
 
-from .. import atomic
+from .. import atomic, faults
 from ..common import ROOT
 from .limits import MiB
 
@@ -98,7 +98,14 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
         local_dir.mkdir(parents=True)
         for f in step_dir.iterdir():              # the step's own files: what it may include
             if f.is_file() and not f.is_symlink():
-                copy_regular(f, local_dir / f.name, limit=4 * MiB)
+                try:
+                    copy_regular(f, local_dir / f.name, limit=4 * MiB)
+                except OSError as e:
+                    if faults.machine_errno(e):
+                        raise faults.MachineFault(f"{e.strerror}, copying the step's files into the kit's "
+                                                  "scratch") from e
+                    # The student's file (too large, not a regular file): their compile error, not the kit's.
+                    return 1, printable(f"raykit: {f.name} cannot be compiled: {e}\n")
         new[new.index("-c") + 1] = str(local_dir / src.name)
         mapping.append((str(local_dir), str(step_dir)))
     else:
@@ -169,6 +176,14 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
         # Not the student's compile error: the sandbox itself does not start (checked with a program
         # that does nothing). The kit reports the step as not graded, the grader's fault.
         return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
+    if proc.returncode != 0 and not timed_out:
+        # A full disk is the kit's own measure of its own folder's disk, never a word the compiler
+        # printed (it quotes the student's source). What the compile itself wrote (out/) is the
+        # student's: at most a few files of file_mb each, so a disk with less room than one of them
+        # left after the compile ended is the machine's, whatever the compile wrote.
+        full = faults.disk_full(work, limits.file_mb * MiB)
+        if full and faults.usage(out) < limits.file_mb * MiB:
+            raise faults.MachineFault(f"{full}, in the {kind} of the step")
     if cached is not None and proc.returncode == 0 and not timed_out:
         cached.store(out, text)
     status, text = _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
@@ -215,6 +230,9 @@ def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, 
                 else:
                     copy_regular(local, target, mode)
             except OSError as e:
+                if faults.machine_errno(e):     # the kit's own write into its build folder
+                    raise faults.MachineFault(f"{e.strerror}, writing the {kind}'s output into the kit's "
+                                              "build folder") from e
                 text += f"\nraykit: the {kind} made no usable {target.name} ({e}).\n"
                 status = 1
     return (0 if status == 0 else 1), text
