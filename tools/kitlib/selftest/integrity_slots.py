@@ -12,7 +12,10 @@ keep or reach beyond its own run, under each sandbox the machine allows (integri
 - fill_tmp: a step that fills every temporary folder it may write leaves a classmate graded at the
   same time with the classmate's true score, its own folder stopped at its limit where there is one;
 - two kits: two copies of the kit grading on one machine at once take different sandbox ids, and
-  each grades its submission right.
+  each grades its submission right;
+- two roots: the same with the second kit in a root of its own as far as the claims go (its own
+  /run, as a chroot has), both on the default range of ids: each claims an id the other does not
+  have, and neither's reaping makes the other's solutions a student's fault.
 
 Each prints what it managed to do; the checks read that output from the kit's record.
 """
@@ -268,9 +271,111 @@ def selftest_two_kits(ctx) -> str:
     return "; ".join(parts + skipped)
 
 
+OTHER_ROOT = ("mount -t tmpfs -o mode=0700,size=1m raykit-other-root /run/raykit && "
+              "mount -t tmpfs -o mode=0700,size=1m raykit-other-root /var/lib/raykit/locks && exec \"$0\" \"$@\"")
+
+
+def shield_held_ids() -> list:
+    """Abstract names bound, for as long as the list lives, for every sandbox id whose lock file in
+    this root is held by another grading (a kit of older code on a shared machine, which binds no
+    name): the kit this test puts in a root of its own, which cannot see those files, passes them
+    over instead of ending that grading's processes."""
+    import fcntl
+    import socket
+    from ..sandbox import COMPILE_UID_OFFSET, FIRST_UID, LOCK_DIRS
+    held = []
+    for uid in range(FIRST_UID, FIRST_UID + COMPILE_UID_OFFSET):
+        for folder in LOCK_DIRS:
+            try:
+                fd = os.open(f"{folder}/raykit-sandbox-{uid}.lock", os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
+            except OSError:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+                busy = False
+            except OSError:
+                busy = True
+            finally:
+                os.close(fd)
+            if busy:
+                sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET | socket.SOCK_CLOEXEC)
+                try:
+                    sock.bind(f"\0raykit-sandbox-{uid}".encode())
+                    held.append(sock)
+                except OSError:
+                    sock.close()    # a kit of this code: it holds the name itself
+    return held
+
+
+def selftest_two_roots(ctx) -> str:
+    """Two kits on one kernel whose claim folders cannot see each other's (the second in a mount
+    namespace with empty tmpfs over /run/raykit and /var/lib/raykit/locks: exactly what a chroot's
+    own /run gives), each on the default range of sandbox ids (no RAYKIT_FIRST_UID), grade the
+    solutions at the same time under each isolation: they claim different ids, and every step is
+    done or not graded, never a crash, a compile error or a failure of the student's."""
+    need_solutions()
+    modes, skipped = isolations()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox ids are taken only as root", need="root")
+    if shutil.which("unshare") is None or shutil.which("mount") is None:
+        raise Skipped("util-linux's unshare and mount are needed to give a kit its own /run", need="unshare")
+    for folder in ("/run/raykit", "/var/lib/raykit/locks"):
+        os.makedirs(folder, 0o700, exist_ok=True)
+    other = Path(tempfile.mkdtemp(prefix="raykit-selftest-rootB-"))
+    numbers = [str(int(s.number)) for s in ctx.steps]
+    parts = []
+    try:
+        copy_of_kit(other)
+        for mode in modes:
+            results: dict[str, tuple[int, dict, str]] = {}
+
+            def grade(name: str, kit_root: Path, own_root: bool) -> None:
+                out = Path(tempfile.mkdtemp(prefix=f"raykit-two-roots-{name}-"))
+                try:
+                    argv = [str(kit_root / "kit"), "check", *numbers, "--steps", str(ROOT / "solutions"),
+                            "--results", str(out / "rec.json"), "--isolation", mode, "--quiet"]
+                    if own_root:
+                        argv = ["unshare", "-m", "--propagation", "private", "sh", "-c", OTHER_ROOT] + argv
+                    env = dict(os.environ, RAYKIT_NO_OBJCACHE="1")   # compiled anew: the two overlap
+                    env.pop("RAYKIT_FIRST_UID", None)
+                    env.pop("RAYKIT_LOCK_DIR", None)
+                    r = subprocess.run(argv, cwd=kit_root, capture_output=True, text=True, timeout=1800,
+                                       errors="replace", env=env)
+                    rec = json.loads((out / "rec.json").read_text()) if (out / "rec.json").is_file() else {}
+                    results[name] = (r.returncode, rec, r.stderr[-400:])
+                finally:
+                    shutil.rmtree(out, ignore_errors=True)
+
+            if mode == modes[0]:
+                grade("B", other, False)    # kit B's own first build, alone
+            shield = shield_held_ids()
+            threads = [threading.Thread(target=grade, args=a) for a in (("A", ROOT, False), ("B", other, True))]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            for sock in shield:
+                sock.close()
+            ids, states = {}, {}
+            for name, (rc, rec, err) in results.items():
+                expect(bool(rec), f"two roots ({mode}): kit {name} exited {rc} without a record: {err}")
+                found = {int(i) for step in rec["steps"] for i in USER_ID.findall(step.get("isolation", ""))}
+                ids[name] = sorted(found)
+                states[name] = {step["step"]: step["state"] for step in rec["steps"]}
+                wrong = {n: st for n, st in states[name].items() if st not in ("done", "not_graded")}
+                expect(not wrong, f"two roots ({mode}): kit {name} gave the solutions {wrong} (ids {ids})")
+            expect(not set(ids["A"]) & set(ids["B"]), f"two roots ({mode}): both graded as sandbox ids {ids['A']}")
+            parts.append(f"{mode}: ids {ids['A']} and {ids['B']}, states A {sorted(set(states['A'].values()))}, "
+                         f"B {sorted(set(states['B'].values()))}")
+    finally:
+        shutil.rmtree(other, ignore_errors=True)
+    return "; ".join(parts + skipped)
+
+
 def selftests():
     return [("integrity: a forking step is refused its child", selftest_fork_budget),
             ("integrity: the keyring keeps nothing for a re-run or the next student", selftest_keyring_rerun),
             ("integrity: a classmate's program out of reach", selftest_classmate_program),
             ("integrity: a filled /tmp leaves classmates their scores", selftest_fill_tmp),
-            ("integrity: two kits on one machine", selftest_two_kits)]
+            ("integrity: two kits on one machine", selftest_two_kits),
+            ("integrity: two roots on one kernel, one range of ids", selftest_two_roots)]
