@@ -135,8 +135,53 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
                     shutil.copyfile(gch, target)
                 except OSError:         # no room: the compile reads the header itself
                     target.unlink(missing_ok=True)
+    returncode, text, total, timed_out = _run_once(prefix + new, out, env, iso, memory, uid)
+    if returncode != 0 and not timed_out and prefix and not _starts(prefix, iso, out, env, uid):
+        # Not the student's compile error: the sandbox itself does not start (checked with a program
+        # that does nothing). The kit reports the step as not graded, the grader's fault.
+        return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
+    if returncode != 0 and not timed_out and uid:
+        # A sandbox id's processes can be ended by a signal the kit did not send (another grading's
+        # reaping that took the same id: issue 52), and the compiler driver then fails as it does on
+        # an error (exit 1, "signal terminated program cc1plus"), in words the student's file can
+        # also print. So the kit's evidence is the compiler's own determinism: the same command on the
+        # same files, run again once, gives the same result. The same failure again is the code's;
+        # a success is (a signal never makes a compile succeed); a different failure is the machine's.
+        for entry in out.iterdir():
+            if entry.is_dir() and not entry.is_symlink():
+                shutil.rmtree(entry, ignore_errors=True)
+            else:
+                entry.unlink(missing_ok=True)
+        again, again_text, again_total, again_timed_out = _run_once(prefix + new, out, env, iso, memory, uid)
+        if again != 0 and not again_timed_out and (again, again_text) != (returncode, text):
+            return UNSENT_SIGNAL, (f"the {kind} of the step's files gave two different results on the same "
+                                   f"files (exit {returncode}, then {again}): a process of it was ended by a "
+                                   "signal the kit did not send")
+        returncode, text, total, timed_out = again, again_text, again_total, again_timed_out
+    if cached is not None and returncode == 0 and not timed_out:
+        cached.store(out, text)
+    status, text = _finish(kind, iso, text, returncode, timed_out, total, mapping, copies, memory)
+    for dep in dep_files if status == 0 else []:
+        made = next((str(target) for _, target, mode in copies if mode == 0o755), "")
+        try:
+            dep.parent.mkdir(parents=True, exist_ok=True)
+            dep.write_text(f"{made}:\n")
+        except OSError:
+            pass
+    return status, text
+
+
+# _run_tool's status for a compile or link the machine, not the code, failed (its text: the reason).
+UNSENT_SIGNAL = 2
+
+
+def _run_once(argv: list[str], out: Path, env: dict[str, str], iso: Isolation, memory: int,
+              uid: int) -> tuple[int, str, int, bool]:
+    """One run of the compiler or linker in the boundary: its exit status, the first output_kb of what
+    it printed, how many bytes it printed, and whether the kit stopped it at its time limit."""
+    limits = iso.limits
     start = time.monotonic()
-    proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+    proc = subprocess.Popen(argv, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory, uid))
     kept = bytearray()
     total = 0
@@ -164,22 +209,8 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
         time.sleep(0.01)
     _end_group(proc)
     proc.wait()
-    text = kept.decode("utf-8", "replace")
-    if proc.returncode != 0 and not timed_out and prefix and not _starts(prefix, iso, out, env, uid):
-        # Not the student's compile error: the sandbox itself does not start (checked with a program
-        # that does nothing). The kit reports the step as not graded, the grader's fault.
-        return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
-    if cached is not None and proc.returncode == 0 and not timed_out:
-        cached.store(out, text)
-    status, text = _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
-    for dep in dep_files if status == 0 else []:
-        made = next((str(target) for _, target, mode in copies if mode == 0o755), "")
-        try:
-            dep.parent.mkdir(parents=True, exist_ok=True)
-            dep.write_text(f"{made}:\n")
-        except OSError:
-            pass
-    return status, text
+    proc.stdout.close()
+    return proc.returncode, kept.decode("utf-8", "replace"), total, timed_out
 
 
 def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, total: int,

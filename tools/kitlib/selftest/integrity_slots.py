@@ -372,10 +372,116 @@ def selftest_two_roots(ctx) -> str:
     return "; ".join(parts + skipped)
 
 
+# --- signals the kit did not send (issue 52, item 4) -------------------------------------------
+
+def _comm(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/comm").read_text().strip()
+    except OSError:
+        return ""
+
+
+def _real_uid(pid: int) -> int:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith("Uid:"):
+                return int(line.split()[1])
+    except (OSError, ValueError, IndexError):
+        pass
+    return -1
+
+
+class ForeignReaper:
+    """What another grading's reaping does to this one when both hold one sandbox id: SIGKILL to
+    the first compiler process (cc1plus) of the grading's compile id, and to its first answers
+    process, each once. Only processes of the id the grading wrote to its RAYKIT_UID_FILE: no other
+    kit's on the machine."""
+
+    def __init__(self, uid_file: Path):
+        self.uid_file, self.killed, self.stop = uid_file, {"compile": 0, "answers": 0}, threading.Event()
+        self.thread = threading.Thread(target=self.run, daemon=True)
+        self.thread.start()
+
+    def run(self) -> None:
+        import signal
+        from ..sandbox import COMPILE_UID_OFFSET
+        uid = None
+        while not self.stop.is_set() and not all(self.killed.values()):
+            if uid is None:
+                try:
+                    uid = int(self.uid_file.read_text().strip())
+                except (OSError, ValueError):
+                    time.sleep(0.005)
+                    continue
+            for pid in [int(p) for p in os.listdir("/proc") if p.isdigit()]:
+                owner = _real_uid(pid)
+                kind = ("compile" if owner == uid + COMPILE_UID_OFFSET and _comm(pid) == "cc1plus" else
+                        "answers" if owner == uid and _comm(pid).startswith("answers") else "")
+                if kind and not self.killed[kind]:
+                    try:
+                        os.kill(pid, signal.SIGKILL)
+                        self.killed[kind] += 1
+                    except OSError:
+                        pass
+            time.sleep(0.003)
+
+    def end(self) -> dict:
+        self.stop.set()
+        self.thread.join()
+        return self.killed
+
+
+def selftest_unsent_signals(ctx) -> str:
+    """A process of the step killed by a signal the kit did not send is never the student's crash or
+    compile error: the solutions' steps 01-02, graded while a reaper kills their first compiler and
+    their first answers process (what a grading sharing the id did), come out done or not graded
+    under each isolation. And the kit's evidence is not a free pass: hostile/self_kill, whose every
+    call raises SIGKILL on itself, crashes like the code it is (never not graded), scores no more than
+    always_miss, and has at most three cases run once more."""
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox ids are taken only as root", need="root")
+    modes, skipped = isolations()
+    numbers = [str(int(s.number)) for s in ctx.steps[:2]]
+    parts = []
+    for mode in modes:
+        held = Path(tempfile.mkdtemp(prefix="raykit-unsent-"))
+        try:
+            reaper = ForeignReaper(held / "uid")
+            r = subprocess.run([str(ROOT / "kit"), "check", *numbers, "--steps", str(ROOT / "solutions"),
+                                "--results", str(held / "rec.json"), "--isolation", mode, "--quiet"],
+                               cwd=ROOT, capture_output=True, text=True, timeout=1800, errors="replace",
+                               env=dict(os.environ, RAYKIT_NO_OBJCACHE="1", RAYKIT_UID_FILE=str(held / "uid")))
+            killed = reaper.end()
+            expect((held / "rec.json").is_file(), f"unsent signals ({mode}): exited {r.returncode}: {r.stderr[-400:]}")
+            rec = json.loads((held / "rec.json").read_text())
+        finally:
+            shutil.rmtree(held, ignore_errors=True)
+        expect(all(killed.values()), f"unsent signals ({mode}): the reaper found nothing to kill ({killed}): "
+                                     "the test proves nothing")
+        states = {st["step"]: st["state"] for st in rec["steps"]}
+        wrong = {n: st for n, st in states.items() if st not in ("done", "not_graded")}
+        expect(not wrong, f"unsent signals ({mode}): the solutions graded {wrong} after a SIGKILL the kit did "
+                          f"not send ({killed})")
+        _, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
+        _, got, _, _ = grade_json(fixture_dir("hostile") / "self_kill", ["01"], mode)
+        [step] = got["record"]["steps"]
+        expect(step["state"] != "not_graded", f"self_kill ({mode}): not graded ({step.get('reason')}): a free attempt")
+        expect(got["score"] <= base["score"], f"self_kill ({mode}): {got['score']}, always_miss {base['score']}")
+        crashed = sum(c["status"] == "crashed" for c in step["cases"])
+        again = sum(c.get("runs", 1) > 1 for c in step["cases"])
+        expect(crashed and again <= 3, f"self_kill ({mode}): {crashed} cases crashed, {again} run again")
+        parts.append(f"{mode}: solutions {sorted(set(states.values()))} with {killed['compile']} compiler and "
+                     f"{killed['answers']} answers process killed; self_kill {step['state']}, {crashed} crashed, "
+                     f"{again} run again")
+    return "; ".join(parts + skipped)
+
+
 def selftests():
     return [("integrity: a forking step is refused its child", selftest_fork_budget),
             ("integrity: the keyring keeps nothing for a re-run or the next student", selftest_keyring_rerun),
             ("integrity: a classmate's program out of reach", selftest_classmate_program),
             ("integrity: a filled /tmp leaves classmates their scores", selftest_fill_tmp),
             ("integrity: two kits on one machine", selftest_two_kits),
-            ("integrity: two roots on one kernel, one range of ids", selftest_two_roots)]
+            ("integrity: two roots on one kernel, one range of ids", selftest_two_roots),
+            ("integrity: signals the kit did not send", selftest_unsent_signals)]
