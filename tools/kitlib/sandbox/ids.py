@@ -101,16 +101,37 @@ def claim_uid(slot: int) -> int:
 
     Graded code under the user isolation shares the network namespace and can bind such a name
     itself: it can make an id look taken (the next one is claimed; its processes, and so the name,
-    end after each case), never make a taken id look free.
+    end after each case: when every id is refused by its name alone, the claim waits up to a minute),
+    never make a taken id look free.
     """
-    import fcntl
+    import time
     first = first_uid()
+    for _ in range(NAME_WAITS):
+        uid, unopened, named = _claim_once(first, slot)
+        if uid:
+            return uid
+        if not named:
+            break
+        time.sleep(0.5)         # a name held by a case's processes is free once the case ends
+    if unopened:
+        raise RuntimeError(f"no sandbox user id could be claimed: {unopened} of the lock files in "
+                           f"{os.environ.get('RAYKIT_LOCK_DIR') or 'the claims folder'} could not be opened")
+    raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
+
+
+NAME_WAITS = 120         # tries, half a second apart, while some id is refused by its name alone
+
+
+def _claim_once(first: int, slot: int) -> tuple[int, int, int]:
+    """One pass over the slot's ids: (the id claimed or 0, lock files that could not be opened, ids
+    whose lock file was free but whose name was held)."""
+    import fcntl
     folder = _lock_folder()
-    unopened = 0
+    unopened = named = 0
     try:
         for uid in range(first + slot % 64, first + COMPILE_UID_OFFSET, 64):
             if uid in _claimed:
-                return uid
+                return uid, 0, 0
             if _has_name(uid) or _has_name(uid + COMPILE_UID_OFFSET):
                 continue
             fd = _lock_file(folder, f"raykit-sandbox-{uid}.lock")
@@ -124,6 +145,7 @@ def claim_uid(slot: int) -> int:
                 continue
             if not hold_name(f"{NAME_PREFIX}{uid}"):
                 os.close(fd)            # claimed in another root file system on this kernel
+                named += 1
                 continue
             if _in_use(uid):
                 let_go(f"{NAME_PREFIX}{uid}")
@@ -131,13 +153,10 @@ def claim_uid(slot: int) -> int:
                 continue
             _claimed[uid] = fd
             _note_claim(uid)
-            return uid
+            return uid, 0, 0
     finally:
         os.close(folder)
-    if unopened:
-        raise RuntimeError(f"no sandbox user id could be claimed: {unopened} of the lock files in "
-                           f"{os.environ.get('RAYKIT_LOCK_DIR') or 'the claims folder'} could not be opened")
-    raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
+    return 0, unopened, named
 
 
 def claim_range(limit: int = 15) -> tuple[int, int]:
