@@ -33,6 +33,7 @@ import threading
 import time
 from pathlib import Path
 
+from .. import procfs
 from ..common import BUILD, ROOT
 from ..sandbox import Limits
 from ..sandbox_slots import KIT_TEMP_DIRS
@@ -374,23 +375,6 @@ def selftest_two_roots(ctx) -> str:
 
 # --- signals the kit did not send (issue 52, item 4) -------------------------------------------
 
-def _comm(pid: int) -> str:
-    try:
-        return Path(f"/proc/{pid}/comm").read_text().strip()
-    except OSError:
-        return ""
-
-
-def _real_uid(pid: int) -> int:
-    try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith("Uid:"):
-                return int(line.split()[1])
-    except (OSError, ValueError, IndexError):
-        pass
-    return -1
-
-
 class ForeignReaper:
     """What another grading's reaping does to this one when both hold one sandbox id: SIGKILL to
     the first compiler process (cc1plus) of the grading's compile id, and to its first answers
@@ -413,10 +397,10 @@ class ForeignReaper:
                 except (OSError, ValueError):
                     time.sleep(0.005)
                     continue
-            for pid in [int(p) for p in os.listdir("/proc") if p.isdigit()]:
-                owner = _real_uid(pid)
-                kind = ("compile" if owner == uid + COMPILE_UID_OFFSET and _comm(pid) == "cc1plus" else
-                        "answers" if owner == uid and _comm(pid).startswith("answers") else "")
+            for pid in procfs.pids():
+                owner = procfs.real_uid(pid)
+                kind = ("compile" if owner == uid + COMPILE_UID_OFFSET and procfs.comm(pid) == "cc1plus" else
+                        "answers" if owner == uid and procfs.comm(pid).startswith("answers") else "")
                 if kind and not self.killed[kind]:
                     try:
                         os.kill(pid, signal.SIGKILL)
