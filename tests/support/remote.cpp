@@ -752,6 +752,11 @@ std::string Child::exchange(const std::string& request, const std::string& call,
     const std::uint32_t size = static_cast<std::uint32_t>(request.size());
     std::string framed(reinterpret_cast<const char*>(&size), sizeof size);
     framed += request;
+    // A child that died (its own crash, or a kill the kit did not send) before reading the request:
+    // the write fails with EPIPE and died() says how it ended, instead of SIGPIPE ending the judge
+    // (which made the case "not graded": issue 52). The child's own SIGPIPE is put back at its start.
+    static const bool pipe_ignored = (::signal(SIGPIPE, SIG_IGN), true);
+    (void)pipe_ignored;
     if (!wire::write_exact(req_, framed.data(), framed.size())) throw CallFailed(died(call));
 
     // The limit is CPU time where it can be read (a loaded machine does not make a call slow), with

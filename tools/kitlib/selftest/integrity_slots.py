@@ -429,20 +429,24 @@ def selftest_unsent_signals(ctx) -> str:
     numbers = [str(int(s.number)) for s in ctx.steps[:2]]
     parts = []
     for mode in modes:
-        held = Path(tempfile.mkdtemp(prefix="raykit-unsent-"))
-        try:
-            reaper = ForeignReaper(held / "uid")
-            r = subprocess.run([str(ROOT / "kit"), "check", *numbers, "--steps", str(ROOT / "solutions"),
-                                "--results", str(held / "rec.json"), "--isolation", mode, "--quiet"],
-                               cwd=ROOT, capture_output=True, text=True, timeout=1800, errors="replace",
-                               env=dict(os.environ, RAYKIT_NO_OBJCACHE="1", RAYKIT_UID_FILE=str(held / "uid")))
-            killed = reaper.end()
-            expect((held / "rec.json").is_file(), f"unsent signals ({mode}): exited {r.returncode}: {r.stderr[-400:]}")
-            rec = json.loads((held / "rec.json").read_text())
-        finally:
-            shutil.rmtree(held, ignore_errors=True)
-        expect(all(killed.values()), f"unsent signals ({mode}): the reaper found nothing to kill ({killed}): "
-                                     "the test proves nothing")
+        for attempt in range(3):    # a loaded machine may hide a short-lived process from the reaper
+            held = Path(tempfile.mkdtemp(prefix="raykit-unsent-"))
+            try:
+                reaper = ForeignReaper(held / "uid")
+                r = subprocess.run([str(ROOT / "kit"), "check", *numbers, "--steps", str(ROOT / "solutions"),
+                                    "--results", str(held / "rec.json"), "--isolation", mode, "--quiet"],
+                                   cwd=ROOT, capture_output=True, text=True, timeout=1800, errors="replace",
+                                   env=dict(os.environ, RAYKIT_NO_OBJCACHE="1", RAYKIT_UID_FILE=str(held / "uid")))
+                killed = reaper.end()
+                expect((held / "rec.json").is_file(),
+                       f"unsent signals ({mode}): exited {r.returncode}: {r.stderr[-400:]}")
+                rec = json.loads((held / "rec.json").read_text())
+            finally:
+                shutil.rmtree(held, ignore_errors=True)
+            if all(killed.values()):
+                break
+        expect(all(killed.values()), f"unsent signals ({mode}): in 3 tries the reaper found nothing to kill "
+                                     f"({killed}): the test proves nothing")
         states = {st["step"]: st["state"] for st in rec["steps"]}
         wrong = {n: st for n, st in states.items() if st not in ("done", "not_graded")}
         expect(not wrong, f"unsent signals ({mode}): the solutions graded {wrong} after a SIGKILL the kit did "
@@ -455,7 +459,9 @@ def selftest_unsent_signals(ctx) -> str:
         crashed = sum(c["status"] == "crashed" for c in step["cases"])
         again = sum(c.get("runs", 1) > 1 for c in step["cases"])
         expect(crashed and again <= 3, f"self_kill ({mode}): {crashed} cases crashed, {again} run again")
-        parts.append(f"{mode}: solutions {sorted(set(states.values()))} with {killed['compile']} compiler and "
+        reasons = "; ".join(f"step {m['step']} not graded: {m.get('reason', '')[:160]}"
+                            for m in rec.get("not_graded", []))
+        parts.append(f"{mode}: solutions {sorted(set(states.values()))}{' (' + reasons + ')' if reasons else ''} with {killed['compile']} compiler and "
                      f"{killed['answers']} answers process killed; self_kill {step['state']}, {crashed} crashed, "
                      f"{again} run again")
     return "; ".join(parts + skipped)
