@@ -40,7 +40,7 @@ from .common import BUILD, ROOT, InOrder, Step, load_steps, map_in_threads, prer
 from .build import Build, detect_undefined, shown_text
 from .objcache import ObjectCache
 from .runcases import list_cases, record_reference_time, rerun_timeouts, rerun_unsent_kills, run_cases, step_budget
-from .sandbox import NONE_OWN, SANDBOX_FAILED, UNSENT_SIGNAL, Isolation, Scratch
+from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .secret import hidden_seed
 from .status import GRADER_ERROR, NOT_GRADED, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, TIMED_OUT, WAITING
 
@@ -79,7 +79,6 @@ class Built:
     answers_ok: bool
     output: str                 # the compiler's and the linker's output (the errors, if any)
     missing: list[str] = field(default_factory=list)    # the step's files not there when it was built
-    machine: str = ""           # why the machine, not the code, failed the build (sandbox.UNSENT_SIGNAL)
 
     @property
     def judge_ok(self) -> bool:
@@ -120,9 +119,6 @@ def build_step(build: Build, step: Step, kit: bundle.Bundle, isolation: Isolatio
         return result
 
     compiled = map_in_threads(compile_one, commands, os.cpu_count() or 1)
-    unsent = next((text for status, text in compiled if status == UNSENT_SIGNAL), "")
-    if unsent:
-        return Built(judge, False, "", machine=unsent)
     texts = [text for _, text in compiled]
     ok = all(status == 0 for status, _ in compiled)
     if ok:
@@ -132,8 +128,6 @@ def build_step(build: Build, step: Step, kit: bundle.Bundle, isolation: Isolatio
         if key is None or not answers.is_file() or not stamp.is_file() or stamp.read_text() != key:
             stamp.unlink(missing_ok=True)
             status, text = isolation.tool("link", link, build.binary_dir)
-            if status == UNSENT_SIGNAL:
-                return Built(judge, False, "", machine=text)
             texts.append(text)
             ok = status == 0
             if ok and key is not None:
@@ -160,8 +154,6 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
                isolation: Isolation, tiers: set[str] | None = None) -> StepResult:
     """Runs a built step's cases and says what state the step is in; only those of `tiers` when given
     (the fairness table re-runs the hidden cases alone on each draw)."""
-    if built.machine:
-        return not_graded(step, built.machine)
     machine = faults.machine_fault(built.output)
     if not built.judge_ok or machine:
         why = (f"the machine failed the build: {machine}" if machine else

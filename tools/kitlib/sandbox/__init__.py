@@ -37,6 +37,6 @@ from .reaping import become_subreaper, kill_session, kill_uid, reap_orphans, ses
 from .ipc import SHARED_WRITABLE, clean_uid_files, clean_uid_ipc  # noqa: F401
 from .cgroups import kill_cgroup, make_cgroups  # noqa: F401
 from .bwrap import bwrap_sizes, bwrap_works, compiler_folders, install_bwrap, system_view  # noqa: F401
-from .runner import SANDBOX_FAILED, UNSENT_SIGNAL, _run_tool, copy_regular  # noqa: F401
+from .runner import SANDBOX_FAILED, _run_tool, copy_regular  # noqa: F401
 from .view import Scratch, WITHHELD, WithheldFromOthers, hide_secrets, restore_withheld  # noqa: F401
 from .isolation import Isolation, NONE_OWN, choose  # noqa: F401

@@ -143,21 +143,19 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
     if returncode != 0 and not timed_out and uid:
         # A sandbox id's processes can be ended by a signal the kit did not send (another grading's
         # reaping that took the same id: issue 52), and the compiler driver then fails as it does on
-        # an error (exit 1, "signal terminated program cc1plus"), in words the student's file can
-        # also print. So the kit's evidence is the compiler's own determinism: the same command on the
-        # same files, run again once, gives the same result. The same failure again is the code's;
-        # a success is (a signal never makes a compile succeed); a different failure is the machine's.
+        # an error (exit 1, "signal terminated program cc1plus"), in words the student's file can also
+        # make it print, and its text varies between runs anyway (the assembler's temporary names,
+        # the memory figures; a file can even #include /dev/urandom). So no word decides: a failed
+        # compile or link under a sandbox id is run once more and the second result is the one kept.
+        # A success is the code's (a signal never makes a compile succeed); a second failure is the
+        # code's own too, since a kill twice in a row at the same compile is what the claims by name
+        # (ids.py) exist to prevent. A compile stopped at its own time limit is not run again.
         for entry in out.iterdir():
             if entry.is_dir() and not entry.is_symlink():
                 shutil.rmtree(entry, ignore_errors=True)
             else:
                 entry.unlink(missing_ok=True)
-        again, again_text, again_total, again_timed_out = _run_once(prefix + new, out, env, iso, memory, uid)
-        if again != 0 and not again_timed_out and (again, again_text) != (returncode, text):
-            return UNSENT_SIGNAL, (f"the {kind} of the step's files gave two different results on the same "
-                                   f"files (exit {returncode}, then {again}): a process of it was ended by a "
-                                   "signal the kit did not send")
-        returncode, text, total, timed_out = again, again_text, again_total, again_timed_out
+        returncode, text, total, timed_out = _run_once(prefix + new, out, env, iso, memory, uid)
     if cached is not None and returncode == 0 and not timed_out:
         cached.store(out, text)
     status, text = _finish(kind, iso, text, returncode, timed_out, total, mapping, copies, memory)
@@ -169,10 +167,6 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
         except OSError:
             pass
     return status, text
-
-
-# _run_tool's status for a compile or link the machine, not the code, failed (its text: the reason).
-UNSENT_SIGNAL = 2
 
 
 def _run_once(argv: list[str], out: Path, env: dict[str, str], iso: Isolation, memory: int,
