@@ -319,7 +319,7 @@ def selftest_two_roots(ctx) -> str:
     if os.geteuid() != 0:
         raise Skipped("sandbox ids are taken only as root", need="root")
     if shutil.which("unshare") is None or shutil.which("mount") is None:
-        raise Skipped("util-linux's unshare and mount are needed to give a kit its own /run", need="unshare")
+        raise Skipped("util-linux's unshare and mount are needed to give a kit its own /run", need="root")
     for folder in ("/run/raykit", "/var/lib/raykit/locks"):
         os.makedirs(folder, 0o700, exist_ok=True)
     other = Path(tempfile.mkdtemp(prefix="raykit-selftest-rootB-"))
