@@ -71,13 +71,14 @@ def tools_build(build: Build) -> Build:
 
 
 
-def submission_build(source: Path, slot: str = "submission") -> Build:
-    """Grades a copy of `source` (never modified) in a build folder reused across submissions.
+def submission_build(source: Path, slot: str = "submission", folder: Path | None = None) -> Build:
+    """Grades a copy of `source` (never modified) in a build folder: build/SLOT, or `folder` (a run's
+    own, runfolders.private: what ./kit check --steps uses, so two checks at once never share one).
 
     Only files that changed are rewritten, so grading many submissions rebuilds
     just the steps that differ.
     """
-    staging = BUILD / f"{slot}-src"
+    staging = (folder / "src") if folder is not None else BUILD / f"{slot}-src"
     for step in load_steps():
         for f in step.files:
             src, dst = source / step.folder / f, staging / step.folder / f
@@ -87,7 +88,8 @@ def submission_build(source: Path, slot: str = "submission") -> Build:
                     shutil.copyfile(src, dst)
             elif dst.exists():
                 dst.unlink()
-    return Build(slot, BUILD / slot, staging, source, tools=False, boundary=True, sanitize_student=detect_undefined())
+    return Build(slot, (folder / "build") if folder is not None else BUILD / slot, staging, source, tools=False,
+                 boundary=True, sanitize_student=detect_undefined())
 
 
 def configure(build: Build, quiet: bool = True, extra: dict[str, str] | None = None) -> None:

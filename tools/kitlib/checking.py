@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from . import atomic, slips
+from . import atomic, runfolders, slips
 from . import course as course_file
 from . import faults
 from . import includes
@@ -39,7 +39,7 @@ from .cases import SCORED_TIERS, Case, StepResult
 from .common import BUILD, ROOT, InOrder, Step, load_steps, map_in_threads, prerequisites
 from .build import Build, detect_undefined, shown_text
 from .objcache import ObjectCache
-from .runcases import list_cases, record_reference_time, rerun_timeouts, run_cases, step_budget
+from .runcases import list_cases, record_reference_time, rerun_timeouts, rerun_unsent_kills, run_cases, step_budget
 from .sandbox import NONE_OWN, SANDBOX_FAILED, Isolation, Scratch
 from .secret import hidden_seed
 from .status import GRADER_ERROR, NOT_GRADED, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, TIMED_OUT, WAITING
@@ -198,6 +198,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
             env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
         run_cases(judge, cases, env, *course_file.load().case_limits(), budget=budget)   # course.json time_limits
         rerun_timeouts(judge, cases, env, scratch.between_runs, looped=budget.spent()["looped"])
+        rerun_unsent_kills(judge, cases, env, scratch.between_runs)
         record_reference_time(build, step, budget, cases)
         spent = budget.spent()
         cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],
@@ -409,7 +410,12 @@ class LastCheck(Verdicts):
 
     def keep(self, results: list[StepResult]) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
-        for old in sorted(self.folder.glob("*.json"), key=lambda p: p.stat().st_mtime)[:-64]:
+        def age(p: Path) -> float:
+            try:
+                return p.stat().st_mtime
+            except OSError:             # removed a moment ago by another check's pruning
+                return 0.0
+        for old in sorted(self.folder.glob("*.json"), key=age)[:-64]:
             old.unlink(missing_ok=True)       # the last few dozen checks are plenty
         for r in results:
             self.store(r)
@@ -438,7 +444,17 @@ class Progress:
 def check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation = NONE_OWN,
                 progress: Progress | None = None) -> list[StepResult]:
     """Checks `steps`; without a reference, first the steps they need (quietly, to know whether they
-    are done).
+    are done). A build folder that is not a run's own (build/student, build/SLOT) is held for the
+    check (runfolders.using): a second check of it waits, told for whom, rather than mix the two."""
+    if runfolders.RUNS in build.binary_dir.parents:
+        return _check_steps(build, steps, all_steps, isolation, progress)
+    with runfolders.using(build.binary_dir, "a check"):
+        return _check_steps(build, steps, all_steps, isolation, progress)
+
+
+def _check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolation: Isolation,
+                 progress: Progress | None) -> list[StepResult]:
+    """check_steps, in a build folder that is this run's alone.
 
     Pipelined: while one step's cases run (in a worker thread, in course order), the next step is
     built, so the first verdict comes after one step's build and the others follow as they build.

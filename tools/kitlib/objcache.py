@@ -14,6 +14,7 @@ import json
 import os
 import shutil
 import stat
+import tempfile
 from pathlib import Path
 
 from .common import BUILD, ROOT
@@ -136,8 +137,11 @@ class ObjectCache:
             shutil.rmtree(old, ignore_errors=True)
         if self.dir.exists():
             return
-        tmp = self.dir.with_name(f".{self.dir.name}.{os.getpid()}")
+        tmp = None
         try:
+            # A name of this compile's own (two threads of one check, or two checks, may store the
+            # same object at once): made whole there, then renamed in; the later rename loses.
+            self.dir.parent.mkdir(parents=True, exist_ok=True)
             kept: dict[str, bytes] = {}
             for f in out.iterdir():
                 if f.suffix not in (".o", ".d"):
@@ -159,7 +163,7 @@ class ObjectCache:
             outside = self._outside(out, [d for n, d in kept.items() if n.endswith(".d")])
             if outside is None or not any(n.endswith(".d") for n in kept):
                 return                  # what it read cannot be told: not kept
-            tmp.mkdir(parents=True)
+            tmp = Path(tempfile.mkdtemp(prefix=f".{self.dir.name}.", dir=self.dir.parent))
             for name, data in kept.items():
                 if name.endswith(".d"):
                     data = data.replace(self.work.encode(), b"@W@")
@@ -169,4 +173,5 @@ class ObjectCache:
             (tmp / "done").write_text("")
             os.rename(tmp, self.dir)
         except OSError:
-            shutil.rmtree(tmp, ignore_errors=True)
+            if tmp is not None:
+                shutil.rmtree(tmp, ignore_errors=True)

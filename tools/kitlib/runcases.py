@@ -23,7 +23,7 @@ from . import faults
 from .build import Build
 from .cases import Case
 from .common import BUILD, ROOT, Step, printable
-from .status import GRADER_ERROR, NOT_RUN, PASS, TIMED_OUT
+from .status import CRASHED, GRADER_ERROR, NOT_RUN, PASS, TIMED_OUT
 
 CASE_SECONDS = 30.0         # backstop: the judge limits each call; a case may make many
 STEP_SECONDS = 120.0        # backstop: all cases of one step, including restarts
@@ -366,3 +366,52 @@ def _take(c: Case, e: dict) -> None:
         fault = printable(str(e["fault"]))[:300]
         c.status, c.incident = GRADER_ERROR, {"function": "", "signal": "", "fault": fault}
         c.messages = [f"{fault[:1].upper()}{fault[1:]}: not graded, the grader's fault, not yours."] + c.messages
+
+
+UNSENT_WHY = "killed by SIGKILL or SIGTERM, which the kit did not send: run once more, alone"
+UNSENT_SIGNALS = ("SIGKILL", "SIGTERM")
+
+
+def rerun_unsent_kills(exe: Path, cases: list[Case], env: dict[str, str],
+                       fresh: Callable[[], None] | None = None) -> None:
+    """A case whose answers process died by SIGKILL or SIGTERM without the judge's own stop (a crash,
+    not a time out: the judge's kills are time outs) is run once more, alone, like a case that timed
+    out. Such a signal may be the code's own (raise(SIGKILL), its CPU limit) or another process's (a
+    grading that took the same sandbox id and ended its processes, the machine's OOM killer); the
+    kit cannot tell the sender after the fact, but the code's own death comes again on the same
+    input. The same death again stays the code's crash; anything else is kept as the verdict
+    (docs/integrity.md, "Signals the kit did not send"): the code computes the same answer twice,
+    so the second run is its own. Once the first three such cases all died the same way again, the
+    rest are the code's too and are not run again (a step that kills itself in every case costs three
+    re-runs, not one a case)."""
+    same = 0
+    for c in cases:
+        signal_name = (c.incident or {}).get("signal", "") if c.status == CRASHED else ""
+        if signal_name not in UNSENT_SIGNALS:
+            continue
+        if same >= 3:
+            return
+        if fresh is not None:
+            fresh()
+        again = Case(c.name, c.tier, c.lecture)
+        with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
+            out = Path(tmp) / "run.jsonl"
+            try:
+                subprocess.run([str(exe), "--reporters=raykit", f"--out={out}", f"--test-case={c.name}",
+                                "--no-breaks=true"], stdin=subprocess.DEVNULL, capture_output=True,
+                               timeout=CASE_SECONDS, env=dict(os.environ, **env), start_new_session=True)
+            except subprocess.TimeoutExpired:
+                pass
+            for e in _read_lines(out):
+                if e.get("event") == "end" and e.get("case") == c.name:
+                    _take(again, e)
+        c.runs += 1
+        c.rerun = {"why": UNSENT_WHY, "first": {"status": c.status, "messages": list(c.messages)}, "kept": 1}
+        if again.status == NOT_RUN:
+            continue            # no verdict the second time: the first stands
+        if again.status == CRASHED and (again.incident or {}).get("signal") == signal_name:
+            same += 1
+            continue            # the same death: the code's own
+        c.status, c.messages, c.output, c.output_bytes, c.figure, c.incident = (
+            again.status, list(again.messages), again.output, again.output_bytes, again.figure, again.incident)
+        c.rerun["kept"] = c.runs

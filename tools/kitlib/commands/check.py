@@ -9,7 +9,7 @@ import argparse
 import time
 
 from ..checking import check_steps
-from .. import classroomresults, faults, picture, plresults, record, warmup
+from .. import classroomresults, faults, picture, plresults, record, runfolders, warmup
 from ..common import BUILD, ROOT, KitError, load_steps, say, note, printable, resolve_steps_dir, select_steps
 from ..build import preset_build, submission_build
 from ..submissions import NotFound, locate
@@ -76,6 +76,15 @@ def run(args) -> int:
     all_steps = load_steps()
     if args.warm_up:
         return warmup.run(preset_build("student"))
+    if args.steps:
+        # A folder of this run's own (runfolders.py): two checks at once in one clone never share one.
+        with runfolders.private("check") as folder:
+            return checked(args, all_steps, folder)
+    with runfolders.using(BUILD / "student", "./kit check"):   # steps/: one check at a time
+        return checked(args, all_steps, None)
+
+
+def checked(args, all_steps, folder) -> int:
     steps = select_steps(all_steps, args.numbers)
     if args.steps:
         # One file finder for every folder the kit did not write (here, ./kit grade, the
@@ -83,13 +92,13 @@ def run(args) -> int:
         # reaches the build, and it caps the files and the time it spends.
         shown = resolve_steps_dir(args.steps)
         try:
-            found = locate(shown, BUILD / f"check-upload-{args.slot}", all_steps)
+            found = locate(shown, folder / "upload", all_steps)
         except NotFound as e:
             raise KitError(f"--steps {args.steps}: {e}")
         for n in found.notes:
             note(f"kit: {printable(n)}")
         source = found.steps_dir
-        build = submission_build(source, "submission" if args.slot == 0 else f"submission-{args.slot}")
+        build = submission_build(source, "submission" if args.slot == 0 else f"submission-{args.slot}", folder)
         build.shown_dir = display = shown
         build.identity = args.identity
     else:

@@ -1,4 +1,6 @@
-"""The sandbox's user ids: one per grading slot and root file system, claimed with a lock only root can write, never an id with a name."""
+"""The sandbox's user ids: one per grading slot, never an id with a name, claimed twice: with a lock
+file only root can write (what kits of older code beside this one look at), and with an abstract unix
+socket named after the id, which every root file system on the kernel sees."""
 
 from __future__ import annotations
 
@@ -33,6 +35,39 @@ LOCK_DIRS = ["/run/raykit", "/var/lib/raykit/locks"]
 
 
 _claimed: dict[int, int] = {}      # id -> the open lock file that claims it, held until this process ends
+_names: dict[str, object] = {}     # abstract socket name -> the bound socket, held until this process ends
+
+
+# The claim every root sees: a unix socket bound to an abstract name (a name that starts with a
+# zero byte). Abstract names live in the network namespace, not in a file system, so a kit in a
+# chroot on this kernel (tools/portability/run's roots share the network namespace), or one given
+# its own /run, meets the same name; two binds of one name cannot both succeed, and the kernel lets
+# go of the name when the socket's last descriptor closes, so a kit that dies frees its ids at once.
+# A grading in another network namespace (a container with its own) also has its own PID
+# namespace and its own users' processes, which the reaping of this one cannot reach.
+NAME_PREFIX = "raykit-sandbox-"
+
+
+def hold_name(name: str) -> bool:
+    """Binds the abstract unix socket `name` and keeps it until this process ends (CLOEXEC: no child
+    inherits it). False when another process holds the name; True when this one now does (or did)."""
+    import socket
+    if name in _names:
+        return True
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET | socket.SOCK_CLOEXEC)
+    try:
+        sock.bind(b"\0" + name.encode())
+    except OSError:
+        sock.close()
+        return False
+    _names[name] = sock
+    return True
+
+
+def let_go(name: str) -> None:
+    sock = _names.pop(name, None)
+    if sock is not None:
+        sock.close()
 
 
 def first_uid() -> int:
@@ -56,19 +91,47 @@ def claim_uid(slot: int) -> int:
     After each case every process of the id is killed, so two gradings must never share one
     (two instructors' runs, a batch beside a check). Each id is claimed with an exclusive lock on a
     file in a folder only root can write (_lock_folder), held until this process ends; graded code
-    can neither open those files nor put anything in their place. An id with a live process is
-    passed over (_in_use: a grading in another root file system on this kernel that was given the
-    same range, or what is left of an earlier one). Gradings in different root file systems are
-    kept apart by their ranges (first_uid), which the graded code cannot change either.
+    can neither open those files nor put anything in their place. The lock file is seen only in
+    this root file system, so the id is also claimed by name where every root on the kernel sees it
+    (hold_name: an abstract unix socket, raykit-sandbox-UID), and both claims are needed: a kit of
+    older code beside this one looks only at the file, a kit in another root only at the name. An id
+    with a live process is passed over too (_in_use: what is left of an earlier grading, or a kit of
+    older code in another root). RAYKIT_FIRST_UID still gives a root a range of its own, but two
+    roots on the default range no longer share an id.
+
+    Graded code under the user isolation shares the network namespace and can bind such a name
+    itself: it can make an id look taken (the next one is claimed; its processes, and so the name,
+    end after each case: when every id is refused by its name alone, the claim waits up to a minute),
+    never make a taken id look free.
     """
-    import fcntl
+    import time
     first = first_uid()
+    for _ in range(NAME_WAITS):
+        uid, unopened, named = _claim_once(first, slot)
+        if uid:
+            return uid
+        if not named:
+            break
+        time.sleep(0.5)         # a name held by a case's processes is free once the case ends
+    if unopened:
+        raise RuntimeError(f"no sandbox user id could be claimed: {unopened} of the lock files in "
+                           f"{os.environ.get('RAYKIT_LOCK_DIR') or 'the claims folder'} could not be opened")
+    raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
+
+
+NAME_WAITS = 120         # tries, half a second apart, while some id is refused by its name alone
+
+
+def _claim_once(first: int, slot: int) -> tuple[int, int, int]:
+    """One pass over the slot's ids: (the id claimed or 0, lock files that could not be opened, ids
+    whose lock file was free but whose name was held)."""
+    import fcntl
     folder = _lock_folder()
-    unopened = 0
+    unopened = named = 0
     try:
         for uid in range(first + slot % 64, first + COMPILE_UID_OFFSET, 64):
             if uid in _claimed:
-                return uid
+                return uid, 0, 0
             if _has_name(uid) or _has_name(uid + COMPILE_UID_OFFSET):
                 continue
             fd = _lock_file(folder, f"raykit-sandbox-{uid}.lock")
@@ -80,24 +143,27 @@ def claim_uid(slot: int) -> int:
             except OSError:
                 os.close(fd)
                 continue
+            if not hold_name(f"{NAME_PREFIX}{uid}"):
+                os.close(fd)            # claimed in another root file system on this kernel
+                named += 1
+                continue
             if _in_use(uid):
+                let_go(f"{NAME_PREFIX}{uid}")
                 os.close(fd)            # closing the only descriptor lets go of the lock
                 continue
             _claimed[uid] = fd
             _note_claim(uid)
-            return uid
+            return uid, 0, 0
     finally:
         os.close(folder)
-    if unopened:
-        raise RuntimeError(f"no sandbox user id could be claimed: {unopened} of the lock files in "
-                           f"{os.environ.get('RAYKIT_LOCK_DIR') or 'the claims folder'} could not be opened")
-    raise RuntimeError("every sandbox user id is in use by other gradings on this machine")
+    return 0, unopened, named
 
 
 def claim_range(limit: int = 15) -> tuple[int, int]:
     """For a tool that makes another root file system on this kernel (tools/portability/run): a
     range of sandbox user ids of its own, the first one for RAYKIT_FIRST_UID (range 0 is this
-    root's, FIRST_UID). Claimed like an id, until this process ends. Returns (first id, lock fd)."""
+    root's, FIRST_UID). Claimed like an id, by a lock file and by an abstract name every root sees
+    (raykit-range-K), until this process ends. Returns (first id, lock fd)."""
     import fcntl
     folder = _lock_folder()
     try:
@@ -108,6 +174,9 @@ def claim_range(limit: int = 15) -> tuple[int, int]:
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:
+                os.close(fd)
+                continue
+            if not hold_name(f"raykit-range-{k}"):
                 os.close(fd)
                 continue
             return FIRST_UID + k * UID_RANGE, fd

@@ -142,8 +142,55 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
                     shutil.copyfile(gch, target)
                 except OSError:         # no room: the compile reads the header itself
                     target.unlink(missing_ok=True)
+    returncode, text, total, timed_out = _run_once(prefix + new, out, env, iso, memory, uid)
+    if returncode != 0 and not timed_out and prefix and not _starts(prefix, iso, out, env, uid):
+        # Not the student's compile error: the sandbox itself does not start (checked with a program
+        # that does nothing). The kit reports the step as not graded, the grader's fault.
+        return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
+    if returncode != 0 and not timed_out and uid:
+        # A sandbox id's processes can be ended by a signal the kit did not send (another grading's
+        # reaping that took the same id: issue 52), and the compiler driver then fails as it does on
+        # an error (exit 1, "signal terminated program cc1plus"), in words the student's file can also
+        # make it print, and its text varies between runs anyway (the assembler's temporary names,
+        # the memory figures; a file can even #include /dev/urandom). So no word decides: a failed
+        # compile or link under a sandbox id is run once more and the second result is the one kept.
+        # A success is the code's (a signal never makes a compile succeed); a second failure is the
+        # code's own too, since a kill twice in a row at the same compile is what the claims by name
+        # (ids.py) exist to prevent. A compile stopped at its own time limit is not run again.
+        for entry in out.iterdir():
+            if entry.is_dir() and not entry.is_symlink():
+                shutil.rmtree(entry, ignore_errors=True)
+            else:
+                entry.unlink(missing_ok=True)
+        returncode, text, total, timed_out = _run_once(prefix + new, out, env, iso, memory, uid)
+    if returncode != 0 and not timed_out:
+        # A full disk is the kit's own measure of its own folder's disk, never a word the compiler
+        # printed (it quotes the student's source). What the compile itself wrote (out/) is the
+        # student's: at most a few files of file_mb each, so a disk with less room than one of them
+        # left after the compile ended is the machine's, whatever the compile wrote.
+        full = faults.disk_full(work, iso.limits.file_mb * MiB)
+        if full and faults.usage(out) < iso.limits.file_mb * MiB:
+            raise faults.MachineFault(f"{full}, in the {kind} of the step")
+    if cached is not None and returncode == 0 and not timed_out:
+        cached.store(out, text)
+    status, text = _finish(kind, iso, text, returncode, timed_out, total, mapping, copies, memory)
+    for dep in dep_files if status == 0 else []:
+        made = next((str(target) for _, target, mode in copies if mode == 0o755), "")
+        try:
+            dep.parent.mkdir(parents=True, exist_ok=True)
+            dep.write_text(f"{made}:\n")
+        except OSError:
+            pass
+    return status, text
+
+
+def _run_once(argv: list[str], out: Path, env: dict[str, str], iso: Isolation, memory: int,
+              uid: int) -> tuple[int, str, int, bool]:
+    """One run of the compiler or linker in the boundary: its exit status, the first output_kb of what
+    it printed, how many bytes it printed, and whether the kit stopped it at its time limit."""
+    limits = iso.limits
     start = time.monotonic()
-    proc = subprocess.Popen(prefix + new, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+    proc = subprocess.Popen(argv, cwd=out, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, preexec_fn=iso.preexec(memory, uid))
     kept = bytearray()
     total = 0
@@ -171,30 +218,8 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
         time.sleep(0.01)
     _end_group(proc)
     proc.wait()
-    text = kept.decode("utf-8", "replace")
-    if proc.returncode != 0 and not timed_out and prefix and not _starts(prefix, iso, out, env, uid):
-        # Not the student's compile error: the sandbox itself does not start (checked with a program
-        # that does nothing). The kit reports the step as not graded, the grader's fault.
-        return 1, f"{SANDBOX_FAILED} ({iso.mode}): {printable(text.strip()[:300])}\n"
-    if proc.returncode != 0 and not timed_out:
-        # A full disk is the kit's own measure of its own folder's disk, never a word the compiler
-        # printed (it quotes the student's source). What the compile itself wrote (out/) is the
-        # student's: at most a few files of file_mb each, so a disk with less room than one of them
-        # left after the compile ended is the machine's, whatever the compile wrote.
-        full = faults.disk_full(work, limits.file_mb * MiB)
-        if full and faults.usage(out) < limits.file_mb * MiB:
-            raise faults.MachineFault(f"{full}, in the {kind} of the step")
-    if cached is not None and proc.returncode == 0 and not timed_out:
-        cached.store(out, text)
-    status, text = _finish(kind, iso, text, proc.returncode, timed_out, total, mapping, copies, memory)
-    for dep in dep_files if status == 0 else []:
-        made = next((str(target) for _, target, mode in copies if mode == 0o755), "")
-        try:
-            dep.parent.mkdir(parents=True, exist_ok=True)
-            dep.write_text(f"{made}:\n")
-        except OSError:
-            pass
-    return status, text
+    proc.stdout.close()
+    return proc.returncode, kept.decode("utf-8", "replace"), total, timed_out
 
 
 def _finish(kind: str, iso: Isolation, text: str, status: int, timed_out: bool, total: int,

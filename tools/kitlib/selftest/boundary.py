@@ -653,10 +653,10 @@ time.sleep(float(sys.argv[1]))
 
 def selftest_uid_claims(ctx) -> str:
     """Two gradings on one kernel in two root file systems (a chroot has /run of its own, so two
-    lock folders): given a range each, as tools/portability/run gives its chroots, they claim
-    different sandbox user ids even while neither runs any process of its id (after each case
-    one ends every process of its id, which must never be the other's); without ranges, an id that
-    has a live process is passed over. A RAYKIT_FIRST_UID that is not a range is refused."""
+    lock folders): given a range each, as tools/portability/run gives its chroots, or both on the
+    default range, they claim different sandbox user ids even while neither runs any process of its
+    id (after each case one ends every process of its id, which must never be the other's); an id
+    that has a live process is passed over. A RAYKIT_FIRST_UID that is not a range is refused."""
     if os.geteuid() != 0:
         raise Skipped("sandbox user ids are claimed only when grading as root", need="root")
     from ..sandbox import FIRST_UID_ENV, UID_RANGE, claim_range
@@ -685,6 +685,17 @@ def selftest_uid_claims(ctx) -> str:
         expect(a >= first and 0 < b < first and a != b,
                f"two roots given their own ranges claimed {a} (range from {first}) and {b}")
         ranged = (a, b)
+        # No ranges and no process of the id (between two cases): the claim's abstract name, which
+        # every root on the kernel sees, keeps the second root off the first's id (issue 52).
+        a_proc = claim(folders[0], "5")
+        try:
+            a = int(a_proc.stdout.readline())
+            b = int(claim(folders[1]).communicate(timeout=120)[0].strip() or -1)
+        finally:
+            a_proc.kill()
+            a_proc.wait()
+        expect(a != b and b > 0, f"two roots on the default range, no process of either id, both claimed {a}")
+        bare = (a, b)
         # No ranges: the first root's grading runs a case as its id, the second passes it over.
         a_proc = claim(folders[0], "5")
         runner = None
@@ -709,7 +720,8 @@ def selftest_uid_claims(ctx) -> str:
     finally:
         for f in folders:
             shutil.rmtree(f, ignore_errors=True)
-    return (f"with ranges: {ranged[0]} and {ranged[1]}; without: {a} (a live process) passed over for {b}; "
+    return (f"with ranges: {ranged[0]} and {ranged[1]}; without, by name alone: {bare[0]} and {bare[1]}; "
+            f"without: {a} (a live process) passed over for {b}; "
             f"{FIRST_UID_ENV} {', '.join(refused)} refused")
 
 

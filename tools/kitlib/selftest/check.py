@@ -10,6 +10,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import threading
 from pathlib import Path
 
 from .. import record
@@ -794,6 +795,86 @@ def selftest_mac_build(ctx) -> str:
                                                 if skipped else ""))
 
 
+def _verdicts(rec: dict) -> tuple:
+    """What a results record says of each step: its state, score and every case's status."""
+    return (rec.get("score"), tuple((st["step"], st["state"], tuple((c["name"], c["status"]) for c in st["cases"]))
+                                    for st in rec.get("steps", [])))
+
+
+def selftest_two_checks_at_once(ctx) -> str:
+    """Two `./kit check N --steps DIR` of different submissions at once in one clone (issue 52, item
+    3): each reports what it reports alone (the kit's own record, never the display), round after
+    round, under each isolation here; neither leaves its build folder behind."""
+    from .integrity import isolations
+    need_solutions()
+    step = ctx.steps[0]
+    folders = {"solutions": ROOT / "solutions", "wrong": fixture_dir("wrong")}
+    expect((folders["wrong"] / step.folder).is_dir(), f"the fixture 'wrong' has no {step.folder}")
+    modes, skipped = isolations()
+    modes = modes or ["none"]
+    work = Path(tempfile.mkdtemp(prefix="raykit-at-once-"))
+    parts = []
+    try:
+        for mode in modes:
+            def check(name: str, tag: str) -> tuple:
+                out = work / f"{mode}-{name}-{tag}.json"
+                r = kit("check", str(int(step.number)), "--steps", str(folders[name]), "--results", str(out),
+                        "--isolation", mode, "--quiet", timeout=900)
+                expect(out.is_file(), f"{name} ({mode}, {tag}): exited {r.returncode} without a record: "
+                                      f"{r.stderr[-400:]}")
+                rec = json.loads(out.read_text())
+                expect(rec.get("finished", True) is not False, f"{name} ({mode}, {tag}): an unfinished record")
+                return _verdicts(rec)
+
+            alone = {name: check(name, "alone") for name in folders}
+            expect(alone["solutions"] != alone["wrong"],
+                   f"({mode}) the two submissions grade alike alone ({alone['wrong'][0]}): the test proves nothing")
+            rounds = 3
+            for i in range(rounds):
+                got: dict[str, tuple] = {}
+                errors: list[BaseException] = []
+
+                def one(name: str) -> None:
+                    try:
+                        got[name] = check(name, f"round{i}")
+                    except BaseException as e:      # raised below, in this thread
+                        errors.append(e)
+
+                threads = [threading.Thread(target=one, args=(n,)) for n in folders]
+                for t in threads:
+                    t.start()
+                for t in threads:
+                    t.join()
+                if errors:
+                    raise errors[0]
+                for name in folders:
+                    expect(got[name] == alone[name],
+                           f"({mode}, round {i + 1}) {name} checked beside the other scored {got[name][0]} with "
+                           f"states {[st[1] for st in got[name][1]]}; alone {alone[name][0]}, "
+                           f"{[st[1] for st in alone[name][1]]}")
+            parts.append(f"{mode}: {rounds} rounds, solutions {alone['solutions'][0]}, wrong {alone['wrong'][0]}, "
+                         "each as alone")
+        # Every run folder still there is a live run's (its lock held): the checks above removed theirs.
+        import fcntl
+        left = []
+        for p in (BUILD / "runs").glob("check-*"):
+            try:
+                fd = os.open(p / ".held", os.O_RDONLY)
+            except OSError:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                left.append(p.name)
+            except OSError:
+                pass
+            finally:
+                os.close(fd)
+        expect(not left, f"run folders left behind by checks that ended: {left}")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return "; ".join(parts + skipped)
+
+
 def selftests() -> list:
     return [
         ("reference build", selftest_reference_builds),
@@ -803,6 +884,7 @@ def selftests() -> list:
         ("step functions and manifests", selftest_remote_lists),
         ("a copied solution grades 'done'", selftest_solution_copied_is_done),
         ("grader survives bad code", selftest_grader_fixtures),
+        ("two checks at once in one clone", selftest_two_checks_at_once),
         ("a case run again is in the record", selftest_rerun_recorded),
         ("command line errors", selftest_command_line),
         ("the student's loop in a handout", selftest_student_loop),

@@ -12,7 +12,10 @@ keep or reach beyond its own run, under each sandbox the machine allows (integri
 - fill_tmp: a step that fills every temporary folder it may write leaves a classmate graded at the
   same time with the classmate's true score, its own folder stopped at its limit where there is one;
 - two kits: two copies of the kit grading on one machine at once take different sandbox ids, and
-  each grades its submission right.
+  each grades its submission right;
+- two roots: the same with the second kit in a root of its own as far as the claims go (its own
+  /run, as a chroot has), both on the default range of ids: each claims an id the other does not
+  have, and neither's reaping makes the other's solutions a student's fault.
 
 Each prints what it managed to do; the checks read that output from the kit's record.
 """
@@ -30,6 +33,7 @@ import threading
 import time
 from pathlib import Path
 
+from .. import procfs
 from ..common import BUILD, ROOT
 from ..sandbox import Limits
 from ..sandbox_slots import KIT_TEMP_DIRS
@@ -268,9 +272,206 @@ def selftest_two_kits(ctx) -> str:
     return "; ".join(parts + skipped)
 
 
+OTHER_ROOT = ("mount -t tmpfs -o mode=0700,size=1m raykit-other-root /run/raykit && "
+              "mount -t tmpfs -o mode=0700,size=1m raykit-other-root /var/lib/raykit/locks && exec \"$0\" \"$@\"")
+
+
+def shield_held_ids() -> list:
+    """Abstract names bound, for as long as the list lives, for every sandbox id whose lock file in
+    this root is held by another grading (a kit of older code on a shared machine, which binds no
+    name): the kit this test puts in a root of its own, which cannot see those files, passes them
+    over instead of ending that grading's processes."""
+    import fcntl
+    import socket
+    from ..sandbox import COMPILE_UID_OFFSET, FIRST_UID, LOCK_DIRS
+    held = []
+    for uid in range(FIRST_UID, FIRST_UID + COMPILE_UID_OFFSET):
+        for folder in LOCK_DIRS:
+            try:
+                fd = os.open(f"{folder}/raykit-sandbox-{uid}.lock", os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
+            except OSError:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+                busy = False
+            except OSError:
+                busy = True
+            finally:
+                os.close(fd)
+            if busy:
+                sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET | socket.SOCK_CLOEXEC)
+                try:
+                    sock.bind(f"\0raykit-sandbox-{uid}".encode())
+                    held.append(sock)
+                except OSError:
+                    sock.close()    # a kit of this code: it holds the name itself
+    return held
+
+
+def selftest_two_roots(ctx) -> str:
+    """Two kits on one kernel whose claim folders cannot see each other's (the second in a mount
+    namespace with empty tmpfs over /run/raykit and /var/lib/raykit/locks: exactly what a chroot's
+    own /run gives), each on the default range of sandbox ids (no RAYKIT_FIRST_UID), grade the
+    solutions at the same time under each isolation: they claim different ids, and every step is
+    done or not graded, never a crash, a compile error or a failure of the student's."""
+    need_solutions()
+    modes, skipped = isolations()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox ids are taken only as root", need="root")
+    if shutil.which("unshare") is None or shutil.which("mount") is None:
+        raise Skipped("util-linux's unshare and mount are needed to give a kit its own /run", need="root")
+    for folder in ("/run/raykit", "/var/lib/raykit/locks"):
+        os.makedirs(folder, 0o700, exist_ok=True)
+    other = Path(tempfile.mkdtemp(prefix="raykit-selftest-rootB-"))
+    numbers = [str(int(s.number)) for s in ctx.steps]
+    parts = []
+    try:
+        copy_of_kit(other)
+        for mode in modes:
+            results: dict[str, tuple[int, dict, str]] = {}
+
+            def grade(name: str, kit_root: Path, own_root: bool) -> None:
+                out = Path(tempfile.mkdtemp(prefix=f"raykit-two-roots-{name}-"))
+                try:
+                    argv = [str(kit_root / "kit"), "check", *numbers, "--steps", str(ROOT / "solutions"),
+                            "--results", str(out / "rec.json"), "--isolation", mode, "--quiet"]
+                    if own_root:
+                        argv = ["unshare", "-m", "--propagation", "private", "sh", "-c", OTHER_ROOT] + argv
+                    env = dict(os.environ, RAYKIT_NO_OBJCACHE="1")   # compiled anew: the two overlap
+                    env.pop("RAYKIT_FIRST_UID", None)
+                    env.pop("RAYKIT_LOCK_DIR", None)
+                    r = subprocess.run(argv, cwd=kit_root, capture_output=True, text=True, timeout=1800,
+                                       errors="replace", env=env)
+                    rec = json.loads((out / "rec.json").read_text()) if (out / "rec.json").is_file() else {}
+                    results[name] = (r.returncode, rec, r.stderr[-400:])
+                finally:
+                    shutil.rmtree(out, ignore_errors=True)
+
+            if mode == modes[0]:
+                grade("B", other, False)    # kit B's own first build, alone
+            shield = shield_held_ids()
+            threads = [threading.Thread(target=grade, args=a) for a in (("A", ROOT, False), ("B", other, True))]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            for sock in shield:
+                sock.close()
+            ids, states = {}, {}
+            for name, (rc, rec, err) in results.items():
+                expect(bool(rec), f"two roots ({mode}): kit {name} exited {rc} without a record: {err}")
+                found = {int(i) for step in rec["steps"] for i in USER_ID.findall(step.get("isolation", ""))}
+                ids[name] = sorted(found)
+                states[name] = {step["step"]: step["state"] for step in rec["steps"]}
+                wrong = {n: st for n, st in states[name].items() if st not in ("done", "not_graded")}
+                expect(not wrong, f"two roots ({mode}): kit {name} gave the solutions {wrong} (ids {ids})")
+            expect(not set(ids["A"]) & set(ids["B"]), f"two roots ({mode}): both graded as sandbox ids {ids['A']}")
+            parts.append(f"{mode}: ids {ids['A']} and {ids['B']}, states A {sorted(set(states['A'].values()))}, "
+                         f"B {sorted(set(states['B'].values()))}")
+    finally:
+        shutil.rmtree(other, ignore_errors=True)
+    return "; ".join(parts + skipped)
+
+
+# --- signals the kit did not send (issue 52, item 4) -------------------------------------------
+
+class ForeignReaper:
+    """What another grading's reaping does to this one when both hold one sandbox id: SIGKILL to
+    the first compiler process (cc1plus) of the grading's compile id, and to its first answers
+    process, each once. Only processes of the id the grading wrote to its RAYKIT_UID_FILE: no other
+    kit's on the machine."""
+
+    def __init__(self, uid_file: Path):
+        self.uid_file, self.killed, self.stop = uid_file, {"compile": 0, "answers": 0}, threading.Event()
+        self.thread = threading.Thread(target=self.run, daemon=True)
+        self.thread.start()
+
+    def run(self) -> None:
+        import signal
+        from ..sandbox import COMPILE_UID_OFFSET
+        uid = None
+        while not self.stop.is_set() and not all(self.killed.values()):
+            if uid is None:
+                try:
+                    uid = int(self.uid_file.read_text().strip())
+                except (OSError, ValueError):
+                    time.sleep(0.005)
+                    continue
+            for pid in procfs.pids():
+                owner = procfs.real_uid(pid)
+                kind = ("compile" if owner == uid + COMPILE_UID_OFFSET and procfs.comm(pid) == "cc1plus" else
+                        "answers" if owner == uid and procfs.comm(pid).startswith("answers") else "")
+                if kind and not self.killed[kind]:
+                    try:
+                        os.kill(pid, signal.SIGKILL)
+                        self.killed[kind] += 1
+                    except OSError:
+                        pass
+            time.sleep(0.003)
+
+    def end(self) -> dict:
+        self.stop.set()
+        self.thread.join()
+        return self.killed
+
+
+def selftest_unsent_signals(ctx) -> str:
+    """A process of the step killed by a signal the kit did not send is never the student's crash or
+    compile error: the solutions' steps 01-02, graded while a reaper kills their first compiler and
+    their first answers process (what a grading sharing the id did), come out done or not graded
+    under each isolation. And the kit's evidence is not a free pass: hostile/self_kill, whose every
+    call raises SIGKILL on itself, crashes like the code it is (never not graded), scores no more than
+    always_miss, and has at most three cases run once more."""
+    need_solutions()
+    if os.geteuid() != 0:
+        raise Skipped("sandbox ids are taken only as root", need="root")
+    modes, skipped = isolations()
+    numbers = [str(int(s.number)) for s in ctx.steps[:2]]
+    parts = []
+    for mode in modes:
+        for attempt in range(3):    # a loaded machine may hide a short-lived process from the reaper
+            held = Path(tempfile.mkdtemp(prefix="raykit-unsent-"))
+            try:
+                reaper = ForeignReaper(held / "uid")
+                r = subprocess.run([str(ROOT / "kit"), "check", *numbers, "--steps", str(ROOT / "solutions"),
+                                    "--results", str(held / "rec.json"), "--isolation", mode, "--quiet"],
+                                   cwd=ROOT, capture_output=True, text=True, timeout=1800, errors="replace",
+                                   env=dict(os.environ, RAYKIT_NO_OBJCACHE="1", RAYKIT_UID_FILE=str(held / "uid")))
+                killed = reaper.end()
+                expect((held / "rec.json").is_file(),
+                       f"unsent signals ({mode}): exited {r.returncode}: {r.stderr[-400:]}")
+                rec = json.loads((held / "rec.json").read_text())
+            finally:
+                shutil.rmtree(held, ignore_errors=True)
+            if all(killed.values()):
+                break
+        expect(all(killed.values()), f"unsent signals ({mode}): in 3 tries the reaper found nothing to kill "
+                                     f"({killed}): the test proves nothing")
+        states = {st["step"]: st["state"] for st in rec["steps"]}
+        wrong = {n: st for n, st in states.items() if st not in ("done", "not_graded")}
+        expect(not wrong, f"unsent signals ({mode}): the solutions graded {wrong} after a SIGKILL the kit did "
+                          f"not send ({killed})")
+        _, base, _, _ = grade_json(fixture_dir("hostile") / "always_miss", ["01"], mode)
+        _, got, _, _ = grade_json(fixture_dir("hostile") / "self_kill", ["01"], mode)
+        [step] = got["record"]["steps"]
+        expect(step["state"] != "not_graded", f"self_kill ({mode}): not graded ({step.get('reason')}): a free attempt")
+        expect(got["score"] <= base["score"], f"self_kill ({mode}): {got['score']}, always_miss {base['score']}")
+        crashed = sum(c["status"] == "crashed" for c in step["cases"])
+        again = sum(c.get("runs", 1) > 1 for c in step["cases"])
+        expect(crashed and again <= 3, f"self_kill ({mode}): {crashed} cases crashed, {again} run again")
+        reasons = "; ".join(f"step {m['step']} not graded: {m.get('reason', '')[:160]}"
+                            for m in rec.get("not_graded", []))
+        parts.append(f"{mode}: solutions {sorted(set(states.values()))}{' (' + reasons + ')' if reasons else ''} with {killed['compile']} compiler and "
+                     f"{killed['answers']} answers process killed; self_kill {step['state']}, {crashed} crashed, "
+                     f"{again} run again")
+    return "; ".join(parts + skipped)
+
+
 def selftests():
     return [("integrity: a forking step is refused its child", selftest_fork_budget),
             ("integrity: the keyring keeps nothing for a re-run or the next student", selftest_keyring_rerun),
             ("integrity: a classmate's program out of reach", selftest_classmate_program),
             ("integrity: a filled /tmp leaves classmates their scores", selftest_fill_tmp),
-            ("integrity: two kits on one machine", selftest_two_kits)]
+            ("integrity: two kits on one machine", selftest_two_kits),
+            ("integrity: two roots on one kernel, one range of ids", selftest_two_roots),
+            ("integrity: signals the kit did not send", selftest_unsent_signals)]

@@ -28,7 +28,7 @@ LAYERS = [
               "waits", "submissions", "compilers", "procfs", "pycache", "faults"]),
     ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
                   "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
-    ("build", ["build", "bundle", "objcache", "warmup"]),
+    ("build", ["build", "bundle", "objcache", "warmup", "runfolders"]),
     ("judge", ["cases", "runcases", "checking", "mutants", "slips"]),
     ("outputs", ["charts", "record", "gradescope", "plresults", "classroomresults", "taskpage", "scoreboard", "picture",
                  "picture.basics", "picture.case", "picture.panel", "picture.shapes", "picture.drawing",
