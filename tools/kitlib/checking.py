@@ -399,10 +399,14 @@ class LastCheck(Verdicts):
 
     def _path(self, step: Step) -> Path:
         if step.number not in self.paths:
+            # The judge that gave the verdict: the bundle's (the build folder holds none since the
+            # bundle), so a kit whose judge changed since (a new case, a new message) runs the cases
+            # again instead of showing an older judge's first failing case.
+            found = bundle.find(detect_undefined())
             try:
-                st = self.build.exe(step).stat()
+                st = (found.judge(step) if found is not None else self.build.exe(step)).stat()
                 judge = f"{st.st_size}-{st.st_mtime_ns}"
-            except OSError:
+            except (OSError, KeyError):
                 judge = "no judge"
             key = verdict_key(self.build, step, self.all_steps, self.isolation)
             self.paths[step.number] = self.folder / f"{key[:32]}-{hashlib.sha256(judge.encode()).hexdigest()[:16]}.json"
