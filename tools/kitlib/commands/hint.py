@@ -101,16 +101,26 @@ def first_failing(step, steps_dir: str | None):
     """The first case of `step` that fails (basic, then hidden, then ★), or None: from the last ./kit
     check when the step's files are the same as then (checking.LastCheck), else by running its cases.
     The third value says which."""
-    from ..checking import LastCheck, check_steps   # imported here: ./kit hint --no-run builds nothing
-    from ..common import resolve_steps_dir
+    from ..common import resolve_steps_dir     # imported here: ./kit hint --no-run builds nothing
     from ..build import preset_build, submission_build
     from ..packages import ensure_packages
     from ..sandbox import NONE_OWN, choose as isolation_for
+    from contextlib import ExitStack
+    from .. import runfolders
     ensure_packages("build")
-    if steps_dir:  # a folder the kit did not write: the same isolation as ./kit check --steps
-        build, isolation = submission_build(resolve_steps_dir(steps_dir), "submission"), isolation_for("auto", 0)
-    else:
-        build, isolation = preset_build("student"), NONE_OWN
+    with ExitStack() as held:
+        if steps_dir:  # a folder the kit did not write: as ./kit check --steps, in a folder of its own
+            folder = held.enter_context(runfolders.private("hint"))
+            build = submission_build(resolve_steps_dir(steps_dir), "submission", folder)
+            isolation = isolation_for("auto", 0)
+        else:
+            held.enter_context(runfolders.using(BUILD / "student", "./kit hint"))
+            build, isolation = preset_build("student"), NONE_OWN
+        return _first_failing(step, build, isolation)
+
+
+def _first_failing(step, build, isolation):
+    from ..checking import LastCheck, check_steps
     result = LastCheck(build, load_steps(), isolation).load(step)
     reused = result is not None
     if result is None:
