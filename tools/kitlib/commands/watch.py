@@ -191,11 +191,21 @@ def banner_text(passed: list, current) -> str:
 
 def run(args) -> int:
     ensure_packages("build")
+    if not args.steps:
+        return _watch(args, None)
+    # A folder of this session's own (runfolders.py): a second watch, or a check, of another folder
+    # never stages its files where this one compiles.
+    from .. import runfolders
+    with runfolders.private("watch") as folder:
+        return _watch(args, folder)
+
+
+def _watch(args, folder) -> int:
     all_steps = load_steps()
     source = resolve_steps_dir(args.steps) if args.steps else ROOT / "steps"
 
     def build():
-        return submission_build(source, "watch") if args.steps else preset_build("student")
+        return submission_build(source, "watch", folder) if args.steps else preset_build("student")
 
     def later(step):
         return next((s for s in all_steps if s.number > step.number), None)

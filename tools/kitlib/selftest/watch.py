@@ -16,13 +16,16 @@ from .harness import CLEAR, Failed, Screen, expect, need_solutions
 from .fixtures import fixture_dir
 
 
-def processes_with(word: str) -> list[int]:
-    """The processes whose command line holds `word` (ps: Linux and macOS alike)."""
+def processes_with(word: str | tuple[str, ...]) -> list[int]:
+    """The processes whose command line holds `word` (every one of them, for several; ps: Linux and
+    macOS alike)."""
+    words = (word,) if isinstance(word, str) else word
     out = subprocess.run(["ps", "-A", "-o", "pid=", "-o", "args="], capture_output=True, text=True).stdout
-    return [int(l.split(None, 1)[0]) for l in out.splitlines() if word in l and l.split(None, 1)[0].isdigit()]
+    return [int(l.split(None, 1)[0]) for l in out.splitlines()
+            if all(w in l for w in words) and l.split(None, 1)[0].isdigit()]
 
 
-def wait_for_process(word: str, seconds: float) -> list[int]:
+def wait_for_process(word: str | tuple[str, ...], seconds: float) -> list[int]:
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         found = processes_with(word)
@@ -54,7 +57,8 @@ def selftest_watch(ctx) -> str:
         # answer saved is what the screen shows.
         for f in s1.files:
             shutil.copyfile(fixture_dir("hang") / s1.folder / f, folder / s1.folder / f)
-        looping = wait_for_process(str(BUILD / "watch" / f"answers_step{s1.number}"), 240)   # the watch's own
+        # The watch's own program, in its run folder (build/runs/watch-PID-XXXX/, runfolders.py).
+        looping = wait_for_process((str(BUILD / "runs") + "/watch-", f"/answers_step{s1.number}"), 240)
         expect(looping, "the endless loop's check never started its answers program")
         for f in s1.files:
             shutil.copyfile(fixture_dir("textbook") / s1.folder / f, folder / s1.folder / f)
