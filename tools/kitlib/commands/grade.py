@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import os
 import re
 import shutil
@@ -24,6 +25,8 @@ from pathlib import Path
 from .. import atomic
 from .. import course as course_file
 from .. import faults
+from .. import judgedby
+from .. import secret as secret_file
 from .. import studentpch
 from .. import record as results_record
 
@@ -60,6 +63,9 @@ def register(p) -> None:
                    help="the roster's column that names the folder or .zip (default: the one that matches most)")
     p.add_argument("--cases", metavar="FILE",
                    help="the long CSV, one row per student and case (default: OUT with -cases before .csv)")
+    p.add_argument("--new-secret", action="store_true",
+                   help="make the hidden cases' secret (tests/hidden/secret.key) even though the folder graded into "
+                        "holds a grading drawn with another one (README: one course, several machines)")
 
 
 def columns(steps) -> list[str]:
@@ -379,6 +385,13 @@ def run(args) -> int:
         raise KitError(f"--cases {cases_out}: cannot write the cases CSV there")
     start = time.monotonic()
     BUILD.mkdir(exist_ok=True)
+    # The secret that draws the hidden inputs (one line saying which), and what judges this grading,
+    # hashed once for every check (judgedby.py): kept sealed beside the records for a merge to compare.
+    key = _the_secret(args, json_dir)
+    manifest = judgedby.build()
+    os.environ[judgedby.ENV] = manifest["digest"]
+    if json_dir is not None and key is not None:
+        judgedby.write(json_dir, manifest, key)
     jobs = max(1, min(args.jobs, len(folders)))
     # The verdicts of this grading by content (checking.Verdicts): a step whose files another
     # submission already had is judged once. Its own folder, gone when the grading ends.
@@ -390,13 +403,76 @@ def run(args) -> int:
         # Under the user isolation the graded code runs as another user of this machine: the class
         # folder is closed to it while the class is graded (sandbox/), then opened as it was.
         with WithheldFromOthers(root, folders, args.isolation):
-            return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
+            return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start, key)
     finally:
         os.environ.pop(VERDICTS_ENV, None)
+        os.environ.pop(judgedby.ENV, None)
         shutil.rmtree(verdicts, ignore_errors=True)
 
 
-def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) -> int:
+def _named_secrets(folders: list[Path]) -> dict[str, Path]:
+    """The secrets (by fingerprint) the gradings already in `folders` were drawn with: their list of what
+    judged them (judgedby.FILE_NAME), else their records' grader."""
+    named: dict[str, Path] = {}
+    for folder in folders:
+        path = folder / judgedby.FILE_NAME
+        try:
+            manifest = judgedby.read(path)
+        except KitError:
+            manifest = None
+        if manifest and manifest.get("secret"):
+            named.setdefault(str(manifest["secret"]), path)
+        for record in sorted(folder.glob("*.json")) if folder.is_dir() else []:
+            try:
+                fp = results_record.read(record).get("grader", {}).get("secret")
+            except (KitError, AttributeError):
+                continue
+            if fp:
+                named.setdefault(str(fp), record)
+                break
+    return named
+
+
+def _the_secret(args, json_dir: Path | None) -> bytes | None:
+    """The hidden cases' secret for this grading, its fingerprint said in one line. Made when there is
+    none, with a warning (a TA who forgot to copy it draws other inputs); refused when the folder graded
+    into (--json-dir, --report's grading/json/) holds a grading drawn with another secret, unless
+    --new-secret. None where this copy grades no hidden case (no solutions/ or tests/hidden/)."""
+    from ..bundle import hidden_here
+    if not hidden_here():
+        say("secret: none (this copy of the kit grades no hidden cases)")
+        return None
+    targets = [p for p in {json_dir, Path(args.report) / "grading" / "json" if args.report else None} if p is not None]
+    key = secret_file.existing()
+    if key is not None:
+        if args.new_secret:
+            raise KitError(f"--new-secret: {secret_file.SECRET_FILE} exists already (fingerprint "
+                           f"{secret_file.fingerprint_of(key)}); delete it first to start a new draw for every "
+                           "submission")
+        fp = secret_file.fingerprint_of(key)
+        say(f"secret: fingerprint {fp} ({secret_file.SECRET_FILE.relative_to(ROOT)})")
+        other = {f: p for f, p in _named_secrets(targets).items() if f != fp}
+        for f, p in other.items():
+            say(f"  warning: {printable(str(p))} was drawn with another secret ({f}); this grading replaces it")
+        return key
+    named = _named_secrets(targets)
+    if named and not args.new_secret:
+        where = "; ".join(f"{printable(str(p))} names secret {f}" for f, p in named.items())
+        raise KitError(f"no secret in {secret_file.SECRET_FILE.relative_to(ROOT)}, and the folder graded into holds "
+                       f"a grading drawn with another ({where}). Copy tests/hidden/secret.key from the machine "
+                       "that made it (README: one course, several machines), or, to start a new draw on purpose, "
+                       "grade with --new-secret")
+    key = secret_file.secret()
+    fp = secret_file.fingerprint_of(key)
+    say(f"secret: fingerprint {fp} ({secret_file.SECRET_FILE.relative_to(ROOT)}, made now)")
+    print(f"warning: this copy of the kit had no secret, so it made a new one ({fp}). Its hidden inputs differ "
+          f"from any other machine's: if another machine grades this class, copy its tests/hidden/secret.key "
+          f"here instead (mode 0600), delete this one and grade again (README: one course, several machines)",
+          file=sys.stderr, flush=True)
+    return key
+
+
+def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start, key) -> int:
     done = [0]
 
     def one(item: tuple[int, Path], slot: int | None = None, again: bool = False) -> dict:
@@ -408,8 +484,12 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
             kept = json_dir / f"{student_file_name(row['student'])}.json"
             kept.unlink(missing_ok=True)
             try:
-                if results_record.finished(results_record.read(report)):
-                    kept.write_bytes(report.read_bytes())
+                data = results_record.read(report)
+                if results_record.finished(data):
+                    # Sealed under the secret (secret.seal): the merge refuses a record edited or written by hand.
+                    text = json.dumps(secret_file.seal(data, key) if key is not None else data, indent=1,
+                                      ensure_ascii=False)
+                    kept.write_text(text, encoding="utf-8")
             except KitError:
                 pass
         done[0] += 0 if again else 1
@@ -488,5 +568,5 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
     # (FAILED), after every file is written, so a script does not publish it as it is.
     faulty = any(r.get("status") in (NOT_GRADED_WORDS, "timed out") for r in not_graded)
     if args.report:     # the class report, from the grading just saved (commands/report.py)
-        return from_grade(args, out, json_dir) or (FAILED if faulty else OK)
+        return from_grade(args, out, json_dir, cases_out) or (FAILED if faulty else OK)
     return FAILED if faulty else OK
