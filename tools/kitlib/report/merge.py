@@ -20,6 +20,7 @@ each step's isolation and cost (CPU and wait measured), each case's runs, and th
 from __future__ import annotations
 
 import csv
+import os
 import shutil
 import tempfile
 from pathlib import Path
@@ -199,6 +200,9 @@ def merge(folders: list[Path], target: Path) -> list[str]:
         order.sort()                    # as ./kit grade orders its rows; a roster keeps its own order
     staging = Path(tempfile.mkdtemp(prefix=".merging-", dir=target.parent))
     try:
+        mask = os.umask(0)
+        os.umask(mask)
+        staging.chmod(0o777 & ~mask)        # as ./kit grade's folders, not mkdtemp's 0700
         (staging / "json").mkdir()
         shutil.copyfile(_records(gradings[0]) / judgedby.FILE_NAME, staging / "json" / judgedby.FILE_NAME)
         # The cases as ./kit grade orders them: by submission, whatever the roster's order.
