@@ -610,6 +610,25 @@ def _changed_scene(clone: Path) -> str:
     return scene[0].relative_to(clone).as_posix()
 
 
+def _seal_hunt(work: Path, secret_hex: str, gradings: dict[str, str]) -> str:
+    """hostile/seal_key's record in each grading: it ran (said how many processes it looked at) and
+    printed neither the secret, nor the key that seals the records, nor a line of either's file."""
+    from ..secret import SECRET_ENV, _mac_key
+    banned = {"the secret": secret_hex[:32], "the sealing key": _mac_key(bytes.fromhex(secret_hex)).hex()[:32],
+              "the self-test's secret variable": SECRET_ENV}
+    said = []
+    for who, folder in gradings.items():
+        record = json.loads((work / folder / "grading" / "json" / "seal_key.json").read_text())
+        text = json.dumps(record)
+        looked = re.findall(r"seal: looked at (\d+) processes", text)
+        expect(bool(looked), f"{who}: hostile/seal_key never reported its hunt: {text[:300]}")
+        found = [name for name, value in banned.items() if value in text]
+        expect(not found, f"{who}: graded code read {', '.join(found)}: "
+                          + "; ".join(re.findall(r"seal: [^\\\"]{0,160}", text))[:600])
+        said.append(f"{who} {looked[0]} processes")
+    return "hostile/seal_key found no secret nor sealing key (" + ", ".join(said) + ")"
+
+
 def selftest_merge_clones(ctx) -> str:
     """Two TAs grade halves of a class on two clones of the kit (each its own cache, sandbox id range and
     copy of the secret), one under each isolation there is; the merge equals one machine's grading of the
@@ -627,10 +646,17 @@ def selftest_merge_clones(ctx) -> str:
     shutil.rmtree(work, ignore_errors=True)
     start = time.monotonic()
     plan = _merge_class(work / "class")
+    # A submission that hunts for the secret that seals the records (hostile/seal_key): in A's half, and
+    # with B's half in the grading of B's changed clone (the other isolation; what it prints depends on
+    # the isolation, so never in two gradings compared under two).
+    shutil.copytree(fixture_dir("hostile") / "seal_key", work / "class" / "a" / "seal_key")
+    plan["a"].append("seal_key")
     (work / "class" / "all").mkdir()
     for machine in plan:
         for who in plan[machine]:
             shutil.copytree(work / "class" / machine / who, work / "class" / "all" / who)
+    shutil.copytree(work / "class" / "b", work / "class" / "b-hunt")
+    shutil.copytree(fixture_dir("hostile") / "seal_key", work / "class" / "b-hunt" / "seal_key")
     kit_a, kit_b = scratch_kit(work / "kit-a"), scratch_kit(work / "kit-b")
     env_a = _clone_env(work / "cache-a", None)
     env_b = _clone_env(work / "cache-b", FIRST_UID + 2 * UID_RANGE)
@@ -714,9 +740,10 @@ def selftest_merge_clones(ctx) -> str:
 
     # TA B's clone with a changed scene file, never refreshed: refused, the file named.
     scene = _changed_scene(kit_b)
-    r = grade(kit_b, env_b, "b", "B-scene", iso_b)
+    r = grade(kit_b, env_b, "b-hunt", "B-scene", iso_b)
     expect((work / "B-scene" / "grading" / "grades.csv").is_file(), f"the changed clone's grading: exit {r.returncode}: "
                                                                    f"{r.stderr[-600:]}")
+    hunted = _seal_hunt(work, secret, {f"A ({iso_a})": "ALL", f"B ({iso_b})": "B-scene"})
     r = merged_by_a("A", "B-scene")
     expect(r.returncode != 0 and f"{scene} differs" in r.stderr,
            f"a grading by a clone with a changed {scene} was merged, or the refusal did not name it: exit "
@@ -738,7 +765,7 @@ def selftest_merge_clones(ctx) -> str:
     shutil.rmtree(work / "kit-b", ignore_errors=True)
     return (f"{sum(map(len, plan.values()))} students, halves graded on two clones (A {iso_a}, B {iso_b}, ids from "
             f"{FIRST_UID + 2 * UID_RANGE}), the whole on A, in {graded:.0f} s: the merge equals it file for file "
-            f"({files} files, {same} byte for byte, the rest but for per-run fields); refused: "
+            f"({files} files, {same} byte for byte, the rest but for per-run fields); {hunted}; refused: "
             + ", ".join(refusals) + (f" ({'; '.join(skipped)})" if skipped else ""))
 
 
