@@ -57,9 +57,15 @@ def _chosen(rel: str) -> bool:
 
 
 def files(root: Path = ROOT) -> list[str]:
-    """The inputs' paths, relative to the kit, sorted."""
-    from .kitfiles import kit_files
-    return sorted({p.as_posix() for p in kit_files() if _chosen(p.as_posix()) and (root / p).is_file()})
+    """The inputs' paths, relative to the kit, sorted: git's files (tracked, or new and not ignored), else,
+    in a copy that is no clone (an autograder's), every file under the inputs."""
+    from .kitfiles import is_clone, kit_files
+    if root == ROOT and is_clone():
+        found = kit_files()
+    else:
+        found = [p.relative_to(root) for top in INPUTS for p in ([root / top] if not top.endswith("/") else
+                 (root / top).rglob("*")) if p.is_file()]
+    return sorted({p.as_posix() for p in found if _chosen(p.as_posix()) and (root / p).is_file()})
 
 
 def compiler() -> str:

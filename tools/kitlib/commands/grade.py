@@ -487,9 +487,8 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start, 
                 data = results_record.read(report)
                 if results_record.finished(data):
                     # Sealed under the secret (secret.seal): the merge refuses a record edited or written by hand.
-                    text = json.dumps(secret_file.seal(data, key) if key is not None else data, indent=1,
-                                      ensure_ascii=False)
-                    kept.write_text(text, encoding="utf-8")
+                    atomic.write(kept, json.dumps(secret_file.seal(data, key) if key is not None else data, indent=1,
+                                                  ensure_ascii=False))
             except KitError:
                 pass
         done[0] += 0 if again else 1
