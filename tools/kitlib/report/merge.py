@@ -136,6 +136,31 @@ def _same_judge(gradings: list[Grading]) -> list[dict]:
     return [m for m, _ in found]
 
 
+def _borne_out(g: Grading, columns: list[str], key: str) -> None:
+    """Refuses (KitError) a row of g's CSV that its sealed record does not give, cell for cell, as ./kit grade
+    writes it (commands/grade.record_row), the per-run columns aside; or a row with points and no record."""
+    from ..commands.grade import csv_safe, record_row
+    from ..common import load_steps
+    from .grading import NOT_GRADED
+    steps = load_steps()
+    for s in g.students:
+        name = s.row.get(key)
+        if not name:
+            continue
+        if s.data is None:
+            if s.row.get("status") not in NOT_GRADED or s.earned not in (None, 0):
+                raise KitError(f"refused: {printable(str(g.csv_path))}: {printable(name)} is {s.row.get('status')} "
+                               f"with {s.row.get('earned')} points, but has no record to bear it out")
+            continue
+        derived = record_row({"student": name}, dict(s.data), steps)
+        for c in columns:
+            if c in _WHERE or c in ("student", "submission") or c not in derived:
+                continue
+            if csv_safe(derived[c]) != s.row.get(c, ""):
+                raise KitError(f"refused: {printable(str(g.csv_path))}: {printable(name)}'s {c} is "
+                               f"{printable(str(s.row.get(c)))}, its sealed record gives {printable(str(derived[c]))}")
+
+
 def merge(folders: list[Path], target: Path) -> list[str]:
     """Merges the gradings in `folders` into the grading folder `target` (made anew); notes to say."""
     from ..commands.grade import csv_text
@@ -193,9 +218,7 @@ def merge(folders: list[Path], target: Path) -> list[str]:
             notes.append(f"{printable(row.get(key) or who)}: graded on two machines alike, kept once")
 
     for g in gradings:      # a row its own sealed record does not bear out (after the rows two machines differ on)
-        bad = [p for p in g.problems if "the CSV says" in p]
-        if bad:
-            raise KitError(f"refused: {printable(str(g.csv_path))} disagrees with its records: {printable(bad[0])}")
+        _borne_out(g, columns, key)
     if key == "student":
         order.sort()                    # as ./kit grade orders its rows; a roster keeps its own order
     staging = Path(tempfile.mkdtemp(prefix=".merging-", dir=target.parent))

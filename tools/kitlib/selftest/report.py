@@ -737,6 +737,21 @@ def selftest_merge_clones(ctx) -> str:
     expect(r.returncode != 0 and f"{victim}.json" in r.stderr and "seal" in r.stderr,
            f"a record with its score edited was merged: exit {r.returncode}: {r.stderr[-400:]}")
     refusals.append(f"{victim}.json's score edited")
+    # A CSV cell its sealed record does not give (a step's points raised, the total left): refused, named.
+    shutil.rmtree(work / "forged")
+    shutil.copytree(work / "B", work / "forged")
+    path = work / "forged" / "grading" / "grades.csv"
+    with path.open(newline="") as f:
+        table = list(csv.reader(f))
+    column = next(c for c in table[0] if c.startswith("step") and c.endswith("_earned"))
+    line = next(r for r in table[1:] if r[table[0].index("status")] != "not graded")
+    line[table[0].index(column)] = scale.shown(scale.exact(line[table[0].index(column)] or "0") + 1)
+    with path.open("w", newline="") as f:
+        csv.writer(f).writerows(table)
+    r = merged_by_a("A", "forged")
+    expect(r.returncode != 0 and f"{line[0]}'s {column}" in r.stderr and "sealed record" in r.stderr,
+           f"a CSV whose {column} its record does not give was merged: exit {r.returncode}: {r.stderr[-400:]}")
+    refusals.append(f"{line[0]}'s {column} raised in the CSV")
 
     # TA B's clone with a changed scene file, never refreshed: refused, the file named.
     scene = _changed_scene(kit_b)
