@@ -697,7 +697,20 @@ def selftest_merge_clones(ctx) -> str:
     r = merged_by_a("A", "B-new")
     expect(r.returncode != 0 and "different secrets" in r.stderr and not (work / "merged").exists(),
            f"gradings of two secrets were merged: exit {r.returncode}: {r.stderr[-400:]}")
-    refusals = ["a new secret where the folder named another", "two secrets"]
+    refusals = ["a new secret where the folder named another (made with --new-secret, which refuses one in place)",
+                "two secrets"]
+    # Asked for (--new-secret), over the folder that names another: made, with the warning (a class of one
+    # upload with no steps: nothing to build). Refused while a secret exists.
+    (kit_b / "tests" / "hidden" / "secret.key").unlink()
+    (work / "class" / "nosteps" / "eve").mkdir(parents=True)
+    (work / "class" / "nosteps" / "eve" / "README.txt").write_text("no steps here\n")
+    r = grade(kit_b, env_b, "nosteps", "B-over-A", iso_b, "--new-secret")
+    asked = re.search(r"(?m)^secret: fingerprint ([0-9a-f]+) .*made now", r.stdout)
+    expect(bool(asked) and asked.group(1) != fp and "warning" in r.stderr,
+           f"--new-secret over a folder naming {fp} made no secret: exit {r.returncode}: {r.stdout[:300]} {r.stderr[-300:]}")
+    r = grade(kit_b, env_b, "nosteps", "B-over-A", iso_b, "--new-secret")
+    expect(r.returncode != 0 and "exists already" in r.stderr,
+           f"--new-secret with a secret in place was not refused: exit {r.returncode}: {r.stderr[-300:]}")
 
     # B copies A's secret and grades its half again; A grades the whole class alone, for comparison.
     (kit_b / "tests" / "hidden" / "secret.key").unlink()
