@@ -30,6 +30,7 @@ from .. import record as results_record
 from .. import secret as secret_file
 from ..common import KitError, printable, student_file_name
 from .grading import Grading, load
+from . import rows as rows_file
 from .make import CASES, GRADES
 
 # Columns that say where and how a grading ran, not what it gave: they may differ between two
@@ -138,8 +139,7 @@ def _same_judge(gradings: list[Grading]) -> list[dict]:
 
 def _borne_out(g: Grading, columns: list[str], key: str) -> None:
     """Refuses (KitError) a row of g's CSV that its sealed record does not give, cell for cell, as ./kit grade
-    writes it (commands/grade.record_row), the per-run columns aside; or a row with points and no record."""
-    from ..commands.grade import csv_safe, record_row
+    writes it (report/rows.record_row), the per-run columns aside; or a row with points and no record."""
     from ..common import load_steps
     from .grading import NOT_GRADED
     steps = load_steps()
@@ -152,18 +152,17 @@ def _borne_out(g: Grading, columns: list[str], key: str) -> None:
                 raise KitError(f"refused: {printable(str(g.csv_path))}: {printable(name)} is {s.row.get('status')} "
                                f"with {s.row.get('earned')} points, but has no record to bear it out")
             continue
-        derived = record_row({"student": name}, dict(s.data), steps)
+        derived = rows_file.record_row({"student": name}, dict(s.data), steps)
         for c in columns:
             if c in _WHERE or c in ("student", "submission") or c not in derived:
                 continue
-            if csv_safe(derived[c]) != s.row.get(c, ""):
+            if rows_file.csv_safe(derived[c]) != s.row.get(c, ""):
                 raise KitError(f"refused: {printable(str(g.csv_path))}: {printable(name)}'s {c} is "
                                f"{printable(str(s.row.get(c)))}, its sealed record gives {printable(str(derived[c]))}")
 
 
 def merge(folders: list[Path], target: Path) -> list[str]:
     """Merges the gradings in `folders` into the grading folder `target` (made anew); notes to say."""
-    from ..commands.grade import csv_text
     if len(folders) < 2:
         raise KitError("merging needs two gradings or more")
     gradings = [load(f) for f in folders]
@@ -242,9 +241,9 @@ def merge(folders: list[Path], target: Path) -> list[str]:
                 shutil.copyfile(record, staging / "json" / record.name)
             if g.files is not None and (g.files / student_file_name(name)).is_dir():
                 shutil.copytree(g.files / student_file_name(name), staging / "files" / student_file_name(name))
-        # Written as ./kit grade writes them (commands/grade.py csv_text): the same bytes for the same rows.
-        (staging / GRADES).write_bytes(csv_text(columns, [rows[who][0] for who in order]).encode("utf-8"))
-        (staging / CASES).write_bytes(csv_text(case_columns or [], case_rows).encode("utf-8"))
+        # Written as ./kit grade writes them (rows_file.csv_text): the same bytes for the same rows.
+        (staging / GRADES).write_bytes(rows_file.csv_text(columns, [rows[who][0] for who in order]).encode("utf-8"))
+        (staging / CASES).write_bytes(rows_file.csv_text(case_columns or [], case_rows).encode("utf-8"))
         shutil.rmtree(target, ignore_errors=True)
         staging.rename(target)
     finally:
