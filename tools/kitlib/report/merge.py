@@ -47,9 +47,13 @@ def _csv_rows(path: Path) -> tuple[list[str], list[dict]]:
 
 
 def _key(row: dict, key: str, columns: list[str]) -> str:
-    """The student a row is about: its folder's name, or for a roster's student who submitted
-    nothing, the roster's columns."""
-    return row.get(key) or "\x1f".join(row.get(c, "") for c in columns if c != key)
+    """The student a row is about: its folder's name; with a roster (key "submission"), the roster's own
+    columns (those before "submission"), whether the student submitted here or not, and for a folder on
+    no one's line, its name."""
+    if key != "submission":
+        return row.get(key) or ""
+    named = "\x1f".join(row.get(c, "") for c in columns[:columns.index(key)])
+    return named if named.strip("\x1f") else "\x00" + row.get(key, "")
 
 
 def _grade(row: dict) -> dict:
@@ -214,12 +218,15 @@ def merge(folders: list[Path], target: Path) -> list[str]:
                                f"{kept.get('maximum')} ({kept.get('status')}), {printable(str(g.csv_path))} "
                                f"{row.get('earned')} of {row.get('maximum')} ({row.get('status')}); remove the "
                                "row you do not want from one CSV, then merge again")
-            notes.append(f"{printable(row.get(key) or who)}: graded on two machines alike, kept once")
+            if row.get(key):
+                notes.append(f"{printable(row.get(key) or who)}: graded on two machines alike, kept once")
 
     for g in gradings:      # a row its own sealed record does not bear out (after the rows two machines differ on)
         _borne_out(g, columns, key)
     if key == "student":
-        order.sort()                    # as ./kit grade orders its rows; a roster keeps its own order
+        order.sort()                    # as ./kit grade orders its rows
+    else:                               # the roster's own order, then the folders on no one's line, sorted
+        order = [w for w in order if not w.startswith("\x00")] + sorted(w for w in order if w.startswith("\x00"))
     staging = Path(tempfile.mkdtemp(prefix=".merging-", dir=target.parent))
     try:
         mask = os.umask(0)

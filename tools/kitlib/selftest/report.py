@@ -516,9 +516,24 @@ def selftest_merge(ctx) -> str:
     r = kit("report", str(work / "a" / "grading"), str(work / "all" / "grading"), "--out", str(merged))
     expect(r.returncode == 0 and _grades(merged / "grading" / "grades.csv") == one,
            f"the same students graded alike on two machines were not kept once: {r.stderr[-300:]}")
+    # With the class list (its own order, one student who submitted nothing): each machine grades its half
+    # against the whole roster; the merge equals one machine's grading file for file.
+    students = [who for machine in plan for who in plan[machine]]
+    roster = work / "roster.csv"
+    roster.write_text("name,login\n" + "".join(f"Student {who.title()},{who}\n" for who in reversed(students))
+                      + "Nobody Here,absent\n")
+    for name in ["a", "b", "all"]:
+        r = kit("grade", str(work / "class" / name), "-j", "2", "--out", str(work / f"{name}-roster.csv"),
+                "--roster", str(roster), "--report", str(work / f"{name}-roster"), timeout=1200)
+        expect((work / f"{name}-roster" / "grading" / "grades.csv").is_file(),
+               f"./kit grade {name} --roster: exit {r.returncode}: {(r.stderr.strip().splitlines() or ['?'])[-1]}")
+    r = kit("report", str(work / "a-roster" / "grading"), str(work / "b-roster" / "grading"), "--out",
+            str(work / "merged-roster"))
+    expect(r.returncode == 0, f"./kit report A B (with a roster): exit {r.returncode}: {(r.stderr + r.stdout)[-600:]}")
+    files, same = _file_for_file(work / "all-roster" / "grading", work / "merged-roster" / "grading")
     return (f"{sum(map(len, plan.values()))} students graded on two machines (2 + 2) and on one, in {graded:.0f} s: "
-            f"the merge equals the one machine's grading (CSV, records, report's scores); refused: "
-            + ", ".join(refusals) + "; alike rows kept once")
+            f"the merge equals the one machine's grading (CSV, records, report's scores); with a roster, file for "
+            f"file ({files} files, {same} byte for byte); refused: " + ", ".join(refusals) + "; alike rows kept once")
 
 
 # --- two TAs, two clones of the kit, one class ----------------------------------------------------------
