@@ -356,7 +356,8 @@ def _the_secret(args, json_dir: Path | None) -> bytes | None:
                            f"{secret_file.fingerprint_of(key)}); delete it first to start a new draw for every "
                            "submission")
         fp = secret_file.fingerprint_of(key)
-        say(f"secret: fingerprint {fp} ({secret_file.SECRET_FILE.relative_to(ROOT)})")
+        pinned = os.environ.get(secret_file.SECRET_ENV)
+        say(f"secret: fingerprint {fp} ({secret_file.SECRET_ENV if pinned else secret_file.SECRET_FILE.relative_to(ROOT)})")
         other = {f: p for f, p in _named_secrets(targets).items() if f != fp}
         for f, p in other.items():
             say(f"  warning: {printable(str(p))} was drawn with another secret ({f}); this grading replaces it")
