@@ -19,7 +19,11 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
      "gradable": true,                              # false when a step is not graded (the grader's fault)
      "not_graded": [{"step": "03", "reason": "..."}],
      "grader": {"secret": "...", "cases": "..."},   # what drew and judged it (see `grader`)
-     "steps": [StepResult.to_json(), ...]}          # kitlib/cases.py
+     "steps": [StepResult.to_json(), ...],          # kitlib/cases.py
+     "mac": "..."}                                  # in a grading folder: its seal (secret.seal)
+
+The seal is put on by `./kit grade` as it keeps the record (HMAC-SHA256 of the rest under a key derived
+from the secret); the merge of several machines' gradings refuses a record whose seal fails.
 
 A placeholder (finished false, no steps) is not a result: whoever reads one where a result should be
 (the check died after writing it) says "not graded", never "0 of 0".
@@ -28,16 +32,16 @@ A placeholder (finished false, no steps) is not a result: whoever reads one wher
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 from fractions import Fraction
 from pathlib import Path
 
 from . import atomic
 from . import course as course_file
+from . import judgedby
 from . import secret as secret_file
 from .cases import StepResult
-from .common import ROOT, KitError
+from .common import KitError
 from .status import NOT_GRADED, OLD_BROKEN
 
 FORMAT = "raykit-results"
@@ -61,29 +65,14 @@ def make(results: list[StepResult], elapsed: float, identity: str = "", finished
             "grader": grader(), "steps": [r.to_json() for r in results]}
 
 
-# What decides a grade besides the student's files: the course's scale, the cases and their judges, the
-# hidden families and the reference. Fixtures, mutants, fuzz and property tests decide none.
-_DECIDING = ["course.json", "tests/support", "tests/hidden", "solutions"]
-
-
 @functools.lru_cache(maxsize=None)
 def grader() -> dict:
-    """Which secret drew the hidden inputs (secret.fingerprint) and which cases and scale judged them
-    (a hash of the files that decide a grade): two gradings compare only when both are equal, as the
-    merge of several machines' gradings checks (report/merge.py)."""
-    h = hashlib.sha256(b"raykit-cases-1\0")
-    roots = [ROOT / d for d in _DECIDING] + sorted(p for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir())
-    for top in roots:
-        files = [top] if top.is_file() else sorted(p for p in top.rglob("*") if p.is_file()) if top.is_dir() else []
-        for f in files:
-            if f.name == "secret.key" or "__pycache__" in f.parts:
-                continue
-            try:
-                data = f.read_bytes()
-            except OSError:
-                continue
-            h.update(str(f.relative_to(ROOT)).encode() + b"\0" + hashlib.sha256(data).digest())
-    return {"secret": secret_file.fingerprint(), "cases": h.hexdigest()[:16]}
+    """Which secret drew the hidden inputs (secret.fingerprint) and which copy of the kit judged them: the
+    digest of every input that can change a verdict or a point (judgedby.py; ./kit grade hashes them once
+    and hands each check the digest). Two gradings compare only when both are equal, as the merge of
+    several machines' gradings checks (report/merge.py), which names the first file that differs from the
+    lists ./kit grade keeps."""
+    return {"secret": secret_file.fingerprint(), "cases": judgedby.current_digest()}
 
 
 def write(path: str | Path, data: dict) -> None:

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import hashlib
 import hmac
+import json
 import os
 import secrets as random_source
 import stat
@@ -108,15 +109,54 @@ def secret(path: Path = SECRET_FILE) -> bytes:
         raise KitError(f"{path}: cannot make the hidden cases' secret ({e.strerror})")
 
 
+def existing(path: Path = SECRET_FILE) -> bytes | None:
+    """The kit's secret (the self-test's, while it runs), or None when there is none yet; never makes one."""
+    return secret() if os.environ.get(SECRET_ENV) else _read(path)
+
+
+def fingerprint_of(key: bytes) -> str:
+    return hmac.new(key, b"raykit-secret-fingerprint-1", hashlib.sha256).hexdigest()[:16]
+
+
 def fingerprint(path: Path = SECRET_FILE) -> str:
     """A name for the secret that reveals nothing of it (an HMAC of a fixed text under it), for a results
     record to say which secret drew its hidden inputs: gradings merged from several machines must share
     one (report/merge.py). Empty when there is no secret yet; never makes one."""
-    pinned = os.environ.get(SECRET_ENV)
-    key = secret() if pinned else _read(path)
-    if key is None:
-        return ""
-    return hmac.new(key, b"raykit-secret-fingerprint-1", hashlib.sha256).hexdigest()[:16]
+    key = existing(path)
+    return fingerprint_of(key) if key is not None else ""
+
+
+# --- the seal of what a grading keeps (a results record, a grading's manifest) -------------------------
+#
+# Each record ./kit grade keeps, and the manifest of what judged it (judgedby.py), carries under "mac" an
+# HMAC-SHA256 of its own content (canonical(): every field but "mac", keys sorted, no spaces, UTF-8) under
+# a key derived from the secret. Whoever holds one record (a student's own, a TA's copy) learns nothing
+# that seals another, or the same with another score. Only the kit's own processes compute it: the
+# grading's parent (commands/grade.py) and the merge; no environment, file or argument of a graded
+# process holds the secret or this key (docs/integrity.md).
+MAC_FIELD = "mac"
+
+
+def _mac_key(key: bytes) -> bytes:
+    return hmac.new(key, b"raykit-seal-key-1", hashlib.sha256).digest()
+
+
+def canonical(data: dict) -> bytes:
+    """What the seal covers: the record without its seal, serialised one way only."""
+    return json.dumps({k: v for k, v in data.items() if k != MAC_FIELD}, sort_keys=True, separators=(",", ":"),
+                      ensure_ascii=False, allow_nan=True).encode("utf-8", "surrogatepass")
+
+
+def seal(data: dict, key: bytes) -> dict:
+    """`data` with its seal under the secret `key`."""
+    return dict(data, **{MAC_FIELD: hmac.new(_mac_key(key), canonical(data), hashlib.sha256).hexdigest()})
+
+
+def sealed(data: dict, key: bytes) -> bool:
+    """Whether `data` carries the seal of its own content under `key`."""
+    mac = data.get(MAC_FIELD)
+    return isinstance(mac, str) and hmac.compare_digest(
+        mac, hmac.new(_mac_key(key), canonical(data), hashlib.sha256).hexdigest())
 
 
 def copy_into(target: Path) -> None:

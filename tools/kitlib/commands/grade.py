@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import os
 import re
 import shutil
@@ -18,26 +19,26 @@ import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from fractions import Fraction
 from pathlib import Path
 
 from .. import atomic
 from .. import course as course_file
 from .. import faults
+from .. import judgedby
+from .. import secret as secret_file
 from .. import studentpch
 from .. import record as results_record
 
 from ..checking import VERDICTS_ENV
-from ..status import CRASHED, DONE, GRADER_ERROR, NOT_GRADED, OLD_BROKEN, STATE_WORDS, THREW, TIMED_OUT
 from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
 from ..packages import ensure_packages
 from ..sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
+from ..report.rows import NOT_GRADED_WORDS, csv_safe, csv_text, record_row  # noqa: F401 (the grades CSV's rows)
 from ..submissions import NotFound, locate
 from ..status import FAILED, OK
 
 SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own limit
-NOT_GRADED_WORDS = "not graded"     # a row's status, a step's cells: no verdict, the grader's fault
 
 
 def register(p) -> None:
@@ -60,6 +61,9 @@ def register(p) -> None:
                    help="the roster's column that names the folder or .zip (default: the one that matches most)")
     p.add_argument("--cases", metavar="FILE",
                    help="the long CSV, one row per student and case (default: OUT with -cases before .csv)")
+    p.add_argument("--new-secret", action="store_true",
+                   help="make the hidden cases' secret (tests/hidden/secret.key) even though the folder graded into "
+                        "holds a grading drawn with another one (README: one course, several machines)")
 
 
 def columns(steps) -> list[str]:
@@ -75,42 +79,6 @@ def columns(steps) -> list[str]:
 
 
 CASE_COLUMNS = ["submission", "step", "case", "tier", "group", "status", "points", "earned"]
-
-
-def csv_safe(cell) -> str:
-    """One cell as written to a CSV: the one call point where the cells of both CSV files pass (the
-    roster's too). Its control characters are shown as text (printable(): a folder name or a note
-    holding an escape sequence would replay on `cat grades.csv`), and a text a spreadsheet would run
-    as a formula (=, +, -, @, tab first; a CR is shown as \\x0d by then) gets a leading '."""
-    text = "" if cell is None else printable(str(cell))
-    if text[:1] in ("=", "+", "-", "@", "\t", "\r") and not _number(text):
-        return "'" + text
-    return text
-
-
-def _decimal(exact: str) -> str:
-    """A case's exact points ("10/23") as a decimal of 6 places at most (a spreadsheet reads 10/23
-    as a date); the totals are rounded from the exact sum, not from these."""
-    f = Fraction(exact)
-    d = (course_file.Decimal(f.numerator) / f.denominator).quantize(course_file.Decimal("0.000001"))
-    return format(d.normalize(), "f")
-
-
-def _number(text: str) -> bool:
-    try:
-        float(text)
-        return True
-    except ValueError:
-        return False
-
-
-def csv_text(cols: list[str], rows: list[dict]) -> str:
-    text = io.StringIO()
-    writer = csv.writer(text)
-    writer.writerow([csv_safe(c) for c in cols])
-    for r in rows:
-        writer.writerow([csv_safe(r.get(c, "")) for c in cols])
-    return text.getvalue()
 
 
 def write_file(out: Path, text: str) -> None:
@@ -277,62 +245,6 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     return record_row(row, data, steps, found.notes)
 
 
-def record_row(row: dict, data: dict, steps, left_out: list[str] = ()) -> dict:
-    """A submission's row of the grades CSV from its results record (kitlib/record.py): the total on
-    the course's decimals, the extra credit it holds apart, each step; `left_out`, what its upload had
-    that was not graded."""
-    course = course_file.load()
-    exact = Fraction(data["score_exact"])
-    maximum = Fraction(data["max_score_exact"])
-    row["earned"], row["earned_exact"] = course.shown(exact), course_file.exact_text(exact)
-    row["maximum"] = course.shown(maximum)
-    extra, possible = results_record.extra_credit(data)
-    row["extra_credit"] = course.shown(extra) if possible else ""
-    share = 100 * (exact - extra) / maximum if maximum else None
-    row["percent"] = f"{course_file.Decimal(share.numerator) / share.denominator:.1f}" if share is not None else ""
-    row["_cases"] = [{"step": s["step"], "case": c["name"], "tier": c["tier"], "group": c.get("group", ""),
-                      "status": c["status"], "points": _decimal(c.get("points", "0")),
-                      "earned": NOT_GRADED_WORDS if c["status"] == GRADER_ERROR or s["state"] in (NOT_GRADED, OLD_BROKEN)
-                      else _decimal(c.get("points", "0")) if c["status"] == "pass" else "0"}
-                     for s in data["steps"] for c in s["cases"]]
-    by_number = {s["step"]: s for s in data["steps"]}
-    row["status"] = "complete" if all(s["state"] == DONE for s in by_number.values()) else "incomplete"
-    missed = results_record.not_graded(data)
-    if missed:      # no verdict for a step: no total either, and a retry alone (_grade)
-        row.update(status=NOT_GRADED_WORDS, earned=NOT_GRADED_WORDS, earned_exact="", percent="", extra_credit="",
-                   _retry=True)
-    row["isolation"] = next((s["isolation"] for s in by_number.values() if s.get("isolation")), "")
-    notes = []
-    for s in steps:
-        res = by_number.get(s.number)
-        if res is None:
-            continue
-        row[f"step{s.number}_state"] = STATE_WORDS.get(res["state"], res["state"])
-        row[f"step{s.number}_earned"] = course.shown(Fraction(res.get("earned_exact", res["earned"])))
-        row[f"step{s.number}_maximum"] = course.shown(Fraction(res.get("maximum_exact", res["maximum"])))
-        row[f"step{s.number}_robust"] = res["robust"]["passed"]
-        row[f"step{s.number}_robust_total"] = res["robust"]["total"]
-        if res["state"] in (NOT_GRADED, OLD_BROKEN):    # no verdict: no points, no ★ count either
-            row[f"step{s.number}_earned"] = NOT_GRADED_WORDS
-            row[f"step{s.number}_robust"] = row[f"step{s.number}_robust_total"] = ""
-            continue
-        bad = sorted({c["status"] for c in res["cases"] if c["status"] in (CRASHED, TIMED_OUT, THREW)})
-        if bad:
-            notes.append(f"step {s.number}: {' '.join(bad)}")
-        again = [c for c in res["cases"] if c.get("runs", 1) > 1]
-        if again:
-            notes.append(f"step {s.number}: {len(again)} case(s) run again after a timeout, "
-                         f"{sum(c['status'] == 'pass' for c in again)} then passed")
-    why: dict[str, list[str]] = {}
-    for number, reason in missed:       # one note per reason: a full disk fails every step alike
-        why.setdefault(reason, []).append(number)
-    notes[:0] = [f"step {', '.join(numbers)} not graded: {reason}" for reason, numbers in why.items()]
-    if left_out:        # what the upload had that was not graded, whole
-        notes.append("left out: " + "; ".join(left_out))
-    row["note"] = "; ".join(notes)
-    return row
-
-
 def signal_name(number: int) -> str:
     try:
         return signal.Signals(number).name
@@ -379,6 +291,13 @@ def run(args) -> int:
         raise KitError(f"--cases {cases_out}: cannot write the cases CSV there")
     start = time.monotonic()
     BUILD.mkdir(exist_ok=True)
+    # The secret that draws the hidden inputs (one line saying which), and what judges this grading,
+    # hashed once for every check (judgedby.py): kept sealed beside the records for a merge to compare.
+    key = _the_secret(args, json_dir)
+    manifest = judgedby.build()
+    os.environ[judgedby.ENV] = manifest["digest"]
+    if json_dir is not None and key is not None:
+        judgedby.write(json_dir, manifest, key)
     jobs = max(1, min(args.jobs, len(folders)))
     # The verdicts of this grading by content (checking.Verdicts): a step whose files another
     # submission already had is judged once. Its own folder, gone when the grading ends.
@@ -390,13 +309,77 @@ def run(args) -> int:
         # Under the user isolation the graded code runs as another user of this machine: the class
         # folder is closed to it while the class is graded (sandbox/), then opened as it was.
         with WithheldFromOthers(root, folders, args.isolation):
-            return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start)
+            return _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start, key)
     finally:
         os.environ.pop(VERDICTS_ENV, None)
+        os.environ.pop(judgedby.ENV, None)
         shutil.rmtree(verdicts, ignore_errors=True)
 
 
-def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) -> int:
+def _named_secrets(folders: list[Path]) -> dict[str, Path]:
+    """The secrets (by fingerprint) the gradings already in `folders` were drawn with: their list of what
+    judged them (judgedby.FILE_NAME), else their records' grader."""
+    named: dict[str, Path] = {}
+    for folder in folders:
+        path = folder / judgedby.FILE_NAME
+        try:
+            manifest = judgedby.read(path)
+        except KitError:
+            manifest = None
+        if manifest and manifest.get("secret"):
+            named.setdefault(str(manifest["secret"]), path)
+        for record in sorted(folder.glob("*.json")) if folder.is_dir() else []:
+            try:
+                fp = results_record.read(record).get("grader", {}).get("secret")
+            except (KitError, AttributeError):
+                continue
+            if fp:
+                named.setdefault(str(fp), record)
+                break
+    return named
+
+
+def _the_secret(args, json_dir: Path | None) -> bytes | None:
+    """The hidden cases' secret for this grading, its fingerprint said in one line. Made when there is
+    none, with a warning (a TA who forgot to copy it draws other inputs); refused when the folder graded
+    into (--json-dir, --report's grading/json/) holds a grading drawn with another secret, unless
+    --new-secret. None where this copy grades no hidden case (no solutions/ or tests/hidden/)."""
+    from ..bundle import hidden_here
+    if not hidden_here():
+        say("secret: none (this copy of the kit grades no hidden cases)")
+        return None
+    targets = [p for p in {json_dir, Path(args.report) / "grading" / "json" if args.report else None} if p is not None]
+    key = secret_file.existing()
+    if key is not None:
+        if args.new_secret:
+            raise KitError(f"--new-secret: {secret_file.SECRET_FILE} exists already (fingerprint "
+                           f"{secret_file.fingerprint_of(key)}); delete it first to start a new draw for every "
+                           "submission")
+        fp = secret_file.fingerprint_of(key)
+        pinned = os.environ.get(secret_file.SECRET_ENV)
+        say(f"secret: fingerprint {fp} ({secret_file.SECRET_ENV if pinned else secret_file.SECRET_FILE.relative_to(ROOT)})")
+        other = {f: p for f, p in _named_secrets(targets).items() if f != fp}
+        for f, p in other.items():
+            say(f"  warning: {printable(str(p))} was drawn with another secret ({f}); this grading replaces it")
+        return key
+    named = _named_secrets(targets)
+    if named and not args.new_secret:
+        where = "; ".join(f"{printable(str(p))} names secret {f}" for f, p in named.items())
+        raise KitError(f"no secret in {secret_file.SECRET_FILE.relative_to(ROOT)}, and the folder graded into holds "
+                       f"a grading drawn with another ({where}). Copy tests/hidden/secret.key from the machine "
+                       "that made it (README: one course, several machines), or, to start a new draw on purpose, "
+                       "grade with --new-secret")
+    key = secret_file.secret()
+    fp = secret_file.fingerprint_of(key)
+    say(f"secret: fingerprint {fp} ({secret_file.SECRET_FILE.relative_to(ROOT)}, made now)")
+    print(f"warning: this copy of the kit had no secret, so it made a new one ({fp}). Its hidden inputs differ "
+          f"from any other machine's: if another machine grades this class, copy its tests/hidden/secret.key "
+          f"here instead (mode 0600), delete this one and grade again (README: one course, several machines)",
+          file=sys.stderr, flush=True)
+    return key
+
+
+def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start, key) -> int:
     done = [0]
 
     def one(item: tuple[int, Path], slot: int | None = None, again: bool = False) -> dict:
@@ -408,8 +391,11 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
             kept = json_dir / f"{student_file_name(row['student'])}.json"
             kept.unlink(missing_ok=True)
             try:
-                if results_record.finished(results_record.read(report)):
-                    kept.write_bytes(report.read_bytes())
+                data = results_record.read(report)
+                if results_record.finished(data):
+                    # Sealed under the secret (secret.seal): the merge refuses a record edited or written by hand.
+                    atomic.write(kept, json.dumps(secret_file.seal(data, key) if key is not None else data, indent=1,
+                                                  ensure_ascii=False))
             except KitError:
                 pass
         done[0] += 0 if again else 1
@@ -488,5 +474,5 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start) 
     # (FAILED), after every file is written, so a script does not publish it as it is.
     faulty = any(r.get("status") in (NOT_GRADED_WORDS, "timed out") for r in not_graded)
     if args.report:     # the class report, from the grading just saved (commands/report.py)
-        return from_grade(args, out, json_dir) or (FAILED if faulty else OK)
+        return from_grade(args, out, json_dir, cases_out) or (FAILED if faulty else OK)
     return FAILED if faulty else OK

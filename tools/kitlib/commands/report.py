@@ -13,6 +13,7 @@ names no other student. Everything is in the files: no script, font or picture i
 
 from __future__ import annotations
 
+import shutil
 import time
 from pathlib import Path
 
@@ -64,8 +65,15 @@ def run(args) -> int:
         if any(out.resolve() == f.resolve() or out.resolve() in f.resolve().parents for f in folders):
             raise KitError(f"--out {out}: is one of the gradings to merge, or holds one")
         writable_parent(f"--out {out}", out)
+        made = not out.exists()
         out.mkdir(parents=True, exist_ok=True)
-        for note in merge(folders, out / "grading"):
+        try:
+            notes = merge(folders, out / "grading")
+        except KitError:
+            if made:            # a refused merge leaves nothing behind, not even its folder
+                shutil.rmtree(out, ignore_errors=True)
+            raise
+        for note in notes:
             say(f"  note: {note}")
         say(f"merged {len(folders)} gradings into {out / 'grading' / 'grades.csv'}")
         return write_report(out / "grading", out)

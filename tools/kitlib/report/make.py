@@ -51,14 +51,24 @@ def write_report(folder: Path, out: Path) -> int:
     return OK
 
 
-def from_grade(args, csv_path: Path, json_dir: Path) -> int:
+# What a grading folder holds (./kit grade --report DIR writes them in DIR/grading/, the merge of several
+# machines' gradings in OUT/grading/, report/merge.py): the CSV, the long CSV of cases, each student's
+# record and the list of what judged them in json/, each student's files in files/.
+GRADES, CASES = "grades.csv", "grades-cases.csv"
+
+
+def from_grade(args, csv_path: Path, json_dir: Path, cases_path: Path | None = None) -> int:
     """./kit grade --report DIR: keeps the grading in DIR/grading/ and writes the report in DIR."""
+    from ..judgedby import FILE_NAME
     out = Path(args.report)
     grading = out / "grading"
     (grading / "json").mkdir(parents=True, exist_ok=True)
-    shutil.copyfile(csv_path, grading / "grades.csv")
+    shutil.copyfile(csv_path, grading / GRADES)
+    if cases_path is not None and cases_path.is_file():
+        shutil.copyfile(cases_path, grading / CASES)
     if json_dir.resolve() != (grading / "json").resolve():
-        for p in json_dir.glob("*.json"):
-            shutil.copyfile(p, grading / "json" / p.name)
+        for p in [*json_dir.glob("*.json"), json_dir / FILE_NAME]:
+            if p.is_file():
+                shutil.copyfile(p, grading / "json" / p.name)
     save_submissions(Path(args.submissions), [s.name for s in load(grading).students], grading)
     return write_report(grading, out)

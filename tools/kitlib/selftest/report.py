@@ -20,8 +20,11 @@ real copies of a step file; the real pairs first, the shared file once as a grou
 from __future__ import annotations
 
 import csv
+import json
+import os
 import re
 import shutil
+import subprocess
 import time
 from pathlib import Path
 
@@ -513,9 +516,298 @@ def selftest_merge(ctx) -> str:
     r = kit("report", str(work / "a" / "grading"), str(work / "all" / "grading"), "--out", str(merged))
     expect(r.returncode == 0 and _grades(merged / "grading" / "grades.csv") == one,
            f"the same students graded alike on two machines were not kept once: {r.stderr[-300:]}")
+    # With the class list (its own order, one student who submitted nothing): each machine grades its half
+    # against the whole roster; the merge equals one machine's grading file for file.
+    students = [who for machine in plan for who in plan[machine]]
+    roster = work / "roster.csv"
+    roster.write_text("name,login\n" + "".join(f"Student {who.title()},{who}\n" for who in reversed(students))
+                      + "Nobody Here,absent\n")
+    for name in ["a", "b", "all"]:
+        r = kit("grade", str(work / "class" / name), "-j", "2", "--out", str(work / f"{name}-roster.csv"),
+                "--roster", str(roster), "--report", str(work / f"{name}-roster"), timeout=1200)
+        expect((work / f"{name}-roster" / "grading" / "grades.csv").is_file(),
+               f"./kit grade {name} --roster: exit {r.returncode}: {(r.stderr.strip().splitlines() or ['?'])[-1]}")
+    r = kit("report", str(work / "a-roster" / "grading"), str(work / "b-roster" / "grading"), "--out",
+            str(work / "merged-roster"))
+    expect(r.returncode == 0, f"./kit report A B (with a roster): exit {r.returncode}: {(r.stderr + r.stdout)[-600:]}")
+    files, same = _file_for_file(work / "all-roster" / "grading", work / "merged-roster" / "grading")
     return (f"{sum(map(len, plan.values()))} students graded on two machines (2 + 2) and on one, in {graded:.0f} s: "
-            f"the merge equals the one machine's grading (CSV, records, report's scores); refused: "
-            + ", ".join(refusals) + "; alike rows kept once")
+            f"the merge equals the one machine's grading (CSV, records, report's scores); with a roster, file for "
+            f"file ({files} files, {same} byte for byte); refused: " + ", ".join(refusals) + "; alike rows kept once")
+
+
+# --- two TAs, two clones of the kit, one class ----------------------------------------------------------
+
+def _in_clone(clone: Path, env: dict, *args: str, timeout: float = 1200) -> subprocess.CompletedProcess:
+    """./kit ARGS in a clone of the kit, with the clone's own environment (its cache, its id range, no
+    pinned secret: its tests/hidden/secret.key, as on a TA's machine)."""
+    return subprocess.run([str(clone / "kit"), *args], cwd=clone, env=env, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def _clone_env(cache: Path, first_uid: int | None) -> dict:
+    from ..judgedby import ENV as JUDGED_ENV
+    from ..sandbox.ids import FIRST_UID_ENV
+    from ..secret import SECRET_ENV
+    env = {k: v for k, v in os.environ.items()
+           if k not in (SECRET_ENV, JUDGED_ENV, "RAYKIT_BUNDLE_DIR", FIRST_UID_ENV)}
+    env["XDG_CACHE_HOME"] = str(cache)
+    if first_uid is not None:
+        env[FIRST_UID_ENV] = str(first_uid)
+    return env
+
+
+def _put_secret(clone: Path, hex_text: str) -> None:
+    path = clone / "tests" / "hidden" / "secret.key"
+    path.unlink(missing_ok=True)
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(fd, "w") as f:
+        f.write(hex_text + "\n")
+
+
+def _without_per_run(path: Path):
+    """A grading folder's file as what it says of the grades: the fields that say how a grading ran
+    (report/merge.PER_RUN) left out; any other file, its bytes."""
+    from ..report.merge import PER_RUN
+    if path.suffix == ".csv":
+        with path.open(newline="") as f:
+            return [{k: v for k, v in row.items() if k not in PER_RUN["csv"]} for row in csv.DictReader(f)]
+    if path.suffix == ".json" and not path.name.startswith("."):
+        data = json.loads(path.read_text(encoding="utf-8"))
+        for k in PER_RUN["record"]:
+            data.pop(k, None)
+        for step in data.get("steps", []):
+            for k in PER_RUN["step"]:
+                step.pop(k, None)
+            for case in step.get("cases", []):
+                for k in PER_RUN["case"]:
+                    case.pop(k, None)
+        return data
+    return path.read_bytes()
+
+
+def _file_for_file(one: Path, merged: Path) -> tuple[int, int]:
+    """Fails unless the two grading folders hold the same files, each the same but for the per-run
+    fields; (files, files equal byte for byte)."""
+    def listing(root: Path) -> list[str]:
+        return sorted(p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file())
+    a, b = listing(one), listing(merged)
+    expect(a == b, f"the merged grading's files differ from one machine's: only merged "
+                   f"{sorted(set(b) - set(a))[:5]}, only one machine's {sorted(set(a) - set(b))[:5]}")
+    same = 0
+    for rel in a:
+        if (one / rel).read_bytes() == (merged / rel).read_bytes():
+            same += 1
+            continue
+        x, y = _without_per_run(one / rel), _without_per_run(merged / rel)
+        if x != y:
+            where = ""
+            if isinstance(x, list) and isinstance(y, list):
+                where = next((f"row {i + 2}: {r} / {t}" for i, (r, t) in enumerate(zip(x, y)) if r != t),
+                             f"{len(x)} rows / {len(y)}")
+            raise Failed(f"{rel} differs between one machine's grading and the merge beyond the per-run fields "
+                         f"{where[:600]}")
+    return len(a), same
+
+
+def _changed_scene(clone: Path) -> str:
+    """Changes a colour of the clone's scene file (a TA's clone with an edit never refreshed): its path."""
+    scene = sorted((clone / "include" / "raykit" / "scenes").glob("*.inc"))
+    expect(bool(scene), f"no scene file in {clone}/include/raykit/scenes/")
+    text = scene[0].read_text()
+    m = re.search(r"(?m)^RAYKIT_SCENE_COLOR\((\w+),\s*([0-9.]+)f", text)
+    if m:
+        value = float(m.group(2)) + (0.07 if float(m.group(2)) <= 0.9 else -0.07)
+        text = text[:m.start(2)] + f"{value:.2f}" + text[m.end(2):]
+    else:
+        text += "\n#define RAYKIT_TA_EDIT 1\n"
+    scene[0].write_text(text)
+    return scene[0].relative_to(clone).as_posix()
+
+
+def _seal_hunt(work: Path, secret_hex: str, who: str, folder: str) -> str:
+    """hostile/seal_key's record in a grading: it ran (said how many processes it looked at) and printed
+    neither the grading's secret, nor the key derived from it that seals the records, nor the self-test's
+    secret variable."""
+    from ..secret import SECRET_ENV, _mac_key
+    banned = {"the secret": secret_hex[:32], "the sealing key": _mac_key(bytes.fromhex(secret_hex)).hex()[:32],
+              "the self-test's secret variable": SECRET_ENV}
+    record = json.loads((work / folder / "grading" / "json" / "seal_key.json").read_text())
+    text = json.dumps(record)
+    looked = re.findall(r"seal: looked at (\d+) processes", text)
+    expect(bool(looked), f"{who}: hostile/seal_key never reported its hunt: {text[:300]}")
+    found = [name for name, value in banned.items() if value in text]
+    expect(not found, f"{who}: graded code read {', '.join(found)}: "
+                      + "; ".join(re.findall(r"seal: [^\\\"]{0,160}", text))[:600])
+    return f"{who} {looked[0]} processes"
+
+
+def selftest_merge_clones(ctx) -> str:
+    """Two TAs grade halves of a class on two clones of the kit (each its own cache, sandbox id range and
+    copy of the secret), one under each isolation there is; the merge equals one machine's grading of the
+    whole class file for file, but for the fields report/merge.PER_RUN names. A TA without the secret is
+    refused a new one where the folder graded into names another, warned elsewhere; a clone with a changed
+    scene file, a record whose score was edited and a forged list of inputs are refused, by name."""
+    need_solutions()
+    from ..sandbox.ids import FIRST_UID, UID_RANGE
+    from ..secret import SECRET_ENV
+    from .integrity import isolations
+    from .newstep import scratch_kit
+    modes, skipped = isolations()
+    expect(bool(modes), "no isolation to grade under here: " + "; ".join(skipped))
+    work = WORK / "clones"
+    shutil.rmtree(work, ignore_errors=True)
+    start = time.monotonic()
+    plan = _merge_class(work / "class")
+    # A submission that hunts for the secret that seals the records (hostile/seal_key), with B's half in
+    # the two gradings of B not compared with another (what it prints, the processes it sees, is the
+    # machine's at that moment): one under each isolation.
+    (work / "class" / "all").mkdir()
+    for machine in plan:
+        for who in plan[machine]:
+            shutil.copytree(work / "class" / machine / who, work / "class" / "all" / who)
+    shutil.copytree(work / "class" / "b", work / "class" / "b-hunt")
+    shutil.copytree(fixture_dir("hostile") / "seal_key", work / "class" / "b-hunt" / "seal_key")
+    kit_a, kit_b = scratch_kit(work / "kit-a"), scratch_kit(work / "kit-b")
+    env_a = _clone_env(work / "cache-a", None)
+    env_b = _clone_env(work / "cache-b", FIRST_UID + 2 * UID_RANGE)
+    secret = os.environ[SECRET_ENV]
+    _put_secret(kit_a, secret)
+    iso_a, iso_b = modes[0], modes[-1]
+
+    def grade(kit_dir: Path, env: dict, half: str, out: str, isolation: str, *more: str) -> subprocess.CompletedProcess:
+        r = _in_clone(kit_dir, env, "grade", str(work / "class" / half), "-j", "2", "--out", str(work / f"{out}.csv"),
+                      "--report", str(work / out), "--isolation", isolation, *more)
+        return r
+
+    def merged_by_a(*folders: str, out: str = "merged") -> subprocess.CompletedProcess:
+        return _in_clone(kit_a, env_a, "report", *[str(work / f / "grading") for f in folders], "--out", str(work / out))
+
+    r = grade(kit_a, env_a, "a", "A", iso_a)
+    expect((work / "A" / "grading" / "grades.csv").is_file(), f"TA A's grading: exit {r.returncode}: {r.stderr[-600:]}")
+    fp = re.search(r"(?m)^secret: fingerprint ([0-9a-f]+)", r.stdout)
+    expect(bool(fp) and "warning" not in r.stderr, f"TA A's grading did not say its secret in one line, or warned: "
+                                                   f"{r.stdout[:300]} {r.stderr[-300:]}")
+    fp = fp.group(1)
+
+    # TA B forgot to copy the secret. Into a folder that holds A's grading: refused, nothing made.
+    shutil.copytree(work / "A", work / "B-over-A")
+    before = (work / "B-over-A" / "grading" / "grades.csv").read_bytes()
+    r = grade(kit_b, env_b, "b", "B-over-A", iso_b)
+    expect(r.returncode != 0 and "secret.key" in r.stderr and "--new-secret" in r.stderr and fp in r.stderr,
+           f"a TA without the secret, grading into a folder of secret {fp}, was not refused: exit {r.returncode}: "
+           f"{r.stderr[-400:]}")
+    expect(not (kit_b / "tests" / "hidden" / "secret.key").exists(), "the refused grading made a secret all the same")
+    expect((work / "B-over-A" / "grading" / "grades.csv").read_bytes() == before, "the refused grading wrote its CSV")
+    # Into a folder of its own: a new secret, with a warning naming it; the merge refuses the two.
+    r = grade(kit_b, env_b, "b-hunt", "B-new", iso_a)
+    made = re.search(r"(?m)^secret: fingerprint ([0-9a-f]+) .*made now", r.stdout)
+    expect(bool(made) and made.group(1) != fp and "warning" in r.stderr and made.group(1) in r.stderr,
+           f"a TA without the secret was not warned of the one made: exit {r.returncode}: {r.stdout[:300]} "
+           f"{r.stderr[-400:]}")
+    r = merged_by_a("A", "B-new")
+    expect(r.returncode != 0 and "different secrets" in r.stderr and not (work / "merged").exists(),
+           f"gradings of two secrets were merged: exit {r.returncode}: {r.stderr[-400:]}")
+    hunted = [_seal_hunt(work, (kit_b / "tests" / "hidden" / "secret.key").read_text().strip(), f"B ({iso_a})", "B-new")]
+    refusals = ["a new secret where the folder named another (made with --new-secret, which refuses one in place)",
+                "two secrets"]
+    # Asked for (--new-secret), over the folder that names another: made, with the warning (a class of one
+    # upload with no steps: nothing to build). Refused while a secret exists.
+    (kit_b / "tests" / "hidden" / "secret.key").unlink()
+    (work / "class" / "nosteps" / "eve").mkdir(parents=True)
+    (work / "class" / "nosteps" / "eve" / "README.txt").write_text("no steps here\n")
+    r = grade(kit_b, env_b, "nosteps", "B-over-A", iso_b, "--new-secret")
+    asked = re.search(r"(?m)^secret: fingerprint ([0-9a-f]+) .*made now", r.stdout)
+    expect(bool(asked) and asked.group(1) != fp and "warning" in r.stderr,
+           f"--new-secret over a folder naming {fp} made no secret: exit {r.returncode}: {r.stdout[:300]} {r.stderr[-300:]}")
+    r = grade(kit_b, env_b, "nosteps", "B-over-A", iso_b, "--new-secret")
+    expect(r.returncode != 0 and "exists already" in r.stderr,
+           f"--new-secret with a secret in place was not refused: exit {r.returncode}: {r.stderr[-300:]}")
+
+    # B copies A's secret and grades its half again; A grades the whole class alone, for comparison.
+    (kit_b / "tests" / "hidden" / "secret.key").unlink()
+    _put_secret(kit_b, secret)
+    r = grade(kit_b, env_b, "b", "B", iso_b)
+    expect(f"secret: fingerprint {fp} " in r.stdout and "warning" not in r.stderr and
+           (work / "B" / "grading" / "grades.csv").is_file(), f"TA B with A's secret: exit {r.returncode}: "
+                                                               f"{r.stdout[:300]} {r.stderr[-400:]}")
+    r = grade(kit_a, env_a, "all", "ALL", iso_a)
+    expect((work / "ALL" / "grading" / "grades.csv").is_file(), f"one machine's grading: exit {r.returncode}: {r.stderr[-600:]}")
+    graded = time.monotonic() - start
+    r = merged_by_a("A", "B")
+    expect(r.returncode == 0, f"./kit report A B: exit {r.returncode}: {(r.stderr + r.stdout)[-600:]}")
+    files, same = _file_for_file(work / "ALL" / "grading", work / "merged" / "grading")
+    one = _grades(work / "ALL" / "grading" / "grades.csv")
+    shown = _scores_in((work / "merged" / "index.html").read_text(encoding="utf-8"))
+    expect(shown == {row["student"]: f"{row['earned']} / {row['maximum']}" for row in one},
+           f"the merged report shows {shown}")
+    before = (work / "merged" / "grading" / "grades.csv").read_bytes()
+
+    # A record with its score edited (its grader kept, the CSV made to agree): refused by name.
+    shutil.copytree(work / "B", work / "forged")
+    rows = _grades(work / "forged" / "grading" / "grades.csv")
+    victim = next(r["student"] for r in rows if r["status"] != "not graded" and scale.exact(r["earned"]) < scale.exact(r["maximum"]))
+    record_path = work / "forged" / "grading" / "json" / f"{victim}.json"
+    record = json.loads(record_path.read_text())
+    record["score_exact"] = str(scale.exact(record["score_exact"]) + 1)
+    record["score"] = float(scale.shown(scale.exact(record["score_exact"])))
+    record["score"] = int(record["score"]) if record["score"] == int(record["score"]) else record["score"]
+    record_path.write_text(json.dumps(record, indent=1, ensure_ascii=False))
+    text = (work / "forged" / "grading" / "grades.csv").read_text()
+    old_row = next(l for l in text.splitlines() if l.startswith(victim + ","))
+    cells = old_row.split(",")
+    cells[1] = scale.shown(scale.exact(record["score_exact"]))
+    (work / "forged" / "grading" / "grades.csv").write_text(text.replace(old_row, ",".join(cells)))
+    r = merged_by_a("A", "forged")
+    expect(r.returncode != 0 and f"{victim}.json" in r.stderr and "seal" in r.stderr,
+           f"a record with its score edited was merged: exit {r.returncode}: {r.stderr[-400:]}")
+    refusals.append(f"{victim}.json's score edited")
+    # A CSV cell its sealed record does not give (a step's points raised, the total left): refused, named.
+    shutil.rmtree(work / "forged")
+    shutil.copytree(work / "B", work / "forged")
+    path = work / "forged" / "grading" / "grades.csv"
+    with path.open(newline="") as f:
+        table = list(csv.reader(f))
+    column = next(c for c in table[0] if c.startswith("step") and c.endswith("_earned"))
+    line = next(r for r in table[1:] if r[table[0].index("status")] != "not graded")
+    line[table[0].index(column)] = scale.shown(scale.exact(line[table[0].index(column)] or "0") + 1)
+    with path.open("w", newline="") as f:
+        csv.writer(f).writerows(table)
+    r = merged_by_a("A", "forged")
+    expect(r.returncode != 0 and f"{line[0]}'s {column}" in r.stderr and "sealed record" in r.stderr,
+           f"a CSV whose {column} its record does not give was merged: exit {r.returncode}: {r.stderr[-400:]}")
+    refusals.append(f"{line[0]}'s {column} raised in the CSV")
+
+    # TA B's clone with a changed scene file, never refreshed: refused, the file named.
+    scene = _changed_scene(kit_b)
+    r = grade(kit_b, env_b, "b-hunt", "B-scene", iso_b)
+    expect((work / "B-scene" / "grading" / "grades.csv").is_file(), f"the changed clone's grading: exit {r.returncode}: "
+                                                                   f"{r.stderr[-600:]}")
+    hunted.append(_seal_hunt(work, secret, f"B ({iso_b})", "B-scene"))
+    r = merged_by_a("A", "B-scene")
+    expect(r.returncode != 0 and f"{scene} differs" in r.stderr,
+           f"a grading by a clone with a changed {scene} was merged, or the refusal did not name it: exit "
+           f"{r.returncode}: {r.stderr[-500:]}")
+    refusals.append(f"{scene} changed on one clone")
+    # ... nor with its list of inputs edited to hide the change.
+    from ..judgedby import FILE_NAME
+    listed = work / "B-scene" / "grading" / "json" / FILE_NAME
+    theirs, ours = json.loads(listed.read_text()), json.loads((work / "A" / "grading" / "json" / FILE_NAME).read_text())
+    theirs["files"][scene] = ours["files"][scene]
+    theirs["digest"] = ours["digest"]
+    listed.write_text(json.dumps(theirs, indent=1))
+    r = merged_by_a("A", "B-scene")
+    expect(r.returncode != 0 and FILE_NAME in r.stderr and "seal" in r.stderr,
+           f"a list of inputs edited to hide {scene} was merged: exit {r.returncode}: {r.stderr[-400:]}")
+    refusals.append("its list of inputs edited")
+    expect((work / "merged" / "grading" / "grades.csv").read_bytes() == before, "a refused merge changed the merged grading")
+    shutil.rmtree(work / "kit-a", ignore_errors=True)
+    shutil.rmtree(work / "kit-b", ignore_errors=True)
+    return (f"{sum(map(len, plan.values()))} students, halves graded on two clones (A {iso_a}, B {iso_b}, ids from "
+            f"{FIRST_UID + 2 * UID_RANGE}), the whole on A, in {graded:.0f} s: the merge equals it file for file "
+            f"({files} files, {same} byte for byte, the rest but for per-run fields); hostile/seal_key found no secret "
+            f"nor sealing key ({', '.join(hunted)}); refused: "
+            + ", ".join(refusals) + (f" ({'; '.join(skipped)})" if skipped else ""))
 
 
 @tier("quick")
@@ -668,6 +960,7 @@ def selftest_charts(ctx) -> str:
 def selftests():
     return [("report: the charts say what their data says", selftest_charts),
             ("report: one class graded on two machines, merged", selftest_merge),
+            ("report: two TAs on two clones, merged as one machine", selftest_merge_clones),
             ("report: a looping step is matched to no slip", selftest_loop_no_slip),
             ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
