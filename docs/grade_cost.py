@@ -20,8 +20,9 @@ judge, the reference's answers program, the kit's Python. The acct clock ticks a
 process's figure is rounded; the rows' sum is shown beside the getrusage total. Without root, the
 totals alone. The machine's load makes every figure larger: the load average is printed beside.
 
---write FILE replaces the part of FILE between the lines `<!-- grade_cost:begin -->` and
-`<!-- grade_cost:end -->` with the table. Bad input: a message and exit 2.
+--write FILE replaces the part of FILE between the lines `<!-- grade_cost:ISOLATION:begin -->` and
+`<!-- grade_cost:ISOLATION:end -->` (ISOLATION: --isolation's value) with the table. Bad input: a
+message and exit 2.
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 ACCT = struct.Struct("<BBHIIIIIIf8H16s")          # struct acct_v3, 64 bytes
-BEGIN, END = "<!-- grade_cost:begin -->", "<!-- grade_cost:end -->"
+MARK = "<!-- grade_cost:{}:{} -->"
 
 # A row by the program's name (the kernel keeps its first 15 characters).
 ROWS = [
@@ -216,8 +217,13 @@ def main(argv: list[str]) -> int:
     args = p.parse_args(argv)
     if args.rounds < 1 or args.students < 1 or args.jobs < 1:
         p.error("--rounds, --students and -j must be at least 1")
-    if args.write and (BEGIN not in Path(args.write).read_text() or END not in Path(args.write).read_text()):
-        fail(f"{args.write} has no {BEGIN} ... {END} lines to write between")
+    begin, end = MARK.format(args.isolation, "begin"), MARK.format(args.isolation, "end")
+    try:
+        written = Path(args.write).read_text() if args.write else begin + end
+    except OSError as e:
+        fail(f"{args.write}: {e.strerror}")
+    if begin not in written or end not in written:
+        fail(f"{args.write} has no {begin} ... {end} lines to write between")
     command = f"./kit grade CLASS -j {args.jobs} --isolation {args.isolation}"
     with tempfile.TemporaryDirectory(prefix="grade-cost-") as tmp:
         work = Path(tmp)
@@ -241,9 +247,9 @@ def main(argv: list[str]) -> int:
     if args.write:
         target = Path(args.write)
         old = target.read_text()
-        head, rest = old.split(BEGIN, 1)
-        _, tail = rest.split(END, 1)
-        target.write_text(f"{head}{BEGIN}\n{text}{END}{tail}")
+        head, rest = old.split(begin, 1)
+        _, tail = rest.split(end, 1)
+        target.write_text(f"{head}{begin}\n{text}{end}{tail}")
     return 0
 
 
