@@ -250,7 +250,12 @@ def _locked(path: Path, how: int) -> int:
     OSError when `how` is non-blocking and another holds a lock that conflicts, or the file cannot be
     opened."""
     while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW, 0o600)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW, 0o600)
+        except FileNotFoundError:
+            raise
+        except OSError:                 # a folder this process cannot write: the file, if it is there
+            fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC | os.O_NOFOLLOW)
         try:
             fcntl.flock(fd, how)
             mine, there = os.fstat(fd), os.stat(path, follow_symlinks=False)
@@ -273,8 +278,10 @@ def _use(folder: Path) -> Bundle | None:
         return None
     try:
         fd = _locked(folder / IN_USE, fcntl.LOCK_SH)
+    except FileNotFoundError:
+        return None                     # pruned a moment ago: built anew
     except OSError:
-        return None                     # pruned a moment ago, or a folder not ours: built anew
+        return _load(folder)            # a folder this process cannot write (an image's): used as it is
     found = _load(folder)
     if found is None:
         os.close(fd)
