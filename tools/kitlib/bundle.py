@@ -179,12 +179,22 @@ class Bundle:
         return self.recipe["_argv"]
 
 
-def _load(folder: Path) -> Bundle | None:
-    """The bundle in `folder` when it is built and the packages it was built with are unchanged."""
+def _marks(folder: Path, parts: list[str] | None) -> list[Path]:
+    """The marks that say the bundle in `folder` can serve `parts` (step numbers; None: every step):
+    `ready` (all of it built), else each part's own `ready-NN`."""
+    if parts is None or (folder / READY).is_file():
+        return [folder / READY]
+    return [folder / f"{READY}-{n}" for n in parts]
+
+
+def _load(folder: Path, parts: list[str] | None = None) -> Bundle | None:
+    """The bundle in `folder` when it is built (the steps `parts` of it at least) and the packages it
+    was built with are unchanged."""
     try:
-        ready = json.loads((folder / READY).read_text())
-        if any(_mtime(path) != when for path, when in ready["packages"].items()):
-            return None
+        for mark in _marks(folder, parts):
+            ready = json.loads(mark.read_text())
+            if any(_mtime(path) != when for path, when in ready["packages"].items()):
+                return None
         return Bundle(folder, json.loads((folder / RECIPE).read_text()))
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
@@ -212,16 +222,18 @@ def find(sanitize: bool) -> Bundle | None:
     return _load(cache_root() / key(sanitize))
 
 
-def ensure(sanitize: bool, starting: Callable[[], None] | None = None) -> Bundle:
+def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: list[str] | None = None) -> Bundle:
     """The bundle for this kit and compiler, built first when there is none (one build at a time per
     key: a second caller waits for the first's); `starting()` is called before it builds. It is held
     (a shared lock on its IN_USE file) until this process ends: another copy of the kit pruning this
-    machine's bundles leaves it alone while a check here links with it and runs its judges. KitError
+    machine's bundles leaves it alone while a check here links with it and runs its judges.
+    `parts`: the steps (numbers) the caller needs, built alone when the bundle is not whole yet (a
+    check of step 01 waits for step 01's judge, not for all five; the warm-up builds the rest). KitError
     when it cannot be built: the kit's fault or the machine's, never a student's."""
     root = cache_root()
     k = key(sanitize)
     folder = root / k
-    found = _use(folder)
+    found = _use(folder, parts)
     if found is not None:
         _touch(folder)
         return found
@@ -229,10 +241,10 @@ def ensure(sanitize: bool, starting: Callable[[], None] | None = None) -> Bundle
         starting()
     lock = _locked(root / f"{k}.lock", fcntl.LOCK_EX)
     try:
-        found = _use(folder)            # built by the caller we waited for
+        found = _use(folder, parts)     # built by the caller we waited for
         if found is None:
-            _build(folder, sanitize)
-            found = _use(folder)
+            _build(folder, sanitize, parts)
+            found = _use(folder, parts)
             if found is None:
                 raise KitError(f"the kit's bundle in {folder} was built but has no recipe", FAILED)
     finally:
@@ -269,20 +281,20 @@ def _locked(path: Path, how: int) -> int:
         os.close(fd)                    # removed while we waited: the one there now
 
 
-def _use(folder: Path) -> Bundle | None:
-    """The ready bundle in `folder`, held by this process (its IN_USE file locked shared) until it
-    ends; None when it is not ready (and then not held)."""
+def _use(folder: Path, parts: list[str] | None = None) -> Bundle | None:
+    """The ready bundle in `folder` (the steps `parts` of it at least), held by this process (its
+    IN_USE file locked shared) until it ends; None when it is not ready (and then not held)."""
     if str(folder) in _held:
-        return _load(folder)
-    if not (folder / READY).is_file():
+        return _load(folder, parts)
+    if not all(mark.is_file() for mark in _marks(folder, parts)):
         return None
     try:
         fd = _locked(folder / IN_USE, fcntl.LOCK_SH)
     except FileNotFoundError:
         return None                     # pruned a moment ago: built anew
     except OSError:
-        return _load(folder)            # a folder this process cannot write (an image's): used as it is
-    found = _load(folder)
+        return _load(folder, parts)     # a folder this process cannot write (an image's): used as it is
+    found = _load(folder, parts)
     if found is None:
         os.close(fd)
         return None
@@ -290,28 +302,67 @@ def _use(folder: Path) -> Bundle | None:
     return found
 
 
-def _build(folder: Path, sanitize: bool) -> None:
+CONFIGURED = "configured"    # CMake has configured the folder (and with what packages): parts build on it
+
+
+def _build(folder: Path, sanitize: bool, parts: list[str] | None = None) -> None:
+    """Builds the bundle in `folder`: all of it (then marked `ready`), or the steps `parts` alone
+    (each marked `ready-NN`: its judge, the reference's answers program it runs, and the kit's objects
+    its answers program links, by their CMake targets). A folder whose configure did not finish, or
+    was made with other packages, is built from nothing; Ninja finishes a build that stopped half way."""
     from .build import Build, build_targets, configure
-    if folder.exists():
-        shutil.rmtree(folder)          # a build that failed or stopped half way: from nothing
     began = time.monotonic()
     b = Build("bundle", folder, ROOT / "steps", ROOT / "steps", preset="bundle", tools=False, sanitize_student=sanitize)
-    extra = {"RAYKIT_HIDDEN": "ON" if hidden_here() else "OFF"}
-    if os.environ.get("RAYKIT_LINKER"):
-        extra["RAYKIT_LINKER"] = os.environ["RAYKIT_LINKER"]
-    configure(b, extra=extra)
-    ok, out = build_targets(b, ["all"])
+    configured = folder / CONFIGURED
+    if _load_mark(configured) is None or not (folder / RECIPE).is_file():
+        if folder.exists():
+            shutil.rmtree(folder)      # a build that failed or stopped half way: from nothing
+        extra = {"RAYKIT_HIDDEN": "ON" if hidden_here() else "OFF"}
+        if os.environ.get("RAYKIT_LINKER"):
+            extra["RAYKIT_LINKER"] = os.environ["RAYKIT_LINKER"]
+        configure(b, extra=extra)
+        configured.write_text(json.dumps({"packages": _packages(folder)}) + "\n")
+    targets = ["all"] if parts is None else _targets(folder, parts)
+    ok, out = build_targets(b, targets)
     if not ok:
         raise KitError(f"the kit's bundle does not build (a kit bug, or the machine's):\n{out[-3000:]}", FAILED)
-    (folder / READY).write_text(json.dumps({"seconds": round(time.monotonic() - began, 1),
-                                            "packages": _packages(folder)}) + "\n")
+    mark = json.dumps({"seconds": round(time.monotonic() - began, 1), "packages": _packages(folder)}) + "\n"
+    for path in _marks(folder, parts):
+        path.write_text(mark)
+
+
+def _load_mark(path: Path) -> dict | None:
+    """A mark's content when its packages are unchanged since."""
+    try:
+        mark = json.loads(path.read_text())
+        return None if any(_mtime(p) != when for p, when in mark["packages"].items()) else mark
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+
+
+def _targets(folder: Path, parts: list[str]) -> list[str]:
+    """The CMake targets the steps `parts` need: each judge (which depends on the reference's answers
+    program it runs) and the object libraries of the kit's objects its answers program links, named
+    by their folder (CMakeFiles/TARGET.dir/...)."""
+    recipe = json.loads((folder / RECIPE).read_text())
+    targets: list[str] = []
+    for n in parts:
+        step = recipe["steps"][n]
+        targets.append(Path(step["judge"]).name)
+        for obj in step["kit_objects"]:
+            dirs = [p for p in Path(obj).parts if p.endswith(".dir")]
+            if dirs:
+                targets.append(dirs[0][:-len(".dir")])
+    return list(dict.fromkeys(targets))
 
 
 def _touch(folder: Path) -> None:
-    try:
-        os.utime(folder / READY)
-    except OSError:
-        pass
+    """Marks the bundle used now (the prune keeps the most recently used)."""
+    for mark in [folder / READY] if (folder / READY).is_file() else folder.glob(f"{READY}-*"):
+        try:
+            os.utime(mark)
+        except OSError:
+            pass
 
 
 def _prune(root: Path, keep: Path) -> None:
@@ -319,10 +370,13 @@ def _prune(root: Path, keep: Path) -> None:
     bundle being built (its lock held) or in use (a check of any copy of the kit on this machine holds
     its IN_USE file's lock shared: it links with its objects and runs its judges) stays."""
     def used(p: Path) -> float:
-        try:
-            return (p / READY).stat().st_mtime
-        except OSError:
-            return 0.0
+        times = []
+        for mark in [p / READY, *p.glob(f"{READY}-*")]:
+            try:
+                times.append(mark.stat().st_mtime)
+            except OSError:
+                pass
+        return max(times, default=0.0)
     folders = sorted((p for p in root.iterdir() if p.is_dir() and p != keep), key=used, reverse=True)
     for old in folders[KEEP - 1:]:
         if str(old) in _held:

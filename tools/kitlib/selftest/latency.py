@@ -17,6 +17,7 @@ itself goes wrong (no table, a solution step not done).
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import resource
@@ -369,6 +370,48 @@ def _prune_spares_held(bundle) -> str:
     return f"a prune keeps the {bundle.KEEP} most recently used and one another process holds, and removes that one once it is let go"
 
 
+def selftest_bundle_parts(ctx: Context) -> str:
+    """The bundle in parts: on a machine without it, a check of step 01 builds step 01's judge (and
+    what its answers program links) and no other step's; the whole bundle is then built on that
+    part (the warm-up's work), in the same folder, every judge there."""
+    import subprocess
+    import tempfile
+    from .. import bundle
+    from ..build import detect_undefined
+    need_solutions()
+    first = ctx.steps[0]
+    with tempfile.TemporaryDirectory(prefix="raykit-parts-", dir=BUILD) as tmp:
+        submission = Path(tmp) / "steps"
+        shutil.copytree(ROOT / "solutions", submission)
+        env = dict(os.environ, RAYKIT_BUNDLE_DIR=str(Path(tmp) / "bundles"), RAYKIT_NO_WARMUP="1")
+        r = subprocess.run([str(ROOT / "kit"), "check", first.number, "--steps", str(submission), "--quiet",
+                            "--isolation", "none"], cwd=ROOT, env=env, capture_output=True, text=True, timeout=900)
+        expect(r.returncode == 0, f"a check of step {first.number} on a machine without the bundle exited "
+                                  f"{r.returncode}:\n{(r.stdout + r.stderr)[-800:]}")
+        folders = [p for p in (Path(tmp) / "bundles").iterdir() if p.is_dir()]
+        expect(len(folders) == 1, f"a check of step {first.number} made {len(folders)} bundle folders")
+        folder = folders[0]
+        recipe = json.loads((folder / bundle.RECIPE).read_text())
+        judges = {n: Path(s["judge"]) for n, s in recipe["steps"].items()}
+        expect(judges[first.number].is_file() and (folder / f"{bundle.READY}-{first.number}").is_file(),
+               f"a check of step {first.number} did not build its judge")
+        others = sorted(n for n, j in judges.items() if n != first.number and j.exists())
+        expect(not others, f"a check of step {first.number} built the judges of steps {others} too")
+        expect(not (folder / bundle.READY).exists(), "a part of the bundle is marked whole")
+        saved = os.environ.get("RAYKIT_BUNDLE_DIR")
+        os.environ["RAYKIT_BUNDLE_DIR"] = env["RAYKIT_BUNDLE_DIR"]
+        try:
+            expect(bundle.find(detect_undefined()) is None, "a part of the bundle is found whole (no warm-up)")
+            whole = bundle.ensure(detect_undefined())
+        finally:
+            os.environ.pop("RAYKIT_BUNDLE_DIR") if saved is None else os.environ.__setitem__("RAYKIT_BUNDLE_DIR", saved)
+        expect(whole.folder == folder, f"the whole bundle was built in {whole.folder}, not on the part in {folder}")
+        missing = sorted(n for n, j in judges.items() if not j.is_file())
+        expect(not missing and (folder / bundle.READY).is_file(), f"the whole bundle lacks the judges of {missing}")
+    return (f"a check of step {first.number} on a machine without the bundle built its judge and none of the "
+            f"{len(judges) - 1} others; the whole bundle was then built on that part")
+
+
 @tier("step")
 def selftest_recorded(ctx: Context) -> str:
     """tests/stubs.json holds the committed stubs' hashes, and each tests/NN_topic/cases.json (with
@@ -406,4 +449,5 @@ def selftest_recorded(ctx: Context) -> str:
 
 def selftests() -> list:
     return [("recorded stubs and case lists", selftest_recorded), ("the kit's side built once", selftest_bundle),
+            ("the kit's side in parts", selftest_bundle_parts),
             ("latency figures", selftest_latency)]
