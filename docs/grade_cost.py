@@ -44,6 +44,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 ACCT = struct.Struct("<BBHIIIIIIf8H16s")          # struct acct_v3, 64 bytes
 MARK = "<!-- grade_cost:{}:{} -->"
+NAMES: dict[str, str] = {}      # a revision as the table names it: a branch or HEAD with its commit
 
 # A row by the program's name (the kernel keeps its first 15 characters).
 ROWS = [
@@ -125,6 +126,8 @@ def clone(rev: str, where: Path) -> Path:
         r = subprocess.run(["git", "checkout", "-q", rev], cwd=folder, capture_output=True, text=True)
     if r.returncode != 0:
         fail(f"cannot check out {rev}: {r.stderr.strip()}")
+    short = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=folder, capture_output=True, text=True).stdout.strip()
+    NAMES[rev] = rev if short.startswith(rev) or rev.startswith(short) else f"{rev} ({short})"
     shared = ROOT.parent / "shared"
     if shared.is_dir() and not (where / "shared").exists():
         (where / "shared").symlink_to(shared)
@@ -182,7 +185,7 @@ def one_run(kit: Path, cache: Path, klass: Path, jobs: int, isolation: str, log:
 def table(revs: list[str], runs: dict[str, list[dict]], students: int, command: str) -> str:
     names = [n for n, _ in ROWS] + ["other"]
     present = [n for n in names if any(n in r["rows"] for rs in runs.values() for r in rs)]
-    head = "| per submission | " + " | ".join(f"{rev}: CPU s | processes" for rev in revs) + " |"
+    head = "| per submission | " + " | ".join(f"{NAMES.get(rev, rev)}: CPU s | processes" for rev in revs) + " |"
     lines = [head, "|---|" + "---:|---:|" * len(revs)]
 
     def med(rs: list[dict], name: str, i: int) -> float:
@@ -197,7 +200,7 @@ def table(revs: list[str], runs: dict[str, list[dict]], students: int, command: 
     lines.append("| **total, getrusage** | " + " | ".join(
         f"**{statistics.median(r['cpu'] for r in runs[rev]) / students:.2f}** | " for rev in revs) + " |")
     first = statistics.median(r["cpu"] for r in runs[revs[0]])
-    each = "; ".join(f"{rev}: " + ", ".join(f"{r['cpu'] / students:.2f}" for r in runs[rev]) +
+    each = "; ".join(f"{NAMES.get(rev, rev)}: " + ", ".join(f"{r['cpu'] / students:.2f}" for r in runs[rev]) +
                      f" (x{statistics.median(r['cpu'] for r in runs[rev]) / first:.2f})" for rev in revs)
     loads = [r["load"] for rs in runs.values() for r in rs]
     walls = "; ".join(f"{rev}: {statistics.median(r['wall'] for r in runs[rev]) / students:.2f} s" for rev in revs)
