@@ -17,9 +17,12 @@ build tool's rules are never read.
 The bundle is built by whoever needs it first: the warm-up (warmup.py), the autograders' set-up
 (tools/gradescope/setup.sh, by grading the solutions), CI, or a check. One build at a time per key
 (a lock file); a finished bundle is marked `ready` last, so a half-built one is never used, and one
-whose build failed is built again from nothing. The folder is readable by its user only: a grading's
-judges hold the hidden cases and its reference answers programs the reference's code (sandbox/: the
-graded code runs as another user, or where the folder does not exist).
+whose build failed is built again from nothing. A check holds the bundle it uses (a shared lock on
+its `in-use` file) until it ends; the least recently used bundles beyond a few are removed, each
+only when no check of any copy of the kit holds it (its exclusive lock taken). The folder is
+readable by its user only: a grading's judges hold the hidden cases and its reference answers
+programs the reference's code (sandbox/: the graded code runs as another user, or where the folder
+does not exist).
 """
 
 from __future__ import annotations
@@ -37,11 +40,13 @@ from typing import Callable
 
 from .common import BUILD, KitError, ROOT, Step
 from .compilers import compiler_identity
+from .secret import SECRET_FILE
 from .status import FAILED
 
 VERSION = b"raykit-bundle-1\0"
 RECIPE = "raykit-bundle.json"
 READY = "ready"
+IN_USE = "in-use"       # locked shared by every process that uses the bundle, exclusively to prune it
 KEEP = 4                # bundles kept on a machine, the most recently used
 ENV_READ = ("CXX", "CXXFLAGS", "LDFLAGS", "CMAKE_PREFIX_PATH", "CPATH", "CPLUS_INCLUDE_PATH", "RAYKIT_LINKER")
 # The packages whose headers the bundle's programs are compiled with, by their CMake package's folder
@@ -81,16 +86,27 @@ def hidden_here() -> bool:
     return (ROOT / "solutions").is_dir() and (ROOT / "tests" / "hidden").is_dir()
 
 
+def shipped(f: Path) -> bool:
+    """Whether `f` is a file a clone of the kit has: not one the kit writes itself among the sources
+    (the instructor's secret, made by the first check that draws hidden cases; compiled Python; an
+    atomic write's temporary file, atomic.py), none of which the bundle is made of (the hidden
+    cases' seed reaches the judge at run time, RAYKIT_SEED: the secret is compiled into nothing).
+    The self-test checks this against git: every tracked file of sources() is kept, every ignored
+    one left out."""
+    return not (f == SECRET_FILE or "__pycache__" in f.parts or f.suffix in (".tmp", ".pyc"))
+
+
 def sources(hidden: bool) -> list[Path]:
     """Every file the bundle is made of: CMake's, the kit's headers, the judges and their support, and
-    with the reference the hidden cases and the solutions. Not the steps, the fixtures or the tools."""
+    with the reference the hidden cases and the solutions. Not the steps, the fixtures or the tools,
+    nor what the kit writes itself (shipped()): a fresh clone's first check does not change the key."""
     files = [ROOT / "CMakeLists.txt", ROOT / "CMakePresets.json"]
     folders = [ROOT / "cmake", ROOT / "include", ROOT / "tests" / "support"]
     folders += sorted(p for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir())
     if hidden:
         folders += [ROOT / "tests" / "hidden", ROOT / "solutions"]
     for folder in folders:
-        files += sorted(p for p in folder.rglob("*") if p.is_file())
+        files += sorted(p for p in folder.rglob("*") if p.is_file() and shipped(p))
     return files
 
 
@@ -150,6 +166,8 @@ class Bundle:
             found = {}
             for use, obj in self.recipe["probes"].items():
                 for e in entries:
+                    if "command" in e and os.path.basename(obj) not in e["command"]:
+                        continue        # not the probe's: no need to split its words (0.06 s a check)
                     argv = e["arguments"] if "arguments" in e else shlex.split(e["command"])
                     out = argv[argv.index("-o") + 1] if "-o" in argv[:-1] else ""
                     if out and os.path.normpath(os.path.join(e["directory"], out)) == os.path.normpath(obj):
@@ -161,12 +179,22 @@ class Bundle:
         return self.recipe["_argv"]
 
 
-def _load(folder: Path) -> Bundle | None:
-    """The bundle in `folder` when it is built and the packages it was built with are unchanged."""
+def _marks(folder: Path, parts: list[str] | None) -> list[Path]:
+    """The marks that say the bundle in `folder` can serve `parts` (step numbers; None: every step):
+    `ready` (all of it built), else each part's own `ready-NN`."""
+    if parts is None or (folder / READY).is_file():
+        return [folder / READY]
+    return [folder / f"{READY}-{n}" for n in parts]
+
+
+def _load(folder: Path, parts: list[str] | None = None) -> Bundle | None:
+    """The bundle in `folder` when it is built (the steps `parts` of it at least) and the packages it
+    was built with are unchanged."""
     try:
-        ready = json.loads((folder / READY).read_text())
-        if any(_mtime(path) != when for path, when in ready["packages"].items()):
-            return None
+        for mark in _marks(folder, parts):
+            ready = json.loads(mark.read_text())
+            if any(_mtime(path) != when for path, when in ready["packages"].items()):
+                return None
         return Bundle(folder, json.loads((folder / RECIPE).read_text()))
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
@@ -190,74 +218,181 @@ def _packages(folder: Path) -> dict[str, int | None]:
 
 
 def find(sanitize: bool) -> Bundle | None:
-    """The bundle for this kit and compiler when it is built; None otherwise."""
+    """The bundle for this kit and compiler when it is built; None otherwise (not held: to look only)."""
     return _load(cache_root() / key(sanitize))
 
 
-def ensure(sanitize: bool, starting: Callable[[], None] | None = None) -> Bundle:
+def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: list[str] | None = None) -> Bundle:
     """The bundle for this kit and compiler, built first when there is none (one build at a time per
-    key: a second caller waits for the first's); `starting()` is called before it builds. KitError
+    key: a second caller waits for the first's); `starting()` is called before it builds. It is held
+    (a shared lock on its IN_USE file) until this process ends: another copy of the kit pruning this
+    machine's bundles leaves it alone while a check here links with it and runs its judges.
+    `parts`: the steps (numbers) the caller needs, built alone when the bundle is not whole yet (a
+    check of step 01 waits for step 01's judge, not for all five; the warm-up builds the rest). KitError
     when it cannot be built: the kit's fault or the machine's, never a student's."""
     root = cache_root()
     k = key(sanitize)
     folder = root / k
-    found = _load(folder)
+    found = _use(folder, parts)
     if found is not None:
         _touch(folder)
         return found
     if starting is not None:
         starting()
-    with open(root / f"{k}.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        found = _load(folder)           # built by the caller we waited for
+    lock = _locked(root / f"{k}.lock", fcntl.LOCK_EX)
+    try:
+        found = _use(folder, parts)     # built by the caller we waited for
         if found is None:
-            _build(folder, sanitize)
-            found = _load(folder)
+            _build(folder, sanitize, parts)
+            found = _use(folder, parts)
             if found is None:
                 raise KitError(f"the kit's bundle in {folder} was built but has no recipe", FAILED)
+    finally:
+        os.close(lock)
     _prune(root, keep=folder)
     return found
 
 
-def _build(folder: Path, sanitize: bool) -> None:
+_held: dict[str, int] = {}      # a bundle's folder: the descriptor of its shared lock, held till the end
+
+
+def _locked(path: Path, how: int) -> int:
+    """A descriptor of `path` (made if need be) with flock `how` taken, on the file that is at `path`
+    once it is taken (a prune may remove the file while a caller waits for it: then the new one's).
+    OSError when `how` is non-blocking and another holds a lock that conflicts, or the file cannot be
+    opened."""
+    while True:
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW, 0o600)
+        except FileNotFoundError:
+            raise
+        except OSError:                 # a folder this process cannot write: the file, if it is there
+            fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC | os.O_NOFOLLOW)
+        try:
+            fcntl.flock(fd, how)
+            mine, there = os.fstat(fd), os.stat(path, follow_symlinks=False)
+            if (mine.st_dev, mine.st_ino) == (there.st_dev, there.st_ino):
+                return fd
+        except FileNotFoundError:
+            pass
+        except BaseException:
+            os.close(fd)
+            raise
+        os.close(fd)                    # removed while we waited: the one there now
+
+
+def _use(folder: Path, parts: list[str] | None = None) -> Bundle | None:
+    """The ready bundle in `folder` (the steps `parts` of it at least), held by this process (its
+    IN_USE file locked shared) until it ends; None when it is not ready (and then not held)."""
+    if str(folder) in _held:
+        return _load(folder, parts)
+    if not all(mark.is_file() for mark in _marks(folder, parts)):
+        return None
+    try:
+        fd = _locked(folder / IN_USE, fcntl.LOCK_SH)
+    except FileNotFoundError:
+        return None                     # pruned a moment ago: built anew
+    except OSError:
+        return _load(folder, parts)     # a folder this process cannot write (an image's): used as it is
+    found = _load(folder, parts)
+    if found is None:
+        os.close(fd)
+        return None
+    _held[str(folder)] = fd
+    return found
+
+
+CONFIGURED = "configured"    # CMake has configured the folder (and with what packages): parts build on it
+
+
+def _build(folder: Path, sanitize: bool, parts: list[str] | None = None) -> None:
+    """Builds the bundle in `folder`: all of it (then marked `ready`), or the steps `parts` alone
+    (each marked `ready-NN`: its judge, the reference's answers program it runs, and the kit's objects
+    its answers program links, by their CMake targets). A folder whose configure did not finish, or
+    was made with other packages, is built from nothing; Ninja finishes a build that stopped half way."""
     from .build import Build, build_targets, configure
-    if folder.exists():
-        shutil.rmtree(folder)          # a build that failed or stopped half way: from nothing
     began = time.monotonic()
     b = Build("bundle", folder, ROOT / "steps", ROOT / "steps", preset="bundle", tools=False, sanitize_student=sanitize)
-    extra = {"RAYKIT_HIDDEN": "ON" if hidden_here() else "OFF"}
-    if os.environ.get("RAYKIT_LINKER"):
-        extra["RAYKIT_LINKER"] = os.environ["RAYKIT_LINKER"]
-    configure(b, extra=extra)
-    ok, out = build_targets(b, ["all"])
+    configured = folder / CONFIGURED
+    if _load_mark(configured) is None or not (folder / RECIPE).is_file():
+        if folder.exists():
+            shutil.rmtree(folder)      # a build that failed or stopped half way: from nothing
+        extra = {"RAYKIT_HIDDEN": "ON" if hidden_here() else "OFF"}
+        if os.environ.get("RAYKIT_LINKER"):
+            extra["RAYKIT_LINKER"] = os.environ["RAYKIT_LINKER"]
+        configure(b, extra=extra)
+        configured.write_text(json.dumps({"packages": _packages(folder)}) + "\n")
+    targets = ["all"] if parts is None else _targets(folder, parts)
+    ok, out = build_targets(b, targets)
     if not ok:
         raise KitError(f"the kit's bundle does not build (a kit bug, or the machine's):\n{out[-3000:]}", FAILED)
-    (folder / READY).write_text(json.dumps({"seconds": round(time.monotonic() - began, 1),
-                                            "packages": _packages(folder)}) + "\n")
+    mark = json.dumps({"seconds": round(time.monotonic() - began, 1), "packages": _packages(folder)}) + "\n"
+    for path in _marks(folder, parts):
+        path.write_text(mark)
+
+
+def _load_mark(path: Path) -> dict | None:
+    """A mark's content when its packages are unchanged since."""
+    try:
+        mark = json.loads(path.read_text())
+        return None if any(_mtime(p) != when for p, when in mark["packages"].items()) else mark
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+
+
+def _targets(folder: Path, parts: list[str]) -> list[str]:
+    """The CMake targets the steps `parts` need: each judge (which depends on the reference's answers
+    program it runs) and the object libraries of the kit's objects its answers program links, named
+    by their folder (CMakeFiles/TARGET.dir/...)."""
+    recipe = json.loads((folder / RECIPE).read_text())
+    targets: list[str] = []
+    for n in parts:
+        step = recipe["steps"][n]
+        targets.append(Path(step["judge"]).name)
+        for obj in step["kit_objects"]:
+            dirs = [p for p in Path(obj).parts if p.endswith(".dir")]
+            if dirs:
+                targets.append(dirs[0][:-len(".dir")])
+    return list(dict.fromkeys(targets))
 
 
 def _touch(folder: Path) -> None:
-    try:
-        os.utime(folder / READY)
-    except OSError:
-        pass
+    """Marks the bundle used now (the prune keeps the most recently used)."""
+    for mark in [folder / READY] if (folder / READY).is_file() else folder.glob(f"{READY}-*"):
+        try:
+            os.utime(mark)
+        except OSError:
+            pass
 
 
 def _prune(root: Path, keep: Path) -> None:
     """The bundles beyond the KEEP most recently used go (an older kit's, another compiler's); a
-    bundle being built (its lock held) stays."""
+    bundle being built (its lock held) or in use (a check of any copy of the kit on this machine holds
+    its IN_USE file's lock shared: it links with its objects and runs its judges) stays."""
     def used(p: Path) -> float:
-        try:
-            return (p / READY).stat().st_mtime
-        except OSError:
-            return 0.0
+        times = []
+        for mark in [p / READY, *p.glob(f"{READY}-*")]:
+            try:
+                times.append(mark.stat().st_mtime)
+            except OSError:
+                pass
+        return max(times, default=0.0)
     folders = sorted((p for p in root.iterdir() if p.is_dir() and p != keep), key=used, reverse=True)
     for old in folders[KEEP - 1:]:
-        lock_path = root / f"{old.name}.lock"
+        if str(old) in _held:
+            continue                    # this process's own (a check of both sanitizer settings)
         try:
-            with open(lock_path, "w") as lock:
-                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                shutil.rmtree(old, ignore_errors=True)
-            lock_path.unlink(missing_ok=True)
+            building = _locked(root / f"{old.name}.lock", fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             continue
+        try:
+            in_use = _locked(old / IN_USE, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(building)
+            continue
+        try:
+            shutil.rmtree(old, ignore_errors=True)      # IN_USE too: a check waiting for it looks again
+            (root / f"{old.name}.lock").unlink(missing_ok=True)    # a builder waiting opens it anew
+        finally:
+            os.close(in_use)
+            os.close(building)

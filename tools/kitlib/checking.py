@@ -482,9 +482,12 @@ def _check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolati
     kit: bundle.Bundle | Exception | None = None
     if len(quick) + len(known) < len(order):
         # The kit's side: built once per machine (bundle.py); the first check, or the warm-up, builds it.
+        # Only the steps this check builds, where that is not every step (bundle.ensure's parts).
+        parts = [s.number for s in order if s.number not in quick and s.number not in known]
         try:
             kit = bundle.ensure(detect_undefined(),
-                                lambda: progress.phase("building the kit's side, once for this machine"))
+                                lambda: progress.phase("building the kit's side, once for this machine"),
+                                parts=None if len(parts) == len(all_steps) else parts)
         except Exception as e:      # noqa: BLE001 -- the kit's or the machine's: every step not graded
             kit = e
 

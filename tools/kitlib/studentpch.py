@@ -126,6 +126,10 @@ def _deps_current(deps_file: Path) -> bool:
 
 def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path) -> bool:
     gch.parent.mkdir(parents=True, exist_ok=True)
+    # The compile's folder, where its relative paths start: a check's first compile comes before its
+    # build folder is made (the compile itself runs in a private one), and a compiler started in a
+    # folder that is not there fails: the first step of every fresh build folder went without.
+    cwd.mkdir(parents=True, exist_ok=True)
     tmp = gch.with_name(f".{gch.name}.{os.getpid()}.{id(options)}")
     dep = tmp.with_suffix(".d")
     try:

@@ -5,7 +5,7 @@ so it answers in well under a second. Their second one, after step 01 is written
 the kit's side (bundle.py: the judges, doctest's runner, the dispatchers): most of a cold check's
 CPU, and none of it depends on the student's code. So the first check, when it built nothing and
 there is no bundle for this kit yet, starts `./kit check --warm-up` in the background at the lowest
-priority, which builds the bundle.
+priority, which builds the bundle, one step's part after another in course order.
 
 A check that needs the bundle while the warm-up builds it waits for it (the bundle's lock) rather
 than starting again: what the warm-up built is kept. Its process id is in build/student/warm-up.pid,
@@ -22,7 +22,7 @@ import subprocess
 import sys
 import time
 
-from .common import ROOT
+from .common import ROOT, load_steps
 from . import bundle
 from .build import Build, detect_undefined
 from .sandbox import session_members
@@ -72,6 +72,10 @@ def run(build: Build) -> int:
     start = time.monotonic()
     ok = True
     try:
+        # Step by step in course order, the lock let go between two (bundle.ensure's parts): a check
+        # of step 01 started meanwhile waits for step 01's part, not for the whole bundle.
+        for step in load_steps():
+            bundle.ensure(detect_undefined(), parts=[step.number])
         bundle.ensure(detect_undefined())
     except Exception as e:      # noqa: BLE001 -- said in its log; the next check says it again
         print(e)

@@ -387,6 +387,17 @@ def _student_pch_probe() -> str:
         deps.write_text(json.dumps(stale))
         expect(compile_(solution, "build") == (0, True) and json.loads(deps.read_text()) == recorded,
                "a precompiled header whose record no longer matches was not built again")
+        # A check's first compile in a fresh build folder (not made yet: the compile runs in a private
+        # one): its options (another macro, so another precompiled header) still get theirs built and read.
+        fresh = work / "fresh" / "build"
+        absolute = [compiler, f"-I{ROOT / 'include'}", "-DRAYKIT_FRESH_BUILD_FOLDER", *argv[2:-4],
+                    "-o", str(work / "y.o"), "-c", str(src)]
+        os.environ[studentpch.ENV] = "build"
+        src.write_text(solution)
+        status, text = iso.tool("compile", absolute, fresh)
+        expect(status == 0 and any(l.startswith("! ") and l.endswith(".gch") for l in text.splitlines()),
+               "a compile whose build folder is not made yet did not read its precompiled header (status "
+               f"{status}): " + " | ".join(text.splitlines()[-3:]))
         # A link as CMake 3.27+ writes it, asking the linker for the list of its inputs (paths relative
         # to the build folder): the sandboxed link leaves that out and writes one the build tool can read.
         main_src = work / "main" / "m.cpp"
@@ -407,7 +418,7 @@ def _student_pch_probe() -> str:
         shutil.rmtree(work, ignore_errors=True)
     return (f"{header}: read by a file that starts with it (in the {iso.mode} sandbox), not by one that includes "
             "<cmath> first nor with RAYKIT_STUDENT_PCH=off; built again when its record is stale; include folders "
-            "relative to the build folder (CMake 3.18) and a link with the linker's dependency list (CMake 3.27+) work")
+            "relative to the build folder (CMake 3.18), a build folder not made yet, and a link with the linker's dependency list (CMake 3.27+) work")
 
 
 # --- names and output are data in every file a grading writes (issue 32, item 8) -------------------

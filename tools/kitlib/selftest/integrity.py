@@ -807,9 +807,11 @@ def selftest_reference_out_of_reach(ctx) -> str:
         expect(not oracle, f"dump_reference ({mode}): step 04 answered its own questions: " + "; ".join(oracle))
         # The detector, checked on the kit's own programs: the reference's function in step 04's
         # reference program and in step 05's (which links it) are alike; the dump must not be.
-        programs = sorted(BUILD.glob("*/reference_answers_step05"), key=lambda p: p.stat().st_mtime)
-        expect(programs, "no reference_answers_step05 under build/ to compare with")
-        folder = programs[-1].parent
+        # The kit's side, with the reference's programs, is the bundle the grading used (bundle.py).
+        from .. import bundle
+        from ..build import detect_undefined
+        folder = bundle.ensure(detect_undefined()).folder
+        expect((folder / "reference_answers_step05").is_file(), f"no reference_answers_step05 in {folder} to compare with")
         reference = function_bytes(folder / "reference_answers_step04", STANDIN_SYMBOL)
         calibration = alike(reference, function_bytes(folder / "reference_answers_step05", STANDIN_SYMBOL))
         expect(calibration >= 0.8, f"the detector cannot tell the reference's code ({calibration:.0%} alike in "

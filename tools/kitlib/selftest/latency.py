@@ -17,6 +17,7 @@ itself goes wrong (no table, a solution step not done).
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import resource
@@ -256,6 +257,9 @@ def selftest_bundle(ctx: Context) -> str:
     finally:
         header.write_bytes(text)
     expect(all(k != same for k in others.values()), f"the key ignores {[n for n, k in others.items() if k == same]}")
+    shipped = _key_holds_what_ships(bundle)
+    clone = _fresh_clone_builds_once(ctx, bundle, kit_side)
+    pruned = _prune_spares_held(bundle)
     # A package upgraded since (its CMake folder's time changed): the bundle is not used.
     with tempfile.TemporaryDirectory(prefix="raykit-bundle-") as tmp:
         package, folder = Path(tmp) / "pkg", Path(tmp) / "b"
@@ -269,7 +273,143 @@ def selftest_bundle(ctx: Context) -> str:
         expect(bundle._load(folder) is None, "a bundle built before a package's upgrade is used")
     return (f"its {len(commands)} compiles are the kit's files; a student's file compiled as CMake compiles "
             f"stepobj{ctx.steps[0].number}, also with a bundle built from another copy; the key changes with {', '.join(others)}; a package upgraded "
-            "since, or no ready mark, builds it again")
+            f"since, or no ready mark, builds it again; {shipped}; {clone}; {pruned}")
+
+
+def _key_holds_what_ships(bundle) -> str:
+    """The key's files are those git would ship of the folders it reads: every tracked one (and every
+    new one not ignored, an instructor's file not yet committed), none it ignores (secret.key, ...)."""
+    import subprocess
+    folders = sorted({str(Path(*f.relative_to(ROOT).parts[:2])) for f in bundle.sources(True)})
+    r = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard", "--", *folders],
+                       cwd=ROOT, capture_output=True)
+    expect(r.returncode == 0, f"git ls-files failed in {ROOT}: {r.stderr.decode(errors='replace')[-300:]}")
+    ships = {ROOT / p for p in r.stdout.decode().split("\0") if p and (ROOT / p).is_file()}
+    ignored = subprocess.run(["git", "ls-files", "-z", "--others", "--ignored", "--exclude-standard", "--", *folders],
+                             cwd=ROOT, capture_output=True).stdout.decode().split("\0")
+    keyed = set(bundle.sources(True))
+    expect(keyed == ships, f"the bundle's key reads files a clone has not ({sorted(map(str, keyed - ships))[:3]}) "
+                           f"or leaves out ones it has ({sorted(map(str, ships - keyed))[:3]})")
+    return f"its key reads the {len(keyed)} files git ships of {len(folders)} folders ({len([p for p in ignored if p])} ignored left out)"
+
+
+def _fresh_clone_builds_once(ctx: Context, bundle, kit_side) -> str:
+    """An instructor's fresh clone (what git ships of this kit, no secret.key, step 01 written): its
+    first check makes the secret, and neither that check nor the second builds the kit's side, which
+    is built here already from the same files (the key holds the content, not the place)."""
+    import subprocess
+    import tempfile
+    r = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                       capture_output=True)
+    expect(r.returncode == 0, "git ls-files failed")
+    root = bundle.cache_root()
+    listing = lambda: sorted((p.name, (p / bundle.READY).read_text()) for p in root.iterdir()   # noqa: E731
+                             if (p / bundle.READY).is_file())
+    before = listing()
+    expect((kit_side.folder.name, (kit_side.folder / bundle.READY).read_text()) in before,
+           "the bundle just built is not in the bundles' folder")
+    with tempfile.TemporaryDirectory(prefix="raykit-clone-", dir=BUILD) as tmp:
+        clone = Path(tmp) / "kit"
+        for rel in r.stdout.decode().split("\0"):
+            if rel and (ROOT / rel).is_file() and not (ROOT / rel).is_symlink():
+                (clone / rel).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(ROOT / rel, clone / rel)
+            elif rel and (ROOT / rel).is_symlink():
+                (clone / rel).parent.mkdir(parents=True, exist_ok=True)
+                (clone / rel).symlink_to(os.readlink(ROOT / rel))
+        expect(not (clone / "tests" / "hidden" / "secret.key").exists(), "the clone has a secret.key")
+        step = ctx.steps[0]
+        for f in step.files:
+            shutil.copyfile(ROOT / "solutions" / step.folder / f, clone / "steps" / step.folder / f)
+        env = {k: v for k, v in os.environ.items() if k != "RAYKIT_SELFTEST_SECRET"}
+        env.update(RAYKIT_NO_WARMUP="1", RAYKIT_BUNDLE_DIR=str(root))
+        for n in ("first", "second"):
+            run = subprocess.run([str(clone / "kit"), "check", step.number, "--quiet"], cwd=clone, env=env,
+                                 capture_output=True, text=True, timeout=600)
+            expect(run.returncode == 0, f"the clone's {n} check exited {run.returncode}:\n{(run.stdout + run.stderr)[-800:]}")
+            expect((clone / "tests" / "hidden" / "secret.key").is_file(), f"the clone's {n} check made no secret.key")
+            expect(listing() == before, f"the clone's {n} check built the kit's side: {listing()} after {before}")
+    return "a fresh clone's first check makes its secret.key, and neither it nor the second builds the kit's side"
+
+
+def _prune_spares_held(bundle) -> str:
+    """A prune removes the bundles beyond the most recently used, but never one a check holds (its
+    in-use file locked shared, as a grading of another copy of the kit does while it links with it)."""
+    import json
+    import subprocess
+    import sys
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="raykit-prune-") as tmp:
+        root = Path(tmp)
+        names = [f"b{i}" for i in range(bundle.KEEP + 3)]
+        for i, name in enumerate(names):
+            (root / name).mkdir()
+            (root / name / bundle.RECIPE).write_text("{}")
+            (root / name / bundle.READY).write_text(json.dumps({"packages": {}}))
+            os.utime(root / name / bundle.READY, (1000 + i, 1000 + i))     # b0 the least recently used
+        # Another process holds b0, the oldest, as a check of another copy of the kit would.
+        holder = subprocess.Popen([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
+                                   "from kitlib import bundle; from pathlib import Path; "
+                                   "assert bundle._use(Path(sys.argv[2])) is not None; print('held', flush=True); "
+                                   "sys.stdin.read()", str(ROOT / "tools"), str(root / "b0")],
+                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        try:
+            expect(holder.stdout.readline().strip() == "held", "a process could not hold a bundle")
+            keep = root / names[-1]
+            bundle._prune(root, keep=keep)
+            left = sorted(p.name for p in root.iterdir() if p.is_dir())
+            newest = names[-bundle.KEEP:]
+            expect("b0" in left, f"a prune removed a bundle a check holds (left: {left})")
+            expect(sorted(set(newest) | {"b0"}) == left, f"a prune left {left}, not the {bundle.KEEP} newest and the one held")
+        finally:
+            holder.stdin.close()
+            holder.wait(timeout=30)
+        bundle._prune(root, keep=keep)
+        left = sorted(p.name for p in root.iterdir() if p.is_dir())
+        expect(left == sorted(newest), f"once no check holds it, a prune left {left}, not {sorted(newest)}")
+    return f"a prune keeps the {bundle.KEEP} most recently used and one another process holds, and removes that one once it is let go"
+
+
+def selftest_bundle_parts(ctx: Context) -> str:
+    """The bundle in parts: on a machine without it, a check of step 01 builds step 01's judge (and
+    what its answers program links) and no other step's; the whole bundle is then built on that
+    part (the warm-up's work), in the same folder, every judge there."""
+    import subprocess
+    import tempfile
+    from .. import bundle
+    from ..build import detect_undefined
+    need_solutions()
+    first = ctx.steps[0]
+    with tempfile.TemporaryDirectory(prefix="raykit-parts-", dir=BUILD) as tmp:
+        submission = Path(tmp) / "steps"
+        shutil.copytree(ROOT / "solutions", submission)
+        env = dict(os.environ, RAYKIT_BUNDLE_DIR=str(Path(tmp) / "bundles"), RAYKIT_NO_WARMUP="1")
+        r = subprocess.run([str(ROOT / "kit"), "check", first.number, "--steps", str(submission), "--quiet",
+                            "--isolation", "none"], cwd=ROOT, env=env, capture_output=True, text=True, timeout=900)
+        expect(r.returncode == 0, f"a check of step {first.number} on a machine without the bundle exited "
+                                  f"{r.returncode}:\n{(r.stdout + r.stderr)[-800:]}")
+        folders = [p for p in (Path(tmp) / "bundles").iterdir() if p.is_dir()]
+        expect(len(folders) == 1, f"a check of step {first.number} made {len(folders)} bundle folders")
+        folder = folders[0]
+        recipe = json.loads((folder / bundle.RECIPE).read_text())
+        judges = {n: Path(s["judge"]) for n, s in recipe["steps"].items()}
+        expect(judges[first.number].is_file() and (folder / f"{bundle.READY}-{first.number}").is_file(),
+               f"a check of step {first.number} did not build its judge")
+        others = sorted(n for n, j in judges.items() if n != first.number and j.exists())
+        expect(not others, f"a check of step {first.number} built the judges of steps {others} too")
+        expect(not (folder / bundle.READY).exists(), "a part of the bundle is marked whole")
+        saved = os.environ.get("RAYKIT_BUNDLE_DIR")
+        os.environ["RAYKIT_BUNDLE_DIR"] = env["RAYKIT_BUNDLE_DIR"]
+        try:
+            expect(bundle.find(detect_undefined()) is None, "a part of the bundle is found whole (no warm-up)")
+            whole = bundle.ensure(detect_undefined())
+        finally:
+            os.environ.pop("RAYKIT_BUNDLE_DIR") if saved is None else os.environ.__setitem__("RAYKIT_BUNDLE_DIR", saved)
+        expect(whole.folder == folder, f"the whole bundle was built in {whole.folder}, not on the part in {folder}")
+        missing = sorted(n for n, j in judges.items() if not j.is_file())
+        expect(not missing and (folder / bundle.READY).is_file(), f"the whole bundle lacks the judges of {missing}")
+    return (f"a check of step {first.number} on a machine without the bundle built its judge and none of the "
+            f"{len(judges) - 1} others; the whole bundle was then built on that part")
 
 
 @tier("step")
@@ -309,4 +449,5 @@ def selftest_recorded(ctx: Context) -> str:
 
 def selftests() -> list:
     return [("recorded stubs and case lists", selftest_recorded), ("the kit's side built once", selftest_bundle),
+            ("the kit's side in parts", selftest_bundle_parts),
             ("latency figures", selftest_latency)]
