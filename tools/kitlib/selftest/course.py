@@ -16,7 +16,7 @@ from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions, tier
+from .harness import Failed, Skipped, expect, kit, need_solutions, said, tier
 
 STEPS = ["01", "02"]
 WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
@@ -308,6 +308,44 @@ def autograde_command(root: Path) -> list[str]:
     return seen[0]
 
 
+def course_cases(steps) -> tuple[dict, dict, list[str]]:
+    """The kit's course.json as data, and a results record of the cases ./kit course reads, both such that
+    the course's own weights stay valid (issue 55: made-up cases matched none of an instructor's per-case
+    and per-section weights, and ./kit course rightly refused them). Each step's cases are its recorded
+    ones (tests/NN_topic/cases.json and the hidden record: the names and lecture sections the weights
+    name). A step with no record yet (a customised copy's step from the template, before its first
+    `./kit check N --record`) gets three made-up cases, and its `weights` are left out of the data: the
+    course "mapped" for them. Returns (data, record, the steps made up)."""
+    from ..checking import recorded_cases
+    data = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
+    listed, made_up = [], []
+    for s in steps:
+        cases = recorded_cases(s)
+        if cases:
+            listed.append({"step": s.number, "cases": [{"tier": c.tier, "name": c.name, "lecture": c.lecture}
+                                                       for c in cases]})
+            continue
+        made_up.append(s.number)
+        listed.append({"step": s.number, "cases": [{"tier": t, "name": n} for t, n in
+                                                   [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]})
+        entry = data.get("steps", {}).get(s.number)
+        if isinstance(entry, dict) and "weights" in entry:
+            data = dict(data, steps=dict(data["steps"], **{s.number: {k: v for k, v in entry.items()
+                                                                      if k != "weights"}}))
+    return data, {"format": "raykit-results", "version": 1, "steps": listed}, made_up
+
+
+def course_total(course, record: dict) -> Fraction:
+    """The total of course.py's documented rules for the cases of `record`: each step's counted cases'
+    shares, by group and by their own weights."""
+    total = Fraction(0)
+    for entry in record["steps"]:
+        cases = [(c["tier"], c["name"], c.get("lecture", "")) for c in entry["cases"]]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        total += course.step_maximum(entry["step"], groups, course.weights_of(entry["step"], cases))
+    return total
+
+
 @tier("quick")
 def selftest_course_table(ctx) -> str:
     need_solutions()    # ./kit course is an instructor's command
@@ -325,21 +363,28 @@ def selftest_course_table(ctx) -> str:
         default = kit("course", "--file", str(plain), "--results", str(fake))
         want = f"Total to enter in Gradescope (the assignment's points): {2 * len(ctx.steps)}"
         expect(default.returncode == 0 and re.search(re.escape(want) + r"\b", default.stdout),
-               f"./kit course --file (the default scale): {default.stdout[-300:]}{default.stderr}")
-        # The kit's own course.json, as the instructor set it: the total its rules give.
-        kits = course_file.read(course_file.COURSE_FILE, [s.number for s in ctx.steps])
-        groups = [kits.group("robust" if t == "robust" else "basic", n) for t, n in
-                  [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]
-        total = sum((_expected_maximum(kits, s.number, groups) for s in ctx.steps), Fraction(0))
-        own = kit("course", "--results", str(fake))
-        expect(own.returncode == 0 and re.search(rf"\(the assignment's points\): {re.escape(str(total))}\b", own.stdout),
-               f"./kit course (the kit's course.json): the total is not {total}: {own.stdout[-300:]}{own.stderr}")
+               f"./kit course --file (the default scale) does not say {want!r}:\n{said(default)}")
+        # The kit's own course.json, as the instructor set it (weights by case and by section included),
+        # on the steps' own cases: the total its rules give.
+        data, record, made_up = course_cases(ctx.steps)
+        kits = course_file.parse(data, [s.number for s in ctx.steps], "course.json")
+        total = course_total(kits, record)
+        own_cases = Path(tmp) / "own-cases.json"
+        own_cases.write_text(json.dumps(record))
+        mapped = Path(tmp) / "course.json"
+        mapped.write_text(json.dumps(data))
+        own = kit("course", *(["--file", str(mapped)] if made_up else []), "--results", str(own_cases))
+        want = f"(the assignment's points): {kits.shown(total)}"
+        expect(own.returncode == 0 and re.search(re.escape(want) + r"\b", own.stdout),
+               f"./kit course (the kit's course.json{', step ' + ', '.join(made_up) + ' made up' if made_up else ''}) "
+               f"does not say {want!r}:\n{said(own)}")
         got = kit("course", "--file", str(weighted), "--results", str(fake))
         want = f"(the assignment's points): {20 * len(ctx.steps)}"
         expect(got.returncode == 0 and re.search(re.escape(want) + r"\b", got.stdout) and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
-               f"./kit course --file (20 points a step): {got.stdout[-400:]}{got.stderr}")
+               f"./kit course --file (20 points a step) does not say {want!r} nor a core case 40/3:\n{said(got)}")
     return (f"./kit course: {2 * len(ctx.steps)} on the default scale, {20 * len(ctx.steps)} weighted (a core case "
-            f"40/3), {total} on the kit's course.json")
+            f"40/3), {kits.shown(total)} on the kit's course.json and its steps' recorded cases"
+            + (f" (step {', '.join(made_up)} unrecorded: made-up cases, its own weights left out)" if made_up else ""))
 
 
 def selftest_roster(ctx) -> str:

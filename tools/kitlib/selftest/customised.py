@@ -36,7 +36,7 @@ import time
 from pathlib import Path
 
 from ..common import BUILD, ROOT
-from .harness import expect, need_solutions
+from .harness import expect, last_lines, need_solutions
 from .fixtures import fixture_dir
 
 COPY = BUILD / "customised-kit"
@@ -54,8 +54,9 @@ def customise(kit_dir: Path) -> dict:
     course = json.loads(course_path.read_text())
     numbers = sorted(p.name[:2] for p in (kit_dir / "tests").glob("[0-9][0-9]_*") if (p / "step.json").is_file())
     course.setdefault("steps", {})
-    for n in numbers:
-        course["steps"][n] = {"points": 40 if n == numbers[-1] else "41/3" if n == numbers[0] else 20}
+    for n in numbers:      # other points; a step's own weights (by case, by section) kept as they are
+        entry = course["steps"].get(n) if isinstance(course["steps"].get(n), dict) else {}
+        course["steps"][n] = dict(entry, points=40 if n == numbers[-1] else "41/3" if n == numbers[0] else 20)
     # ★ as 5 % extra credit (each ★ case passed adds a twentieth of a core case's points, on top), or,
     # where the course has it as extra credit already, back to optional (weight 0, the default).
     from .. import course as course_file
@@ -89,6 +90,24 @@ def customise(kit_dir: Path) -> dict:
             "step": number}
 
 
+def failures(out: str) -> list[str]:
+    """Each failure of a ./kit test run's output, whole: its ✗ line and every line after it up to the
+    next self-test's line or the recap (a failure's reason runs over several lines: a command's error)."""
+    found, current = [], None
+    for line in out.splitlines():
+        if re.match(r"(✓|✗|-) \S.*: ", line) or re.match(r"failed \(\d+\):$|selftest: \d+ passed", line):
+            if current is not None:
+                found.append("\n".join(current).rstrip())
+            current = [line] if line.startswith("✗ ") else None
+            if line.startswith("failed ("):
+                break
+        elif current is not None:
+            current.append(line)
+    if current is not None:
+        found.append("\n".join(current).rstrip())
+    return found
+
+
 def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
     """./kit test DEPENDENT in `kit_dir`: a failure names the self-tests that failed there; else the
     counts of its summary line and the time, and what it printed."""
@@ -97,11 +116,11 @@ def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
                        timeout=3600)
     out = r.stdout + r.stderr
     m = re.search(r"(?m)^selftest: (\d+) passed, (\d+) failed, (\d+) skipped", out)
-    failed = re.findall(r"(?m)^✗ .*", out)
+    failed = failures(out)
     expect(r.returncode == 0 and m and int(m.group(1)) > 0 and m.group(2) == "0",
            f"on {where}, ./kit test {' '.join(DEPENDENT)}: exit {r.returncode}, "
            + (f"{m.group(1)} passed, {m.group(2)} failed" if m else "no summary line") + ":\n"
-           + ("\n".join(f[:600] for f in failed[:6]) if failed else out[-1500:]))
+           + ("\n".join(failed) if failed else last_lines(out, 30)))
     skipped = [l.split(":", 1)[0][2:] for l in re.findall(r"(?m)^- .*", out)]
     return (f"{m.group(1)} pass" + (f", {m.group(3)} skipped ({'; '.join(skipped)})" if skipped else "")
             + f", {time.monotonic() - start:.0f} s"), out
