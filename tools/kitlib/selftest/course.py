@@ -437,7 +437,9 @@ def selftest_roster(ctx) -> str:
     expect(b["status"] == "nothing submitted" and b["earned"] == "0" and "No step files found" in b["note"],
            f"bob (empty): {b}")
     listed = [line for line in r.stdout.splitlines() if line.startswith(("nothing submitted", "not graded"))]
-    expect(any(line.startswith("nothing submitted (1") and "bob" in line for line in listed)
+    empty = sorted(n for n, row in rows.items() if row["status"] == "nothing submitted")
+    expect(any(line.startswith(f"nothing submitted ({len(empty)}") and all(n in line for n in empty) for line in listed)
+           and "bob" in empty
            and not any(line.startswith("not graded") for line in listed),
            f"the summary does not list bob's empty upload as nothing submitted, apart: {listed}")
     expect(z["Student ID"] == "" and z["note"].startswith("not on the roster"), f"zed (not on the roster): {z}")
