@@ -374,7 +374,7 @@ def selftest_course_table(ctx) -> str:
         mapped = Path(tmp) / "course.json"
         mapped.write_text(json.dumps(data))
         own = kit("course", *(["--file", str(mapped)] if made_up else []), "--results", str(own_cases))
-        want = f"(the assignment's points): {kits.shown(total)}"
+        want = f"(the assignment's points): {course_file.exact_text(total)}"
         expect(own.returncode == 0 and re.search(re.escape(want) + r"\b", own.stdout),
                f"./kit course (the kit's course.json{', step ' + ', '.join(made_up) + ' made up' if made_up else ''}) "
                f"does not say {want!r}:\n{said(own)}")
@@ -383,8 +383,9 @@ def selftest_course_table(ctx) -> str:
         expect(got.returncode == 0 and re.search(re.escape(want) + r"\b", got.stdout) and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
                f"./kit course --file (20 points a step) does not say {want!r} nor a core case 40/3:\n{said(got)}")
     return (f"./kit course: {2 * len(ctx.steps)} on the default scale, {20 * len(ctx.steps)} weighted (a core case "
-            f"40/3), {kits.shown(total)} on the kit's course.json and its steps' recorded cases"
-            + (f" (step {', '.join(made_up)} unrecorded: made-up cases, its own weights left out)" if made_up else ""))
+            f"40/3), {course_file.exact_text(total)} on the kit's course.json and its steps' recorded cases"
+            + (f" (step {', '.join(made_up)} unrecorded: made-up cases, "
+               f"{'its' if len(made_up) == 1 else 'their'} own weights left out)" if made_up else ""))
 
 
 def selftest_roster(ctx) -> str:
