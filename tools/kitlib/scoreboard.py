@@ -21,7 +21,6 @@ from .sandbox import NONE_OWN
 from .status import NOT_GRADED, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
 
 
-
 def rel(path: Path) -> str:
     try:
         return os.path.relpath(path, Path.cwd()) if Path.cwd() in path.parents or Path.cwd() == path \
