@@ -69,9 +69,14 @@ def problems(path: Path, numbers: list[str]) -> list[str]:
         if not _texts(files) or not files:
             bad("files", "must be a non-empty list of file names, e.g. [\"plane.cpp\"]")
         else:
+            kit = path.parents[2]       # the kit (or the template's folder) the manifest is part of
             for f in files:
                 if ";" in f or "/" in f or not f.endswith((".cpp", ".hpp", ".h", ".cc")):
                     bad("files", f"entry {f!r} is not a source file's name in the step's folder")
+                    continue
+                for part in ("steps", "solutions"):     # the stub and the reference, same name (a handout: no solutions/)
+                    if (kit / part).is_dir() and not (kit / part / path.parent.name / f).is_file():
+                        bad("files", f"entry {f!r}: there is no {part}/{path.parent.name}/{f}")
     if "needs" in data:
         needs = data["needs"]
         own = path.parent.name[:2]

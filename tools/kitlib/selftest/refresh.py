@@ -59,6 +59,7 @@ OLD_FORMS = [
     ({"runs_without": ["5. The camera"]}, '"runs_without"'),
     ({"scenes": [{"name": "disc"}]}, '"scenes"'),
     ({"tests": []}, '"tests" is not a field'),
+    ({"files": ["plane.cpp", "disc.cpp"]}, "'disc.cpp': there is no "),
 ]
 
 
@@ -85,16 +86,18 @@ def selftest_manifest_form(ctx) -> str:
            f"the template's step.json is refused: {manifest.problems(template, numbers)}")
     good = json.loads(template.read_text())
     with tempfile.TemporaryDirectory() as tmp:
-        folder = Path(tmp) / "tests" / template.parent.name
-        folder.mkdir(parents=True)
-        path = folder / "step.json"
+        import shutil
+        shutil.copytree(fixture_dir("new_step"), Path(tmp) / "kit")     # the template's tree: its stub, reference, lecture
+        path = Path(tmp) / "kit" / template.relative_to(fixture_dir("new_step"))
+        here = numbers + [template.parent.name[:2]]
+        expect(not manifest.problems(path, here), f"the template's step.json, copied: {manifest.problems(path, here)}")
         for change, words in OLD_FORMS:
             path.write_text(json.dumps({**good, **{k: v for k, v in change.items() if v is not None}}
                                        if None not in change.values()
                                        else {k: v for k, v in good.items() if k not in change}))
-            said = manifest.problems(path, numbers)
-            expect(any(words in line for line in said), f"step.json with {json.dumps(change)}: the refusal "
-                   f"does not name {words}: {said}")
+            said = manifest.problems(path, here)
+            expect(said and all(words in line or "is missing" in line and None in change.values() for line in said),
+                   f"step.json with {json.dumps(change)}: the refusal does not name {words} alone: {said}")
         # Both commands refuse it before they read a step: ./kit course, ./kit refresh.
         path.write_text(json.dumps(dict(good, functions=["intersect_plane"])))
         real = manifest.manifests
