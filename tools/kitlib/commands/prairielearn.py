@@ -343,8 +343,23 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
              "section to read of the step's lecture and, for the first failing one, a picture.</p>",
              f"<p><strong>Read</strong> {lecture_words(step, docs_url)}.</p>",
              f"<p>{worth}{hidden_text}</p>"]
+    parts += headers_html(step)
+    hints = hints_html(step)
+    if hints:
+        parts += ["<p>Stuck? The hints, one at a time:</p>", hints]
+    parts.append("</pl-question-panel>")
+    for f in step.files:
+        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
+    parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
+              "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
+    return template_safe("\n".join(parts)), figures
+
+
+def headers_html(step) -> list[str]:
+    """The step's scene, its contract's headers and the kit's definitions they include (struct Ray and
+    the rest), as both of a step's questions show them."""
     headers = contract_headers(step)
-    parts.append(scene_html(headers))
+    parts = [scene_html(headers)]
     for h in headers:
         parts += [f"<details><summary>The contract: <code>{h}</code> (read it: what your functions must do)</summary>",
                   '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
@@ -358,15 +373,7 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
         parts += [f"<details><summary>Shared definitions: <code>{h}</code>{' (' + names + ')' if names else ''}</summary>",
                   '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
                   "</pl-code></details>"]
-    hints = hints_html(step)
-    if hints:
-        parts += ["<p>Stuck? The hints, one at a time:</p>", hints]
-    parts.append("</pl-question-panel>")
-    for f in step.files:
-        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
-    parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
-              "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
-    return template_safe("\n".join(parts)), figures
+    return parts
 
 
 def extra_question_html(step, course, points) -> str:
@@ -379,6 +386,7 @@ def extra_question_html(step, course, points) -> str:
              "The assessment counts them above its total (its bonus points): missing them takes nothing away.</p>",
              f"<p>Submit here the same {files} as in the step's own question (its page has the task); "
              "<strong>Save &amp; Grade</strong> runs the step's cases and counts the extra-credit ones.</p>",
+             *headers_html(step),       # the same definitions as the step's own page (issue 55)
              "</pl-question-panel>"]
     for f in step.files:
         parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')

@@ -955,9 +955,22 @@ def selftest_prairielearn_from_empty(ctx) -> str:
         raise AssertionError("--new-course with --course was taken")
     except KitError as e:
         expect("--new-course" in str(e), f"--new-course with --course: {e}")
+    # The extra-credit twin of each step shows the same definitions (struct Ray and the rest) as the step's page.
+    from .course import extra_credit_course
+    bonus = extra_credit_course([s.number for s in ctx.steps])
+    twins = WORK / "pl-twins"
+    pl_make(twins, bonus, "--new-course", "CS 419")
+    blocks = lambda page: re.findall(r"<summary>((?:The contract|Shared definitions).*?)</summary>", page)
+    pairs = [(q, q.parent / q.name.removesuffix("_extra_credit")) for q in sorted((twins / "questions" / "raykit").glob("*_extra_credit"))]
+    differ = [q.name for q, own in pairs if blocks((q / "question.html").read_text()) != blocks((own / "question.html").read_text())]
+    expect(pairs and not differ, f"extra-credit questions whose definitions differ from their step's page: {differ} "
+                                 f"(of {len(pairs)})")
+    problems = course_problems(schemas, twins)
+    expect(not problems, "--new-course with extra credit: " + "; ".join(problems)[:3000])
     added = len(merged["tags"]) - len(theirs["tags"])
     return (f"--new-course: {sum(len(v) for v in files.values())} files, each valid, every topic and tag declared; "
-            f"--course: the example course's infoCourse.json with 1 topic and {added} tags added, valid; both: refused")
+            f"--course: the example course's infoCourse.json with 1 topic and {added} tags added, valid; {len(pairs)} "
+            "extra-credit questions show their step's definitions; both: refused")
 
 
 def selftests():
