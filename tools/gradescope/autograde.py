@@ -205,7 +205,7 @@ def grade() -> dict:
         try:
             found = locate(SUBMISSION, work / "upload")
         except NotFound as e:
-            return failed(str(e), "Your upload")
+            return failed(f"Nothing submitted: {e}", "Your upload: nothing submitted")   # the student's, not "not graded"
         where = f"Graded {', '.join(found.steps)} from {found.source} ({found.layout})."
         if found.notes:
             where += " Left out: " + "; ".join(found.notes[:5]) + "."

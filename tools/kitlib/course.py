@@ -429,6 +429,15 @@ def score_words(results) -> str:
     return f"score {course.shown(base)} of {course.shown(maximum)}{more}{pct}"
 
 
+def hidden_note(course: Course | None = None) -> str:
+    """What a failed hidden case says instead of its inputs, as the course says it (issue 55: with the
+    reveal off, every such case still read "its inputs are shown after the due date")."""
+    course = course or load()
+    when = ("its inputs are shown after the due date" if course.reveal_after_due_date
+            else "its inputs are not shown, before or after the due date")
+    return "a hidden case: random inputs of this family, drawn afresh for each submission; " + when
+
+
 def score_line(results) -> str:
     """The scoreboard's total. The instructor's kit: the score on the course's scale. A handout,
     which has no hidden cases: what it can check, and what the course grade adds."""

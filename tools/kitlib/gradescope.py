@@ -42,7 +42,7 @@ from . import course as course_file
 from . import faults
 from .cases import StepResult
 from .common import KitError
-from .scoreboard import HIDDEN_NOTE, compile_errors
+from .scoreboard import compile_errors
 from .status import MISSING, NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
 
 UNRUN_STATES = (NO_COMPILE, MISSING, WAITING)
@@ -53,7 +53,7 @@ def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
     hidden = c.tier == "hidden"
     lines = [STATUS_WORDS.get(c.status, c.status)]
     if c.status != PASS:
-        lines += [HIDDEN_NOTE] if hidden and not reveal else c.messages[:3]
+        lines += [course_file.hidden_note()] if hidden and not reveal else c.messages[:3]
         if c.output_bytes and not (hidden and not reveal):
             lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:2000]}")
         if c.lecture:
@@ -187,7 +187,8 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
         summary.append(f"{len(hidden)} hidden cases hold {course.shown(held)} of the {course.shown(maximum)} points: "
                        "they count in the score above, and their tests are shown "
                        + {"after_due_date": "after the due date", "after_published": "once grades are published",
-                          "hidden": "to your instructor only"}.get(visibility, "later"))
+                          "hidden": "to your instructor only"}.get(visibility, "later")
+                       + ("" if course.reveal_after_due_date else "; their inputs are never shown"))
     isolation = next((r.isolation for r in results if r.isolation), "")
     if isolation:
         summary.append(f"graded code: {isolation}")

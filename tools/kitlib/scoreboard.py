@@ -14,14 +14,11 @@ from . import faults
 from . import includes
 from .cases import StepResult
 from .checking import Progress
-from .course import score_line as course_score_line
+from .course import hidden_note, score_line as course_score_line
 from .common import ROOT, Step, paint, say
 from .robust_line import robust_line
 from .sandbox import NONE_OWN
 from .status import NOT_GRADED, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
-
-HIDDEN_NOTE = ("a hidden case: random inputs of this family, drawn afresh for each submission; "
-               "its inputs are shown after the due date")
 
 
 def rel(path: Path) -> str:
@@ -78,7 +75,7 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True, drawin
     picture in characters too (picture.sketch), for a terminal with no picture viewer."""
     star = "★ " if case.tier == "robust" else ""
     lines = [f"{indent}{paint('✗', 'red')} {star}{paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
-    messages = case.messages if reveal or case.tier != "hidden" else [HIDDEN_NOTE]
+    messages = case.messages if reveal or case.tier != "hidden" else [hidden_note()]
     for m in messages[:3]:
         for line in m.rstrip().splitlines():
             lines.append(f"{indent}    {line}")

@@ -27,6 +27,13 @@ STATE_WORDS = {
     OLD_BROKEN: "not graded",
 }
 
+# --- a submission's state in ./kit grade's CSV, when it has no results record -----------------------
+# An upload with no step file, or none that could be read (empty, an unreadable archive, too many
+# files): the student's, not the grader's (issue 55: it was listed as "not graded"). It scores 0 of
+# the maximum and leaves ./kit grade's exit status as it is (README, "Not graded").
+NOTHING_SUBMITTED = "nothing submitted"
+NOTHING_SUBMITTED_STATES = (NOTHING_SUBMITTED, "no steps")     # "no steps": its name in older CSVs
+
 # --- a case's status -----------------------------------------------------------------------
 PASS, FAIL, THREW, CRASHED, TIMED_OUT, NOT_RUN = "pass", "fail", "threw", "crashed", "timed_out", "not_run"
 GRADER_ERROR = "grader_error"   # no verdict, the grader's fault (a sandbox that could not start, the judge

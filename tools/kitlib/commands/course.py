@@ -54,6 +54,8 @@ def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
 
 
 def run(args) -> int:
+    from .. import manifest
+    manifest.check()        # every step's step.json of the current form, a wrong field named
     steps = load_steps()
     numbers = [s.number for s in steps]
     course = course_file.read(Path(args.file), numbers) if args.file else course_file.load()

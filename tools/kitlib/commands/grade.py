@@ -36,7 +36,7 @@ from ..sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
 from ..report.rows import NOT_GRADED_WORDS, csv_safe, csv_text, record_row  # noqa: F401 (the grades CSV's rows)
 from ..submissions import NotFound, locate
-from ..status import FAILED, OK
+from ..status import FAILED, NOTHING_SUBMITTED, OK
 
 SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own limit
 
@@ -190,7 +190,7 @@ def grade_one(folder: Path, steps, report: Path, slot: int = 0, isolation: str =
     try:
         found = locate(folder, BUILD / f"grade-upload-{slot}", steps)
     except NotFound as e:
-        return dict(row, status="no steps", note=str(e))
+        return dict(row, status=NOTHING_SUBMITTED, note=str(e))     # the student's: 0, not "not graded"
     uid_file = BUILD / f"grade-uid-{slot}"
     uid_file.unlink(missing_ok=True)
     # Its own session: on a timeout, every process of it (cmake, ninja, the compilers) is ended,
@@ -460,16 +460,20 @@ def _grade(args, folders, steps, roster, out, cases_out, json_dir, jobs, start, 
     if skipped:
         say(f"uploads with files left out ({len(skipped)}): "
             + printable(", ".join(r.get("submission") or r.get("student", "") for r in skipped)) + " (see their note)")
-    not_graded = [r for r in rows if r.get("status") in ("no steps", NOT_GRADED_WORDS, "timed out")]
+    empty = [r for r in rows if r.get("status") == NOTHING_SUBMITTED]
+    if empty:   # the students': 0 points, each with what was wrong with the upload; the exit status stays
+        say(f"nothing submitted ({len(empty)}, 0 points each): "
+            + printable(", ".join(r.get("submission") or r.get("student", "") for r in empty)))
+        for r in empty:
+            say(f"  {printable(r.get('submission') or r.get('student', ''))}: {printable(str(r.get('note', '')))}")
+    not_graded = [r for r in rows if r.get("status") in (NOT_GRADED_WORDS, "timed out")]
     if not_graded:
         say(f"not graded ({len(not_graded)}): "
             + printable(", ".join(r.get("submission") or r.get("student", "") for r in not_graded)))
         for r in not_graded:    # each with its reason; the grader's faults are its to fix, then grade again
-            if r.get("status") != "no steps":
-                say(f"  {printable(r.get('submission') or r.get('student', ''))}: {printable(str(r.get('note', '')))}")
-        if any(r.get("status") != "no steps" for r in not_graded):
-            say("  (the grader's fault, not the students': no points were taken; fix the cause, then grade "
-                "these again: docs/integrity.md, \"Not graded\")")
+            say(f"  {printable(r.get('submission') or r.get('student', ''))}: {printable(str(r.get('note', '')))}")
+        say("  (the grader's fault, not the students': no points were taken; fix the cause, then grade "
+            "these again: docs/integrity.md, \"Not graded\")")
     # The grading is not whole while the grader failed some submission: the exit status says so too
     # (FAILED), after every file is written, so a script does not publish it as it is.
     faulty = any(r.get("status") in (NOT_GRADED_WORDS, "timed out") for r in not_graded)

@@ -26,6 +26,9 @@ kit's steps, ready to sync.
                                       serverFilesCourse, so the hidden cases run
     OUT/graders/raykit/Dockerfile     the grading image (tools/prairielearn/Dockerfile), and README.md: how to
                                       build it for linux/amd64, push it under --image and sync the course
+    OUT/infoCourse.json               with --new-course NAME, a whole course's (OUT is then its repository):
+                                      the topic and tags the questions use declared; with --course DIR,
+                                      DIR's own with those it lacks added (copy it over DIR's)
     OUT/README-raykit.md              what to copy, and the lines to add to the course's infoCourse.json:
                                       the topic and tags the questions use (PrairieLearn wants them
                                       declared there), also printed; with --course DIR only those DIR's
@@ -103,6 +106,9 @@ def register(p) -> None:
                    help="your PrairieLearn course repository (the folder of its infoCourse.json), read only: an "
                         "instance it has is not written again, and only the topic and tags its infoCourse.json "
                         "lacks are listed to add")
+    p.add_argument("--new-course", metavar="NAME",
+                   help="write a whole course from empty: OUT/infoCourse.json too (NAME is the course's short name, "
+                        "e.g. \"CS 419\"), declaring the questions' topic and tags; OUT is then the course's repository")
     p.add_argument("--docs-url", metavar="URL",
                    help="where the docs site ./kit docs builds (build/docs/student/html/) is hosted, "
                         "e.g. https://example.edu/raykit/: each question links its lecture's page there "
@@ -337,8 +343,23 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
              "section to read of the step's lecture and, for the first failing one, a picture.</p>",
              f"<p><strong>Read</strong> {lecture_words(step, docs_url)}.</p>",
              f"<p>{worth}{hidden_text}</p>"]
+    parts += headers_html(step)
+    hints = hints_html(step)
+    if hints:
+        parts += ["<p>Stuck? The hints, one at a time:</p>", hints]
+    parts.append("</pl-question-panel>")
+    for f in step.files:
+        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
+    parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
+              "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
+    return template_safe("\n".join(parts)), figures
+
+
+def headers_html(step) -> list[str]:
+    """The step's scene, its contract's headers and the kit's definitions they include (struct Ray and
+    the rest), as both of a step's questions show them."""
     headers = contract_headers(step)
-    parts.append(scene_html(headers))
+    parts = [scene_html(headers)]
     for h in headers:
         parts += [f"<details><summary>The contract: <code>{h}</code> (read it: what your functions must do)</summary>",
                   '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
@@ -352,15 +373,7 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
         parts += [f"<details><summary>Shared definitions: <code>{h}</code>{' (' + names + ')' if names else ''}</summary>",
                   '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
                   "</pl-code></details>"]
-    hints = hints_html(step)
-    if hints:
-        parts += ["<p>Stuck? The hints, one at a time:</p>", hints]
-    parts.append("</pl-question-panel>")
-    for f in step.files:
-        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
-    parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
-              "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
-    return template_safe("\n".join(parts)), figures
+    return parts
 
 
 def extra_question_html(step, course, points) -> str:
@@ -373,6 +386,7 @@ def extra_question_html(step, course, points) -> str:
              "The assessment counts them above its total (its bonus points): missing them takes nothing away.</p>",
              f"<p>Submit here the same {files} as in the step's own question (its page has the task); "
              "<strong>Save &amp; Grade</strong> runs the step's cases and counts the extra-credit ones.</p>",
+             *headers_html(step),       # the same definitions as the step's own page (issue 55)
              "</pl-question-panel>"]
     for f in step.files:
         parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
@@ -417,6 +431,28 @@ The limits PrairieLearn's graders give a job: 2 GiB of memory, 0.9 of a CPU, 102
 the question's `timeout` (compile time included). bubblewrap cannot run under Docker's default seccomp
 profile, so the kit grades as a user id of its own there.
 """
+
+
+def new_course_json(name: str, steps, course) -> dict:
+    """infoCourse.json of a course from empty (--new-course NAME): the name, a title, course.json's
+    timezone when it names one, and the topic and tags the questions use, declared."""
+    data = {"uuid": str(uuid.uuid5(NAMESPACE, f"raykit/infoCourse/{name}")), "name": name,
+            "title": "Ray tracing, one step at a time (raykit)",
+            "comment": "written by raykit's ./kit prairielearn --new-course; edit the name and title as you like"}
+    if course.timezone:
+        data["timezone"] = course.timezone
+    data.update(declarations(steps))
+    return data
+
+
+def with_declarations(info: dict, missing: dict[str, list[dict]]) -> dict:
+    """The course's own infoCourse.json (--course DIR) with the entries it lacks added at the end of
+    their lists; the rest as it was."""
+    data = dict(info)
+    for key, entries in missing.items():
+        if entries:
+            data[key] = list(data.get(key) or []) + entries
+    return data
 
 
 def read_course(folder: str) -> tuple[Path, dict]:
@@ -469,8 +505,10 @@ def declaration_lines(missing: dict[str, list[dict]]) -> list[str]:
     return lines
 
 
-def setup_readme(args, instance_note: str, lines: list[str], access: str) -> str:
-    declare = ("The questions' topic and tags must be declared in the course's `infoCourse.json`: PrairieLearn "
+def setup_readme(args, instance_note: str, lines: list[str], access: str, info_note: str = "") -> str:
+    declare = (f"`infoCourse.json` here: {info_note}.\n" if info_note and not lines else
+               f"`infoCourse.json` here is {info_note}; or add these entries to yours by hand:\n\n```\n"
+               + "\n".join(lines) + "\n```\n" if info_note else"The questions' topic and tags must be declared in the course's `infoCourse.json`: PrairieLearn "
                "expects every topic and tag a question uses declared there, and its sync flags those that are "
                "not. Add these entries:\n\n```\n"
                + "\n".join(lines) + "\n```\n" if lines else
@@ -479,11 +517,17 @@ def setup_readme(args, instance_note: str, lines: list[str], access: str) -> str
                "`build/docs/student/html/`: publish that folder there)." if args.docs_url else
                "Each question names its lecture's file; with `--docs-url URL` (where the site `./kit docs` "
                "builds is published) it links the lecture's page instead.")
+    copy = ("This folder is a whole course (`--new-course`): make it the course's repository (`infoCourse.json`, "
+            "`questions/`, `courseInstances/`, `serverFilesCourse/`), then build and push the grading image as "
+            "`graders/raykit/README.md` says. This file and `graders/` are not part of the course."
+            if getattr(args, "new_course", None) is not None else
+            "Copy `questions/`, `courseInstances/` and `serverFilesCourse/` into the course repository (merging with "
+            "what is there)" + (", and `infoCourse.json` over the course's own" if info_note else "")
+            + ", then build and push the grading image as `graders/raykit/README.md` says. This file and "
+            "`graders/` are not part of the course.")
     return f"""# raykit for PrairieLearn: what to copy, what to add
 
-Copy `questions/`, `courseInstances/` and `serverFilesCourse/` into the course repository (merging with
-what is there), then build and push the grading image as `graders/raykit/README.md` says. This file and
-`graders/` are not part of the course.
+{copy}
 
 ## The course instance
 
@@ -516,6 +560,11 @@ def run(args) -> int:
     if args.docs_url is not None and not re.fullmatch(r"https?://[^\s\"'<>]+", args.docs_url):
         raise KitError(f"--docs-url {args.docs_url}: the http(s) address where the docs site is hosted, "
                        "like https://example.edu/raykit/")
+    new_course = getattr(args, "new_course", None)
+    if new_course is not None and args.course:
+        raise KitError("--new-course writes a course from empty; --course DIR adds to the course you have: one of them")
+    if new_course is not None and not new_course.strip():
+        raise KitError("--new-course NAME: the course's short name, e.g. \"CS 419\"")
     course_dir, course_info = read_course(args.course) if args.course else (None, None)
     has_instance = bool(course_dir and (course_dir / "courseInstances" / args.instance / "infoCourseInstance.json").is_file())
     course = course_file.load()
@@ -577,7 +626,18 @@ def run(args) -> int:
                              + (f" ({course_dir} has no such instance)." if course_dir else
                                 ". If your course has this instance already, do not copy that file (yours stays); "
                                 "`--course DIR` checks for you."))
-        lines = declaration_lines(undeclared(declarations(steps), course_info))
+        missing = undeclared(declarations(steps), course_info)
+        lines = declaration_lines(missing)
+        info_note = ""
+        if new_course is not None:      # a course from empty: its infoCourse.json declares them
+            (staging / "infoCourse.json").write_text(json.dumps(new_course_json(new_course.strip(), steps, course),
+                                                                indent=2, ensure_ascii=False) + "\n")
+            lines, info_note = [], "written whole (--new-course): OUT is the course's repository"
+        elif course_info is not None and lines:     # the course's own, with what it lacks added
+            (staging / "infoCourse.json").write_text(json.dumps(with_declarations(course_info, missing), indent=2,
+                                                                ensure_ascii=False) + "\n")
+            info_note = (f"{course_dir}'s own with the topic and tags it lacks added: copy it over "
+                         f"{course_dir}/infoCourse.json")
         (assessment / "infoAssessment.json").write_text(json.dumps(assessment_json(steps, course, points), indent=2) + "\n")
         kit = staging / "serverFilesCourse" / "raykit"
         for rel in kit_files():
@@ -597,7 +657,7 @@ def run(args) -> int:
                   "course.json gives no due date (`\"due\": {\"date\": \"2027-03-14T23:59:00\", \"timezone\": ...}`): "
                   "the assessment is open for full credit while the course instance is published.")
         access += f" Note: {zone_note}." if zone_note else ""
-        (staging / "README-raykit.md").write_text(setup_readme(args, instance_note, lines, access))
+        (staging / "README-raykit.md").write_text(setup_readme(args, instance_note, lines, access, info_note))
         if out.exists():
             out.rmdir()
         staging.replace(out)
@@ -617,17 +677,23 @@ def run(args) -> int:
     say(f"  the kit in serverFilesCourse/raykit/, the grading image in graders/raykit/ (timeout {args.timeout} s; image {image})")
     say(f"  course instance {args.instance}: " + (f"{course_dir} has it; its infoCourseInstance.json is left as it is"
                                                   if has_instance else "infoCourseInstance.json written"
-                                                  + ("" if course_dir else " (if your course has this instance, "
-                                                                           "do not copy that file)")))
+                                                  + ("" if course_dir or new_course is not None else
+                                                     " (if your course has this instance, do not copy that file)")))
     say("  access: " + (f"full credit until {course.due_date}" + (f" {course.timezone}" if course.timezone else "")
                         + ", then closed to submissions" if course.due_date
                         else "no due date in course.json: full credit while the instance is published"))
     if zone_note:
         say(f"  note: {zone_note}")
+    if info_note:
+        say(f"  infoCourse.json: {info_note}")
     if lines:
-        say("  the questions' topic and tags, which PrairieLearn wants declared:")
+        say("  the questions' topic and tags, which PrairieLearn wants declared"
+            + (" (added in OUT/infoCourse.json):" if info_note else
+               " (--new-course NAME writes a whole course's infoCourse.json; --course DIR yours with them added):"))
         for line in lines:
             say(line)
+    elif new_course is not None:
+        pass
     else:
         say(f"  the questions' topic and tags: declared in {course_dir}/infoCourse.json already")
     say(f"  next: {out}/README-raykit.md (what to copy), graders/raykit/README.md (build, push, sync)")

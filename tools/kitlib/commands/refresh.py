@@ -119,11 +119,44 @@ def current(r: Regenerator) -> bool:
     return subprocess.run(r.check, cwd=ROOT, capture_output=True, text=True).returncode == 0
 
 
+def rewrite(argv: list[str]) -> tuple[int, str]:
+    """Runs a regenerator's command, its output shown as it comes (and kept): its exit status and
+    what it said."""
+    proc = subprocess.Popen(argv, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            errors="replace")
+    kept = []
+    for line in proc.stdout:
+        sys.stdout.write(line)
+        sys.stdout.flush()
+        kept.append(line)
+    return proc.wait(), "".join(kept)
+
+
+# How many of a failed command's last lines refresh says again, under its FAILED line.
+ERROR_LINES = 40
+
+
+def the_error(output: str) -> str:
+    """A failed command's own error, from what it said: from the kit's own "kit: ..." message or the
+    first line that reads as an error (CMake's "CMake Error", a compiler's "error:"), to the end; else
+    its last lines. Whole lines."""
+    lines = output.rstrip().splitlines()
+    marks = [i for i, line in enumerate(lines)
+             if re.match(r"kit: |CMake Error|.*\berror:|.*\bError\b|FAILED:|Traceback", line)]
+    start = marks[0] if marks else max(0, len(lines) - ERROR_LINES)
+    if len(lines) - start > ERROR_LINES:
+        start = len(lines) - ERROR_LINES
+    return "\n".join(("    " + line) for line in lines[start:])
+
+
 def run(args) -> int:
     if not (ROOT / "solutions").is_dir():
         raise KitError("./kit refresh rewrites what the instructor's copy records from the solutions: not in a handout")
+    from .. import manifest
+    # A manifest of an older form stops here, its field named (issue 55: it reached CMake, and every
+    # regenerator after it ran against a broken build).
+    manifest.check()
     tests = [] if args.no_test else touched_tests(changed_paths(args.since))
-    failed = []
     for r in REGENERATORS:
         if current(r):
             say(f"  current   {r.name}")
@@ -131,13 +164,15 @@ def run(args) -> int:
         if args.plan:
             say(f"  stale     {r.name}: would run {shown(r.write)}")
             continue
-        say(f"  stale     {r.name}: rewriting ...")
-        done = subprocess.run(r.write, cwd=ROOT)
-        if done.returncode != 0 or not current(r):
-            failed.append(r.name)
-            say(f"  FAILED    {r.name}: still stale; run it alone to see why: {shown(r.write)}")
-        else:
-            say(f"  rewritten {r.name}")
+        say(f"  stale     {r.name}: rewriting ({shown(r.write)}) ...")
+        code, output = rewrite(r.write)
+        if code != 0 or not current(r):
+            # The first failure stops the refresh: what comes after reads what this one writes.
+            why = f"{shown(r.write)} exited {code}" if code != 0 else f"{shown(r.write)} ran, but it is still stale"
+            say(f"  FAILED    {r.name}: {why}; nothing after it was run. What it said:")
+            say(the_error(output) if output.strip() else "    (nothing)")
+            return FAILED
+        say(f"  rewritten {r.name}")
     calls = [["--quick"]] + tests if tests else []
     if args.plan:
         for c in calls:
@@ -146,9 +181,8 @@ def run(args) -> int:
     for c in calls:
         say("./kit test " + (" ".join(c) if c else "(all of it: the kit's own code changed)"))
         if subprocess.run(KIT + ["test", *c], cwd=ROOT).returncode != 0:
-            failed.append("./kit test " + " ".join(c))
-    if failed:
-        say("not current: " + "; ".join(failed))
-        return FAILED
+            say(f"not current: ./kit test {' '.join(c)} failed (its failures are listed above); the later "
+                "self-tests were not run")
+            return FAILED
     say("Everything the kit records from the course is current" + ("" if args.no_test else ", and the touched self-tests pass") + ".")
     return OK

@@ -88,7 +88,7 @@ def page_name(name: str, used: set) -> str:
 
 
 # A row's status when ./kit grade kept no record of it (commands/grade.py): nothing is missing then.
-NOT_GRADED = ("not submitted", "no steps", "not graded", "timed out")
+NOT_GRADED = ("not submitted", "nothing submitted", "no steps", "not graded", "timed out")
 
 
 def load(folder: Path) -> Grading:

@@ -21,8 +21,7 @@ from .. import course as course_file
 from .. import picture
 from .. import record as results_record
 from ..common import load_steps, prerequisites, printable
-from ..scoreboard import HIDDEN_NOTE
-from ..status import (NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
+from ..status import (NOTHING_SUBMITTED_STATES, NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
                       STATUS_WORDS, THREW, TIMED_OUT, NO_ANSWER, WAITING)
 from . import grading as grading_mod
 from . import plots, signatures, similar
@@ -140,10 +139,13 @@ def incidents(g):
     """{section title: {kind: [(student, step, example)]}}"""
     out = {"Does not compile": defaultdict(list), "Crashed": defaultdict(list),
            "Threw an exception": defaultdict(list), "Timed out": defaultdict(list),
-           "Run again after a timeout": defaultdict(list), "Not graded": defaultdict(list)}
+           "Run again after a timeout": defaultdict(list), "Not graded": defaultdict(list),
+           "Nothing submitted": defaultdict(list)}
     for st in g.students:
         if st.data is None:
-            out["Not graded"][st.row.get("status") or "not graded"].append((st.name, "", st.row.get("note", "")))
+            status = st.row.get("status") or "not graded"
+            section = "Nothing submitted" if status in NOTHING_SUBMITTED_STATES else "Not graded"
+            out[section][status].append((st.name, "", st.row.get("note", "")))
             continue
         for number, why in results_record.not_graded(st.data):   # the grader's fault, from the record's data
             out["Not graded"][f"step {number}: {why[:160]}"].append((st.name, number, why))
@@ -193,6 +195,22 @@ def class_scores(g) -> dict:
              "xlabel": "extra credit earned (points, on top of the maximum)", "ylabel": "students"}
     return {"percents": percents, "at_maximum": at_maximum, "possible": possible, "earned_some": earned_some,
             "full": full, "carried": carried, "words": words, "chart": chart}
+
+
+def case_worth(course, step: str, case: dict) -> tuple[bool, str]:
+    """Whether a recorded case counts in the step's points, and its weight and points as the report
+    shows them beside it ("2 → 0.43", "1/10 → +0.02 extra", "0 → 0"): its record's group and points, the
+    weight as the course gives it (its own, by name or section, else its group's)."""
+    group = case.get("group") or course.group(case.get("tier", ""), case.get("name", ""))
+    weight = course.case_weight(step, group, case.get("name", ""), case.get("lecture", ""))
+    try:
+        points = Fraction(str(case.get("points", "0")))
+    except (ValueError, ZeroDivisionError):
+        points = Fraction(0)
+    extra = course.extra_credit(group)
+    counted = not extra and not course.optional(group)
+    return counted, (f"{course_file.exact_text(weight)} → " + ("+" if extra else "") + course.shown(points)
+                     + (" extra" if extra else ""))
 
 
 def link(st) -> str:
@@ -278,11 +296,17 @@ def build(folder: Path, out: Path) -> dict:
         body.append(svg_img(svgs[1], "the steps' states", "chart"))
 
     # 2. cases by failure rate
+    course = course_file.load()
+    star = ("★ cases are extra credit, on top of a step's points" if course.extra_credit("robust")
+            else "★ cases are optional and count for nothing" if course.optional("robust")
+            else "★ cases count like the others")
     body.append('<h2 id="cases">2. The cases, by failure rate</h2><p>Among the students whose step ran (some cases '
-                'fail, or done). Hidden cases are drawn with a seed per grading; ★ cases are optional.</p>')
-    case_rows = []          # (rate, step, lecture, name, tier, failed, ran, example case)
+                f'fail, or done). Hidden cases are drawn with a seed per grading; {e(star)}. Each step lists its '
+                f'counted cases first, then the others; “weight → points” is a case\'s weight and what it is worth '
+                f'on the course\'s scale ({e(course.scale_words())}).</p>')
+    case_rows = []          # (rate, step, lecture, name, tier, failed, ran, example case, counted, worth)
     for s in steps:
-        failed, ran, lecture, tier, example = Counter(), Counter(), {}, {}, {}
+        failed, ran, lecture, tier, example, worth = Counter(), Counter(), {}, {}, {}, {}
         for st in graded:
             res = st.step(s.number)
             if not res or res.get("state") not in (PARTIAL, DONE):
@@ -290,13 +314,14 @@ def build(folder: Path, out: Path) -> dict:
             for c in res.get("cases", []):
                 ran[c["name"]] += 1
                 lecture[c["name"]], tier[c["name"]] = c.get("lecture", ""), c.get("tier", "")
+                worth.setdefault(c["name"], case_worth(course, s.number, c))
                 if c.get("status") != PASS:
                     failed[c["name"]] += 1
                     if c["name"] not in example and c.get("figure"):
                         example[c["name"]] = c
         for name in ran:
             case_rows.append((failed[name] / ran[name], s, lecture[name], name, tier[name], failed[name], ran[name],
-                              example.get(name)))
+                              example.get(name), *worth[name]))
     # The pictures: the most-failed basic cases, the same for every student (a hidden case is a set of
     # random draws, and fails more often for having more of them; it is in the tables below).
     top = sorted((r for r in case_rows if r[5] and r[4] == "basic"), key=lambda r: (-r[0], r[1].number, r[3]))[:MOST_FAILED]
@@ -314,19 +339,24 @@ def build(folder: Path, out: Path) -> dict:
             continue
         body.append(f"<h3>Step {e(s.number)}: {e(s.title)}</h3>")
         passed_by_all = sum(1 for r in mine if not r[5])
-        by_lecture = defaultdict(list)
-        for r in mine:
-            if r[5]:
-                by_lecture[r[2]].append(r)
         lines = []
-        for lec, rs in sorted(by_lecture.items(), key=lambda kv: -max(r[0] for r in kv[1])):
-            for i, r in enumerate(sorted(rs, key=lambda r: -r[0])):
-                first = f'<td rowspan="{len(rs)}">{e(lec)}</td>' if i == 0 else ""
-                lines.append(f"<tr>{first}<td>{e(r[3])}</td><td>{e(r[4])}</td><td class=\"n\">{r[5]} / {r[6]}</td>"
-                             f"<td class=\"n\">{100 * r[0]:.0f} %</td></tr>")
+        # The counted cases first, then the ★ ones (extra credit or optional): issue 55, the ★ cases, failed
+        # more often, stood above the ones that make the grade.
+        for counted in (True, False):
+            by_lecture = defaultdict(list)
+            for r in mine:
+                if r[5] and r[8] == counted:
+                    by_lecture[r[2]].append(r)
+            if by_lecture and not counted:
+                lines.append(f'<tr><td colspan="6"><b>not counted in the points</b>: {e(star)}</td></tr>')
+            for lec, rs in sorted(by_lecture.items(), key=lambda kv: -max(r[0] for r in kv[1])):
+                for i, r in enumerate(sorted(rs, key=lambda r: -r[0])):
+                    first = f'<td rowspan="{len(rs)}">{e(lec)}</td>' if i == 0 else ""
+                    lines.append(f"<tr>{first}<td>{e(r[3])}</td><td>{e(r[4])}</td><td class=\"n\">{e(r[9])}</td>"
+                                 f"<td class=\"n\">{r[5]} / {r[6]}</td><td class=\"n\">{100 * r[0]:.0f} %</td></tr>")
         if lines:
-            body.append(f"<table><tr><th>lecture section</th><th>case</th><th>tier</th><th>failed</th><th>rate</th></tr>"
-                        f"{''.join(lines)}</table>")
+            body.append(f"<table><tr><th>lecture section</th><th>case</th><th>tier</th><th>weight → points</th>"
+                        f"<th>failed</th><th>rate</th></tr>{''.join(lines)}</table>")
         body.append(f"<p>{passed_by_all} of {len(mine)} cases passed by every student whose step ran.</p>")
 
     # 3. slips
@@ -493,7 +523,12 @@ def similar_section(sim, names: dict) -> list[str]:
 def student_page(st, steps, matches: dict) -> str:
     body = [f"<h1>{e(st.name)}: your results</h1>"]
     if st.data is None:
-        body.append(f"<p>Your submission was not graded: {e(st.row.get('status', ''))}. {e(st.row.get('note', ''))}</p>")
+        status = st.row.get("status", "")
+        if status in NOTHING_SUBMITTED_STATES:      # the student's: no file of a step was found or could be read
+            body.append(f"<p>Nothing submitted: {e(st.row.get('note', '') or 'no step files were found in the upload')}"
+                        f" Your score is 0 of {e(st.row.get('maximum', ''))}.</p>")
+        else:
+            body.append(f"<p>Your submission was not graded: {e(status)}. {e(st.row.get('note', ''))}</p>")
         return page(f"{st.name}: results", body)
     earned = st.shown(st.data.get("score_exact"), st.data.get("score"))       # as the CSV writes it
     maximum = st.shown(st.data.get("max_score_exact"), st.data.get("max_score"))
@@ -543,7 +578,9 @@ def student_page(st, steps, matches: dict) -> str:
     for res in st.steps():
         state = res.get("state")
         tiers = {"basic": 0, "hidden": 1, "robust": 2}
-        bad = sorted((c for c in res.get("cases", []) if c.get("status") != PASS), key=lambda c: tiers.get(c.get("tier"), 3))
+        # The counted cases first, then those that are not (★: extra credit or optional), issue 55.
+        bad = sorted((c for c in res.get("cases", []) if c.get("status") != PASS),
+                     key=lambda c: (not case_worth(course_file.load(), res["step"], c)[0], tiers.get(c.get("tier"), 3)))
         if state == NO_COMPILE:
             body.append(f"<h2>Step {e(res['step'])}: does not compile</h2><pre>{e(res.get('detail', '')[:4000])}</pre>")
             continue
@@ -554,9 +591,11 @@ def student_page(st, steps, matches: dict) -> str:
         for c in bad:
             hidden = c.get("tier") == "hidden"
             mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.get("tier"), "")
-            body.append(f"<h3>{e(c['name'])}{e(mark)}: {e(STATUS_WORDS.get(c.get('status'), c.get('status')))}</h3>")
+            _, worth = case_worth(course_file.load(), res["step"], c)
+            body.append(f"<h3>{e(c['name'])}{e(mark)}: {e(STATUS_WORDS.get(c.get('status'), c.get('status')))} "
+                        f"<span class=\"note\">(weight → points: {e(worth)})</span></h3>")
             if hidden:
-                body.append(f"<p>{e(HIDDEN_NOTE)}</p>")
+                body.append(f"<p>{e(course_file.hidden_note())}</p>")
                 continue
             for msg in (c.get("messages") or [])[:2]:
                 body.append(f"<pre>{e(msg[:3000])}</pre>")

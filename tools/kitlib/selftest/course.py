@@ -16,7 +16,7 @@ from ..common import ROOT, KitError, Step
 from ..gradescope import gradescope, reveal_options
 from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions, tier
+from .harness import Failed, Skipped, expect, kit, need_solutions, said, tier
 
 STEPS = ["01", "02"]
 WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
@@ -308,6 +308,44 @@ def autograde_command(root: Path) -> list[str]:
     return seen[0]
 
 
+def course_cases(steps) -> tuple[dict, dict, list[str]]:
+    """The kit's course.json as data, and a results record of the cases ./kit course reads, both such that
+    the course's own weights stay valid (issue 55: made-up cases matched none of an instructor's per-case
+    and per-section weights, and ./kit course rightly refused them). Each step's cases are its recorded
+    ones (tests/NN_topic/cases.json and the hidden record: the names and lecture sections the weights
+    name). A step with no record yet (a customised copy's step from the template, before its first
+    `./kit check N --record`) gets three made-up cases, and its `weights` are left out of the data: the
+    course "mapped" for them. Returns (data, record, the steps made up)."""
+    from ..checking import recorded_cases
+    data = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
+    listed, made_up = [], []
+    for s in steps:
+        cases = recorded_cases(s)
+        if cases:
+            listed.append({"step": s.number, "cases": [{"tier": c.tier, "name": c.name, "lecture": c.lecture}
+                                                       for c in cases]})
+            continue
+        made_up.append(s.number)
+        listed.append({"step": s.number, "cases": [{"tier": t, "name": n} for t, n in
+                                                   [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]})
+        entry = data.get("steps", {}).get(s.number)
+        if isinstance(entry, dict) and "weights" in entry:
+            data = dict(data, steps=dict(data["steps"], **{s.number: {k: v for k, v in entry.items()
+                                                                      if k != "weights"}}))
+    return data, {"format": "raykit-results", "version": 1, "steps": listed}, made_up
+
+
+def course_total(course, record: dict) -> Fraction:
+    """The total of course.py's documented rules for the cases of `record`: each step's counted cases'
+    shares, by group and by their own weights."""
+    total = Fraction(0)
+    for entry in record["steps"]:
+        cases = [(c["tier"], c["name"], c.get("lecture", "")) for c in entry["cases"]]
+        groups = [course.group(t, n) for t, n, _ in cases]
+        total += course.step_maximum(entry["step"], groups, course.weights_of(entry["step"], cases))
+    return total
+
+
 @tier("quick")
 def selftest_course_table(ctx) -> str:
     need_solutions()    # ./kit course is an instructor's command
@@ -325,21 +363,29 @@ def selftest_course_table(ctx) -> str:
         default = kit("course", "--file", str(plain), "--results", str(fake))
         want = f"Total to enter in Gradescope (the assignment's points): {2 * len(ctx.steps)}"
         expect(default.returncode == 0 and re.search(re.escape(want) + r"\b", default.stdout),
-               f"./kit course --file (the default scale): {default.stdout[-300:]}{default.stderr}")
-        # The kit's own course.json, as the instructor set it: the total its rules give.
-        kits = course_file.read(course_file.COURSE_FILE, [s.number for s in ctx.steps])
-        groups = [kits.group("robust" if t == "robust" else "basic", n) for t, n in
-                  [("basic", "a"), ("basic", "a NaN ray"), ("robust", "b")]]
-        total = sum((_expected_maximum(kits, s.number, groups) for s in ctx.steps), Fraction(0))
-        own = kit("course", "--results", str(fake))
-        expect(own.returncode == 0 and re.search(rf"\(the assignment's points\): {re.escape(str(total))}\b", own.stdout),
-               f"./kit course (the kit's course.json): the total is not {total}: {own.stdout[-300:]}{own.stderr}")
+               f"./kit course --file (the default scale) does not say {want!r}:\n{said(default)}")
+        # The kit's own course.json, as the instructor set it (weights by case and by section included),
+        # on the steps' own cases: the total its rules give.
+        data, record, made_up = course_cases(ctx.steps)
+        kits = course_file.parse(data, [s.number for s in ctx.steps], "course.json")
+        total = course_total(kits, record)
+        own_cases = Path(tmp) / "own-cases.json"
+        own_cases.write_text(json.dumps(record))
+        mapped = Path(tmp) / "course.json"
+        mapped.write_text(json.dumps(data))
+        own = kit("course", *(["--file", str(mapped)] if made_up else []), "--results", str(own_cases))
+        want = f"(the assignment's points): {course_file.exact_text(total)}"
+        expect(own.returncode == 0 and re.search(re.escape(want) + r"\b", own.stdout),
+               f"./kit course (the kit's course.json{', step ' + ', '.join(made_up) + ' made up' if made_up else ''}) "
+               f"does not say {want!r}:\n{said(own)}")
         got = kit("course", "--file", str(weighted), "--results", str(fake))
         want = f"(the assignment's points): {20 * len(ctx.steps)}"
         expect(got.returncode == 0 and re.search(re.escape(want) + r"\b", got.stdout) and "1 × 40/3" in got.stdout and "1 × 20/3" in got.stdout,
-               f"./kit course --file (20 points a step): {got.stdout[-400:]}{got.stderr}")
+               f"./kit course --file (20 points a step) does not say {want!r} nor a core case 40/3:\n{said(got)}")
     return (f"./kit course: {2 * len(ctx.steps)} on the default scale, {20 * len(ctx.steps)} weighted (a core case "
-            f"40/3), {total} on the kit's course.json")
+            f"40/3), {course_file.exact_text(total)} on the kit's course.json and its steps' recorded cases"
+            + (f" (step {', '.join(made_up)} unrecorded: made-up cases, "
+               f"{'its' if len(made_up) == 1 else 'their'} own weights left out)" if made_up else ""))
 
 
 def selftest_roster(ctx) -> str:
@@ -387,7 +433,16 @@ def selftest_roster(ctx) -> str:
            f"alice (step {n} solved): {short or 'the CSV says ' + a[f'step{n}_earned'] + ' of ' + a[f'step{n}_maximum']}, "
            f"full marks are {full}: {a}")
     expect(c["status"] == "not submitted" and c["earned"] == "0" and c["maximum"] == a["maximum"], f"carol (nothing): {c}")
-    expect(b["status"] == "no steps" and b["earned"] == "0" and "No step files found" in b["note"], f"bob (empty): {b}")
+    # bob's empty upload is his: "nothing submitted", 0 points, listed apart from "not graded" (issue 55),
+    # and the exit status stays 0 (README, "Not graded": only the grader's faults make it 1).
+    expect(b["status"] == "nothing submitted" and b["earned"] == "0" and "No step files found" in b["note"],
+           f"bob (empty): {b}")
+    listed = [line for line in r.stdout.splitlines() if line.startswith(("nothing submitted", "not graded"))]
+    empty = sorted(n for n, row in rows.items() if row["status"] == "nothing submitted")
+    expect(any(line.startswith(f"nothing submitted ({len(empty)}") and all(n in line for n in empty) for line in listed)
+           and "bob" in empty
+           and not any(line.startswith("not graded") for line in listed),
+           f"the summary does not list bob's empty upload as nothing submitted, apart: {listed}")
     expect(z["Student ID"] == "" and z["note"].startswith("not on the roster"), f"zed (not on the roster): {z}")
     dup = f"a second {step.files[0]}, left out (graded: a/{step.files[0]})"
     expect(dup in a["note"], f"alice's note does not say, whole, {dup!r}: {a['note']!r}")
@@ -725,6 +780,87 @@ def selftest_course_extra_credit_example(ctx) -> str:
             f"{course.shown(total - bug + bonus)}, a correct solution without it {course.shown(total)}")
 
 
+# Sentences that promise a student their hidden cases' inputs (issue 55: with the reveal off, every failed
+# hidden test on Gradescope and the report's pages still said "its inputs are shown after the due date").
+PROMISES_INPUTS = re.compile(r"inputs?\b[^.;\n]{0,40}\b(?:are|is|will be|get)\s+(?:shown|revealed|visible)"
+                             r"(?![^.;\n]{0,30}\bnot\b)[^.;\n]{0,40}\bafter\b", re.IGNORECASE)
+SAYS_NOT_SHOWN = re.compile(r"inputs?\b[^.;\n]{0,40}\b(?:not|never)\b[^.;\n]{0,20}\bshown|never shows[^.;\n]{0,20}inputs?",
+                            re.IGNORECASE)
+
+
+def rendered_outputs(rs) -> dict[str, str]:
+    """Every text a student reads of results `rs` under the course in use: the terminal's failing cases,
+    Gradescope's results.json (before the due date), PrairieLearn's and Classroom's, the report's student
+    page (from the same results record ./kit grade keeps)."""
+    import contextlib
+    import io
+
+    from .. import record as results_record
+    from ..classroomresults import classroom
+    from ..plresults import prairielearn
+    from ..report import grading as grading_mod
+    from ..report.pages import student_page
+    from ..scoreboard import all_failures
+    out = {}
+    out["the terminal"] = "\n".join(line for r in rs for line in all_failures(r, reveal=False))
+    course = course_file.load()
+    out["Gradescope"] = json.dumps(gradescope(rs, 1.0, course.hidden_visibility, reveal=False), ensure_ascii=False)
+    out["PrairieLearn"] = json.dumps(prairielearn(rs), ensure_ascii=False)
+    out["Classroom"] = json.dumps(classroom(rs), ensure_ascii=False)
+    data = json.loads(json.dumps(results_record.make(rs, 1.0)))
+    st = grading_mod.Student("ada", {"earned": str(data.get("score")), "maximum": str(data.get("max_score"))}, data)
+    said = io.StringIO()
+    with contextlib.redirect_stdout(said):
+        out["the report's student page"] = student_page(st, [r.step for r in rs], {})
+    return out
+
+
+@tier("quick")
+def selftest_words_follow_course(ctx) -> str:
+    """Issue 55 item 3: each output a student reads, rendered under a course that reveals the hidden
+    inputs after the due date and one that never does (and ★ as extra credit or optional): no sentence
+    promises inputs the course never reveals, and the course that reveals says when; the extra credit is
+    named only where the course has it; the report lists counted cases before ★ ones, each with its weight."""
+    import html as html_mod
+    from ..status import FAIL as FAILED_CASE
+    checked = []
+    for reveal in (True, False):
+        for extra in (True, False):
+            data = dict(WEIGHTED, groups=dict(WEIGHTED["groups"], robust={"weight": "1/10", "extra_credit": True}
+                                              if extra else {"weight": 0}),
+                        hidden={"enabled": True, "visibility": "after_due_date", "reveal_after_due_date": reveal})
+            course = course_file.parse(data, STEPS, f"reveal {'on' if reveal else 'off'}, ★ "
+                                                    f"{'extra credit' if extra else 'optional'}")
+            with course_file.using(course):
+                # A core case, the hidden case and a ★ case fail.
+                statuses = [FAILED_CASE, PASS, PASS, PASS, FAILED_CASE, FAILED_CASE, PASS]
+                rs = results({"01": (PARTIAL, statuses), "02": (DONE, ALL)})
+                for name, text in rendered_outputs(rs).items():
+                    text = html_mod.unescape(text)
+                    promised = [m.group(0) for m in PROMISES_INPUTS.finditer(text)]
+                    if not reveal:
+                        expect(not promised, f"{course.source}: {name} promises the hidden inputs: {promised}")
+                    elif name in ("the terminal", "Gradescope", "the report's student page"):
+                        expect(promised, f"{course.source}: {name} does not say the hidden inputs are shown after "
+                                         f"the due date:\n{text[:1500]}")
+                    if not reveal and name in ("the terminal", "Gradescope", "the report's student page", "PrairieLearn"):
+                        expect(SAYS_NOT_SHOWN.search(text), f"{course.source}: {name} does not say the hidden "
+                                                            f"inputs are not shown:\n{text[:1500]}")
+                    if not extra:
+                        expect("extra credit" not in text.lower(), f"{course.source}: {name} speaks of extra credit")
+                    checked.append(name)
+                page = html_mod.unescape(rendered_outputs(rs)["the report's student page"])
+                heads = re.findall(r"<h3>(.*?)</h3>", page)
+                star = [i for i, h in enumerate(heads) if "★" in h]
+                counted = [i for i, h in enumerate(heads) if "★" not in h]
+                expect(heads and all(i < j for i in counted for j in star),
+                       f"{course.source}: the student page lists a ★ case before a counted one: {heads}")
+                expect(all("weight → points" in h for h in heads), f"{course.source}: a case without its weight: {heads}")
+    return (f"{len(checked)} renderings (terminal, Gradescope, PrairieLearn, Classroom, the report's page; reveal on "
+            "and off, ★ extra credit and optional): no promise of inputs the course never shows; counted cases "
+            "first, each with its weight")
+
+
 def selftests():
     return [("course: the default scale", selftest_default_scale),
             ("course: the kit's course.json as set", selftest_kit_course), ("course: weights, exact", selftest_weighted),
@@ -735,7 +871,8 @@ def selftests():
             ("course: weights per case and per section", selftest_case_weights),
             ("course: Gradescope's extra credit on the kit's course", selftest_gradescope_extra_credit),
             ("course: the scale table's example of extra credit against a bug", selftest_course_extra_credit_example),
-            ("course: reveal after the due date", selftest_reveal), ("course: ./kit course", selftest_course_table),
+            ("course: reveal after the due date", selftest_reveal),
+            ("course: the words a student reads follow course.json", selftest_words_follow_course), ("course: ./kit course", selftest_course_table),
             ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
             ("course: step 05 runs without step 04", selftest_step_without_its_need),
             ("course: a handout's total line", selftest_handout_wording),

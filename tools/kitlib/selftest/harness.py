@@ -148,6 +148,20 @@ def kit(*args: str, timeout: float = 600, env: dict | None = None) -> subprocess
                           timeout=timeout, env=dict(os.environ, **env) if env else None)
 
 
+def last_lines(text: str, count: int) -> str:
+    """The last `count` lines of `text`, each whole (a message cut mid-word says nothing)."""
+    lines = text.rstrip().splitlines()
+    return "\n".join((["..."] if len(lines) > count else []) + lines[-count:])
+
+
+def said(r: subprocess.CompletedProcess, lines: int = 12) -> str:
+    """What a command said, for a self-test's failure: its exit status, the last `lines` lines of its
+    output, each whole, and its whole error output (the command's own reason, never cut)."""
+    out = last_lines(r.stdout or "", lines)
+    return (f"exit {r.returncode}" + (f"; its errors:\n{r.stderr.rstrip()}" if (r.stderr or "").strip() else "")
+            + (f"\nits output ends:\n{out}" if out else ""))
+
+
 CLEAR = "\033[2J"       # a terminal's "erase the screen"
 
 

@@ -24,7 +24,7 @@ from .harness import Skipped, expect, tier
 KITLIB = ROOT / "tools" / "kitlib"
 
 LAYERS = [
-    ("core", ["status", "common", "atomic", "course", "secret", "packages", "includes", "relocate", "kitfiles",
+    ("core", ["status", "common", "atomic", "course", "manifest", "secret", "packages", "includes", "relocate", "kitfiles",
               "waits", "submissions", "compilers", "procfs", "pycache", "faults"]),
     ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
                   "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),

@@ -166,8 +166,9 @@ def run_kit(where: Path, *args: str, timeout: float = 900) -> subprocess.Complet
 
 
 def said(r: subprocess.CompletedProcess) -> str:
-    text = (r.stdout + r.stderr).strip()
-    return text if len(text) <= 1800 else text[:600] + "\n...\n" + text[-1200:]
+    """What a command said, long output shortened by whole lines (its first 8 and last 30), never mid-word."""
+    lines = (r.stdout + r.stderr).strip().splitlines()
+    return "\n".join(lines if len(lines) <= 40 else lines[:8] + ["..."] + lines[-30:])
 
 
 def selftest_new_step(ctx) -> str:

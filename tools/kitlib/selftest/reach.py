@@ -58,7 +58,9 @@ from ..common import BUILD, ROOT, load_steps
 from .harness import Skipped, expect, kit, need_solutions, tier
 from .fixtures import fixture_dir
 
-THIRD_PARTY = ROOT.parent / "shared" / "third_party"
+# ../shared/third_party/ beside the kit's clone, or beside the folder of worktrees it is one of.
+THIRD_PARTY = next((p / "shared" / "third_party" for p in (ROOT.parent, ROOT.parent.parent)
+                    if (p / "shared" / "third_party").is_dir()), ROOT.parent / "shared" / "third_party")
 WORK = BUILD / "reach"
 SYSTEM_PYTHON = "/usr/bin/python3"      # Debian's, which sees python3-yaml and python3-jsonschema
 SLIP = ("01_unit_sphere", "a_assumed_one")   # the one-slip repository: step 01 with this mutant
@@ -903,8 +905,77 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
             f"{', '.join(told)}; a complete step 1 without ★ and with, its extra credit 0 and 1")
 
 
+def selftest_prairielearn_from_empty(ctx) -> str:
+    """Issue 55 item 5: ./kit prairielearn --new-course NAME writes a whole course (infoCourse.json with the
+    questions' topic and tags declared, the instance, the assessment, the questions) whose every file
+    PrairieLearn's schemas take and that declares all it uses; --course DIR writes DIR's infoCourse.json
+    with what it lacks added, DIR's own entries kept; the two together are refused."""
+    from ..common import KitError
+    need_solutions()
+    schemas = need_third_party(*PL_SCHEMAS)
+    example = need_third_party("prairielearn", "exampleCourse")
+    need_system_python("jsonschema")
+    course = course_file.load()
+    out = WORK / "pl-from-empty"
+    printed = pl_make(out, course, "--new-course", "CS 419")
+    files = pl_files(out)
+    expect(all(files.values()), f"--new-course: a course without some of its files: "
+                                f"{ {k: len(v) for k, v in files.items()} }")
+    problems = course_problems(schemas, out)
+    expect(not problems, "--new-course: " + "; ".join(problems)[:3000])
+    expect(not printed_declarations(printed), f"--new-course still prints entries to add by hand:\n{printed}")
+    info = json.loads((out / "infoCourse.json").read_text())
+    expect(info.get("name") == "CS 419" and info.get("timezone") == course.timezone,
+           f"--new-course's infoCourse.json: name {info.get('name')!r}, timezone {info.get('timezone')!r} "
+           f"(course.json's {course.timezone!r})")
+    # The check catches a tag left undeclared (so its pass above means something).
+    info["tags"] = info["tags"][:-1]
+    (out / "infoCourse.json").write_text(json.dumps(info))
+    expect(course_problems(schemas, out), "a course with a tag left undeclared passed the check")
+    # Added to a course one has: PrairieLearn's example course, which declares none of the kit's tags.
+    base = example_course(example, WORK / "pl-example-course")
+    theirs = json.loads((base / "infoCourse.json").read_text())
+    added_out = WORK / "pl-added"
+    said = pl_make(added_out, course, "--course", str(base), "--instance", "Spring")
+    merged = json.loads((added_out / "infoCourse.json").read_text())
+    expect(all(merged[k][:len(theirs[k])] == theirs[k] for k in ("topics", "tags"))
+           and {k: v for k, v in merged.items() if k not in ("topics", "tags")}
+           == {k: v for k, v in theirs.items() if k not in ("topics", "tags")},
+           "--course: OUT/infoCourse.json does not keep the course's own entries as they were")
+    target = WORK / "pl-added-course"
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(base, target)
+    for part in ("questions", "courseInstances"):
+        shutil.copytree(added_out / part, target / part, dirs_exist_ok=True)
+    shutil.copyfile(added_out / "infoCourse.json", target / "infoCourse.json")
+    problems = course_problems(schemas, target)
+    expect(not problems, "--course, its infoCourse.json copied over: " + "; ".join(problems)[:3000])
+    try:
+        pl_make(WORK / "pl-both", course, "--new-course", "CS 419", "--course", str(base))
+        raise AssertionError("--new-course with --course was taken")
+    except KitError as e:
+        expect("--new-course" in str(e), f"--new-course with --course: {e}")
+    # The extra-credit twin of each step shows the same definitions (struct Ray and the rest) as the step's page.
+    from .course import extra_credit_course
+    bonus = extra_credit_course([s.number for s in ctx.steps])
+    twins = WORK / "pl-twins"
+    pl_make(twins, bonus, "--new-course", "CS 419")
+    blocks = lambda page: re.findall(r"<summary>((?:The contract|Shared definitions).*?)</summary>", page)
+    pairs = [(q, q.parent / q.name.removesuffix("_extra_credit")) for q in sorted((twins / "questions" / "raykit").glob("*_extra_credit"))]
+    differ = [q.name for q, own in pairs if blocks((q / "question.html").read_text()) != blocks((own / "question.html").read_text())]
+    expect(pairs and not differ, f"extra-credit questions whose definitions differ from their step's page: {differ} "
+                                 f"(of {len(pairs)})")
+    problems = course_problems(schemas, twins)
+    expect(not problems, "--new-course with extra credit: " + "; ".join(problems)[:3000])
+    added = len(merged["tags"]) - len(theirs["tags"])
+    return (f"--new-course: {sum(len(v) for v in files.values())} files, each valid, every topic and tag declared; "
+            f"--course: the example course's infoCourse.json with 1 topic and {added} tags added, valid; {len(pairs)} "
+            "extra-credit questions show their step's definitions; both: refused")
+
+
 def selftests():
     return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
+            ("prairielearn: a whole course from empty, or added to one", selftest_prairielearn_from_empty),
             ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
             ("prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures",
              selftest_prairielearn_complete),

@@ -95,7 +95,7 @@ def selftest_batch_grading(ctx) -> str:
            f"bob (open window): {scale.shown(scale.base(b_step))} counted of {b[f'step{n}_maximum']}: {b}")
     expect("crashed" in c["note"] and c[f"step{n}_state"] == "some cases fail", f"carol (crash): {c}")
     expect("timed_out" in d["note"] and d[f"step{n}_state"] == "some cases fail", f"dave (hang): {d}")
-    expect(e["status"] == "no steps" and "No step files found" in e["note"], f"erin (empty): {e}")
+    expect(e["status"] == "nothing submitted" and "No step files found" in e["note"], f"erin (empty): {e}")
     for row in (f_, g):
         expect(row[f"step{n}_state"] == DONE, f"{row['student']} (zipped or nested solutions): {row}")
     graded = [a, b, c, d, f_, g]
