@@ -569,7 +569,7 @@ def selftest_missing_include_told(ctx) -> str:
                            input="#include <memory>\nint main() { return *std::make_unique<int>(0); }\n",
                            capture_output=True, text=True, timeout=120) if shutil.which("clang++") else None
     if empty is None or empty.returncode != 0:
-        raise Failed("clang++ with libc++ is needed (packages.py's "libcxx" group, which ./kit test installs)")
+        raise Failed("clang++ with libc++ is needed (packages.py's libcxx group, which ./kit test installs)")
     # The student's own check: their steps folder built as ./kit check builds it, with clang and libc++.
     own = Build("stdlib-libcxx", BUILD / "stdlib-libcxx", fixture_dir("missing_include"), fixture_dir("missing_include"), preset="student",
                 tools=False)
@@ -626,7 +626,7 @@ def selftest_abs_one_verdict(ctx) -> str:
             ["clang++", "-stdlib=libc++", "-std=c++17", "-x", "c++", "-", "-o", "/dev/null"],
             input="#include <vector>\nint main() { return std::vector<int>{0}[0]; }\n",
             capture_output=True, text=True, timeout=120).returncode != 0:
-        raise Failed("clang++ with libc++ is needed (packages.py's "libcxx" group, which ./kit test installs)")
+        raise Failed("clang++ with libc++ is needed (packages.py's libcxx group, which ./kit test installs)")
     told = []
     with tempfile.TemporaryDirectory(prefix="raykit-abs-") as tmp:
         probe = Path(tmp) / "probe.cpp"
@@ -744,7 +744,7 @@ def selftest_mac_build(ctx) -> str:
     the calls Linux has and macOS lacks; and no /proc outside the platform file."""
     cxx = ["clang++", "-stdlib=libc++"]
     if shutil.which("clang++") is None or shutil.which("nm") is None:
-        raise Failed("clang++ and nm are needed (packages.py's "libcxx" group, which ./kit test installs)")
+        raise Failed("clang++ and nm are needed (packages.py's libcxx group, which ./kit test installs)")
     sources = student_side_sources()
     proc = [p.relative_to(ROOT).as_posix() for p in sources + sorted((ROOT / "tests" / "support").glob("*.hpp"))
             if p.name != "platform.cpp" and '"/proc' in p.read_text()]
