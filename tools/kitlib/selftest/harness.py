@@ -35,7 +35,7 @@ from ..secret import SECRET_ENV
 from ..status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
-MODULES = ["layers", "ci", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity",
+MODULES = ["layers", "ci", "lint", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity",
            "boundary", "latency", "lectures", "mutant", "render", "pictures", "robust", "robust_line", "grade", "faults", "report",
            "workflow", "newstep", "customised", "watch", "reach", "sanitizers", "lab", "slides", "slips", "draws", "refresh"]
 
