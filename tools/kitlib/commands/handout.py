@@ -46,6 +46,7 @@ EXCLUDED = [
     "tools/test_selftests.py",                             # unittest's view of the self-test, which stays out
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
+    ".github/workflows/ci.yml",                            # .ci/run on GitHub's runners (needs .ci/)
 ]
 # Optional parts dropped whole when a file in them still computes an answer (see the module's comment).
 OPTIONAL_PARTS = ["bench"]

@@ -6,7 +6,8 @@
   handout ships them, never the working tree's, where an instructor may keep answers) and solutions/.
   The style is the one the kit's files were written in, so the check passes without reformatting them,
   and a reformatted solution would change the bundle's key and could stop the mutants' patches applying.
-- .ci/run has no package list of its own: it installs what tools/kitlib/packages.py prints.
+- .ci/run has no package list of its own: it installs what tools/kitlib/packages.py prints; GitHub's
+  workflow .github/workflows/ci.yml runs it as is (not run here: no GitHub runner).
 
 Each check is shown to fail on a planted flaw. Builds nothing: the quick tier.
 """
@@ -138,7 +139,12 @@ def selftest_ci_packages(ctx) -> str:
     planted = code + "\napt-get install -y libc++-dev g++ lldb  # a list of its own\n"
     expect(named(planted, every) == ["g++", "libc++-dev", "lldb"],
            f"a list planted in .ci/run is read as {named(planted, every)}")
-    return f".ci/run installs the {len(listed)} packages packages.py prints, and names none of its own"
+    flow = ROOT / ".github" / "workflows" / "ci.yml"      # GitHub's way in: .ci/run as is (not run here)
+    text = flow.read_text() if flow.is_file() else ""
+    expect(re.search(r"^\s*run: \.ci/run\s*$", text, re.M) and "NOT RUN" in text,
+           f"{flow.relative_to(ROOT)} does not run .ci/run, or does not say it is not run here")
+    return (f".ci/run installs the {len(listed)} packages packages.py prints, and names none of its own; "
+            "ci.yml runs it")
 
 
 def selftests():
