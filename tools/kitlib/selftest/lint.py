@@ -6,6 +6,7 @@
   handout ships them, never the working tree's, where an instructor may keep answers) and solutions/.
   The style is the one the kit's files were written in, so the check passes without reformatting them,
   and a reformatted solution would change the bundle's key and could stop the mutants' patches applying.
+- README.md is a door: at most 150 lines of at most 120 characters, pointing to the pages behind it.
 - .ci/run has no package list of its own: it installs what tools/kitlib/packages.py prints; GitHub's
   workflow .github/workflows/ci.yml runs it as is (not run here: no GitHub runner).
 
@@ -147,7 +148,38 @@ def selftest_ci_packages(ctx) -> str:
             "ci.yml runs it")
 
 
+README_LINES, README_WIDTH = 150, 120
+README_LINKS = ["docs/students.md", "docs/instructors.md", "docs/integrity.md", "CONTRIBUTING.md"]
+
+
+def readme_problems(text: str) -> list[str]:
+    """What keeps a README from being a door: its length, its long lines, a page it must point to."""
+    lines = text.splitlines()
+    found = [f"{len(lines)} lines (at most {README_LINES})"] if len(lines) > README_LINES else []
+    found += [f"line {i} has {len(line)} characters (at most {README_WIDTH})"
+              for i, line in enumerate(lines, 1) if len(line) > README_WIDTH]
+    found += [f"no link to {page}" for page in README_LINKS if f"]({page}" not in text]
+    found += [f"{page} does not exist" for page in README_LINKS if not (ROOT / page).is_file()]
+    found += ["the quick start does not offer ./kit test --quick"] if "./kit test --quick" not in text else []
+    return found
+
+
+@tier("quick")
+def selftest_readme_door(ctx) -> str:
+    """README.md is a door (issue 56): at most 150 lines of at most 120 characters, pointing to the
+    students' and instructors' pages, integrity and CONTRIBUTING, and offering ./kit test --quick; a
+    long line and a lost link planted in a copy are caught."""
+    text = (ROOT / "README.md").read_text()
+    bad = readme_problems(text)
+    expect(not bad, "README.md: " + "; ".join(bad))
+    planted = text.replace("](docs/instructors.md", "](docs/manual.md") + "x" * (README_WIDTH + 1) + "\n"
+    caught = readme_problems(planted)
+    expect(len(caught) >= 2, f"a long line and a lost link planted in the README: {caught}")
+    return f"{len(text.splitlines())} lines, none over {README_WIDTH} characters, the four pages linked"
+
+
 def selftests():
-    return [("pyflakes finds nothing in the kit's Python", selftest_pyflakes),
+    return [("README.md is a door: short, narrow, pointing on", selftest_readme_door),
+            ("pyflakes finds nothing in the kit's Python", selftest_pyflakes),
             ("the stubs and solutions are as .clang-format says", selftest_clang_format),
             (".ci/run installs packages.py's list", selftest_ci_packages)]
