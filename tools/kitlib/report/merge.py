@@ -72,7 +72,7 @@ def merge(folders: list[Path], target: Path) -> list[str]:
     if len({s for s, _ in seen}) > 1:
         where = ", ".join(f"{printable(str(f))} ({s})" for (s, _), f in sorted(seen.items()))
         raise KitError("these gradings drew their hidden inputs with different secrets: " + where + ". Copy "
-                       "tests/hidden/secret.key from one machine to the others (README: one course, several "
+                       "tests/hidden/secret.key from one machine to the others (docs/instructors.md: one course, several "
                        "machines) and grade again there")
     if len({c for _, c in seen}) > 1:
         where = ", ".join(f"{printable(str(f))} ({c})" for (_, c), f in sorted(seen.items()))

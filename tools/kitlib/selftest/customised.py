@@ -20,7 +20,7 @@ the solutions; the step 05 fixtures that read the scene's colours) run twice her
    The copy's new step is not recorded (`./kit check N --record` needs a build): nothing run here reads
    its records. Then the new-step test's choice of number in the copy: the one after that step.
 
-Run it after each change of course.json or the scene (the README says so): 200 s measured on the kit as
+Run it after each change of course.json or the scene (docs/instructors.md says so): 200 s measured on the kit as
 shipped, 290 s on an instructor's customised course at a load of 9, on the shared 2-core machine (its
 summary line gives each run's time).
 """
