@@ -32,17 +32,21 @@ def manifests(root: Path = ROOT) -> list[tuple[str, dict]]:
 def table(root: Path = ROOT) -> str:
     steps = manifests(root)
     drawer = next((folder[:2] for folder, m in steps if "render" in [f["name"] if isinstance(f, dict) else f for f in m.get("functions", [])]), None)
-    header = ("the picture it takes part in" + (f" (drawn with your step {drawer}'s camera and loop, so once step "
-                                                f"{drawer} is written)" if drawer else ""))
+    header = ("its picture" + (f" (drawn with your step {drawer}'s camera and loop, so once step "
+                               f"{drawer} is written)" if drawer else ""))
     lines = [f"| step | what you write | {header} |", "|---|---|---|"]
+    links = []
     for folder, m in steps:
         what = m.get("summary") or m["title"]
         scenes = m.get("scenes") or []
         image = root / "docs" / "images" / f"{scenes[0]['name']}.png" if scenes else None
-        picture = (f"![{m['title']}](docs/images/{image.name})" if image and image.is_file()
+        # The picture by reference, its path below the table: a row stays within the README's 120 columns.
+        picture = (f"![{scenes[0].get('about') or m['title']}][step-{folder[:2]}]" if image and image.is_file()
                    else m.get("picture_note") or "(no picture of its own)")
+        if image and image.is_file():
+            links.append(f"[step-{folder[:2]}]: docs/images/{image.name}")
         lines.append(f"| {folder[:2]} | {what} | {picture} |")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + ([""] + links if links else [])) + "\n"
 
 
 def main(argv: list[str]) -> int:

@@ -442,8 +442,6 @@ def score_line(results) -> str:
     """The scoreboard's total. The instructor's kit: the score on the course's scale. A handout,
     which has no hidden cases: what it can check, and what the course grade adds."""
     course = load()
-    earned = sum((r.earned for r in results), Fraction(0))
-    maximum = sum((r.maximum for r in results), Fraction(0))
     has_hidden = any(c.tier == "hidden" for r in results for c in r.cases)
     missed = [r.step.number for r in results if r.state == NOT_GRADED]
     if missed:      # no verdict for these: a total would read as the student's, so none is given

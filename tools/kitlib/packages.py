@@ -25,31 +25,55 @@ from pathlib import Path
 from .common import KitError, note
 from .status import SETUP
 
-# Debian package names each command needs. The first ./kit call installs what is
-# missing (apt-get, non-interactive, with sudo when not root).
+# Debian package names each command needs, per group, with who needs them: the one list. The first
+# ./kit call installs what is missing of its command's groups (apt-get, non-interactive, with sudo when
+# not root); ./kit test installs every group but those of CI_ONLY first; .ci/run installs all of them
+# (`python3 -m kitlib.packages --ci`, from tools/, prints the list) and has none of its own.
 PACKAGES = {
-    "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev"],
+    "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev"],   # every command
     "render": ["libstb-dev"],           # ./kit render's PNG reader and writer, two headers (in "build" too where apt is)
     "sandbox": ["bubblewrap"],          # grading a folder the kit did not write (sandbox/)
     "debug": ["gdb"],                   # ./kit debug
+    # ./kit debug where there is no gdb (a Mac); the self-tests debug (lldb) and reach (mac) use it here.
+    "lldb": ["lldb"],
     # ./kit bench: Google Benchmark is needed; Embree (the comparison) and Google Highway (the
-    # vector rows; Debian 12 and later) are installed when they can be, and skipped with a note.
+    # vector rows; Debian 12 and later, found with pkg-config) are installed when they can be, and
+    # skipped with a note.
     "bench": ["libbenchmark-dev"],
     "bench-embree": ["libembree-dev"],
-    "bench-hwy": ["libhwy-dev"],
+    "bench-hwy": ["libhwy-dev", "pkg-config"],
     "docs": ["doxygen", "graphviz", "doxygen-awesome-css"],
     # npm installs MathJax for ./kit docs. Node.js from elsewhere (nodesource) ships its own npm and
     # conflicts with Debian's npm package: this group is installed only when no npm is on the PATH.
     "node": ["nodejs", "npm"],
     "report": ["similarity-tester"],   # ./kit report: sim_c++ (its charts are drawn by charts.py)
-    "browser": ["chromium"],            # the browser self-test of the docs
+    "browser": ["chromium"],            # the browser self-test of the docs, the slides' PDF, the lab
     "fuzz": ["clang", "libclang-rt-14-dev"],   # the fuzzing self-test (libFuzzer)
+    # A Mac's standard library on Linux (clang++ -stdlib=libc++): the self-tests check (portable by
+    # construction, one verdict on libc++ and libstdc++) and reach (mac).
+    "libcxx": ["clang", "libc++-dev", "libc++abi-dev"],
+    # Debian's own python3 with YAML and JSON Schema: the self-tests docs (the workflows parse) and
+    # reach (Classroom's workflow, PrairieLearn's schemas), which run /usr/bin/python3.
+    "schemas": ["python3", "python3-yaml", "python3-jsonschema"],
+    # The linters, the self-test lint: pyflakes on the kit's Python, clang-format on the student-side C++.
+    "lint": ["pyflakes3", "clang-format"],
+    # tools/portability/run (CI, and by hand): fresh Debian roots. Not a ./kit command's.
+    "portability": ["debootstrap"],
 }
+# Groups ./kit test does not install: they serve a tool outside the kit's commands.
+CI_ONLY = ["portability"]
 
 
 def instructor_groups() -> list[str]:
-    """Every group ./kit test uses: all of them, Node.js only where npm is missing."""
-    return [g for g in PACKAGES if g != "node" or shutil.which("npm") is None]
+    """Every group ./kit test uses: all of them but CI_ONLY, Node.js only where npm is missing."""
+    return [g for g in PACKAGES if g not in CI_ONLY and (g != "node" or shutil.which("npm") is None)]
+
+
+def ci_packages() -> list[str]:
+    """Every package of every group, once, in the table's order: what .ci/run installs (Node.js only
+    where npm is missing, as for ./kit test)."""
+    groups = instructor_groups() + CI_ONLY
+    return list(dict.fromkeys(n for g in groups for n in PACKAGES[g]))
 
 
 @dataclass(frozen=True)
@@ -328,3 +352,22 @@ def ensure_packages(*groups: str) -> None:
     if ok.returncode != 0:
         raise KitError(f"could not install the packages the kit needs.\n  {apt_failure(ok.stderr, missing)}\n"
                        f"Once that is fixed, run:\n  {command}", SETUP)
+
+
+def main(argv: list[str]) -> int:
+    import argparse
+    p = argparse.ArgumentParser(prog="python3 -m kitlib.packages",
+                                description="The Debian packages the kit needs (tools/kitlib/packages.py).")
+    p.add_argument("--ci", action="store_true", help="every package .ci/run installs, one a line")
+    p.add_argument("--groups", action="store_true", help="each group and its packages")
+    args = p.parse_args(argv)
+    if args.groups:
+        for g, names in PACKAGES.items():
+            print(f"{g}: {' '.join(names)}")
+    else:
+        print("\n".join(ci_packages()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -164,11 +164,6 @@ def part_points(r: StepResult, course, extra_part: bool) -> tuple[list[Fraction]
     return ([c.points for c in scored if c.status == PASS] or [Fraction(0)], [c.points for c in scored] or [Fraction(0)])
 
 
-def bonus_maximum(r: StepResult, course) -> Fraction:
-    """The extra credit a step's cases can add on top of its points."""
-    return sum((c.points for c in split_cases(r, course)[2]), Fraction(0))
-
-
 def write(path: str, results: list[StepResult], shown_dir: str = "", part: str = "step") -> None:
     target = Path(path)
     if not target.parent.is_dir():

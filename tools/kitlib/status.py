@@ -30,7 +30,7 @@ STATE_WORDS = {
 # --- a submission's state in ./kit grade's CSV, when it has no results record -----------------------
 # An upload with no step file, or none that could be read (empty, an unreadable archive, too many
 # files): the student's, not the grader's (issue 55: it was listed as "not graded"). It scores 0 of
-# the maximum and leaves ./kit grade's exit status as it is (README, "Not graded").
+# the maximum and leaves ./kit grade's exit status as it is (docs/instructors.md, "Not graded").
 NOTHING_SUBMITTED = "nothing submitted"
 NOTHING_SUBMITTED_STATES = (NOTHING_SUBMITTED, "no steps")     # "no steps": its name in older CSVs
 

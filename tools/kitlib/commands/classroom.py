@@ -14,7 +14,7 @@ permissions it asks for, one job on ubuntu-latest, one step per test, then the r
 
 What Classroom's grade is worth: the student owns the repository and its workflow, and the check runs
 their steps unsandboxed and without hidden cases (a handout has none), as ./kit check does on their
-laptop. Re-grade the final commits with ./kit grade or Gradescope (README, "GitHub Classroom").
+laptop. Re-grade the final commits with ./kit grade or Gradescope (docs/instructors.md, "Where to grade").
 """
 
 from __future__ import annotations

@@ -63,7 +63,7 @@ def register(p) -> None:
                    help="the long CSV, one row per student and case (default: OUT with -cases before .csv)")
     p.add_argument("--new-secret", action="store_true",
                    help="make the hidden cases' secret (tests/hidden/secret.key) even though the folder graded into "
-                        "holds a grading drawn with another one (README: one course, several machines)")
+                        "holds a grading drawn with another one (docs/instructors.md: one course, several machines)")
 
 
 def columns(steps) -> list[str]:
@@ -367,14 +367,14 @@ def _the_secret(args, json_dir: Path | None) -> bytes | None:
         where = "; ".join(f"{printable(str(p))} names secret {f}" for f, p in named.items())
         raise KitError(f"no secret in {secret_file.SECRET_FILE.relative_to(ROOT)}, and the folder graded into holds "
                        f"a grading drawn with another ({where}). Copy tests/hidden/secret.key from the machine "
-                       "that made it (README: one course, several machines), or, to start a new draw on purpose, "
+                       "that made it (docs/instructors.md: one course, several machines), or, to start a new draw on purpose, "
                        "grade with --new-secret")
     key = secret_file.secret()
     fp = secret_file.fingerprint_of(key)
     say(f"secret: fingerprint {fp} ({secret_file.SECRET_FILE.relative_to(ROOT)}, made now)")
     print(f"warning: this copy of the kit had no secret, so it made a new one ({fp}). Its hidden inputs differ "
           f"from any other machine's: if another machine grades this class, copy its tests/hidden/secret.key "
-          f"here instead (mode 0600), delete this one and grade again (README: one course, several machines)",
+          f"here instead (mode 0600), delete this one and grade again (docs/instructors.md: one course, several machines)",
           file=sys.stderr, flush=True)
     return key
 

@@ -41,10 +41,12 @@ EXCLUDED = [
     # docs/lab/lab.js ships on purpose: the lab is for students. It is JavaScript, which no step can link
     # and the scan does not read, and every formula it evaluates is printed in lectures 01-03.
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
+    "docs/instructors.md", "docs/performance.md",          # the instructor's manual; the kit's own costs
     "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
     "tools/test_selftests.py",                             # unittest's view of the self-test, which stays out
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
+    ".github/workflows/ci.yml",                            # .ci/run on GitHub's runners (needs .ci/)
 ]
 # Optional parts dropped whole when a file in them still computes an answer (see the module's comment).
 OPTIONAL_PARTS = ["bench"]

@@ -12,7 +12,7 @@ import os
 from ..packages import ensure_packages, instructor_groups
 from ..common import KitError, load_steps, say
 from ..status import OK
-from ..selftest.harness import HANDOUT, MODULES, Context, collect, run_all
+from ..selftest.harness import MODULES, Context, collect, run_all
 
 
 
@@ -39,14 +39,13 @@ def register(p) -> None:
 def prepare() -> None:
     """The packages and environment of a self-test run (./kit test's, and unittest's in
     tools/test_selftests.py)."""
-    ensure_packages(*(["build"] if HANDOUT else instructor_groups()))
+    ensure_packages(*instructor_groups())
     # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
     # it would build beside the measured ones. The latency test turns it on where it measures it.
     os.environ["RAYKIT_NO_WARMUP"] = "1"
 
 
 def run(args) -> int:
-    # The instructor's self-test uses every tool (docs, benchmark, fuzzer); a handout only builds.
     unknown = [m for m in args.modules if m.partition(":")[0] not in MODULES]
     if unknown:
         raise KitError(f"no self-test module {', '.join(unknown)}; the modules are {', '.join(MODULES)}")
@@ -56,8 +55,6 @@ def run(args) -> int:
     if args.step is not None:
         if args.quick:
             raise KitError("--step and --quick: choose one")
-        if HANDOUT:
-            raise KitError("--step runs the instructor's checks of a step (solutions, mutants): not in a handout")
         wanted = args.step.zfill(2)
         steps = [s for s in load_steps() if s.number == wanted]
         if not steps:

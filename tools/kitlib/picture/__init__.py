@@ -48,3 +48,14 @@ from .drawing import (render, render_all, SKETCH_COLUMNS, SKETCH_ROWS, sketch, l
                       write)  # noqa: F401
 from .grading import pictures_folder, draw_results  # noqa: F401
 from .gallery import INF, _THROUGH, _WIDE, PITFALLS, write_gallery  # noqa: F401
+
+# The names the package re-exports (pyflakes reads them as used).
+__all__ = ["Fraction", "escape", "WIDTH", "PANEL_MAX_HEIGHT", "PANEL_MIN_HEIGHT", "FAR", "NEARLY_PARALLEL",
+           "EXPECTED_COLOUR", "GOT_COLOUR", "WINDOW_COLOUR", "RAY_COLOUR", "SHAPE_COLOUR", "AXES", "PictureError",
+           "f32", "num", "ulps_apart", "vec", "fmt", "fmt_vec", "fmt_point", "add", "sub", "scale", "inner", "norm",
+           "unit", "cross", "perpendicular", "finite", "_ADVANCE", "text_width", "text_box", "overlap", "wrap_px",
+           "Case", "answer_text", "direction_text", "shape_text", "summary", "summary_of", "Panel", "around",
+           "bounds", "ABOVE", "BELOW", "draw_ray", "mark_answers", "extras", "line_and_centre", "sphere_panels",
+           "rect_panels", "draw_rect", "rect_labels", "render", "render_all", "SKETCH_COLUMNS", "SKETCH_ROWS",
+           "sketch", "legend_svg", "shorten_px", "slug", "write", "pictures_folder", "draw_results", "INF",
+           "_THROUGH", "_WIDE", "PITFALLS", "write_gallery"]

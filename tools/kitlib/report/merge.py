@@ -93,7 +93,7 @@ def _same_judge(gradings: list[Grading]) -> list[dict]:
     if len(seen) > 1:
         where = ", ".join(f"{_where(g)} ({fp})" for fp, g in sorted(seen.items()))
         raise KitError("refused: these gradings drew their hidden inputs with different secrets: " + where + ". Copy "
-                       "tests/hidden/secret.key from one machine to the others (README: one course, several "
+                       "tests/hidden/secret.key from one machine to the others (docs/instructors.md: one course, several "
                        "machines) and grade again there")
     theirs = next(iter(seen))
     key = secret_file.existing()

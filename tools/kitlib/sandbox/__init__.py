@@ -40,3 +40,12 @@ from .bwrap import bwrap_sizes, bwrap_works, compiler_folders, install_bwrap, sy
 from .runner import SANDBOX_FAILED, _run_tool, copy_regular  # noqa: F401
 from .view import Scratch, WITHHELD, WithheldFromOthers, hide_secrets, restore_withheld  # noqa: F401
 from .isolation import Isolation, NONE_OWN, choose  # noqa: F401
+
+# The names the package re-exports (pyflakes reads them as used).
+__all__ = ["HIDDEN", "HIDDEN_TMPFS_BYTES", "Limits", "MiB", "SECRET_PARTS", "SYSTEM", "SYSTEM_ETC", "SYSTEM_LINKS",
+           "COMPILE_UID_OFFSET", "FIRST_UID", "FIRST_UID_ENV", "LOCK_DIRS", "UID_CLAIMS", "UID_RANGE",
+           "claim_range", "claim_uid", "first_uid", "become_subreaper", "kill_session", "kill_uid", "reap_orphans",
+           "session_members", "SHARED_WRITABLE", "clean_uid_files", "clean_uid_ipc", "kill_cgroup", "make_cgroups",
+           "bwrap_sizes", "bwrap_works", "compiler_folders", "install_bwrap", "system_view", "SANDBOX_FAILED",
+           "_run_tool", "copy_regular", "Scratch", "WITHHELD", "WithheldFromOthers", "hide_secrets",
+           "restore_withheld", "Isolation", "NONE_OWN", "choose"]

@@ -20,7 +20,7 @@ from pathlib import Path
 from ..commands import bench as cmd_bench
 from ..common import BUILD, ROOT
 from ..status import NOT_STARTED
-from .harness import Failed, HANDOUT, Skipped, expect, kit, tier
+from .harness import Failed, Skipped, expect, kit, tier
 
 SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",
                    "pbrt_e4", "pbrt_e6", "pbrt_e8", "ground_1e3", "ground_earth"}
@@ -72,8 +72,7 @@ def selftest_quick_run(ctx) -> str:
                     ns = _number(row, "ns_median")
                     expect(math.isfinite(ns) and ns > 0, f"{f + suffix} on {fam}: ns_median {ns}")
                     expect(_number(row, "ulps_p99") >= 0, f"{f + suffix} on {fam}: negative error")
-        if not HANDOUT:  # a handout has no solutions/, so no reference to measure
-            expect(("typical", "kit") in rows, "the kit's reference was not measured")
+        expect(("typical", "kit") in rows, "the kit's reference was not measured")
         expect(("box_camera", "brute_force") in rows, "the Cornell box was not measured")
 
         # Facts about the errors (not the times) that a broken yardstick would miss.
@@ -111,15 +110,9 @@ def selftest_quick_run(ctx) -> str:
 
         data = json.loads((out / "results.json").read_text())
         student = next(v for v in data["variants"] if v["id"] == "student")
-        if HANDOUT:
-            # A student's copy: steps/02 is whatever the student wrote; the bench must say what it is.
-            expect(isinstance(student.get("status"), str) and student["status"] != "",
-                   f"the student's step 02 has no readable status in the benchmark: '{student['status']}'")
-        else:
-            expect(student["status"] == NOT_STARTED,
-                   f"the shipped stub must show as not started in the benchmark, got '{student['status']}'")
-        if not HANDOUT:
-            expect("not started" in r.stdout, "the table does not say the student's step is not started")
+        expect(student["status"] == NOT_STARTED,
+               f"the shipped stub must show as not started in the benchmark, got '{student['status']}'")
+        expect("not started" in r.stdout, "the table does not say the student's step is not started")
 
         svg = ET.parse(out / "plot.svg").getroot()
         expect(svg.tag.endswith("svg"), "plot.svg is not an SVG")
@@ -147,8 +140,7 @@ def rows_as_csv(out: Path) -> dict:
 
 
 def selftest_bad_input(ctx) -> str:
-    # A handout builds only its own benchmark (bench/handout.cpp), with the same command line.
-    exe = BUILD / ("student-tools" if HANDOUT else "reference") / "bench" / cmd_bench.TARGET
+    exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
     expect(exe.is_file(), f"{exe} was not built")
     for args, words in [(["--rays=abc"], "whole number"), (["--rays=-5"], "whole number"),
                         (["--min-time=0"], "seconds"), (["--min-time=nan"], "seconds"),
@@ -186,8 +178,6 @@ def _needs_bench(check):
 def selftest_handout_data(ctx) -> str:
     """The exact roots a handout's bench judges the student with (bench/data/exact_roots.txt) are what the
     instructor's bench computes today for the same rays."""
-    if HANDOUT:
-        raise Skipped("a handout has no instructor's bench to compare with")
     exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
     expect(exe.is_file(), f"{exe} was not built")
     committed = ROOT / "bench" / "data" / "exact_roots.txt"

@@ -43,7 +43,7 @@ from ..sandbox_slots import RUN_PROCESSES
 from ..status import NO_COMPILE
 from . import scale
 from .harness import Failed, Skipped, expect, need_solutions
-from .integrity import isolations, one_slip_folder, printed, processes_named, run_modes, step_results
+from .integrity import isolations, one_slip_folder, printed, processes_named, run_modes
 from .fixtures import fixture_dir
 
 FULL = os.environ.get("RAYKIT_SELFTEST_FULL") == "1"

@@ -24,7 +24,7 @@ The self-tests that make up cases for ./kit course list each step's recorded cas
 weights by case and by section name cases that exist (selftest/course.py, course_cases; issue 55). A failure is said
 whole: each failed self-test's lines, the command's whole error (harness.said).
 
-Run it after each change of course.json or the scene (the README says so): 200 s measured on the kit as
+Run it after each change of course.json or the scene (docs/instructors.md says so): 200 s measured on the kit as
 shipped, 290 s on an instructor's customised course at a load of 9, 302 s on one with weights by case
 and by section, ★ as extra credit, the reveal off, a due date, a new green and a step 06 from the
 template at a load of 7 to 9, on the shared 2-core machine (its summary line gives each run's time).

@@ -251,7 +251,8 @@ def selftest_student_loop_workflow(ctx) -> str:
     """The GitHub Actions workflow that runs the student loop on macOS and Ubuntu runners (#36 item 5;
     not run here): it parses as YAML, runs on both, says it is not run here, and every ./kit line
     names a command the kit has with options that command takes (its own parser reads them); the
-    README's platform table names it. A planted unknown command and a wrong option are caught."""
+    instructors' platform table (docs/instructors.md) names it. A planted unknown command and a wrong
+    option are caught."""
     import json
     import subprocess
     from .. import cli
@@ -293,8 +294,9 @@ def selftest_student_loop_workflow(ctx) -> str:
     for want in ("check", "render", "debug"):
         expect(want in used, f"the workflow never runs ./kit {want}")
     expect(refused(["chekc"]) and refused(["check", "--no-such-option"]), "the check cannot see a wrong command")
-    readme = (ROOT / "README.md").read_text()
-    expect(".github/workflows/student-loop.yml" in readme, "README's platform table does not name the workflow")
+    platforms = ROOT / "docs" / "instructors.md"
+    expect(".github/workflows/student-loop.yml" in platforms.read_text(),
+           "docs/instructors.md's platform table does not name the workflow")
     return f"parses; macOS and Ubuntu; {len(lines)} ./kit lines ({', '.join(used)}) the kit's parser takes"
 
 

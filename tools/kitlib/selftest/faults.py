@@ -334,7 +334,7 @@ def selftest_platforms(ctx) -> str:
         raise Failed("; ".join(problems))
     return (f"judge aborted in step {last}, " + (f"full disk (steps {', '.join(sorted(missed))}), " if disk else "")
             + "killed: Gradescope "
-            f"0 of 0 a step and NOT GRADED, PrairieLearn gradable: false, Classroom error, terminal and record say why"
+            "0 of 0 a step and NOT GRADED, PrairieLearn gradable: false, Classroom error, terminal and record say why"
             + (f"; {skipped}" if skipped else ""))
 
 

@@ -37,7 +37,7 @@ from .. import procfs
 from ..common import BUILD, ROOT
 from ..sandbox import Limits
 from ..sandbox_slots import KIT_TEMP_DIRS
-from .harness import Failed, Skipped, expect, need_solutions
+from .harness import Skipped, expect, need_solutions
 from .integrity import blamed_on_kit, grade_json, isolations, printed, run_modes, statuses
 from .fixtures import fixture_dir
 
@@ -155,7 +155,7 @@ def selftest_classmate_program(ctx) -> str:
                f"classmate_program ({mode}): {records['a_spy']['score']} points, always_miss {base['score']}")
         seen = max([int(n) for n in re.findall(r"saw (\d+) other answers programs", out)] or [0])
         if mode == "user":      # the classmate's program ran beside it: a test that saw none proves little
-            expect(seen >= 1, f"classmate_program (user): saw no other answers program while it looked")
+            expect(seen >= 1, "classmate_program (user): saw no other answers program while it looked")
         return (f"saw {seen} other answers programs, none of this kit's readable, runnable or listable, no "
                 f"answers program's path learnt ({learnt} other paths of this kit's seen), relay refused ({took:.0f} s)")
 

@@ -21,7 +21,6 @@ of today's course.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 from ..status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
 from .fixtures import fixture_dir
