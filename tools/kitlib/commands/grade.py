@@ -34,7 +34,7 @@ from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_
 from ..packages import ensure_packages
 from ..sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
-from ..report.rows import NOT_GRADED_WORDS, csv_safe, csv_text, record_row  # noqa: F401 (the grades CSV's rows)
+from ..report.rows import NOT_GRADED_WORDS, csv_text, record_row
 from ..submissions import NotFound, locate
 from ..status import FAILED, NOTHING_SUBMITTED, OK
 

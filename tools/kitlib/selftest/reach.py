@@ -936,7 +936,7 @@ def selftest_prairielearn_from_empty(ctx) -> str:
     base = example_course(example, WORK / "pl-example-course")
     theirs = json.loads((base / "infoCourse.json").read_text())
     added_out = WORK / "pl-added"
-    said = pl_make(added_out, course, "--course", str(base), "--instance", "Spring")
+    pl_make(added_out, course, "--course", str(base), "--instance", "Spring")
     merged = json.loads((added_out / "infoCourse.json").read_text())
     expect(all(merged[k][:len(theirs[k])] == theirs[k] for k in ("topics", "tags"))
            and {k: v for k, v in merged.items() if k not in ("topics", "tags")}
