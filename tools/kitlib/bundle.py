@@ -219,7 +219,8 @@ def _packages(folder: Path) -> dict[str, int | None]:
 
 def find(sanitize: bool) -> Bundle | None:
     """The bundle for this kit and compiler when it is built; None otherwise (not held: to look only)."""
-    return _load(cache_root() / key(sanitize))
+    root = cache_root()
+    return _load(_own_folder(root, key(sanitize), None))
 
 
 def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: list[str] | None = None) -> Bundle:
@@ -232,7 +233,7 @@ def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: li
     when it cannot be built: the kit's fault or the machine's, never a student's."""
     root = cache_root()
     k = key(sanitize)
-    folder = root / k
+    folder = _own_folder(root, k, parts)
     found = _use(folder, parts)
     if found is not None:
         _touch(folder)
@@ -251,6 +252,24 @@ def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: li
         os.close(lock)
     _prune(root, keep=folder)
     return found
+
+
+def _own_folder(root: Path, k: str, parts: list[str] | None) -> Path:
+    """The folder of the bundle KEY: root/KEY, shared by every copy of the same kit (the key holds the
+    content, not the place). But a part still to build there is built by Ninja in the folder CMake
+    configured, whose checks read the source folder it was configured from: where that copy of the kit
+    is gone (a handout made in a temporary folder), the build would stop. Such a bundle is finished by
+    this copy in a folder of its own, root/KEY-PLACE (pruned like any other)."""
+    folder = root / k
+    try:
+        made_from = json.loads((folder / RECIPE).read_text()).get("source_root", "")
+    except (OSError, ValueError, AttributeError):
+        return folder                   # not configured yet: built here, from this copy
+    if not made_from or made_from == str(ROOT) or Path(made_from).is_dir():
+        return folder
+    if all(mark.is_file() for mark in _marks(folder, parts)):
+        return folder                   # nothing left to build: the gone copy does not matter
+    return root / f"{k}-{hashlib.sha256(str(ROOT).encode()).hexdigest()[:8]}"
 
 
 _held: dict[str, int] = {}      # a bundle's folder: the descriptor of its shared lock, held till the end

@@ -125,6 +125,8 @@ def selftest_grade(ctx) -> str:
     # top when a group is extra credit (scale.py), from each one's record (--report keeps them).
     records = {}
     for j in (out / "report" / "grading" / "json").glob("*.json"):
+        if j.name.startswith("."):
+            continue        # the grading's list of inputs (.judged-by.json), not a student's record
         try:
             records[j.stem] = json.loads(j.read_text())     # named student_file_name(who)
         except ValueError:

@@ -469,7 +469,8 @@ def grade_class_json(folder: Path, mode: str) -> tuple[dict, dict, float]:
         rows = {row["student"]: row for row in csv.DictReader((out / "grades.csv").open())}
         # Each student's record (kitlib/record.py), in the shape grade_json gives: no Gradescope tests.
         data = {p.stem: {"record": rec, "score": rec["score"], "tests": []}
-                for p in (out / "json").glob("*.json") for rec in [json.loads(p.read_text())]}
+                for p in (out / "json").glob("*.json") if not p.name.startswith(".")     # .judged-by.json aside
+                for rec in [json.loads(p.read_text())]}
     finally:
         shutil.rmtree(out, ignore_errors=True)
     after = folder.stat().st_mode

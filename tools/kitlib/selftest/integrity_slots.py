@@ -122,7 +122,8 @@ def grade_together(subs: dict[str, Path], mode: str) -> tuple[dict[str, dict], d
         expect(r.returncode == 0, f"./kit grade -j 2 ({mode}) exited {r.returncode}: {r.stderr[-500:]}")
         rows = {row["student"]: row for row in csv.DictReader((klass / "grades.csv").open())}
         records = {p.stem: {"record": rec, "score": rec["score"]}
-                   for p in (klass / "json").glob("*.json") for rec in [json.loads(p.read_text())]}
+                   for p in (klass / "json").glob("*.json") if not p.name.startswith(".")   # .judged-by.json aside
+                   for rec in [json.loads(p.read_text())]}
     finally:
         shutil.rmtree(klass, ignore_errors=True)
     expect(set(subs) <= set(records), f"./kit grade -j 2 ({mode}): records for {sorted(records)} only")

@@ -103,7 +103,7 @@ def selftest_batch_grading(ctx) -> str:
     expect(float(a["earned"]) > float(b["earned"]) > 0, "scores do not order alice > bob > 0")
     # --json-dir keeps the kit's own record of each student (kitlib/record.py); Gradescope's format is
     # what ./kit check --json writes, for the same grading.
-    records = sorted(jsons.glob("*.json"))
+    records = sorted(p for p in jsons.glob("*.json") if not p.name.startswith("."))   # .judged-by.json aside
     expect(len(records) == 6, "a record per graded student is missing")
     not_records = [j.name for j in records if not is_record(json.loads(j.read_text()))]
     expect(not not_records, f"--json-dir holds files that are not the kit's records: {not_records}")
