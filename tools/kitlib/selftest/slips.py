@@ -53,10 +53,11 @@ def _section_teaching(step, pattern: str, title: bool = False) -> str:
     raise Failed(f"{step.lecture}: no section matches {pattern!r}")
 
 
-def _check(step, fixture: str, work: Path) -> tuple[str, dict]:
-    """./kit check N --steps DIR on a fixture: (stdout, the step's record)."""
+def _check(step, fixture: str, work: Path, env: dict | None = None) -> tuple[str, dict]:
+    """./kit check N --steps DIR on a fixture: (stdout, the step's record); `env` set for it."""
     record = work / f"{fixture}.json"
-    r = kit("check", str(int(step.number)), "--steps", str(fixture_dir("slips") / fixture), "--results", str(record), timeout=900)
+    r = kit("check", str(int(step.number)), "--steps", str(fixture_dir("slips") / fixture), "--results", str(record),
+            timeout=900, env=env)
     expect(r.returncode == 1, f"the planted slip {fixture} exited {r.returncode}, expected 1 (a wrong answer):\n"
                               f"{r.stdout[-1500:]}{r.stderr[-800:]}")
     return r.stdout, json.loads(record.read_text())["steps"][0]
@@ -150,6 +151,50 @@ def selftest_planted_slips(ctx) -> str:
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return "first case shown: " + "; ".join(table)
+
+
+# Issue 54: slips whose first message pointed elsewhere in a student trial, each a fixture of
+# tests/fixtures/slips/ checked as a handout checks it (no catalogue of the course's mutants: only what
+# the judge measures on the code speaks). (fixture, step, words the first message must say, words it
+# must not say: the cause the trial's student was wrongly told, or one alike.) The measured fact comes
+# before the case's own why.
+MISDIRECTED = [
+    ("static_between_calls", "01", "it keeps state between calls", "Report count 0"),
+    ("distance_not_t", "02", "it is a distance along the ray, not the ray parameter", "must be sorted"),
+    ("unit_direction_assumed", "02", "your code assumes a unit direction", "epsilon"),
+    ("origin_not_centred", "02", "your code uses the origin o where it needs o - c", "not from its square"),
+    ("roots_unsorted", "02", "Your roots are in the wrong order", "not from its square"),
+    ("hit_point_normalized", "04", "your code assumes a unit direction", "throws real hits away"),
+    ("bound_copy_pasted", "04", "a bound copied from the line above", "in the other order"),
+    ("bounds_as_ranges", "04", "it reads lo as the range of u and hi as the range of v", "a bound copied"),
+    ("slab_nan", "04", "0 * (1 / 0) = 0 * inf: NaN", "(<=, not <)"),
+    ("integer_half", "05", "In C++ 1 / 2 divides two ints and gives 0", "focal_length in front"),
+    ("mirrored_offset", "05", "half the width minus the pixel's position", "points left"),
+]
+
+
+def selftest_misdirections(ctx) -> str:
+    """Each slip of issue 54's trial, in a handout (no catalogue): its first message names the cause
+    measured on the code, never the one the trial's student was wrongly told; and no hint writes the
+    half sign that reads like a student's 1 / 2."""
+    need_solutions()    # tests/fixtures/ ships in no handout
+    from ..slips import NO_CATALOGUE
+    steps = _steps()
+    work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-misdirected-"))
+    table = []
+    try:
+        for fixture, number, words, not_words in MISDIRECTED:
+            out, _ = _check(steps[number], fixture, work, env={NO_CATALOGUE: "1"})   # what a handout prints
+            block = _first_block(out)
+            why = block.find("why ")
+            expect(words in block and not_words not in block and 0 <= why < block.find(words),
+                   f"{fixture}: the first message does not say '{words}' first, or says '{not_words}':\n{block}")
+            table.append(f"{fixture}: {CASE_LINE.search(block).group(1)[:40]}")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    halves = [s.folder for s in steps.values() if "½" in (ROOT / "tests" / s.folder / "hints.md").read_text()]
+    expect(not halves, f"a hint writes ½, which reads like the student's 1 / 2 (0 in C++): {halves}")
+    return f"{len(MISDIRECTED)} slips named: " + "; ".join(table)
 
 
 def selftest_turned_render(ctx) -> str:
@@ -364,7 +409,7 @@ def first_message(step: Step, result: dict) -> tuple[str, str]:
     --results), the slip matched again with the catalogue as it is now and its words said again."""
     from ..cases import Case, StepResult
     cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
-                  [m.split("\n", 1)[1] if m.startswith(slips.SAID) and "\n" in m else m for m in c["messages"]])
+                  [slips.unsaid(m) for m in c["messages"]])
              for c in result["cases"]]
     slip = slips.match(step, cases)
     shown = StepResult(step, result["state"], cases, slip=slip)
@@ -591,6 +636,7 @@ def selftests():
             ("slips: step 05's first message is a direct case's", selftest_step05_direct_first),
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
             ("slips: the first message names the planted slip", selftest_planted_slips),
+            ("slips: the trial's misdirections are named", selftest_misdirections),
             ("slips: a render turned over", selftest_turned_render),
             ("slips: words that fit the code", selftest_fitting_words)]
 
