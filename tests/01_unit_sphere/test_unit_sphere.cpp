@@ -179,6 +179,22 @@ TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
                  "h = 0 and c = 0, one root t = 0, not NaN.");
 }
 
+TEST_CASE("no state between calls: a miss after a hit is still a miss" *
+          doctest::description("4. What the discriminant says")) {
+    // Asked in one case, so that the verdict is the same whether the cases share a process or not.
+    unit_sphere_roots(seen_a);
+    expect_roots({{-3, 2, 0}, {1, 0, 0}}, none(),
+                 "The line y = 2 never comes within 1 of the centre, whatever was asked before: each answer "
+                 "depends on its ray alone (the task: keep nothing from one call to the next).");
+    unit_sphere_roots(seen_a);
+    expect_roots({{0.5f, 0, 0}, {0, 0, 0}}, none(),
+                 "d = 0 is no ray, whatever was asked before: each answer depends on its ray alone.");
+    intersect_unit_sphere(seen_a, 0, inf);
+    expect_hit({{-3, 2, 0}, {1, 0, 0}}, 0, inf, std::nullopt,
+               "The line y = 2 never meets the sphere, whatever was asked before: each answer depends on its "
+               "arguments alone.");
+}
+
 TEST_CASE("sphere behind the ray: both roots negative" *
           doctest::description("5. The closest root in a window")) {
     expect_roots({{3, 0, 0}, {1, 0, 0}}, two(-4, -2),

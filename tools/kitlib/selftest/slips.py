@@ -53,11 +53,12 @@ def _section_teaching(step, pattern: str, title: bool = False) -> str:
     raise Failed(f"{step.lecture}: no section matches {pattern!r}")
 
 
-def _check(step, fixture: str, work: Path, env: dict | None = None) -> tuple[str, dict]:
-    """./kit check N --steps DIR on a fixture: (stdout, the step's record); `env` set for it."""
+def _check(step, fixture: str, work: Path, env: dict | None = None, *more: str) -> tuple[str, dict]:
+    """./kit check N --steps DIR on a fixture: (stdout, the step's record); `env` set for it, `more`
+    given to ./kit check."""
     record = work / f"{fixture}.json"
     r = kit("check", str(int(step.number)), "--steps", str(fixture_dir("slips") / fixture), "--results", str(record),
-            timeout=900, env=env)
+            *more, timeout=900, env=env)
     expect(r.returncode == 1, f"the planted slip {fixture} exited {r.returncode}, expected 1 (a wrong answer):\n"
                               f"{r.stdout[-1500:]}{r.stderr[-800:]}")
     return r.stdout, json.loads(record.read_text())["steps"][0]
@@ -182,19 +183,43 @@ def selftest_misdirections(ctx) -> str:
     steps = _steps()
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-misdirected-"))
     table = []
+    # Both isolations a foreign folder is graded under: the probes are ordinary calls of the answers
+    # process, alike in each. The user isolation needs root; without it, bubblewrap alone (the default).
+    import os
+    modes = ["bwrap", "user"] if os.geteuid() == 0 else ["bwrap"]
     try:
-        for fixture, number, words, not_words in MISDIRECTED:
-            out, _ = _check(steps[number], fixture, work, env={NO_CATALOGUE: "1"})   # what a handout prints
+        for (fixture, number, words, not_words), mode in ((m, mode) for m in MISDIRECTED for mode in modes):
+            out, _ = _check(steps[number], fixture, work, {NO_CATALOGUE: "1"},   # what a handout prints
+                            "--isolation", mode)
             block = _first_block(out)
             why = block.find("why ")
             expect(words in block and not_words not in block and 0 <= why < block.find(words),
                    f"{fixture}: the first message does not say '{words}' first, or says '{not_words}':\n{block}")
-            table.append(f"{fixture}: {CASE_LINE.search(block).group(1)[:40]}")
+            if mode == modes[0]:
+                table.append(f"{fixture}: {CASE_LINE.search(block).group(1)[:40]}")
     finally:
         shutil.rmtree(work, ignore_errors=True)
     halves = [s.folder for s in steps.values() if "½" in (ROOT / "tests" / s.folder / "hints.md").read_text()]
     expect(not halves, f"a hint writes ½, which reads like the student's 1 / 2 (0 in C++): {halves}")
-    return f"{len(MISDIRECTED)} slips named: " + "; ".join(table)
+    return f"{len(MISDIRECTED)} slips named under {' and '.join(modes)}: " + "; ".join(table)
+
+
+def selftest_slow_named(ctx) -> str:
+    """A right but slow step 01 (a square root by 3,000,000 bisection steps) is done, and its row says
+    how many times the reference's CPU it took, not graded; the reference itself is not called slow."""
+    need_solutions()
+    from ..runcases import SLOW_FACTOR
+    rows = {}
+    for name, folder in (("reference", ROOT / "solutions"), ("slow", fixture_dir("slips") / "slow_sqrt"),
+                         ("reference again", ROOT / "solutions")):
+        r = kit("check", "1", "--steps", str(folder), timeout=900)
+        row = next((l for l in r.stdout.splitlines() if " 01 " in l and ("done" in l or "cases" in l)), "")
+        expect(r.returncode == 0 and "done" in row, f"{name}: step 01 is not done:\n{r.stdout[-1200:]}{r.stderr[-400:]}")
+        rows[name] = row
+    m = re.search(r"slow: (over )?(\d+)× the reference's CPU.*not graded", rows["slow"])
+    expect(m is not None and int(m.group(2)) > SLOW_FACTOR, f"the slow square root's row says no factor: {rows['slow']}")
+    expect("slow" not in rows["reference again"], f"the reference is called slow: {rows['reference again']}")
+    return rows["slow"].split("(slow: ", 1)[1].rstrip(")")
 
 
 def selftest_turned_render(ctx) -> str:
@@ -637,6 +662,7 @@ def selftests():
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
             ("slips: the first message names the planted slip", selftest_planted_slips),
             ("slips: the trial's misdirections are named", selftest_misdirections),
+            ("slips: a right but slow answer is named slow", selftest_slow_named),
             ("slips: a render turned over", selftest_turned_render),
             ("slips: words that fit the code", selftest_fitting_words)]
 
