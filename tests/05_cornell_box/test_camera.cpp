@@ -52,27 +52,25 @@ std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const 
     return "";
 }
 
-// Measured on the answer: the film point is pixel (i, j)'s top-left corner, half a pixel left of and above
-// its centre, which an integer 1 / 2 (it is 0) in i + 1/2 and j + 1/2 gives. Offsets split as mirror_cause's.
-std::string corner_cause(const Camera& camera, int i, int j, const glm::vec3& expected, const glm::vec3& got) {
+// Measured on the answer: the film point is a corner of the pixel, half a pixel above the expected
+// centre and half a pixel across, on the line of the centre's own offset across the film, which an
+// integer 1 / 2 (it is 0) in the pixel's centre gives. Read off the expected point and the pixel's size
+// alone, offsets split as mirror_cause's: the handout ships this file, so no pixel centre is computed.
+std::string corner_cause(const Camera& camera, const glm::vec3& expected, const glm::vec3& got) {
     const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
     const glm::vec3 e = expected - centre, g = got - centre;
     const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
     const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
-    const float W = float(camera.width), H = float(camera.height);
-    const float film_width = camera.film_height * W / H;
+    const float pixel_height = camera.film_height / float(camera.height);
+    const float pixel_width = pixel_height;     // square pixels
     const float tol = 1e-4f * (1.0f + glm::length(e));
-    const float up_corner = (0.5f - float(j) / H) * camera.film_height;
-    if (!(std::fabs(gu - up_corner) <= tol)) return "";
-    const float centre_share = (float(i) + 0.5f) / W - 0.5f, corner_share = float(i) / W - 0.5f;
-    if (std::fabs(centre_share) > 1e-6f) {
-        if (!(glm::length(ga - ea * (corner_share / centre_share)) <= tol)) return "";
-    } else if (!(std::fabs(glm::length(ga) - 0.5f * film_width / W) <= tol)) {
-        return "";
-    }
-    return "Your ray passes through the pixel's top-left corner, half a pixel left of and above its centre: the "
-           "centre is at i + 0.5 and j + 0.5. In C++ 1 / 2 divides two ints and gives 0; write 0.5f "
-           "(lecture 05, section 5). ";
+    if (!(std::fabs((gu - eu) - pixel_height / 2) <= tol)) return "";
+    const glm::vec3 shift = ga - ea;
+    if (!(std::fabs(glm::length(shift) - pixel_width / 2) <= tol)) return "";
+    if (glm::length(ea) > tol && !(glm::length(glm::cross(shift, ea)) <= tol * glm::length(ea))) return "";
+    return "Your ray passes through a corner of the pixel, half a pixel across and half a pixel up from its "
+           "centre: the ray goes through the pixel's centre, half a pixel in from its edges. In C++ 1 / 2 "
+           "divides two ints and gives 0; write 0.5f (lecture 05, section 5). ";
 }
 
 // Measured on the answer: the film point's offset from the film's centre scaled, across the film only
@@ -126,7 +124,7 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     const glm::vec3 got = ray.origin + ray.direction * (camera.focal_length / along);
     const bool ok = glm::length(got - expected) <= 1e-5f * (1.0f + glm::length(expected));
     if (!ok) {
-        const std::string corner = corner_cause(camera, i, j, expected, got);
+        const std::string corner = corner_cause(camera, expected, got);
         FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
                           "a ray through " + show(got) + " (direction " + show(ray.direction) + ")",
                           corner.empty() ? mirror_cause(camera, expected, got) + scale_cause(camera, expected, got) +
