@@ -67,27 +67,41 @@ std::string bound_cause(const Ray& ray, const Rect& rect, float tmin, float tmax
                    "0 / 0, or 0 * (1 / 0) = 0 * inf: NaN, and every comparison with NaN is false. Test that "
                    "coordinate's direction for 0 apart, or compare the hit point's coordinates with lo and hi.";
     }
-    const Rect swapped{rect.axis, rect.offset, {rect.lo.y, rect.lo.x}, {rect.hi.y, rect.hi.x}};
-    if (agree(expected, intersect_rect(ray, swapped, tmin, tmax)))
-        return " Measured on your function: it takes this hit once the rectangle's two in-plane coordinates are "
-               "swapped (lo and hi with x and y exchanged): it takes the in-plane coordinates (u, v) in the other "
-               "order. u and v are the two axes other than the normal's, in increasing order: (y, z) for axis 0, "
-               "(x, z) for axis 1, (x, y) for axis 2.";
-    const char* names[4] = {"lo.x", "hi.x", "lo.y", "hi.y"};
+    // The rest reads the rectangle's bounds in other ways, each of which a point on an edge (where a
+    // strict comparison, or a rounding, decides) could pass by chance: only for a point strictly inside.
     const double pu = double(ray.origin[u]) + t * double(ray.direction[u]);
     const double pv = double(ray.origin[v]) + t * double(ray.direction[v]);
-    const bool within[4] = {rect.lo.x < pu, pu < rect.hi.x, rect.lo.y < pv, pv < rect.hi.y};
-    for (int b = 0; b < 4; ++b) {
-        if (!within[b]) continue;   // a point on the bound: moving it out changes what the point is
+    if (!(rect.lo.x < pu && pu < rect.hi.x && rect.lo.y < pv && pv < rect.hi.y)) return "";
+    // A bound read wrong (one bound moved far out gives the hit) and (u, v) taken in the other order (the
+    // rectangle with x and y exchanged gives it) can read alike on one case: each is said alone only
+    // when the other probe does not give the hit, and together as what both show.
+    const char* names[4] = {"lo.x", "hi.x", "lo.y", "hi.y"};
+    int bound_fix = -1;
+    for (int b = 0; b < 4 && bound_fix < 0; ++b) {
         Rect moved = rect;
         float& bound = b == 0 ? moved.lo.x : b == 1 ? moved.hi.x : b == 2 ? moved.lo.y : moved.hi.y;
         bound += (b % 2 ? 1.0f : -1.0f) * 1e6f;
-        if (agree(expected, intersect_rect(ray, moved, tmin, tmax)))
-            return std::string(" Measured on your function: it takes this hit once ") + names[b] + " alone is moved "
-                   "far out, although the hit point already lies within " + names[b] + ": your code compares a "
-                   "coordinate with " + names[b] + " that it should not (a bound copied from the line above, such as "
-                   "v <= hi.x where v <= hi.y is meant). u is compared with lo.x and hi.x, v with lo.y and hi.y.";
+        if (agree(expected, intersect_rect(ray, moved, tmin, tmax))) bound_fix = b;
     }
+    const Rect swapped{rect.axis, rect.offset, {rect.lo.y, rect.lo.x}, {rect.hi.y, rect.hi.x}};
+    const bool swap_fix = agree(expected, intersect_rect(ray, swapped, tmin, tmax));
+    const std::string order = "u and v are the two axes other than the normal's, in increasing order: (y, z) for "
+                              "axis 0, (x, z) for axis 1, (x, y) for axis 2.";
+    if (bound_fix >= 0 && swap_fix)
+        return std::string(" Measured on your function: it takes this hit once ") + names[bound_fix] + " alone is "
+               "moved far out, and also once the rectangle's x and y are exchanged (lo and hi alike), though the "
+               "hit point lies inside: a comparison pairs a coordinate with the other one's bound, or (u, v) are "
+               "taken in the other order. u is compared with lo.x and hi.x, v with lo.y and hi.y; " + order;
+    if (bound_fix >= 0)
+        return std::string(" Measured on your function: it takes this hit once ") + names[bound_fix] + " alone is "
+               "moved far out, although the hit point already lies within " + names[bound_fix] + ": your code "
+               "compares a coordinate with " + names[bound_fix] + " that it should not (a bound copied from the line "
+               "above, such as v <= hi.x where v <= hi.y is meant). u is compared with lo.x and hi.x, v with lo.y "
+               "and hi.y.";
+    if (swap_fix)
+        return " Measured on your function: it takes this hit once the rectangle's two in-plane coordinates are "
+               "swapped (lo and hi with x and y exchanged), and with no single bound moved: it takes the in-plane "
+               "coordinates (u, v) in the other order. " + order;
     const Rect ranges{rect.axis, rect.offset, {rect.lo.x, rect.hi.x}, {rect.lo.y, rect.hi.y}};
     if (agree(expected, intersect_rect(ray, ranges, tmin, tmax)))
         return " Measured on your function: it takes this hit once lo is made (lo.x, hi.x) and hi (lo.y, hi.y): "

@@ -68,6 +68,9 @@ inline std::optional<float> scaled(const std::optional<float>& r, float k) {
     return r ? std::optional<float>(*r * k) : std::nullopt;
 }
 
+inline bool has_nan(const Roots& r) { return std::isnan(r.t[0]) || std::isnan(r.t[1]); }
+inline bool has_nan(const std::optional<float>& r) { return r && std::isnan(*r); }
+
 inline bool has_answer(const Roots& r) { return r.count > 0; }
 inline bool has_answer(const std::optional<float>& r) { return r.has_value(); }
 
@@ -79,20 +82,29 @@ inline bool has_answer(const std::optional<float>& r) { return r.has_value(); }
 /// the relations hold.
 template <class Answer, class Result>
 std::string parameter_cause(const glm::vec3& d, const Result& expected, const Result& got, Answer answer) {
-    if (!has_answer(expected) || agree(expected, got)) return "";
+    // A NaN answer is a message of its own (check_roots names it), and no relation holds of NaN.
+    if (!has_answer(expected) || agree(expected, got) || has_nan(got)) return "";
     const float len = length_of(d);
+    const Result twice = answer(2.0f);
+    if (has_nan(twice)) return "";
     if (len != 0.0f && std::fabs(len - 1.0f) > 1e-3f) {
-        if (agree(scaled(expected, len), got))
+        // Each claim checked twice: the expected t times |d| may be another root by chance (1 and 2 for
+        // |d| = 2), so a distance must also stay the same when d doubles; and code right at length 1 may
+        // be wrong only for a short d (one it takes for zero), so a unit direction assumed must also fail
+        // at length 2.
+        if (agree(scaled(expected, len), got) && agree(got, twice))
             return " Measured on your function: its t is the expected t times |d| = " + show(len) +
-                   ": it is a distance along the ray, not the ray parameter. t counts steps of d (the point is "
-                   "o + t d), so with a longer d the same point is reached at a smaller t.";
-        if (agree(scaled(expected, len), answer(1.0f / len)))
+                   ", and stays the same when d doubles: it counts distance along the ray, not steps of d (a "
+                   "distance t |d| returned, or d taken as a unit vector somewhere, a = d.d as 1, gives this). t is "
+                   "the ray parameter: the point is o + t d, so with a longer d the same point is reached at a "
+                   "smaller t.";
+        if (agree(scaled(expected, len), answer(1.0f / len)) &&
+            !agree(scaled(expected, len / 2), answer(2.0f / len)))
             return " Measured on your function: on the same line with d scaled to length 1 it is right, and "
                    "with this d, of length " + show(len) + ", it is not: your code assumes a unit direction "
                    "somewhere (a = d.d taken as 1, or a normalize(d) on the way). t counts steps of d, whatever "
                    "its length; nothing in the task makes d a unit vector.";
     }
-    const Result twice = answer(2.0f);
     if (!has_answer(got) || !has_answer(twice)) return "";
     if (agree(scaled(got, 0.5f), twice)) return "";
     if (agree(got, twice))
@@ -113,11 +125,12 @@ namespace raykit::grading {
 template <class Result, class Moved>
 std::string translation_cause(const glm::vec3& o, const glm::vec3& c, const Result& expected, const Result& got,
                               Moved moved) {
-    if (agree(expected, got) || c == glm::vec3(0.0f)) return "";
+    if (agree(expected, got) || c == glm::vec3(0.0f) || has_nan(got)) return "";
     for (int k = 0; k < 3; ++k)
-        if (double(o[k] - c[k]) != double(o[k]) - double(c[k])) return "";
+        if (!std::isfinite(o[k]) || !std::isfinite(c[k]) || double(o[k] - c[k]) != double(o[k]) - double(c[k]))
+            return "";
     const Result there = moved();
-    if (agree(got, there)) return "";
+    if (agree(got, there) || same_answer(got, there) || has_nan(there)) return "";
     if (agree(expected, there))
         return " Measured on your function: moved together with the sphere so that the centre is at the origin "
                "(the same ray relative to the sphere), it is right; here, with the centre elsewhere, it is not. "

@@ -161,7 +161,7 @@ def selftest_planted_slips(ctx) -> str:
 # before the case's own why.
 MISDIRECTED = [
     ("static_between_calls", "01", "it keeps state between calls", "Report count 0"),
-    ("distance_not_t", "02", "it is a distance along the ray, not the ray parameter", "must be sorted"),
+    ("distance_not_t", "02", "it counts distance along the ray, not steps of d", "must be sorted"),
     ("unit_direction_assumed", "02", "your code assumes a unit direction", "epsilon"),
     ("origin_not_centred", "02", "your code uses the origin o where it needs o - c", "not from its square"),
     ("roots_unsorted", "02", "Your roots are in the wrong order", "not from its square"),
