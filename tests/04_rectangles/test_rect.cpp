@@ -91,13 +91,14 @@ std::string bound_cause(const Ray& ray, const Rect& rect, float tmin, float tmax
         return std::string(" Measured on your function: it takes this hit once ") + names[bound_fix] + " alone is "
                "moved far out, and also once the rectangle's x and y are exchanged (lo and hi alike), though the "
                "hit point lies inside: a comparison pairs a coordinate with the other one's bound, or (u, v) are "
-               "taken in the other order. u is compared with lo.x and hi.x, v with lo.y and hi.y; " + order;
+               "taken in the other order (or the point compared is not o + t d). u is compared with lo.x and hi.x, "
+               "v with lo.y and hi.y; " + order;
     if (bound_fix >= 0)
         return std::string(" Measured on your function: it takes this hit once ") + names[bound_fix] + " alone is "
-               "moved far out, although the hit point already lies within " + names[bound_fix] + ": your code "
-               "compares a coordinate with " + names[bound_fix] + " that it should not (a bound copied from the line "
-               "above, such as v <= hi.x where v <= hi.y is meant). u is compared with lo.x and hi.x, v with lo.y "
-               "and hi.y.";
+               "moved far out, although the hit point already lies within " + names[bound_fix] + ": either a "
+               "comparison reads " + names[bound_fix] + " for the other coordinate (a bound copied from the line "
+               "above, such as v <= hi.x where v <= hi.y is meant), or the point your code compares is not the hit "
+               "point o + t d. u is compared with lo.x and hi.x, v with lo.y and hi.y.";
     if (swap_fix)
         return " Measured on your function: it takes this hit once the rectangle's two in-plane coordinates are "
                "swapped (lo and hi with x and y exchanged), and with no single bound moved: it takes the in-plane "

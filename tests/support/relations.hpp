@@ -91,15 +91,18 @@ std::string parameter_cause(const glm::vec3& d, const Result& expected, const Re
         // Each claim checked twice: the expected t times |d| may be another root by chance (1 and 2 for
         // |d| = 2), so a distance must also stay the same when d doubles; and code right at length 1 may
         // be wrong only for a short d (one it takes for zero), so a unit direction assumed must also fail
-        // at length 2.
+        // at another ordinary length (a wrong hit point may still fall inside the shape at some).
         if (agree(scaled(expected, len), got) && agree(got, twice))
             return " Measured on your function: its t is the expected t times |d| = " + show(len) +
                    ", and stays the same when d doubles: it counts distance along the ray, not steps of d (a "
                    "distance t |d| returned, or d taken as a unit vector somewhere, a = d.d as 1, gives this). t is "
                    "the ray parameter: the point is o + t d, so with a longer d the same point is reached at a "
                    "smaller t.";
-        if (agree(scaled(expected, len), answer(1.0f / len)) &&
-            !agree(scaled(expected, len / 2), answer(2.0f / len)))
+        bool wrong_elsewhere = false;   // at a length 2^k, k = +-1 .. +-6 (a short d taken for zero is right there)
+        for (int k = 1; k <= 6 && !wrong_elsewhere; ++k)
+            for (const float l : {std::ldexp(1.0f, k), std::ldexp(1.0f, -k)})
+                wrong_elsewhere = wrong_elsewhere || !agree(scaled(expected, len / l), answer(l / len));
+        if (agree(scaled(expected, len), answer(1.0f / len)) && wrong_elsewhere)
             return " Measured on your function: on the same line with d scaled to length 1 it is right, and "
                    "with this d, of length " + show(len) + ", it is not: your code assumes a unit direction "
                    "somewhere (a = d.d taken as 1, or a normalize(d) on the way). t counts steps of d, whatever "

@@ -166,7 +166,7 @@ MISDIRECTED = [
     ("origin_not_centred", "02", "your code uses the origin o where it needs o - c", "not from its square"),
     ("roots_unsorted", "02", "Your roots are in the wrong order", "not from its square"),
     ("hit_point_normalized", "04", "your code assumes a unit direction", "throws real hits away"),
-    ("bound_copy_pasted", "04", "a bound copied from the line above", "in the other order"),
+    ("bound_copy_pasted", "04", "a comparison reads hi.x for the other coordinate", "in the other order"),
     ("bounds_as_ranges", "04", "it reads lo as the range of u and hi as the range of v", "a bound copied"),
     ("slab_nan", "04", "0 * (1 / 0) = 0 * inf: NaN", "(<=, not <)"),
     ("integer_half", "05", "In C++ 1 / 2 divides two ints and gives 0", "focal_length in front"),
