@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "../support/grading.hpp"
+#include "../support/relations.hpp"
 #include "raykit/unit_sphere.hpp"
 
 using namespace raykit;
@@ -24,8 +25,24 @@ Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
 Roots none() { return Roots{}; }
 
+// Two rays the visible cases show (roots 2 and 4; 1 and 2): the calls made before a case's own again, to
+// measure hidden state (relations.hpp).
+const Ray seen_a{{-3, 0, 0}, {1, 0, 0}}, seen_b{{-3, 0, 0}, {2, 0, 0}};
+
+// A wrong answer is measured first (relations.hpp: no state, t the ray parameter), then the call checked
+// is made again, so that the last call, which the case's picture records, is the one checked.
 void expect_roots(const Ray& ray, const Roots& expected, const std::string& why) {
-    check_roots("unit_sphere_roots(ray)", show(ray), expected, unit_sphere_roots(ray), why);
+    Roots got = unit_sphere_roots(ray);
+    std::string fact;
+    if (!agree(expected, got)) {
+        fact = state_cause([&] { return unit_sphere_roots(ray); }, [] { unit_sphere_roots(seen_a); },
+                           [] { unit_sphere_roots(seen_b); });
+        if (fact.empty())
+            fact = parameter_cause(ray.direction, expected, got,
+                                   [&](float k) { return unit_sphere_roots({ray.origin, ray.direction * k}); });
+        got = unit_sphere_roots(ray);
+    }
+    check_roots("unit_sphere_roots(ray)", show(ray), expected, got, with_fact(fact, why));
 }
 
 // An own epsilon's probe (grading.hpp, own_epsilon): from (-2, 0, 0) with the direction (1/t, 0, 0) the
@@ -34,9 +51,19 @@ std::optional<float> hit_at(float t) { return intersect_unit_sphere({{-2, 0, 0},
 
 void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
+    std::string fact;
+    if (!agree(expected, intersect_unit_sphere(ray, tmin, tmax))) {
+        fact = state_cause([&] { return intersect_unit_sphere(ray, tmin, tmax); },
+                           [] { intersect_unit_sphere(seen_a, 0, inf); }, [] { intersect_unit_sphere(seen_b, 0, inf); });
+        if (fact.empty())
+            fact = parameter_cause(ray.direction, expected, intersect_unit_sphere(ray, tmin, tmax), [&](float k) {
+                return intersect_unit_sphere({ray.origin, ray.direction * k}, tmin / k, tmax / k);
+            });
+    }
     check_hit_in("intersect_unit_sphere(ray, tmin, tmax)",
                  show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "]", tmin, tmax, expected,
-                 [&](float lo, float hi) { return intersect_unit_sphere(ray, lo, hi); }, why, hit_at);
+                 [&](float lo, float hi) { return intersect_unit_sphere(ray, lo, hi); }, with_fact(fact, why),
+                 hit_at);
 }
 
 // The ray most window cases use: along +x from (-3, 0, 0), roots 2 and 4.
@@ -150,6 +177,19 @@ TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
     expect_roots({{0, 0, -1}, {3, 4, 0}}, one(0),
                  "o = (0, 0, -1) is on the sphere and d = (3, 4, 0) is perpendicular to o: "
                  "h = 0 and c = 0, one root t = 0, not NaN.");
+}
+
+TEST_CASE("no state between calls: a miss after a hit is still a miss" *
+          doctest::description("4. What the discriminant says")) {
+    // Asked in one case, so that the verdict is the same whether the cases share a process or not.
+    unit_sphere_roots(seen_a);
+    expect_roots({{-3, 2, 0}, {1, 0, 0}}, none(),
+                 "The line y = 2 never comes within 1 of the centre, whatever was asked before: each answer "
+                 "depends on its ray alone (the task: keep nothing from one call to the next).");
+    intersect_unit_sphere(seen_a, 0, inf);
+    expect_hit({{-3, 2, 0}, {1, 0, 0}}, 0, inf, std::nullopt,
+               "The line y = 2 never meets the sphere, whatever was asked before: each answer depends on its "
+               "arguments alone.");
 }
 
 TEST_CASE("sphere behind the ray: both roots negative" *

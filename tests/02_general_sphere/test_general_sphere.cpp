@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "../support/grading.hpp"
+#include "../support/relations.hpp"
 #include "raykit/general_sphere.hpp"
 
 using namespace raykit;
@@ -24,9 +25,41 @@ Roots two(float t0, float t1) { return Roots{2, {t0, t1}}; }
 Roots one(float t) { return Roots{1, {t, t}}; }
 Roots none() { return Roots{}; }
 
+// A ray and a sphere the visible cases show (roots 2 and 4; 3 and 9): the calls made before a case's own
+// again, to measure hidden state (relations.hpp).
+const Ray seen_a{{-1, -2, 3}, {2, 0, 0}}, seen_b{{-4, 1, 0}, {1, 0, 0}};
+const Sphere seen_a_ball{{5, -2, 3}, 2}, seen_b_ball{{2, 1, 0}, 3};
+
+// The relations a wrong answer is measured with (relations.hpp), the first broken one said: no state,
+// t the ray parameter, t unchanged when the ray and the sphere move together. `call(ray, sphere, k)` asks
+// the function with ray and sphere, the direction multiplied by k (and a window divided by it).
+template <class Call, class Result>
+std::string measured(const Ray& ray, const Sphere& sphere, const Result& expected, const Result& got, Call call) {
+    std::string fact = state_cause([&] { return call(ray, sphere, 1.0f); }, [&] { call(seen_a, seen_a_ball, 1.0f); },
+                                   [&] { call(seen_b, seen_b_ball, 1.0f); });
+    if (fact.empty())
+        fact = translation_cause(ray.origin, sphere.center, expected, got, [&] {
+            return call(Ray{ray.origin - sphere.center, ray.direction}, Sphere{{0, 0, 0}, sphere.radius}, 1.0f);
+        });
+    if (fact.empty())
+        fact = parameter_cause(ray.direction, expected, got,
+                               [&](float k) { return call(ray, sphere, k); });
+    return fact;
+}
+
+// A wrong answer is measured first, then the call checked is made again, so that the last call, which
+// the case's picture records, is the one checked.
 void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, const std::string& why) {
-    check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(sphere), expected,
-                sphere_roots(ray, sphere), why);
+    Roots got = sphere_roots(ray, sphere);
+    std::string fact;
+    if (!agree(expected, got)) {
+        fact = measured(ray, sphere, expected, got, [](const Ray& r, const Sphere& s, float k) {
+            return sphere_roots({r.origin, r.direction * k}, s);
+        });
+        got = sphere_roots(ray, sphere);
+    }
+    check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(sphere), expected, got,
+                with_fact(fact, why));
 }
 
 // An own epsilon's probe (grading.hpp, own_epsilon): from (-2, 0, 0) with the direction (1/t, 0, 0) the
@@ -37,10 +70,16 @@ std::optional<float> hit_at(float t) {
 
 void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
+    std::string fact;
+    const std::optional<float> first = intersect_sphere(ray, sphere, tmin, tmax);
+    if (!agree(expected, first))
+        fact = measured(ray, sphere, expected, first, [&](const Ray& r, const Sphere& s, float k) {
+            return intersect_sphere({r.origin, r.direction * k}, s, tmin / k, tmax / k);
+        });
     check_hit_in("intersect_sphere(ray, sphere, tmin, tmax)",
                  show(ray) + "; sphere " + show(sphere) + "; window [" + show(tmin) + ", " + show(tmax) + "]",
                  tmin, tmax, expected, [&](float lo, float hi) { return intersect_sphere(ray, sphere, lo, hi); },
-                 why, hit_at);
+                 with_fact(fact, why), hit_at);
 }
 
 // Most cases use this sphere: centre (5, -2, 3), radius 2. It spans x from 3

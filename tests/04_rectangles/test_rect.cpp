@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "../support/grading.hpp"
+#include "../support/relations.hpp"
 #include "raykit/rect.hpp"
 
 using namespace raykit;
@@ -25,18 +26,109 @@ std::string show(const Rect& r) {
            grading::show(r.lo) + ", hi " + grading::show(r.hi) + "}";
 }
 
+// A rectangle and rays the visible cases show (wide, a hit at t = 5 and a miss beyond hi.x), the calls made
+// before a case's own again to measure hidden state (relations.hpp).
+const Rect wide_seen{2, 5.0f, {-3.0f, -1.0f}, {3.0f, 1.0f}};
+Ray along_z_seen(float x, float y) { return Ray{{x, y, 0.0f}, {0.0f, 0.0f, 1.0f}}; }
+
 // An own epsilon's probe (grading.hpp, own_epsilon): from the origin with the direction (0, 0, 1/t) the
 // ray meets the square z = 1, -1 <= x, y <= 1, at t (exactly, for t a power of two), in the window [0, inf].
 std::optional<float> hit_at(float t) {
     return intersect_rect({{0, 0, 0}, {0, 0, 1 / t}}, Rect{2, 1.0f, {-1.0f, -1.0f}, {1.0f, 1.0f}}, 0, inf);
 }
 
+// Facts measured on a missed hit inside the rectangle (relations.hpp's kind: the function asked again on
+// the case's own ray and rectangle, changed): a hit on an edge that a ray arriving there at a slant
+// gets, and a ray with no motion along that coordinate, its origin on the edge's line, does not (0 x inf
+// or 0 / 0 = NaN in a slab test); which of the four bounds, moved far out, gives the hit although the
+// point lies strictly within it (a comparison that reads the wrong bound: v <= hi.x); a rectangle whose
+// lo and hi are taken as the ranges of u and v. Empty otherwise.
+std::string bound_cause(const Ray& ray, const Rect& rect, float tmin, float tmax, const std::optional<float>& expected,
+                        const std::optional<float>& got) {
+    if (!expected || got || rect.axis < 0 || rect.axis > 2) return "";
+    const int u = rect.axis == 0 ? 1 : 0, v = rect.axis == 2 ? 1 : 2;
+    const double t = *expected;
+    // An edge's line through the origin, with no motion along it: the same point reached at a slant.
+    for (const int k : {u, v}) {
+        const float p = ray.origin[k];
+        const bool on_edge = p == (k == u ? rect.lo.x : rect.lo.y) || p == (k == u ? rect.hi.x : rect.hi.y);
+        if (!on_edge || ray.direction[k] != 0.0f) continue;
+        const float slope = 0x1p-12f;
+        const double start = double(p) - t * slope;
+        if (double(float(start)) != start) continue;
+        Ray slant = ray;
+        slant.origin[k] = float(start);
+        slant.direction[k] = slope;
+        if (agree(expected, intersect_rect(slant, rect, tmin, tmax)))
+            return std::string(" Measured on your function: it takes this same point on the edge from a ray that "
+                   "arrives there at a slant, and misses it from this ray, which does not move along ") +
+                   (k == 0 ? "x" : k == 1 ? "y" : "z") + " and starts on the edge's line: the edges are counted, and "
+                   "what fails is that coordinate's zero direction. A slab computation gives (edge - origin) / 0 = "
+                   "0 / 0, or 0 * (1 / 0) = 0 * inf: NaN, and every comparison with NaN is false. Test that "
+                   "coordinate's direction for 0 apart, or compare the hit point's coordinates with lo and hi.";
+    }
+    // The rest reads the rectangle's bounds in other ways, each of which a point on an edge (where a
+    // strict comparison, or a rounding, decides) could pass by chance: only for a point strictly inside.
+    const double pu = double(ray.origin[u]) + t * double(ray.direction[u]);
+    const double pv = double(ray.origin[v]) + t * double(ray.direction[v]);
+    if (!(rect.lo.x < pu && pu < rect.hi.x && rect.lo.y < pv && pv < rect.hi.y)) return "";
+    // A bound read wrong (one bound moved far out gives the hit) and (u, v) taken in the other order (the
+    // rectangle with x and y exchanged gives it) can read alike on one case: each is said alone only
+    // when the other probe does not give the hit, and together as what both show.
+    const char* names[4] = {"lo.x", "hi.x", "lo.y", "hi.y"};
+    int bound_fix = -1;
+    for (int b = 0; b < 4 && bound_fix < 0; ++b) {
+        Rect moved = rect;
+        float& bound = b == 0 ? moved.lo.x : b == 1 ? moved.hi.x : b == 2 ? moved.lo.y : moved.hi.y;
+        bound += (b % 2 ? 1.0f : -1.0f) * 1e6f;
+        if (agree(expected, intersect_rect(ray, moved, tmin, tmax))) bound_fix = b;
+    }
+    const Rect swapped{rect.axis, rect.offset, {rect.lo.y, rect.lo.x}, {rect.hi.y, rect.hi.x}};
+    const bool swap_fix = agree(expected, intersect_rect(ray, swapped, tmin, tmax));
+    const std::string order = "u and v are the two axes other than the normal's, in increasing order: (y, z) for "
+                              "axis 0, (x, z) for axis 1, (x, y) for axis 2.";
+    if (bound_fix >= 0 && swap_fix)
+        return std::string(" Measured on your function: it takes this hit once ") + names[bound_fix] + " alone is "
+               "moved far out, and also once the rectangle's x and y are exchanged (lo and hi alike), though the "
+               "hit point lies inside: a comparison pairs a coordinate with the other one's bound, or (u, v) are "
+               "taken in the other order (or the point compared is not o + t d). u is compared with lo.x and hi.x, "
+               "v with lo.y and hi.y; " + order;
+    if (bound_fix >= 0)
+        return std::string(" Measured on your function: it takes this hit once ") + names[bound_fix] + " alone is "
+               "moved far out, although the hit point already lies within " + names[bound_fix] + ": either a "
+               "comparison reads " + names[bound_fix] + " for the other coordinate (a bound copied from the line "
+               "above, such as v <= hi.x where v <= hi.y is meant), or the point your code compares is not the hit "
+               "point o + t d. u is compared with lo.x and hi.x, v with lo.y and hi.y.";
+    if (swap_fix)
+        return " Measured on your function: it takes this hit once the rectangle's two in-plane coordinates are "
+               "swapped (lo and hi with x and y exchanged), and with no single bound moved: it takes the in-plane "
+               "coordinates (u, v) in the other order. " + order;
+    const Rect ranges{rect.axis, rect.offset, {rect.lo.x, rect.hi.x}, {rect.lo.y, rect.hi.y}};
+    if (agree(expected, intersect_rect(ray, ranges, tmin, tmax)))
+        return " Measured on your function: it takes this hit once lo is made (lo.x, hi.x) and hi (lo.y, hi.y): "
+               "it reads lo as the range of u and hi as the range of v. lo and hi are two corners: u runs from lo.x "
+               "to hi.x, and v from lo.y to hi.y.";
+    return "";
+}
+
 void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
-    // A wrong answer is measured first (an epsilon of the code's own), then the call checked is made again.
+    // A wrong answer is measured first (no state, t the ray parameter, a bound read wrong, an own epsilon),
+    // then the call checked is made again.
     std::string because = why;
     const std::optional<float> first = intersect_rect(ray, rect, tmin, tmax);
-    if (!agree(expected, first)) because += epsilon_cause(tmin, tmax, expected, first, hit_at);
+    if (!agree(expected, first)) {
+        std::string fact = state_cause([&] { return intersect_rect(ray, rect, tmin, tmax); },
+                                       [] { intersect_rect(along_z_seen(0, 0), wide_seen, 0, inf); },
+                                       [] { intersect_rect(along_z_seen(3.5f, 0), wide_seen, 0, inf); });
+        if (fact.empty())
+            fact = parameter_cause(ray.direction, expected, first, [&](float k) {
+                return intersect_rect({ray.origin, ray.direction * k}, rect, tmin / k, tmax / k);
+            });
+        if (fact.empty()) fact = bound_cause(ray, rect, tmin, tmax, expected, first);
+        because = with_fact(fact, why);
+        if (fact.empty()) because += epsilon_cause(tmin, tmax, expected, first, hit_at);
+    }
     check_hit("intersect_rect(ray, rect, tmin, tmax)",
               grading::show(ray) + ",\n            " + show(rect) + ", window [" + grading::show(tmin) +
                   ", " + grading::show(tmax) + "]",
@@ -119,11 +211,11 @@ TEST_CASE("a miss beyond the bottom edge y = -1" * doctest::description("4. Insi
 }
 
 TEST_CASE("a hit exactly on the right edge counts" * doctest::description("4. Inside the rectangle")) {
-    expect_hit(along_z(3, 0), wide, 5.0f, "x = 3 equals hi.x: edges belong to the rectangle (<=, not <).");
+    expect_hit(along_z(3, 0), wide, 5.0f, "x = 3 equals hi.x. Edges belong to the rectangle (<=, not <).");
 }
 
 TEST_CASE("a hit exactly on the bottom edge counts" * doctest::description("4. Inside the rectangle")) {
-    expect_hit(along_z(0, -1), wide, 5.0f, "y = -1 equals lo.y: edges belong to the rectangle (<=, not <).");
+    expect_hit(along_z(0, -1), wide, 5.0f, "y = -1 equals lo.y. Edges belong to the rectangle (<=, not <).");
 }
 
 TEST_CASE("a hit exactly on a corner counts" * doctest::description("4. Inside the rectangle")) {

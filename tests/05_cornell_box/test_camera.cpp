@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "cornell_checks.hpp"
+#include "../support/relations.hpp"
 #include "raykit/render.hpp"
 
 using namespace raykit;
@@ -38,8 +39,10 @@ std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const 
     const bool across_same = glm::length(ga - ea) <= tol, across_flipped = glm::length(ea) > tol && glm::length(ga + ea) <= tol;
     const bool up_same = std::fabs(gu - eu) <= tol, up_flipped = std::fabs(eu) > tol && std::fabs(gu + eu) <= tol;
     if (across_flipped && up_same)
-        return "Your point is the expected one mirrored left to right: right must be forward x up; up x forward "
-               "points left (lecture 05, section 5). ";
+        return "Your point is the expected one mirrored left to right: your offset across the film grows to the "
+               "left as i grows. Either right is taken as up x forward (it must be forward x up), or the offset is "
+               "taken as half the width minus the pixel's position, where it is ((i + 0.5) / width - 0.5) times "
+               "the film's width (lecture 05, section 5). ";
     if (up_flipped && across_same)
         return "Your point is the expected one mirrored top to bottom: row 0 is the top of the image, so the "
                "offset along up is (1/2 - (j + 1/2) / height) * film_height (lecture 05, section 6). ";
@@ -47,6 +50,27 @@ std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const 
         return "Your point is the expected one mirrored both ways, left to right and top to bottom: right is "
                "forward x up, row 0 the top (lecture 05, sections 5 and 6). ";
     return "";
+}
+
+// Measured on the answer: the film point is a corner of the pixel, half a pixel above the expected
+// centre and half a pixel across, on the line of the centre's own offset across the film, which an
+// integer 1 / 2 (it is 0) in the pixel's centre gives. Read off the expected point and the pixel's size
+// alone, offsets split as mirror_cause's: the handout ships this file, so no pixel centre is computed.
+std::string corner_cause(const Camera& camera, const glm::vec3& expected, const glm::vec3& got) {
+    const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
+    const glm::vec3 e = expected - centre, g = got - centre;
+    const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
+    const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
+    const float pixel_height = camera.film_height / float(camera.height);
+    const float pixel_width = pixel_height;     // square pixels
+    const float tol = 1e-4f * (1.0f + glm::length(e));
+    if (!(std::fabs((gu - eu) - pixel_height / 2) <= tol)) return "";
+    const glm::vec3 shift = ga - ea;
+    if (!(std::fabs(glm::length(shift) - pixel_width / 2) <= tol)) return "";
+    if (glm::length(ea) > tol && !(glm::length(glm::cross(shift, ea)) <= tol * glm::length(ea))) return "";
+    return "Your ray passes through a corner of the pixel, half a pixel across and half a pixel up from its "
+           "centre: the ray goes through the pixel's centre, half a pixel in from its edges. In C++ 1 / 2 "
+           "divides two ints and gives 0; write 0.5f (lecture 05, section 5). ";
 }
 
 // Measured on the answer: the film point's offset from the film's centre scaled, across the film only
@@ -100,10 +124,12 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     const glm::vec3 got = ray.origin + ray.direction * (camera.focal_length / along);
     const bool ok = glm::length(got - expected) <= 1e-5f * (1.0f + glm::length(expected));
     if (!ok) {
+        const std::string corner = corner_cause(camera, expected, got);
         FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
                           "a ray through " + show(got) + " (direction " + show(ray.direction) + ")",
-                          mirror_cause(camera, expected, got) + scale_cause(camera, expected, got) +
-                              film_point_cause(camera, ray, expected) + why));
+                          corner.empty() ? mirror_cause(camera, expected, got) + scale_cause(camera, expected, got) +
+                                                   film_point_cause(camera, ray, expected) + why
+                                             : corner + first_sentence(why)));
     }
 }
 

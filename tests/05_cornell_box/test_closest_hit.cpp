@@ -6,6 +6,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -94,6 +95,23 @@ std::string loop_cause(const Scene& scene, const Ray& ray, float tmin, float tma
     return text;
 }
 
+// A relation every right answer keeps (relations.hpp's kind): the same objects listed in the reverse order
+// change the index, never the t. Measured where loop_cause found nothing: the function asked again with
+// the list reversed. Empty when the two t agree (or neither is a hit).
+std::string order_cause(const Scene& scene, const Ray& ray, float tmin, float tmax, const std::optional<Hit>& got) {
+    if (scene.objects.size() < 2) return "";
+    Scene reversed = scene;
+    std::reverse(reversed.objects.begin(), reversed.objects.end());
+    const std::optional<Hit> other = find_intersection(ray, reversed, tmin, tmax);
+    const bool same = got.has_value() == other.has_value() && (!got || close(got->t, other->t));
+    if (same) return "";
+    auto t_of = [](const std::optional<Hit>& h) { return h ? "t = " + show(h->t) : std::string("no hit"); };
+    return " Measured on your function: the same objects listed in the reverse order give " + t_of(other) +
+           ", where this order gives " + t_of(got) + ". The order of the list may change which index wins a tie, "
+           "never the t: the closest hit is the smallest t in the window whatever the order, so compare each "
+           "object's t with the best found so far.";
+}
+
 void expect(const Scene& scene, const Ray& ray, float tmin, float tmax, std::optional<Hit> expected,
             const std::string& why) {
     std::optional<Hit> got = find_intersection(ray, scene, tmin, tmax);
@@ -102,7 +120,8 @@ void expect(const Scene& scene, const Ray& ray, float tmin, float tmax, std::opt
                (!expected || (got->index == expected->index && close(expected->t, got->t)));
     };
     if (!right()) {
-        const std::string measured = loop_cause(scene, ray, tmin, tmax, expected, got);
+        std::string measured = loop_cause(scene, ray, tmin, tmax, expected, got);
+        if (measured.empty()) measured = order_cause(scene, ray, tmin, tmax, got);
         got = find_intersection(ray, scene, tmin, tmax);   // the call the case records
         FAIL_CHECK(report("find_intersection(ray, scene, tmin, tmax)",
                           show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "],\n            scene" +

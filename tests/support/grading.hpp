@@ -124,7 +124,8 @@ inline void check_roots(const std::string& call, const std::string& input,
                     "inf - inf. Know the count first, and take the square root only of a discriminant that is not "
                     "negative.");
     if (got.count == 2 && !(got.t[0] <= got.t[1]))
-        return fail("Roots must be sorted: t[0] <= t[1].");
+        return fail("Roots must be sorted: t[0] <= t[1]. Your roots are in the wrong order: the smaller t, the "
+                    "nearer point, comes first, whatever the direction.", false);   // a rule of its own: no why
     if (got.count == 1 && !(got.t[0] == got.t[1]))
         return fail("For a tangent both entries hold the same root: t[0] == t[1].");
     for (int i = 0; i < expected.count; ++i) {

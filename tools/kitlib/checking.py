@@ -202,7 +202,8 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         record_reference_time(build, step, budget, cases)
         spent = budget.spent()
         cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],
-                "cpu_budget": budget.cpu, "wait_budget": budget.wait}
+                "cpu_budget": budget.cpu, "wait_budget": budget.wait,
+                **({"reference_cpu": budget.reference["cpu"]} if budget.reference else {})}
     finally:
         scratch.close()
         if ledger_dir:

@@ -142,6 +142,30 @@ def step_budget(step: Step, ledger: Path) -> Budget:
     return Budget(cpu, wait, CASE_SHARE * case_seconds, ledger, ref)
 
 
+# Speed is part of the course, but not of the grade: where a step's calls took more than SLOW_FACTOR
+# times the CPU the reference's took on this machine (REFERENCE_TIMES, measured when the solutions were
+# last graded here, so only where solutions/ is: a handout says nothing), the scoreboard says so beside
+# the verdict, with the factor. A reference's figure below CPU_FLOOR seconds is taken as CPU_FLOOR: the
+# CPU clock and a busy machine move such small figures by their own size, and a factor over them would
+# be noise.
+SLOW_FACTOR = 3.0
+CPU_FLOOR = 0.05
+
+
+def speed_note(cost: dict | None) -> str:
+    """"slow: N× the reference's CPU ..." for a step's cost (StepResult.cost), or "" (not slow, or no
+    reference figure)."""
+    try:
+        cpu, ref = float((cost or {})["cpu"]), float((cost or {})["reference_cpu"])
+    except (KeyError, TypeError, ValueError):
+        return ""
+    base = max(ref, CPU_FLOOR)
+    if not cpu > SLOW_FACTOR * base:
+        return ""
+    factor = f"{cpu / base:.0f}×" if ref >= CPU_FLOOR else f"over {cpu / base:.0f}×"
+    return f"slow: {factor} the reference's CPU, {cpu:.2f} s against {ref:.2f} s on this machine; not graded"
+
+
 def record_reference_time(build: Build, step: Step, budget: Budget, cases: list[Case]) -> None:
     """When the files graded are the reference's own and every case passed, what its calls took is
     kept as the reference's figure on this machine (REFERENCE_TIMES)."""

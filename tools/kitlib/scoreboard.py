@@ -17,6 +17,7 @@ from .checking import Progress
 from .course import hidden_note, score_line as course_score_line
 from .common import ROOT, Step, paint, say
 from .robust_line import robust_line
+from .runcases import speed_note
 from .sandbox import NONE_OWN
 from .status import NOT_GRADED, DONE, MISSING, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, STATUS_WORDS, WAITING
 
@@ -60,6 +61,9 @@ def status_cell(r: StepResult) -> tuple[str, str]:
         kinds = sorted({STATUS_WORDS[c.status] for c in incidents})
         extra += "  (" + ", ".join(f"{k} in {sum(STATUS_WORDS[c.status] == k for c in incidents)} case(s)"
                                    for k in kinds) + ")"
+    if r.state == DONE:     # measured by the kit, never graded (runcases.speed_note)
+        slow = speed_note(r.cost)
+        extra += f"  ({slow})" if slow else ""
     again = [c for c in r.cases if c.runs > 1]
     if again:   # counts only: the first runs' words may hold a hidden case's inputs
         kept = sum(c.status == PASS for c in again)

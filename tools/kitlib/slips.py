@@ -20,6 +20,7 @@ from __future__ import annotations
 import functools
 import json
 import os
+import re
 
 from .common import ROOT, Step
 from .mutants import MUTANTS, PatchError, read_patch
@@ -101,12 +102,29 @@ def words(slip: dict) -> str:
             f"cause is one of them{more}: {said}.")
 
 
+# How the judge begins a fact it measured on the student's own function (tests/support/relations.hpp,
+# grading.hpp's window_cause and epsilon_cause): such a fact comes before any guess of the catalogue's.
+MEASURED = re.compile(r"Measured on your (function|answer):")
+
+
 def say(result) -> None:
     """Puts the known slip's words (result.slip, when set) above the report of the case a student is
-    shown first, in the same message: the case still reports one call."""
+    shown first, in the same message: the case still reports one call. Where that report holds a fact
+    measured on the student's function, the fact comes first and the catalogue's likely cause after it."""
     if not result.slip:
         return
     first = result.first_problem()
     if first is not None:
         said = words(result.slip)
-        first.messages = [said + ("\n" + first.messages[0] if first.messages else "")] + list(first.messages[1:])
+        if first.messages and MEASURED.search(first.messages[0]):
+            first.messages = [first.messages[0].rstrip("\n") + "\n" + said] + list(first.messages[1:])
+        else:
+            first.messages = [said + ("\n" + first.messages[0] if first.messages else "")] + list(first.messages[1:])
+
+
+def unsaid(message: str) -> str:
+    """A first message without the catalogue's words say() put in it (above the report, or after it)."""
+    if message.startswith(SAID) and "\n" in message:
+        return message.split("\n", 1)[1]
+    at = message.rfind("\n" + SAID)
+    return message[:at] if at >= 0 and MEASURED.search(message[:at]) else message

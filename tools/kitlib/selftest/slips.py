@@ -53,10 +53,12 @@ def _section_teaching(step, pattern: str, title: bool = False) -> str:
     raise Failed(f"{step.lecture}: no section matches {pattern!r}")
 
 
-def _check(step, fixture: str, work: Path) -> tuple[str, dict]:
-    """./kit check N --steps DIR on a fixture: (stdout, the step's record)."""
+def _check(step, fixture: str, work: Path, env: dict | None = None, *more: str) -> tuple[str, dict]:
+    """./kit check N --steps DIR on a fixture: (stdout, the step's record); `env` set for it, `more`
+    given to ./kit check."""
     record = work / f"{fixture}.json"
-    r = kit("check", str(int(step.number)), "--steps", str(fixture_dir("slips") / fixture), "--results", str(record), timeout=900)
+    r = kit("check", str(int(step.number)), "--steps", str(fixture_dir("slips") / fixture), "--results", str(record),
+            *more, timeout=900, env=env)
     expect(r.returncode == 1, f"the planted slip {fixture} exited {r.returncode}, expected 1 (a wrong answer):\n"
                               f"{r.stdout[-1500:]}{r.stderr[-800:]}")
     return r.stdout, json.loads(record.read_text())["steps"][0]
@@ -150,6 +152,74 @@ def selftest_planted_slips(ctx) -> str:
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return "first case shown: " + "; ".join(table)
+
+
+# Issue 54: slips whose first message pointed elsewhere in a student trial, each a fixture of
+# tests/fixtures/slips/ checked as a handout checks it (no catalogue of the course's mutants: only what
+# the judge measures on the code speaks). (fixture, step, words the first message must say, words it
+# must not say: the cause the trial's student was wrongly told, or one alike.) The measured fact comes
+# before the case's own why.
+MISDIRECTED = [
+    ("static_between_calls", "01", "it keeps state between calls", "Report count 0"),
+    ("distance_not_t", "02", "it counts distance along the ray, not steps of d", "must be sorted"),
+    ("unit_direction_assumed", "02", "your code assumes a unit direction", "epsilon"),
+    ("origin_not_centred", "02", "your code uses the origin o where it needs o - c", "not from its square"),
+    ("roots_unsorted", "02", "Your roots are in the wrong order", "not from its square"),
+    ("hit_point_normalized", "04", "your code assumes a unit direction", "throws real hits away"),
+    ("bound_copy_pasted", "04", "a comparison reads hi.x for the other coordinate", "in the other order"),
+    ("bounds_as_ranges", "04", "it reads lo as the range of u and hi as the range of v", "a bound copied"),
+    ("slab_nan", "04", "0 * (1 / 0) = 0 * inf: NaN", "(<=, not <)"),
+    ("integer_half", "05", "In C++ 1 / 2 divides two ints and gives 0", "focal_length in front"),
+    ("mirrored_offset", "05", "half the width minus the pixel's position", "points left"),
+]
+
+
+def selftest_misdirections(ctx) -> str:
+    """Each slip of issue 54's trial, in a handout (no catalogue): its first message names the cause
+    measured on the code, never the one the trial's student was wrongly told; and no hint writes the
+    half sign that reads like a student's 1 / 2."""
+    need_solutions()    # tests/fixtures/ ships in no handout
+    from ..slips import NO_CATALOGUE
+    steps = _steps()
+    work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-misdirected-"))
+    table = []
+    # Both isolations a foreign folder is graded under: the probes are ordinary calls of the answers
+    # process, alike in each. The user isolation needs root; without it, bubblewrap alone (the default).
+    import os
+    modes = ["bwrap", "user"] if os.geteuid() == 0 else ["bwrap"]
+    try:
+        for (fixture, number, words, not_words), mode in ((m, mode) for m in MISDIRECTED for mode in modes):
+            out, _ = _check(steps[number], fixture, work, {NO_CATALOGUE: "1"},   # what a handout prints
+                            "--isolation", mode)
+            block = _first_block(out)
+            why = block.find("why ")
+            expect(words in block and not_words not in block and 0 <= why < block.find(words),
+                   f"{fixture}: the first message does not say '{words}' first, or says '{not_words}':\n{block}")
+            if mode == modes[0]:
+                table.append(f"{fixture}: {CASE_LINE.search(block).group(1)[:40]}")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    halves = [s.folder for s in steps.values() if "½" in (ROOT / "tests" / s.folder / "hints.md").read_text()]
+    expect(not halves, f"a hint writes ½, which reads like the student's 1 / 2 (0 in C++): {halves}")
+    return f"{len(MISDIRECTED)} slips named under {' and '.join(modes)}: " + "; ".join(table)
+
+
+def selftest_slow_named(ctx) -> str:
+    """A right but slow step 01 (a square root by 3,000,000 bisection steps) is done, and its row says
+    how many times the reference's CPU it took, not graded; the reference itself is not called slow."""
+    need_solutions()
+    from ..runcases import SLOW_FACTOR
+    rows = {}
+    for name, folder in (("reference", ROOT / "solutions"), ("slow", fixture_dir("slips") / "slow_sqrt"),
+                         ("reference again", ROOT / "solutions")):
+        r = kit("check", "1", "--steps", str(folder), timeout=900)
+        row = next((l for l in r.stdout.splitlines() if " 01 " in l and ("done" in l or "cases" in l)), "")
+        expect(r.returncode == 0 and "done" in row, f"{name}: step 01 is not done:\n{r.stdout[-1200:]}{r.stderr[-400:]}")
+        rows[name] = row
+    m = re.search(r"slow: (over )?(\d+)× the reference's CPU.*not graded", rows["slow"])
+    expect(m is not None and int(m.group(2)) > SLOW_FACTOR, f"the slow square root's row says no factor: {rows['slow']}")
+    expect("slow" not in rows["reference again"], f"the reference is called slow: {rows['reference again']}")
+    return rows["slow"].split("(slow: ", 1)[1].rstrip(")")
 
 
 def selftest_turned_render(ctx) -> str:
@@ -364,7 +434,7 @@ def first_message(step: Step, result: dict) -> tuple[str, str]:
     --results), the slip matched again with the catalogue as it is now and its words said again."""
     from ..cases import Case, StepResult
     cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
-                  [m.split("\n", 1)[1] if m.startswith(slips.SAID) and "\n" in m else m for m in c["messages"]])
+                  [slips.unsaid(m) for m in c["messages"]])
              for c in result["cases"]]
     slip = slips.match(step, cases)
     shown = StepResult(step, result["state"], cases, slip=slip)
@@ -591,6 +661,8 @@ def selftests():
             ("slips: step 05's first message is a direct case's", selftest_step05_direct_first),
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
             ("slips: the first message names the planted slip", selftest_planted_slips),
+            ("slips: the trial's misdirections are named", selftest_misdirections),
+            ("slips: a right but slow answer is named slow", selftest_slow_named),
             ("slips: a render turned over", selftest_turned_render),
             ("slips: words that fit the code", selftest_fitting_words)]
 

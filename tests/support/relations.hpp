@@ -1,0 +1,160 @@
+// Facts measured on the student's own function (issue 54): relations that every correct answer keeps,
+// whatever its formula, asked of the function with the case's own input or with rays the visible cases
+// show. A broken relation is a fact about the code, said before any guess ("your function answers
+// differently after another call: it keeps state"); a kept one proves nothing and says nothing.
+//
+// The relations:
+//   - no hidden state: the same call answers alike after any other call;
+//   - t is the ray parameter: scaling d by k > 0 divides t by k (and the window by k with it), so the same
+//     line with d scaled to length 1 has t times |d|;
+//   - moving the ray's origin and the sphere together leaves t unchanged (step 02).
+//
+// The sentences name no input: a hidden case's message must not carry its inputs.
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "grading.hpp"
+
+namespace raykit::grading {
+
+inline bool same_answer(const Roots& a, const Roots& b) {
+    if (a.count != b.count) return false;
+    for (int i = 0; i < 2; ++i)
+        if (!(a.t[i] == b.t[i] || (std::isnan(a.t[i]) && std::isnan(b.t[i])))) return false;
+    return true;
+}
+
+inline bool same_answer(const std::optional<float>& a, const std::optional<float>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    return !a || *a == *b || (std::isnan(*a) && std::isnan(*b));
+}
+
+/// No hidden state: `call()` made after `before1()` and again after `before2()` (calls on other inputs)
+/// must answer alike. Empty when it does.
+template <class Call, class Before1, class Before2>
+std::string state_cause(Call call, Before1 before1, Before2 before2) {
+    before1();
+    const auto first = call();
+    before2();
+    const auto second = call();
+    if (same_answer(first, second)) return "";
+    return " Measured on your function: it answers this same call differently after another call (called "
+           "once after one ray and once after another, it gave two answers): it keeps state between calls, "
+           "such as a static or global variable holding an earlier call's result. Each answer must depend "
+           "on this call's arguments alone.";
+}
+
+/// |d| (0 for a zero or infinite d). d / |d| is exact when |d| is a power of two, and within a rounding
+/// otherwise: the basic tolerance holds a million of those.
+inline float length_of(const glm::vec3& d) {
+    const double dd = double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z;
+    if (!(dd > 0.0) || !std::isfinite(dd)) return 0.0f;
+    const float len = static_cast<float>(std::sqrt(dd));
+    return std::isfinite(len) && len > 0.0f ? len : 0.0f;
+}
+
+inline Roots scaled(const Roots& r, float k) {
+    Roots out = r;
+    for (int i = 0; i < r.count; ++i) out.t[i] = r.t[i] * k;
+    return out;
+}
+
+inline std::optional<float> scaled(const std::optional<float>& r, float k) {
+    return r ? std::optional<float>(*r * k) : std::nullopt;
+}
+
+inline bool has_nan(const Roots& r) { return std::isnan(r.t[0]) || std::isnan(r.t[1]); }
+inline bool has_nan(const std::optional<float>& r) { return r && std::isnan(*r); }
+
+inline bool has_answer(const Roots& r) { return r.count > 0; }
+inline bool has_answer(const std::optional<float>& r) { return r.has_value(); }
+
+/// t is the ray parameter: measured on `answer(d_scale)`, the function asked on the same line with the
+/// direction multiplied by `d_scale` (and a window divided by it). `expected` and `got` are this call's.
+/// Says, in this order, what the answers show: the answer is the expected t times |d| (a distance); the
+/// function is right with d scaled to length 1 and wrong with this d (it assumes a unit direction); its
+/// t does not halve when d doubles. Empty when the direction is of length 1, the answer is right, or
+/// the relations hold.
+template <class Answer, class Result>
+std::string parameter_cause(const glm::vec3& d, const Result& expected, const Result& got, Answer answer) {
+    // A NaN answer is a message of its own (check_roots names it), and no relation holds of NaN.
+    if (!has_answer(expected) || agree(expected, got) || has_nan(got)) return "";
+    const float len = length_of(d);
+    const Result twice = answer(2.0f);
+    if (has_nan(twice)) return "";
+    if (len != 0.0f && std::fabs(len - 1.0f) > 1e-3f) {
+        // Each claim checked twice: the expected t times |d| may be another root by chance (1 and 2 for
+        // |d| = 2), so a distance must also stay the same when d doubles; and code right at length 1 may
+        // be wrong only for a short d (one it takes for zero), so a unit direction assumed must also fail
+        // at another ordinary length (a wrong hit point may still fall inside the shape at some).
+        if (agree(scaled(expected, len), got) && agree(got, twice))
+            return " Measured on your function: its t is the expected t times |d| = " + show(len) +
+                   ", and stays the same when d doubles: it counts distance along the ray, not steps of d (a "
+                   "distance t |d| returned, or d taken as a unit vector somewhere, a = d.d as 1, gives this). t is "
+                   "the ray parameter: the point is o + t d, so with a longer d the same point is reached at a "
+                   "smaller t.";
+        bool wrong_elsewhere = false;   // at a length 2^k, k = +-1 .. +-6 (a short d taken for zero is right there)
+        for (int k = 1; k <= 6 && !wrong_elsewhere; ++k)
+            for (const float l : {std::ldexp(1.0f, k), std::ldexp(1.0f, -k)})
+                wrong_elsewhere = wrong_elsewhere || !agree(scaled(expected, len / l), answer(l / len));
+        if (agree(scaled(expected, len), answer(1.0f / len)) && wrong_elsewhere)
+            return " Measured on your function: on the same line with d scaled to length 1 it is right, and "
+                   "with this d, of length " + show(len) + ", it is not: your code assumes a unit direction "
+                   "somewhere (a = d.d taken as 1, or a normalize(d) on the way). t counts steps of d, whatever "
+                   "its length; nothing in the task makes d a unit vector.";
+    }
+    if (!has_answer(got) || !has_answer(twice)) return "";
+    if (agree(scaled(got, 0.5f), twice)) return "";
+    if (agree(got, twice))
+        return " Measured on your function: your t does not change when the direction doubles, where it "
+               "must halve: it is a distance along the ray, not the ray parameter (the point is o + t d).";
+    return " Measured on your function: your t does not halve when the direction doubles (the same line, "
+           "d twice as long), as the ray parameter must: t counts steps of d, so the point is o + t d for "
+           "any length of d.";
+}
+
+}  // namespace raykit::grading
+
+namespace raykit::grading {
+
+/// Moving the ray's origin and the sphere together leaves t unchanged: measured with both moved so that
+/// the centre is at the origin (`moved()`, the function asked with o - c and a centre at 0, where o - c is
+/// exact). Empty when the move is inexact, the answer is right, or the relation holds.
+template <class Result, class Moved>
+std::string translation_cause(const glm::vec3& o, const glm::vec3& c, const Result& expected, const Result& got,
+                              Moved moved) {
+    if (agree(expected, got) || c == glm::vec3(0.0f) || has_nan(got)) return "";
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(o[k]) || !std::isfinite(c[k]) || double(o[k] - c[k]) != double(o[k]) - double(c[k]))
+            return "";
+    const Result there = moved();
+    if (agree(got, there) || same_answer(got, there) || has_nan(there)) return "";
+    if (agree(expected, there))
+        return " Measured on your function: moved together with the sphere so that the centre is at the origin "
+               "(the same ray relative to the sphere), it is right; here, with the centre elsewhere, it is not. "
+               "Moving both together must leave t unchanged: your code uses the origin o where it needs o - c, "
+               "the origin seen from the centre.";
+    return " Measured on your function: its answer changes when the ray's origin and the sphere move together "
+           "(moved so that the centre is at the origin), where t must stay the same: the roots depend on o - c "
+           "alone, never on o or c apart.";
+}
+
+/// The first sentence of a case's why (its geometry): beside a measured fact, the rest of a why, which may
+/// guess at a cause, is left out so that no message states a cause the measurement contradicts.
+inline std::string first_sentence(const std::string& why) {
+    const std::size_t at = why.find(". ");
+    return at == std::string::npos ? why : why.substr(0, at + 1);
+}
+
+/// A measured fact (a relation's sentence, with its leading space) before the case's own why.
+inline std::string with_fact(const std::string& fact, const std::string& why) {
+    if (fact.empty()) return why;
+    return fact.substr(1) + " " + first_sentence(why);
+}
+
+}  // namespace raykit::grading
