@@ -45,7 +45,7 @@ std::optional<float> hit_at(float t) {
 // lo and hi are taken as the ranges of u and v. Empty otherwise.
 std::string bound_cause(const Ray& ray, const Rect& rect, float tmin, float tmax, const std::optional<float>& expected,
                         const std::optional<float>& got) {
-    if (!expected || got || rect.axis < 0 || rect.axis > 2) return "";
+    if (!expected || got || rect.axis < 0 || rect.axis > 2 || !cheap_to_measure()) return "";
     const int u = rect.axis == 0 ? 1 : 0, v = rect.axis == 2 ? 1 : 2;
     const double t = *expected;
     // An edge's line through the origin, with no motion along it: the same point reached at a slant.

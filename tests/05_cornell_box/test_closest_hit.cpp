@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "cornell_checks.hpp"
+#include "../support/relations.hpp"
 #include "raykit/render.hpp"
 
 using namespace raykit;
@@ -99,7 +100,7 @@ std::string loop_cause(const Scene& scene, const Ray& ray, float tmin, float tma
 // change the index, never the t. Measured where loop_cause found nothing: the function asked again with
 // the list reversed. Empty when the two t agree (or neither is a hit).
 std::string order_cause(const Scene& scene, const Ray& ray, float tmin, float tmax, const std::optional<Hit>& got) {
-    if (scene.objects.size() < 2) return "";
+    if (scene.objects.size() < 2 || !cheap_to_measure()) return "";
     Scene reversed = scene;
     std::reverse(reversed.objects.begin(), reversed.objects.end());
     const std::optional<Hit> other = find_intersection(ray, reversed, tmin, tmax);

@@ -145,6 +145,7 @@ struct Budget {
     bool looped = false;
     static constexpr double loop_seconds = 0.2;
     double case_spent = 0;      // wall seconds of the running case's calls
+    double case_cost = 0;       // their CPU and waiting (the machine's queue left out)
     static constexpr int ledger_line = 200;
     int ledger_fd = -1;
 
@@ -174,6 +175,7 @@ struct Budget {
     void begin_case(const std::string& suite) {
         current = suite == "robust" ? 1 : 0;
         case_spent = 0;
+        case_cost = 0;
         save();
     }
 
@@ -182,6 +184,7 @@ struct Budget {
         accounts[current].wait += w;
         ++accounts[current].calls;
         case_spent += wall;
+        case_cost += c + w;
         save();
     }
 
@@ -963,6 +966,8 @@ bool set_built_programs(const char* answers, const char* reference) {
 }
 
 bool has_reference() { return state().reference.available(); }
+
+double case_cost_seconds() { return budget().case_cost; }
 
 std::string exchange(Target target, const std::string& function, const std::string& arguments,
                      const std::string& shown_arguments) {

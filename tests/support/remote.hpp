@@ -101,6 +101,9 @@ bool set_built_programs(const char* answers, const char* reference);
 /// Whether a reference answers program is there (solutions present).
 bool has_reference();
 
+/// The CPU and waiting of the running case's calls of the student's code so far, in seconds.
+double case_cost_seconds();
+
 // ---- per case, for the reporter ---------------------------------------------------
 
 /// A case begins: forget the last case's incident and output. `suite` is its doctest suite (the ★

@@ -721,9 +721,9 @@ def selftest_slow_case(ctx) -> str:
     """A case of many calls, each within its limit, that together take longer than a case may: the
     student's timeout, whether the judge's own bound for a case's calls stops it or, on a machine so
     busy that this bound comes late, the kit's backstop for the case. slow_correct at 0.2 s of CPU a
-    call, graded in-process, unsandboxed, with 4 s a case and 14 s of CPU a step: the 41 visible
-    calls (one a case) take 8.2 s and pass; the first hidden family, 24 draws, meets the bound (3.2 s
-    of calls, or the backstop at 4 s) before the budget is spent."""
+    call, graded in-process, unsandboxed, with 4 s a case and a step's CPU of 0.2 s for three calls a
+    visible case and 24 more: the visible calls (one to four a case) pass; the first hidden family, 24
+    draws, meets the bound (3.2 s of calls, or the backstop at 4 s) before the budget is spent."""
     from .. import checking, runcases
     from .. import course as course_file
     from ..checking import check_steps
@@ -739,7 +739,10 @@ def selftest_slow_case(ctx) -> str:
     expect(text.count("burn_cpu(1.5);") == 2, f"{cpp.name}: slow_correct no longer burns 1.5 s in each function")
     cpp.write_text(text.replace("burn_cpu(1.5);", "burn_cpu(0.2);"))
     scale = course_file.load()
-    course = course_file.Course(**{**scale.__dict__, "limits": dict(scale.limits, case_seconds=4, step_cpu_seconds=14)})
+    visible = [c for c in checking.recorded_cases(steps[0]) or [] if c.tier == "basic"]
+    step_cpu = round(0.2 * (3 * len(visible) + 24))     # from the step's own cases, not a count typed here
+    course = course_file.Course(**{**scale.__dict__, "limits": dict(scale.limits, case_seconds=4,
+                                                                     step_cpu_seconds=step_cpu)})
     found = []
     saved = getattr(runcases, "CASE_SHARE", 0.8), checking.rerun_timeouts   # (the old kit had none)
     # 1.5: the judge's bound for a case's calls lies beyond the kit's backstop, which stops the case
