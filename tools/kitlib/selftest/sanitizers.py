@@ -26,10 +26,14 @@ def selftest_sanitizers(ctx: Context) -> str:
 # its first crash must hold. Step 05's files are the fixture's render.cpp and the reference's data.
 UB_STUDENTS = {
     "slips": {"02_general_sphere": ("ub_slips", "index 2 out of bounds"),
-              "04_rectangles": ("ub_slips", "past the end of argument 1"),
-              "05_cornell_box": ("ub_slips", "past the end of the list in argument 2")},
+              "04_rectangles": ("ub_slips", "past the end of argument 1")},
+    "slips05": {"05_cornell_box": ("ub_slips", "past the end of the list in argument 2")},
     "axis": {"04_rectangles": ("ub_axis", "an assert in the kit's headers failed")},
 }
+# A step of a student's that a UB step needs, given right (the reference's files): in a handout the
+# step 05 cases that call step 04 wait for the student's own step 04, which must then be done (ub_slips'
+# step 04 crashes on the basic axis cases, so step 05 has a student of its own).
+UB_NEEDS = {"slips05": ["04_rectangles"]}
 
 
 def _ub_files(student: str, dest) -> None:
@@ -37,6 +41,8 @@ def _ub_files(student: str, dest) -> None:
 
     from ..common import ROOT
     from .fixtures import fixture_dir
+    for folder in UB_NEEDS.get(student, []):
+        shutil.copytree(ROOT / "solutions" / folder, dest / folder, dirs_exist_ok=True)
     for folder, (fixture, _) in UB_STUDENTS[student].items():
         (dest / folder).mkdir(parents=True, exist_ok=True)
         if folder == "05_cornell_box":
