@@ -354,20 +354,11 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
         again_left -= 1
         if fresh is not None:
             fresh()
-        again = Case(c.name, c.tier, c.lecture)
         c.runs += 1
         c.rerun = {"why": RERUN_WHY, "first": {"status": c.status, "messages": list(c.messages)}, "kept": 1}
-        with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
-            out = Path(tmp) / "run.jsonl"
-            try:
-                subprocess.run([str(exe), "--reporters=raykit", f"--out={out}", f"--test-case={c.name}",
-                                "--no-breaks=true"], stdin=subprocess.DEVNULL, capture_output=True,
-                               timeout=CASE_SECONDS, env=dict(os.environ, **env), start_new_session=True)
-            except subprocess.TimeoutExpired:
-                continue
-            for e in _read_lines(out):
-                if e.get("event") == "end" and e.get("case") == c.name:
-                    _take(again, e)
+        again, outlived = _run_alone(exe, c, env)
+        if outlived:
+            continue
         if again.status != NOT_RUN:
             again.messages = list(again.messages)
             if again.status == TIMED_OUT:
@@ -375,6 +366,25 @@ def rerun_timeouts(exe: Path, cases: list[Case], env: dict[str, str],
             c.status, c.messages, c.output, c.output_bytes, c.figure, c.incident = (
                 again.status, again.messages, again.output, again.output_bytes, again.figure, again.incident)
             c.rerun["kept"] = c.runs
+
+
+def _run_alone(exe: Path, c: Case, env: dict[str, str]) -> tuple[Case, bool]:
+    """`c` run once more by the judge, alone, in a new session: the new verdict (NOT_RUN when the judge
+    gave none), and whether the run outlived the case's backstop."""
+    again = Case(c.name, c.tier, c.lecture)
+    outlived = False
+    with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
+        out = Path(tmp) / "run.jsonl"
+        try:
+            subprocess.run([str(exe), "--reporters=raykit", f"--out={out}", f"--test-case={c.name}",
+                            "--no-breaks=true"], stdin=subprocess.DEVNULL, capture_output=True,
+                           timeout=CASE_SECONDS, env=dict(os.environ, **env), start_new_session=True)
+        except subprocess.TimeoutExpired:
+            outlived = True
+        for e in _read_lines(out):
+            if e.get("event") == "end" and e.get("case") == c.name:
+                _take(again, e)
+    return again, outlived
 
 
 def _take(c: Case, e: dict) -> None:
@@ -417,18 +427,7 @@ def rerun_unsent_kills(exe: Path, cases: list[Case], env: dict[str, str],
             return
         if fresh is not None:
             fresh()
-        again = Case(c.name, c.tier, c.lecture)
-        with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
-            out = Path(tmp) / "run.jsonl"
-            try:
-                subprocess.run([str(exe), "--reporters=raykit", f"--out={out}", f"--test-case={c.name}",
-                                "--no-breaks=true"], stdin=subprocess.DEVNULL, capture_output=True,
-                               timeout=CASE_SECONDS, env=dict(os.environ, **env), start_new_session=True)
-            except subprocess.TimeoutExpired:
-                pass
-            for e in _read_lines(out):
-                if e.get("event") == "end" and e.get("case") == c.name:
-                    _take(again, e)
+        again, _ = _run_alone(exe, c, env)
         c.runs += 1
         c.rerun = {"why": UNSENT_WHY, "first": {"status": c.status, "messages": list(c.messages)}, "kept": 1}
         if again.status == NOT_RUN:

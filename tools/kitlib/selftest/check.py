@@ -10,7 +10,6 @@ import re
 import shutil
 import subprocess
 import tempfile
-import threading
 from pathlib import Path
 
 from .. import record
@@ -20,7 +19,7 @@ from ..classroomresults import classroom
 from ..gradescope import gradescope
 from ..plresults import prairielearn
 from ..scoreboard import status_cell
-from ..common import BUILD, ROOT, load_steps
+from ..common import BUILD, ROOT, load_steps, map_in_threads
 from .. import bundle
 from ..build import detect_undefined, preset_build, submission_build, workflow
 from ..status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
@@ -826,22 +825,9 @@ def selftest_two_checks_at_once(ctx) -> str:
                    f"({mode}) the two submissions grade alike alone ({alone['wrong'][0]}): the test proves nothing")
             rounds = 3
             for i in range(rounds):
-                got: dict[str, tuple] = {}
-                errors: list[BaseException] = []
-
-                def one(name: str) -> None:
-                    try:
-                        got[name] = check(name, f"round{i}")
-                    except BaseException as e:      # raised below, in this thread
-                        errors.append(e)
-
-                threads = [threading.Thread(target=one, args=(n,)) for n in folders]
-                for t in threads:
-                    t.start()
-                for t in threads:
-                    t.join()
-                if errors:
-                    raise errors[0]
+                # All at once, one thread each; an exception of either is raised here.
+                got = dict(zip(folders, map_in_threads(lambda n: check(n, f"round{i}"), list(folders),
+                                                       len(folders))))
                 for name in folders:
                     expect(got[name] == alone[name],
                            f"({mode}, round {i + 1}) {name} checked beside the other scored {got[name][0]} with "
