@@ -46,7 +46,8 @@ PACKAGES = {
     # npm installs MathJax for ./kit docs. Node.js from elsewhere (nodesource) ships its own npm and
     # conflicts with Debian's npm package: this group is installed only when no npm is on the PATH.
     "node": ["nodejs", "npm"],
-    "report": ["similarity-tester"],   # ./kit report: sim_c++ (its charts are drawn by charts.py)
+    # ./kit report: sim_c++, and jinja2 for its pages' templates (its charts are drawn by charts.py)
+    "report": ["similarity-tester", "python3-jinja2"],
     "browser": ["chromium"],            # the browser self-test of the docs, the slides' PDF, the lab
     "fuzz": ["clang", "libclang-rt-14-dev"],   # the fuzzing self-test (libFuzzer)
     # A Mac's standard library on Linux (clang++ -stdlib=libc++): the self-tests check (portable by

@@ -3,14 +3,19 @@
 Plain HTML and CSS, no script: every chart and picture is an SVG inside the page (a data: URL), so
 the folder reads offline, prints, and can be sent as it is. A student's page is made from that
 student's results alone and names no other student.
+
+The data is gathered here; the markup is in templates/ (jinja2, Debian's python3-jinja2: the
+instructor's side only, never imported by a student's command). Every value a template writes is
+escaped as HTML (autoescape) after common.printable() showed its control characters: a student's
+name, output, code and file names reach these pages.
 """
 
 from __future__ import annotations
 
 import base64
-import html
 import re
 import shutil
+import sys
 import time
 from collections import Counter, defaultdict
 from fractions import Fraction
@@ -20,15 +25,16 @@ from .. import atomic
 from .. import course as course_file
 from .. import picture
 from .. import record as results_record
-from ..common import load_steps, prerequisites, printable
-from ..status import (NOTHING_SUBMITTED_STATES, NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, STATE_WORDS,
-                      STATUS_WORDS, THREW, TIMED_OUT, NO_ANSWER, WAITING)
+from ..common import KitError, load_steps, prerequisites, printable
+from ..status import (NOTHING_SUBMITTED_STATES, NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED,
+                      PARTIAL, PASS, SETUP, STATE_WORDS, STATUS_WORDS, THREW, TIMED_OUT, NO_ANSWER, WAITING)
 from . import grading as grading_mod
 from . import plots, signatures, similar
 
 MOST_FAILED = 3             # cases drawn beside the table
 PICTURES_PER_STEP = 8       # on a student's page
 RUN_LINES = 40              # lines of a matching run shown side by side
+TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 STATE_COLOURS = [(DONE, "#2e7d32"), (PARTIAL, "#f2a900"), (NOT_STARTED, "#9e9e9e"), (NO_COMPILE, "#c62828"),
                  (MISSING, "#6d4c41"), (WAITING, "#90a4ae"), (NOT_GRADED, "#f9a825")]
@@ -37,54 +43,71 @@ NOT_A_VERDICT = ("This list is not a verdict on any student: a set of failing ca
                  "and a slip can be made in ways no mutant has. It is a map of what the class may have "
                  "misunderstood, to look at and teach from.")
 
-CSS = """
-body{font-family:"DejaVu Sans",Arial,sans-serif;max-width:72rem;margin:1.5rem auto;padding:0 1rem;color:#222;line-height:1.4}
-h1{font-size:1.6rem}h2{font-size:1.3rem;border-bottom:2px solid #1f4e99;margin-top:2.2rem}h3{font-size:1.08rem;margin-top:1.4rem}
-table{border-collapse:collapse;margin:.6rem 0;font-size:.9rem}th,td{border:1px solid #ccc;padding:.2rem .45rem;vertical-align:top;text-align:left}
-th{background:#eef2f8}td.n{text-align:right;font-variant-numeric:tabular-nums}
-.note{background:#fff6e0;border-left:4px solid #f2a900;padding:.4rem .7rem;margin:.6rem 0}
-.warn{background:#fdecea;border-left:4px solid #c62828;padding:.4rem .7rem}
-pre{background:#f6f6f6;padding:.4rem;overflow-x:auto;font-size:.8rem;white-space:pre-wrap;margin:.2rem 0}
-.pair{display:grid;grid-template-columns:1fr 1fr;gap:.5rem}.pair pre{white-space:pre;font-size:.72rem}
-.state-done{color:#2e7d32}.state-partial{color:#9a6700}.state-no_compile{color:#c62828}
-figure{margin:.5rem 0;display:inline-block;vertical-align:top}figcaption{font-size:.8rem;color:#555;max-width:600px}
-img.chart{max-width:100%}.cards{display:grid;grid-template-columns:repeat(auto-fill,minmax(30rem,1fr));gap:1rem}
-.cards img{width:100%;height:auto}nav a{margin-right:.8rem}
-@media print{nav{display:none}h2{page-break-before:auto}.pair pre,pre{font-size:.65rem}}
-"""
+
+def _jinja():
+    """jinja2, from the Python running the kit or, where that is not Debian's own (pyenv, a venv),
+    from Debian's python3-jinja2 (pure Python; markupsafe's own fallback where its compiled part is
+    for another Python)."""
+    try:
+        import jinja2
+        return jinja2
+    except ImportError:
+        pass
+    debian = Path("/usr/lib/python3/dist-packages")
+    if (debian / "jinja2").is_dir() and str(debian) not in sys.path:
+        sys.path.append(str(debian))
+        try:
+            import jinja2
+            return jinja2
+        except ImportError:
+            pass
+    raise KitError("./kit report needs jinja2: sudo apt-get install python3-jinja2", SETUP)
 
 
-def e(text) -> str:
-    """Any text on a page, escaped as HTML and its control characters shown (common.printable): a
-    student's name, output and code, a check's name. Every text of the pages passes here."""
-    return html.escape(printable(str(text)), quote=True)
+_ENV = None
 
 
-def svg_img(svg: str, alt: str, cls: str = "") -> str:
-    data = base64.b64encode(svg.encode("utf-8")).decode("ascii")
-    c = f' class="{cls}"' if cls else ""
-    return f'<img{c} alt="{e(alt)}" src="data:image/svg+xml;base64,{data}">'
+def templates():
+    """The pages' templates, autoescaped. Each value is shown by printable() first; markup the kit made
+    (a macro's, an SVG's data) passes as it is."""
+    global _ENV
+    if _ENV is None:
+        jinja2 = _jinja()
+        from markupsafe import Markup
+
+        def shown(value):
+            if isinstance(value, Markup):
+                return value
+            return printable(str(value))
+
+        _ENV = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATES)), autoescape=True,
+                                  finalize=shown, undefined=jinja2.StrictUndefined, trim_blocks=True,
+                                  lstrip_blocks=True)
+    return _ENV
 
 
-def page(title: str, body: list[str]) -> str:
-    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-            "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
-            f"<title>{e(title)}</title><style>{CSS}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
+def render(template: str, **data) -> str:
+    return templates().get_template(template).render(**data) + "\n"
 
 
 def failing_basic(step: dict) -> frozenset:
     return frozenset(c["name"] for c in step.get("cases", []) if c.get("tier") == "basic" and c.get("status") != PASS)
 
 
-def draw_case(case: dict, title: str) -> str:
+def base64_svg(svg: str) -> str:
+    return base64.b64encode(svg.encode("utf-8")).decode("ascii")
+
+
+def draw_case(case: dict, title: str) -> dict | None:
+    """A case's picture: {"data": the SVG in base64, "line": what it shows, in words}, or None."""
     figure = case.get("figure")
     if not isinstance(figure, dict):
-        return ""
+        return None
     try:
         svg, line = picture.render(figure, title)
     except (picture.PictureError, KeyError, TypeError, ValueError, ZeroDivisionError):
-        return ""
-    return f"<figure>{svg_img(svg, line)}</figure>"      # the picture says in words what it shows
+        return None
+    return {"data": base64_svg(svg), "line": line}
 
 
 # --- what the class did ----------------------------------------------------------------------------
@@ -213,33 +236,11 @@ def case_worth(course, step: str, case: dict) -> tuple[bool, str]:
                      + (" extra" if extra else ""))
 
 
-def link(st) -> str:
-    return f'<a href="students/{e(st.page)}.html">{e(st.name)}</a>'
 
 
-def build(folder: Path, out: Path) -> dict:
-    start = time.monotonic()
-    g = grading_mod.load(folder)
-    steps = load_steps()
-    sigs, notes = signatures.load()
-    notes = g.problems + notes
-    matches = analyse(g, steps, sigs)
-    names = {st.name: st for st in g.students}
-    graded = [st for st in g.students if st.data is not None]
-
-    ungraded = [st for st in g.students if st.row.get("status") in ("not graded", "timed out")]
-    body = [f"<h1>Class report</h1><p>{len(g.students)} submissions, {len(graded) - sum(st.data is not None for st in ungraded)} "
-            f"graded" + (f", <b>{len(ungraded)} not graded</b> (the grader's fault: see Incidents, then grade them "
-                         "again)" if ungraded else "") + "; grading "
-            f"<code>{e(g.csv_path)}</code>; written {time.strftime('%Y-%m-%d %H:%M')}.</p>",
-            '<nav><a href="#scores">Scores</a><a href="#cases">Cases</a><a href="#slips">Slips</a>'
-            '<a href="#incidents">Incidents</a><a href="#similar">Similar submissions</a><a href="#students">Students</a></nav>']
-    for n in notes:
-        body.append(f'<p class="note">{e(n)}</p>')
-
-    # 1. scores
-    scores = class_scores(g)
-    percents = scores["percents"]
+def step_counts(graded, steps):
+    """Per step: how many students are in each state, how many had a case crash, time out or throw (the
+    ★ cases aside), and of those done, how many passed every ★ case (and of how many that had some)."""
     counts = {s.number: Counter() for s in steps}
     extra = {s.number: Counter() for s in steps}
     robust = {s.number: [0, 0] for s in steps}
@@ -255,56 +256,12 @@ def build(folder: Path, out: Path) -> dict:
             if res.get("state") == DONE and res.get("robust", {}).get("total"):
                 robust[n][1] += 1
                 robust[n][0] += res["robust"]["passed"] == res["robust"]["total"]
-    charts = [{"kind": "hist", "values": percents, "bins": list(range(0, 101, 5)),
-               "xlabel": "score (% of the maximum" + (", extra credit aside)" if scores["possible"] else ")"),
-               "ylabel": "students"},
-              {"kind": "bars", "labels": [f"step {s.number}" for s in steps], "xlabel": "students",
-               "height": 2.2 + 0.25 * len(steps),
-               "series": [[STATE_WORDS[k], colour, [counts[s.number][k] for s in steps]] for k, colour in STATE_COLOURS
-                          if any(counts[s.number][k] for s in steps)]}]
-    if scores["possible"]:      # the extra credit apart: its own chart, after the others
-        charts.append(scores["chart"])
-    svgs, why = plots.draw(charts)
-    if why:
-        notes.append(why)
-    body.append('<h2 id="scores">1. Scores</h2>')
-    if percents:
-        srt = sorted(percents)
-        body.append(f"<p>On the course's scale ({e(course_file.load().scale_words())}): "
-                    f"median {srt[len(srt) // 2]:.0f} %, lowest {srt[0]:.0f} %, highest {srt[-1]:.0f} %, "
-                    f'<span data-at-maximum="{scores["at_maximum"]}">{scores["at_maximum"]} of {len(percents)} '
-                    f"at the maximum</span>" + (" (the points without the extra credit)" if scores["possible"] else "")
-                    + ".</p>")
-    if svgs:
-        body.append(svg_img(svgs[0], "histogram of the scores", "chart"))
-    else:
-        body.append(f'<p class="note">{e(why)}</p>')
-    if scores["possible"]:
-        body.append(f'<p data-extra-credit="{scores["earned_some"]}">{e(scores["words"])}</p>')
-        if len(svgs) > 2:
-            body.append(svg_img(svgs[2], "histogram of the extra credit earned", "chart"))
-    head = "".join(f"<th>{e(STATE_WORDS[k])}</th>" for k, _ in STATE_COLOURS)
-    rows = []
-    for s in steps:
-        cells = "".join(f'<td class="n">{counts[s.number][k]}</td>' for k, _ in STATE_COLOURS)
-        bad = "".join(f'<td class="n">{extra[s.number][k]}</td>' for k in (CRASHED, TIMED_OUT))
-        rob = f"{robust[s.number][0]} of {robust[s.number][1]}" if robust[s.number][1] else "–"
-        rows.append(f"<tr><td>{e(s.number)} {e(s.title)}</td>{cells}{bad}<td class=\"n\">{rob}</td></tr>")
-    body.append(f"<table><tr><th>step</th>{head}<th>a case crashed</th><th>a case timed out</th>"
-                f"<th>★ all passed (of those done)</th></tr>{''.join(rows)}</table>")
-    if len(svgs) > 1:
-        body.append(svg_img(svgs[1], "the steps' states", "chart"))
+    return counts, extra, robust
 
-    # 2. cases by failure rate
-    course = course_file.load()
-    star = ("★ cases are extra credit, on top of a step's points" if course.extra_credit("robust")
-            else "★ cases are optional and count for nothing" if course.optional("robust")
-            else "★ cases count like the others")
-    body.append('<h2 id="cases">2. The cases, by failure rate</h2><p>Among the students whose step ran (some cases '
-                f'fail, or done). Hidden cases are drawn with a seed per grading; {e(star)}. Each step lists its '
-                f'counted cases first, then the others; “weight → points” is a case\'s weight and what it is worth '
-                f'on the course\'s scale ({e(course.scale_words())}).</p>')
-    case_rows = []          # (rate, step, lecture, name, tier, failed, ran, example case, counted, worth)
+
+def case_rates(graded, steps, course) -> list[dict]:
+    """Each case of each step that ran: how many students whose step ran (partial or done) failed it."""
+    rows = []
     for s in steps:
         failed, ran, lecture, tier, example, worth = Counter(), Counter(), {}, {}, {}, {}
         for st in graded:
@@ -320,51 +277,39 @@ def build(folder: Path, out: Path) -> dict:
                     if c["name"] not in example and c.get("figure"):
                         example[c["name"]] = c
         for name in ran:
-            case_rows.append((failed[name] / ran[name], s, lecture[name], name, tier[name], failed[name], ran[name],
-                              example.get(name), *worth[name]))
-    # The pictures: the most-failed basic cases, the same for every student (a hidden case is a set of
-    # random draws, and fails more often for having more of them; it is in the tables below).
-    top = sorted((r for r in case_rows if r[5] and r[4] == "basic"), key=lambda r: (-r[0], r[1].number, r[3]))[:MOST_FAILED]
-    if top:
-        body.append("<h3>The most-failed basic cases</h3><p>Each picture is the case as one of the students who fail "
-                    "it answered it (“your answer” is that student's).</p><div class=\"cards\">")
-        for r in top:
-            drawn = draw_case(r[7], f"Step {r[1].number} · {r[3]}") if r[7] else ""
-            body.append(f"<div><p><b>Step {e(r[1].number)} · {e(r[3])}</b> ({e(r[2])}): failed by "
-                        f"{r[5]} of {r[6]} ({100 * r[0]:.0f} %).</p>{drawn or '<p>(no picture for this case)</p>'}</div>")
-        body.append("</div>")
+            counted, shown = worth[name]
+            rows.append({"rate": failed[name] / ran[name], "step": s, "lecture": lecture[name], "name": name,
+                         "tier": tier[name], "failed": failed[name], "ran": ran[name], "example": example.get(name),
+                         "counted": counted, "worth": shown})
+    return rows
+
+
+def case_tables(case_rows, steps) -> list[dict]:
+    """Per step, its failed cases by lecture section (the most-failed section first): the counted cases
+    first, then the ★ ones (extra credit or optional) — issue 55: the ★ cases, failed more often, stood
+    above the ones that make the grade."""
+    tables = []
     for s in steps:
-        mine = [r for r in case_rows if r[1] is s]
+        mine = [r for r in case_rows if r["step"] is s]
         if not mine:
             continue
-        body.append(f"<h3>Step {e(s.number)}: {e(s.title)}</h3>")
-        passed_by_all = sum(1 for r in mine if not r[5])
-        lines = []
-        # The counted cases first, then the ★ ones (extra credit or optional): issue 55, the ★ cases, failed
-        # more often, stood above the ones that make the grade.
+        groups = []
         for counted in (True, False):
             by_lecture = defaultdict(list)
             for r in mine:
-                if r[5] and r[8] == counted:
-                    by_lecture[r[2]].append(r)
-            if by_lecture and not counted:
-                lines.append(f'<tr><td colspan="6"><b>not counted in the points</b>: {e(star)}</td></tr>')
-            for lec, rs in sorted(by_lecture.items(), key=lambda kv: -max(r[0] for r in kv[1])):
-                for i, r in enumerate(sorted(rs, key=lambda r: -r[0])):
-                    first = f'<td rowspan="{len(rs)}">{e(lec)}</td>' if i == 0 else ""
-                    lines.append(f"<tr>{first}<td>{e(r[3])}</td><td>{e(r[4])}</td><td class=\"n\">{e(r[9])}</td>"
-                                 f"<td class=\"n\">{r[5]} / {r[6]}</td><td class=\"n\">{100 * r[0]:.0f} %</td></tr>")
-        if lines:
-            body.append(f"<table><tr><th>lecture section</th><th>case</th><th>tier</th><th>weight → points</th>"
-                        f"<th>failed</th><th>rate</th></tr>{''.join(lines)}</table>")
-        body.append(f"<p>{passed_by_all} of {len(mine)} cases passed by every student whose step ran.</p>")
+                if r["failed"] and r["counted"] == counted:
+                    by_lecture[r["lecture"]].append(r)
+            if by_lecture:
+                groups.append((counted, [(lec, sorted(rs, key=lambda r: -r["rate"])) for lec, rs in
+                                         sorted(by_lecture.items(), key=lambda kv: -max(r["rate"] for r in kv[1]))]))
+        tables.append({"step": s, "groups": groups, "passed_by_all": sum(1 for r in mine if not r["failed"]),
+                       "cases": len(mine)})
+    return tables
 
-    # 3. slips
-    body.append(f'<h2 id="slips">3. The slips</h2><p class="note">{e(NOT_A_VERDICT)}</p>'
-                f"<p>Each student's failing basic cases in a step are compared with the cases each mutant of "
-                f"<code>tests/mutants/</code> fails ({len(sigs)} mutants): an exact match, or a near one (the "
-                f"distance is the number of cases in one set and not the other). Mutants that fail the same cases "
-                f"are shown together.</p>")
+
+def slip_fits(matches, sigs):
+    """The students whose failing basic cases fit a slip, per (step, the slip's cases), exactly or nearly;
+    and the patterns that fit none, per (step, cases)."""
     fits = defaultdict(list)        # (step, signature) -> [(student, kind, distance)]
     unmatched = defaultdict(list)   # (step, fails) -> [student]
     by_sig = {}
@@ -375,74 +320,88 @@ def build(folder: Path, out: Path) -> dict:
         for sig_set in {s.fails for s in m.signatures}:
             fits[(number, sig_set)].append((name, m.kind, m.distance))
             by_sig[(number, sig_set)] = [s for s in sigs if s.step == number and s.fails == sig_set]
-    rows = []
-    for key in sorted(fits, key=lambda k: (k[0], -len(fits[k]))):
-        group = by_sig[key]
-        slips = "<br>".join(f"{e(s.slip)} <small>({e(s.name)})</small>" for s in group)
-        exact = [n for n, k, _ in fits[key] if k == "exact"]
-        near = [(n, d) for n, k, d in fits[key] if k == "near"]
-        who = ", ".join(link(names[n]) for n in exact)
-        who_near = ", ".join(f"{link(names[n])} ({d})" for n, d in near)
-        rows.append(f"<tr><td>{e(key[0])}</td><td>{slips}</td><td>{e(group[0].lecture)}</td>"
-                    f"<td class=\"n\">{len(exact)}</td><td>{who}</td><td class=\"n\">{len(near)}</td><td>{who_near}</td></tr>")
-    if rows:
-        body.append("<table><tr><th>step</th><th>slip (mutant)</th><th>lecture section</th><th>exact</th><th>students</th>"
-                    f"<th>near</th><th>students (distance)</th></tr>{''.join(rows)}</table>")
-    else:
-        body.append("<p>No student's failing cases fit a slip.</p>")
-    if unmatched:
-        body.append("<h3>Patterns that fit no slip</h3><p>A student marked * has an earlier step this one builds on "
-                    "that is not done: the pattern may come from there. Two slips in one step fit no single mutant.</p>"
-                    "<table><tr><th>step</th><th>students</th><th>failing basic cases</th></tr>")
-        step_of = {s.number: s for s in steps}
+    rows = [{"step": key[0], "group": by_sig[key], "exact": [n for n, k, _ in fits[key] if k == "exact"],
+             "near": [(n, d) for n, k, d in fits[key] if k == "near"]}
+            for key in sorted(fits, key=lambda k: (k[0], -len(fits[k])))]
+    return fits, rows, unmatched
 
-        def upstream(name: str, number: str) -> str:
-            st = names[name]
-            needs = prerequisites(step_of[number], steps) if number in step_of else []
-            return "*" if any((st.step(p.number) or {}).get("state") != DONE for p in needs) else ""
 
-        for (number, fails), who in sorted(unmatched.items(), key=lambda kv: (kv[0][0], -len(kv[1]))):
-            shown = sorted(fails)
-            cases = "<br>".join(e(c) for c in shown[:12]) + (f"<br>… and {len(shown) - 12} more" if len(shown) > 12 else "")
-            body.append(f"<tr><td>{e(number)}</td><td>{', '.join(link(names[n]) + upstream(n, number) for n in who)}</td>"
-                        f"<td>{cases}</td></tr>")
-        body.append("</table>")
+def build(folder: Path, out: Path) -> dict:
+    start = time.monotonic()
+    g = grading_mod.load(folder)
+    steps = load_steps()
+    sigs, notes = signatures.load()
+    notes = g.problems + notes
+    shown_notes = list(notes)
+    matches = analyse(g, steps, sigs)
+    names = {st.name: st for st in g.students}
+    graded = [st for st in g.students if st.data is not None]
+    ungraded = [st for st in g.students if st.row.get("status") in ("not graded", "timed out")]
+    course = course_file.load()
+
+    # 1. scores
+    scores = class_scores(g)
+    percents = scores["percents"]
+    if percents:
+        srt = sorted(percents)
+        scores.update(median=srt[len(srt) // 2], lowest=srt[0], highest=srt[-1])
+    counts, extra, robust = step_counts(graded, steps)
+    charts = [{"kind": "hist", "values": percents, "bins": list(range(0, 101, 5)),
+               "xlabel": "score (% of the maximum" + (", extra credit aside)" if scores["possible"] else ")"),
+               "ylabel": "students"},
+              {"kind": "bars", "labels": [f"step {s.number}" for s in steps], "xlabel": "students",
+               "height": 2.2 + 0.25 * len(steps),
+               "series": [[STATE_WORDS[k], colour, [counts[s.number][k] for s in steps]] for k, colour in STATE_COLOURS
+                          if any(counts[s.number][k] for s in steps)]}]
+    if scores["possible"]:      # the extra credit apart: its own chart, after the others
+        charts.append(scores["chart"])
+    svgs, why = plots.draw(charts)
+    if why:
+        notes.append(why)
+    state_rows = [{"step": s, "counts": [counts[s.number][k] for k, _ in STATE_COLOURS],
+                   "crashed": extra[s.number][CRASHED], "timed_out": extra[s.number][TIMED_OUT],
+                   "robust": f"{robust[s.number][0]} of {robust[s.number][1]}" if robust[s.number][1] else "–"}
+                  for s in steps]
+
+    # 2. cases by failure rate
+    star = ("★ cases are extra credit, on top of a step's points" if course.extra_credit("robust")
+            else "★ cases are optional and count for nothing" if course.optional("robust")
+            else "★ cases count like the others")
+    case_rows = case_rates(graded, steps, course)
+    # The pictures: the most-failed basic cases, the same for every student (a hidden case is a set of
+    # random draws, and fails more often for having more of them; it is in the tables below).
+    top = sorted((r for r in case_rows if r["failed"] and r["tier"] == "basic"),
+                 key=lambda r: (-r["rate"], r["step"].number, r["name"]))[:MOST_FAILED]
+    for r in top:
+        r["picture"] = draw_case(r["example"], f"Step {r['step'].number} · {r['name']}") if r["example"] else None
+
+    # 3. slips
+    fits, fit_rows, unmatched = slip_fits(matches, sigs)
+    step_of = {s.number: s for s in steps}
+
+    def upstream(name: str, number: str) -> str:
+        st = names[name]
+        needs = prerequisites(step_of[number], steps) if number in step_of else []
+        return "*" if any((st.step(p.number) or {}).get("state") != DONE for p in needs) else ""
+
+    unmatched_rows = []
+    for (number, fails), who in sorted(unmatched.items(), key=lambda kv: (kv[0][0], -len(kv[1]))):
+        shown = sorted(fails)
+        unmatched_rows.append({"step": number, "who": [(n, upstream(n, number)) for n in who], "cases": shown[:12],
+                               "more": len(shown) - 12 if len(shown) > 12 else 0})
 
     # 4. incidents
-    body.append('<h2 id="incidents">4. Incidents</h2>')
-    found = incidents(g)
-    if not found:
-        body.append("<p>None: every submission compiled, and no case crashed, threw or timed out.</p>")
-    for section, kinds in found.items():
-        body.append(f"<h3>{e(section)}</h3><table><tr><th>kind</th><th>students</th><th>example</th></tr>")
-        for kind, items in sorted(kinds.items(), key=lambda kv: -len(kv[1])):
-            who = ", ".join(link(names[n]) if n in names else e(n) for n, _, _ in items)
-            body.append(f"<tr><td>{e(kind)}</td><td>{len(items)}: {who}</td><td><pre>{e(items[0][2])}</pre></td></tr>")
-        body.append("</table>")
+    found = [(section, sorted(kinds.items(), key=lambda kv: -len(kv[1]))) for section, kinds in incidents(g).items()]
 
     # 5. similar submissions
-    body.append('<h2 id="similar">5. Similar submissions</h2><p class="note">Similarity is a reason to look, not a '
-                'proof: short answers to the same exercise look alike, and a student may have had help that was '
-                'allowed. Look at the code before drawing any conclusion.</p>')
     sim = similar.compare(g.files, [st.name for st in graded], steps)
     if not sim.available:
-        body.append(f'<p class="note">Not compared: {e(sim.note)}.</p>')
         notes.append(f"similar submissions not compared: {sim.note}")
-    else:
-        body.extend(similar_section(sim, names))
 
     # 6. the students
-    body.append('<h2 id="students">6. The students</h2><p>Each page is for the student alone: it names no other '
-                'student and can be sent as it is.</p><table><tr><th>student</th><th>score</th><th>%</th><th>status</th>'
-                + "".join(f"<th>step {e(s.number)}</th>" for s in steps) + "</tr>")
-    for st in g.students:
-        cells = "".join(f"<td>{e(st.row.get(f'step{s.number}_state', ''))}</td>" for s in steps)
-        score = (f"{st.shown((st.data or {}).get('score_exact'), st.row.get('earned'))} / "
-                 f"{st.shown((st.data or {}).get('max_score_exact'), st.row.get('maximum'))}" if st.earned is not None else "–")
-        body.append(f'<tr><td>{link(st)}</td><td class="n" data-score="{e(st.name)}">{e(score)}</td>'
-                    f'<td class="n">{e(st.row.get("percent", ""))}</td><td>{e(st.row.get("status", ""))}'
-                    f'{" — " + e(st.row["note"]) if st.row.get("note") else ""}</td>{cells}</tr>')
-    body.append("</table>")
+    student_rows = [{"st": st, "score": (f"{st.shown((st.data or {}).get('score_exact'), st.row.get('earned'))} / "
+                                         f"{st.shown((st.data or {}).get('max_score_exact'), st.row.get('maximum'))}"
+                                         if st.earned is not None else "–")} for st in g.students]
 
     # the student pages
     target_students = out / "students"
@@ -456,154 +415,96 @@ def build(folder: Path, out: Path) -> dict:
         (tmp / f"{st.page}.html").write_text(student_page(st, steps, by_student.get(st.name, {})), encoding="utf-8")
     shutil.rmtree(target_students, ignore_errors=True)
     tmp.replace(target_students)
-    body.append(f"<p><small>Written in {time.monotonic() - start:.1f} s by <code>./kit report</code>.</small></p>")
-    atomic.write(out / "index.html", page("Class report", body))
+
+    index = render("index.html.j2", title="Class report", students=g.students, names=names,
+                   graded_count=len(graded) - sum(st.data is not None for st in ungraded), not_graded=len(ungraded),
+                   csv_path=g.csv_path, written=time.strftime('%Y-%m-%d %H:%M'), notes=shown_notes,
+                   scores=scores, scale_words=course.scale_words(), charts=[base64_svg(x) for x in svgs], charts_why=why,
+                   state_words=[STATE_WORDS[k] for k, _ in STATE_COLOURS], state_rows=state_rows, star=star,
+                   top=top, case_tables=case_tables(case_rows, steps), not_a_verdict=NOT_A_VERDICT,
+                   mutants=len(sigs), fits=fit_rows, unmatched=unmatched_rows, incidents=found,
+                   **similar_data(sim), steps=steps, student_rows=student_rows, elapsed=time.monotonic() - start)
+    atomic.write(out / "index.html", index)
     return {"students": len(g.students), "notes": notes, "pairs": [(p.a, p.b, p.score) for p in sim.pairs],
             "copies": sim.copies, "fits": {k: v for k, v in fits.items()}, "matches": matches}
 
 
-
-def similar_section(sim, names: dict) -> list[str]:
-    """The similar submissions' section (after its heading): the files set aside, the groups, the pairs."""
-    def who(n: str) -> str:
-        return link(names[n]) if n in names else e(n)
-
-    body = [f"<p>Compared with Debian's similarity-tester (<code>sim_c++</code>: layout, comments and "
-            f"identifiers' names do not count), step file by step file, with the stub's lines and the "
-            f"#include lines left out: {sim.compared} submissions. A file made for {similar.REFERENCE_LIKE} % "
-            f"or more of the reference answer's material (today's or an older text of it: "
-            f"{sum(sim.versions.values())} versions of {len(sim.versions)} files) is a copy of the solutions, "
-            f"one made for as much of an older stub is unfinished; both are set aside, and two such files are not "
-            f"compared.</p>",
-            f"<p><b>Copies of the solutions</b> (every file compared is {similar.REFERENCE_LIKE} % or more "
-            f"the reference; they resemble each other through it, which says nothing): {len(sim.copies)}"
-            f"{': ' + ', '.join(who(n) for n in sim.copies) if sim.copies else ''}.</p>"]
+def similar_data(sim) -> dict:
+    """What the similar submissions' section shows: the groups set aside (a version of the reference)
+    and the others, and the first pairs' matching runs side by side."""
     aside = [g for g in sim.groups if g.source and g.share >= similar.REFERENCE_LIKE]
-    shared = [g for g in sim.groups if g not in aside]
-    if sim.groups:
-        body.append(f"<p><b>Shared files</b>: a file that {similar.GROUP_MIN} or more students hand in the same "
-                    f"(comments and layout aside, or {similar.GROUP_SAME} % both ways) is one group, not a pair "
-                    f"of each two of them. Pairs below count only what two students share beyond their groups.</p>")
-    if shared:
-        body.append("<p>Made of no version of the reference or the stub: ask where each came from (an older "
-                    "handout, a web page, a tutor).</p><table><tr><th>file</th><th>students</th><th>texts</th>"
-                    "<th>made of</th></tr>")
-        for g in shared:
-            made = f"{g.share} % {e(g.source)}" if g.source else "no version of the reference or stub"
-            body.append(f'<tr data-group="{e(g.key)}"><td>{e(g.key)}</td><td>{len(g.members)}: '
-                        f'{", ".join(who(n) for n in g.members)}</td><td class="n">{g.texts}</td><td>{made}</td></tr>')
-        body.append("</table>")
-    for g in aside:
-        body.append(f'<details data-group="{e(g.key)}"><summary>{e(g.key)}: {len(g.members)} students hand in '
-                    f"{g.share} % {e(g.source)} ({g.texts} text{'s' if g.texts != 1 else ''}; set aside)</summary>"
-                    f'<p>{", ".join(who(n) for n in g.members)}</p></details>')
-    if sim.pairs:
-        body.append(f"<p>{len(sim.pairs)} pairs share {similar.SHOWN} % or more of a file, every one listed, "
-                    f"the most alike first.</p>"
-                    "<table><tr><th>rank</th><th>submissions</th><th>share</th><th>files (A in B / B in A)</th></tr>")
-        for i, p in enumerate(sim.pairs, 1):
-            files = "<br>".join(f"{e(k)}: {a} % / {b} %" for k, (a, b) in sorted(p.files.items()))
-            body.append(f'<tr data-pair="{e(p.a)}|{e(p.b)}"><td class="n">{i}</td><td>{who(p.a)} and '
-                        f"{who(p.b)}</td><td class=\"n\">{p.score} %</td><td>{files}</td></tr>")
-        body.append("</table>")
-        for p in sim.pairs[:3]:
-            body.append(f"<h3>{e(p.a)} and {e(p.b)}: {e(p.best)}, the matching runs</h3>")
-            for (a0, a1), (b0, b1), tokens in p.runs[:4]:
-                left = "\n".join(p.lines[0][a0 - 1:min(a1, a0 - 1 + RUN_LINES)])
-                right = "\n".join(p.lines[1][b0 - 1:min(b1, b0 - 1 + RUN_LINES)])
-                body.append(f"<p>{tokens} tokens: lines {a0}–{a1} and {b0}–{b1}</p><div class=\"pair\">"
-                            f"<pre>{e(left)}</pre><pre>{e(right)}</pre></div>")
-    else:
-        body.append(f"<p>No pair of submissions shares {similar.SHOWN} % or more outside the reference and the "
-                    f"groups.</p>")
-    return body
+    runs = []
+    for p in sim.pairs[:3]:
+        shown = []
+        for (a0, a1), (b0, b1), tokens in p.runs[:4]:
+            shown.append((tokens, a0, a1, b0, b1, "\n".join(p.lines[0][a0 - 1:min(a1, a0 - 1 + RUN_LINES)]),
+                          "\n".join(p.lines[1][b0 - 1:min(b1, b0 - 1 + RUN_LINES)])))
+        runs.append({"pair": p, "shown": shown})
+    return {"sim": sim, "similar": similar, "aside": aside, "shared": [g for g in sim.groups if g not in aside],
+            "runs": runs}
+
+
+def similar_section(sim, names: dict) -> str:
+    """The similar submissions' section alone (after its heading), as the index shows it."""
+    return templates().get_template("similar.html.j2").render(names=names, **similar_data(sim))
+
 
 # --- a student's page ------------------------------------------------------------------------------
 
 def student_page(st, steps, matches: dict) -> str:
-    body = [f"<h1>{e(st.name)}: your results</h1>"]
-    if st.data is None:
-        status = st.row.get("status", "")
-        if status in NOTHING_SUBMITTED_STATES:      # the student's: no file of a step was found or could be read
-            body.append(f"<p>Nothing submitted: {e(st.row.get('note', '') or 'no step files were found in the upload')}"
-                        f" Your score is 0 of {e(st.row.get('maximum', ''))}.</p>")
-        else:
-            body.append(f"<p>Your submission was not graded: {e(status)}. {e(st.row.get('note', ''))}</p>")
-        return page(f"{st.name}: results", body)
-    earned = st.shown(st.data.get("score_exact"), st.data.get("score"))       # as the CSV writes it
-    maximum = st.shown(st.data.get("max_score_exact"), st.data.get("max_score"))
-    missed = results_record.not_graded(st.data)
-    if missed:      # no total: it would read as the student's; each step the grader failed, and why
-        body.append(f'<p class="total" data-earned="" data-maximum="{e(maximum)}"><b>Not graded yet</b>: the '
-                    f"grader could not check {len(missed)} step(s), its fault, not yours; no points were taken "
-                    "for them, and your instructor will grade them again.</p><ul>"
-                    + "".join(f"<li>Step {e(n)}: {e(why)}</li>" for n, why in missed) + "</ul>")
-    else:
+    data = {"title": f"{st.name}: results", "st": st, "graded": st.data is not None,
+            "nothing_submitted": st.row.get("status", "") in NOTHING_SUBMITTED_STATES}
+    if st.data is None:     # nothing submitted (no file of a step found or read) is the student's; else not graded
+        return render("student.html.j2", **data)
+    course = course_file.load()
+    data["earned"] = st.shown(st.data.get("score_exact"), st.data.get("score"))       # as the CSV writes it
+    data["maximum"] = st.shown(st.data.get("max_score_exact"), st.data.get("max_score"))
+    data["scale_words"] = course.scale_words()
+    data["missed"] = results_record.not_graded(st.data)
+    data["extra"] = None
+    if not data["missed"]:
         extra, possible = results_record.extra_credit(st.data)
         total = Fraction(st.data["score_exact"]) if st.data.get("score_exact") else None
-        said = (f"<b>{e(st.shown(course_file.exact_text(total - extra)))} of {e(maximum)}</b> + "
-                f"{e(st.shown(course_file.exact_text(extra)))} extra credit (of {e(st.shown(course_file.exact_text(possible)))} "
-                f"possible), {e(earned)} in all" if possible and total is not None else f"<b>{e(earned)} of {e(maximum)}</b>")
-        body.append(f'<p class="total" data-earned="{e(earned)}" data-maximum="{e(maximum)}">Your score: '
-                    f"{said} on the course's scale ({e(course_file.load().scale_words())}).</p>")
-    rows = []
+        if possible and total is not None:
+            data["extra"] = {"base": st.shown(course_file.exact_text(total - extra)),
+                             "earned": st.shown(course_file.exact_text(extra)),
+                             "possible": st.shown(course_file.exact_text(possible))}
+    scoreboard = []
     for res in st.steps():
         rob = res.get("robust", {})
-        if res.get("state") in (NOT_GRADED, OLD_BROKEN):
-            rows.append(f'<tr><td>{e(res.get("step"))} {e(res.get("title", ""))}</td><td class="state-not_graded">'
-                        f'not graded</td><td class="n">— / {e(st.shown(res.get("maximum_exact"), res.get("maximum")))}</td>'
-                        '<td class="n">—</td></tr>')
-            continue
-        rows.append(f'<tr><td>{e(res.get("step"))} {e(res.get("title", ""))}</td>'
-                    f'<td class="state-{e(res.get("state"))}">{e(STATE_WORDS.get(res.get("state"), res.get("state")))}</td>'
-                    f'<td class="n">{e(st.shown(res.get("earned_exact"), res.get("earned")))} / '
-                    f'{e(st.shown(res.get("maximum_exact"), res.get("maximum")))}</td>'
-                    f'<td class="n">{e(rob.get("passed", 0))} / {e(rob.get("total", 0))}</td></tr>')
-    body.append("<h2>Scoreboard</h2><table><tr><th>step</th><th>state</th><th>points</th><th>★ robust</th></tr>"
-                + "".join(rows) + "</table>")
-    if matches:
-        body.append('<h2>Slips that fit your failing cases</h2><p class="note">This is not a verdict: the kit '
-                    "knows some common slips and which cases each one fails. Your failing cases look like the "
-                    "slip below; it may be something else. Read the lecture section it names.</p><ul>")
-        for number, (fails, m) in sorted(matches.items()):
-            if m.kind == "none":
-                body.append(f"<li>Step {e(number)}: your failing cases fit none of the slips the kit knows.</li>")
-                continue
-            how = "exactly" if m.kind == "exact" else f"nearly ({m.distance} case{'s' if m.distance > 1 else ''} differ)"
-            if len(m.signatures) > 1:
-                how += f", as do {len(m.signatures)} slips that fail the same cases"
-            slips = "; or: ".join(f"{e(s.slip)} (lecture section: {e(s.lecture)})" for s in m.signatures)
-            body.append(f"<li>Step {e(number)}: fits {how}: {slips}</li>")
-        body.append("</ul>")
+        scoreboard.append({"step": res.get("step"), "title": res.get("title", ""), "state": res.get("state"),
+                           "not_graded": res.get("state") in (NOT_GRADED, OLD_BROKEN),
+                           "state_words": STATE_WORDS.get(res.get("state"), res.get("state")),
+                           "earned": st.shown(res.get("earned_exact"), res.get("earned")),
+                           "maximum": st.shown(res.get("maximum_exact"), res.get("maximum")),
+                           "robust_passed": rob.get("passed", 0), "robust_total": rob.get("total", 0)})
+    data["scoreboard"] = scoreboard
+    data["slips"] = [{"step": number, "kind": m.kind, "distance": m.distance, "signatures": m.signatures}
+                     for number, (fails, m) in sorted(matches.items())]
+    shown_steps = []
+    tiers = {"basic": 0, "hidden": 1, "robust": 2}
     for res in st.steps():
         state = res.get("state")
-        tiers = {"basic": 0, "hidden": 1, "robust": 2}
         # The counted cases first, then those that are not (★: extra credit or optional), issue 55.
         bad = sorted((c for c in res.get("cases", []) if c.get("status") != PASS),
-                     key=lambda c: (not case_worth(course_file.load(), res["step"], c)[0], tiers.get(c.get("tier"), 3)))
+                     key=lambda c: (not case_worth(course, res["step"], c)[0], tiers.get(c.get("tier"), 3)))
         if state == NO_COMPILE:
-            body.append(f"<h2>Step {e(res['step'])}: does not compile</h2><pre>{e(res.get('detail', '')[:4000])}</pre>")
+            shown_steps.append({"step": res["step"], "detail": res.get("detail", "")[:4000]})
             continue
         if state in (NOT_STARTED, MISSING, WAITING, NOT_GRADED, OLD_BROKEN, DONE) and not (state == DONE and bad):
             continue
-        body.append(f"<h2>Step {e(res['step'])}: {len(bad)} case(s) to look at</h2>")
-        drawn = 0
+        cases, drawn = [], 0
         for c in bad:
-            hidden = c.get("tier") == "hidden"
-            mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.get("tier"), "")
-            _, worth = case_worth(course_file.load(), res["step"], c)
-            body.append(f"<h3>{e(c['name'])}{e(mark)}: {e(STATUS_WORDS.get(c.get('status'), c.get('status')))} "
-                        f"<span class=\"note\">(weight → points: {e(worth)})</span></h3>")
-            if hidden:
-                body.append(f"<p>{e(course_file.hidden_note())}</p>")
-                continue
-            for msg in (c.get("messages") or [])[:2]:
-                body.append(f"<pre>{e(msg[:3000])}</pre>")
-            if c.get("lecture"):
-                body.append(f"<p>Read the lecture's section “{e(c['lecture'])}”.</p>")
-            if drawn < PICTURES_PER_STEP and c.get("figure"):
-                pic = draw_case(c, f"Step {res['step']} · {c['name']}")
-                if pic:
-                    body.append(pic)
-                    drawn += 1
-    return page(f"{st.name}: results", body)
+            shown = {"name": c["name"], "mark": {"robust": " ★", "hidden": " (hidden)"}.get(c.get("tier"), ""),
+                     "status_words": STATUS_WORDS.get(c.get("status"), c.get("status")),
+                     "worth": case_worth(course, res["step"], c)[1], "hidden": c.get("tier") == "hidden",
+                     "messages": [m[:3000] for m in (c.get("messages") or [])[:2]], "lecture": c.get("lecture"),
+                     "picture": None}
+            if not shown["hidden"] and drawn < PICTURES_PER_STEP and c.get("figure"):
+                shown["picture"] = draw_case(c, f"Step {res['step']} · {c['name']}")
+                drawn += shown["picture"] is not None
+            cases.append(shown)
+        shown_steps.append({"step": res["step"], "detail": None, "cases": cases})
+    data["steps"] = shown_steps
+    data["hidden_note"] = course_file.hidden_note()
+    return render("student.html.j2", **data)

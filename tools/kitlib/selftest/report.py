@@ -346,7 +346,7 @@ def selftest_similar_groups(ctx) -> str:
     for a, b, s in real:
         score = scores[frozenset((a, b))]
         expect(similar.SHOWN <= score < 100, f"{a} and {b}: {score} %, not a copy worked on a little")
-    html = "\n".join(similar_section(sim, {}))
+    html = similar_section(sim, {})
     expect(html.count(f'data-group="{key}"') == 1, f"{key} is not shown once as a group")
     rows = re.findall(r'data-pair="([^"|]+)\|([^"]+)"', html)
     expect([set(r) for r in rows[:2]] in (wanted, wanted[::-1]), f"the page's first pairs are {rows[:2]}")
@@ -957,6 +957,80 @@ def selftest_charts(ctx) -> str:
             f"an unreadable description said on the page ({why[:40]}…)")
 
 
+# Student-controlled text on the pages: a name that is a tag, messages and a note that close the element
+# they are in and open a script. None may reach a page as markup (the templates' autoescape).
+HOSTILE_HTML = ('<img src=x onerror=alert(1)>"\'', '</pre><script>alert(2)</script>',
+                '"><script>alert(3)</script><b title="')
+
+
+def _markup_of(text: str) -> tuple[list[str], list[str]]:
+    """The start tags of a page and the attributes that run script, as a browser's parser reads them."""
+    from html.parser import HTMLParser
+    tags, scripts = [], []
+
+    class Reader(HTMLParser):
+        def handle_starttag(self, tag, attrs):
+            tags.append(tag)
+            scripts.extend(f"{tag} {k}" for k, _ in attrs if k.startswith("on"))
+
+    Reader().feed(text)
+    return tags, scripts
+
+
+@tier("quick")
+def selftest_pages_escaped(ctx) -> str:
+    """The report's pages show what a student controls as text (issue 56): a student named with a tag,
+    case messages and a compiler's line that close a <pre> and open a script, a note in the CSV that
+    ends an attribute. Read back with an HTML parser: no script element, no on* attribute, no <img>
+    but the charts' and pictures' own; and no template turns the escaping off."""
+    from .. import course as course_file
+    from .. import record as results_record
+    from ..commands.grade import columns, csv_text, record_row
+    from ..report import pages
+    from ..status import NOTHING_SUBMITTED
+    from .course import kit_results
+    steps = load_steps()
+    course = course_file.load()
+    folder = WORK / "escaped" / "grading"
+    shutil.rmtree(folder.parent, ignore_errors=True)
+    (folder / "json").mkdir(parents=True)
+    name, message, note = HOSTILE_HTML
+    rs = kit_results(course, steps[:1], {steps[0].number: {"core", "robust"}})
+    data = json.loads(json.dumps(results_record.make(rs, 1.0)))
+    for case in data["steps"][0]["cases"]:
+        case["messages"] = [message + m for m in case.get("messages") or []] or case.get("messages")
+        case["lecture"] = note if case.get("status") != "pass" else case.get("lecture")
+    data["steps"][0]["title"] = message
+    next(c for c in data["steps"][0]["cases"] if c.get("status") != "pass")["status"] = "crashed"   # an incident
+    results_record.write(folder / "json" / f"{name}.json", data)
+    rows = [record_row({"student": name}, data, steps),
+            {"student": message.replace("/", "|"), "status": NOTHING_SUBMITTED, "note": note}]
+    (folder / "grades.csv").write_text(csv_text(columns(steps), rows))
+    out = WORK / "escaped" / "report"
+    pages.build(folder, out)
+    written = [out / "index.html", *sorted((out / "students").glob("*.html"))]
+    expect(len(written) == 3, f"the report wrote {len(written) - 1} student pages, not 2")
+    problems = []
+    for page in written:
+        text = page.read_text(encoding="utf-8")
+        tags, scripts = _markup_of(text)
+        if "script" in tags or scripts:
+            problems.append(f"{page.name}: {tags.count('script')} script element(s), attributes {scripts[:3]}")
+        said = "&lt;img src=x" if page != written[-1] else "&gt;&lt;script&gt;alert(3)"     # the last: the note's
+        if said not in text:
+            problems.append(f"{page.name}: {said!r} (a name, or the note) is not shown as text")
+    expect(not problems, "student text reached a page as markup:\n  " + "\n  ".join(problems))
+    shown = "<pre>&lt;/pre&gt;&lt;script&gt;alert(2)"
+    expect(shown in written[0].read_text(encoding="utf-8") and shown in written[1].read_text(encoding="utf-8"),
+           "a case's message is not shown as text in its <pre> on the index (an incident) and the student's page")
+    off = [t.name for t in pages.TEMPLATES.iterdir() if re.search(r"\|\s*safe\b|autoescape\s+false", t.read_text())]
+    expect(not off, f"templates that turn the escaping off: {off}")
+    expect(pages.templates().autoescape is True, "the report's templates are not autoescaped")
+    shutil.rmtree(folder.parent, ignore_errors=True)
+    return (f"{len(HOSTILE_HTML)} hostile texts (a name, messages, a note) shown as text on {len(written)} pages: "
+            "no script element, no on* attribute")
+
+
 def selftests():
     return [("report: the charts say what their data says", selftest_charts),
             ("report: one class graded on two machines, merged", selftest_merge),
@@ -965,5 +1039,6 @@ def selftests():
             ("report: the mutants' signatures are current", selftest_signatures_fresh),
             ("report: crashes grouped by the record, not by words", selftest_crash_kind),
             ("report: extra credit apart, scores on the CSV's decimals", selftest_extra_credit),
+            ("report: student text on the pages is text, not markup", selftest_pages_escaped),
             ("report: a synthetic class's report", selftest_class_report),
             ("report: similar submissions, a class sharing one file", selftest_similar_groups)]
