@@ -34,7 +34,7 @@ SOURCES = ROOT / "lectures" / "slides"
 OUT = BUILD / "slides"
 WIDTH, HEIGHT = 1280, 720
 REVEAL_FILES = ["dist/reveal.css", "dist/reset.css", "dist/reveal.js", "dist/theme/white.css",
-                "dist/plugin/notes.js", "LICENSE"]
+                "dist/plugin/notes.js", "dist/plugin/markdown.js", "LICENSE"]
 MATHJAX_FILES = ["es5/tex-svg.js", "es5/input/tex/extensions", "LICENSE"]
 
 
@@ -72,7 +72,6 @@ def split_deck(text: str) -> list[Slide]:
 
 
 MATH = re.compile(r"\$\$(.+?)\$\$|\$(?!\s)([^$\n]+?)(?<!\s)\$", re.S)
-CODE = re.compile(r"`([^`]+)`")
 LINK = re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)")
 LAB = ROOT / "docs" / "lab"
 LAB_LINK = re.compile(r"^(?:\.\./)+docs/lab/index\.html(#[\w-]+)?$")
@@ -84,102 +83,88 @@ def link_target(url: str) -> str:
     return f"lab/index.html{m.group(1) or ''}" if m else url
 
 
-def inline(text: str) -> str:
-    """A line of Markdown as HTML: formulas and code kept as they are, then emphasis."""
-    keep: list[str] = []
-
-    def stash(s: str) -> str:
-        keep.append(s)
-        return f"\x00{len(keep) - 1}\x00"
-
-    text = CODE.sub(lambda m: stash(f"<code>{html.escape(m.group(1))}</code>"), text)
-    text = LINK.sub(lambda m: stash(f'<a href="{html.escape(link_target(m.group(2)), quote=True)}">') +
-                    m.group(1) + stash("</a>"), text)
-    text = MATH.sub(lambda m: stash(html.escape(r"\[" + m.group(1) + r"\]") if m.group(1) is not None
-                                    else html.escape(r"\(" + m.group(2) + r"\)")), text)
-    text = html.escape(text, quote=False)
-    text = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", text)
-    text = re.sub(r"(?<![\w*])\*(?!\s)(.+?)(?<!\s)\*(?![\w*])", r"<em>\1</em>", text)
-    return re.sub("\x00(\\d+)\x00", lambda m: keep[int(m.group(1))], text)
-
 
 IMAGE = re.compile(r"!\[([^\]]*)\]\(([^)\s]+)\)\s*$")
+FRAGMENT = re.compile(r"^(\s*)(\+|\d+\.\+)\s+")       # `+ item`, `1.+ item`: shown one at a time
+# The plugin's own mark (`<!-- .element: class="fragment" -->`) cannot serve: at an item's start marked
+# reads it as a block of HTML (the item's Markdown left unread), at its end it lands on the item's last
+# inline element (a <strong>, a <code>). So an empty <span> marks the item, and the deck's script makes
+# it the item's class.
+FRAGMENT_MARK = '<span class="fragment-item"></span>'
 
 
-def blocks(lines: list[str], media: dict[str, Path], source: Path) -> str:
-    """The slide's body as HTML; figures are noted in `media` (name in the deck -> file)."""
-    out, i = [], 0
-    para: list[str] = []
+def as_text(tex: str) -> str:
+    """A formula with its delimiters, every sign as an HTML character reference: the markdown plugin
+    (marked) reads it as plain text (no emphasis, no escapes, no table cell ends), the browser shows
+    it as written, and MathJax typesets it."""
+    return "".join(c if c.isalnum() or c == " " else f"&#{ord(c)};" for c in tex)
 
-    def flush() -> None:
-        if para:
-            out.append(f"<p>{inline(' '.join(para))}</p>")
-            para.clear()
 
+def formulas(text: str) -> str:
+    """A line's `$...$` and `$$...$$` as \(...\) and \[...\], shielded from the plugin; code spans kept."""
+    parts = re.split(r"(`[^`]+`)", text)
+    return "".join(p if p.startswith("`") else MATH.sub(
+        lambda m: as_text(r"\[" + m.group(1) + r"\]") if m.group(1) is not None else as_text(r"\(" + m.group(2) + r"\)"),
+        LINK.sub(lambda m: f"[{m.group(1)}]({link_target(m.group(2))})", p)) for p in parts)
+
+
+def slide_class(slide: Slide) -> str:
+    """The title, a Ponder slide (its question large), or a figure alone (drawn large, for legible
+    labels)."""
+    if slide.title:
+        return "title"
+    shown = [l.strip() for l in slide.body if l.strip()]
+    heading = next((l for l in shown if l.startswith("#")), "")
+    if re.match(r"##\s+Ponder\b", heading):
+        return "ponder"
+    rest = [l for l in shown if not l.startswith("#")]
+    return "figure-only" if len(rest) == 1 and IMAGE.match(rest[0]) else ""
+
+
+def plugin_markdown(slide: Slide, media: dict[str, Path], source: Path) -> str:
+    """A slide as reveal.js's markdown plugin reads it, with what the plugin lacks done here: formulas
+    shielded (formulas()), `+` items and `+$$` formulas as fragments, a figure on a line of its own
+    copied beside the deck (noted in `media`, name -> file) and shown as a <figure>, the lab's links
+    pointed at its copy beside the decks, the slide's class."""
+    out, i, lines = [], 0, slide.body
+    cls = slide_class(slide)
+    if cls:
+        out.append(f'<!-- .slide: class="{cls}" -->')
     while i < len(lines):
-        line = lines[i]
-        s = line.strip()
-        if not s:
-            flush()
-        elif s.startswith("```"):
-            flush()
-            lang = s[3:].strip()
-            code = []
+        line, s = lines[i], lines[i].strip()
+        if s.startswith("```"):             # a code block, as it is
+            out.append(line)
             i += 1
             while i < len(lines) and not lines[i].strip().startswith("```"):
-                code.append(lines[i])
+                if lines[i].strip() == "---":
+                    raise KitError(f"{source.relative_to(ROOT)}: a line --- in a code block would end the slide", FAILED)
+                out.append(lines[i])
                 i += 1
-            out.append(f'<pre><code class="{html.escape(lang)}">{html.escape(chr(10).join(code))}</code></pre>')
-        elif s.startswith("$$") or s.startswith("+$$"):
-            flush()
+            if i < len(lines):
+                out.append(lines[i])
+        elif s.startswith("$$") or s.startswith("+$$"):      # a display formula, on lines of its own
             frag = s.startswith("+")
             s = s.lstrip("+")
             formula = [s]
             while not (formula[-1].endswith("$$") and (len(formula) > 1 or len(s) > 2)) and i + 1 < len(lines):
                 i += 1
                 formula.append(lines[i].strip())
-            out.append(f'<div class="display{" fragment" if frag else ""}">{inline(" ".join(formula))}</div>')
-        elif m := re.match(r"(#{1,3})\s+(.*)", s):
-            flush()
-            n = len(m.group(1))
-            out.append(f"<h{n}>{inline(m.group(2))}</h{n}>")
+            out += ["", f'<div class="display{" fragment" if frag else ""}">{formulas(" ".join(formula))}</div>', ""]
         elif m := IMAGE.match(s):
-            flush()
             src = (source.parent / m.group(2)).resolve()
             if not src.is_file():
                 raise KitError(f"{source.relative_to(ROOT)}: the figure {m.group(2)} does not exist", FAILED)
-            name = src.name
-            media[name] = src
-            alt = html.escape(m.group(1), quote=True)
-            out.append(f'<figure><img src="media/{html.escape(name, quote=True)}" alt="{alt}"></figure>')
-        elif re.match(r"(-|\+|\d+\.\+?)\s", s):
-            flush()
-            ordered = bool(re.match(r"\d", s))
-            items = []
-            while i < len(lines) and re.match(r"\s*(-|\+|\d+\.\+?)\s", lines[i]):
-                frag = bool(re.match(r"\s*(\+|\d+\.\+)\s", lines[i]))
-                items.append((frag, re.sub(r"^\s*(-|\+|\d+\.\+?)\s+", "", lines[i])))
-                i += 1
-            i -= 1
-            tag = "ol" if ordered else "ul"
-            out.append(f"<{tag}>" + "".join(f'<li{" class=fragment" if f else ""}>{inline(t)}</li>'
-                                            for f, t in items) + f"</{tag}>")
-        elif s.startswith("|"):
-            flush()
-            rows = []
-            while i < len(lines) and lines[i].strip().startswith("|"):
-                rows.append(lines[i].strip())
-                i += 1
-            i -= 1
-            cells = [[c.strip() for c in re.split(r"(?<!\\)\|", r.strip("|"))] for r in rows]
-            head, body = cells[0], [c for c in cells[1:] if not all(re.fullmatch(r":?-+:?", x) for x in c)]
-            table = "<table><thead><tr>" + "".join(f"<th>{inline(c)}</th>" for c in head) + "</tr></thead><tbody>"
-            table += "".join("<tr>" + "".join(f"<td>{inline(c)}</td>" for c in r) + "</tr>" for r in body)
-            out.append(table + "</tbody></table>")
+            media[src.name] = src
+            out += ["", f'<figure><img src="media/{html.escape(src.name, quote=True)}" '
+                        f'alt="{html.escape(m.group(1), quote=True)}"></figure>', ""]
+        elif m := FRAGMENT.match(line):
+            bullet = "-" if m.group(2) == "+" else m.group(2)[:-1]
+            out.append(f"{m.group(1)}{bullet} {FRAGMENT_MARK}{formulas(line[m.end():])}")
         else:
-            para.append(s)
+            out.append(formulas(line))
         i += 1
-    flush()
+    if slide.notes:
+        out += ["", "Note: " + formulas(slide.notes)]
     return "\n".join(out)
 
 
@@ -212,15 +197,10 @@ STYLE = """
 
 
 def deck_html(title: str, slides: list[Slide], media: dict[str, Path], source: Path) -> str:
-    sections = []
-    for s in slides:
-        body = blocks(s.body, media, source)
-        heading = next((l.strip() for l in s.body if l.strip().startswith("#")), "")
-        cls = "title" if s.title else "ponder" if re.match(r"##\s+Ponder\b", heading) else ""
-        if not s.title and body.count("<figure>") == 1 and not re.search(r"<(p|ul|ol|pre|table|div)\b", body):
-            cls = "figure-only"         # a figure alone on its slide is drawn large, for legible labels
-        notes = f'<aside class="notes">{inline(s.notes)}</aside>' if s.notes else ""
-        sections.append(f'<section class="{cls}">\n{body}\n{notes}\n</section>')
+    """The deck: its slides in one Markdown section that reveal.js's markdown plugin splits at the lines
+    `---` and at `Note:`, MathJax typesetting the slides after the plugin and before reveal.js lays them
+    out (reveal.js starts its plugins one after the other, in the order given)."""
+    text = "\n\n---\n\n".join(plugin_markdown(s, media, source) for s in slides)
     return f"""<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -234,9 +214,12 @@ def deck_html(title: str, slides: list[Slide], media: dict[str, Path], source: P
 </head>
 <body>
 <div class="reveal"><div class="slides">
-{chr(10).join(sections)}
+<section data-markdown data-separator="^---$" data-separator-notes="^Note:"><textarea data-template>
+{html.escape(text, quote=False)}
+</textarea></section>
 </div></div>
 <script src="reveal/dist/reveal.js"></script>
+<script src="reveal/dist/plugin/markdown.js"></script>
 <script src="reveal/dist/plugin/notes.js"></script>
 <script>
 window.MathJax = {{ tex: {{ inlineMath: [["\\\\(", "\\\\)"]], displayMath: [["\\\\[", "\\\\]"]] }},
@@ -244,11 +227,18 @@ window.MathJax = {{ tex: {{ inlineMath: [["\\\\(", "\\\\)"]], displayMath: [["\\
 </script>
 <script src="mathjax/es5/tex-svg.js"></script>
 <script>
-// Typeset first, then lay out: reveal.js sizes the slides with the formulas in them.
-window.deckReady = MathJax.startup.promise.then(() => MathJax.typesetPromise()).then(() =>
-  Reveal.initialize({{ width: {WIDTH}, height: {HEIGHT}, margin: 0.04, hash: true, slideNumber: "c/t",
-                      center: true, transition: "none", pdfSeparateFragments: false,
-                      plugins: [RevealNotes] }}));
+// After the markdown plugin made the slides, before reveal.js lays them out (it sizes the slides with
+// the formulas in them): the `+` items made fragments, the formulas typeset.
+const Typeset = {{ id: "typeset", init: () => {{
+  document.querySelectorAll("li > span.fragment-item:first-child").forEach(mark => {{
+    mark.parentNode.classList.add("fragment");
+    mark.remove();
+  }});
+  return MathJax.startup.promise.then(() => MathJax.typesetPromise());
+}} }};
+window.deckReady = Reveal.initialize({{ width: {WIDTH}, height: {HEIGHT}, margin: 0.04, hash: true,
+  slideNumber: "c/t", center: true, transition: "none", pdfSeparateFragments: false,
+  plugins: [RevealMarkdown, Typeset, RevealNotes] }});
 </script>
 </body>
 </html>
