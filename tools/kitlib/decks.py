@@ -1,12 +1,12 @@
 """./kit slides: a slide deck per lecture, from lectures/slides/NN-*.md, as offline HTML (and PDF).
 
 The decks are Markdown kept beside the lectures. A deck is slides separated by a line `---`; a slide's
-speaker notes start at a line `Note:` and run to its end. The Markdown is a small subset, converted
-here with the standard library: `#`/`##`/`###` headings, paragraphs, `-` and `1.` lists, tables,
-fenced code, a figure on a line of its own (`![alt](../figures/x.svg)`), `**bold**`, `*em*`, `code`,
-links `[text](url)`, and formulas as `$...$` and `$$...$$` (typeset by MathJax 3, offline). The first
-slide is the title. Step-by-step reveals (reveal.js fragments): a list item written `+ ...` instead of
-`- ...`, and a display formula written `+$$...$$`, appear one at a time. A link to the ray-sphere lab
+speaker notes start at a line `Note:` and run to its end. reveal.js's markdown plugin turns it into
+slides (headings, paragraphs, lists, tables, fenced code, `**bold**`, `*em*`, `code`, links); this module
+does what the plugin lacks: formulas as `$...$` and `$$...$$` (typeset by MathJax 3, offline), a figure
+on a line of its own (`![alt](../figures/x.svg)`, copied beside the deck), the first slide as the title,
+and step-by-step reveals (reveal.js fragments): a list item written `+ ...` instead of `- ...`, and a
+display formula written `+$$...$$`, appear one at a time. A link to the ray-sphere lab
 (`../../docs/lab/index.html#preset`) is checked to exist and points at the copy of the lab the deck
 folder carries (`lab/`), so a deck opens the lab on that preset offline.
 
@@ -327,7 +327,9 @@ def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
 
 
 def print_pdfs(decks: list[Path]) -> list[Path]:
-    """Each deck printed by headless Chromium from reveal.js's print view: one 1280x720 page a slide."""
+    """Each deck printed by headless Chromium from reveal.js's print view: one 1280x720 page a slide.
+    Over the DevTools protocol, once the deck's `deckReady` has settled: Chromium's --print-to-pdf prints
+    when its virtual time runs out, ready or not (CONTRIBUTING, "The docs")."""
     from . import browser
     from .packages import ensure_packages
     ensure_packages("browser")
