@@ -44,6 +44,7 @@ EXCLUDED = [
     "docs/instructors.md", "docs/performance.md",          # the instructor's manual; the kit's own costs
     "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
     "tools/test_selftests.py",                             # unittest's view of the self-test, which stays out
+    "tools/kitlib/report/templates",                       # the class report's pages (./kit report's)
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
     ".github/workflows/ci.yml",                            # .ci/run on GitHub's runners (needs .ci/)
