@@ -38,7 +38,9 @@ SLIPS = [
  ("t_sign", 4, F4, "const float t = (rect.offset - ray.origin[a]) / da;", "const float t = (ray.origin[a] - rect.offset) / da;", "t = (o - offset)/d"),
  ("no_window", 4, F4, "if (!(tmin <= t && t <= tmax)) return std::nullopt;", "", "window never checked"),
  ("parallel_epsilon", 4, F4, "if (da == 0.0f) return std::nullopt;", "if (std::fabs(da) < 1e-4f) return std::nullopt;", "parallel test with epsilon 1e-4"),
- ("ceiling_before_light", 5, F5c, "    s.objects.push_back({\"light\", Rect{1, 548.8f, {213, 227}, {343, 332}}, light});\n", "", "light listed after the ceiling"),
+ # As first recorded, this slip deleted the light's line instead of moving it (a slip of the trial's own
+ # script: the kit rightly said the light is missing); it now moves the light after the ceiling.
+ ("ceiling_before_light", 5, F5c, "    s.objects.push_back({\"light\", Rect{1, 548.8f, {213, 227}, {343, 332}}, light});\n    s.objects.push_back({\"floor\", Rect{1, 0.0f, {0, 0}, {556, 559.2f}}, white});\n    s.objects.push_back({\"ceiling\", Rect{1, 548.8f, {0, 0}, {556, 559.2f}}, white});\n", "    s.objects.push_back({\"floor\", Rect{1, 0.0f, {0, 0}, {556, 559.2f}}, white});\n    s.objects.push_back({\"ceiling\", Rect{1, 548.8f, {0, 0}, {556, 559.2f}}, white});\n    s.objects.push_back({\"light\", Rect{1, 548.8f, {213, 227}, {343, 332}}, light});\n", "light listed after the ceiling"),
  ("walls_swapped", 5, F5c, "Rect{0, 556.0f, {0, 0}, {548.8f, 559.2f}}, red});\n    s.objects.push_back({\"right wall\", Rect{0, 0.0f,", "Rect{0, 0.0f, {0, 0}, {548.8f, 559.2f}}, red});\n    s.objects.push_back({\"right wall\", Rect{0, 556.0f,", "left wall at x = 0, right at 556"),
  ("floor_uv_swapped", 5, F5c, "{\"floor\", Rect{1, 0.0f, {0, 0}, {556, 559.2f}}", "{\"floor\", Rect{1, 0.0f, {0, 0}, {559.2f, 556}}", "floor's hi as (z, x)"),
  ("tie_last_wins", 5, F5r, "*t < best->t", "*t <= best->t", "<= in the closest hit: last on a tie"),

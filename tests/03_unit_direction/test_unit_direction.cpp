@@ -55,7 +55,7 @@ Roots measured_roots(Fn fn, const Ray& ray, const Sphere& sphere, const Roots& e
             return fn(Ray{ray.origin - sphere.center, ray.direction}, Sphere{{0, 0, 0}, sphere.radius});
         });
     if (fact.empty() && sphere.radius > 0 && std::isfinite(2 * sphere.radius))
-        fact = scale_cause(expected, got, [&] {
+        fact = scene_scale_cause(expected, got, [&] {
             return fn(Ray{2.0f * ray.origin, ray.direction}, Sphere{2.0f * sphere.center, 2 * sphere.radius});
         });
     if (fact.empty()) fact = formula_cause(false, fn, geometric);

@@ -241,7 +241,7 @@ std::string formula_cause(bool unit_sphere, RootsOf roots_of, bool geometric = f
 /// root: measured with the case's own ray and sphere, where that scaling is exact. Broken by a term of the
 /// wrong degree (r where r^2 belongs). Empty when the relation holds or is not measured.
 template <class Result, class Scaled>
-std::string scale_cause(const Result& expected, const Result& got, Scaled scaled_call) {
+std::string scene_scale_cause(const Result& expected, const Result& got, Scaled scaled_call) {
     if (agree(expected, got) || has_nan(got) || !has_answer(got) || !cheap_to_measure()) return "";
     const Result twice = scaled_call();
     if (has_nan(twice) || agree(scaled(got, 2.0f), twice)) return "";
