@@ -38,6 +38,8 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
         fact = state_cause([&] { return unit_sphere_roots(ray); }, [] { unit_sphere_roots(seen_a); },
                            [] { unit_sphere_roots(seen_b); });
         if (fact.empty())
+            fact = formula_cause(true, [](const Ray& r, const Sphere&) { return unit_sphere_roots(r); });
+        if (fact.empty())
             fact = parameter_cause(ray.direction, expected, got,
                                    [&](float k) { return unit_sphere_roots({ray.origin, ray.direction * k}); });
         got = unit_sphere_roots(ray);

@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -18,6 +19,7 @@
 
 #include "../support/grading.hpp"
 #include "../support/exact_answers.hpp"
+#include "../support/relations.hpp"
 #include "raykit/unit_direction.hpp"
 
 using namespace raykit;
@@ -33,14 +35,45 @@ Roots none() { return Roots{}; }
 
 std::string input(const Ray& ray, const Sphere& sphere) { return show(ray) + "; sphere " + show(sphere); }
 
+// A ray and a sphere the visible cases show (ahead and inside, below): the calls made before a case's own
+// again, to measure hidden state (relations.hpp).
+const Ray seen_a{{2, -1, 0}, {0, 0, 1}}, seen_b{{2.5f, -1, 4}, {1, 0, 0}};
+const Sphere seen_ball{{2, -1, 4}, 1.5f};
+
+// Facts measured on a wrong answer (relations.hpp), the first broken relation said: no state, t unchanged
+// when the ray and the sphere move together, t doubled with the whole scene, and the formula on the kit's
+// own probe rays. Every probe keeps the direction of length 1, the step's precondition: a shortcut that
+// is wrong for a longer d is right by design, so t is never measured against a scaled d here.
+template <class Fn>
+Roots measured_roots(Fn fn, const Ray& ray, const Sphere& sphere, const Roots& expected, std::string& fact,
+                     bool geometric) {
+    Roots got = fn(ray, sphere);
+    if (agree(expected, got)) return got;
+    fact = state_cause([&] { return fn(ray, sphere); }, [&] { fn(seen_a, seen_ball); }, [&] { fn(seen_b, seen_ball); });
+    if (fact.empty())
+        fact = translation_cause(ray.origin, sphere.center, expected, got, [&] {
+            return fn(Ray{ray.origin - sphere.center, ray.direction}, Sphere{{0, 0, 0}, sphere.radius});
+        });
+    if (fact.empty() && sphere.radius > 0 && std::isfinite(2 * sphere.radius))
+        fact = scene_scale_cause(expected, got, [&] {
+            return fn(Ray{2.0f * ray.origin, ray.direction}, Sphere{2.0f * sphere.center, 2 * sphere.radius});
+        });
+    if (fact.empty()) fact = formula_cause(false, fn, geometric);
+    return fn(ray, sphere);   // the call checked made last, so that the case's picture records it
+}
+
 void expect_shortcut(const Ray& ray, const Sphere& sphere, const Roots& expected, const std::string& why) {
-    check_roots("sphere_roots_unit_dir(ray, sphere)", input(ray, sphere), expected,
-                sphere_roots_unit_dir(ray, sphere), why);
+    std::string fact;
+    const Roots got = measured_roots([](const Ray& r, const Sphere& s) { return sphere_roots_unit_dir(r, s); },
+                                     ray, sphere, expected, fact, false);
+    check_roots("sphere_roots_unit_dir(ray, sphere)", input(ray, sphere), expected, got, with_fact(fact, why));
 }
 
 void expect_geometric(const Ray& ray, const Sphere& sphere, const Roots& expected, const std::string& why) {
-    check_roots("sphere_roots_geometric(ray, sphere)", input(ray, sphere), expected,
-                sphere_roots_geometric(ray, sphere), why);
+    std::string fact;
+    const Roots got = measured_roots([](const Ray& r, const Sphere& s) { return sphere_roots_geometric(r, s); },
+                                     ray, sphere, expected, fact, true);
+    check_roots("sphere_roots_geometric(ray, sphere)", input(ray, sphere), expected, got, with_fact(fact, why));
 }
 
 // Centre (2, -1, 4), radius 1.5 (so r = 1.5 and r^2 = 2.25 differ).
@@ -233,13 +266,13 @@ TEST_CASE("geometric: a radius of zero or less is no sphere" *
 namespace {
 
 // Rays with unit directions in every octant, against spheres of several sizes.
-struct Scene {
+struct UnitScene {
     Ray ray;
     Sphere sphere;
 };
 
-std::vector<Scene> unit_scenes() {
-    std::vector<Scene> out;
+std::vector<UnitScene> unit_scenes() {
+    std::vector<UnitScene> out;
     const Sphere spheres[] = {{{2, -1, 4}, 1.5f}, {{-3, 0.5f, -2}, 0.75f}, {{0.25f, 6, 1}, 3}};
     const glm::vec3 origins[] = {{0, 0, 0}, {1, -2, 0.5f}, {-4, 3, 2}};
     const glm::vec3 offsets[] = {{0, 0, 0}, {0.3f, -0.2f, 0.1f}, {-0.5f, 0.4f, 0.6f}};
@@ -257,7 +290,7 @@ std::vector<Scene> unit_scenes() {
 
 TEST_CASE("shortcut: the same roots as step 02 on 54 unit rays" *
           doctest::description("1. When the direction has length 1")) {
-    for (const Scene& s : unit_scenes())
+    for (const UnitScene& s : unit_scenes())
         if (const std::optional<exact::SphereCase> c = exact::sphere_roots(s.ray, s.sphere))
             expect_shortcut(c->ray, c->sphere, c->roots,
                             "With |d| = 1 the shortcut must give the roots of the general quadratic of step 02.");
@@ -265,7 +298,7 @@ TEST_CASE("shortcut: the same roots as step 02 on 54 unit rays" *
 
 TEST_CASE("geometric: the same roots as step 02 on 54 unit rays" *
           doctest::description("2. The same roots from a drawing")) {
-    for (const Scene& s : unit_scenes())
+    for (const UnitScene& s : unit_scenes())
         if (const std::optional<exact::SphereCase> c = exact::sphere_roots(s.ray, s.sphere))
             expect_geometric(c->ray, c->sphere, c->roots,
                              "With |d| = 1 the geometric form must give the roots of the general quadratic of step 02.");

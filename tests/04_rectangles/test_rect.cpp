@@ -111,6 +111,18 @@ std::string bound_cause(const Ray& ray, const Rect& rect, float tmin, float tmax
     return "";
 }
 
+// A fact measured on a missed hit: asked again with the window mirrored through 0 ([-tmax, -tmin]), the
+// function answers exactly -t: its t has the wrong sign, the plane's parameter turned around. Empty otherwise.
+std::string sign_cause(const Ray& ray, const Rect& rect, float tmin, float tmax, const std::optional<float>& expected,
+                       const std::optional<float>& got) {
+    if (!expected || got || *expected == 0.0f || !cheap_to_measure()) return "";
+    const std::optional<float> mirrored = intersect_rect(ray, rect, -tmax, -tmin);
+    if (!mirrored || !close(-*expected, *mirrored)) return "";
+    return " Measured on your function: asked again with the window mirrored through 0, it answers t = " +
+           grading::show(*mirrored) + ", the right t with its sign turned: your t = (o - offset) / d where the "
+           "ray reaches the plane at t = (offset - o) / d, along the rectangle's axis.";
+}
+
 void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
     // A wrong answer is measured first (no state, t the ray parameter, a bound read wrong, an own epsilon),
@@ -125,6 +137,7 @@ void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::o
             fact = parameter_cause(ray.direction, expected, first, [&](float k) {
                 return intersect_rect({ray.origin, ray.direction * k}, rect, tmin / k, tmax / k);
             });
+        if (fact.empty()) fact = sign_cause(ray, rect, tmin, tmax, expected, first);
         if (fact.empty()) fact = bound_cause(ray, rect, tmin, tmax, expected, first);
         because = with_fact(fact, why);
         if (fact.empty()) because += epsilon_cause(tmin, tmax, expected, first, hit_at);

@@ -84,6 +84,17 @@ std::string scale_cause(const Camera& camera, const glm::vec3& expected, const g
     const float tol = 1e-4f * (1.0f + glm::length(e));
     if (!(glm::length(ea) > tol)) return "";
     const float k = glm::dot(ga, ea) / glm::dot(ea, ea);
+    // The aspect ratio in ints: width / height rounded down (2 / 8 = 0) scales the offset across by
+    // (its int quotient) / (its real quotient).
+    const float ratio = float(camera.width) / float(camera.height);
+    const int whole = camera.width / camera.height;
+    if (float(whole) != ratio && std::fabs(k - float(whole) / ratio) <= 1e-3f && glm::length(ga - k * ea) <= tol &&
+        std::fabs(gu - eu) <= tol)
+        return "Your point's offset across the film is " + show(k) + " times the expected one, and its offset "
+               "along up is right: that is the film's width computed with width / height in ints, which drops the "
+               "fraction (" + std::to_string(camera.width) + " / " + std::to_string(camera.height) + " = " +
+               std::to_string(whole) + " in C++). Convert to float before dividing: film_height * float(width) / "
+               "float(height) (lecture 05, section 5). ";
     if (!(k > 0.0f) || std::fabs(k - 1.0f) <= 1e-3f || glm::length(ga - k * ea) > tol) return "";
     if (std::fabs(gu - eu) <= tol)
         return "Your point's offset across the film is " + show(k) + " times the expected one, and its offset "

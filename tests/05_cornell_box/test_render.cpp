@@ -5,8 +5,10 @@
 
 #include <doctest/doctest.h>
 
+#include <optional>
 #include <string>
 
+#include "../support/relations.hpp"
 #include "cornell_checks.hpp"
 #include "raykit/cornell_box.hpp"
 #include "raykit/render.hpp"
@@ -130,7 +132,7 @@ TEST_CASE("the Cornell box at 48 by 32 pixels matches the reference render" *
         }
         return '?';
     };
-    int wrong = 0;
+    int wrong = 0, first_i = -1, first_j = -1;
     std::string first, pictures;
     for (int j = 0; j < got.height(); ++j) {
         std::string mine;
@@ -140,6 +142,7 @@ TEST_CASE("the Cornell box at 48 by 32 pixels matches the reference render" *
             mine += letter_of(c);
             if (!same_color(color_of(want), c)) {
                 if (wrong++ == 0) {
+                    first_i = i, first_j = j;
                     first = "pixel (" + std::to_string(i) + ", " + std::to_string(j) + ") is " + show(c) +
                             ", the reference has " + show(color_of(want));
                 }
@@ -147,11 +150,25 @@ TEST_CASE("the Cornell box at 48 by 32 pixels matches the reference render" *
         }
         pictures += "\n            " + std::string(cornell_reference::rows[j]) + "   " + mine;
     }
+    // Measured on the student's own functions: the first wrong pixel is black, but its view ray (their
+    // view_ray) hits an object of the right colour in [0, inf] (their find_intersection): the render loop
+    // loses a hit its parts find.
+    std::string fact;
+    if (wrong > 0 && cheap_to_measure() && same_color(got.at(first_i, first_j), background)) {
+        const std::optional<Hit> hit = find_intersection(view_ray(camera, first_i, first_j), scene, 0.0f, inf);
+        if (hit && hit->index < scene.objects.size() &&
+            same_color(scene.objects[hit->index].color, color_of(cornell_reference::rows[first_j][first_i])))
+            fact = "Measured on your functions: pixel (" + std::to_string(first_i) + ", " + std::to_string(first_j) +
+                   ")'s ray from your view_ray hits \"" + scene.objects[hit->index].name + "\" at t = " +
+                   show(hit->t) + " by your find_intersection in the window [0, inf], and your render paints it "
+                   "black: render must search the whole window [0, inf] (t counts steps of the view ray's "
+                   "direction, not millimetres) and paint the colour of the object it finds. ";
+    }
     if (wrong > 0) {
         FAIL_CHECK(report("render(cornell_box(), cornell_camera(48, 32))",
                           "all of your step 05 together: the model, the camera, view_ray, find_intersection, render",
                           "the reference picture (left)", std::to_string(wrong) + " of 1536 pixels differ (right); " + first +
-                              pictures,
+                              (fact.empty() ? "" : ".\n                  " + fact) + pictures,
                           "W white, R red, G green, L light, . black, ? another colour. A missing light: the tie "
                           "rule or the list's order. Red and green swapped: forward x up. Upside down: the row "
                           "flip. ./kit render cornell_box --steps steps shows it bigger, with a diff image."));

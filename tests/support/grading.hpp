@@ -135,10 +135,19 @@ inline void check_roots(const std::string& call, const std::string& input,
         bool flipped = true;
         for (int k = 0; k < expected.count; ++k)
             flipped = flipped && close(-expected.t[expected.count - 1 - k], got.t[k]);
-        if (flipped)
-            return fail("Your roots are the expected ones with the opposite sign: a sign slip in the roots' "
-                        "formula, which starts from -b: (-b -+ sqrt(b^2 - 4ac)) / (2a), or -h with h = b/2 "
-                        "(geometric form: t_m = L.d with L = c - o).");
+        // Only the why's first sentence (its geometry) beside it: a why's later guess (r for r^2) would point
+        // away from a sign, which this measurement shows.
+        if (flipped) {
+            const std::size_t end = why.find(". ");
+            figure::note_failure(call, figure::json(expected), figure::json(got));
+            FAIL_CHECK(report(call, input, show(expected), show(got),
+                              "Your roots are the expected ones with the opposite sign: a sign slip, in the roots' "
+                              "formula, which starts from -b: (-b -+ sqrt(b^2 - 4ac)) / (2a), or -h with h = b/2, or "
+                              "in the vector they start from, f = o - c (the origin seen from the centre, not c - o; "
+                              "geometric form: t_m = L.d with L = c - o)." +
+                                  (why.empty() ? "" : " " + (end == std::string::npos ? why : why.substr(0, end + 1)))));
+            return;
+        }
         return fail("A root has the wrong value.");
     }
 }

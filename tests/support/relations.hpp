@@ -7,7 +7,11 @@
 //   - no hidden state: the same call answers alike after any other call;
 //   - t is the ray parameter: scaling d by k > 0 divides t by k (and the window by k with it), so the same
 //     line with d scaled to length 1 has t times |d|;
-//   - moving the ray's origin and the sphere together leaves t unchanged (step 02).
+//   - moving the ray's origin and the sphere together leaves t unchanged (steps 02 and 03);
+//   - scaling the whole scene by 2 with the same unit direction doubles t (step 03, whose directions
+//     must stay of length 1: there t is not measured against a longer d);
+//   - on probe rays of the kit's own, the roots are the formula's, not one of a known variation's
+//     (formula_cause: steps 01, 02 and 03).
 //
 // The sentences name no input: a hidden case's message must not carry its inputs.
 #pragma once
@@ -15,6 +19,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -151,6 +156,98 @@ std::string translation_cause(const glm::vec3& o, const glm::vec3& c, const Resu
     return " Measured on your function: its answer changes when the ray's origin and the sphere move together "
            "(moved so that the centre is at the origin), where t must stay the same: the roots depend on o - c "
            "alone, never on o or c apart.";
+}
+
+/// Two roots, sorted (a probe's answer, written out beforehand: no formula of a step ships in a handout).
+inline Roots pair_of(double t0, double t1) { return Roots{2, {static_cast<float>(t0), static_cast<float>(t1)}}; }
+
+/// The formula itself, measured on probe rays of the kit's own (never a case's input), all with a unit
+/// direction, around the sphere the function is asked about (`roots_of(ray, sphere)`): the unit sphere at
+/// the origin (`unit_sphere`, step 01) or the sphere of radius 2 around (1, 2, 3), where r and r^2 differ.
+/// The quadratic's probes: the origin inside, r/2 behind the centre, looking along +z (f = (0, 0, -r/2),
+/// h = -r/2, c = -3r^2/4: roots -r/2 and 3r/2), and the origin 0.6 r beside the centre (h = 0: roots
+/// -+0.8 r). The drawing's: a line 0.6 r from the centre (t_m = 2.5 r, l_m^2 = 0.36 r^2, Dt = 0.8 r).
+/// Where the answer is not the right one but exactly what a known variation of the formula gives on that
+/// probe (the numbers below, worked out by hand), that variation is said, as what the answer equals.
+/// Empty when nothing is measured or nothing matches: a guess is not a measurement.
+template <class RootsOf>
+std::string formula_cause(bool unit_sphere, RootsOf roots_of, bool geometric = false) {
+    if (!cheap_to_measure()) return "";
+    const Sphere ball = unit_sphere ? Sphere{{0, 0, 0}, 1} : Sphere{{1, 2, 3}, 2};
+    const double r = ball.radius;
+    if (!geometric) {
+        const std::string lead = " Measured on your function: asked about a ray of the kit's own that starts "
+                                 "inside the sphere, ";
+        const Ray inside{ball.center + glm::vec3(0, 0, -0.5f * ball.radius), {0, 0, 1}};
+        const Roots right = pair_of(-0.5 * r, 1.5 * r), got = roots_of(inside, ball);
+        if (has_nan(got)) return "";
+        if (got.count == 0)
+            return lead + "it finds no root. From inside, c = f.f - r^2 is negative, so the discriminant "
+                   "h^2 - a c is positive whatever h, and there are always two roots: the sign of c (f.f - r^2, "
+                   "not + r^2) or of the discriminant (h^2 - a c, not a c - h^2) is turned.";
+        struct Variant { Roots roots; const char* says; };
+        const Variant variants[] = {
+            {pair_of(-0.3228757 * r, 2.3228757 * r),
+             "it gives what the half-b form (-h -+ sqrt(h^2 - a c)) / a gives with h = 2 f.d, the whole b: in the "
+             "half-b form h is half of b, h = f.d."},
+            {pair_of(-1.3027756 * r, 2.3027756 * r),
+             "it gives what (-h -+ sqrt(h^2 - 4 a c)) / a gives: with h = b/2 the discriminant is h^2 - a c; the "
+             "4 belongs to the whole b, b^2 - 4ac."},
+            {pair_of(-0.25 * r, 0.75 * r),
+             "its roots are half the right ones: with h = b/2 the roots are (-h -+ sqrt(h^2 - a c)) / a, divided "
+             "by a, not by 2a."},
+            {pair_of(-1.0 * r, 3.0 * r),
+             "its roots are twice the right ones: with the whole b the roots are (-b -+ sqrt(b^2 - 4ac)) / (2a), "
+             "divided by 2a, not by a."},
+            // c = f.f - r for r = 2: h = -1, c = -1, roots 1 -+ sqrt(2). (With r = 1 it is the right answer.)
+            {unit_sphere ? right : pair_of(-0.41421356, 2.41421356),
+             "it gives the roots of c = f.f - r: the constant term uses r squared, c = f.f - r^2."},
+        };
+        if (!agree(right, got))
+            for (const Variant& v : variants)
+                if (agree(v.roots, got)) return lead + v.says;
+        // The square root's fraction dropped: beside the centre the roots are -+0.8 r.
+        const Ray beside{ball.center + glm::vec3(0.6f * ball.radius, 0, 0), {0, 0, 1}};
+        const Roots there = roots_of(beside, ball);
+        const float half = there.count == 2 ? 0.5f * (there.t[1] - there.t[0]) : -1.0f;
+        if (there.count == 2 && half >= 0 && half == std::floor(half) && !close(float(0.8 * r), half))
+            return " Measured on your function: on a ray of the kit's own whose roots are -+" + show(float(0.8 * r)) +
+                   ", its roots lie -+" + show(half) + " from their middle, a whole number: the square root loses "
+                   "its fraction on the way (kept in an int: int s = std::sqrt(...)).";
+        return "";
+    }
+    const Ray line{ball.center + glm::vec3(0.6f * ball.radius, -2.5f * ball.radius, 0), {0, 1, 0}};
+    const Roots got = roots_of(line, ball);
+    if (agree(pair_of(1.7 * r, 3.3 * r), got) || has_nan(got)) return "";
+    const std::string on = " Measured on your function: on a line of the kit's own that passes " +
+                           show(float(0.6 * r)) + " from the centre of a sphere of radius " + show(ball.radius) +
+                           " (t_m = " + show(float(2.5 * r)) + ", l_m^2 = " + show(float(0.36 * r * r)) +
+                           ", Dt = " + show(float(0.8 * r)) + "), ";
+    if (got.count == 0)
+        return on + "it finds no root, where Dt^2 = r^2 - l_m^2 is positive: check the signs in l_m^2 = |L|^2 - "
+                    "t_m^2 and in Dt^2 = r^2 - l_m^2.";
+    if (got.count != 2 || !close(float(2.5 * r), 0.5f * (got.t[0] + got.t[1]))) return "";
+    const float half = 0.5f * (got.t[1] - got.t[0]);
+    std::string says = "t_m is right, so the error is in l_m^2 = |L|^2 - t_m^2 or in Dt^2 = r^2 - l_m^2.";
+    // Dt^2 = r^2 + l_m^2 is sqrt(1.36) r; Dt^2 = r - l_m^2 (r = 2) is sqrt(0.56).
+    if (close(float(1.1661904 * r), half))
+        says = "that is Dt^2 = r^2 + l_m^2: the sign of l_m^2 = |L|^2 - t_m^2 is turned.";
+    else if (!unit_sphere && close(0.74833148f, half))
+        says = "that is Dt^2 = r - l_m^2: the radius is used where its square belongs.";
+    return on + "your roots are centred on the right t_m but lie " + show(half) + " from it: " + says;
+}
+
+/// Scaling the whole scene (origin, centre and radius) by 2 with the same unit direction doubles every
+/// root: measured with the case's own ray and sphere, where that scaling is exact. Broken by a term of the
+/// wrong degree (r where r^2 belongs). Empty when the relation holds or is not measured.
+template <class Result, class Scaled>
+std::string scene_scale_cause(const Result& expected, const Result& got, Scaled scaled_call) {
+    if (agree(expected, got) || has_nan(got) || !has_answer(got) || !cheap_to_measure()) return "";
+    const Result twice = scaled_call();
+    if (has_nan(twice) || agree(scaled(got, 2.0f), twice)) return "";
+    return " Measured on your function: with the whole scene twice as large (origin, centre and radius "
+           "doubled, the same unit direction) every root must double, and yours do not: a term has the wrong "
+           "degree, such as r where r^2 belongs, or a length where its square belongs.";
 }
 
 /// The first sentence of a case's why (its geometry): beside a measured fact, the rest of a why, which may

@@ -108,6 +108,23 @@ std::string process_limit_note(const std::string& text) {
            "(a limit of 1), so starting another fails with EAGAIN, \"Resource temporarily unavailable\".";
 }
 
+/// Said after a Canvas::at out_of_range (canvas.hpp's message, "Canvas::at(I, J): outside the W x H
+/// canvas"): which index ran past which side, read off the message alone.
+std::string canvas_note(const std::string& text) {
+    int i = 0, j = 0, w = 0, h = 0;
+    const std::size_t at = text.find("Canvas::at(");
+    if (at == std::string::npos ||
+        std::sscanf(text.c_str() + at, "Canvas::at(%d, %d): outside the %d x %d canvas", &i, &j, &w, &h) != 4)
+        return "";
+    std::string which;
+    if (j >= h) which = "the row j = " + std::to_string(j) + " is past the last row, " + std::to_string(h - 1);
+    else if (i >= w) which = "the column i = " + std::to_string(i) + " is past the last column, " + std::to_string(w - 1);
+    else if (i < 0 || j < 0) which = "an index is negative";
+    else return "";
+    return " Here " + which + ": the columns i run from 0 to width - 1 and the rows j from 0 to height - 1, so "
+           "a loop bounded by the other side's size (width for the rows, height for the columns) or by <= gets "
+           "there.";
+}
 
 using platform::cpu_seconds;
 using platform::first_child;
@@ -1059,7 +1076,7 @@ std::string exchange(Target target, const std::string& function, const std::stri
             } catch (const wire::wire_error&) {
                 message = "(no message)";
             }
-            const std::string text = "Your code threw an exception in " + call + ": " + message + process_limit_note(message);
+            const std::string text = "Your code threw an exception in " + call + ": " + message + process_limit_note(message) + canvas_note(message);
             if (target == Target::student && s.incident.message.empty()) s.incident = {"threw", text, function, ""};
             throw CallFailed(text);
         }

@@ -204,6 +204,50 @@ def selftest_misdirections(ctx) -> str:
     return f"{len(MISDIRECTED)} slips named under {' and '.join(modes)}: " + "; ".join(table)
 
 
+# Trial 6 (docs/trials/trial6.md): a new student's own code, slips they made up before reading the kit's
+# catalogue, whose first message named only part of the slip (or, for sqrt_in_int, blamed a unit
+# direction). (fixture, step, what the first message must say, what it must not say or None.)
+TRIAL6 = [
+    ("full_b_in_half_form", "01", "with h = 2 f.d, the whole b", None),
+    ("disc_4ac_with_half_b", "01", "the 4 belongs to the whole b", None),
+    ("c_plus_one_inside", "01", "it finds no root. From inside", None),
+    ("over_2a_half_b", "01", "its roots are half the right ones", None),
+    ("sqrt_in_int", "01", "the square root loses its fraction", "assumes a unit direction"),
+    ("f_reversed", "02", "f = o - c (the origin seen from the centre, not c - o", "not from its square"),
+    ("geom_lm2_sign", "03", "the sign of l_m^2 = |L|^2 - t_m^2 is turned", None),
+    ("geom_r_not_squared", "03", "such as r where r^2 belongs", None),
+    ("unitdir_c_from_origin", "03", "your code uses the origin o where it needs o - c", None),
+    ("unitdir_full_b", "03", "with h = 2 f.d, the whole b", None),
+    ("plane_t_sign", "04", "the right t with its sign turned", None),
+    ("int_aspect", "05", "width / height in ints", None),
+    ("loops_swapped", "05", "is past the last row", None),
+    ("render_tmax_mm", "05", "and your render paints it black", None),
+]
+
+
+def selftest_trial6(ctx) -> str:
+    """Each slip of trial 6 that the kit first named only in part, in a handout (no catalogue), under
+    bubblewrap and the user isolation: its first message says what was measured on the code."""
+    need_solutions()    # tests/fixtures/ ships in no handout
+    from ..slips import NO_CATALOGUE
+    steps = _steps()
+    work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-trial6-"))
+    import os
+    modes = ["bwrap", "user"] if os.geteuid() == 0 else ["bwrap"]
+    try:
+        for (fixture, number, words, not_words), mode in ((t, mode) for t in TRIAL6 for mode in modes):
+            if number not in steps:
+                continue    # a course without that step
+            out, _ = _check(steps[number], fixture, work, {NO_CATALOGUE: "1"}, "--isolation", mode)
+            block = _first_block(out)
+            expect(words in block and (not_words is None or not_words not in block),
+                   f"{fixture} under {mode}: the first message does not say '{words}'"
+                   f"{'' if not_words is None else f', or says {not_words!r}'}:\n{block}")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return f"{len(TRIAL6)} slips of trial 6 named under {' and '.join(modes)}"
+
+
 def selftest_slow_named(ctx) -> str:
     """A right but slow step 01 (a square root by 3,000,000 bisection steps) is done, and its row says
     how many times the reference's CPU it took, not graded; the reference itself is not called slow."""
@@ -662,6 +706,7 @@ def selftests():
             ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
             ("slips: the first message names the planted slip", selftest_planted_slips),
             ("slips: the trial's misdirections are named", selftest_misdirections),
+            ("slips: trial 6's slips are named", selftest_trial6),
             ("slips: a right but slow answer is named slow", selftest_slow_named),
             ("slips: a render turned over", selftest_turned_render),
             ("slips: words that fit the code", selftest_fitting_words)]
