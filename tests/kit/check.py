@@ -12,18 +12,20 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from .. import record
-from ..checking import check_steps
-from ..runcases import RERUN_WHY, list_cases
-from ..classroomresults import classroom
-from ..gradescope import gradescope
-from ..plresults import prairielearn
-from ..scoreboard import status_cell
-from ..common import BUILD, ROOT, load_steps, map_in_threads
-from .. import bundle
-from ..build import detect_undefined, preset_build, submission_build, workflow
-from ..status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
-from .harness import Context, Failed, expect, kit, need_solutions, tier
+import pytest
+
+from kitlib import record
+from kitlib.checking import check_steps
+from kitlib.runcases import RERUN_WHY, list_cases
+from kitlib.classroomresults import classroom
+from kitlib.gradescope import gradescope
+from kitlib.plresults import prairielearn
+from kitlib.scoreboard import status_cell
+from kitlib.common import BUILD, ROOT, load_steps, map_in_threads
+from kitlib import bundle
+from kitlib.build import detect_undefined, preset_build, submission_build, workflow
+from kitlib.status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
+from .support import Context, Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 
@@ -42,7 +44,7 @@ def selftest_reference_builds(ctx: Context) -> str:
     return f"warnings as errors, ctest {m.group(2)} tests, nothing left in TMPDIR"
 
 
-@tier("step")
+@pytest.mark.step
 def selftest_solutions_pass(ctx: Context) -> str:
     need_solutions()
     ctx.reference = check_steps(preset_build("reference"), ctx.steps, ctx.steps)
@@ -58,7 +60,10 @@ def selftest_solutions_pass(ctx: Context) -> str:
     return f"{n} cases in {len(ctx.reference)} steps, both tiers"
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_stubs_not_started(ctx: Context) -> str:
     results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
     bad = []
@@ -72,7 +77,7 @@ def selftest_stubs_not_started(ctx: Context) -> str:
     return f"all {n} cases of the {len(results)} shipped stubs report not_implemented (a step that needs another on top of its reference)"
 
 
-@tier("step")
+@pytest.mark.step
 def selftest_case_names_and_lectures(ctx: Context) -> str:
     bad = []
     total = 0
@@ -139,7 +144,7 @@ def _proxy_compiles(inc: str) -> subprocess.CompletedProcess:
                               capture_output=True, text=True, timeout=300)
 
 
-@tier("step")
+@pytest.mark.step
 def selftest_remote_lists(ctx: Context) -> str:
     """The judge's list of each step's functions, read by CMake from step.json's "functions", names
     exactly those functions; a signature that is not its header's stops the compile with the function's
@@ -400,13 +405,13 @@ def selftest_all_and_piped(ctx: Context) -> str:
     return f"--all: {len(plain)} basic case(s) first, {len(starred)} ★ case(s) after, marked; piped progress plain"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_handout_pointers(ctx: Context) -> str:
     """A lecture's pointer to a file a handout lacks (lecture 03's appendix: solutions/, the exact-root
     header, the reference build, the textbook fixtures) says, in the handout, that the instructor's
     copy has it; pointers to files a handout has are left as they are."""
     need_solutions()
-    from ..commands import handout
+    from kitlib.commands import handout
     shipped = {r.as_posix() for r in handout.kit_files() if not handout.excluded(r)}
     folders = {"/".join(f.split("/")[:i]) for f in shipped for i in range(1, f.count("/") + 1)}
 
@@ -458,7 +463,7 @@ float probe(const Ray& ray) {
 """
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_one_verdict_per_library(ctx) -> str:
     libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ (libstdc++)", ["clang++"]),
                  ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
@@ -526,10 +531,10 @@ def selftest_missing_include_told(ctx) -> str:
     names with the headers ray.hpp brings taken out; std::function, which ray.hpp leaves out (its
     cost), is told <functional> with the kit's headers as they are."""
     import json
-    from .. import includes
-    from ..build import Build
-    from ..common import load_steps
-    from ..scoreboard import compile_errors
+    from kitlib import includes
+    from kitlib.build import Build
+    from kitlib.common import load_steps
+    from kitlib.scoreboard import compile_errors
     need_solutions()    # tests/fixtures/ is not in a handout
     all_steps = load_steps()
     [step] = [s for s in all_steps if s.number == "01"]
@@ -573,7 +578,7 @@ def selftest_missing_include_told(ctx) -> str:
            f"with libc++: {mac.state}, told {mac.includes} (expected done, told {want})")
     import contextlib
     import io
-    from ..scoreboard import scoreboard
+    from kitlib.scoreboard import scoreboard
     screen = io.StringIO()
     with contextlib.redirect_stdout(screen):        # the words on the student's screen
         scoreboard([mac], fixture_dir("missing_include"))
@@ -613,8 +618,8 @@ def selftest_abs_one_verdict(ctx) -> str:
     GCC's gives 0 without that declaration (so the probe tests it); then tests/fixtures/stdlib_abs/
     is graded as the student's own check with clang and libc++ (a Mac's) and as the grader's with
     GCC: done on both, every case with the same status."""
-    from ..build import Build
-    from ..common import load_steps
+    from kitlib.build import Build
+    from kitlib.common import load_steps
     need_solutions()    # tests/fixtures/ is not in a handout
     libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
     if shutil.which("clang++") is None or subprocess.run(
@@ -698,7 +703,7 @@ int main() {
 """
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_float_text(ctx) -> str:
     """The grader writes every number as the shortest text that reads back as the same float, with
     one algorithm on every standard library (tests/support/float_text.hpp): the same as
@@ -854,27 +859,3 @@ def selftest_two_checks_at_once(ctx) -> str:
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return "; ".join(parts + skipped)
-
-
-def selftests() -> list:
-    return [
-        ("reference build", selftest_reference_builds),
-        ("solutions pass every case", selftest_solutions_pass),
-        ("shipped stubs are 'not started'", selftest_stubs_not_started),
-        ("case names and lecture pointers", selftest_case_names_and_lectures),
-        ("step functions and manifests", selftest_remote_lists),
-        ("a copied solution grades 'done'", selftest_solution_copied_is_done),
-        ("grader survives bad code", selftest_grader_fixtures),
-        ("two checks at once in one clone", selftest_two_checks_at_once),
-        ("a case run again is in the record", selftest_rerun_recorded),
-        ("command line errors", selftest_command_line),
-        ("the student's loop in a handout", selftest_student_loop),
-        ("--all marks ★ cases; piped progress", selftest_all_and_piped),
-        ("a handout's lectures point to what it has", selftest_handout_pointers),
-        ("one verdict on every standard library: a step's missing includes", selftest_one_verdict_per_library),
-        ("one verdict: a header the file does not include is told, in the same words by the grader",
-         selftest_missing_include_told),
-        ("one verdict: abs on a float is the float overload with libstdc++ and libc++", selftest_abs_one_verdict),
-        ("numbers read the same on every standard library", selftest_float_text),
-        ("portable by construction: the student-side C++ built as a Mac would", selftest_mac_build),
-    ]

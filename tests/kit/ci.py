@@ -1,74 +1,112 @@
 """Self-test of the self-test's CI rule: a skipped security test fails in CI.
 
-The harness (harness.py) knows the security tests (every self-test of SECURITY_MODULES, or marked
-with `security`); with CI=true a skip of one is a failure unless it names what the machine lacks and
-.ci/run declares exactly that in RAYKIT_CI_CANNOT (from .ci/cannot, which probes the machine itself
-and prints each reason). Shown here with forced skips run through the harness's own run_one, and
-.ci/cannot against this machine's facts. Builds nothing.
+conftest.py's hook knows the security tests (marked `security`: every self-test of integrity.py,
+integrity_slots.py and boundary.py, and any marked so elsewhere); with CI=true a skip of one is a
+failure unless it names what the machine lacks and .ci/run declares exactly that in RAYKIT_CI_CANNOT
+(from .ci/cannot, which probes the machine itself and prints each reason). Shown here with forced
+skips run by pytest under the suite's own conftest, and .ci/cannot against this machine's facts.
+Builds nothing.
 """
 
 from __future__ import annotations
 
-import contextlib
-import io
 import os
+import re
 import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
-from ..common import ROOT
-from ..sandbox import bwrap_works
-from .harness import (CANNOT_ENV, NEEDS, RECAP_LINES, SECURITY_MODULES, Failed, Skipped, collect, expect,
-                      partly_skipped, recap, run_one, security, tier)
+import pytest
+
+from kitlib.common import ROOT
+from kitlib.sandbox import bwrap_works
+from .support import CANNOT_ENV, NEEDS, expect
+
+# Forced outcomes, each a security test and a plain one, run under the suite's conftest (-p kit.conftest).
+FORCED = '''
+import pytest
+from kit.support import Failed, Skipped, partly_skipped
 
 
-def forced_skip(_ctx):
+def forced_skip(ctx):
     raise Skipped("forced: bubblewrap is missing", need="bwrap")
 
 
-def forced_part(_ctx):
+def forced_part(ctx):
     return partly_skipped("root", "user skipped: forced") + "; bwrap ran"
 
 
-def forced_other(_ctx):
+def forced_other(ctx):
     raise Skipped("forced: no hidden cases here")
 
 
-def outcome(fn, env: dict[str, str]) -> str:
-    saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)
-    try:
-        with contextlib.redirect_stdout(io.StringIO()):
-            return run_one(None, fn.__name__, fn)
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
+def forced_failure(ctx):
+    raise Failed("the planted reason\\n" + "\\n".join(f"detail {i}" for i in range(40)))
 
 
-@tier("quick")
+def as_test(fn):
+    def test(ctx):
+        return fn(ctx)
+    return test
+
+
+for _name, _fn in list(globals().items()):
+    if _name.startswith("forced_"):
+        globals()["selftest_security_" + _name[7:]] = pytest.mark.security(as_test(_fn))
+        globals()["selftest_plain_" + _name[7:]] = as_test(_fn)
+'''
+
+
+def forced_outcomes(tmp: Path, ci: str, cannot: str) -> tuple[dict[str, str], str]:
+    """{test: PASSED/FAILED/SKIPPED} of the forced tests under CI=`ci`, RAYKIT_CI_CANNOT=`cannot`; pytest's output."""
+    env = dict(os.environ, CI=ci, **{CANNOT_ENV: cannot})
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "tests"), env.get("PYTHONPATH", "")])
+    r = subprocess.run([sys.executable, "-m", "pytest", "-c", str(tmp / "pytest.ini"), "--rootdir", str(tmp),
+                        "-p", "kit.conftest", "-p", "no:cacheprovider", "-v", "-rfEs", str(tmp / "forced.py")],
+                       cwd=tmp, capture_output=True, text=True, env=env, timeout=300)
+    got = dict(re.findall(r"::(selftest_\w+) (PASSED|FAILED|SKIPPED|ERROR)", r.stdout))
+    return got, r.stdout + r.stderr
+
+
+@pytest.mark.quick
 def selftest_security_skips(ctx) -> str:
-    secure = {f: security(lambda c, f=f: f(c)) for f in (forced_skip, forced_part, forced_other)}
-    for f, s in secure.items():
-        s.__name__ = f.__name__
     want = [  # (CI, RAYKIT_CI_CANNOT, test, security?, outcome)
-        ("true", "", forced_skip, True, "failed"), ("true", "", forced_part, True, "failed"),
-        ("true", "", forced_other, True, "failed"), ("true", "", forced_skip, False, "skipped"),
-        ("true", "bwrap", forced_skip, True, "skipped"), ("true", "bwrap", forced_part, True, "failed"),
-        ("true", "root", forced_part, True, "passed"), ("true", "root bwrap", forced_other, True, "failed"),
-        ("", "", forced_skip, True, "skipped"), ("", "", forced_part, True, "passed"),
+        ("true", "", "skip", True, "FAILED"), ("true", "", "part", True, "FAILED"),
+        ("true", "", "other", True, "FAILED"), ("true", "", "skip", False, "SKIPPED"),
+        ("true", "bwrap", "skip", True, "SKIPPED"), ("true", "bwrap", "part", True, "FAILED"),
+        ("true", "root", "part", True, "PASSED"), ("true", "root bwrap", "other", True, "FAILED"),
+        ("", "", "skip", True, "SKIPPED"), ("", "", "part", True, "PASSED"),
     ]
-    wrong = []
-    for ci, cannot, f, is_security, expected in want:
-        got = outcome(secure[f] if is_security else f, {"CI": ci, CANNOT_ENV: cannot})
-        if got != expected:
-            wrong.append(f"CI={ci!r} {CANNOT_ENV}={cannot!r} {'security ' if is_security else ''}{f.__name__}: "
-                         f"{got}, expected {expected}")
-    expect(not wrong, "; ".join(wrong))
-    # The harness marks every self-test of the security modules, and no other.
-    marked = {m: [n for n, fn in collect([m]) if not getattr(fn, "security", False)] for m in SECURITY_MODULES}
-    expect(not any(marked.values()), f"security tests not marked: {marked}")
-    expect(not any(getattr(fn, "security", False) for _, fn in collect(["layers"])), "layers' test marked security")
+    wrong, outputs = [], {}
+    with tempfile.TemporaryDirectory(prefix="raykit-ci-rule-") as tmp:
+        (Path(tmp) / "forced.py").write_text(FORCED)
+        (Path(tmp) / "pytest.ini").write_text("[pytest]\npython_functions = selftest_*\n")
+        for ci, cannot in dict.fromkeys((ci, cannot) for ci, cannot, *_ in want):
+            got, outputs[ci, cannot] = forced_outcomes(Path(tmp), ci, cannot)
+            for _, _, name, is_security, expected in (w for w in want if w[:2] == (ci, cannot)):
+                test = f"selftest_{'security' if is_security else 'plain'}_{name}"
+                if got.get(test) != expected:
+                    wrong.append(f"CI={ci!r} {CANNOT_ENV}={cannot!r} {test}: {got.get(test)}, expected {expected}")
+    expect(not wrong, "; ".join(wrong) + "\npytest said:\n" + outputs["true", ""][-3000:])
+    # The refusal says the skip and why; the failures are said again after the last test (CI shows a tail).
+    out = outputs["true", ""]
+    tail = out[out.rindex("short test summary info"):] if "short test summary info" in out else ""
+    expect("FAILED" in tail and "selftest_security_skip" in tail and "skipped (forced: bubblewrap is missing), but "
+           "a security test may not skip in CI" in out and "the planted reason" in tail,
+           f"the end of pytest's output does not name the refused skip and the failure: {out[-2000:]!r}")
+    # Every self-test of the security modules is marked, layers' are not.
+    collected = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-m", "security",
+                                "-p", "no:cacheprovider", "tests/kit/"], cwd=ROOT, capture_output=True, text=True,
+                               timeout=300)
+    marked = set(re.findall(r"^tests/kit/(\w+)\.py::(selftest_\w+)", collected.stdout, flags=re.M))
+    unmarked = []
+    for module in ("integrity", "integrity_slots", "boundary"):
+        text = (ROOT / "tests" / "kit" / f"{module}.py").read_text()
+        unmarked += [f"{module}.{n}" for n in re.findall(r"^def (selftest_\w+)\(", text, flags=re.M)
+                     if (module, n) not in marked]
+    expect(marked and not unmarked, f"security tests not marked: {unmarked or collected.stdout[-1000:]}")
+    expect(not any(m == "layers" for m, _ in marked), "layers' test marked security")
     # .ci/run declares what .ci/cannot finds, before ./kit test, in CI.
     run = (ROOT / ".ci" / "run").read_text()
     lines = [l.strip() for l in run.splitlines()]
@@ -85,49 +123,6 @@ def selftest_security_skips(ctx) -> str:
     expect(all((w in words) == lacks for w, lacks in facts.items()),
            f".ci/cannot says {words}, but here: "
            + ", ".join(f"{w} {'lacking' if v else 'works'}" for w, v in facts.items()))
-    return (f"{len(want)} forced skips judged as the rule says; .ci/run declares .ci/cannot's "
-            f"{' '.join(words) or 'nothing'} (this machine: {', '.join(w for w, v in facts.items() if not v)} work)")
-
-
-@tier("quick")
-def selftest_recap(_ctx) -> str:
-    """CI shows the tail of a long run: every failure is said again just above the last line, with
-    its reason, so the tail names what failed even when its first line scrolled away."""
-    def long_failure(_c):
-        raise Failed("the planted reason\n" + "\n".join(f"detail {i}" for i in range(40)))
-
-    def a_pass(_c):
-        return "fine"
-
-    def a_crash(_c):
-        raise ValueError("planted bug")
-    failures: list[str] = []
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        got = [run_one(None, f.__name__, f, failures) for f in (long_failure, a_pass, a_crash, a_pass)]
-        recap(failures)
-    expect(got == ["failed", "passed", "failed", "passed"], f"outcomes {got}")
-    text = out.getvalue()
-    tail = text[text.rindex("a_pass: fine"):]
-    expect("failed (2):" in tail and "long_failure: the planted reason" in tail and "a_crash: the self-test itself failed"
-           in tail, f"the recap after the last test does not name both failures: {tail!r}")
-    expect(f"detail {RECAP_LINES - 2}" in tail and f"detail {RECAP_LINES}" not in tail and "more lines above" in tail,
-           f"the recap does not keep {RECAP_LINES} lines of a long failure: {tail!r}")
-    many = io.StringIO()
-    with contextlib.redirect_stdout(many):
-        recap([f"✗ test {i}: reason {i}\nmore {i}\nand more {i}" for i in range(40)])
-    said = many.getvalue()
-    expect(all(f"test {i}: reason {i}\nmore {i}\n" in said for i in range(40)) and "and more" not in said
-           and len(said.splitlines()) <= 3 * 40 + 2,
-           f"40 failures: the recap does not keep two lines of each: {said[:300]!r}")
-    quiet = io.StringIO()
-    with contextlib.redirect_stdout(quiet):
-        recap([])
-    expect(quiet.getvalue() == "", f"a run without failures has a recap: {quiet.getvalue()!r}")
-    return (f"2 failures of 4 said again after the last test, {RECAP_LINES} lines each at most; "
-            "40 failures two lines each")
-
-
-def selftests():
-    return [("ci: a skipped security test fails in CI", selftest_security_skips),
-            ("ci: failures said again at the end", selftest_recap)]
+    return (f"{len(want)} forced skips judged as the rule says, the failures said again at the end; "
+            f"{len(marked)} security tests marked; .ci/run declares .ci/cannot's {' '.join(words) or 'nothing'} "
+            f"(this machine: {', '.join(w for w, v in facts.items() if not v)} work)")

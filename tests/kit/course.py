@@ -10,13 +10,15 @@ import tempfile
 from fractions import Fraction
 from pathlib import Path
 
-from .. import course as course_file
-from ..cases import SCORED_TIERS, Case, StepResult
-from ..common import ROOT, KitError, Step
-from ..gradescope import gradescope, reveal_options
-from ..status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
+import pytest
+
+from kitlib import course as course_file
+from kitlib.cases import SCORED_TIERS, Case, StepResult
+from kitlib.common import ROOT, KitError, Step
+from kitlib.gradescope import gradescope, reveal_options
+from kitlib.status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions, said, tier
+from .support import Failed, Skipped, expect, kit, need_solutions, said
 
 STEPS = ["01", "02"]
 WEIGHTED = {"steps": {"01": {"points": 10}, "02": {"points": "15/2"}},
@@ -53,7 +55,7 @@ DEFAULT = {"steps": {}, "groups": {"core": {"weight": 1}, "degenerate": {"weight
                                    "robust": {"weight": 0}}}
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_default_scale(ctx) -> str:
     default = course_file.parse(DEFAULT, STEPS, "the default scale")
     code = course_file.Course()
@@ -114,7 +116,7 @@ def extra_credit_course(numbers: list[str]):
 def kit_results(course, steps, fail: dict[str, set[str]]) -> list[StepResult]:
     """Each step of `steps` with its recorded cases (tests/NN_topic/cases.json) under `course`: every case
     passes but those `fail[step number]` names, by their name or their group."""
-    from ..checking import recorded_cases
+    from kitlib.checking import recorded_cases
     rs = []
     with course_file.using(course):
         for s in steps:
@@ -149,7 +151,7 @@ def selftest_kit_course(ctx) -> str:
             f"{', '.join(told)}; weights {' '.join(str(course.weight(g)) for g in course_file.GROUPS)}")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_weighted(ctx) -> str:
     weighted = course_file.parse(WEIGHTED, STEPS)
     with course_file.using(weighted):
@@ -181,7 +183,7 @@ def selftest_weighted(ctx) -> str:
     return "10 and 15/2 points for every student, a core case 5/2, a slip 15/2, no compile 0, optional group free"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_bad_course_files(ctx) -> str:
     bad = [({"steps": {"01": {"points": "ten"}}}, "steps.01.points"), ({"groups": {"core": {"weight": -1}}}, "negative"),
            ({"steps": {"09": {"points": 1}}}, "no step '09'"), ({"groups": {"bonus": {}}}, "unknown group"),
@@ -211,7 +213,7 @@ def selftest_bad_course_files(ctx) -> str:
             "their defaults; broken JSON: one line, exit 2")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_gradescope_views(ctx) -> str:
     default = course_file.Course()
     with course_file.using(default):
@@ -231,7 +233,7 @@ def selftest_gradescope_views(ctx) -> str:
     return "no compile: 1 failed test with the diagnostic; ★: 1 passed 0-point test; 4 of 10"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_reveal(ctx) -> str:
     """The reveal's rules under a course that reveals and one that never does, each built in memory
     (the shipped default reveals; an instructor may turn it off); then autograde.py's command under the
@@ -316,7 +318,7 @@ def course_cases(steps) -> tuple[dict, dict, list[str]]:
     name). A step with no record yet (a customised copy's step from the template, before its first
     `./kit check N --record`) gets three made-up cases, and its `weights` are left out of the data: the
     course "mapped" for them. Returns (data, record, the steps made up)."""
-    from ..checking import recorded_cases
+    from kitlib.checking import recorded_cases
     data = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
     listed, made_up = [], []
     for s in steps:
@@ -346,7 +348,7 @@ def course_total(course, record: dict) -> Fraction:
     return total
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_course_table(ctx) -> str:
     need_solutions()    # ./kit course is an instructor's command
     with tempfile.TemporaryDirectory() as tmp:
@@ -394,7 +396,7 @@ def selftest_roster(ctx) -> str:
     import csv
     import shutil
 
-    from ..common import BUILD
+    from kitlib.common import BUILD
     need_solutions()
     step = ctx.steps[0]
     root = BUILD / "course-roster"
@@ -471,9 +473,9 @@ def selftest_moved_kit(ctx) -> str:
     import io
     import shutil
 
-    from ..common import BUILD
-    from ..build import Build, configure
-    from ..relocate import forget_moved_build
+    from kitlib.common import BUILD
+    from kitlib.build import Build, configure
+    from kitlib.relocate import forget_moved_build
     first, moved = BUILD / "course-moved-a", BUILD / "course-moved-b"
     for d in (first, moved):
         shutil.rmtree(d, ignore_errors=True)
@@ -504,7 +506,7 @@ def selftest_moved_kit(ctx) -> str:
     return "a build folder moved to another path is configured again (one line says so); outside build/: one line"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_handout_wording(ctx) -> str:
     """The scoreboard's total: in a handout (no hidden cases), what it checks and what the course adds."""
     handout = course_file.parse({"hidden_cases": {"01": 7, "02": 6}}, STEPS)
@@ -526,12 +528,12 @@ def selftest_handout_wording(ctx) -> str:
     return f"handout: {want!r}; with hidden cases: 'score 4 of 5 (80 %)'"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_step_without_its_need(ctx) -> str:
     """In a handout, step 05's camera cases are checked while step 04 is not done; the cases that
     call step 04's function wait for the student's own, naming it."""
-    from .. import waits
-    from ..status import NOT_STARTED, WAITING
+    from kitlib import waits
+    from kitlib.status import NOT_STARTED, WAITING
     five = next((s for s in ctx.steps if s.needs and waits.runs_without(s)), None)
     if five is None:
         raise Failed("no step lists the sections that run without the step it needs (step.json runs_without)")
@@ -558,12 +560,12 @@ def selftest_step_without_its_need(ctx) -> str:
             f"wait for {names}")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_launch_json(ctx) -> str:
     """.vscode/launch.json's list of steps is written from the steps (./kit handout does), so a step
     added by CONTRIBUTING's recipe appears there with nothing else to edit."""
     need_solutions()
-    from ..commands.handout import launch_json
+    from kitlib.commands.handout import launch_json
     text = (ROOT / ".vscode" / "launch.json").read_text()
     stale = text.replace('"options": [', '"options": ["00", ', 1)
     got = launch_json(stale)
@@ -572,7 +574,7 @@ def selftest_launch_json(ctx) -> str:
     return f"launch.json's steps written from step.json: {want}"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_gradescope_adds_up(ctx) -> str:
     """Each step's tests on Gradescope add up to the step's points on the course's decimals (each
     rounded alone, seven shares of 20/7 show 20.02), and before the due date the visible summary says
@@ -599,11 +601,11 @@ def selftest_gradescope_adds_up(ctx) -> str:
     return f"shares of 7/8 and 5/12 add up to 7 and 3.33; {held[0]}"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_extra_credit(ctx) -> str:
     """★ as extra credit (a group's "extra_credit": true): each ★ case passed adds its weight's share on
     top of the step's points; the maximum stays the step's points, on every platform's view."""
-    from ..plresults import prairielearn
+    from kitlib.plresults import prairielearn
     bonus = course_file.parse(dict(WEIGHTED, steps={"01": {"points": 8}, "02": {"points": 8}},
                                    groups=dict(WEIGHTED["groups"], robust={"weight": 1, "extra_credit": True})), STEPS)
     with course_file.using(bonus):
@@ -692,13 +694,13 @@ def selftest_case_weights(ctx) -> str:
             "Gradescope's test 6 points; ./kit course lists them, refuses a misspelt name and 'section six'")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_gradescope_extra_credit(ctx) -> str:
     """#46 item 2 on Gradescope, on the kit's course with ★ as extra credit and its steps' recorded cases:
     a solution that misses every ★ case has no failed test (a missed extra-credit case takes nothing from
     the assignment), one with a core slip has exactly that case failed; the ★ points are each step's
     extra-credit test's score above its max_score 0; the summary says the points and the extra apart."""
-    from ..checking import recorded_cases
+    from kitlib.checking import recorded_cases
     course = extra_credit_course([s.number for s in ctx.steps])
     steps = [s for s in ctx.steps if recorded_cases(s)]
     if not steps:
@@ -738,13 +740,13 @@ def selftest_gradescope_extra_credit(ctx) -> str:
             f"summary '{want}'")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_course_extra_credit_example(ctx) -> str:
     """#46 item 2: ./kit course says, with an example computed from the course as it is (here the kit's
     course.json with ★ made extra credit, on the steps' recorded cases), how much extra credit makes up
     for a bug: all of it, the costliest core case it covers and the two totals, bug + extra credit
     against a correct solution without it."""
-    from ..checking import recorded_cases
+    from kitlib.checking import recorded_cases
     need_solutions()    # ./kit course is an instructor's command
     numbers = [s.number for s in ctx.steps]
     course = extra_credit_course(numbers)
@@ -795,12 +797,12 @@ def rendered_outputs(rs) -> dict[str, str]:
     import contextlib
     import io
 
-    from .. import record as results_record
-    from ..classroomresults import classroom
-    from ..plresults import prairielearn
-    from ..report import grading as grading_mod
-    from ..report.pages import student_page
-    from ..scoreboard import all_failures
+    from kitlib import record as results_record
+    from kitlib.classroomresults import classroom
+    from kitlib.plresults import prairielearn
+    from kitlib.report import grading as grading_mod
+    from kitlib.report.pages import student_page
+    from kitlib.scoreboard import all_failures
     out = {}
     out["the terminal"] = "\n".join(line for r in rs for line in all_failures(r, reveal=False))
     course = course_file.load()
@@ -815,14 +817,14 @@ def rendered_outputs(rs) -> dict[str, str]:
     return out
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_words_follow_course(ctx) -> str:
     """Issue 55 item 3: each output a student reads, rendered under a course that reveals the hidden
     inputs after the due date and one that never does (and ★ as extra credit or optional): no sentence
     promises inputs the course never reveals, and the course that reveals says when; the extra credit is
     named only where the course has it; the report lists counted cases before ★ ones, each with its weight."""
     import html as html_mod
-    from ..status import FAIL as FAILED_CASE
+    from kitlib.status import FAIL as FAILED_CASE
     checked = []
     for reveal in (True, False):
         for extra in (True, False):
@@ -859,21 +861,3 @@ def selftest_words_follow_course(ctx) -> str:
     return (f"{len(checked)} renderings (terminal, Gradescope, PrairieLearn, Classroom, the report's page; reveal on "
             "and off, ★ extra credit and optional): no promise of inputs the course never shows; counted cases "
             "first, each with its weight")
-
-
-def selftests():
-    return [("course: the default scale", selftest_default_scale),
-            ("course: the kit's course.json as set", selftest_kit_course), ("course: weights, exact", selftest_weighted),
-            ("course: bad course files", selftest_bad_course_files),
-            ("course: Gradescope's ★ and compile-error views", selftest_gradescope_views),
-            ("course: Gradescope's tests add up to each step's points", selftest_gradescope_adds_up),
-            ("course: ★ as extra credit", selftest_extra_credit),
-            ("course: weights per case and per section", selftest_case_weights),
-            ("course: Gradescope's extra credit on the kit's course", selftest_gradescope_extra_credit),
-            ("course: the scale table's example of extra credit against a bug", selftest_course_extra_credit_example),
-            ("course: reveal after the due date", selftest_reveal),
-            ("course: the words a student reads follow course.json", selftest_words_follow_course), ("course: ./kit course", selftest_course_table),
-            ("course: a roster", selftest_roster), ("course: a moved kit", selftest_moved_kit),
-            ("course: step 05 runs without step 04", selftest_step_without_its_need),
-            ("course: a handout's total line", selftest_handout_wording),
-            ("course: launch.json from the steps", selftest_launch_json)]

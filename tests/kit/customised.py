@@ -22,7 +22,7 @@ the solutions; the step 05 fixtures that read the scene's colours) run twice her
 
 The self-tests that make up cases for ./kit course list each step's recorded cases instead, so a course's
 weights by case and by section name cases that exist (selftest/course.py, course_cases; issue 55). A failure is said
-whole: each failed self-test's lines, the command's whole error (harness.said).
+whole: each failed self-test's lines, the command's whole error (support.said).
 
 Run it after each change of course.json or the scene (docs/instructors.md says so): 200 s measured on the kit as
 shipped, 290 s on an instructor's customised course at a load of 9, 302 s on one with weights by case
@@ -40,8 +40,8 @@ import sys
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT
-from .harness import expect, last_lines, need_solutions
+from kitlib.common import BUILD, ROOT
+from .support import expect, last_lines, need_solutions
 from .fixtures import fixture_dir
 
 COPY = BUILD / "customised-kit"
@@ -64,7 +64,7 @@ def customise(kit_dir: Path) -> dict:
         course["steps"][n] = dict(entry, points=40 if n == numbers[-1] else "41/3" if n == numbers[0] else 20)
     # ★ as 5 % extra credit (each ★ case passed adds a twentieth of a core case's points, on top), or,
     # where the course has it as extra credit already, back to optional (weight 0, the default).
-    from .. import course as course_file
+    from kitlib import course as course_file
     groups = course.setdefault("groups", {})
     was_extra = course_file.read(course_path, numbers).extra_credit("robust")
     groups["robust"] = {"weight": 0} if was_extra else {"weight": "1/20", "extra_credit": True}
@@ -133,7 +133,7 @@ def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
 
 def selftest_customised(ctx) -> str:
     need_solutions()
-    from .. import course as course_file
+    from kitlib import course as course_file
     from . import newstep
     start = time.monotonic()
     # 1. The instructor's course as it stands.
@@ -149,8 +149,8 @@ def selftest_customised(ctx) -> str:
     copied, out = run_dependent(kit_dir, f"a customised copy ({made})")
     expect(made["colour"].split()[0] in out, f"the scene-table test did not name the colour the copy changed:\n{out[-600:]}")
     # The new-step test's number in the copy: the one after the instructor's step.
-    r = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, 'tools'); "
-                        "from kitlib.selftest import newstep; print(newstep.free_number())"],
+    r = subprocess.run([sys.executable, "-c", "import sys; sys.path[:0] = ['tools', 'tests']; "
+                        "from kit import newstep; print(newstep.free_number())"],
                        cwd=kit_dir, capture_output=True, text=True, timeout=120)
     want = f"{int(made['step']) + 1:02d}"
     expect(r.stdout.strip() == want, f"the new-step test would add step {r.stdout.strip() or r.stderr[-300:]} to "
@@ -162,7 +162,3 @@ def selftest_customised(ctx) -> str:
             f"a copy with points {points}, ★ {made['robust']}, reveal {'on' if made['reveal'] else 'off'}, "
             f"{made['colour']}, a step {made['step']} from the template: {copied}; the new-step test takes {want} "
             f"({time.monotonic() - start:.0f} s in all)")
-
-
-def selftests():
-    return [("customised: the course's self-tests on a customised copy", selftest_customised)]

@@ -13,8 +13,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT
-from .harness import Skipped, expect, kit, need_solutions
+from kitlib.common import BUILD, ROOT
+from .support import Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 CASE = "window: a root exactly at tmin counts"
@@ -113,8 +113,3 @@ def selftest_debug_lldb(ctx) -> str:
         expect(stamp() == before, "./kit debug configured or built before refusing the case or the debugger")
     return ("without gdb, lldb stops in the student's intersect_unit_sphere(tmin=2, tmax=10); an unknown case and "
             f"a missing debugger refused before any build: {said[:90]}")
-
-
-def selftests() -> list:
-    return [("debugging a case under gdb", selftest_debug),
-            ("debugging a case under lldb where there is no gdb", selftest_debug_lldb)]

@@ -26,8 +26,8 @@ import json
 import re
 from pathlib import Path
 
-from ..common import ROOT
-from .. import decks
+from kitlib.common import ROOT
+from kitlib import decks
 
 LECTURES = ROOT / "lectures"
 TESTS = ROOT / "tests"

@@ -18,10 +18,12 @@ import importlib.util
 import re
 from pathlib import Path
 
-from ..commands import docs as cmd_docs
-from ..common import BUILD, ROOT, KitError
-from ..packages import ensure_packages
-from .harness import Failed, Skipped, expect, need_solutions, tier
+import pytest
+
+from kitlib.commands import docs as cmd_docs
+from kitlib.common import BUILD, ROOT, KitError
+from kitlib.packages import ensure_packages
+from .support import Failed, Skipped, expect, need_solutions
 
 SCREENSHOTS = BUILD / "docs" / "screenshots"
 
@@ -33,7 +35,7 @@ def _math_filter():
     return module
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_math_filter(ctx) -> str:
     mf = _math_filter()
     bad = mf.selftest()
@@ -178,7 +180,7 @@ def pages_to_open(site) -> list[tuple[str, str]]:
 
 
 def selftest_browser(ctx) -> str:
-    from .. import browser
+    from kitlib import browser
     try:
         ensure_packages("browser")
     except KitError as e:
@@ -246,7 +248,7 @@ def kit_lines(run: str) -> list[list[str]]:
     return found
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_student_loop_workflow(ctx) -> str:
     """The GitHub Actions workflow that runs the student loop on macOS and Ubuntu runners (#36 item 5;
     not run here): it parses as YAML, runs on both, says it is not run here, and every ./kit line
@@ -255,7 +257,7 @@ def selftest_student_loop_workflow(ctx) -> str:
     option are caught."""
     import json
     import subprocess
-    from .. import cli
+    from kitlib import cli
     need_solutions()    # the workflow is the instructor's: a handout has none
     probe = subprocess.run([SYSTEM_PYTHON, "-c", "import yaml"], capture_output=True) \
         if Path(SYSTEM_PYTHON).exists() else None
@@ -300,7 +302,7 @@ def selftest_student_loop_workflow(ctx) -> str:
     return f"parses; macOS and Ubuntu; {len(lines)} ./kit lines ({', '.join(used)}) the kit's parser takes"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_npm_once_more(ctx) -> str:
     """An npm install the network failed is tried once more, and only once: a stand-in npm on the
     PATH (which fails its first N runs, then installs what docs/package-lock.json pins) into a
@@ -309,7 +311,7 @@ def selftest_npm_once_more(ctx) -> str:
     import io
     import os
     import tempfile
-    from .. import webtools
+    from kitlib import webtools
     pinned = webtools.pinned_versions()
     name = sorted(pinned)[0]
     saved = (webtools.NPM_DIR, os.environ.get("PATH", ""))
@@ -355,15 +357,3 @@ def selftest_npm_once_more(ctx) -> str:
     expect(said and "npm could not install" in said[0] and "ECONNRESET" in said[0],
            f"the failure does not say npm's words: {said}")
     return "a failed install tried once more (one failure: installed; two: the error, with npm's words)"
-
-
-def selftests() -> list:
-    return [
-        ("docs: math filter", selftest_math_filter),
-        ("docs: an npm install the network failed is tried once more", selftest_npm_once_more),
-        ("docs: site builds without warnings", selftest_site_builds),
-        ("docs: no solution in the student site", selftest_no_solutions),
-        ("docs: formulas and images in a browser", selftest_browser),
-        ("docs: the student loop's GitHub workflow (macOS, Ubuntu) names what the kit has",
-         selftest_student_loop_workflow),
-    ]

@@ -7,8 +7,10 @@ still draws anew. The seed is secret.hidden_seed's, here with a fixed key (no fi
 
 from __future__ import annotations
 
-from ..secret import code_only, hidden_seed
-from .harness import expect, tier
+import pytest
+
+from kitlib.secret import code_only, hidden_seed
+from .support import expect
 
 KEY = bytes(range(32))
 
@@ -38,7 +40,7 @@ OTHER = [
 ]
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_draw_follows_code(ctx) -> str:
     seed = hidden_seed("01_unit_sphere", [BASE], key=KEY)
     for i, variant in enumerate(SAME):
@@ -56,7 +58,3 @@ def selftest_draw_follows_code(ctx) -> str:
            "the identity no longer changes the draw")
     return (f"{len(SAME)} re-commented or re-indented copies draw as the original; {len(OTHER)} code changes "
             "each draw anew; a // in a string stays code")
-
-
-def selftests():
-    return [("draws: the hidden draw follows the code, not its comments", selftest_draw_follows_code)]

@@ -9,7 +9,7 @@ allowed and FMA instructions (a prologue of pragmas, since the kit's own flags s
 a probe checks the prologue does fuse). The self-test "fair verdicts" (selftest/robust.py) runs it on a
 few draws; a maintainer runs the full table by hand:
 
-    PYTHONPATH=tools python3 -m kitlib.selftest.fair_table --seeds 100
+    PYTHONPATH=tools:tests python3 -m kit.fair_table --seeds 100
 
 which prints a Markdown table: form, step, type, contraction, then for each tier the failures: basic
 (cases), hidden (case x draw pairs, of how many), ★ (cases).
@@ -27,12 +27,12 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import procfs
-from .. import bundle
-from ..build import Build, detect_undefined, submission_build
-from ..checking import build_step, judge_step
-from ..common import ROOT, load_steps
-from ..sandbox import NONE_OWN
+from kitlib import procfs
+from kitlib import bundle
+from kitlib.build import Build, detect_undefined, submission_build
+from kitlib.checking import build_step, judge_step
+from kitlib.common import ROOT, load_steps
+from kitlib.sandbox import NONE_OWN
 from .fixtures import fixture_dir
 
 # Folder -> what it is, per step (step 03's file holds the shortcut and the geometric form).
@@ -202,7 +202,7 @@ def table(rows: list[Row], seeds: int) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python3 -m kitlib.selftest.fair_table", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="python3 -m kit.fair_table", description=__doc__.split("\n\n")[0])
     p.add_argument("--seeds", type=int, default=100, help="hidden draws per form (default 100)")
     p.add_argument("--form", action="append", choices=list(FORMS), help="only this form (repeatable)")
     p.add_argument("--no-fma", action="store_true", help="leave out the fused columns")

@@ -22,13 +22,13 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
-from .. import course as course_file
-from ..cases import StepResult
-from ..checking import recorded_cases
-from ..common import BUILD, ROOT, load_steps, student_file_name
-from ..status import DONE
+from kitlib import course as course_file
+from kitlib.cases import StepResult
+from kitlib.checking import recorded_cases
+from kitlib.common import BUILD, ROOT, load_steps, student_file_name
+from kitlib.status import DONE
 from . import scale
-from .harness import Failed, Skipped, expect, need_solutions, partly_skipped
+from .support import Failed, Skipped, expect, need_solutions, partly_skipped
 
 WORK = BUILD / "faults-test"
 DISK = WORK / "disk"
@@ -346,8 +346,8 @@ def selftest_busy_machine(ctx) -> str:
     its budget, they are its timeouts."""
     need_solutions()
     from collections import Counter
-    from .. import bundle, runcases
-    from ..build import detect_undefined
+    from kitlib import bundle, runcases
+    from kitlib.build import detect_undefined
     step = load_steps()[0]
     build = BUILD / "submission-7"
     judge = bundle.ensure(detect_undefined()).judge(step)      # the kit's side: the judge
@@ -371,9 +371,3 @@ def selftest_busy_machine(ctx) -> str:
            f"the code's budget spent: {dict(got['spent'])}, a case not graded or left without a verdict")
     return (f"a step given no time: {got['within']['grader_error']} of {sum(got['within'].values())} cases not graded "
             f"with the budget unspent; with it spent, none ({dict(got['spent'])})")
-
-
-def selftests():
-    return [("faults: ./kit grade says \"not graded\", retries alone, never 0 of 0", selftest_grade),
-            ("faults: every platform says \"not graded\", takes no point", selftest_platforms),
-            ("faults: the step's time out on a busy machine is not graded", selftest_busy_machine)]

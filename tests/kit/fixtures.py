@@ -23,9 +23,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .. import atomic
-from ..common import BUILD, ROOT, KitError, load_steps
-from ..mutants import SOLUTIONS, Mutant, PatchError, apply_patch, read_diff
+from kitlib import atomic
+from kitlib.common import BUILD, ROOT, KitError, load_steps
+from kitlib.mutants import SOLUTIONS, Mutant, PatchError, apply_patch, read_diff
 
 FIXTURES = ROOT / "tests" / "fixtures"
 WORK = BUILD / "fixtures"
@@ -132,7 +132,7 @@ def fixture_dir(name: str | os.PathLike, fixtures: Path = FIXTURES, work: Path =
 
 if __name__ == "__main__":
     # For a shell (CI, a maintainer): prints the materialised path of each fixture named.
-    #   ./kit check 1 --steps "$(PYTHONPATH=tools python3 -m kitlib.selftest.fixtures missing_include)"
+    #   ./kit check 1 --steps "$(PYTHONPATH=tools:tests python3 -m kit.fixtures missing_include)"
     try:
         for arg in sys.argv[1:]:
             print(fixture_dir(arg))

@@ -15,10 +15,10 @@ import shutil
 import subprocess
 import tempfile
 
-from ..common import BUILD, ROOT, KitError
-from ..build import configure, preset_build
+from kitlib.common import BUILD, ROOT, KitError
+from kitlib.build import configure, preset_build
 
-from .harness import Failed, Skipped, expect, need_solutions
+from .support import Failed, Skipped, expect, need_solutions
 
 RUNS_PER_TARGET = 3_000_000          # about 2 s each on the CI machine
 SEED = 1
@@ -76,7 +76,3 @@ def selftest_fuzz(ctx) -> str:
 
 def _finding(stderr: str) -> list[str]:
     return [l for l in stderr.splitlines() if "property broken" in l or "ERROR" in l or "o = (" in l][:6]
-
-
-def selftests():
-    return [("fuzzing the reference solutions", selftest_fuzz)]

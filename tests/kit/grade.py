@@ -19,9 +19,11 @@ import zipfile
 from fractions import Fraction
 from pathlib import Path
 
-from ..common import BUILD, ROOT, load_steps, student_file_name
+import pytest
+
+from kitlib.common import BUILD, ROOT, load_steps, student_file_name
 from . import scale
-from .harness import Failed, Skipped, expect, need_solutions, tier
+from .support import Failed, Skipped, expect, need_solutions
 from .fixtures import fixture_dir
 
 
@@ -45,9 +47,9 @@ def _same(found: Path, source: Path, folders: list[str]) -> list[str]:
     return problems + [f"{e}: not a step file, copied" for e in extra]
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_layouts(ctx) -> str:
-    from ..submissions import NotFound, locate
+    from kitlib.submissions import NotFound, locate
 
     need_solutions()    # its uploads are made of the solutions and the fixtures
 
@@ -151,7 +153,7 @@ def make_mixed_class(root: Path, size: int, salt: str = "") -> dict[str, str]:
     the textbook formulas. Every file but a shipped stub ends with a comment naming `salt`, so a
     class made with a new salt shares no bytes with an earlier one (the kit's object cache persists
     between gradings), while its copies stay byte for byte alike. Returns each student's kind."""
-    from ..mutants import patches, write_answer
+    from kitlib.mutants import patches, write_answer
     steps = load_steps()
     total = sum(n for _, n in CLASS_MIX)
     counts = {kind: 1 for kind, _ in CLASS_MIX}         # every kind at least once, the rest in proportion
@@ -312,13 +314,6 @@ def selftest_class_speed(ctx) -> str:
             f"at the start; RAYKIT_CLASS_SIZE=60 for the issue's class")
 
 
-def selftests():
-    return [("uploads: step files found at any depth, only they", selftest_layouts),
-            ("graded compiles and links as CMake writes them, precompiled step headers", selftest_student_pch),
-            ("a class's CPU per submission", selftest_class_speed),
-            ("grade: hostile names and output reach no written file raw", selftest_names_are_data)]
-
-
 def selftest_student_pch(ctx) -> str:
     """studentpch.py: a graded compile whose file starts with its step header reads the precompiled
     one (GCC's -H marks it with '!'), inside the sandbox; a file that includes something else first,
@@ -326,9 +321,9 @@ def selftest_student_pch(ctx) -> str:
     process, as a check is: the sandbox makes its process the reaper of the graded code's orphans
     and claims a user id until it ends, which must not outlive the probe in the self-test's."""
     need_solutions()
-    r = subprocess.run([sys.executable, "-c", "import sys; from kitlib.selftest.grade import student_pch_probe as p; "
+    r = subprocess.run([sys.executable, "-c", "import sys; from kit.grade import student_pch_probe as p; "
                         "print(p())"], cwd=ROOT, capture_output=True, text=True, timeout=600,
-                       env=dict(os.environ, PYTHONPATH=str(ROOT / "tools")))
+                       env=dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT / "tools"), str(ROOT / "tests")])))
     said = (r.stdout.strip().splitlines() or [""])[-1]
     kind, _, text = said.partition(" ")
     if kind == "SKIP":
@@ -348,8 +343,8 @@ def student_pch_probe() -> str:
 
 
 def _student_pch_probe() -> str:
-    from .. import studentpch
-    from ..sandbox import choose
+    from kitlib import studentpch
+    from kitlib.sandbox import choose
     step = load_steps()[0]
     header = studentpch.FIRST_INCLUDE.search((ROOT / "steps" / step.folder / step.files[0]).read_text()).group(1)
     work = CLASS_DIR / "pch"

@@ -4,14 +4,16 @@ from __future__ import annotations
 
 import re
 
-from ..commands.hint import choose, hint_sections, load_hints
-from ..common import load_steps
-from .harness import Failed, expect, kit, need_solutions, tier
+import pytest
+
+from kitlib.commands.hint import choose, hint_sections, load_hints
+from kitlib.common import load_steps
+from .support import Failed, expect, kit, need_solutions
 
 CODE = re.compile(r";\s*$|[{}]|\bfor\s*\(|\bif\s*\(", re.M)
 
 
-@tier("step")
+@pytest.mark.step
 def selftest_hints(ctx) -> str:
     counts = []
     for step in ctx.steps:
@@ -31,7 +33,7 @@ def selftest_hints(ctx) -> str:
     return "hints per step: " + ", ".join(map(str, counts)) + "; one more per call; no code in any"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_hint_choice(ctx) -> str:
     """The first hint is the one about the section of the first failing case, then the fixed order."""
 
@@ -65,8 +67,8 @@ def selftest_hint_looks_at_failure(ctx) -> str:
     import tempfile
     from pathlib import Path
 
-    from ..mutants import MUTANTS, write_answer
-    from ..common import BUILD
+    from kitlib.mutants import MUTANTS, write_answer
+    from kitlib.common import BUILD
 
     need_solutions()  # the mutant is the reference with one slip
     step = load_steps()[0]
@@ -136,9 +138,3 @@ def selftest_hint_end(ctx) -> str:
     expect(end.returncode == 0 and "No hint is left" in end.stdout and "Hint " not in end.stdout,
            f"./kit hint {n} after all {count} hints:\n{end.stdout}")
     return f"{count} hints, 'again' after the first {count - 1} only, then 'No hint is left'"
-
-
-def selftests():
-    return [("hints", selftest_hints), ("hint order: what fails first", selftest_hint_choice),
-            ("hint looks at the failing case", selftest_hint_looks_at_failure),
-            ("hint: the end", selftest_hint_end)]

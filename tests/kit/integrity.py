@@ -45,12 +45,16 @@ import time
 from pathlib import Path
 from typing import Callable
 
-from .. import procfs
-from ..common import BUILD, ROOT, load_steps, stage_on_reference
-from ..status import DONE, NO_COMPILE, PARTIAL, TIMED_OUT
+import pytest
+
+from kitlib import procfs
+from kitlib.common import BUILD, ROOT, load_steps, stage_on_reference
+from kitlib.status import DONE, NO_COMPILE, PARTIAL, TIMED_OUT
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions, partly_skipped
+from .support import Failed, Skipped, expect, kit, need_solutions, partly_skipped
 from .fixtures import fixture_dir
+
+pytestmark = pytest.mark.security      # conftest.py: may not skip in CI
 
 MARKER = "raykit-hostile"           # in the name of every file the hostile fixtures drop
 LINGERER = "rk-lingerer"            # the process name of lingering_writer's detached writer
@@ -63,12 +67,12 @@ _graded: dict[tuple[str, tuple[str, ...], str], tuple[int, bytes, bytes, float]]
 
 def isolations() -> tuple[list[str], list[str]]:
     """The sandboxes to grade under here, and why any other was skipped."""
-    from ..sandbox import bwrap_works
+    from kitlib.sandbox import bwrap_works
 
     modes, skipped = [], []
     if bwrap_works():
         modes.append("bwrap")
-    else:       # in CI a failure unless .ci/run says this machine cannot (harness.partly_skipped)
+    else:       # in CI a failure unless .ci/run says this machine cannot (support.partly_skipped)
         skipped.append(partly_skipped("bwrap", "bwrap skipped: bubblewrap cannot run here "
                                                "(sandbox.bwrap_works() is false)"))
     if os.geteuid() == 0:
@@ -360,7 +364,7 @@ def one_slip_folder() -> Path:
     """Steps 01-05 from the solutions, with step 04's edges excluded (`<` for `<=`)."""
     steps = load_steps()
     [rect] = [s for s in steps if s.number == "04"]
-    from ..mutants import write_answer
+    from kitlib.mutants import write_answer
     slip = write_answer(rect, ROOT / "tests" / "mutants" / rect.folder / "edge_excluded.patch",
                         BUILD / "integrity-one-slip-04")
     target = stage_on_reference(BUILD / "integrity-one-slip", rect, steps, slip)
@@ -724,10 +728,10 @@ def selftest_slow_case(ctx) -> str:
     call, graded in-process, unsandboxed, with 4 s a case and a step's CPU of 0.2 s for three calls a
     visible case and 24 more: the visible calls (one to four a case) pass; the first hidden family, 24
     draws, meets the bound (3.2 s of calls, or the backstop at 4 s) before the budget is spent."""
-    from .. import checking, runcases
-    from .. import course as course_file
-    from ..checking import check_steps
-    from ..build import submission_build
+    from kitlib import checking, runcases
+    from kitlib import course as course_file
+    from kitlib.checking import check_steps
+    from kitlib.build import submission_build
 
     need_solutions()
     steps = [s for s in ctx.steps if s.number == "01"]
@@ -812,8 +816,8 @@ def selftest_reference_out_of_reach(ctx) -> str:
         # The detector, checked on the kit's own programs: the reference's function in step 04's
         # reference program and in step 05's (which links it) are alike; the dump must not be.
         # The kit's side, with the reference's programs, is the bundle the grading used (bundle.py).
-        from .. import bundle
-        from ..build import detect_undefined
+        from kitlib import bundle
+        from kitlib.build import detect_undefined
         folder = bundle.ensure(detect_undefined()).folder
         expect((folder / "reference_answers_step05").is_file(), f"no reference_answers_step05 in {folder} to compare with")
         reference = function_bytes(folder / "reference_answers_step04", STANDIN_SYMBOL)
@@ -836,7 +840,7 @@ def selftest_no_reference_answer(ctx) -> str:
     view_ray the stub (tests/fixtures/hostile/read_script), grades exactly like the same step with an
     honest render (hostile/view_ray_stub): the student's process holds no reference view ray, so it finds
     none, and the render cases wait on the student's own view_ray (standin.hpp, issue 52)."""
-    from ..cases import picture_sections
+    from kitlib.cases import picture_sections
     step = next(s for s in load_steps() if s.number == "05")
     pictures = picture_sections(step)
 
@@ -861,22 +865,6 @@ def selftest_no_reference_answer(ctx) -> str:
 
     need_solutions()
     return run_modes(one)
-
-
-def selftests():
-    # One scale first: it grades every step, and the step-01 fixtures after it rebuild only step 01.
-    return [("integrity: one scale", selftest_one_scale),
-            ("integrity: forged verdicts", selftest_forge_verdicts),
-            ("integrity: lingering writer", selftest_lingering_writer),
-            ("integrity: read the answers", selftest_read_answers),
-            ("integrity: no reference code in a graded step 05", selftest_reference_out_of_reach),
-            ("integrity: no reference answer in a graded step 05", selftest_no_reference_answer),
-            ("integrity: read a classmate's files", selftest_read_classmate),
-            ("integrity: table of the visible inputs", selftest_table_of_visible_inputs),
-            ("integrity: scratch folder spy", selftest_scratch_spy),
-            ("integrity: a sleeper is stopped by the step's budget", selftest_sleeper),
-            ("integrity: slow correct code, the student's timeouts", selftest_slow_correct),
-            ("integrity: a case of many slow calls is the student's timeout", selftest_slow_case)] + round_three()
 
 
 def round_three():

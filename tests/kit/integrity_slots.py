@@ -33,13 +33,17 @@ import threading
 import time
 from pathlib import Path
 
-from .. import procfs
-from ..common import BUILD, ROOT
-from ..sandbox import Limits
-from ..sandbox_slots import KIT_TEMP_DIRS
-from .harness import Skipped, expect, need_solutions
+import pytest
+
+from kitlib import procfs
+from kitlib.common import BUILD, ROOT
+from kitlib.sandbox import Limits
+from kitlib.sandbox_slots import KIT_TEMP_DIRS
+from .support import Skipped, expect, need_solutions
 from .integrity import blamed_on_kit, grade_json, isolations, printed, run_modes, statuses
 from .fixtures import fixture_dir
+
+pytestmark = pytest.mark.security      # conftest.py: may not skip in CI
 
 LIMIT_WORDS = "may not start processes or threads"
 
@@ -284,7 +288,7 @@ def shield_held_ids() -> list:
     over instead of ending that grading's processes."""
     import fcntl
     import socket
-    from ..sandbox import COMPILE_UID_OFFSET, FIRST_UID, LOCK_DIRS
+    from kitlib.sandbox import COMPILE_UID_OFFSET, FIRST_UID, LOCK_DIRS
     held = []
     for uid in range(FIRST_UID, FIRST_UID + COMPILE_UID_OFFSET):
         for folder in LOCK_DIRS:
@@ -389,7 +393,7 @@ class ForeignReaper:
 
     def run(self) -> None:
         import signal
-        from ..sandbox import COMPILE_UID_OFFSET
+        from kitlib.sandbox import COMPILE_UID_OFFSET
         uid = None
         while not self.stop.is_set() and not all(self.killed.values()):
             if uid is None:
@@ -466,13 +470,3 @@ def selftest_unsent_signals(ctx) -> str:
                      f"{killed['answers']} answers process killed; self_kill {step['state']}, {crashed} crashed, "
                      f"{again} run again")
     return "; ".join(parts + skipped)
-
-
-def selftests():
-    return [("integrity: a forking step is refused its child", selftest_fork_budget),
-            ("integrity: the keyring keeps nothing for a re-run or the next student", selftest_keyring_rerun),
-            ("integrity: a classmate's program out of reach", selftest_classmate_program),
-            ("integrity: a filled /tmp leaves classmates their scores", selftest_fill_tmp),
-            ("integrity: two kits on one machine", selftest_two_kits),
-            ("integrity: two roots on one kernel, one range of ids", selftest_two_roots),
-            ("integrity: signals the kit did not send", selftest_unsent_signals)]

@@ -39,9 +39,9 @@ import struct
 import subprocess
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError
-from ..packages import ensure_packages
-from .harness import Failed, Skipped, expect, need_solutions
+from kitlib.common import BUILD, ROOT, KitError
+from kitlib.packages import ensure_packages
+from .support import Failed, Skipped, expect, need_solutions
 
 LAB = ROOT / "docs" / "lab"
 CHECK_SOURCE = LAB / "check" / "lab_check.cpp"
@@ -399,7 +399,7 @@ def word_problems(name: str, page: dict) -> list[str]:
 
 
 def _browser():
-    from .. import browser
+    from kitlib import browser
     try:
         ensure_packages("browser")
     except KitError as e:
@@ -649,12 +649,3 @@ def selftest_browser_restart(ctx) -> str:
     expect(value == 42 and attempts == 2 and starts == 2,
            f"value {value!r}, attempts {attempts}, starts {starts} (expected 42 on the second of 2)")
     return "a start that never answered was ended and the second start used (2 starts, the page evaluated 6*7 = 42)"
-
-
-def selftests() -> list:
-    return [
-        ("lab: every preset's numbers against the C++ reference", selftest_lab),
-        ("lab: works from the keyboard, and by dragging", selftest_lab_keyboard),
-        ("lab: a wrong float32 formula is caught", selftest_lab_catches),
-        ("browser: a Chromium that hangs at start is started again", selftest_browser_restart),
-    ]

@@ -25,9 +25,11 @@ import shutil
 import time
 from pathlib import Path
 
-from .. import procfs
-from ..common import BUILD, ROOT
-from .harness import Context, Failed, Screen, expect, kit, need_solutions, tier
+import pytest
+
+from kitlib import procfs
+from kitlib.common import BUILD, ROOT
+from .support import Context, Failed, Screen, expect, kit, need_solutions
 
 ANSI = re.compile(r"\033\[[0-9;]*[A-Za-z]")
 HANDOUT_DIR = BUILD / "latency-handout"
@@ -203,8 +205,8 @@ def selftest_bundle(ctx: Context) -> str:
     headers), never otherwise."""
     import json
     import tempfile
-    from .. import bundle
-    from ..build import Build, configure, detect_undefined
+    from kitlib import bundle
+    from kitlib.build import Build, configure, detect_undefined
     kit_side = bundle.ensure(detect_undefined())
     # Nothing of a student's: every file the bundle compiled is the kit's (tests/, solutions/) or its own.
     commands = json.loads((kit_side.folder / "compile_commands.json").read_text())
@@ -376,8 +378,8 @@ def selftest_bundle_parts(ctx: Context) -> str:
     part (the warm-up's work), in the same folder, every judge there."""
     import subprocess
     import tempfile
-    from .. import bundle
-    from ..build import detect_undefined
+    from kitlib import bundle
+    from kitlib.build import detect_undefined
     need_solutions()
     first = ctx.steps[0]
     with tempfile.TemporaryDirectory(prefix="raykit-parts-", dir=BUILD) as tmp:
@@ -412,7 +414,7 @@ def selftest_bundle_parts(ctx: Context) -> str:
             f"{len(judges) - 1} others; the whole bundle was then built on that part")
 
 
-@tier("step")
+@pytest.mark.step
 def selftest_recorded(ctx: Context) -> str:
     """tests/stubs.json holds the committed stubs' hashes, and each tests/NN_topic/cases.json (with
     tests/hidden/cases.json) the cases its judge lists: else an untouched step would be scored on
@@ -420,10 +422,10 @@ def selftest_recorded(ctx: Context) -> str:
     need_solutions()
     import json
     import subprocess
-    from .. import bundle
-    from ..checking import HIDDEN_CASES_FILE, STUBS_FILE, file_hash
-    from ..runcases import list_cases
-    from ..build import detect_undefined
+    from kitlib import bundle
+    from kitlib.checking import HIDDEN_CASES_FILE, STUBS_FILE, file_hash
+    from kitlib.runcases import list_cases
+    from kitlib.build import detect_undefined
     stubs = json.loads(STUBS_FILE.read_text())
     stale = []
     for step in ctx.steps:
@@ -445,9 +447,3 @@ def selftest_recorded(ctx: Context) -> str:
     del file_hash
     expect(not stale, "stale: " + ", ".join(stale) + ". Run ./kit check --record and commit what it writes.")
     return f"the stubs' hashes and {len(ctx.steps)} case lists are current"
-
-
-def selftests() -> list:
-    return [("recorded stubs and case lists", selftest_recorded), ("the kit's side built once", selftest_bundle),
-            ("the kit's side in parts", selftest_bundle_parts),
-            ("latency figures", selftest_latency)]

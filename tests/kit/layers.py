@@ -18,8 +18,10 @@ import re
 import time
 from pathlib import Path
 
-from ..common import ROOT
-from .harness import Skipped, expect, tier
+import pytest
+
+from kitlib.common import ROOT
+from .support import Skipped, expect
 
 KITLIB = ROOT / "tools" / "kitlib"
 
@@ -115,7 +117,7 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_layers(ctx) -> str:
     mods = modules()
     graph = {n: imports(n, p, set(mods)) for n, p in mods.items()}
@@ -163,14 +165,14 @@ def renames(path: Path) -> int:
     return found
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_atomic_write(ctx) -> str:
     """One atomic write (kitlib/atomic.py): no other module moves a file into place but those
     OTHER_RENAMES names; and its guarantees, shown: a link planted at the target is replaced, not
     written through; a write that fails halfway leaves the old file whole and no temporary file; a
     missing folder is an OSError; the mode is what a plain open gives, or the one asked for."""
     import tempfile
-    from .. import atomic
+    from kitlib import atomic
 
     counts = {n: renames(p) for n, p in modules().items() if n != "atomic"}
     hand_written = sorted(f"{n} ({k})" for n, k in counts.items() if k != OTHER_RENAMES.get(n, (0, ""))[0])
@@ -212,7 +214,7 @@ def selftest_atomic_write(ctx) -> str:
 PROC_READ = re.compile(r"""(?:["']/proc/(?!raykit-cannot-exist)|Path\(\s*f?["']/proc["']\s*\))""")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_one_proc_reader(ctx) -> str:
     """procfs.py is the kit's one reader of /proc: no other module of the driver or its self-test opens a
     path there; and what it reads is right: this process's owner, parent, session and command line, a
@@ -220,7 +222,7 @@ def selftest_one_proc_reader(ctx) -> str:
     import os
     import subprocess
     import sys
-    from .. import procfs
+    from kitlib import procfs
     readers = sorted(str(f.relative_to(KITLIB)) for f in KITLIB.rglob("*.py")
                      if f.name != "procfs.py" and PROC_READ.search(f.read_text()))
     expect(not readers, f"modules that read /proc themselves, not through procfs.py: {readers}")
@@ -259,7 +261,7 @@ def selftest_one_proc_reader(ctx) -> str:
             "a child's session, its zombie and its end read right")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_compiled_modules(ctx) -> str:
     """./kit compiles the kit's own modules once, into its cache folder (kitlib/pycache.py), and no
     other module there: the standard library reads those installed beside it. Nothing is written
@@ -283,10 +285,3 @@ def selftest_compiled_modules(ctx) -> str:
     after = {p for p in (ROOT / "tools").rglob("__pycache__")}
     expect(after <= before, f"compiled modules written beside the kit's sources: {sorted(after - before)[:3]}")
     return f"{len(kit)} of the kit's modules compiled into its cache folder, none other, none beside the sources"
-
-
-def selftests():
-    return [("layers: imports go downwards, no cycle", selftest_layers),
-            ("layers: one atomic write", selftest_atomic_write),
-            ("layers: one /proc reader", selftest_one_proc_reader),
-            ("layers: the kit's modules compiled once, into its cache", selftest_compiled_modules)]

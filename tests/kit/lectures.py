@@ -21,8 +21,10 @@ import re
 import tempfile
 from pathlib import Path
 
-from ..common import ROOT, load_steps
-from .harness import Failed, Skipped, expect, tier
+import pytest
+
+from kitlib.common import ROOT, load_steps
+from .support import Failed, Skipped, expect
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"
 ROBUST_GENERATOR = ROOT / "docs" / "robust_numbers.py"
@@ -38,7 +40,7 @@ def _generator(path: Path = GENERATOR):
     return module
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_bench_numbers(ctx) -> str:
     if not GENERATOR.is_file() or not (ROOT / "docs" / "bench" / "results.json").is_file():
         raise Skipped("no docs/bench_numbers.py or no committed benchmark run here")
@@ -78,7 +80,7 @@ def selftest_bench_numbers(ctx) -> str:
     return f"{blocks} generated blocks current with docs/bench/results.json; stale when the run moves; bad input exits 2"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_robust_numbers(ctx) -> str:
     if not ROBUST_GENERATOR.is_file() or not (ROOT / "solutions").is_dir():
         raise Skipped("no docs/robust_numbers.py or no solutions/ here (a handout)")
@@ -125,7 +127,10 @@ def selftest_robust_numbers(ctx) -> str:
             "forms; stale when the measurement moves or the suites change; bad input exits 2")
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_scene_tables(ctx) -> str:
     """Lecture 05's tables are the scene file's (include/raykit/scenes/cornell_box.inc): current, stale when
     a colour changes there, and a broken scene file is a clear error."""
@@ -160,7 +165,7 @@ def selftest_scene_tables(ctx) -> str:
             "a scene file without one of its objects is a clear error")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_pitfall_pictures(ctx) -> str:
     if not PITFALL_PICTURES.is_file():
         raise Skipped("no docs/pitfall_pictures.py here")
@@ -188,7 +193,10 @@ def selftest_pitfall_pictures(ctx) -> str:
 SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)(?:\. ([A-Z][^)\n]*))?", re.I)
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_hint_sections(ctx) -> str:
     bad, seen = [], 0
     for step in ctx.steps:
@@ -252,7 +260,7 @@ _CLAUSES = [re.compile(p, re.I) for p in (
 
 
 def drop_asides(text: str) -> str:
-    """The text without its parenthesised asides, nested ones included: `(\`dot(n, d)\` is +0 or -0)`
+    r"""The text without its parenthesised asides, nested ones included: `(\`dot(n, d)\` is +0 or -0)`
     goes whole, innermost parentheses first (a single `[^)]*` stopped at the first `)`)."""
     while True:
         shorter = re.sub(r"\s*\([^()]*\)", "", text)
@@ -339,7 +347,10 @@ def contract_problems(headers: dict[str, str], sources: dict[str, str],
     return bad, len(found)
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_contract_clauses(ctx) -> str:
     headers = {p.name: p.read_text() for p in sorted((ROOT / "include" / "raykit").glob("*.hpp"))}
     sources = {str(p): p.read_text() for p in sorted((ROOT / "tests").glob("0*_*/test_*.cpp"))}
@@ -371,7 +382,10 @@ def selftest_contract_clauses(ctx) -> str:
            "a removed case and an unasked rule are caught; nested parentheses read"
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_readme_steps(ctx) -> str:
     """README.md's step table is the steps' manifests' (docs/readme_steps.py): a row per step, in order,
     and a step added or renamed makes it stale."""
@@ -396,13 +410,3 @@ def selftest_readme_steps(ctx) -> str:
         expect(grown != block.group(2) and f"| {extra[:2]} | An extra step |" in grown,
                "a step added to the manifests leaves the table unchanged")
     return f"{len(rows)} rows, one per step.json, in order; a step added makes it stale"
-
-
-def selftests():
-    return [("numbers quoted from the benchmark are current", selftest_bench_numbers),
-            ("★ grading figures are current", selftest_robust_numbers),
-            ("the pitfalls' pictures are committed and current", selftest_pitfall_pictures),
-            ("lecture 05's tables are the scene file's", selftest_scene_tables),
-            ("hints point to lecture sections that exist", selftest_hint_sections),
-            ("every rule a header states has a case", selftest_contract_clauses),
-            ("the README's step table is the steps' manifests'", selftest_readme_steps)]

@@ -21,8 +21,10 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from ..common import ROOT
-from .harness import Skipped, expect, need_solutions, tier
+import pytest
+
+from kitlib.common import ROOT
+from .support import Skipped, expect, need_solutions
 
 FORMAT = ROOT / ".clang-format"
 
@@ -48,7 +50,7 @@ def pyflakes(paths: list[Path]) -> subprocess.CompletedProcess:
     return subprocess.run(["pyflakes3", *map(str, paths)], capture_output=True, text=True, timeout=300)
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_pyflakes(ctx) -> str:
     """pyflakes finds nothing in the kit's Python; an unused import and an undefined name planted in a
     scratch file are found."""
@@ -71,7 +73,7 @@ def selftest_pyflakes(ctx) -> str:
 
 def committed_stubs() -> dict[str, bytes]:
     """steps/'s C++ as committed (as a handout ships it), or as it is where there is no git history."""
-    from ..commands import handout as cmd_handout
+    from kitlib.commands import handout as cmd_handout
     try:
         files = cmd_handout.committed_steps()
     except Exception:       # no git, or not a repository: a copy of the kit
@@ -90,7 +92,7 @@ def format_problems(name: str, data: bytes) -> str:
     return err.strip().splitlines()[0] if err.strip() else f"clang-format exit {r.returncode}"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_clang_format(ctx) -> str:
     """The committed stubs and the solutions are as .clang-format says (clang-format --dry-run --Werror);
     a stub with its spacing changed is caught."""
@@ -117,11 +119,11 @@ def named(code: str, every: set[str]) -> list[str]:
     return sorted(n for n in every - {"python3"} if re.search(rf"(?<![\w.+-]){re.escape(n)}(?![\w.+-])", code))
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_ci_packages(ctx) -> str:
     """.ci/run installs the list tools/kitlib/packages.py prints and names no package of its own; the
     list holds every group's packages (a group added is installed by CI without touching .ci/run)."""
-    from .. import packages
+    from kitlib import packages
     run = ROOT / ".ci" / "run"
     if not run.is_file():
         raise Skipped("no .ci/run here")
@@ -164,7 +166,7 @@ def readme_problems(text: str) -> list[str]:
     return found
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_readme_door(ctx) -> str:
     """README.md is a door (issue 56): at most 150 lines of at most 120 characters, pointing to the
     students' and instructors' pages, integrity and CONTRIBUTING, and offering ./kit test --quick; a
@@ -176,10 +178,3 @@ def selftest_readme_door(ctx) -> str:
     caught = readme_problems(planted)
     expect(len(caught) >= 2, f"a long line and a lost link planted in the README: {caught}")
     return f"{len(text.splitlines())} lines, none over {README_WIDTH} characters, the four pages linked"
-
-
-def selftests():
-    return [("README.md is a door: short, narrow, pointing on", selftest_readme_door),
-            ("pyflakes finds nothing in the kit's Python", selftest_pyflakes),
-            ("the stubs and solutions are as .clang-format says", selftest_clang_format),
-            (".ci/run installs packages.py's list", selftest_ci_packages)]

@@ -13,10 +13,12 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
-from ..common import BUILD, ROOT, load_steps
-from ..status import PARTIAL
-from .harness import Failed, expect, need_solutions, tier
+import pytest
+
+from kitlib.mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
+from kitlib.common import BUILD, ROOT, load_steps
+from kitlib.status import PARTIAL
+from .support import Failed, expect, need_solutions
 from .fixtures import fixture_dir
 
 MINIMUM_PER_STEP = 8
@@ -58,7 +60,7 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
         problems.append(f"{label}: caught, but not by its named case(s); it fails: " + ", ".join(failing[:3]))
     # Its failures are its recorded signature, and no other slip's: the check names this slip, and its
     # named case comes first (slips.py, StepResult.first_problem).
-    from ..slips import _catalogue
+    from kitlib.slips import _catalogue
     alike = [k for k, e in _catalogue().items()
              if k.startswith(step.folder + "/") and isinstance(e, dict) and set(e.get("fails") or ()) == set(failing)]
     if named and alike == [f"{step.folder}/{mutant.name}"]:
@@ -71,7 +73,7 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
     return True, named, problems
 
 
-@tier("step")
+@pytest.mark.step
 def selftest_mutants(ctx) -> str:
     need_solutions()
     stray = stray_files()
@@ -296,7 +298,7 @@ def selftest_measured_causes(ctx) -> str:
 def selftest_save_refuses_uncaught(ctx) -> str:
     """`./kit mutant save` writes no patch for a slip no basic case catches (an equivalent mutant), and
     says how to drop it (issue 46)."""
-    from .harness import expect, kit
+    from .support import expect, kit
     need_solutions()
     step = ctx.steps[0]
     name = "selftest_equivalent"
@@ -318,14 +320,14 @@ def selftest_save_refuses_uncaught(ctx) -> str:
     return f"step {step.number}: a comment-only slip refused, no patch written, the way to drop it named"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_fixture_patches(ctx) -> str:
     """Every fixture kept as a patch (tests/fixtures/README.md, "How fixtures are kept") applies to its
     solution, and one that no longer does fails loudly, naming the fixture: a copy of a patch whose
     lines the solution no longer has, in a scratch tree of fixtures."""
     import tempfile
 
-    from ..common import KitError
+    from kitlib.common import KitError
     from .fixtures import FIXTURES, fixture_dir, is_patch
     need_solutions()    # tests/fixtures/ ships in no handout
     kept = sorted(p for p in FIXTURES.rglob("*.patch") if is_patch(p))
@@ -359,11 +361,3 @@ def selftest_fixture_patches(ctx) -> str:
         expect(not (Path(tmp) / "build" / rel.parts[0]).exists(), f"the broken copy of {rel} left a folder")
     return (f"{len(kept)} fixture files kept as patches, all applied ({len(tops)} fixture folders under "
             f"build/fixtures/); a broken copy fails: {said[:120]}")
-
-
-def selftests():
-    return [("mutants are caught", selftest_mutants),
-            ("fixtures kept as patches apply, a broken one is named", selftest_fixture_patches),
-            ("mutant save refuses a slip no case catches", selftest_save_refuses_uncaught),
-            ("a failure names the cause planted in the answer", selftest_planted_causes),
-            ("a failure names the measured cause, not the one it reads like", selftest_measured_causes)]

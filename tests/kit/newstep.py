@@ -44,8 +44,8 @@ import sys
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT
-from .harness import Failed, expect, need_solutions
+from kitlib.common import BUILD, ROOT
+from .support import Failed, expect, need_solutions
 from .fixtures import fixture_dir
 
 COPY = BUILD / "newstep-kit"
@@ -66,7 +66,7 @@ def use(number: str) -> None:
 
 def free_number() -> str:
     """The number the kit's next step takes: one more than its last (06 in the kit as shipped)."""
-    from ..common import load_steps
+    from kitlib.common import load_steps
     taken = [int(s.number) for s in load_steps()]
     taken += [int(p.name[:2]) for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir()]
     return f"{max(taken, default=0) + 1:02d}"
@@ -135,7 +135,7 @@ def template_files() -> list[Path]:
 def scratch_kit(where: Path) -> Path:
     """A copy of the kit's files (tracked, or new and not ignored: handout.kit_files) at `where`, in a
     git repository of its own, so that git in it never reads the kit's own history."""
-    from ..commands.handout import kit_files
+    from kitlib.commands.handout import kit_files
     shutil.rmtree(where, ignore_errors=True)
     for rel in kit_files():
         if rel.parts[0] == "build":
@@ -236,8 +236,8 @@ def selftest_new_step(ctx) -> str:
     lap("handout")
 
     # 4. The rules ./kit test enforces on a step, on step 06 in the copy.
-    r = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, 'tools'); "
-                        "from kitlib.selftest import newstep; sys.exit(newstep.rules_here())"],
+    r = subprocess.run([sys.executable, "-c", "import sys; sys.path[:0] = ['tools', 'tests']; "
+                        "from kit import newstep; sys.exit(newstep.rules_here())"],
                        cwd=kit_dir, capture_output=True, text=True, timeout=1800,
                        env=dict(os.environ, RAYKIT_NEWSTEP_FAST="1" if ctx.fast else "", RAYKIT_NEWSTEP_NUMBER=NUMBER))
     lines = [json.loads(l) for l in r.stdout.splitlines() if l.startswith("{")]
@@ -264,12 +264,12 @@ def selftest_new_step(ctx) -> str:
 def rules_here() -> int:
     """In the scratch copy (ROOT is the copy): each rule of ./kit test that a step must keep, run on
     step NUMBER; one JSON line per rule. The exit status is 1 when one fails."""
-    from ..common import load_steps
-    from ..build import build_target, configure, preset_build
-    from ..commands import docs
+    from kitlib.common import load_steps
+    from kitlib.build import build_target, configure, preset_build
+    from kitlib.commands import docs
     from . import check, hint, latency, lectures, mutant, slides
     from . import docs as docs_tests
-    from .harness import Context, Skipped
+    from .support import Context, Skipped
 
     use(os.environ.get("RAYKIT_NEWSTEP_NUMBER") or TEMPLATE_NUMBER)
     steps = [s for s in load_steps() if s.number == NUMBER]
@@ -296,8 +296,8 @@ def rules_here() -> int:
     def signed(c) -> str:
         # report.selftest_signatures_fresh's rule, on this step's mutants only (another step's stale
         # signatures are that step's business, and ./kit test report names them).
-        from ..mutants import patches
-        from ..report import signatures
+        from kitlib.mutants import patches
+        from kitlib.report import signatures
         recorded = json.loads(signatures.FILE.read_text())["mutants"]
         bad = []
         for path in patches(steps[0]):
@@ -336,7 +336,3 @@ def rules_here() -> int:
             failed = True
             print(json.dumps({"rule": name, "failed": f"{type(e).__name__}: {e}"}), flush=True)
     return 1 if failed else 0
-
-
-def selftests():
-    return [("a new step from CONTRIBUTING's list", selftest_new_step)]

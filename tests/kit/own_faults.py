@@ -22,9 +22,11 @@ from __future__ import annotations
 
 import json
 
-from ..status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
+import pytest
+
+from kitlib.status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
 from .fixtures import fixture_dir
-from .harness import Failed, expect, need_solutions
+from .support import Failed, expect, need_solutions
 from .integrity import grade_json, run_modes
 
 KINDS = ("base", "same", "no_compile", "own")
@@ -56,6 +58,7 @@ def _messages(step: dict) -> list[str]:
     return out
 
 
+@pytest.mark.security      # of integrity's: may not skip in CI
 def selftest_no_own_not_graded(ctx) -> str:
     """Every route a student's file has to its own "not graded" gives the student's own verdict."""
     need_solutions()
@@ -99,7 +102,3 @@ def selftest_no_own_not_graded(ctx) -> str:
         return f"{len(graded)} routes, each the student's own verdict ({states})"
 
     return run_modes(one)
-
-
-def selftests():
-    return [("integrity: no route to a student's own not graded", selftest_no_own_not_graded)]

@@ -24,10 +24,12 @@ import shutil
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from .. import picture
-from ..common import BUILD, ROOT, load_steps
+import pytest
+
+from kitlib import picture
+from kitlib.common import BUILD, ROOT, load_steps
 from . import check
-from .harness import Failed, expect, kit, need_solutions, tier
+from .support import Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 WORK = BUILD / "selftest-pictures"
@@ -58,7 +60,7 @@ def grade_json(steps_dir: Path, report: Path):
 
 
 def selftest_failing_case(ctx) -> str:
-    from ..mutants import MUTANTS, write_answer
+    from kitlib.mutants import MUTANTS, write_answer
 
     need_solutions()
     step = next(s for s in load_steps() if s.number == "01")
@@ -160,7 +162,7 @@ DEGENERATE = [
 ]
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_degenerate(ctx) -> str:
     folder = WORK / "degenerate"
     shutil.rmtree(folder, ignore_errors=True)
@@ -197,7 +199,7 @@ def selftest_degenerate(ctx) -> str:
     return f"{drawn} degenerate figures drawn, {refused} refused with a reason, none crashed"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_gallery(ctx) -> str:
     for name, title, f in picture.PITFALLS:
         case = picture.Case(f)
@@ -353,10 +355,3 @@ def selftest_labels(ctx) -> str:
     return (f"{len(pictures)} pictures ({len(drawn['off'])} of an all-wrong steps 01-04, {len(drawn['textbook'])} "
             "of a float textbook step 02): no label overlaps another or leaves its panel; pbrt's far miss "
             "drawn outside the circle, its 0.1-pixel gap said in words")
-
-
-def selftests():
-    return [("pictures: a failing case", selftest_failing_case),
-            ("pictures: every picture's labels", selftest_labels),
-            ("pictures: degenerate input", selftest_degenerate),
-            ("pictures: the pitfall gallery", selftest_gallery)]

@@ -53,9 +53,11 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from .. import course as course_file
-from ..common import BUILD, ROOT, load_steps
-from .harness import Skipped, expect, kit, need_solutions, tier
+import pytest
+
+from kitlib import course as course_file
+from kitlib.common import BUILD, ROOT, load_steps
+from .support import Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 # ../shared/third_party/ beside the kit's clone, or beside the folder of worktrees it is one of.
@@ -287,9 +289,9 @@ def selftest_prairielearn(ctx) -> str:
 def assessment_checks(ctx, out: Path, schema: Path) -> str:
     """The assessment against PrairieLearn's schema and the course's scale; the pages; the image."""
     from fractions import Fraction
-    from .. import course as course_file
-    from ..commands.prairielearn import pl_number, step_points
-    from ..packages import PACKAGES
+    from kitlib import course as course_file
+    from kitlib.commands.prairielearn import pl_number, step_points
+    from kitlib.packages import PACKAGES
     path = out / "courseInstances" / "Fall" / "assessments" / "raykit" / "infoAssessment.json"
     expect(path.is_file(), f"no assessment at {path.relative_to(out)}")
     bad = WORK / "bad-assessment.json"
@@ -332,7 +334,7 @@ def assessment_checks(ctx, out: Path, schema: Path) -> str:
                if not apt or p not in apt.group(1).split()]
     expect(not missing and re.search(r"^FROM debian:\d+$", docker, re.M),
            f"graders/raykit/Dockerfile: not FROM debian:N, or its apt line misses {missing}")
-    from ..commands.prairielearn import MEASURED_SECONDS, TIMEOUT
+    from kitlib.commands.prairielearn import MEASURED_SECONDS, TIMEOUT
     options = [json.loads(i.read_text())["externalGradingOptions"] for i in out.glob("questions/raykit/*/info.json")]
     expect(all(o["image"] == "raykit-selftest/raykit-grader" for o in options), "an info.json does not name --image")
     slowest = max(wall for _, wall in MEASURED_SECONDS.values())
@@ -356,7 +358,7 @@ def pl_make(out: Path, course, *options: str) -> str:
     import argparse
     import contextlib
     import io
-    from ..commands import prairielearn as cmd
+    from kitlib.commands import prairielearn as cmd
     shutil.rmtree(out, ignore_errors=True)
     parser = argparse.ArgumentParser()
     cmd.register(parser)
@@ -559,7 +561,7 @@ def scene_problems(out: Path, steps) -> list[str]:
 
 def docs_pages() -> dict[str, str]:
     """The lecture pages ./kit docs makes, by step: the names selftest/docs.py checks in a built site."""
-    from ..commands import docs as cmd_docs
+    from kitlib.commands import docs as cmd_docs
     return {sp.step.number: cmd_docs.page_id(sp.lecture) + ".html" for sp in cmd_docs.gather(False).steps
             if sp.lecture}
 
@@ -589,10 +591,10 @@ def link_problems(out: Path, steps, docs_url: str | None) -> list[str]:
     return found
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_prairielearn_complete(ctx) -> str:
     """#46 item 3: ./kit prairielearn makes, with the lines it prints, a course PrairieLearn takes whole."""
-    from ..common import KitError
+    from kitlib.common import KitError
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     example = need_third_party("prairielearn", "exampleCourse")
@@ -688,8 +690,8 @@ def selftest_prairielearn_complete(ctx) -> str:
 def selftest_noapt(ctx) -> str:
     import os
     from unittest import mock
-    from .. import packages
-    from ..common import KitError
+    from kitlib import packages
+    from kitlib.common import KitError
     prefix = WORK / "homebrew"
     shutil.rmtree(prefix, ignore_errors=True)
     for name in ("glm", "doctest"):
@@ -823,7 +825,7 @@ def selftest_mac_like(ctx) -> str:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_prairielearn_extra_credit(ctx) -> str:
     """#46 item 2 on PrairieLearn (no build, a few seconds): on the kit's course.json with ★ made extra
     credit, a step's question is worth the step's points alone, so a complete step scores 1 (it read
@@ -833,8 +835,8 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     results against externalGraderCommon.ts's rules (check_results.py); expectations from the course's
     rules on each step's recorded cases."""
     from fractions import Fraction
-    from ..commands.prairielearn import pl_number
-    from ..plresults import prairielearn
+    from kitlib.commands.prairielearn import pl_number
+    from kitlib.plresults import prairielearn
     from .course import extra_credit_course, kit_results
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
@@ -856,7 +858,7 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     total, bonus, told = Fraction(0), Fraction(0), []
     with course_file.using(course):
         for s in ctx.steps:
-            from ..checking import recorded_cases
+            from kitlib.checking import recorded_cases
             cases = recorded_cases(s)
             expect(cases is not None, f"step {s.number} has no recorded cases")
             kept = [(c.tier, c.name, c.lecture) for c in cases if c.tier != "hidden" or course.hidden_enabled]
@@ -910,7 +912,7 @@ def selftest_prairielearn_from_empty(ctx) -> str:
     questions' topic and tags declared, the instance, the assessment, the questions) whose every file
     PrairieLearn's schemas take and that declares all it uses; --course DIR writes DIR's infoCourse.json
     with what it lacks added, DIR's own entries kept; the two together are refused."""
-    from ..common import KitError
+    from kitlib.common import KitError
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     example = need_third_party("prairielearn", "exampleCourse")
@@ -971,15 +973,3 @@ def selftest_prairielearn_from_empty(ctx) -> str:
     return (f"--new-course: {sum(len(v) for v in files.values())} files, each valid, every topic and tag declared; "
             f"--course: the example course's infoCourse.json with 1 topic and {added} tags added, valid; {len(pairs)} "
             "extra-credit questions show their step's definitions; both: refused")
-
-
-def selftests():
-    return [("classroom: the real reporter's Points X/Y is the kit's score", selftest_classroom),
-            ("prairielearn: a whole course from empty, or added to one", selftest_prairielearn_from_empty),
-            ("prairielearn: info.json valid, results.json as PrairieLearn reads it, scores 1, 0, between", selftest_prairielearn),
-            ("prairielearn: a complete course: instance, declared topic and tags, due date, definitions, lectures",
-             selftest_prairielearn_complete),
-            ("prairielearn: extra credit as the assessment's bonus points, a complete step 1",
-             selftest_prairielearn_extra_credit),
-            ("noapt: packages found in a Homebrew-like prefix, the missing one named with brew", selftest_noapt),
-            ("mac: a Mac-like student machine checks, renders and debugs (lldb) a step", selftest_mac_like)]

@@ -5,13 +5,15 @@ from __future__ import annotations
 
 import json
 
-from ..common import ROOT, load_steps
-from .harness import Failed, expect, kit, need_solutions, tier
+import pytest
+
+from kitlib.common import ROOT, load_steps
+from .support import Failed, expect, kit, need_solutions
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_touched(ctx) -> str:
-    from ..commands.refresh import touched_tests
+    from kitlib.commands.refresh import touched_tests
     steps = [s.number for s in load_steps()]
     first, last = steps[0], steps[-1]
     # The step that draws the Cornell box: the one whose step.json lists the scene (05 in the kit; an
@@ -63,7 +65,7 @@ OLD_FORMS = [
 ]
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_manifest_form(ctx) -> str:
     """Issue 55 item 2: a step.json of an older form is refused by ./kit course and ./kit refresh
     before anything builds, with its field named; the kit's own manifests and the template pass."""
@@ -73,10 +75,10 @@ def selftest_manifest_form(ctx) -> str:
     from pathlib import Path
     from types import SimpleNamespace
 
-    from .. import manifest
-    from ..commands import course as course_command
-    from ..commands import refresh
-    from ..common import KitError
+    from kitlib import manifest
+    from kitlib.commands import course as course_command
+    from kitlib.commands import refresh
+    from kitlib.common import KitError
     from .fixtures import fixture_dir
     numbers = [s.number for s in load_steps()]
     mine = [line for p in manifest.manifests() for line in manifest.problems(p, numbers)]
@@ -121,7 +123,7 @@ def selftest_manifest_form(ctx) -> str:
             "refused with their field; ./kit course and ./kit refresh refuse before anything else")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_refresh_stops(ctx) -> str:
     """Issue 55 item 2: the first regenerator that fails stops ./kit refresh, which says the tool's own
     error (here a CMake-like one, among lines of progress), and runs nothing after it."""
@@ -132,7 +134,7 @@ def selftest_refresh_stops(ctx) -> str:
     from pathlib import Path
     from types import SimpleNamespace
 
-    from ..commands import refresh
+    from kitlib.commands import refresh
     need_solutions()
     with tempfile.TemporaryDirectory() as tmp:
         ran = Path(tmp) / "ran"
@@ -158,10 +160,3 @@ def selftest_refresh_stops(ctx) -> str:
         expect(not ran.exists() and "what reads it" not in text,
                f"./kit refresh ran the next regenerator after a failure:\n{text}")
     return "the first failure stops the refresh, its CMake error said again under FAILED; nothing after it ran"
-
-
-def selftests():
-    return [("refresh: the self-tests a change touches", selftest_touched),
-            ("refresh: a step.json of an older form, its field named", selftest_manifest_form),
-            ("refresh: the first failure stops it, with the tool's error", selftest_refresh_stops),
-            ("refresh: nothing stale in the committed kit", selftest_plan_current)]

@@ -7,13 +7,13 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from ..commands import render as cmd_render
-from ..mutants import MUTANTS, write_answer
-from ..common import BUILD, ROOT, load_steps
-from ..build import preset_build, submission_build, tools_build
-from ..checking import check_steps
-from ..status import DONE, PARTIAL
-from .harness import expect, kit, need_solutions
+from kitlib.commands import render as cmd_render
+from kitlib.mutants import MUTANTS, write_answer
+from kitlib.common import BUILD, ROOT, load_steps
+from kitlib.build import preset_build, submission_build, tools_build
+from kitlib.checking import check_steps
+from kitlib.status import DONE, PARTIAL
+from .support import expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 
@@ -198,14 +198,3 @@ def selftest_render_arguments(ctx) -> str:
         expect(not new.exists(), "a refused command created its --out folder")
         expect(a_file.read_text() == "not a folder\n", "a refused command changed a file")
     return f"{len(cases)} bad commands: a clear message, exit 2, nothing written"
-
-
-def selftests() -> list:
-    return [
-        ("reference pictures are current", selftest_pictures_current),
-        ("a wrong step 05 fails and shows in a diff", selftest_wrong_cornell),
-        ("render skips what cannot be drawn", selftest_render_skips),
-        ("render: what rounding may change", selftest_rounding_rule),
-        ("render accepts a textbook step 02, not a slip", selftest_render_tolerance),
-        ("render command line errors", selftest_render_arguments),
-    ]

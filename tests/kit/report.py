@@ -28,9 +28,11 @@ import subprocess
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, load_steps
+import pytest
+
+from kitlib.common import BUILD, ROOT, KitError, load_steps
 from . import scale
-from .harness import Failed, Skipped, expect, kit, need_solutions, tier
+from .support import Failed, Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 WORK = BUILD / "report-test"
@@ -38,16 +40,19 @@ STEPS = ("01", "02")
 
 
 def _signatures():
-    from ..report import signatures
+    from kitlib.report import signatures
     sigs, notes = signatures.load()
     return sigs, notes
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_signatures_fresh(ctx) -> str:
     need_solutions()
-    from ..mutants import patches
-    from ..report import signatures
+    from kitlib.mutants import patches
+    from kitlib.report import signatures
     sigs, notes = _signatures()
     expect(not notes, "tests/mutants/signatures.json: " + "; ".join(notes))
     total = sum(len(patches(s)) for s in load_steps())
@@ -93,7 +98,7 @@ def _disguise(text: str) -> str:
 
 
 def _make_class(root: Path) -> dict:
-    from ..mutants import write_answer
+    from kitlib.mutants import write_answer
     steps = {s.number: s for s in load_steps()}
     s1, s2 = steps["01"], steps["02"]
     sigs, _ = _signatures()
@@ -182,7 +187,7 @@ def _scores_in(index: str) -> dict:
 
 def selftest_class_report(ctx) -> str:
     need_solutions()
-    from ..report import signatures
+    from kitlib.report import signatures
     plan = _make_class(WORK / "class")
     out = WORK / "report"
     shutil.rmtree(out, ignore_errors=True)
@@ -195,8 +200,8 @@ def selftest_class_report(ctx) -> str:
     report_line = next((l for l in r.stdout.splitlines() + r.stderr.splitlines() if "student pages in" in l), "")
 
     # The slips, read back from the saved grading the way the page is made.
-    from ..report.grading import load
-    from ..report.pages import analyse
+    from kitlib.report.grading import load
+    from kitlib.report.pages import analyse
     sigs, _ = signatures.load()
     g = load(out / "grading")
     problems = _slip_problems(plan, analyse(g, load_steps(), sigs))
@@ -290,8 +295,8 @@ def selftest_similar_groups(ctx) -> str:
     import shutil as _shutil
     if _shutil.which("sim_c++") is None:
         raise Skipped("sim_c++ is not installed (sudo apt-get install similarity-tester)")
-    from ..report import similar
-    from ..report.pages import similar_section
+    from kitlib.report import similar
+    from kitlib.report.pages import similar_section
     steps = load_steps()
     textbook = fixture_dir("textbook")
     own = [s for s in steps if len(s.files) == 1 and (textbook / s.folder / s.files[0]).is_file()]
@@ -364,8 +369,8 @@ def selftest_similar_groups(ctx) -> str:
 
 
 def _browser(*pages_: Path) -> str:
-    from .. import browser
-    from ..packages import ensure_packages
+    from kitlib import browser
+    from kitlib.packages import ensure_packages
     try:
         ensure_packages("browser")
     except KitError as e:
@@ -417,13 +422,13 @@ def _browser(*pages_: Path) -> str:
         str(s.relative_to(ROOT)) if s.is_relative_to(ROOT) else str(s) for s in shots)
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_crash_kind(ctx) -> str:
     """The report's incidents are grouped by the record's data (a case's "incident": the function
     called, the signal), never by words of its message: a message that names another function and
     another signal, in a student's output or a translation, does not move a crash to another group."""
-    from ..report.pages import crash_kind
-    from ..status import CRASHED, STATUS_WORDS, TIMED_OUT
+    from kitlib.report.pages import crash_kind
+    from kitlib.status import CRASHED, STATUS_WORDS, TIMED_OUT
     misleading = ["Your code crashed in fake_function(1, 2): it was killed by SIGBUS, a bad memory access."]
     found = [crash_kind({"status": CRASHED, "messages": misleading,
                          "incident": {"function": "intersect_unit_sphere", "signal": "SIGSEGV"}})[0],
@@ -440,7 +445,7 @@ def selftest_crash_kind(ctx) -> str:
 
 def _merge_class(root: Path) -> dict[str, list[str]]:
     """Four students on steps 01 and 02 (they build in seconds), split between two machines: a and b."""
-    from ..mutants import patches, write_answer
+    from kitlib.mutants import patches, write_answer
     steps = [s for s in load_steps() if s.number in STEPS]
     shutil.rmtree(root, ignore_errors=True)
     plan = {"a": ["full", "slip"], "b": ["partial", "stubs"]}
@@ -465,7 +470,7 @@ def _grades(path: Path) -> list[dict]:
 
 def selftest_merge(ctx) -> str:
     need_solutions()
-    from ..secret import SECRET_ENV
+    from kitlib.secret import SECRET_ENV
     work = WORK / "merge"
     shutil.rmtree(work, ignore_errors=True)     # an earlier run's gradings and copies
     plan = _merge_class(work / "class")
@@ -546,9 +551,9 @@ def _in_clone(clone: Path, env: dict, *args: str, timeout: float = 1200) -> subp
 
 
 def _clone_env(cache: Path, first_uid: int | None) -> dict:
-    from ..judgedby import ENV as JUDGED_ENV
-    from ..sandbox.ids import FIRST_UID_ENV
-    from ..secret import SECRET_ENV
+    from kitlib.judgedby import ENV as JUDGED_ENV
+    from kitlib.sandbox.ids import FIRST_UID_ENV
+    from kitlib.secret import SECRET_ENV
     env = {k: v for k, v in os.environ.items()
            if k not in (SECRET_ENV, JUDGED_ENV, "RAYKIT_BUNDLE_DIR", FIRST_UID_ENV)}
     env["XDG_CACHE_HOME"] = str(cache)
@@ -568,7 +573,7 @@ def _put_secret(clone: Path, hex_text: str) -> None:
 def _without_per_run(path: Path):
     """A grading folder's file as what it says of the grades: the fields that say how a grading ran
     (report/merge.PER_RUN) left out; any other file, its bytes."""
-    from ..report.merge import PER_RUN
+    from kitlib.report.merge import PER_RUN
     if path.suffix == ".csv":
         with path.open(newline="") as f:
             return [{k: v for k, v in row.items() if k not in PER_RUN["csv"]} for row in csv.DictReader(f)]
@@ -629,7 +634,7 @@ def _seal_hunt(work: Path, secret_hex: str, who: str, folder: str) -> str:
     """hostile/seal_key's record in a grading: it ran (said how many processes it looked at) and printed
     neither the grading's secret, nor the key derived from it that seals the records, nor the self-test's
     secret variable."""
-    from ..secret import SECRET_ENV, _mac_key
+    from kitlib.secret import SECRET_ENV, _mac_key
     banned = {"the secret": secret_hex[:32], "the sealing key": _mac_key(bytes.fromhex(secret_hex)).hex()[:32],
               "the self-test's secret variable": SECRET_ENV}
     record = json.loads((work / folder / "grading" / "json" / "seal_key.json").read_text())
@@ -649,8 +654,8 @@ def selftest_merge_clones(ctx) -> str:
     refused a new one where the folder graded into names another, warned elsewhere; a clone with a changed
     scene file, a record whose score was edited and a forged list of inputs are refused, by name."""
     need_solutions()
-    from ..sandbox.ids import FIRST_UID, UID_RANGE
-    from ..secret import SECRET_ENV
+    from kitlib.sandbox.ids import FIRST_UID, UID_RANGE
+    from kitlib.secret import SECRET_ENV
     from .integrity import isolations
     from .newstep import scratch_kit
     modes, skipped = isolations()
@@ -790,7 +795,7 @@ def selftest_merge_clones(ctx) -> str:
            f"{r.returncode}: {r.stderr[-500:]}")
     refusals.append(f"{scene} changed on one clone")
     # ... nor with its list of inputs edited to hide the change.
-    from ..judgedby import FILE_NAME
+    from kitlib.judgedby import FILE_NAME
     listed = work / "B-scene" / "grading" / "json" / FILE_NAME
     theirs, ours = json.loads(listed.read_text()), json.loads((work / "A" / "grading" / "json" / FILE_NAME).read_text())
     theirs["files"][scene] = ours["files"][scene]
@@ -810,13 +815,13 @@ def selftest_merge_clones(ctx) -> str:
             + ", ".join(refusals) + (f" ({'; '.join(skipped)})" if skipped else ""))
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_loop_no_slip(ctx) -> str:
     """A step that timed out is matched to no slip, whatever it failed (issue 46 item 7); the same failing
     cases answered wrongly are matched to the slip whose signature they are."""
-    from ..report import signatures
-    from ..report.grading import Grading, Student
-    from ..report.pages import analyse
+    from kitlib.report import signatures
+    from kitlib.report.grading import Grading, Student
+    from kitlib.report.pages import analyse
     sigs, _ = signatures.load()
     expect(bool(sigs), "no mutant signature recorded (./kit report --signatures)")
     sig = sigs[0]
@@ -841,7 +846,7 @@ def selftest_loop_no_slip(ctx) -> str:
             "timed out or never run, matched to nothing")
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_extra_credit(ctx) -> str:
     """#46 item 2 and item 7's last point, in the report (no build, a few seconds): a class graded on the
     kit's course.json with ★ made extra credit (records of each step's recorded cases, the CSV written
@@ -850,12 +855,12 @@ def selftest_extra_credit(ctx) -> str:
     no one falls outside the histogram's 100 %), the extra credit apart (its own sentence and chart), and
     every score on the course's decimals as the CSV writes them (108.90, not 108.9)."""
     from fractions import Fraction
-    from .. import course as course_file
-    from .. import record as results_record
-    from ..checking import recorded_cases
-    from ..commands.grade import columns, csv_text, record_row
-    from ..report.grading import load
-    from ..report.pages import build, class_scores
+    from kitlib import course as course_file
+    from kitlib import record as results_record
+    from kitlib.checking import recorded_cases
+    from kitlib.commands.grade import columns, csv_text, record_row
+    from kitlib.report.grading import load
+    from kitlib.report.pages import build, class_scores
     from .course import extra_credit_course, kit_results
     need_solutions()
     steps = [s for s in load_steps() if recorded_cases(s)]
@@ -929,14 +934,14 @@ def selftest_extra_credit(ctx) -> str:
                "no score with a trailing zero on this course (the decimals compared as they are)"))
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_charts(ctx) -> str:
     """The report's charts (charts.py, the kit's one drawing path) say what their data says: each bar of a
     histogram counts the values of its bin, a value at the top end in the last bin; each stacked segment is
     as long as its value on the axis; names are escaped; a description charts.py cannot read is said on the
     page, not raised. Read back from the SVG's own elements (each bar carries its count in a title)."""
-    from .. import charts
-    from ..report import plots
+    from kitlib import charts
+    from kitlib.report import plots
     values = [0, 4.9, 5, 50, 99.9, 100, 100]
     svg = charts.hist(values, list(range(0, 101, 5)), "score <%>", "students")
     counts = {m.group(1): int(m.group(2)) for m in re.finditer(r"<title>(\d+ to \d+): (\d+)</title>", svg)}
@@ -955,15 +960,3 @@ def selftest_charts(ctx) -> str:
     expect(not svgs and "no charts" in why, f"an unknown chart kind gave {svgs!r}, {why!r}")
     return (f"a histogram of {len(values)} values in {len(counts)} bars, stacked bars in proportion, names escaped, "
             f"an unreadable description said on the page ({why[:40]}…)")
-
-
-def selftests():
-    return [("report: the charts say what their data says", selftest_charts),
-            ("report: one class graded on two machines, merged", selftest_merge),
-            ("report: two TAs on two clones, merged as one machine", selftest_merge_clones),
-            ("report: a looping step is matched to no slip", selftest_loop_no_slip),
-            ("report: the mutants' signatures are current", selftest_signatures_fresh),
-            ("report: crashes grouped by the record, not by words", selftest_crash_kind),
-            ("report: extra credit apart, scores on the CSV's decimals", selftest_extra_credit),
-            ("report: a synthetic class's report", selftest_class_report),
-            ("report: similar submissions, a class sharing one file", selftest_similar_groups)]

@@ -17,11 +17,11 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..common import ROOT, load_steps
-from ..build import submission_build
-from ..checking import check_steps
-from ..status import DONE
-from .harness import Failed, Skipped, expect, kit, need_solutions
+from kitlib.common import ROOT, load_steps
+from kitlib.build import submission_build
+from kitlib.checking import check_steps
+from kitlib.status import DONE
+from .support import Failed, Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 
@@ -188,7 +188,7 @@ def selftest_same_bits_with_fma(ctx) -> str:
     flags = kit_contraction_flags()
     expect(flags == ["-ffp-contract=off"], f"CMakeLists.txt gives every compile {flags or 'no -ffp-contract'}, "
            "not -ffp-contract=off: a Mac (ARM64) or -mfma fuses a*b + c and rounds otherwise")
-    from .. import procfs
+    from kitlib import procfs
     has_fma = "fma" in procfs.cpu_flags()
     compilers = [c for c in ("g++", "clang++") if shutil.which(c)]
     sources = {"solutions": ROOT / "solutions" / "02_general_sphere" / "general_sphere.cpp",
@@ -264,7 +264,7 @@ def selftest_fair_on_many_draws(ctx) -> str:
                         if c["tier"] in ("basic", "hidden") and c["status"] != "pass":
                             unfair.append(f"{folder.name} step {step['step']} draw {k}: {c['name']}: "
                                           + " ".join(c["messages"])[:300])
-    from ..mutants import patches, write_answer
+    from kitlib.mutants import patches, write_answer
     caught_always = []
     with tempfile.TemporaryDirectory(prefix="raykit-always-") as tmp:
         for folder, name, family in ALWAYS_CAUGHT:
@@ -295,11 +295,3 @@ def selftest_fair_on_many_draws(ctx) -> str:
             "every basic and hidden case passes" + (f" ({note})" if note else "")
             + f"; caught on every draw: {', '.join(caught_always)}"
             + ("" if seeds == 100 else " (100 with RAYKIT_SELFTEST_FULL=1)"))
-
-
-def selftests():
-    return [("robust tier catches the textbook formula", selftest_textbook_fails_robust),
-            ("★ cases name the forms that pass them", selftest_forms_named),
-            ("the same bits with FMA: no floating-point contraction", selftest_same_bits_with_fma),
-            ("fair verdicts: the lectures' forms pass every basic and hidden case on many draws",
-             selftest_fair_on_many_draws)]

@@ -13,9 +13,11 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..common import ROOT, load_steps
-from ..robust_line import where
-from .harness import expect, kit, need_solutions, tier
+import pytest
+
+from kitlib.common import ROOT, load_steps
+from kitlib.robust_line import where
+from .support import expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 
@@ -53,7 +55,7 @@ def cures(text: str) -> list[str]:
     return [what for what, pattern in CURES if pattern.search(text)]
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_no_cure_in_messages(ctx) -> str:
     for sample in SAMPLES:
         expect(cures(sample), f"the check finds no cure in a message that gives one: {sample!r}")
@@ -79,7 +81,7 @@ def selftest_no_cure_in_messages(ctx) -> str:
     return f"{seen} messages in {len(files)} files: none writes the cure, every section named exists"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_one_section_each(ctx) -> str:
     """Every case's pointer names one section: a heading used as a pointer names no other sections."""
 
@@ -98,7 +100,7 @@ def selftest_one_section_each(ctx) -> str:
     return f"{n} pointers, one section each"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_words(ctx) -> str:
     cases = [("lectures/03-unit-direction.md", ["5. Cancellation in the discriminant", "6. Cancellation in the roots",
                                                 "5. Cancellation in the discriminant"], "lecture 03, sections 5 and 6"),
@@ -127,10 +129,3 @@ def selftest_done_step_is_calm(ctx) -> str:
     failing = int(line.group(3)) - int(line.group(2))
     expect(shown == failing, f"--all shows {shown} ★ cases, {failing} fail:\n{every.stdout[-1500:]}")
     return f"done: '{line.group(1)}' and no case; --all shows the {failing}"
-
-
-def selftests():
-    return [("★ lines: sections in words", selftest_words),
-            ("★ pointers: one section each", selftest_one_section_each),
-            ("messages name the trouble, not the cure", selftest_no_cure_in_messages),
-            ("a done step shows its ★ cases in one line", selftest_done_step_is_calm)]

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import re
 
-from ..build import workflow
-from .harness import Context, Skipped, expect, need_solutions
+from kitlib.build import workflow
+from .support import Context, Skipped, expect, need_solutions
 
 
 def selftest_sanitizers(ctx: Context) -> str:
@@ -39,7 +39,7 @@ UB_NEEDS = {"slips05": ["04_rectangles"]}
 def _ub_files(student: str, dest) -> None:
     import shutil
 
-    from ..common import ROOT
+    from kitlib.common import ROOT
     from .fixtures import fixture_dir
     for folder in UB_NEEDS.get(student, []):
         shutil.copytree(ROOT / "solutions" / folder, dest / folder, dirs_exist_ok=True)
@@ -71,8 +71,8 @@ def selftest_student_sanitizers(ctx: Context) -> str:
     import time
     from pathlib import Path
 
-    from ..common import BUILD
-    from .harness import kit
+    from kitlib.common import BUILD
+    from .support import kit
     need_solutions()
     handout = BUILD / "ub-handout"
     shutil.rmtree(handout, ignore_errors=True)
@@ -128,8 +128,3 @@ def selftest_student_sanitizers(ctx: Context) -> str:
     expect(stacks > 0, "no crash showed a sanitizer's stack: the readable stack went untested")
     return (f"the same status on every shared case, check and grade; caught: {'; '.join(found)}; "
             f"{stacks} stacks demangled, the student's frames marked ({took:.0f} s)")
-
-
-def selftests() -> list:
-    return [("undefined behaviour caught alike in the check and the grade", selftest_student_sanitizers),
-            ("sanitizers", selftest_sanitizers)]

@@ -20,8 +20,8 @@ from __future__ import annotations
 from decimal import Decimal
 from fractions import Fraction
 
-from .. import course as course_file
-from ..status import PASS
+from kitlib import course as course_file
+from kitlib.status import PASS
 
 
 def exact(value) -> Fraction:

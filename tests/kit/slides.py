@@ -20,10 +20,12 @@ import re
 import shutil
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError
-from .. import decks as cmd_slides
-from ..packages import ensure_packages
-from .harness import Failed, Skipped, expect, tier
+import pytest
+
+from kitlib.common import BUILD, ROOT, KitError
+from kitlib import decks as cmd_slides
+from kitlib.packages import ensure_packages
+from .support import Failed, Skipped, expect
 
 SCREENSHOTS = BUILD / "slides-screenshots"     # beside the decks: ./kit slides replaces build/slides whole
 
@@ -80,7 +82,10 @@ def structure_problems(path: Path) -> tuple[list[str], int]:
     return problems, len(slides)
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_structure(ctx) -> str:
     decks = cmd_slides.deck_sources()
     if not decks:
@@ -99,7 +104,7 @@ def selftest_structure(ctx) -> str:
 
 
 def _browser():
-    from .. import browser
+    from kitlib import browser
     try:
         ensure_packages("browser")
     except KitError as e:
@@ -197,7 +202,10 @@ PLANTED = [
 ]
 
 
-@tier("quick", "step")
+@pytest.mark.quick
+
+
+@pytest.mark.step
 def selftest_claims(ctx) -> str:
     from . import deck_claims
     decks = cmd_slides.deck_sources()
@@ -224,12 +232,3 @@ def selftest_claims(ctx) -> str:
     expect(not missed, "a deck contradicting its lecture or its cases was not caught: " + "; ".join(missed))
     return (f"{len(decks)} decks agree with their lectures and their steps' cases; {len(PLANTED)} planted "
             "contradictions (the decks' old errors among them) each caught")
-
-
-def selftests() -> list:
-    return [
-        ("slides: decks have notes, Ponder answers and the step's command", selftest_structure),
-        ("slides: a deck says what its lecture and its step's cases say", selftest_claims),
-        ("slides: every slide fits 1280x720 in a browser, offline", selftest_browser),
-        ("slides: an overflowing slide is caught", selftest_overflow_caught),
-    ]

@@ -17,9 +17,11 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from .. import slips
-from ..common import BUILD, ROOT, Step, load_steps
-from .harness import Failed, expect, kit, need_solutions, tier
+import pytest
+
+from kitlib import slips
+from kitlib.common import BUILD, ROOT, Step, load_steps
+from .support import Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 CASE_LINE = re.compile(r"^\s+✗ (.*?)  \[", re.M)
@@ -179,7 +181,7 @@ def selftest_misdirections(ctx) -> str:
     measured on the code, never the one the trial's student was wrongly told; and no hint writes the
     half sign that reads like a student's 1 / 2."""
     need_solutions()    # tests/fixtures/ ships in no handout
-    from ..slips import NO_CATALOGUE
+    from kitlib.slips import NO_CATALOGUE
     steps = _steps()
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-misdirected-"))
     table = []
@@ -208,7 +210,7 @@ def selftest_slow_named(ctx) -> str:
     """A right but slow step 01 (a square root by 3,000,000 bisection steps) is done, and its row says
     how many times the reference's CPU it took, not graded; the reference itself is not called slow."""
     need_solutions()
-    from ..runcases import SLOW_FACTOR
+    from kitlib.runcases import SLOW_FACTOR
     rows = {}
     for name, folder in (("reference", ROOT / "solutions"), ("slow", fixture_dir("slips") / "slow_sqrt"),
                          ("reference again", ROOT / "solutions")):
@@ -247,15 +249,15 @@ def selftest_turned_render(ctx) -> str:
     return "; ".join(said)
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_waiting_next_command(ctx) -> str:
     """A step waiting for another names that other step's check as the next command."""
-    from ..cases import StepResult
-    from ..scoreboard import next_steps
-    from ..status import WAITING
+    from kitlib.cases import StepResult
+    from kitlib.scoreboard import next_steps
+    from kitlib.status import WAITING
     needing = [s for s in ctx.steps if s.needs]
     if not needing:
-        from .harness import Skipped
+        from .support import Skipped
         raise Skipped("no step needs another")
     s = needing[-1]
     need = s.needs[0]
@@ -266,11 +268,11 @@ def selftest_waiting_next_command(ctx) -> str:
     return f"step {s.number} waits for {need}: next ./kit check {int(need)}"
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_end_on_sketch(ctx) -> str:
     """The terminal picture of a rectangle seen face on, with the ray along its normal, draws the ray
     as a point and says so; only a zero direction is called one."""
-    from .. import picture
+    from kitlib import picture
     rect = {"axis": 2, "offset": 5, "lo": [-3, -1], "hi": [3, 1]}
     said = {}
     for name, direction in (("end-on", [0, 0, 1]), ("zero", [0, 0, 0])):
@@ -304,9 +306,9 @@ def _check_patch(step, patch: Path, work: Path, catalogue: bool = True) -> tuple
     reference's): (stdout, the step's record)."""
     import os
     import subprocess
-    from ..common import load_steps, stage_on_reference
-    from ..mutants import apply_patch, read_patch
-    from ..slips import NO_CATALOGUE
+    from kitlib.common import load_steps, stage_on_reference
+    from kitlib.mutants import apply_patch, read_patch
+    from kitlib.slips import NO_CATALOGUE
     changed = work / patch.stem / "changed"
     changed.mkdir(parents=True, exist_ok=True)
     for name, text in apply_patch(read_patch(patch, step)).items():
@@ -327,7 +329,7 @@ def _check_patch(step, patch: Path, work: Path, catalogue: bool = True) -> tuple
 def selftest_step05_direct_first(ctx) -> str:
     """Step 05's slips of a wrong picture: a direct case is shown first, not the picture or a refusal."""
     need_solutions()
-    from ..mutants import MUTANTS
+    from kitlib.mutants import MUTANTS
     s = _steps()["05"]
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-05-"))
     said = []
@@ -355,7 +357,7 @@ def selftest_near_slip_words(ctx) -> str:
     """A slip the catalogue does not have, failing exactly the cases one it has fails (c = o.o + 1 where
     the mutant is c = o.o): told the failing set, the known slip's words only as a likely cause."""
     need_solutions()
-    from ..mutants import read_patch
+    from kitlib.mutants import read_patch
     s = _steps()["01"]
     patch = fixture_dir("slips") / "c_plus_one.patch"
     known = read_patch(ROOT / "tests" / "mutants" / s.folder / "c_without_radius.patch", s)
@@ -377,14 +379,14 @@ def selftest_near_slip_words(ctx) -> str:
     return "c = o.o + 1: " + before[before.find("Your code"):].strip()[:90] + " ..."
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_first_problem_order(ctx) -> str:
     """first_problem, without a build: a direct case (a throw of the student's own included) before the
     picture and a stand-in's refusal, the picture when nothing else fails; a known slip's words said
     as a likely cause, several slips that fail alike each said."""
-    from ..cases import Case, StepResult
-    from ..slips import words
-    from ..status import THREW, TIMED_OUT
+    from kitlib.cases import Case, StepResult
+    from kitlib.slips import words
+    from kitlib.status import THREW, TIMED_OUT
     s = _steps()["05"]
     refusal = ("Your code threw an exception in render(scene{orange}, camera{...}): std::invalid_argument (\"while "
                "grading step 05 the grader answers intersect_rect only for the rays your view_ray gave for the "
@@ -432,7 +434,7 @@ def selftest_first_problem_order(ctx) -> str:
 def first_message(step: Step, result: dict) -> tuple[str, str]:
     """(the case a student is shown first, its first message) for a step's graded record (./kit check
     --results), the slip matched again with the catalogue as it is now and its words said again."""
-    from ..cases import Case, StepResult
+    from kitlib.cases import Case, StepResult
     cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
                   [slips.unsaid(m) for m in c["messages"]])
              for c in result["cases"]]
@@ -446,7 +448,7 @@ def first_message(step: Step, result: dict) -> tuple[str, str]:
 def names_own_slip(step: Step, mutant_name: str, result: dict) -> tuple[bool, bool]:
     """On a mutant's graded record: (its first message says its slip's words, and the case is one its
     patch names; its first message says its slip's words, maybe beside other slips that fail alike)."""
-    from ..mutants import read_patch
+    from kitlib.mutants import read_patch
     mutant = read_patch(slips.MUTANTS / step.folder / f"{mutant_name}.patch", step)
     case, said = first_message(step, result)
     words_said = mutant.slip.rstrip(".") in said
@@ -455,7 +457,7 @@ def names_own_slip(step: Step, mutant_name: str, result: dict) -> tuple[bool, bo
 
 def measure(argv: list[str]) -> int:
     from pathlib import Path
-    from ..common import load_steps
+    from kitlib.common import load_steps
     steps = {s.folder: s for s in load_steps()}
     own, said, total, lines = 0, 0, 0, []
     for path in argv:
@@ -491,7 +493,7 @@ def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = Non
     """(stdout, the step's record) of ./kit check N --steps DIR: `files` laid over the reference answers
     (a mutant's), or the folder `fixture` as it is. `quiet` (no scoreboard, so no first block) leaves
     the last-check store alone, which ./kit hint reads: another self-test hints on the same mutants."""
-    from ..common import stage_on_reference
+    from kitlib.common import stage_on_reference
     if fixture is None:
         changed = work / name / "changed"
         changed.mkdir(parents=True, exist_ok=True)
@@ -507,7 +509,7 @@ def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = Non
 
 
 def _mutant(step, name: str) -> dict:
-    from ..mutants import MUTANTS, apply_patch, read_patch
+    from kitlib.mutants import MUTANTS, apply_patch, read_patch
     return apply_patch(read_patch(MUTANTS / step.folder / f"{name}.patch", step))
 
 
@@ -617,16 +619,16 @@ def selftest_fitting_words(ctx) -> str:
     return "; ".join(said)
 
 
-@tier("quick")
+@pytest.mark.quick
 def selftest_platforms_lead_alike(ctx) -> str:
     """Gradescope's first failed test, PrairieLearn's picture and Classroom's first failing line are the
     case the terminal shows first (StepResult.first_problem), not the first failing case in the suite's
     order (issue 45 item 1)."""
-    from ..cases import Case, StepResult
-    from ..classroomresults import classroom
-    from ..gradescope import gradescope
-    from ..plresults import prairielearn
-    from ..status import FAIL, PARTIAL, PASS
+    from kitlib.cases import Case, StepResult
+    from kitlib.classroomresults import classroom
+    from kitlib.gradescope import gradescope
+    from kitlib.plresults import prairielearn
+    from kitlib.status import FAIL, PARTIAL, PASS
     step = Step(folder="01_toy", title="a toy step", files=["toy.cpp"], needs=[], lecture="lectures/toy.md")
     pictures = Path(tempfile.mkdtemp(prefix="raykit-lead-"))
     # Section 1 fails 1 of 2 cases, section 2 both of its 2: the terminal leads with section 2's first.
@@ -653,20 +655,6 @@ def selftest_platforms_lead_alike(ctx) -> str:
     return f"the terminal's first case ({lead.name!r}) leads on Gradescope, PrairieLearn's picture and Classroom"
 
 
-def selftests():
-    return [("slips: waiting step's next command", selftest_waiting_next_command),
-            ("slips: a ray seen end-on", selftest_end_on_sketch),
-            ("slips: every platform leads with the terminal's case", selftest_platforms_lead_alike),
-            ("slips: the picture and refusals come after direct cases", selftest_first_problem_order),
-            ("slips: step 05's first message is a direct case's", selftest_step05_direct_first),
-            ("slips: a near slip's words are a likely cause", selftest_near_slip_words),
-            ("slips: the first message names the planted slip", selftest_planted_slips),
-            ("slips: the trial's misdirections are named", selftest_misdirections),
-            ("slips: a right but slow answer is named slow", selftest_slow_named),
-            ("slips: a render turned over", selftest_turned_render),
-            ("slips: words that fit the code", selftest_fitting_words)]
-
-
-if __name__ == "__main__":     # python3 -m kitlib.selftest.slips RECORD... (from tools/): the measure
+if __name__ == "__main__":     # PYTHONPATH=tools:tests python3 -m kit.slips RECORD... (from the kit): the measure
     import sys
     raise SystemExit(measure(sys.argv[1:]))

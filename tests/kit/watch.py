@@ -11,8 +11,8 @@ import shutil
 import subprocess
 import time
 
-from ..common import BUILD, ROOT, load_steps
-from .harness import CLEAR, Failed, Screen, expect, need_solutions
+from kitlib.common import BUILD, ROOT, load_steps
+from .support import CLEAR, Failed, Screen, expect, need_solutions
 from .fixtures import fixture_dir
 
 
@@ -37,7 +37,7 @@ def wait_for_process(word: str | tuple[str, ...], seconds: float) -> list[int]:
 
 def alive(pid: int) -> bool:
     """Whether `pid` runs (a zombie is dead)."""
-    from .. import procfs
+    from kitlib import procfs
     return procfs.alive(pid)
 
 
@@ -117,7 +117,3 @@ def selftest_watch(ctx) -> str:
         shutil.rmtree(folder, ignore_errors=True)
     return ("on a pseudo-terminal: redrawn per check, a check stopped by a save, stays on a done step until "
             "★ or n, moves on by itself, r and q work, no 'Then run'; " + ", ".join(notes))
-
-
-def selftests() -> list:
-    return [("watch mode", selftest_watch)]

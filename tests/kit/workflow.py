@@ -7,12 +7,12 @@ import json
 import shutil
 import zipfile
 
-from ..mutants import MUTANTS, write_answer
-from ..common import BUILD, ROOT, load_steps, student_file_name
-from ..record import is_record
-from ..status import DONE
+from kitlib.mutants import MUTANTS, write_answer
+from kitlib.common import BUILD, ROOT, load_steps, student_file_name
+from kitlib.record import is_record
+from kitlib.status import DONE
 from . import scale
-from .harness import expect, kit, need_solutions
+from .support import expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 # Gradescope's documented results.json fields (gradescope-autograders.readthedocs.io, "Autograder
@@ -115,7 +115,3 @@ def selftest_batch_grading(ctx) -> str:
     shutil.rmtree(root, ignore_errors=True)
     return ("correct, wrong, crashing, looping, empty, zipped and nested submissions graded two at a time: "
             "right CSV rows on one scale; a record each; Gradescope's results.json valid")
-
-
-def selftests():
-    return [("batch grading and Gradescope JSON", selftest_batch_grading)]
