@@ -23,7 +23,7 @@ from kitlib.plresults import prairielearn
 from kitlib.scoreboard import status_cell
 from kitlib.common import BUILD, ROOT, load_steps, map_in_threads
 from kitlib import bundle
-from kitlib.build import detect_undefined, preset_build, submission_build, workflow
+from kitlib.build import Build, detect_undefined, preset_build, submission_build, workflow
 from kitlib.status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .support import Context, Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
@@ -61,11 +61,12 @@ def selftest_solutions_pass(ctx: Context) -> str:
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
-def selftest_stubs_not_started(ctx: Context) -> str:
-    results = check_steps(preset_build("student"), ctx.steps, ctx.steps)
+def selftest_stubs_not_started(ctx: Context, committed_steps) -> str:
+    # The committed stubs, not steps/ (an instructor may keep answers there), in a build folder of their own.
+    stubs = Build("student", BUILD / "selftest-stubs", committed_steps, committed_steps, preset="student", tools=False,
+                  sanitize_student=detect_undefined())
+    results = check_steps(stubs, ctx.steps, ctx.steps)
     bad = []
     for r in results:
         # A step that needs another is graded on top of the reference's answers to it.

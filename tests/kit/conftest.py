@@ -116,6 +116,13 @@ def ctx() -> support.Context:
     return support.Context(fast=fast, steps=steps)
 
 
+@pytest.fixture(scope="session")
+def committed_steps(tmp_path_factory) -> Path:
+    """steps/ as committed, in a folder of this run's (support.committed_steps): the stubs as shipped,
+    whatever answers the working tree's steps/ holds."""
+    return support.committed_steps(tmp_path_factory.mktemp("committed"))
+
+
 @pytest.fixture(autouse=True)
 def _tier_and_rule(request, monkeypatch):
     """The quick tier's guard while a quick test runs; which test is a security test, for partly_skipped."""

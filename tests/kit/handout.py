@@ -35,7 +35,7 @@ TARGET = BUILD / "handout-test"
 
 def _make_handout(target: Path = TARGET):
     shutil.rmtree(target, ignore_errors=True)
-    r = kit("handout", str(target))
+    r = kit("handout", str(target), "--committed")     # the committed stubs, whatever steps/ holds
     expect(r.returncode == 0, f"./kit handout failed:\n{r.stdout[-500:]}{r.stderr[-1500:]}")
     return r
 

@@ -128,8 +128,6 @@ def selftest_robust_numbers(ctx) -> str:
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_scene_tables(ctx) -> str:
     """Lecture 05's tables are the scene file's (include/raykit/scenes/cornell_box.inc): current, stale when
@@ -194,8 +192,6 @@ SECTION = re.compile(r"\bsections?\s+(\d+(?:\s*(?:,|and|to)\s*\d+)*)(?:\. ([A-Z]
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_hint_sections(ctx) -> str:
     bad, seen = [], 0
@@ -348,8 +344,6 @@ def contract_problems(headers: dict[str, str], sources: dict[str, str],
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_contract_clauses(ctx) -> str:
     headers = {p.name: p.read_text() for p in sorted((ROOT / "include" / "raykit").glob("*.hpp"))}
@@ -383,8 +377,6 @@ def selftest_contract_clauses(ctx) -> str:
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_readme_steps(ctx) -> str:
     """README.md's step table is the steps' manifests' (docs/readme_steps.py): a row per step, in order,

@@ -46,8 +46,6 @@ def _signatures():
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_signatures_fresh(ctx) -> str:
     need_solutions()

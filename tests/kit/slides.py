@@ -83,8 +83,6 @@ def structure_problems(path: Path) -> tuple[list[str], int]:
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_structure(ctx) -> str:
     decks = cmd_slides.deck_sources()
@@ -203,8 +201,6 @@ PLANTED = [
 
 
 @pytest.mark.quick
-
-
 @pytest.mark.step
 def selftest_claims(ctx) -> str:
     from . import deck_claims

@@ -21,9 +21,11 @@ import hashlib
 import os
 import pty
 import subprocess
+import shutil
 import threading
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import pytest
 
@@ -174,6 +176,25 @@ class Screen:
             self.proc.kill()
         self.proc.wait(timeout=10)
         os.close(self.master)
+
+
+def committed_steps(dest: Path) -> Path:
+    """steps/ as committed (the stubs a handout ships) written to DEST/steps, which it returns: a test of
+    the stubs reads this copy, never the working tree's steps/, where an instructor may keep answers. In
+    a copy of the kit without git history, steps/ as it is."""
+    from kitlib.commands import handout as cmd_handout
+    steps = dest / "steps"
+    shutil.rmtree(steps, ignore_errors=True)
+    try:
+        files = cmd_handout.committed_steps()
+    except Exception:       # noqa: BLE001 -- no git, or not a repository: a copy of the kit
+        shutil.copytree(ROOT / "steps", steps)
+        return steps
+    for name, data in files.items():
+        path = dest / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(data)
+    return steps
 
 
 def prepare() -> None:
