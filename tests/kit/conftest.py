@@ -172,3 +172,11 @@ def pytest_report_teststatus(report, config):
         if summary:
             return "passed", ".", (f"PASSED ({summary})", {"green": True})
     return None
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
+    """The counts in the words ./kit test has always ended with (customised.py and scripts read them)."""
+    stats = terminalreporter.stats
+    passed = sum(1 for r in stats.get("passed", []) if getattr(r, "when", "") == "call")
+    failed = len(stats.get("failed", [])) + len(stats.get("error", []))
+    terminalreporter.write_line(f"selftest: {passed} passed, {failed} failed, {len(stats.get('skipped', []))} skipped")

@@ -48,8 +48,8 @@ COPY = BUILD / "customised-kit"
 
 # The self-tests that read the course, by ./kit test's MODULE:WORDS: run on the course as it stands,
 # then in the customised copy.
-DEPENDENT = ["course", "lectures:scene file", "lectures:README's step table", "workflow",
-             "slips:a render turned over", "integrity:one scale"]
+DEPENDENT = ["course", "lectures:scene tables", "lectures:readme steps", "workflow",
+             "slips:turned render", "integrity:one scale"]
 
 
 def customise(kit_dir: Path) -> dict:
@@ -96,21 +96,12 @@ def customise(kit_dir: Path) -> dict:
 
 
 def failures(out: str) -> list[str]:
-    """Each failure of a ./kit test run's output, whole: its ✗ line and every line after it up to the
-    next self-test's line or the recap (a failure's reason runs over several lines: a command's error)."""
-    found, current = [], None
-    for line in out.splitlines():
-        if re.match(r"(✓|✗|-) \S.*: ", line) or re.match(r"failed \(\d+\):$|selftest: \d+ passed", line):
-            if current is not None:
-                found.append("\n".join(current).rstrip())
-            current = [line] if line.startswith("✗ ") else None
-            if line.startswith("failed ("):
-                break
-        elif current is not None:
-            current.append(line)
-    if current is not None:
-        found.append("\n".join(current).rstrip())
-    return found
+    """Each failure of a ./kit test run's output (pytest's), whole: its section of pytest's FAILURES,
+    from its ___ name ___ line to the next (a failure's reason runs over several lines: a command's error)."""
+    m = re.search(r"(?ms)^=+ (?:FAILURES|ERRORS) =+$(.*?)^=+ ", out)
+    if not m:
+        return []
+    return [part.strip() for part in re.split(r"(?m)^(?=_{3,} .* _{3,}$)", m.group(1)) if part.strip()]
 
 
 def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
@@ -126,7 +117,7 @@ def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
            f"on {where}, ./kit test {' '.join(DEPENDENT)}: exit {r.returncode}, "
            + (f"{m.group(1)} passed, {m.group(2)} failed" if m else "no summary line") + ":\n"
            + ("\n".join(failed) if failed else last_lines(out, 30)))
-    skipped = [l.split(":", 1)[0][2:] for l in re.findall(r"(?m)^- .*", out)]
+    skipped = re.findall(r"(?m)^SKIPPED \[\d+\] \S+?:\d+: (.*)", out)
     return (f"{m.group(1)} pass" + (f", {m.group(3)} skipped ({'; '.join(skipped)})" if skipped else "")
             + f", {time.monotonic() - start:.0f} s"), out
 

@@ -47,8 +47,6 @@ def modules() -> dict[str, Path]:
     found = {}
     for p in KITLIB.rglob("*.py"):
         parts = p.relative_to(KITLIB).with_suffix("").parts
-        if parts[0] == "selftest":
-            continue
         name = ".".join(parts[:-1]) if parts[-1] == "__init__" else ".".join(parts)
         found[name or "kitlib"] = p
     return found

@@ -43,11 +43,11 @@ REGENERATORS = [
     Regenerator("the README's step table", PY + ["docs/readme_steps.py", "--check"], PY + ["docs/readme_steps.py"]),
     Regenerator("the benchmark's figures (docs/bench.md, lecture 03's appendix)",
                 PY + ["docs/bench_numbers.py", "--check"], PY + ["docs/bench_numbers.py"]),
-    Regenerator("the reference pictures (docs/images/)", KIT + ["test", "render:reference pictures are current"], KIT + ["render", "--refresh"]),
-    Regenerator("the recorded stubs and case lists", KIT + ["test", "latency:recorded stubs and case lists"],
+    Regenerator("the reference pictures (docs/images/)", KIT + ["test", "render:pictures current"], KIT + ["render", "--refresh"]),
+    Regenerator("the recorded stubs and case lists", KIT + ["test", "latency:recorded"],
                 KIT + ["check", "--record"]),
     Regenerator("the ★ tier's exact answers", KIT + ["exact"], KIT + ["exact", "--refresh"]),
-    Regenerator("the mutants' signatures", KIT + ["test", "report:signatures are current"], KIT + ["report", "--signatures"]),
+    Regenerator("the mutants' signatures", KIT + ["test", "report:signatures fresh"], KIT + ["report", "--signatures"]),
 ]
 
 
@@ -94,7 +94,7 @@ def touched_tests(paths: list[str]) -> list[list[str]]:
         elif p == "course.json":
             modules += ["course", "customised"]
         elif p.startswith("include/raykit/scenes/"):
-            modules += ["lectures:scene file", "render", "pictures", "slips:a render turned over", "customised"]
+            modules += ["lectures:scene tables", "render", "pictures", "slips:turned render", "customised"]
             steps |= scene_steps(p) or {max(numbers)}
         elif p.startswith(("lectures/", "docs/")) and not p.startswith("docs/images/"):
             modules += ["lectures", "slides"]
