@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 
 from kitlib.commands import bench as cmd_bench
-from kitlib.common import BUILD, ROOT
+from kitlib.common import ROOT
 from kitlib.status import NOT_STARTED
 from .support import Failed, Skipped, expect, kit
 
@@ -142,9 +142,8 @@ def rows_as_csv(out: Path) -> dict:
     return cmd_bench.read_csv(out / "results.csv")
 
 
-def selftest_bad_input(ctx) -> str:
-    exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
-    expect(exe.is_file(), f"{exe} was not built")
+def selftest_bad_input(ctx, bench_exe) -> str:
+    exe = bench_exe
     for args, words in [(["--rays=abc"], "whole number"), (["--rays=-5"], "whole number"),
                         (["--min-time=0"], "seconds"), (["--min-time=nan"], "seconds"),
                         (["--bogus"], "unknown option"), (["--out="], "file name"), (["--quick=3"], "no value")]:
@@ -172,18 +171,17 @@ def selftest_bad_input(ctx) -> str:
 def _needs_bench(check):
     """A handout leaves bench/ out while a file of it computes a step's answer (cmd_handout.OPTIONAL_PARTS)."""
     @functools.wraps(check)
-    def run(ctx):
+    def run(ctx, **fixtures):
         if not (ROOT / "bench" / "CMakeLists.txt").is_file():
             raise Skipped("this copy of the kit has no bench/")
-        return check(ctx)
+        return check(ctx, **fixtures)
     return run
 
 
-def selftest_handout_data(ctx) -> str:
+def selftest_handout_data(ctx, bench_exe) -> str:
     """The exact roots a handout's bench judges the student with (bench/data/exact_roots.txt) are what the
     instructor's bench computes today for the same rays."""
-    exe = BUILD / "reference" / "bench" / cmd_bench.TARGET
-    expect(exe.is_file(), f"{exe} was not built")
+    exe = bench_exe
     committed = ROOT / "bench" / "data" / "exact_roots.txt"
     with tempfile.TemporaryDirectory() as tmp:
         fresh = Path(tmp) / "exact_roots.txt"

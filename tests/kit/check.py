@@ -22,7 +22,6 @@ from kitlib.gradescope import gradescope
 from kitlib.plresults import prairielearn
 from kitlib.scoreboard import status_cell
 from kitlib.common import BUILD, ROOT, load_steps, map_in_threads
-from kitlib import bundle
 from kitlib.build import Build, detect_undefined, preset_build, submission_build, workflow
 from kitlib.status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .support import Context, Failed, expect, kit, need_solutions
@@ -79,10 +78,9 @@ def selftest_stubs_not_started(ctx: Context, committed_steps) -> str:
 
 
 @pytest.mark.step
-def selftest_case_names_and_lectures(ctx: Context) -> str:
+def selftest_case_names_and_lectures(ctx: Context, kit_side) -> str:
     bad = []
     total = 0
-    kit_side = bundle.ensure(detect_undefined())     # the judges: the kit's side, no student's code
     for step in ctx.steps:
         exe = kit_side.judge(step)
         if not exe.exists():

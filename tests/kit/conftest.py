@@ -87,6 +87,7 @@ def pytest_pycollect_makeitem(collector, name, obj):
     return None
 
 
+@pytest.hookimpl(tryfirst=True)      # before xdist's, which reads the xdist_group marks
 def pytest_collection_modifyitems(config, items) -> None:
     rank = {name: i for i, name in enumerate(ORDER)}
     items.sort(key=lambda item: rank.get(_module(item), len(ORDER)))     # stable: a module's own order kept
@@ -121,6 +122,30 @@ def committed_steps(tmp_path_factory) -> Path:
     """steps/ as committed, in a folder of this run's (support.committed_steps): the stubs as shipped,
     whatever answers the working tree's steps/ holds."""
     return support.committed_steps(tmp_path_factory.mktemp("committed"))
+
+
+@pytest.fixture(scope="session")
+def kit_side():
+    """The kit's side (bundle.py: every step's judge, no student's code), built once a machine; for a
+    self-test that runs the judges themselves."""
+    from kitlib import bundle
+    from kitlib.build import detect_undefined
+    return bundle.ensure(detect_undefined())
+
+
+@pytest.fixture(scope="session")
+def bench_exe() -> Path:
+    """The benchmark of the reference build (build/reference/bench), built once a run, whichever of the
+    self-tests that run it comes first. A copy of the kit without bench/ (a handout's) skips them."""
+    from kitlib.build import preset_build
+    from kitlib.commands import bench as cmd_bench
+    if not (support.ROOT / "bench" / "CMakeLists.txt").is_file():
+        raise support.Skipped("this copy of the kit has no bench/")
+    reference = preset_build("reference")
+    ok, out = cmd_bench.build_bench(reference)
+    if not ok:
+        raise support.Failed(f"the benchmark does not build:\n{out[-3000:]}")
+    return reference.binary_dir / "bench" / cmd_bench.TARGET
 
 
 @pytest.fixture(autouse=True)
