@@ -28,11 +28,13 @@ def selftest_touched(ctx) -> str:
         (f"solutions/{load_steps()[-1].folder}/render.cpp", f"tests/hidden/{first}_x.cpp"): [["--step", first],
                                                                                             ["--step", last]],
         ("course.json",): [["course", "customised"]],
-        ("include/raykit/scenes/cornell_box.inc",): [["--step", box], ["lectures:scene file", "render", "pictures",
-                                                                      "slips:a render turned over", "customised"]],
+        ("include/raykit/scenes/cornell_box.inc",): [["--step", box], ["lectures:scene tables", "render", "pictures",
+                                                                      "slips:turned render", "customised"]],
         ("lectures/01-unit-sphere.md",): [["lectures", "slides"]],
         ("tools/kitlib/course.py", "course.json"): [[]],
         ("docs/images/cornell_box.png",): [],
+        ("tests/kit/draws.py",): [["draws"]],
+        ("tests/kit/conftest.py",): [[]],
     }
     for paths, want in cases.items():
         got = touched_tests(list(paths))
