@@ -201,6 +201,8 @@ def pytest_report_teststatus(report, config):
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
     """The counts in the words ./kit test has always ended with (customised.py and scripts read them)."""
+    if config.option.collectonly:
+        return
     stats = terminalreporter.stats
     passed = sum(1 for r in stats.get("passed", []) if getattr(r, "when", "") == "call")
     failed = len(stats.get("failed", [])) + len(stats.get("error", []))
