@@ -520,7 +520,7 @@ def with_compiler(env: dict[str, str], fn):
                 os.environ[k] = v
 
 
-def selftest_missing_include_told(ctx) -> str:
+def selftest_missing_include_told(ctx, committed_steps) -> str:
     """One verdict on every standard library (#36 item 2): a step file using std::make_unique
     without #include <memory> compiles on libc++ (a Mac's) and not on libstdc++ (the grader's). The
     student's own check with clang and libc++ says which header to add under the step (done, and
@@ -537,7 +537,7 @@ def selftest_missing_include_told(ctx) -> str:
     need_solutions()    # tests/fixtures/ is not in a handout
     all_steps = load_steps()
     [step] = [s for s in all_steps if s.number == "01"]
-    shipped = [f for s in all_steps for f in includes.step_findings(ROOT / "steps", s.folder, s.files, ROOT / "include")
+    shipped = [f for s in all_steps for f in includes.step_findings(committed_steps, s.folder, s.files, ROOT / "include")
                + includes.step_findings(ROOT / "solutions", s.folder, s.files, ROOT / "include")]
     expect(not shipped, f"a shipped stub or solution is told to include a header: {shipped[:2]}")
     want = includes.step_findings(fixture_dir("missing_include"), step.folder, step.files, ROOT / "include")
