@@ -82,7 +82,7 @@ def pytest_args(args) -> list[str]:
     jobs = args.jobs if args.jobs is not None else (2 if args.quick else 1)
     if jobs < 1:
         raise KitError(f"-j {jobs}: at least 1")
-    argv = ["-p", "no:cacheprovider"]
+    argv: list[str] = []      # pytest.ini's addopts come first (no cache folder, the summary of failures and skips)
     if args.step is not None:
         if args.quick:
             raise KitError("--step and --quick: choose one")
