@@ -60,7 +60,10 @@ def prepare() -> None:
 
 def keyword(words: str) -> str:
     """WORDS as one pytest -k keyword: a self-test's name is its function's, words joined by _."""
-    return re.sub(r"\W+", "_", words.strip().lower(), flags=re.ASCII).strip("_")
+    found = re.sub(r"\W+", "_", words.strip().lower(), flags=re.ASCII).strip("_")
+    if not found or found in ("and", "or", "not"):
+        raise KitError(f"{words!r}: name a self-test by the words of its name (./kit test --list shows them)")
+    return found
 
 
 def pytest_python() -> str:
