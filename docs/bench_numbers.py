@@ -18,8 +18,8 @@ average, "p99 N") typed outside a block, and exit 1 on one: such a figure is eit
 or reworded without a number. `./kit refresh` runs this script when a block is stale.
 
 Never edit a block by hand: the self-tests ("numbers quoted from the benchmark are current",
-tools/kitlib/selftest/lectures.py; "bench: every figure of the reading is generated",
-tools/kitlib/selftest/bench.py) run the check. Python 3.9, standard library only; the roofline
+tests/kit/lectures.py; "bench: every figure of the reading is generated",
+tests/kit/bench.py) run the check. Python 3.9, standard library only; the roofline
 and the Pareto fronts come from tools/kitlib/bench_report.py, as in the benchmark's own table.
 """
 
@@ -1054,7 +1054,7 @@ BLOCKS = {
 #
 # Outside a generated block (this script's, or another generator's such as docs/robust_numbers.py),
 # the files above carry no figure with a unit: a time, a rate, an error, a share, a ratio, a load. Each
-# pattern below is one way such a figure is written; the self-test (tools/kitlib/selftest/bench.py)
+# pattern below is one way such a figure is written; the self-test (tests/kit/bench.py)
 # plants each of them in a copy of the text and checks that it is found.
 
 ANY_BEGIN = re.compile(r"^<!-- ([a-z_]+\.py): ([a-z0-9-]+) -->$")

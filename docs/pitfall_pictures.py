@@ -5,7 +5,7 @@
     python3 docs/pitfall_pictures.py --check   # exit 1 when a committed picture differs from a fresh drawing
 
 They are drawn by tools/kitlib/picture/gallery.py (write_gallery, the table PITFALLS), as `./kit docs` draws
-them into its site; tools/kitlib/selftest/lectures.py runs --check. Python 3.9, standard library only.
+them into its site; tests/kit/lectures.py runs --check. Python 3.9, standard library only.
 """
 
 from __future__ import annotations

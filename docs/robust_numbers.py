@@ -10,7 +10,7 @@ textbook formula, tests/fixtures/forms/) with `./kit`'s own build, runs each ★
 RAYKIT_SHOW_ULPS=1 (tests/support/robust_grading.hpp prints every check's distance and the exact answer)
 and stores every distance, with a digest of the files the figures depend on. Then the text between
 `robust_numbers.py: NAME` markers in FILES is generated from that record, never typed by hand;
-tools/kitlib/selftest/lectures.py runs --check (the blocks match the record, and the record's digest
+tests/kit/lectures.py runs --check (the blocks match the record, and the record's digest
 matches today's suites, exact answers and forms). Python 3.9, standard library only.
 """
 
@@ -86,9 +86,9 @@ def parse(stderr: str) -> list[tuple[int, list[float]]]:
 
 
 def measure() -> dict:
-    sys.path.insert(0, str(ROOT / "tools"))
+    sys.path[:0] = [str(ROOT / "tools"), str(ROOT / "tests")]
     from kitlib.build import build_targets, configure, submission_build  # noqa: E402
-    from kitlib.selftest.fixtures import fixture_dir  # noqa: E402
+    from kit.fixtures import fixture_dir  # noqa: E402
 
     record = {"digest": digest(), "forms": {}}
     for form, by_step in FORMS.items():

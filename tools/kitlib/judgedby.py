@@ -19,7 +19,7 @@ how a check builds, runs, judges and scores), and the compiler with the settings
 environment (bundle.ENV_READ). Which files: those git tracks or would track (kitfiles.kit_files: a file
 added and not ignored counts; build output, caches and tests/hidden/secret.key do not).
 
-Left out, as they decide no verdict nor point: the self-test (tools/kitlib/selftest/), the class report
+Left out, as they decide no verdict nor point: the self-test (tests/kit/), the class report
 and this merge (tools/kitlib/report/: they read a grading, judge nothing), the mutants' signatures
 (tests/mutants/signatures.json: the report's slip names, written by `./kit report --signatures`), the
 steps' handout (steps/: what a student starts from; the submission brings its own files), the docs.
@@ -44,7 +44,7 @@ COMPILER = "the compiler"       # how a refusal names the compiler entry
 
 INPUTS = ("course.json", "CMakeLists.txt", "CMakePresets.json", "cmake/", "include/", "solutions/", "tests/",
           "tools/kitlib/")
-LEFT_OUT = ("tools/kitlib/selftest/", "tools/kitlib/report/", "tests/hidden/secret.key",
+LEFT_OUT = ("tests/kit/", "tools/kitlib/report/", "tests/hidden/secret.key",
             "tests/mutants/signatures.json")
 
 

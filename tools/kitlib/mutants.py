@@ -86,7 +86,7 @@ def read_patch(path: Path, step: Step) -> Mutant:
 def read_diff(lines: list[str], first: int, mutant: Mutant) -> None:
     """Reads the unified diffs of lines[first:] (files of the mutant's step in solutions/) into
     mutant.files; raises PatchError saying what is wrong. Also read by the grader's fixtures kept as
-    patches (selftest/fixtures.py)."""
+    patches (tests/kit/fixtures.py)."""
     step = mutant.step
     prefix = f"solutions/{step.folder}/"
     i, hunks = first, None

@@ -58,6 +58,8 @@ PACKAGES = {
     "schemas": ["python3", "python3-yaml", "python3-jsonschema"],
     # The linters, the self-test lint: pyflakes on the kit's Python, clang-format on the student-side C++.
     "lint": ["pyflakes3", "clang-format"],
+    # ./kit test: the self-test (tests/kit/) is a pytest suite; xdist runs its quick tier in processes.
+    "selftest": ["python3-pytest", "python3-pytest-xdist"],
     # tools/portability/run (CI, and by hand): fresh Debian roots. Not a ./kit command's.
     "portability": ["debootstrap"],
 }

@@ -80,7 +80,7 @@ def _mounted(path: str) -> bool:
 
 # mount(2) and umount2(2) called from this process, never the mount and umount commands: a command's
 # argv, the scratch folder's path, is what every user reads in /proc/PID/cmdline while it runs, and a
-# classmate's program under the user isolation looks there (selftest/integrity_slots.py, classmate_program).
+# classmate's program under the user isolation looks there (tests/kit/integrity_slots.py, classmate_program).
 MS_NOSUID, MS_NODEV, MNT_DETACH = 2, 4, 2
 
 

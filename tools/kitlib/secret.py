@@ -81,7 +81,7 @@ def write_new(path: Path) -> bytes:
     return key
 
 
-# The self-test's own secret (harness.run_all sets it): its gradings draw the same hidden inputs on
+# The self-test's own secret (tests/kit/support.prepare sets it): its gradings draw the same hidden inputs on
 # every run and every machine, so a self-test's verdict never hangs on a random draw. Nothing graded
 # sees it (the judge's environment is the grader's; the compile and the answers program get their own).
 SECRET_ENV = "RAYKIT_SELFTEST_SECRET"

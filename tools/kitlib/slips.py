@@ -11,7 +11,7 @@ as a possible cause, and a case they all name comes first (else the usual rule c
 the catalogue is (the instructor's copy, the graders' images): a handout ships no mutant. The class
 report matches near signatures too (report/signatures.py); a student is told only an exact failing set.
 
-`python3 -m kitlib.selftest.slips RESULTS...` (from tools/) measures, on records of `./kit check
+`PYTHONPATH=tools:tests python3 -m kit.slips RESULTS...` (from the kit) measures, on records of `./kit check
 --results` kept per mutant, how many first messages name their own slip.
 """
 

@@ -14,7 +14,7 @@ docs/externalGrading.md:
   - the <pl-external-grader-results> element: `points` and `max_points` on every test or on none (else
     no per-test display), `images` entries a data URL string or an object with a string `url`.
 The kit's own rule on top: `points` and `max_points` are on every test and 0 <= points <= max_points.
-An instructor's test tool (tools/kitlib/selftest/reach.py); the standard library only for `results`.
+An instructor's test tool (tests/kit/reach.py); the standard library only for `results`.
 """
 
 from __future__ import annotations

@@ -43,7 +43,7 @@ EXCLUDED = [
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
     "docs/instructors.md", "docs/performance.md",          # the instructor's manual; the kit's own costs
     "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
-    "tools/test_selftests.py",                             # unittest's view of the self-test, which stays out
+    "tests/kit", "pytest.ini",                             # the kit's self-test (pytest), which stays out
     "tools/kitlib/report/templates",                       # the class report's pages (./kit report's)
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
@@ -407,7 +407,7 @@ def run(args) -> int:
             if excluded(rel) or rel.parts[0] == "steps" or not (ROOT / rel).is_file():
                 continue
             if rel.parts[:2] == ("tools", "kitlib") and rel.suffix == ".py" and rel not in driver:
-                continue        # the instructor's side of the driver (selftest/, grade, mutant, ...)
+                continue        # the instructor's side of the driver (grade, mutant, ...)
             dst = staging / rel
             dst.parent.mkdir(parents=True, exist_ok=True)
             if rel.as_posix() == "README.md":

@@ -43,11 +43,11 @@ REGENERATORS = [
     Regenerator("the README's step table", PY + ["docs/readme_steps.py", "--check"], PY + ["docs/readme_steps.py"]),
     Regenerator("the benchmark's figures (docs/bench.md, lecture 03's appendix)",
                 PY + ["docs/bench_numbers.py", "--check"], PY + ["docs/bench_numbers.py"]),
-    Regenerator("the reference pictures (docs/images/)", KIT + ["test", "render:reference pictures are current"], KIT + ["render", "--refresh"]),
-    Regenerator("the recorded stubs and case lists", KIT + ["test", "latency:recorded stubs and case lists"],
+    Regenerator("the reference pictures (docs/images/)", KIT + ["test", "render:pictures current"], KIT + ["render", "--refresh"]),
+    Regenerator("the recorded stubs and case lists", KIT + ["test", "latency:recorded"],
                 KIT + ["check", "--record"]),
     Regenerator("the ★ tier's exact answers", KIT + ["exact"], KIT + ["exact", "--refresh"]),
-    Regenerator("the mutants' signatures", KIT + ["test", "report:signatures are current"], KIT + ["report", "--signatures"]),
+    Regenerator("the mutants' signatures", KIT + ["test", "report:signatures fresh"], KIT + ["report", "--signatures"]),
 ]
 
 
@@ -81,6 +81,12 @@ def scene_steps(path: str) -> set[str]:
     return found
 
 
+def selftest_modules() -> list[str]:
+    """The modules of tests/kit/ that hold self-tests (./kit test's MODULE words)."""
+    return [p.stem for p in (ROOT / "tests" / "kit").glob("*.py")
+            if re.search(r"^def selftest_\w+\(", p.read_text(), flags=re.M)]
+
+
 def touched_tests(paths: list[str]) -> list[list[str]]:
     """The ./kit test calls the changed paths ask for: `--step N` for a step's cases, reference or
     stubs; the modules that read the course, the scene, the lectures; everything for the kit's code."""
@@ -94,11 +100,14 @@ def touched_tests(paths: list[str]) -> list[list[str]]:
         elif p == "course.json":
             modules += ["course", "customised"]
         elif p.startswith("include/raykit/scenes/"):
-            modules += ["lectures:scene file", "render", "pictures", "slips:a render turned over", "customised"]
+            modules += ["lectures:scene tables", "render", "pictures", "slips:turned render", "customised"]
             steps |= scene_steps(p) or {max(numbers)}
         elif p.startswith(("lectures/", "docs/")) and not p.startswith("docs/images/"):
             modules += ["lectures", "slides"]
-        elif p.startswith(("tools/", "tests/support/", "include/", "CMakeLists.txt", "cmake/")):
+        elif re.fullmatch(r"tests/kit/\w+\.py", p) and p[10:-3] in selftest_modules():
+            modules.append(p[10:-3])        # a self-test module: itself
+        elif p.startswith(("tools/", "tests/support/", "tests/kit/", "include/", "CMakeLists.txt", "cmake/")) \
+                or p == "pytest.ini":
             everything = True
     if everything:
         return [[]]         # the whole self-test
