@@ -865,10 +865,3 @@ def selftest_no_reference_answer(ctx) -> str:
 
     need_solutions()
     return run_modes(one)
-
-
-def round_three():
-    """Issue 43's attacks (integrity_slots.py): forks, keyrings, a classmate's program, a full /tmp,
-    two kits on one machine."""
-    from . import integrity_slots, own_faults
-    return integrity_slots.selftests() + own_faults.selftests()

@@ -231,7 +231,7 @@ def selftest_trial6(ctx) -> str:
     """Each slip of trial 6 that the kit first named only in part, in a handout (no catalogue), under
     bubblewrap and the user isolation: its first message says what was measured on the code."""
     need_solutions()    # tests/fixtures/ ships in no handout
-    from ..slips import NO_CATALOGUE
+    from kitlib.slips import NO_CATALOGUE
     steps = _steps()
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-trial6-"))
     import os
