@@ -33,7 +33,7 @@ import unittest
 from pathlib import Path
 
 # What ./kit sets before the driver starts: tools/ on the path, the kit's modules compiled into its
-# cache folder and nowhere beside the sources (kitlib/pycache.py).
+# cache folder and nowhere beside the sources (raykit/pycache.py).
 TOOLS = Path(__file__).resolve().parent
 os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
 sys.dont_write_bytecode = True
@@ -47,11 +47,11 @@ if str(TOOLS) not in sys.path:
     sys.path.insert(0, str(TOOLS))
 os.environ["PYTHONPATH"] = os.pathsep.join([str(TOOLS)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])
 
-from kitlib import pycache  # noqa: E402
+from raykit import pycache  # noqa: E402
 
 pycache.install()
 
-from kitlib.common import QUICK_TIER, KitError, load_steps  # noqa: E402
+from raykit.common import QUICK_TIER, KitError, load_steps  # noqa: E402
 from kitlib.selftest import harness  # noqa: E402
 
 _contexts: dict[str, harness.Context] = {}

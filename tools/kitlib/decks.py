@@ -25,9 +25,9 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import atomic
-from .common import BUILD, ROOT, KitError
-from .status import FAILED, SETUP, USAGE
+from raykit import atomic
+from raykit.common import BUILD, ROOT, KitError
+from raykit.status import FAILED, SETUP, USAGE
 from .webtools import ensure_docs_tools, npm_package
 
 SOURCES = ROOT / "lectures" / "slides"
@@ -339,7 +339,7 @@ def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
 def print_pdfs(decks: list[Path]) -> list[Path]:
     """Each deck printed by headless Chromium from reveal.js's print view: one 1280x720 page a slide."""
     from . import browser
-    from .packages import ensure_packages
+    from raykit.packages import ensure_packages
     ensure_packages("browser")
     chromium = browser.find_chromium()
     if chromium is None:

@@ -1,4 +1,5 @@
-"""python3 -m kitlib COMMAND ...: what ./kit runs (with tools/ on PYTHONPATH)."""
+"""python3 -m raykit COMMAND ...: what ./kit runs in a student's copy of the kit, which has no
+tools/kitlib (with tools/ on PYTHONPATH): the students' commands alone."""
 
 import sys
 

@@ -1,9 +1,9 @@
 """raykit's command line: ./kit COMMAND [options].
 
 COMMANDS is the one table of commands: their order in ./kit help, who they are for, and the module
-(kitlib/commands/NAME.py) that does the work, with
+(raykit/commands/NAME.py) that does the work, with
     def register(parser): ...   # add its arguments
-    def run(args) -> int: ...   # do the work, return an exit status (kitlib/status.py)
+    def run(args) -> int: ...   # do the work, return an exit status (raykit/status.py)
 Only the module of the command being run is imported.
 
 The words, one meaning each: *check* runs a student's steps' cases and scores them (./kit check,
@@ -19,7 +19,6 @@ import os
 import re
 import sys
 from dataclasses import dataclass
-from pathlib import Path
 
 from .common import ROOT, KitError
 from .status import FAILED, INTERRUPTED, OK, USAGE
@@ -30,11 +29,15 @@ STUDENT, INSTRUCTOR = "students", "instructors"
 @dataclass(frozen=True)
 class Command:
     name: str
-    module: str         # kitlib/commands/MODULE.py
+    module: str         # PACKAGE/commands/MODULE.py
     audience: str       # STUDENT or INSTRUCTOR
     help: str
+    package: str = "raykit"     # raykit: the student's runtime; kitlib: the instructor's toolchain
 
 
+# The student's commands: this package (tools/raykit) is all a handout ships of the driver. The
+# instructor's toolchain (tools/kitlib) adds its commands to these in its own table (kitlib/cli.py),
+# and ./kit runs that one where tools/kitlib is there.
 COMMANDS = [
     Command("check", "check", STUDENT, "check your steps: every case, your score, and what to do next"),
     Command("watch", "watch", STUDENT, "check the step you work on at every save, and move on when it is done"),
@@ -42,34 +45,22 @@ COMMANDS = [
     Command("debug", "debug", STUDENT, "run one case of step N under gdb (or lldb), stopped in your own function"),
     Command("reset", "reset", STUDENT, "put a step's shipped stub back (your file is kept as NAME.cpp.bak-TIME)"),
     Command("render", "render", STUDENT, "render the course's scenes to PNG, from the solutions or, with --steps, from your code"),
-    Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),
-    Command("bench", "bench", STUDENT, "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
-    Command("test", "selftest", INSTRUCTOR, "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
-    Command("course", "course", INSTRUCTOR, "print the course's scale (course.json): steps, case groups, points, the Gradescope total"),
-    Command("grade", "grade", INSTRUCTOR, "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
-    Command("report", "report", INSTRUCTOR, "the class report of a grading (offline HTML): scores, failed cases, slips, incidents, similar work"),
-    Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
-    Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
-    Command("refresh", "refresh", INSTRUCTOR, "after a change to the course: rewrite what is stale (tables, pictures, "
-                                              "case lists, exact answers, signatures), run the touched self-tests"),
-    Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
-    Command("slides", "slides", INSTRUCTOR, "write a slide deck per lecture (lectures/slides/) as offline HTML, --pdf also PDF"),
-    Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
-    Command("classroom", "classroom", INSTRUCTOR, "write GitHub Classroom's autograding workflow into a handout (partial credit per case)"),
-    Command("prairielearn", "prairielearn", INSTRUCTOR, "write PrairieLearn questions, the grader's entry point and its Docker image"),
 ]
 
+# The instructor's commands by name only, so that a student's copy says where one runs rather than
+# that it does not exist (the layers self-test holds this list to kitlib/cli.py's table).
+ELSEWHERE = ("docs", "bench", "test", "course", "grade", "report", "handout", "exact", "refresh", "mutant", "slides",
+             "autograder", "classroom", "prairielearn")
 
-# What a student's handout offers beside the students' commands: its own self-test. Grading a
-# class, writing handouts, mutants and the autograder need the full kit (solutions/, tests/mutants/).
-IN_HANDOUT = {"test"}
+
+def available(commands: list[Command] = COMMANDS) -> list[Command]:
+    """The commands of `commands` this copy of the kit has and offers: a handout has no tools/kitlib,
+    and an instructor's kit without solutions/ offers the students' commands alone."""
+    return [c for c in commands if _here(c) and (not handout() or c.audience == STUDENT)]
 
 
-def available() -> list[Command]:
-    """The commands this copy of the kit has (a handout has no commands/exact.py) and offers."""
-    here = Path(__file__).resolve().parent / "commands"
-    return [c for c in COMMANDS if (here / f"{c.module}.py").is_file()
-            and (not handout() or c.audience == STUDENT or c.name in IN_HANDOUT)]
+def _here(c: Command) -> bool:
+    return (ROOT / "tools" / c.package / "commands" / f"{c.module}.py").is_file()
 
 
 class Parser(argparse.ArgumentParser):
@@ -95,46 +86,49 @@ def handout() -> bool:
     return not (ROOT / "solutions").is_dir()   # a student's copy: no solutions/
 
 
-def overview() -> str:
+def overview(commands: list[Command]) -> str:
     """./kit help: the commands by audience, from the table alone (no command module is imported)."""
     lines = ["usage: ./kit COMMAND [options]    (./kit COMMAND -h: its options)", "",
              "raykit: a first ray tracing course kit."]
     for audience in (STUDENT, INSTRUCTOR):
-        listed = [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
+        listed = [f"  {c.name:<11} {c.help}" for c in available(commands) if c.audience == audience]
         lines += ["", f"For {audience}:"] + listed if listed else []     # a handout: no instructors' part
     lines += ["", "Start with ./kit check." + ("" if handout() else " Instructors: ./kit test verifies the whole kit.")]
     return "\n".join(lines)
 
 
-def build_parser(chosen: str | None) -> Parser:
+def build_parser(chosen: str | None, commands: list[Command] = COMMANDS) -> Parser:
     """The parser; only `chosen`'s module is imported to add its options, and only its sub-parser is
     made (20 of them cost 40 ms of every command's start); with no command chosen, all of them, for
     the message that lists them."""
     p = Parser(prog="./kit", description="raykit: a first ray tracing course kit.", add_help=False)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
-    for c in available():
+    for c in available(commands):
         if chosen is not None and c.name != chosen:
             continue
         shown = c.help if c.audience == STUDENT else f"{c.audience}: {c.help}"
         sp = sub.add_parser(c.name, help=shown, description=shown)
         if c.name == chosen:
-            importlib.import_module(f"{__package__}.commands.{c.module}").register(sp)
+            importlib.import_module(f"{c.package}.commands.{c.module}").register(sp)
     sub.add_parser("help", help="show the commands")
     return p
 
 
-def main(argv: list[str]) -> int:
+def main(argv: list[str], table: list[Command] = COMMANDS) -> int:
+    """./kit ARGV with the commands of `table`: the students' (python3 -m raykit), or with the
+    instructor's added (python3 -m kitlib, which passes its own table)."""
     try:
         if not argv or argv[0] in ("help", "-h", "--help"):
-            print(overview())
+            print(overview(table))
             return OK
-        commands = {c.name: c for c in available()}
-        if argv[0] not in commands and argv[0] in {c.name for c in COMMANDS}:
+        commands = {c.name: c for c in available(table)}
+        if argv[0] not in commands and argv[0] in {c.name for c in table} | set(ELSEWHERE):
             raise KitError(f"{argv[0]} is an instructor's command and this is a student's copy of the kit "
                            "(no solutions/); run it in the instructor's kit")
         chosen = argv[0] if argv[0] in commands else None
-        args = build_parser(chosen).parse_args(argv)
-        return importlib.import_module(f"{__package__}.commands.{commands[args.command].module}").run(args)
+        args = build_parser(chosen, table).parse_args(argv)
+        c = commands[args.command]
+        return importlib.import_module(f"{c.package}.commands.{c.module}").run(args)
     except KitError as e:
         print(f"kit: {e}", file=sys.stderr)
         return e.code

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import os
 
-from ..packages import ensure_packages, instructor_groups
-from ..common import KitError, load_steps, say
-from ..status import OK
+from raykit.packages import ensure_packages, instructor_groups
+from raykit.common import KitError, load_steps, say
+from raykit.status import OK
 from ..selftest.harness import MODULES, Context, collect, run_all
 
 
@@ -40,7 +40,7 @@ def prepare() -> None:
     """The packages and environment of a self-test run (./kit test's, and unittest's in
     tools/test_selftests.py)."""
     ensure_packages(*instructor_groups())
-    # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
+    # No background warm-up from the checks the self-test runs on a terminal (raykit/warmup.py):
     # it would build beside the measured ones. The latency test turns it on where it measures it.
     os.environ["RAYKIT_NO_WARMUP"] = "1"
 

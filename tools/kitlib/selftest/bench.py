@@ -18,8 +18,8 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from ..commands import bench as cmd_bench
-from ..common import BUILD, ROOT
-from ..status import NOT_STARTED
+from raykit.common import BUILD, ROOT
+from raykit.status import NOT_STARTED
 from .harness import Failed, Skipped, expect, kit, tier
 
 SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",

@@ -12,17 +12,17 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from .. import record
-from ..checking import check_steps
-from ..runcases import RERUN_WHY, list_cases
-from ..classroomresults import classroom
-from ..gradescope import gradescope
-from ..plresults import prairielearn
-from ..scoreboard import status_cell
-from ..common import BUILD, ROOT, load_steps, map_in_threads
-from .. import bundle
-from ..build import detect_undefined, preset_build, submission_build, workflow
-from ..status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
+from raykit import record
+from raykit.checking import check_steps
+from raykit.runcases import RERUN_WHY, list_cases
+from raykit.classroomresults import classroom
+from raykit.gradescope import gradescope
+from raykit.plresults import prairielearn
+from raykit.scoreboard import status_cell
+from raykit.common import BUILD, ROOT, load_steps, map_in_threads
+from raykit import bundle
+from raykit.build import detect_undefined, preset_build, submission_build, workflow
+from raykit.status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .harness import Context, Failed, expect, kit, need_solutions, tier
 from .fixtures import fixture_dir
 
@@ -526,10 +526,10 @@ def selftest_missing_include_told(ctx) -> str:
     names with the headers ray.hpp brings taken out; std::function, which ray.hpp leaves out (its
     cost), is told <functional> with the kit's headers as they are."""
     import json
-    from .. import includes
-    from ..build import Build
-    from ..common import load_steps
-    from ..scoreboard import compile_errors
+    from raykit import includes
+    from raykit.build import Build
+    from raykit.common import load_steps
+    from raykit.scoreboard import compile_errors
     need_solutions()    # tests/fixtures/ is not in a handout
     all_steps = load_steps()
     [step] = [s for s in all_steps if s.number == "01"]
@@ -573,7 +573,7 @@ def selftest_missing_include_told(ctx) -> str:
            f"with libc++: {mac.state}, told {mac.includes} (expected done, told {want})")
     import contextlib
     import io
-    from ..scoreboard import scoreboard
+    from raykit.scoreboard import scoreboard
     screen = io.StringIO()
     with contextlib.redirect_stdout(screen):        # the words on the student's screen
         scoreboard([mac], fixture_dir("missing_include"))
@@ -613,8 +613,8 @@ def selftest_abs_one_verdict(ctx) -> str:
     GCC's gives 0 without that declaration (so the probe tests it); then tests/fixtures/stdlib_abs/
     is graded as the student's own check with clang and libc++ (a Mac's) and as the grader's with
     GCC: done on both, every case with the same status."""
-    from ..build import Build
-    from ..common import load_steps
+    from raykit.build import Build
+    from raykit.common import load_steps
     need_solutions()    # tests/fixtures/ is not in a handout
     libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
     if shutil.which("clang++") is None or subprocess.run(

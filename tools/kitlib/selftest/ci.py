@@ -14,8 +14,8 @@ import io
 import os
 import subprocess
 
-from ..common import ROOT
-from ..sandbox import bwrap_works
+from raykit.common import ROOT
+from raykit.sandbox import bwrap_works
 from .harness import (CANNOT_ENV, NEEDS, RECAP_LINES, SECURITY_MODULES, Failed, Skipped, collect, expect,
                       partly_skipped, recap, run_one, security, tier)
 

@@ -13,7 +13,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT
+from raykit.common import BUILD, ROOT
 from .harness import Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 

@@ -26,7 +26,7 @@ import json
 import re
 from pathlib import Path
 
-from ..common import ROOT
+from raykit.common import ROOT
 from .. import decks
 
 LECTURES = ROOT / "lectures"

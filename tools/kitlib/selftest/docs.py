@@ -19,8 +19,8 @@ import re
 from pathlib import Path
 
 from ..commands import docs as cmd_docs
-from ..common import BUILD, ROOT, KitError
-from ..packages import ensure_packages
+from raykit.common import BUILD, ROOT, KitError
+from raykit.packages import ensure_packages
 from .harness import Failed, Skipped, expect, need_solutions, tier
 
 SCREENSHOTS = BUILD / "docs" / "screenshots"

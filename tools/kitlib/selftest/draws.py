@@ -7,7 +7,7 @@ still draws anew. The seed is secret.hidden_seed's, here with a fixed key (no fi
 
 from __future__ import annotations
 
-from ..secret import code_only, hidden_seed
+from raykit.secret import code_only, hidden_seed
 from .harness import expect, tier
 
 KEY = bytes(range(32))

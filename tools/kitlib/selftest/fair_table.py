@@ -27,12 +27,12 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import procfs
-from .. import bundle
-from ..build import Build, detect_undefined, submission_build
-from ..checking import build_step, judge_step
-from ..common import ROOT, load_steps
-from ..sandbox import NONE_OWN
+from raykit import procfs
+from raykit import bundle
+from raykit.build import Build, detect_undefined, submission_build
+from raykit.checking import build_step, judge_step
+from raykit.common import ROOT, load_steps
+from raykit.sandbox import NONE_OWN
 from .fixtures import fixture_dir
 
 # Folder -> what it is, per step (step 03's file holds the shortcut and the geometric form).

@@ -23,9 +23,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .. import atomic
-from ..common import BUILD, ROOT, KitError, load_steps
-from ..mutants import SOLUTIONS, Mutant, PatchError, apply_patch, read_diff
+from raykit import atomic
+from raykit.common import BUILD, ROOT, KitError, load_steps
+from raykit.mutants import SOLUTIONS, Mutant, PatchError, apply_patch, read_diff
 
 FIXTURES = ROOT / "tests" / "fixtures"
 WORK = BUILD / "fixtures"

@@ -15,8 +15,8 @@ import shutil
 import subprocess
 import tempfile
 
-from ..common import BUILD, ROOT, KitError
-from ..build import configure, preset_build
+from raykit.common import BUILD, ROOT, KitError
+from raykit.build import configure, preset_build
 
 from .harness import Failed, Skipped, expect, need_solutions
 

@@ -29,10 +29,10 @@ import traceback
 import unittest
 from dataclasses import dataclass, field
 
-from ..cases import StepResult
-from ..common import BUILD, QUICK_TIER, ROOT, KitError, load_steps, paint, say
-from ..secret import SECRET_ENV
-from ..status import FAILED, OK
+from raykit.cases import StepResult
+from raykit.common import BUILD, QUICK_TIER, ROOT, KitError, load_steps, paint, say
+from raykit.secret import SECRET_ENV
+from raykit.status import FAILED, OK
 
 # The order of ./kit test: the grading first (later self-tests reuse its builds), the slowest last.
 MODULES = ["layers", "ci", "lint", "check", "course", "bench", "debug", "docs", "fuzz", "handout", "hint", "integrity",
@@ -406,7 +406,7 @@ def prepare() -> None:
     """What a run of self-tests sets up before the first (./kit test's, and unittest's in
     tools/test_selftests.py)."""
     BUILD.mkdir(exist_ok=True)      # the self-tests work in build/, which a fresh clone has not made yet
-    # One secret for the self-test's hidden draws (kitlib/secret.py): the same inputs on every run.
+    # One secret for the self-test's hidden draws (raykit/secret.py): the same inputs on every run.
     os.environ.setdefault(SECRET_ENV, hashlib.sha256(b"raykit self-test secret").hexdigest())
 
 

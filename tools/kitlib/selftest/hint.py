@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import re
 
-from ..commands.hint import choose, hint_sections, load_hints
-from ..common import load_steps
+from raykit.commands.hint import choose, hint_sections, load_hints
+from raykit.common import load_steps
 from .harness import Failed, expect, kit, need_solutions, tier
 
 CODE = re.compile(r";\s*$|[{}]|\bfor\s*\(|\bif\s*\(", re.M)
@@ -65,8 +65,8 @@ def selftest_hint_looks_at_failure(ctx) -> str:
     import tempfile
     from pathlib import Path
 
-    from ..mutants import MUTANTS, write_answer
-    from ..common import BUILD
+    from raykit.mutants import MUTANTS, write_answer
+    from raykit.common import BUILD
 
     need_solutions()  # the mutant is the reference with one slip
     step = load_steps()[0]

@@ -39,8 +39,8 @@ import struct
 import subprocess
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError
-from ..packages import ensure_packages
+from raykit.common import BUILD, ROOT, KitError
+from raykit.packages import ensure_packages
 from .harness import Failed, Skipped, expect, need_solutions
 
 LAB = ROOT / "docs" / "lab"

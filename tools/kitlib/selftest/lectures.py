@@ -21,7 +21,7 @@ import re
 import tempfile
 from pathlib import Path
 
-from ..common import ROOT, load_steps
+from raykit.common import ROOT, load_steps
 from .harness import Failed, Skipped, expect, tier
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"

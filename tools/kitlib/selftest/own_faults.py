@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import json
 
-from ..status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
+from raykit.status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
 from .fixtures import fixture_dir
 from .harness import Failed, expect, need_solutions
 from .integrity import grade_json, run_modes

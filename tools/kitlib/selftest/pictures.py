@@ -24,8 +24,8 @@ import shutil
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from .. import picture
-from ..common import BUILD, ROOT, load_steps
+from raykit import picture
+from raykit.common import BUILD, ROOT, load_steps
 from . import check
 from .harness import Failed, expect, kit, need_solutions, tier
 from .fixtures import fixture_dir
@@ -58,7 +58,7 @@ def grade_json(steps_dir: Path, report: Path):
 
 
 def selftest_failing_case(ctx) -> str:
-    from ..mutants import MUTANTS, write_answer
+    from raykit.mutants import MUTANTS, write_answer
 
     need_solutions()
     step = next(s for s in load_steps() if s.number == "01")

@@ -53,8 +53,8 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from .. import course as course_file
-from ..common import BUILD, ROOT, load_steps
+from raykit import course as course_file
+from raykit.common import BUILD, ROOT, load_steps
 from .harness import Skipped, expect, kit, need_solutions, tier
 from .fixtures import fixture_dir
 
@@ -287,9 +287,9 @@ def selftest_prairielearn(ctx) -> str:
 def assessment_checks(ctx, out: Path, schema: Path) -> str:
     """The assessment against PrairieLearn's schema and the course's scale; the pages; the image."""
     from fractions import Fraction
-    from .. import course as course_file
+    from raykit import course as course_file
     from ..commands.prairielearn import pl_number, step_points
-    from ..packages import PACKAGES
+    from raykit.packages import PACKAGES
     path = out / "courseInstances" / "Fall" / "assessments" / "raykit" / "infoAssessment.json"
     expect(path.is_file(), f"no assessment at {path.relative_to(out)}")
     bad = WORK / "bad-assessment.json"
@@ -592,7 +592,7 @@ def link_problems(out: Path, steps, docs_url: str | None) -> list[str]:
 @tier("quick")
 def selftest_prairielearn_complete(ctx) -> str:
     """#46 item 3: ./kit prairielearn makes, with the lines it prints, a course PrairieLearn takes whole."""
-    from ..common import KitError
+    from raykit.common import KitError
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     example = need_third_party("prairielearn", "exampleCourse")
@@ -688,8 +688,8 @@ def selftest_prairielearn_complete(ctx) -> str:
 def selftest_noapt(ctx) -> str:
     import os
     from unittest import mock
-    from .. import packages
-    from ..common import KitError
+    from raykit import packages
+    from raykit.common import KitError
     prefix = WORK / "homebrew"
     shutil.rmtree(prefix, ignore_errors=True)
     for name in ("glm", "doctest"):
@@ -797,7 +797,7 @@ def selftest_mac_like(ctx) -> str:
             return r
         r = student("check", "1")
         expect(r.returncode == 0 and "done" in r.stdout, f"./kit check 1: {r.returncode}\n{seen[-1][-1500:]}")
-        # The check's compiles and links are the bundle's (tools/kitlib/bundle.py), built in the
+        # The check's compiles and links are the bundle's (tools/raykit/bundle.py), built in the
         # student's own cache folder.
         caches = list((home / ".cache" / "raykit" / "bundles").glob("*/CMakeCache.txt"))
         expect(len(caches) == 1, f"the student's check built {len(caches)} bundles, not one")
@@ -834,7 +834,7 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     rules on each step's recorded cases."""
     from fractions import Fraction
     from ..commands.prairielearn import pl_number
-    from ..plresults import prairielearn
+    from raykit.plresults import prairielearn
     from .course import extra_credit_course, kit_results
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
@@ -856,7 +856,7 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     total, bonus, told = Fraction(0), Fraction(0), []
     with course_file.using(course):
         for s in ctx.steps:
-            from ..checking import recorded_cases
+            from raykit.checking import recorded_cases
             cases = recorded_cases(s)
             expect(cases is not None, f"step {s.number} has no recorded cases")
             kept = [(c.tier, c.name, c.lecture) for c in cases if c.tier != "hidden" or course.hidden_enabled]
@@ -910,7 +910,7 @@ def selftest_prairielearn_from_empty(ctx) -> str:
     questions' topic and tags declared, the instance, the assessment, the questions) whose every file
     PrairieLearn's schemas take and that declares all it uses; --course DIR writes DIR's infoCourse.json
     with what it lacks added, DIR's own entries kept; the two together are refused."""
-    from ..common import KitError
+    from raykit.common import KitError
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     example = need_third_party("prairielearn", "exampleCourse")

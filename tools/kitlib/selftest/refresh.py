@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 
-from ..common import ROOT, load_steps
+from raykit.common import ROOT, load_steps
 from .harness import Failed, expect, kit, need_solutions, tier
 
 
@@ -29,7 +29,7 @@ def selftest_touched(ctx) -> str:
         ("include/raykit/scenes/cornell_box.inc",): [["--step", box], ["lectures:scene file", "render", "pictures",
                                                                       "slips:a render turned over", "customised"]],
         ("lectures/01-unit-sphere.md",): [["lectures", "slides"]],
-        ("tools/kitlib/course.py", "course.json"): [[]],
+        ("tools/raykit/course.py", "course.json"): [[]],
         ("docs/images/cornell_box.png",): [],
     }
     for paths, want in cases.items():
@@ -76,7 +76,7 @@ def selftest_manifest_form(ctx) -> str:
     from .. import manifest
     from ..commands import course as course_command
     from ..commands import refresh
-    from ..common import KitError
+    from raykit.common import KitError
     from .fixtures import fixture_dir
     numbers = [s.number for s in load_steps()]
     mine = [line for p in manifest.manifests() for line in manifest.problems(p, numbers)]

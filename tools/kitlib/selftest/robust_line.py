@@ -13,8 +13,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from ..common import ROOT, load_steps
-from ..robust_line import where
+from raykit.common import ROOT, load_steps
+from raykit.robust_line import where
 from .harness import expect, kit, need_solutions, tier
 from .fixtures import fixture_dir
 

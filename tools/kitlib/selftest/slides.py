@@ -20,9 +20,9 @@ import re
 import shutil
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError
+from raykit.common import BUILD, ROOT, KitError
 from .. import decks as cmd_slides
-from ..packages import ensure_packages
+from raykit.packages import ensure_packages
 from .harness import Failed, Skipped, expect, tier
 
 SCREENSHOTS = BUILD / "slides-screenshots"     # beside the decks: ./kit slides replaces build/slides whole
