@@ -45,7 +45,7 @@ METADATA = AUTOGRADER / "submission_metadata.json"     # the due dates and the s
 PR_SET_CHILD_SUBREAPER = 36    # <linux/prctl.h>
 KIT_SECONDS = 30 * 60           # all steps; Gradescope's own limit is set per assignment
 
-sys.path.insert(0, str(SOURCE / "tools"))       # the kit's driver package, kitlib
+sys.path.insert(0, str(SOURCE / "tools"))       # the kit's driver packages, raykit and kitlib
 
 
 def failed(reason: str, name: str = "Autograder", output: str = "") -> dict:

@@ -641,7 +641,7 @@ def selftest_load(ctx) -> str:
 
 
 CLAIM = """import os, sys, time
-from kitlib import sandbox
+from raykit import sandbox
 try:
     print(sandbox.claim_uid(int(sys.argv[2])), flush=True)
 except RuntimeError as e:

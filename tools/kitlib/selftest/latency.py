@@ -349,7 +349,7 @@ def _prune_spares_held(bundle) -> str:
             os.utime(root / name / bundle.READY, (1000 + i, 1000 + i))     # b0 the least recently used
         # Another process holds b0, the oldest, as a check of another copy of the kit would.
         holder = subprocess.Popen([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
-                                   "from kitlib import bundle; from pathlib import Path; "
+                                   "from raykit import bundle; from pathlib import Path; "
                                    "assert bundle._use(Path(sys.argv[2])) is not None; print('held', flush=True); "
                                    "sys.stdin.read()", str(ROOT / "tools"), str(root / "b0")],
                                   stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
