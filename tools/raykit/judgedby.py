@@ -15,8 +15,8 @@ machines' gradings (report/merge.py) compares the lists and names the first file
 What it covers (INPUTS): course.json (the scale, weights, limits); CMake's files (how the judges and the
 student's code are compiled); include/ (the kit's headers, the scene); solutions/ (the reference answers);
 tests/ (the cases, their judges and support, the hidden families); the kit's own Python (tools/raykit
-and tools/kitlib: how a check builds, runs, judges and scores, and how a grading runs the checks), and the compiler with the settings CMake reads from the
-environment (bundle.ENV_READ). Which files: those git tracks or would track (kitfiles.kit_files: a file
+and tools/kitlib: how a check builds, runs, judges and scores, and how a grading runs the checks), and
+the compiler with the settings CMake reads from the environment (bundle.ENV_READ). Which files: those git tracks or would track (kitfiles.kit_files: a file
 added and not ignored counts; build output, caches and tests/hidden/secret.key do not).
 
 Left out, as they decide no verdict nor point: the self-test (tools/kitlib/selftest/), the class report
