@@ -4,7 +4,7 @@
     python3 docs/pitfall_pictures.py           # draw them into docs/pitfalls/ (after a change to the drawing)
     python3 docs/pitfall_pictures.py --check   # exit 1 when a committed picture differs from a fresh drawing
 
-They are drawn by tools/kitlib/picture/gallery.py (write_gallery, the table PITFALLS), as `./kit docs` draws
+They are drawn by tools/raykit/picture/gallery.py (write_gallery, the table PITFALLS), as `./kit docs` draws
 them into its site; tests/kit/lectures.py runs --check. Python 3.9, standard library only.
 """
 
@@ -23,7 +23,7 @@ def stale(folder: Path = FOLDER) -> list[str]:
     """The pictures of the gallery that are missing from `folder` or differ from a fresh drawing, and
     the files in `folder` that the gallery no longer draws."""
     sys.path.insert(0, str(ROOT / "tools"))
-    from kitlib import picture  # noqa: E402
+    from raykit import picture  # noqa: E402
 
     with tempfile.TemporaryDirectory() as tmp:
         fresh = {p.name: p.read_bytes() for p in picture.write_gallery(Path(tmp))}
@@ -43,7 +43,7 @@ def main(argv=None) -> int:
             return 1
         return 0
     sys.path.insert(0, str(ROOT / "tools"))
-    from kitlib import picture  # noqa: E402
+    from raykit import picture  # noqa: E402
     FOLDER.mkdir(parents=True, exist_ok=True)
     drawn = {p.name for p in picture.write_gallery(FOLDER)}
     for p in FOLDER.glob("*.svg"):

@@ -87,7 +87,7 @@ def parse(stderr: str) -> list[tuple[int, list[float]]]:
 
 def measure() -> dict:
     sys.path[:0] = [str(ROOT / "tools"), str(ROOT / "tests")]
-    from kitlib.build import build_targets, configure, submission_build  # noqa: E402
+    from raykit.build import build_targets, configure, submission_build  # noqa: E402
     from kit.fixtures import fixture_dir  # noqa: E402
 
     record = {"digest": digest(), "forms": {}}

@@ -7,7 +7,7 @@
 #pragma once
 
 // Every step computes with these (std::sqrt, the float limits, glm::dot and glm::length), so the
-// ray brings them. A graded compile reads the step header precompiled (tools/kitlib/studentpch.py),
+// ray brings them. A graded compile reads the step header precompiled (tools/raykit/studentpch.py),
 // and what the header includes comes with it at no cost: a step file then compiles in 0.07 s of
 // CPU instead of 0.2 s (GCC 12, measured), where it would otherwise read <cmath> and GLM again.
 #include <cmath>
@@ -21,7 +21,7 @@
 // Not <functional>: with GCC 12 in C++17 it reads <unordered_map> for its searchers, 0.19 s of
 // CPU of the 0.56 s a step file takes to compile (measured), paid at every check of the file,
 // for std::function, which no step needs. A file using it without the include is told the
-// header in the student's own check and in the grader's error (tools/kitlib/includes.py), as
+// header in the student's own check and in the grader's error (tools/raykit/includes.py), as
 // for any name outside this list.
 // The kit's own files (the judges, the dispatchers, the reference: CMakeLists.txt defines
 // RAYKIT_KIT_OWN_FILE for them) include what they use themselves and skip these, which cost

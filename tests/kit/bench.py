@@ -21,8 +21,8 @@ from pathlib import Path
 import pytest
 
 from kitlib.commands import bench as cmd_bench
-from kitlib.common import ROOT
-from kitlib.status import NOT_STARTED
+from raykit.common import ROOT
+from raykit.status import NOT_STARTED
 from .support import Failed, Skipped, expect, kit
 
 SPHERE_FAMILIES = {"typical", "far_1e3", "far_1e4", "far_3e4", "tiny", "huge", "off_centre", "grazing", "inside",

@@ -38,11 +38,11 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import procfs
-from kitlib.common import BUILD, ROOT
-from kitlib.sandbox import COMPILE_UID_OFFSET, Limits
-from kitlib.sandbox_slots import RUN_PROCESSES
-from kitlib.status import NO_COMPILE
+from raykit import procfs
+from raykit.common import BUILD, ROOT
+from raykit.sandbox import COMPILE_UID_OFFSET, Limits
+from raykit.sandbox_slots import RUN_PROCESSES
+from raykit.status import NO_COMPILE
 from . import scale
 from .support import Failed, Skipped, expect, need_solutions
 from .integrity import isolations, one_slip_folder, printed, processes_named, run_modes
@@ -591,7 +591,7 @@ def selftest_sandbox_failure(ctx) -> str:
     exist, at the compile or at the run) is the grader's error: the step is not graded, and no case
     reads as the student's timeout, crash or compile error."""
     need_solutions()
-    from kitlib.sandbox import bwrap_works
+    from raykit.sandbox import bwrap_works
     if not bwrap_works():
         raise Skipped("bubblewrap cannot run here", need="bwrap")
     parts = []
@@ -645,7 +645,7 @@ def selftest_load(ctx) -> str:
 
 
 CLAIM = """import os, sys, time
-from kitlib import sandbox
+from raykit import sandbox
 try:
     print(sandbox.claim_uid(int(sys.argv[2])), flush=True)
 except RuntimeError as e:
@@ -663,7 +663,7 @@ def selftest_uid_claims(ctx) -> str:
     that has a live process is passed over. A RAYKIT_FIRST_UID that is not a range is refused."""
     if os.geteuid() != 0:
         raise Skipped("sandbox user ids are claimed only when grading as root", need="root")
-    from kitlib.sandbox import FIRST_UID_ENV, UID_RANGE, claim_range
+    from raykit.sandbox import FIRST_UID_ENV, UID_RANGE, claim_range
     env = dict(os.environ, PYTHONPATH=str(ROOT / "tools"))
     env.pop(FIRST_UID_ENV, None)
     slot = str(CLAIM_SLOTS[0])
@@ -742,7 +742,7 @@ SQUATTER_SLOT = 42                  # its first id: the squatter's, graded code 
 
 
 def slot_uids(slot: int) -> list[int]:
-    from kitlib.sandbox import UID_CLAIMS, first_uid
+    from raykit.sandbox import UID_CLAIMS, first_uid
     return [first_uid() + slot % 64 + 64 * k for k in range(UID_CLAIMS)]
 
 
@@ -936,7 +936,7 @@ def selftest_stale_header(ctx) -> str:
     dependency file names (written with -MP, as CMake's Ninja rules do not, so the kit's one reader,
     compilers.dependencies, must skip its empty rules), changed with its size kept: the next compile
     of the same file is not served from the cache; nor is one after the compiler changed."""
-    from kitlib.compilers import dependencies
+    from raykit.compilers import dependencies
     mp = "o.o: s.cpp /a\\ b/x.hpp \\\n /sys/h$$.hpp\n\n/a\\ b/x.hpp:\n\n/sys/h$$.hpp:\n"
     expect(dependencies(mp) == ["s.cpp", "/a b/x.hpp", "/sys/h$.hpp"],
            f"an -MP dependency file read as {dependencies(mp)}")
@@ -946,8 +946,8 @@ def selftest_stale_header(ctx) -> str:
 def stale_system_header() -> str:
     """A header from outside the kit changed with its size kept: the next compile of the same file
     is not served from the cache; a changed compiler is not either."""
-    from kitlib.objcache import ObjectCache
-    from kitlib.sandbox import Isolation
+    from raykit.objcache import ObjectCache
+    from raykit.sandbox import Isolation
     work = WORK / "stale-header"
     shutil.rmtree(work, ignore_errors=True)
     (work / "sys").mkdir(parents=True)

@@ -14,16 +14,16 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import record
-from kitlib.checking import check_steps
-from kitlib.runcases import RERUN_WHY, list_cases
-from kitlib.classroomresults import classroom
-from kitlib.gradescope import gradescope
-from kitlib.plresults import prairielearn
-from kitlib.scoreboard import status_cell
-from kitlib.common import BUILD, ROOT, load_steps, map_in_threads
-from kitlib.build import Build, detect_undefined, preset_build, submission_build, workflow
-from kitlib.status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
+from raykit import record
+from raykit.checking import check_steps
+from raykit.runcases import RERUN_WHY, list_cases
+from raykit.classroomresults import classroom
+from raykit.gradescope import gradescope
+from raykit.plresults import prairielearn
+from raykit.scoreboard import status_cell
+from raykit.common import BUILD, ROOT, load_steps, map_in_threads
+from raykit.build import Build, detect_undefined, preset_build, submission_build, workflow
+from raykit.status import CRASHED, DONE, FAIL, NOT_STARTED, NO_COMPILE, PARTIAL, PASS, THREW, TIMED_OUT
 from .support import Context, Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
@@ -530,10 +530,10 @@ def selftest_missing_include_told(ctx, committed_steps) -> str:
     names with the headers ray.hpp brings taken out; std::function, which ray.hpp leaves out (its
     cost), is told <functional> with the kit's headers as they are."""
     import json
-    from kitlib import includes
-    from kitlib.build import Build
-    from kitlib.common import load_steps
-    from kitlib.scoreboard import compile_errors
+    from raykit import includes
+    from raykit.build import Build
+    from raykit.common import load_steps
+    from raykit.scoreboard import compile_errors
     need_solutions()    # tests/fixtures/ is not in a handout
     all_steps = load_steps()
     [step] = [s for s in all_steps if s.number == "01"]
@@ -577,7 +577,7 @@ def selftest_missing_include_told(ctx, committed_steps) -> str:
            f"with libc++: {mac.state}, told {mac.includes} (expected done, told {want})")
     import contextlib
     import io
-    from kitlib.scoreboard import scoreboard
+    from raykit.scoreboard import scoreboard
     screen = io.StringIO()
     with contextlib.redirect_stdout(screen):        # the words on the student's screen
         scoreboard([mac], fixture_dir("missing_include"))
@@ -617,8 +617,8 @@ def selftest_abs_one_verdict(ctx) -> str:
     GCC's gives 0 without that declaration (so the probe tests it); then tests/fixtures/stdlib_abs/
     is graded as the student's own check with clang and libc++ (a Mac's) and as the grader's with
     GCC: done on both, every case with the same status."""
-    from kitlib.build import Build
-    from kitlib.common import load_steps
+    from raykit.build import Build
+    from raykit.common import load_steps
     need_solutions()    # tests/fixtures/ is not in a handout
     libraries = [("g++ (libstdc++)", ["g++"]), ("clang++ -stdlib=libc++", ["clang++", "-stdlib=libc++"])]
     if shutil.which("clang++") is None or subprocess.run(

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import ROOT
-from kitlib.sandbox import bwrap_works
+from raykit.common import ROOT
+from raykit.sandbox import bwrap_works
 from .support import CANNOT_ENV, NEEDS, expect
 
 # Forced outcomes, each a security test and a plain one, run under the suite's conftest (-p kit.conftest).

@@ -28,7 +28,7 @@ from pathlib import Path
 import pytest
 
 # What ./kit sets before the driver starts: tools/ on the path, the kit's modules compiled into its cache
-# folder and nowhere beside the sources (kitlib/pycache.py); the same for the ./kit the tests start.
+# folder and nowhere beside the sources (raykit/pycache.py); the same for the ./kit the tests start.
 TOOLS = Path(__file__).resolve().parents[2] / "tools"
 os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
 sys.dont_write_bytecode = True
@@ -41,11 +41,11 @@ if str(TOOLS) not in sys.path:
 os.environ["PYTHONPATH"] = os.pathsep.join([str(TOOLS)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
                                                           if p and p != str(TOOLS)])
 
-from kitlib import pycache  # noqa: E402
+from raykit import pycache  # noqa: E402
 
 pycache.install()
 
-from kitlib.common import QUICK_TIER, KitError, load_steps  # noqa: E402
+from raykit.common import QUICK_TIER, KitError, load_steps  # noqa: E402
 
 from . import support  # noqa: E402
 
@@ -128,8 +128,8 @@ def committed_steps(tmp_path_factory) -> Path:
 def kit_side():
     """The kit's side (bundle.py: every step's judge, no student's code), built once a machine; for a
     self-test that runs the judges themselves."""
-    from kitlib import bundle
-    from kitlib.build import detect_undefined
+    from raykit import bundle
+    from raykit.build import detect_undefined
     return bundle.ensure(detect_undefined())
 
 
@@ -137,7 +137,7 @@ def kit_side():
 def bench_exe() -> Path:
     """The benchmark of the reference build (build/reference/bench), built once a run, whichever of the
     self-tests that run it comes first. A copy of the kit without bench/ (a handout's) skips them."""
-    from kitlib.build import preset_build
+    from raykit.build import preset_build
     from kitlib.commands import bench as cmd_bench
     if not (support.ROOT / "bench" / "CMakeLists.txt").is_file():
         raise support.Skipped("this copy of the kit has no bench/")

@@ -1,4 +1,4 @@
-"""Self-test: the course's scale (course.json, kitlib/course.py): exact totals for a default, a
+"""Self-test: the course's scale (course.json, raykit/course.py): exact totals for a default, a
 weighted and an optional-group course, a step that does not compile, bad course files, the
 Gradescope view (one ★ test, one test per non-compiling step) and the reveal after the due date."""
 
@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import course as course_file
-from kitlib.cases import SCORED_TIERS, Case, StepResult
-from kitlib.common import ROOT, KitError, Step
-from kitlib.gradescope import gradescope, reveal_options
-from kitlib.status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
+from raykit import course as course_file
+from raykit.cases import SCORED_TIERS, Case, StepResult
+from raykit.common import ROOT, KitError, Step
+from raykit.gradescope import gradescope, reveal_options
+from raykit.status import DONE, FAIL, NO_COMPILE, PARTIAL, PASS
 from . import scale
 from .support import Failed, Skipped, expect, kit, need_solutions, said
 
@@ -116,7 +116,7 @@ def extra_credit_course(numbers: list[str]):
 def kit_results(course, steps, fail: dict[str, set[str]]) -> list[StepResult]:
     """Each step of `steps` with its recorded cases (tests/NN_topic/cases.json) under `course`: every case
     passes but those `fail[step number]` names, by their name or their group."""
-    from kitlib.checking import recorded_cases
+    from raykit.checking import recorded_cases
     rs = []
     with course_file.using(course):
         for s in steps:
@@ -318,7 +318,7 @@ def course_cases(steps) -> tuple[dict, dict, list[str]]:
     name). A step with no record yet (a customised copy's step from the template, before its first
     `./kit check N --record`) gets three made-up cases, and its `weights` are left out of the data: the
     course "mapped" for them. Returns (data, record, the steps made up)."""
-    from kitlib.checking import recorded_cases
+    from raykit.checking import recorded_cases
     data = json.loads(course_file.COURSE_FILE.read_text()) if course_file.COURSE_FILE.is_file() else {}
     listed, made_up = [], []
     for s in steps:
@@ -396,7 +396,7 @@ def selftest_roster(ctx) -> str:
     import csv
     import shutil
 
-    from kitlib.common import BUILD
+    from raykit.common import BUILD
     need_solutions()
     step = ctx.steps[0]
     root = BUILD / "course-roster"
@@ -473,9 +473,9 @@ def selftest_moved_kit(ctx) -> str:
     import io
     import shutil
 
-    from kitlib.common import BUILD
-    from kitlib.build import Build, configure
-    from kitlib.relocate import forget_moved_build
+    from raykit.common import BUILD
+    from raykit.build import Build, configure
+    from raykit.relocate import forget_moved_build
     first, moved = BUILD / "course-moved-a", BUILD / "course-moved-b"
     for d in (first, moved):
         shutil.rmtree(d, ignore_errors=True)
@@ -532,8 +532,8 @@ def selftest_handout_wording(ctx) -> str:
 def selftest_step_without_its_need(ctx) -> str:
     """In a handout, step 05's camera cases are checked while step 04 is not done; the cases that
     call step 04's function wait for the student's own, naming it."""
-    from kitlib import waits
-    from kitlib.status import NOT_STARTED, WAITING
+    from raykit import waits
+    from raykit.status import NOT_STARTED, WAITING
     five = next((s for s in ctx.steps if s.needs and waits.runs_without(s)), None)
     if five is None:
         raise Failed("no step lists the sections that run without the step it needs (step.json runs_without)")
@@ -605,7 +605,7 @@ def selftest_gradescope_adds_up(ctx) -> str:
 def selftest_extra_credit(ctx) -> str:
     """★ as extra credit (a group's "extra_credit": true): each ★ case passed adds its weight's share on
     top of the step's points; the maximum stays the step's points, on every platform's view."""
-    from kitlib.plresults import prairielearn
+    from raykit.plresults import prairielearn
     bonus = course_file.parse(dict(WEIGHTED, steps={"01": {"points": 8}, "02": {"points": 8}},
                                    groups=dict(WEIGHTED["groups"], robust={"weight": 1, "extra_credit": True})), STEPS)
     with course_file.using(bonus):
@@ -700,7 +700,7 @@ def selftest_gradescope_extra_credit(ctx) -> str:
     a solution that misses every ★ case has no failed test (a missed extra-credit case takes nothing from
     the assignment), one with a core slip has exactly that case failed; the ★ points are each step's
     extra-credit test's score above its max_score 0; the summary says the points and the extra apart."""
-    from kitlib.checking import recorded_cases
+    from raykit.checking import recorded_cases
     course = extra_credit_course([s.number for s in ctx.steps])
     steps = [s for s in ctx.steps if recorded_cases(s)]
     if not steps:
@@ -746,7 +746,7 @@ def selftest_course_extra_credit_example(ctx) -> str:
     course.json with ★ made extra credit, on the steps' recorded cases), how much extra credit makes up
     for a bug: all of it, the costliest core case it covers and the two totals, bug + extra credit
     against a correct solution without it."""
-    from kitlib.checking import recorded_cases
+    from raykit.checking import recorded_cases
     need_solutions()    # ./kit course is an instructor's command
     numbers = [s.number for s in ctx.steps]
     course = extra_credit_course(numbers)
@@ -797,12 +797,12 @@ def rendered_outputs(rs) -> dict[str, str]:
     import contextlib
     import io
 
-    from kitlib import record as results_record
-    from kitlib.classroomresults import classroom
-    from kitlib.plresults import prairielearn
+    from raykit import record as results_record
+    from raykit.classroomresults import classroom
+    from raykit.plresults import prairielearn
     from kitlib.report import grading as grading_mod
     from kitlib.report.pages import student_page
-    from kitlib.scoreboard import all_failures
+    from raykit.scoreboard import all_failures
     out = {}
     out["the terminal"] = "\n".join(line for r in rs for line in all_failures(r, reveal=False))
     course = course_file.load()
@@ -824,7 +824,7 @@ def selftest_words_follow_course(ctx) -> str:
     promises inputs the course never reveals, and the course that reveals says when; the extra credit is
     named only where the course has it; the report lists counted cases before ★ ones, each with its weight."""
     import html as html_mod
-    from kitlib.status import FAIL as FAILED_CASE
+    from raykit.status import FAIL as FAILED_CASE
     checked = []
     for reveal in (True, False):
         for extra in (True, False):

@@ -40,7 +40,7 @@ import sys
 import time
 from pathlib import Path
 
-from kitlib.common import BUILD, ROOT
+from raykit.common import BUILD, ROOT
 from .support import expect, last_lines, need_solutions
 from .fixtures import fixture_dir
 
@@ -64,7 +64,7 @@ def customise(kit_dir: Path) -> dict:
         course["steps"][n] = dict(entry, points=40 if n == numbers[-1] else "41/3" if n == numbers[0] else 20)
     # ★ as 5 % extra credit (each ★ case passed adds a twentieth of a core case's points, on top), or,
     # where the course has it as extra credit already, back to optional (weight 0, the default).
-    from kitlib import course as course_file
+    from raykit import course as course_file
     groups = course.setdefault("groups", {})
     was_extra = course_file.read(course_path, numbers).extra_credit("robust")
     groups["robust"] = {"weight": 0} if was_extra else {"weight": "1/20", "extra_credit": True}
@@ -124,7 +124,7 @@ def run_dependent(kit_dir: Path, where: str) -> tuple[str, str]:
 
 def selftest_customised(ctx) -> str:
     need_solutions()
-    from kitlib import course as course_file
+    from raykit import course as course_file
     from . import newstep
     start = time.monotonic()
     # 1. The instructor's course as it stands.

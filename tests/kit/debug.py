@@ -13,7 +13,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from kitlib.common import BUILD, ROOT
+from raykit.common import BUILD, ROOT
 from .support import Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 

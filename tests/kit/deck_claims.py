@@ -26,7 +26,7 @@ import json
 import re
 from pathlib import Path
 
-from kitlib.common import ROOT
+from raykit.common import ROOT
 from kitlib import decks
 
 LECTURES = ROOT / "lectures"

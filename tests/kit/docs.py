@@ -21,8 +21,8 @@ from pathlib import Path
 import pytest
 
 from kitlib.commands import docs as cmd_docs
-from kitlib.common import BUILD, ROOT, KitError
-from kitlib.packages import ensure_packages
+from raykit.common import BUILD, ROOT, KitError
+from raykit.packages import ensure_packages
 from .support import Failed, Skipped, expect, need_solutions
 
 SCREENSHOTS = BUILD / "docs" / "screenshots"

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from kitlib.secret import code_only, hidden_seed
+from raykit.secret import code_only, hidden_seed
 from .support import expect
 
 KEY = bytes(range(32))

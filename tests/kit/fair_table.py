@@ -27,12 +27,12 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from kitlib import procfs
-from kitlib import bundle
-from kitlib.build import Build, detect_undefined, submission_build
-from kitlib.checking import build_step, judge_step
-from kitlib.common import ROOT, load_steps
-from kitlib.sandbox import NONE_OWN
+from raykit import procfs
+from raykit import bundle
+from raykit.build import Build, detect_undefined, submission_build
+from raykit.checking import build_step, judge_step
+from raykit.common import ROOT, load_steps
+from raykit.sandbox import NONE_OWN
 from .fixtures import fixture_dir
 
 # Folder -> what it is, per step (step 03's file holds the shortcut and the geometric form).

@@ -1,4 +1,4 @@
-"""Self-test of "not graded" (kitlib/faults.py): the grader's faults, caused on purpose, cost no student
+"""Self-test of "not graded" (raykit/faults.py): the grader's faults, caused on purpose, cost no student
 a point on any output.
 
 A class of copies of the reference, each with a comment of its own (so no verdict is shared between
@@ -22,11 +22,11 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
-from kitlib import course as course_file
-from kitlib.cases import StepResult
-from kitlib.checking import recorded_cases
-from kitlib.common import BUILD, ROOT, load_steps, student_file_name
-from kitlib.status import DONE
+from raykit import course as course_file
+from raykit.cases import StepResult
+from raykit.checking import recorded_cases
+from raykit.common import BUILD, ROOT, load_steps, student_file_name
+from raykit.status import DONE
 from . import scale
 from .support import Failed, Skipped, expect, need_solutions, partly_skipped
 
@@ -346,8 +346,8 @@ def selftest_busy_machine(ctx) -> str:
     its budget, they are its timeouts."""
     need_solutions()
     from collections import Counter
-    from kitlib import bundle, runcases
-    from kitlib.build import detect_undefined
+    from raykit import bundle, runcases
+    from raykit.build import detect_undefined
     step = load_steps()[0]
     build = BUILD / "submission-7"
     judge = bundle.ensure(detect_undefined()).judge(step)      # the kit's side: the judge

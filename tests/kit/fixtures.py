@@ -23,9 +23,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-from kitlib import atomic
-from kitlib.common import BUILD, ROOT, KitError, load_steps
-from kitlib.mutants import SOLUTIONS, Mutant, PatchError, apply_patch, read_diff
+from raykit import atomic
+from raykit.common import BUILD, ROOT, KitError, load_steps
+from raykit.mutants import SOLUTIONS, Mutant, PatchError, apply_patch, read_diff
 
 FIXTURES = ROOT / "tests" / "fixtures"
 WORK = BUILD / "fixtures"

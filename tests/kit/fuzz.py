@@ -15,8 +15,8 @@ import shutil
 import subprocess
 import tempfile
 
-from kitlib.common import BUILD, ROOT, KitError
-from kitlib.build import configure, preset_build
+from raykit.common import BUILD, ROOT, KitError
+from raykit.build import configure, preset_build
 
 from .support import Failed, Skipped, expect, need_solutions
 

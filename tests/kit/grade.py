@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import BUILD, ROOT, load_steps, student_file_name
+from raykit.common import BUILD, ROOT, load_steps, student_file_name
 from . import scale
 from .support import Failed, Skipped, expect, need_solutions
 from .fixtures import fixture_dir
@@ -49,7 +49,7 @@ def _same(found: Path, source: Path, folders: list[str]) -> list[str]:
 
 @pytest.mark.quick
 def selftest_layouts(ctx) -> str:
-    from kitlib.submissions import NotFound, locate
+    from raykit.submissions import NotFound, locate
 
     need_solutions()    # its uploads are made of the solutions and the fixtures
 
@@ -153,7 +153,7 @@ def make_mixed_class(root: Path, size: int, salt: str = "") -> dict[str, str]:
     the textbook formulas. Every file but a shipped stub ends with a comment naming `salt`, so a
     class made with a new salt shares no bytes with an earlier one (the kit's object cache persists
     between gradings), while its copies stay byte for byte alike. Returns each student's kind."""
-    from kitlib.mutants import patches, write_answer
+    from raykit.mutants import patches, write_answer
     steps = load_steps()
     total = sum(n for _, n in CLASS_MIX)
     counts = {kind: 1 for kind, _ in CLASS_MIX}         # every kind at least once, the rest in proportion
@@ -343,8 +343,8 @@ def student_pch_probe() -> str:
 
 
 def _student_pch_probe() -> str:
-    from kitlib import studentpch
-    from kitlib.sandbox import choose
+    from raykit import studentpch
+    from raykit.sandbox import choose
     step = load_steps()[0]
     header = studentpch.FIRST_INCLUDE.search((ROOT / "steps" / step.folder / step.files[0]).read_text()).group(1)
     work = CLASS_DIR / "pch"

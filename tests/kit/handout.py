@@ -25,8 +25,8 @@ from pathlib import Path
 import pytest
 
 from kitlib.commands import handout as cmd_handout
-from kitlib.mutants import patches, write_answer
-from kitlib.common import BUILD, ROOT, load_steps
+from raykit.mutants import patches, write_answer
+from raykit.common import BUILD, ROOT, load_steps
 from .support import Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
@@ -245,11 +245,15 @@ def selftest_handout_grades(ctx) -> str:
     for c in (c for c in COMMANDS if c.audience == INSTRUCTOR):
         r = subprocess.run([str(TARGET / "kit"), c.name, "x"], cwd=TARGET, capture_output=True, text=True, timeout=60)
         expect(r.returncode == 2 and "instructor's command" in r.stderr, f"handout: ./kit {c.name} says {r.stderr[-300:]}")
-    # Only the student's side of the driver: no self-test, no instructor's command, no autograder.
+    # Only the student's package of the driver (tools/raykit), whole: no module of the instructor's
+    # (tools/kitlib: the self-test, the instructor's commands), no autograder.
     shipped = {p.relative_to(TARGET).as_posix() for p in TARGET.rglob("*") if p.is_file()}
-    instructor = [p for p in shipped if p.startswith(("tests/kit/", "pytest.ini", "tools/gradescope/", "tools/portability/"))
-                  or p in {f"tools/kitlib/commands/{c.module}.py" for c in COMMANDS if c.audience == INSTRUCTOR}]
+    instructor = [p for p in shipped if p.startswith(("tools/kitlib/", "tests/kit/", "pytest.ini", "tools/gradescope/", "tools/portability/"))]
     expect(not instructor, f"handout: ships the instructor's {sorted(instructor)[:4]}")
+    runtime = {p.relative_to(ROOT).as_posix() for p in (ROOT / "tools" / "raykit").rglob("*.py")
+               if "__pycache__" not in p.parts}
+    missing = sorted(runtime - shipped)
+    expect(not missing, f"handout: lacks modules of the student's runtime: {missing[:4]}")
     from kitlib.commands.handout import SCAN_PATTERNS
     planted = [(p, pat.name) for p in sorted(shipped) if not p.startswith("steps/") for pat in SCAN_PATTERNS
                if pat.example in (TARGET / p).read_text(errors="replace")]     # steps/ holds the solutions now

@@ -6,8 +6,8 @@ import re
 
 import pytest
 
-from kitlib.commands.hint import choose, hint_sections, load_hints
-from kitlib.common import load_steps
+from raykit.commands.hint import choose, hint_sections, load_hints
+from raykit.common import load_steps
 from .support import Failed, expect, kit, need_solutions
 
 CODE = re.compile(r";\s*$|[{}]|\bfor\s*\(|\bif\s*\(", re.M)
@@ -67,8 +67,8 @@ def selftest_hint_looks_at_failure(ctx) -> str:
     import tempfile
     from pathlib import Path
 
-    from kitlib.mutants import MUTANTS, write_answer
-    from kitlib.common import BUILD
+    from raykit.mutants import MUTANTS, write_answer
+    from raykit.common import BUILD
 
     need_solutions()  # the mutant is the reference with one slip
     step = load_steps()[0]

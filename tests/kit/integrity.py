@@ -47,9 +47,9 @@ from typing import Callable
 
 import pytest
 
-from kitlib import procfs
-from kitlib.common import BUILD, ROOT, load_steps, stage_on_reference
-from kitlib.status import DONE, NO_COMPILE, PARTIAL, TIMED_OUT
+from raykit import procfs
+from raykit.common import BUILD, ROOT, load_steps, stage_on_reference
+from raykit.status import DONE, NO_COMPILE, PARTIAL, TIMED_OUT
 from . import scale
 from .support import Failed, Skipped, expect, kit, need_solutions, partly_skipped
 from .fixtures import fixture_dir
@@ -67,7 +67,7 @@ _graded: dict[tuple[str, tuple[str, ...], str], tuple[int, bytes, bytes, float]]
 
 def isolations() -> tuple[list[str], list[str]]:
     """The sandboxes to grade under here, and why any other was skipped."""
-    from kitlib.sandbox import bwrap_works
+    from raykit.sandbox import bwrap_works
 
     modes, skipped = [], []
     if bwrap_works():
@@ -85,7 +85,7 @@ def isolations() -> tuple[list[str], list[str]]:
 def grade_json(folder: Path, numbers: list[str], isolation: str, json_path: Path | None = None,
                cache: bool = True) -> tuple[int, dict, bytes, float]:
     """`./kit check NUMBERS --steps FOLDER --json FILE --results RECORD --isolation ISOLATION`: exit
-    status, Gradescope's JSON with the kit's own record (kitlib/record.py) under "record", the JSON's
+    status, Gradescope's JSON with the kit's own record (raykit/record.py) under "record", the JSON's
     bytes, seconds."""
 
     key = (str(folder), tuple(numbers), isolation)
@@ -364,7 +364,7 @@ def one_slip_folder() -> Path:
     """Steps 01-05 from the solutions, with step 04's edges excluded (`<` for `<=`)."""
     steps = load_steps()
     [rect] = [s for s in steps if s.number == "04"]
-    from kitlib.mutants import write_answer
+    from raykit.mutants import write_answer
     slip = write_answer(rect, ROOT / "tests" / "mutants" / rect.folder / "edge_excluded.patch",
                         BUILD / "integrity-one-slip-04")
     target = stage_on_reference(BUILD / "integrity-one-slip", rect, steps, slip)
@@ -471,7 +471,7 @@ def grade_class_json(folder: Path, mode: str) -> tuple[dict, dict, float]:
         expect(r.returncode == 0, f"./kit grade {folder} ({mode}) exited {r.returncode}: {r.stderr[-500:]}")
         import csv
         rows = {row["student"]: row for row in csv.DictReader((out / "grades.csv").open())}
-        # Each student's record (kitlib/record.py), in the shape grade_json gives: no Gradescope tests.
+        # Each student's record (raykit/record.py), in the shape grade_json gives: no Gradescope tests.
         data = {p.stem: {"record": rec, "score": rec["score"], "tests": []}
                 for p in (out / "json").glob("*.json") if not p.name.startswith(".")     # .judged-by.json aside
                 for rec in [json.loads(p.read_text())]}
@@ -728,10 +728,10 @@ def selftest_slow_case(ctx) -> str:
     call, graded in-process, unsandboxed, with 4 s a case and a step's CPU of 0.2 s for three calls a
     visible case and 24 more: the visible calls (one to four a case) pass; the first hidden family, 24
     draws, meets the bound (3.2 s of calls, or the backstop at 4 s) before the budget is spent."""
-    from kitlib import checking, runcases
-    from kitlib import course as course_file
-    from kitlib.checking import check_steps
-    from kitlib.build import submission_build
+    from raykit import checking, runcases
+    from raykit import course as course_file
+    from raykit.checking import check_steps
+    from raykit.build import submission_build
 
     need_solutions()
     steps = [s for s in ctx.steps if s.number == "01"]
@@ -816,8 +816,8 @@ def selftest_reference_out_of_reach(ctx) -> str:
         # The detector, checked on the kit's own programs: the reference's function in step 04's
         # reference program and in step 05's (which links it) are alike; the dump must not be.
         # The kit's side, with the reference's programs, is the bundle the grading used (bundle.py).
-        from kitlib import bundle
-        from kitlib.build import detect_undefined
+        from raykit import bundle
+        from raykit.build import detect_undefined
         folder = bundle.ensure(detect_undefined()).folder
         expect((folder / "reference_answers_step05").is_file(), f"no reference_answers_step05 in {folder} to compare with")
         reference = function_bytes(folder / "reference_answers_step04", STANDIN_SYMBOL)
@@ -840,7 +840,7 @@ def selftest_no_reference_answer(ctx) -> str:
     view_ray the stub (tests/fixtures/hostile/read_script), grades exactly like the same step with an
     honest render (hostile/view_ray_stub): the student's process holds no reference view ray, so it finds
     none, and the render cases wait on the student's own view_ray (standin.hpp, issue 52)."""
-    from kitlib.cases import picture_sections
+    from raykit.cases import picture_sections
     step = next(s for s in load_steps() if s.number == "05")
     pictures = picture_sections(step)
 

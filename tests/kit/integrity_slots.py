@@ -35,10 +35,10 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import procfs
-from kitlib.common import BUILD, ROOT
-from kitlib.sandbox import Limits
-from kitlib.sandbox_slots import KIT_TEMP_DIRS
+from raykit import procfs
+from raykit.common import BUILD, ROOT
+from raykit.sandbox import Limits
+from raykit.sandbox_slots import KIT_TEMP_DIRS
 from .support import Skipped, expect, need_solutions
 from .integrity import blamed_on_kit, grade_json, isolations, printed, run_modes, statuses
 from .fixtures import fixture_dir
@@ -288,7 +288,7 @@ def shield_held_ids() -> list:
     over instead of ending that grading's processes."""
     import fcntl
     import socket
-    from kitlib.sandbox import COMPILE_UID_OFFSET, FIRST_UID, LOCK_DIRS
+    from raykit.sandbox import COMPILE_UID_OFFSET, FIRST_UID, LOCK_DIRS
     held = []
     for uid in range(FIRST_UID, FIRST_UID + COMPILE_UID_OFFSET):
         for folder in LOCK_DIRS:
@@ -393,7 +393,7 @@ class ForeignReaper:
 
     def run(self) -> None:
         import signal
-        from kitlib.sandbox import COMPILE_UID_OFFSET
+        from raykit.sandbox import COMPILE_UID_OFFSET
         uid = None
         while not self.stop.is_set() and not all(self.killed.values()):
             if uid is None:

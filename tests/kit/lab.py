@@ -39,8 +39,8 @@ import struct
 import subprocess
 from pathlib import Path
 
-from kitlib.common import BUILD, ROOT, KitError
-from kitlib.packages import ensure_packages
+from raykit.common import BUILD, ROOT, KitError
+from raykit.packages import ensure_packages
 from .support import Failed, Skipped, expect, need_solutions
 
 LAB = ROOT / "docs" / "lab"

@@ -5,7 +5,7 @@
 - first verdict: the same run, until step 01's row shows its verdict;
 - cold check: the same run, until it ends (the kit's side built once, every step compiled and checked);
 - after a clean: the build folder removed, `./kit check` again: the kit's side (doctest's runner,
-  the judges, the dispatchers) is the bundle already built (tools/kitlib/bundle.py), only the
+  the judges, the dispatchers) is the bundle already built (tools/raykit/bundle.py), only the
   student's files compile; and its CPU with step 01 alone, the issue 44's measure;
 - edit to verdict: step 01's file changed, `./kit check 1` again, until it ends.
 
@@ -27,8 +27,8 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import procfs
-from kitlib.common import BUILD, ROOT
+from raykit import procfs
+from raykit.common import BUILD, ROOT
 from .support import Context, Failed, Screen, expect, kit, need_solutions
 
 ANSI = re.compile(r"\033\[[0-9;]*[A-Za-z]")
@@ -108,7 +108,7 @@ def _latency(ctx: Context, bundles: Path) -> str:
         left = warm_up_processes(student_build)
         expect(not left, f"{what}: {left} still run")
 
-    # The newcomer's first check starts the warm-up (kitlib/warmup.py); step 01 written at once
+    # The newcomer's first check starts the warm-up (raykit/warmup.py); step 01 written at once
     # waits for the bundle the warm-up is building (its lock) and builds nothing twice.
     os.environ.pop("RAYKIT_NO_WARMUP", None)
     try:
@@ -199,14 +199,14 @@ def warm_up_processes(build_dir: Path) -> list[str]:
 
 
 def selftest_bundle(ctx: Context) -> str:
-    """The bundle (tools/kitlib/bundle.py): it holds nothing of a student's, a student's file is
+    """The bundle (tools/raykit/bundle.py): it holds nothing of a student's, a student's file is
     compiled in a check exactly as CMake compiles a step's own file, and it is built again when what
     it was made with changes (the kit's sources, the options, the environment CMake reads, a package's
     headers), never otherwise."""
     import json
     import tempfile
-    from kitlib import bundle
-    from kitlib.build import Build, configure, detect_undefined
+    from raykit import bundle
+    from raykit.build import Build, configure, detect_undefined
     kit_side = bundle.ensure(detect_undefined())
     # Nothing of a student's: every file the bundle compiled is the kit's (tests/, solutions/) or its own.
     commands = json.loads((kit_side.folder / "compile_commands.json").read_text())
@@ -351,7 +351,7 @@ def _prune_spares_held(bundle) -> str:
             os.utime(root / name / bundle.READY, (1000 + i, 1000 + i))     # b0 the least recently used
         # Another process holds b0, the oldest, as a check of another copy of the kit would.
         holder = subprocess.Popen([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
-                                   "from kitlib import bundle; from pathlib import Path; "
+                                   "from raykit import bundle; from pathlib import Path; "
                                    "assert bundle._use(Path(sys.argv[2])) is not None; print('held', flush=True); "
                                    "sys.stdin.read()", str(ROOT / "tools"), str(root / "b0")],
                                   stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
@@ -378,8 +378,8 @@ def selftest_bundle_parts(ctx: Context) -> str:
     part (the warm-up's work), in the same folder, every judge there."""
     import subprocess
     import tempfile
-    from kitlib import bundle
-    from kitlib.build import detect_undefined
+    from raykit import bundle
+    from raykit.build import detect_undefined
     need_solutions()
     first = ctx.steps[0]
     with tempfile.TemporaryDirectory(prefix="raykit-parts-", dir=BUILD) as tmp:
@@ -422,10 +422,10 @@ def selftest_recorded(ctx: Context) -> str:
     need_solutions()
     import json
     import subprocess
-    from kitlib import bundle
-    from kitlib.checking import HIDDEN_CASES_FILE, STUBS_FILE, file_hash
-    from kitlib.runcases import list_cases
-    from kitlib.build import detect_undefined
+    from raykit import bundle
+    from raykit.checking import HIDDEN_CASES_FILE, STUBS_FILE, file_hash
+    from raykit.runcases import list_cases
+    from raykit.build import detect_undefined
     stubs = json.loads(STUBS_FILE.read_text())
     stale = []
     for step in ctx.steps:

@@ -1,4 +1,14 @@
-"""Self-test of the driver's shape: its modules import only downwards, along the grading pipeline.
+"""Self-test of the driver's shape: two packages along its two audiences, and in them modules that
+import only downwards, along the grading pipeline.
+
+The packages: tools/raykit, the student's runtime (./kit check, watch, hint, debug, render, reset and
+everything they import), which a handout ships; tools/kitlib, the instructor's toolchain (grading, the
+platforms, the report, docs, slides, the bench's reading, the self-test). raykit imports the standard
+library and itself only, never kitlib (a student's copy has no kitlib, and may have no package of
+Debian's beyond Python); kitlib imports raykit, and may use Debian 12's packages. Every module of raykit
+is one the students' commands import (what only the instructor's side needs goes to kitlib).
+
+The layers, across both packages:
 
     core < boundary < build < judge < outputs < site < commands
 
@@ -6,8 +16,9 @@ core (paths, steps, the course, the secret, packages), the boundary (where grade
 the judge (running a step's cases), the outputs (the record and each platform's rendering, the class
 report), the site (docs, decks, the lab's browser, the bench's report) and the commands (one module
 each; none imports another). Every import counts, at the top of a module or inside a function (not
-one under `if TYPE_CHECKING:`, which never runs): a cycle or an upward arrow fails, and so does a module no layer names (place it in LAYERS). The
-self-test package itself stands above all of it. And one module reads /proc: procfs.py.
+one under `if TYPE_CHECKING:`, which never runs), and so does a module named to importlib: a cycle or
+an upward arrow fails, and so does a module no layer names (place it in LAYERS). The self-test package
+itself stands above all of it. And one module reads /proc: procfs.py.
 """
 
 from __future__ import annotations
@@ -15,16 +26,24 @@ from __future__ import annotations
 import ast
 import os
 import re
+import sys
 import time
 from pathlib import Path
 
 import pytest
 
-from kitlib.common import ROOT
+from raykit.common import ROOT
 from .support import Skipped, expect
 
-KITLIB = ROOT / "tools" / "kitlib"
+TOOLS = ROOT / "tools"
+STUDENT_PACKAGE, INSTRUCTOR_PACKAGE = "raykit", "kitlib"
+PACKAGES = (STUDENT_PACKAGE, INSTRUCTOR_PACKAGE)
+KITLIB = TOOLS / INSTRUCTOR_PACKAGE
+RAYKIT = TOOLS / STUDENT_PACKAGE
+# The student's commands' modules: where the student package's import closure starts.
+STUDENT_ROOTS = ("raykit.__main__", "raykit.cli", "raykit.commands")
 
+# Module names without their package: a layer holds a module of either package.
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "manifest", "secret", "packages", "includes", "relocate", "kitfiles",
               "waits", "submissions", "compilers", "procfs", "pycache", "faults"]),
@@ -43,31 +62,68 @@ LAYERS = [
 ]
 
 
+def sources() -> list[Path]:
+    """The driver's Python files, both packages, the self-test left out."""
+    return sorted(p for pkg in PACKAGES for p in (TOOLS / pkg).rglob("*.py")
+                  if "__pycache__" not in p.parts and p.relative_to(TOOLS).parts[1:2] != ("selftest",))
+
+
 def modules() -> dict[str, Path]:
+    """{qualified name (raykit.common, kitlib.report.pages): its file} of both packages."""
     found = {}
-    for p in KITLIB.rglob("*.py"):
-        parts = p.relative_to(KITLIB).with_suffix("").parts
-        name = ".".join(parts[:-1]) if parts[-1] == "__init__" else ".".join(parts)
-        found[name or "kitlib"] = p
+    for p in sources():
+        parts = p.relative_to(TOOLS).with_suffix("").parts
+        found[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = p
+    return found
+
+
+def _typing_only(tree: ast.AST) -> set[int]:
+    # An import for annotations only (`if TYPE_CHECKING:`) runs never: it makes no arrow.
+    return {id(n) for block in ast.walk(tree) if isinstance(block, ast.If)
+            and isinstance(block.test, ast.Name) and block.test.id == "TYPE_CHECKING"
+            for stmt in block.body for n in ast.walk(stmt)}
+
+
+def imported_names(name: str, path: Path) -> list[tuple[str, list[str]]]:
+    """What `name` imports, anywhere in it: (absolute module, names taken from it) per import, its
+    relative imports made absolute, and each literal module name given to importlib.import_module
+    (an f-string's text before its first {})."""
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    tree = ast.parse(path.read_text())
+    skip = _typing_only(tree)
+    found = []
+    for node in ast.walk(tree):
+        if id(node) in skip:
+            continue
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                up = node.level - 1
+                base = package[:len(package) - up] if up else package
+                if up > len(package) - 1:       # above the top package: tools/ itself
+                    base = ["<above " + package[0] + ">"]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            found.append((target, [a.name for a in node.names]))
+        elif isinstance(node, ast.Import):
+            found += [(a.name, []) for a in node.names]
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                and node.func.attr == "import_module" and node.args:
+            arg = node.args[0]
+            text = arg.value if isinstance(arg, ast.Constant) and isinstance(arg.value, str) else \
+                (arg.values[0].value if isinstance(arg, ast.JoinedStr) and arg.values
+                 and isinstance(arg.values[0], ast.Constant) else "")
+            if text:
+                found.append((text.rstrip("."), []))
     return found
 
 
 def imports(name: str, path: Path, known: set[str]) -> set[str]:
-    """The kit's modules `name` imports, anywhere in it."""
-    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    """The kit's modules (of either package) `name` imports, anywhere in it."""
     found = set()
-    tree = ast.parse(path.read_text())
-    # An import for annotations only (`if TYPE_CHECKING:`) runs never: it makes no arrow.
-    typing_only = {id(n) for block in ast.walk(tree) if isinstance(block, ast.If)
-                   and isinstance(block.test, ast.Name) and block.test.id == "TYPE_CHECKING"
-                   for stmt in block.body for n in ast.walk(stmt)}
-    for node in ast.walk(tree):
-        if not isinstance(node, ast.ImportFrom) or not node.level or id(node) in typing_only:
-            continue
-        base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
-        target = ".".join(base + ([node.module] if node.module else []))
-        for alias in node.names:
-            full = f"{target}.{alias.name}" if target else alias.name
+    for target, names in imported_names(name, path):
+        for alias in names or [""]:
+            full = f"{target}.{alias}" if alias else target
             if full in known:
                 found.add(full)
             elif target in known:
@@ -77,10 +133,46 @@ def imports(name: str, path: Path, known: set[str]) -> set[str]:
 
 
 def layer_of(name: str) -> int | None:
+    """The layer of a qualified name (raykit.common: core)."""
+    bare = name.partition(".")[2] or name
     for i, (_, names) in enumerate(LAYERS):
-        if name in names or any(name.startswith(n + ".") for n in names if n == "commands"):
+        if bare in names or any(bare.startswith(n + ".") for n in names if n == "commands"):
             return i
     return None
+
+
+def student_rule(mods: dict[str, Path]) -> list[str]:
+    """What breaks "the student package imports only the standard library and itself", each a line."""
+    stdlib = set(getattr(sys, "stdlib_module_names", ())) | {"__future__"}
+    broken = []
+    for name, path in sorted(mods.items()):
+        if not name.startswith(STUDENT_PACKAGE + "."):
+            continue
+        for target, _ in imported_names(name, path):
+            top = target.split(".")[0]
+            if top == STUDENT_PACKAGE:
+                continue
+            if top == INSTRUCTOR_PACKAGE:
+                broken.append(f"{name} imports {target} (the instructor's package)")
+            elif top.startswith("<above"):
+                broken.append(f"{name} imports from above its package ({target})")
+            elif stdlib and top not in stdlib:
+                broken.append(f"{name} imports {target} (not the standard library)")
+    return broken
+
+
+def unreached(mods: dict[str, Path], graph: dict[str, set[str]]) -> list[str]:
+    """The student package's modules that no student's command imports (directly or not)."""
+    todo = [n for n in mods if n in STUDENT_ROOTS or n.startswith("raykit.commands.")]
+    seen: set[str] = set()
+    while todo:
+        n = todo.pop()
+        if n not in seen:
+            seen.add(n)
+            todo += graph.get(n, ())
+            parts = n.split(".")        # importing a.b.c runs the packages a.b's __init__ too
+            todo += [".".join(parts[:i]) for i in range(2, len(parts)) if ".".join(parts[:i]) in mods]
+    return sorted(n for n in mods if n.startswith(STUDENT_PACKAGE + ".") and n not in seen)
 
 
 def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -127,27 +219,67 @@ def selftest_layers(ctx) -> str:
               for a, deps in sorted(graph.items()) for b in sorted(deps) if layer_of(b) > layer_of(a)]
     expect(not upward, "upward imports: " + "; ".join(upward[:6]))
     sideways = [f"{a} imports {b}" for a, deps in sorted(graph.items()) for b in sorted(deps)
-                if a.startswith("commands.") and b.startswith("commands.") and b != "commands"]
+                if ".commands." in a and ".commands." in b]
     expect(not sideways, "a command imports another: " + "; ".join(sideways[:6]))
-    lines = {name: sum(len(mods[n].read_text().splitlines()) for n in names if n in mods)
-             + (sum(len(p.read_text().splitlines()) for n, p in mods.items() if n.startswith("commands."))
-                if name == "commands" else 0)
-             for name, names in LAYERS}
+    lines = {name: sum(len(p.read_text().splitlines()) for n, p in mods.items() if layer_of(n) == i)
+             for i, (name, _) in enumerate(LAYERS)}
     return (f"{len(mods)} modules, {sum(len(d) for d in graph.values())} imports, no cycle, none upward; lines: "
             + ", ".join(f"{k} {v}" for k, v in lines.items()))
+
+
+@pytest.mark.quick
+def selftest_two_packages(ctx) -> str:
+    """The student's runtime (raykit) imports the standard library and itself only, never the
+    instructor's toolchain (kitlib), and holds only what the students' commands import; its list of
+    the instructor's commands (what a handout names as "an instructor's command") is kitlib's table.
+    And the rule is seen to fail: a planted module of raykit that imports kitlib, or a package
+    that is not the standard library, is reported."""
+    import tempfile
+    from raykit import cli as student_cli
+    from kitlib import cli as instructor_cli
+    if not getattr(sys, "stdlib_module_names", None):
+        raise Skipped("this Python has no list of its standard library (sys.stdlib_module_names, 3.10+)")
+    mods = modules()
+    graph = {n: imports(n, p, set(mods)) for n, p in mods.items()}
+    broken = student_rule(mods)
+    expect(not broken, "the student's package reaches beyond the standard library: " + "; ".join(broken[:6]))
+    left = unreached(mods, graph)
+    expect(not left, f"modules of tools/raykit that no student's command imports (move them to tools/kitlib): {left}")
+    elsewhere = [c.name for c in instructor_cli.COMMANDS if c.package == INSTRUCTOR_PACKAGE]
+    expect(sorted(elsewhere) == sorted(student_cli.ELSEWHERE),
+           f"raykit/cli.py's ELSEWHERE {sorted(student_cli.ELSEWHERE)} is not kitlib's commands {sorted(elsewhere)}")
+    students = [c for c in instructor_cli.COMMANDS if c.package == STUDENT_PACKAGE]
+    expect(students == student_cli.COMMANDS and all(c.audience == student_cli.STUDENT for c in students),
+           "kitlib/cli.py does not list raykit's commands first, as they are")
+    # The control: the same rule on planted modules.
+    with tempfile.TemporaryDirectory(prefix="raykit-layers-") as tmp:
+        planted = {}
+        for stem, text in (("up", "from kitlib.report import pages\n"),
+                           ("lazy", "def f():\n    import importlib\n    return importlib.import_module('kitlib.decks')\n"),
+                           ("jinja", "import jinja2\n"), ("own", "from . import common\nimport os\n")):
+            (Path(tmp) / f"{stem}.py").write_text(text)
+            planted[f"raykit.{stem}"] = Path(tmp) / f"{stem}.py"
+        caught = student_rule(planted)
+        expect(len(caught) == 3 and not any("raykit.own" in c for c in caught),
+               f"the rule on planted modules reports {caught}")
+    raykit_lines = sum(len(p.read_text().splitlines()) for n, p in mods.items() if n.startswith("raykit."))
+    kitlib_lines = sum(len(p.read_text().splitlines()) for n, p in mods.items() if n.startswith("kitlib."))
+    return (f"raykit: {sum(n.startswith('raykit.') for n in mods)} modules, {raykit_lines} lines, standard library "
+            f"only, all imported by the students' commands; kitlib: {sum(n.startswith('kitlib.') for n in mods)} "
+            f"modules, {kitlib_lines} lines (self-test apart); 3 planted breaks caught")
 
 
 # Renames that are not a write of the kit's own data, so not atomic.write's: per module, how many
 # and what they move.
 OTHER_RENAMES = {
-    "studentpch": (1, "the compiler's own output (a precompiled header) moved into place"),
-    "objcache": (2, "an object-cache entry's folder, swapped whole"),
-    "report.pages": (1, "a folder of pages, swapped whole"),
-    "report.merge": (1, "a merged grading folder, moved into place whole"),
-    "commands.prairielearn": (1, "a staged folder, swapped whole"),
-    "commands.handout": (1, "a staged folder, swapped whole"),
-    "commands.docs": (2, "the site's folder, swapped whole"),
-    "decks": (2, "the decks' folder, swapped whole"),
+    "raykit.studentpch": (1, "the compiler's own output (a precompiled header) moved into place"),
+    "raykit.objcache": (2, "an object-cache entry's folder, swapped whole"),
+    "kitlib.report.pages": (1, "a folder of pages, swapped whole"),
+    "kitlib.report.merge": (1, "a merged grading folder, moved into place whole"),
+    "kitlib.commands.prairielearn": (1, "a staged folder, swapped whole"),
+    "kitlib.commands.handout": (1, "a staged folder, swapped whole"),
+    "kitlib.commands.docs": (2, "the site's folder, swapped whole"),
+    "kitlib.decks": (2, "the decks' folder, swapped whole"),
 }
 
 
@@ -165,14 +297,14 @@ def renames(path: Path) -> int:
 
 @pytest.mark.quick
 def selftest_atomic_write(ctx) -> str:
-    """One atomic write (kitlib/atomic.py): no other module moves a file into place but those
+    """One atomic write (raykit/atomic.py): no other module moves a file into place but those
     OTHER_RENAMES names; and its guarantees, shown: a link planted at the target is replaced, not
     written through; a write that fails halfway leaves the old file whole and no temporary file; a
     missing folder is an OSError; the mode is what a plain open gives, or the one asked for."""
     import tempfile
-    from kitlib import atomic
+    from raykit import atomic
 
-    counts = {n: renames(p) for n, p in modules().items() if n != "atomic"}
+    counts = {n: renames(p) for n, p in modules().items() if n != "raykit.atomic"}
     hand_written = sorted(f"{n} ({k})" for n, k in counts.items() if k != OTHER_RENAMES.get(n, (0, ""))[0])
     expect(not hand_written, f"files moved into place by hand (use atomic.write or atomic.replacing; a folder or "
                              f"another program's output: name it in layers.OTHER_RENAMES): {hand_written}")
@@ -220,8 +352,9 @@ def selftest_one_proc_reader(ctx) -> str:
     import os
     import subprocess
     import sys
-    from kitlib import procfs
-    readers = sorted(str(f.relative_to(KITLIB)) for f in KITLIB.rglob("*.py")
+    from raykit import procfs
+    scanned = [f for pkg in PACKAGES for f in (TOOLS / pkg).rglob("*.py") if "__pycache__" not in f.parts]
+    readers = sorted(str(f.relative_to(TOOLS)) for f in scanned
                      if f.name != "procfs.py" and PROC_READ.search(f.read_text()))
     expect(not readers, f"modules that read /proc themselves, not through procfs.py: {readers}")
     if not procfs.pids():
@@ -255,13 +388,13 @@ def selftest_one_proc_reader(ctx) -> str:
         child.wait()
     expect(procfs.status(child.pid) == {} and procfs.stat(child.pid) == [] and not procfs.alive(child.pid),
            "a reaped child still reads as a process")
-    return (f"no module but procfs.py opens /proc ({len(list(KITLIB.rglob('*.py')))} scanned); own fields, "
+    return (f"no module but procfs.py opens /proc ({len(scanned)} scanned); own fields, "
             "a child's session, its zombie and its end read right")
 
 
 @pytest.mark.quick
 def selftest_compiled_modules(ctx) -> str:
-    """./kit compiles the kit's own modules once, into its cache folder (kitlib/pycache.py), and no
+    """./kit compiles the kit's own modules once, into its cache folder (raykit/pycache.py), and no
     other module there: the standard library reads those installed beside it. Nothing is written
     beside the kit's sources. A cheap command (./kit check --help) with a fresh cache folder, twice."""
     import subprocess
@@ -276,7 +409,8 @@ def selftest_compiled_modules(ctx) -> str:
             expect(r.returncode == 0, f"./kit check --help: {r.returncode} {r.stderr[-300:]}")
         folder = Path(home) / "raykit" / "pycache"
         compiled = sorted(p for p in folder.rglob("*.pyc")) if folder.is_dir() else []
-        kit = [p for p in compiled if (KITLIB.resolve().as_posix().lstrip("/") + "/") in p.as_posix()]
+        kit = [p for p in compiled if any((d.resolve().as_posix().lstrip("/") + "/") in p.as_posix()
+                                          for d in (KITLIB, RAYKIT))]
         other = [p.relative_to(folder).as_posix() for p in compiled if p not in kit]
         expect(kit, f"no module of the kit's compiled into {folder}")
         expect(not other, f"modules other than the kit's compiled into the kit's cache: {other[:5]}")

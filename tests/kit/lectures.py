@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import ROOT, load_steps
+from raykit.common import ROOT, load_steps
 from .support import Failed, Skipped, expect
 
 GENERATOR = ROOT / "docs" / "bench_numbers.py"

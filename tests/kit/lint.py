@@ -7,7 +7,7 @@
   The style is the one the kit's files were written in, so the check passes without reformatting them,
   and a reformatted solution would change the bundle's key and could stop the mutants' patches applying.
 - README.md is a door: at most 150 lines of at most 120 characters, pointing to the pages behind it.
-- .ci/run has no package list of its own: it installs what tools/kitlib/packages.py prints; GitHub's
+- .ci/run has no package list of its own: it installs what tools/raykit/packages.py prints; GitHub's
   workflow .github/workflows/ci.yml runs it as is (not run here: no GitHub runner).
 
 Each check is shown to fail on a planted flaw. Builds nothing: the quick tier.
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import ROOT
+from raykit.common import ROOT
 from .support import Skipped, expect, need_solutions
 
 FORMAT = ROOT / ".clang-format"
@@ -121,24 +121,24 @@ def named(code: str, every: set[str]) -> list[str]:
 
 @pytest.mark.quick
 def selftest_ci_packages(ctx) -> str:
-    """.ci/run installs the list tools/kitlib/packages.py prints and names no package of its own; the
+    """.ci/run installs the list tools/raykit/packages.py prints and names no package of its own; the
     list holds every group's packages (a group added is installed by CI without touching .ci/run)."""
-    from kitlib import packages
+    from raykit import packages
     run = ROOT / ".ci" / "run"
     if not run.is_file():
         raise Skipped("no .ci/run here")
     code = "\n".join(line.split("#", 1)[0] for line in run.read_text().splitlines())
-    expect("kitlib.packages --ci" in code, ".ci/run does not install from tools/kitlib/packages.py")
+    expect("raykit.packages --ci" in code, ".ci/run does not install from tools/raykit/packages.py")
     every = {n for names in packages.PACKAGES.values() for n in names}
     own = named(code, every)
     expect(not own, f".ci/run names packages of its own: {', '.join(own)} (put them in packages.py)")
     listed = set(packages.ci_packages())
     missing = sorted(every - listed - ({"nodejs", "npm"} if shutil.which("npm") else set()))
-    expect(not missing, f"python3 -m kitlib.packages --ci leaves out {', '.join(missing)}")
-    r = subprocess.run(["python3", "-B", "-m", "kitlib.packages", "--ci"], cwd=ROOT / "tools", capture_output=True,
+    expect(not missing, f"python3 -m raykit.packages --ci leaves out {', '.join(missing)}")
+    r = subprocess.run(["python3", "-B", "-m", "raykit.packages", "--ci"], cwd=ROOT / "tools", capture_output=True,
                        text=True, timeout=60)
     expect(r.returncode == 0 and set(r.stdout.split()) == listed,
-           f"python3 -m kitlib.packages --ci printed {r.stdout[:200]!r} {r.stderr[-300:]}")
+           f"python3 -m raykit.packages --ci printed {r.stdout[:200]!r} {r.stderr[-300:]}")
     planted = code + "\napt-get install -y libc++-dev g++ lldb  # a list of its own\n"
     expect(named(planted, every) == ["g++", "libc++-dev", "lldb"],
            f"a list planted in .ci/run is read as {named(planted, every)}")

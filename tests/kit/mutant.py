@@ -15,9 +15,9 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
-from kitlib.common import BUILD, ROOT, load_steps
-from kitlib.status import PARTIAL
+from raykit.mutants import MUTANTS, PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
+from raykit.common import BUILD, ROOT, load_steps
+from raykit.status import PARTIAL
 from .support import Failed, expect, need_solutions
 from .fixtures import fixture_dir
 
@@ -60,7 +60,7 @@ def judge(step, path, work) -> tuple[bool, bool, list[str]]:
         problems.append(f"{label}: caught, but not by its named case(s); it fails: " + ", ".join(failing[:3]))
     # Its failures are its recorded signature, and no other slip's: the check names this slip, and its
     # named case comes first (slips.py, StepResult.first_problem).
-    from kitlib.slips import _catalogue
+    from raykit.slips import _catalogue
     alike = [k for k, e in _catalogue().items()
              if k.startswith(step.folder + "/") and isinstance(e, dict) and set(e.get("fails") or ()) == set(failing)]
     if named and alike == [f"{step.folder}/{mutant.name}"]:
@@ -327,7 +327,7 @@ def selftest_fixture_patches(ctx) -> str:
     lines the solution no longer has, in a scratch tree of fixtures."""
     import tempfile
 
-    from kitlib.common import KitError
+    from raykit.common import KitError
     from .fixtures import FIXTURES, fixture_dir, is_patch
     need_solutions()    # tests/fixtures/ ships in no handout
     kept = sorted(p for p in FIXTURES.rglob("*.patch") if is_patch(p))

@@ -44,7 +44,7 @@ import sys
 import time
 from pathlib import Path
 
-from kitlib.common import BUILD, ROOT
+from raykit.common import BUILD, ROOT
 from .support import Failed, expect, need_solutions
 from .fixtures import fixture_dir
 
@@ -66,7 +66,7 @@ def use(number: str) -> None:
 
 def free_number() -> str:
     """The number the kit's next step takes: one more than its last (06 in the kit as shipped)."""
-    from kitlib.common import load_steps
+    from raykit.common import load_steps
     taken = [int(s.number) for s in load_steps()]
     taken += [int(p.name[:2]) for p in (ROOT / "tests").glob("[0-9][0-9]_*") if p.is_dir()]
     return f"{max(taken, default=0) + 1:02d}"
@@ -264,8 +264,8 @@ def selftest_new_step(ctx) -> str:
 def rules_here() -> int:
     """In the scratch copy (ROOT is the copy): each rule of ./kit test that a step must keep, run on
     step NUMBER; one JSON line per rule. The exit status is 1 when one fails."""
-    from kitlib.common import load_steps
-    from kitlib.build import build_target, configure, preset_build
+    from raykit.common import load_steps
+    from raykit.build import build_target, configure, preset_build
     from kitlib.commands import docs
     from . import check, hint, latency, lectures, mutant, slides
     from . import docs as docs_tests
@@ -296,7 +296,7 @@ def rules_here() -> int:
     def signed(c) -> str:
         # report.selftest_signatures_fresh's rule, on this step's mutants only (another step's stale
         # signatures are that step's business, and ./kit test report names them).
-        from kitlib.mutants import patches
+        from raykit.mutants import patches
         from kitlib.report import signatures
         recorded = json.loads(signatures.FILE.read_text())["mutants"]
         bad = []

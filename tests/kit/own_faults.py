@@ -24,7 +24,7 @@ import json
 
 import pytest
 
-from kitlib.status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
+from raykit.status import GRADER_ERROR, NO_COMPILE, NOT_GRADED, PASS
 from .fixtures import fixture_dir
 from .support import Failed, expect, need_solutions
 from .integrity import grade_json, run_modes

@@ -26,8 +26,8 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import picture
-from kitlib.common import BUILD, ROOT, load_steps
+from raykit import picture
+from raykit.common import BUILD, ROOT, load_steps
 from . import check
 from .support import Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
@@ -60,7 +60,7 @@ def grade_json(steps_dir: Path, report: Path):
 
 
 def selftest_failing_case(ctx) -> str:
-    from kitlib.mutants import MUTANTS, write_answer
+    from raykit.mutants import MUTANTS, write_answer
 
     need_solutions()
     step = next(s for s in load_steps() if s.number == "01")

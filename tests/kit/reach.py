@@ -55,8 +55,8 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import course as course_file
-from kitlib.common import BUILD, ROOT, load_steps
+from raykit import course as course_file
+from raykit.common import BUILD, ROOT, load_steps
 from .support import Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
@@ -289,9 +289,9 @@ def selftest_prairielearn(ctx) -> str:
 def assessment_checks(ctx, out: Path, schema: Path) -> str:
     """The assessment against PrairieLearn's schema and the course's scale; the pages; the image."""
     from fractions import Fraction
-    from kitlib import course as course_file
+    from raykit import course as course_file
     from kitlib.commands.prairielearn import pl_number, step_points
-    from kitlib.packages import PACKAGES
+    from raykit.packages import PACKAGES
     path = out / "courseInstances" / "Fall" / "assessments" / "raykit" / "infoAssessment.json"
     expect(path.is_file(), f"no assessment at {path.relative_to(out)}")
     bad = WORK / "bad-assessment.json"
@@ -594,7 +594,7 @@ def link_problems(out: Path, steps, docs_url: str | None) -> list[str]:
 @pytest.mark.quick
 def selftest_prairielearn_complete(ctx) -> str:
     """#46 item 3: ./kit prairielearn makes, with the lines it prints, a course PrairieLearn takes whole."""
-    from kitlib.common import KitError
+    from raykit.common import KitError
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     example = need_third_party("prairielearn", "exampleCourse")
@@ -690,8 +690,8 @@ def selftest_prairielearn_complete(ctx) -> str:
 def selftest_noapt(ctx) -> str:
     import os
     from unittest import mock
-    from kitlib import packages
-    from kitlib.common import KitError
+    from raykit import packages
+    from raykit.common import KitError
     prefix = WORK / "homebrew"
     shutil.rmtree(prefix, ignore_errors=True)
     for name in ("glm", "doctest"):
@@ -799,7 +799,7 @@ def selftest_mac_like(ctx) -> str:
             return r
         r = student("check", "1")
         expect(r.returncode == 0 and "done" in r.stdout, f"./kit check 1: {r.returncode}\n{seen[-1][-1500:]}")
-        # The check's compiles and links are the bundle's (tools/kitlib/bundle.py), built in the
+        # The check's compiles and links are the bundle's (tools/raykit/bundle.py), built in the
         # student's own cache folder.
         caches = list((home / ".cache" / "raykit" / "bundles").glob("*/CMakeCache.txt"))
         expect(len(caches) == 1, f"the student's check built {len(caches)} bundles, not one")
@@ -836,7 +836,7 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     rules on each step's recorded cases."""
     from fractions import Fraction
     from kitlib.commands.prairielearn import pl_number
-    from kitlib.plresults import prairielearn
+    from raykit.plresults import prairielearn
     from .course import extra_credit_course, kit_results
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
@@ -858,7 +858,7 @@ def selftest_prairielearn_extra_credit(ctx) -> str:
     total, bonus, told = Fraction(0), Fraction(0), []
     with course_file.using(course):
         for s in ctx.steps:
-            from kitlib.checking import recorded_cases
+            from raykit.checking import recorded_cases
             cases = recorded_cases(s)
             expect(cases is not None, f"step {s.number} has no recorded cases")
             kept = [(c.tier, c.name, c.lecture) for c in cases if c.tier != "hidden" or course.hidden_enabled]
@@ -912,7 +912,7 @@ def selftest_prairielearn_from_empty(ctx) -> str:
     questions' topic and tags declared, the instance, the assessment, the questions) whose every file
     PrairieLearn's schemas take and that declares all it uses; --course DIR writes DIR's infoCourse.json
     with what it lacks added, DIR's own entries kept; the two together are refused."""
-    from kitlib.common import KitError
+    from raykit.common import KitError
     need_solutions()
     schemas = need_third_party(*PL_SCHEMAS)
     example = need_third_party("prairielearn", "exampleCourse")

@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from kitlib.common import ROOT, load_steps
+from raykit.common import ROOT, load_steps
 from .support import Failed, expect, kit, need_solutions
 
 
@@ -31,7 +31,7 @@ def selftest_touched(ctx) -> str:
         ("include/raykit/scenes/cornell_box.inc",): [["--step", box], ["lectures:scene tables", "render", "pictures",
                                                                       "slips:turned render", "customised"]],
         ("lectures/01-unit-sphere.md",): [["lectures", "slides"]],
-        ("tools/kitlib/course.py", "course.json"): [[]],
+        ("tools/raykit/course.py", "course.json"): [[]],
         ("docs/images/cornell_box.png",): [],
         ("tests/kit/draws.py",): [["draws"]],
         ("tests/kit/conftest.py",): [[]],
@@ -80,7 +80,7 @@ def selftest_manifest_form(ctx) -> str:
     from kitlib import manifest
     from kitlib.commands import course as course_command
     from kitlib.commands import refresh
-    from kitlib.common import KitError
+    from raykit.common import KitError
     from .fixtures import fixture_dir
     numbers = [s.number for s in load_steps()]
     mine = [line for p in manifest.manifests() for line in manifest.problems(p, numbers)]

@@ -7,12 +7,12 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from kitlib.commands import render as cmd_render
-from kitlib.mutants import MUTANTS, write_answer
-from kitlib.common import BUILD, ROOT, load_steps
-from kitlib.build import preset_build, submission_build, tools_build
-from kitlib.checking import check_steps
-from kitlib.status import DONE, PARTIAL
+from raykit.commands import render as cmd_render
+from raykit.mutants import MUTANTS, write_answer
+from raykit.common import BUILD, ROOT, load_steps
+from raykit.build import preset_build, submission_build, tools_build
+from raykit.checking import check_steps
+from raykit.status import DONE, PARTIAL
 from .support import expect, kit, need_solutions
 from .fixtures import fixture_dir
 

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import BUILD, ROOT, KitError, load_steps
+from raykit.common import BUILD, ROOT, KitError, load_steps
 from . import scale
 from .support import Failed, Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
@@ -49,7 +49,7 @@ def _signatures():
 @pytest.mark.step
 def selftest_signatures_fresh(ctx) -> str:
     need_solutions()
-    from kitlib.mutants import patches
+    from raykit.mutants import patches
     from kitlib.report import signatures
     sigs, notes = _signatures()
     expect(not notes, "tests/mutants/signatures.json: " + "; ".join(notes))
@@ -96,7 +96,7 @@ def _disguise(text: str) -> str:
 
 
 def _make_class(root: Path) -> dict:
-    from kitlib.mutants import write_answer
+    from raykit.mutants import write_answer
     steps = {s.number: s for s in load_steps()}
     s1, s2 = steps["01"], steps["02"]
     sigs, _ = _signatures()
@@ -368,7 +368,7 @@ def selftest_similar_groups(ctx) -> str:
 
 def _browser(*pages_: Path) -> str:
     from kitlib import browser
-    from kitlib.packages import ensure_packages
+    from raykit.packages import ensure_packages
     try:
         ensure_packages("browser")
     except KitError as e:
@@ -426,7 +426,7 @@ def selftest_crash_kind(ctx) -> str:
     called, the signal), never by words of its message: a message that names another function and
     another signal, in a student's output or a translation, does not move a crash to another group."""
     from kitlib.report.pages import crash_kind
-    from kitlib.status import CRASHED, STATUS_WORDS, TIMED_OUT
+    from raykit.status import CRASHED, STATUS_WORDS, TIMED_OUT
     misleading = ["Your code crashed in fake_function(1, 2): it was killed by SIGBUS, a bad memory access."]
     found = [crash_kind({"status": CRASHED, "messages": misleading,
                          "incident": {"function": "intersect_unit_sphere", "signal": "SIGSEGV"}})[0],
@@ -443,7 +443,7 @@ def selftest_crash_kind(ctx) -> str:
 
 def _merge_class(root: Path) -> dict[str, list[str]]:
     """Four students on steps 01 and 02 (they build in seconds), split between two machines: a and b."""
-    from kitlib.mutants import patches, write_answer
+    from raykit.mutants import patches, write_answer
     steps = [s for s in load_steps() if s.number in STEPS]
     shutil.rmtree(root, ignore_errors=True)
     plan = {"a": ["full", "slip"], "b": ["partial", "stubs"]}
@@ -468,7 +468,7 @@ def _grades(path: Path) -> list[dict]:
 
 def selftest_merge(ctx) -> str:
     need_solutions()
-    from kitlib.secret import SECRET_ENV
+    from raykit.secret import SECRET_ENV
     work = WORK / "merge"
     shutil.rmtree(work, ignore_errors=True)     # an earlier run's gradings and copies
     plan = _merge_class(work / "class")
@@ -549,9 +549,9 @@ def _in_clone(clone: Path, env: dict, *args: str, timeout: float = 1200) -> subp
 
 
 def _clone_env(cache: Path, first_uid: int | None) -> dict:
-    from kitlib.judgedby import ENV as JUDGED_ENV
-    from kitlib.sandbox.ids import FIRST_UID_ENV
-    from kitlib.secret import SECRET_ENV
+    from raykit.judgedby import ENV as JUDGED_ENV
+    from raykit.sandbox.ids import FIRST_UID_ENV
+    from raykit.secret import SECRET_ENV
     env = {k: v for k, v in os.environ.items()
            if k not in (SECRET_ENV, JUDGED_ENV, "RAYKIT_BUNDLE_DIR", FIRST_UID_ENV)}
     env["XDG_CACHE_HOME"] = str(cache)
@@ -632,7 +632,7 @@ def _seal_hunt(work: Path, secret_hex: str, who: str, folder: str) -> str:
     """hostile/seal_key's record in a grading: it ran (said how many processes it looked at) and printed
     neither the grading's secret, nor the key derived from it that seals the records, nor the self-test's
     secret variable."""
-    from kitlib.secret import SECRET_ENV, _mac_key
+    from raykit.secret import SECRET_ENV, _mac_key
     banned = {"the secret": secret_hex[:32], "the sealing key": _mac_key(bytes.fromhex(secret_hex)).hex()[:32],
               "the self-test's secret variable": SECRET_ENV}
     record = json.loads((work / folder / "grading" / "json" / "seal_key.json").read_text())
@@ -652,8 +652,8 @@ def selftest_merge_clones(ctx) -> str:
     refused a new one where the folder graded into names another, warned elsewhere; a clone with a changed
     scene file, a record whose score was edited and a forged list of inputs are refused, by name."""
     need_solutions()
-    from kitlib.sandbox.ids import FIRST_UID, UID_RANGE
-    from kitlib.secret import SECRET_ENV
+    from raykit.sandbox.ids import FIRST_UID, UID_RANGE
+    from raykit.secret import SECRET_ENV
     from .integrity import isolations
     from .newstep import scratch_kit
     modes, skipped = isolations()
@@ -793,7 +793,7 @@ def selftest_merge_clones(ctx) -> str:
            f"{r.returncode}: {r.stderr[-500:]}")
     refusals.append(f"{scene} changed on one clone")
     # ... nor with its list of inputs edited to hide the change.
-    from kitlib.judgedby import FILE_NAME
+    from raykit.judgedby import FILE_NAME
     listed = work / "B-scene" / "grading" / "json" / FILE_NAME
     theirs, ours = json.loads(listed.read_text()), json.loads((work / "A" / "grading" / "json" / FILE_NAME).read_text())
     theirs["files"][scene] = ours["files"][scene]
@@ -853,9 +853,9 @@ def selftest_extra_credit(ctx) -> str:
     no one falls outside the histogram's 100 %), the extra credit apart (its own sentence and chart), and
     every score on the course's decimals as the CSV writes them (108.90, not 108.9)."""
     from fractions import Fraction
-    from kitlib import course as course_file
-    from kitlib import record as results_record
-    from kitlib.checking import recorded_cases
+    from raykit import course as course_file
+    from raykit import record as results_record
+    from raykit.checking import recorded_cases
     from kitlib.commands.grade import columns, csv_text, record_row
     from kitlib.report.grading import load
     from kitlib.report.pages import build, class_scores
@@ -986,11 +986,11 @@ def selftest_pages_escaped(ctx) -> str:
     case messages and a compiler's line that close a <pre> and open a script, a note in the CSV that
     ends an attribute. Read back with an HTML parser: no script element, no on* attribute, no <img>
     but the charts' and pictures' own; and no template turns the escaping off."""
-    from kitlib import course as course_file
-    from kitlib import record as results_record
+    from raykit import course as course_file
+    from raykit import record as results_record
     from kitlib.commands.grade import columns, csv_text, record_row
     from kitlib.report import pages
-    from kitlib.status import NOTHING_SUBMITTED
+    from raykit.status import NOTHING_SUBMITTED
     from .course import kit_results
     steps = load_steps()
     course = course_file.load()

@@ -17,10 +17,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from kitlib.common import ROOT, load_steps
-from kitlib.build import submission_build
-from kitlib.checking import check_steps
-from kitlib.status import DONE
+from raykit.common import ROOT, load_steps
+from raykit.build import submission_build
+from raykit.checking import check_steps
+from raykit.status import DONE
 from .support import Failed, Skipped, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
@@ -188,7 +188,7 @@ def selftest_same_bits_with_fma(ctx) -> str:
     flags = kit_contraction_flags()
     expect(flags == ["-ffp-contract=off"], f"CMakeLists.txt gives every compile {flags or 'no -ffp-contract'}, "
            "not -ffp-contract=off: a Mac (ARM64) or -mfma fuses a*b + c and rounds otherwise")
-    from kitlib import procfs
+    from raykit import procfs
     has_fma = "fma" in procfs.cpu_flags()
     compilers = [c for c in ("g++", "clang++") if shutil.which(c)]
     sources = {"solutions": ROOT / "solutions" / "02_general_sphere" / "general_sphere.cpp",
@@ -264,7 +264,7 @@ def selftest_fair_on_many_draws(ctx) -> str:
                         if c["tier"] in ("basic", "hidden") and c["status"] != "pass":
                             unfair.append(f"{folder.name} step {step['step']} draw {k}: {c['name']}: "
                                           + " ".join(c["messages"])[:300])
-    from kitlib.mutants import patches, write_answer
+    from raykit.mutants import patches, write_answer
     caught_always = []
     with tempfile.TemporaryDirectory(prefix="raykit-always-") as tmp:
         for folder, name, family in ALWAYS_CAUGHT:

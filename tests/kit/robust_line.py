@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import ROOT, load_steps
-from kitlib.robust_line import where
+from raykit.common import ROOT, load_steps
+from raykit.robust_line import where
 from .support import expect, kit, need_solutions
 from .fixtures import fixture_dir
 

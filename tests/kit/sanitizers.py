@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from kitlib.build import workflow
+from raykit.build import workflow
 from .support import Context, Skipped, expect, need_solutions
 
 
@@ -39,7 +39,7 @@ UB_NEEDS = {"slips05": ["04_rectangles"]}
 def _ub_files(student: str, dest) -> None:
     import shutil
 
-    from kitlib.common import ROOT
+    from raykit.common import ROOT
     from .fixtures import fixture_dir
     for folder in UB_NEEDS.get(student, []):
         shutil.copytree(ROOT / "solutions" / folder, dest / folder, dirs_exist_ok=True)
@@ -71,7 +71,7 @@ def selftest_student_sanitizers(ctx: Context) -> str:
     import time
     from pathlib import Path
 
-    from kitlib.common import BUILD
+    from raykit.common import BUILD
     from .support import kit
     need_solutions()
     handout = BUILD / "ub-handout"

@@ -1,8 +1,8 @@
 """What a score should be, derived from the course as it stands: for the self-tests that grade the
 solutions, a slip or a class (issue 46, item 1). Not a module of self-tests: the helpers they share.
 
-An instructor's course.json may set any points, weights and groups (kitlib/course.py). What a self-test
-expects of a grading is then read from that course and from the grading's own record (kitlib/record.py:
+An instructor's course.json may set any points, weights and groups (raykit/course.py). What a self-test
+expects of a grading is then read from that course and from the grading's own record (raykit/record.py:
 each case's group, status and exact points), never from the shipped defaults:
 
 - full marks: every counted case passed, and the step earned its maximum plus the points of the
@@ -20,8 +20,8 @@ from __future__ import annotations
 from decimal import Decimal
 from fractions import Fraction
 
-from kitlib import course as course_file
-from kitlib.status import PASS
+from raykit import course as course_file
+from raykit.status import PASS
 
 
 def exact(value) -> Fraction:

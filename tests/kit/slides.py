@@ -22,9 +22,9 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.common import BUILD, ROOT, KitError
+from raykit.common import BUILD, ROOT, KitError
 from kitlib import decks as cmd_slides
-from kitlib.packages import ensure_packages
+from raykit.packages import ensure_packages
 from .support import Failed, Skipped, expect
 
 SCREENSHOTS = BUILD / "slides-screenshots"     # beside the decks: ./kit slides replaces build/slides whole

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import pytest
 
-from kitlib import slips
-from kitlib.common import BUILD, ROOT, Step, load_steps
+from raykit import slips
+from raykit.common import BUILD, ROOT, Step, load_steps
 from .support import Failed, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
@@ -181,7 +181,7 @@ def selftest_misdirections(ctx) -> str:
     measured on the code, never the one the trial's student was wrongly told; and no hint writes the
     half sign that reads like a student's 1 / 2."""
     need_solutions()    # tests/fixtures/ ships in no handout
-    from kitlib.slips import NO_CATALOGUE
+    from raykit.slips import NO_CATALOGUE
     steps = _steps()
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-misdirected-"))
     table = []
@@ -231,7 +231,7 @@ def selftest_trial6(ctx) -> str:
     """Each slip of trial 6 that the kit first named only in part, in a handout (no catalogue), under
     bubblewrap and the user isolation: its first message says what was measured on the code."""
     need_solutions()    # tests/fixtures/ ships in no handout
-    from kitlib.slips import NO_CATALOGUE
+    from raykit.slips import NO_CATALOGUE
     steps = _steps()
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-trial6-"))
     import os
@@ -254,7 +254,7 @@ def selftest_slow_named(ctx) -> str:
     """A right but slow step 01 (a square root by 3,000,000 bisection steps) is done, and its row says
     how many times the reference's CPU it took, not graded; the reference itself is not called slow."""
     need_solutions()
-    from kitlib.runcases import SLOW_FACTOR
+    from raykit.runcases import SLOW_FACTOR
     rows = {}
     for name, folder in (("reference", ROOT / "solutions"), ("slow", fixture_dir("slips") / "slow_sqrt"),
                          ("reference again", ROOT / "solutions")):
@@ -296,9 +296,9 @@ def selftest_turned_render(ctx) -> str:
 @pytest.mark.quick
 def selftest_waiting_next_command(ctx) -> str:
     """A step waiting for another names that other step's check as the next command."""
-    from kitlib.cases import StepResult
-    from kitlib.scoreboard import next_steps
-    from kitlib.status import WAITING
+    from raykit.cases import StepResult
+    from raykit.scoreboard import next_steps
+    from raykit.status import WAITING
     needing = [s for s in ctx.steps if s.needs]
     if not needing:
         from .support import Skipped
@@ -316,7 +316,7 @@ def selftest_waiting_next_command(ctx) -> str:
 def selftest_end_on_sketch(ctx) -> str:
     """The terminal picture of a rectangle seen face on, with the ray along its normal, draws the ray
     as a point and says so; only a zero direction is called one."""
-    from kitlib import picture
+    from raykit import picture
     rect = {"axis": 2, "offset": 5, "lo": [-3, -1], "hi": [3, 1]}
     said = {}
     for name, direction in (("end-on", [0, 0, 1]), ("zero", [0, 0, 0])):
@@ -350,9 +350,9 @@ def _check_patch(step, patch: Path, work: Path, catalogue: bool = True) -> tuple
     reference's): (stdout, the step's record)."""
     import os
     import subprocess
-    from kitlib.common import load_steps, stage_on_reference
-    from kitlib.mutants import apply_patch, read_patch
-    from kitlib.slips import NO_CATALOGUE
+    from raykit.common import load_steps, stage_on_reference
+    from raykit.mutants import apply_patch, read_patch
+    from raykit.slips import NO_CATALOGUE
     changed = work / patch.stem / "changed"
     changed.mkdir(parents=True, exist_ok=True)
     for name, text in apply_patch(read_patch(patch, step)).items():
@@ -373,7 +373,7 @@ def _check_patch(step, patch: Path, work: Path, catalogue: bool = True) -> tuple
 def selftest_step05_direct_first(ctx) -> str:
     """Step 05's slips of a wrong picture: a direct case is shown first, not the picture or a refusal."""
     need_solutions()
-    from kitlib.mutants import MUTANTS
+    from raykit.mutants import MUTANTS
     s = _steps()["05"]
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-05-"))
     said = []
@@ -401,7 +401,7 @@ def selftest_near_slip_words(ctx) -> str:
     """A slip the catalogue does not have, failing exactly the cases one it has fails (c = o.o + 1 where
     the mutant is c = o.o): told the failing set, the known slip's words only as a likely cause."""
     need_solutions()
-    from kitlib.mutants import read_patch
+    from raykit.mutants import read_patch
     s = _steps()["01"]
     patch = fixture_dir("slips") / "c_plus_one.patch"
     known = read_patch(ROOT / "tests" / "mutants" / s.folder / "c_without_radius.patch", s)
@@ -428,9 +428,9 @@ def selftest_first_problem_order(ctx) -> str:
     """first_problem, without a build: a direct case (a throw of the student's own included) before the
     picture and a stand-in's refusal, the picture when nothing else fails; a known slip's words said
     as a likely cause, several slips that fail alike each said."""
-    from kitlib.cases import Case, StepResult
-    from kitlib.slips import words
-    from kitlib.status import THREW, TIMED_OUT
+    from raykit.cases import Case, StepResult
+    from raykit.slips import words
+    from raykit.status import THREW, TIMED_OUT
     s = _steps()["05"]
     refusal = ("Your code threw an exception in render(scene{orange}, camera{...}): std::invalid_argument (\"while "
                "grading step 05 the grader answers intersect_rect only for the rays your view_ray gave for the "
@@ -478,7 +478,7 @@ def selftest_first_problem_order(ctx) -> str:
 def first_message(step: Step, result: dict) -> tuple[str, str]:
     """(the case a student is shown first, its first message) for a step's graded record (./kit check
     --results), the slip matched again with the catalogue as it is now and its words said again."""
-    from kitlib.cases import Case, StepResult
+    from raykit.cases import Case, StepResult
     cases = [Case(c["name"], c["tier"], c["lecture"], c["status"],
                   [slips.unsaid(m) for m in c["messages"]])
              for c in result["cases"]]
@@ -492,7 +492,7 @@ def first_message(step: Step, result: dict) -> tuple[str, str]:
 def names_own_slip(step: Step, mutant_name: str, result: dict) -> tuple[bool, bool]:
     """On a mutant's graded record: (its first message says its slip's words, and the case is one its
     patch names; its first message says its slip's words, maybe beside other slips that fail alike)."""
-    from kitlib.mutants import read_patch
+    from raykit.mutants import read_patch
     mutant = read_patch(slips.MUTANTS / step.folder / f"{mutant_name}.patch", step)
     case, said = first_message(step, result)
     words_said = mutant.slip.rstrip(".") in said
@@ -501,7 +501,7 @@ def names_own_slip(step: Step, mutant_name: str, result: dict) -> tuple[bool, bo
 
 def measure(argv: list[str]) -> int:
     from pathlib import Path
-    from kitlib.common import load_steps
+    from raykit.common import load_steps
     steps = {s.folder: s for s in load_steps()}
     own, said, total, lines = 0, 0, 0, []
     for path in argv:
@@ -537,7 +537,7 @@ def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = Non
     """(stdout, the step's record) of ./kit check N --steps DIR: `files` laid over the reference answers
     (a mutant's), or the folder `fixture` as it is. `quiet` (no scoreboard, so no first block) leaves
     the last-check store alone, which ./kit hint reads: another self-test hints on the same mutants."""
-    from kitlib.common import stage_on_reference
+    from raykit.common import stage_on_reference
     if fixture is None:
         changed = work / name / "changed"
         changed.mkdir(parents=True, exist_ok=True)
@@ -553,7 +553,7 @@ def _graded(step, files: dict, work: Path, name: str, fixture: Path | None = Non
 
 
 def _mutant(step, name: str) -> dict:
-    from kitlib.mutants import MUTANTS, apply_patch, read_patch
+    from raykit.mutants import MUTANTS, apply_patch, read_patch
     return apply_patch(read_patch(MUTANTS / step.folder / f"{name}.patch", step))
 
 
@@ -668,11 +668,11 @@ def selftest_platforms_lead_alike(ctx) -> str:
     """Gradescope's first failed test, PrairieLearn's picture and Classroom's first failing line are the
     case the terminal shows first (StepResult.first_problem), not the first failing case in the suite's
     order (issue 45 item 1)."""
-    from kitlib.cases import Case, StepResult
-    from kitlib.classroomresults import classroom
-    from kitlib.gradescope import gradescope
-    from kitlib.plresults import prairielearn
-    from kitlib.status import FAIL, PARTIAL, PASS
+    from raykit.cases import Case, StepResult
+    from raykit.classroomresults import classroom
+    from raykit.gradescope import gradescope
+    from raykit.plresults import prairielearn
+    from raykit.status import FAIL, PARTIAL, PASS
     step = Step(folder="01_toy", title="a toy step", files=["toy.cpp"], needs=[], lecture="lectures/toy.md")
     pictures = Path(tempfile.mkdtemp(prefix="raykit-lead-"))
     # Section 1 fails 1 of 2 cases, section 2 both of its 2: the terminal leads with section 2's first.

@@ -29,9 +29,9 @@ from pathlib import Path
 
 import pytest
 
-from kitlib.cases import StepResult
-from kitlib.common import BUILD, ROOT, load_steps
-from kitlib.secret import SECRET_ENV
+from raykit.cases import StepResult
+from raykit.common import BUILD, ROOT, load_steps
+from raykit.secret import SECRET_ENV
 
 
 @dataclass
@@ -200,5 +200,5 @@ def committed_steps(dest: Path) -> Path:
 def prepare() -> None:
     """What a run of self-tests sets up before the first (conftest.py, once a process)."""
     BUILD.mkdir(exist_ok=True)      # the self-tests work in build/, which a fresh clone has not made yet
-    # One secret for the self-test's hidden draws (kitlib/secret.py): the same inputs on every run.
+    # One secret for the self-test's hidden draws (raykit/secret.py): the same inputs on every run.
     os.environ.setdefault(SECRET_ENV, hashlib.sha256(b"raykit self-test secret").hexdigest())

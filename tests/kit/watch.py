@@ -11,7 +11,7 @@ import shutil
 import subprocess
 import time
 
-from kitlib.common import BUILD, ROOT, load_steps
+from raykit.common import BUILD, ROOT, load_steps
 from .support import CLEAR, Failed, Screen, expect, need_solutions
 from .fixtures import fixture_dir
 
@@ -37,7 +37,7 @@ def wait_for_process(word: str | tuple[str, ...], seconds: float) -> list[int]:
 
 def alive(pid: int) -> bool:
     """Whether `pid` runs (a zombie is dead)."""
-    from kitlib import procfs
+    from raykit import procfs
     return procfs.alive(pid)
 
 

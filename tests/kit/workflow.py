@@ -7,10 +7,10 @@ import json
 import shutil
 import zipfile
 
-from kitlib.mutants import MUTANTS, write_answer
-from kitlib.common import BUILD, ROOT, load_steps, student_file_name
-from kitlib.record import is_record
-from kitlib.status import DONE
+from raykit.mutants import MUTANTS, write_answer
+from raykit.common import BUILD, ROOT, load_steps, student_file_name
+from raykit.record import is_record
+from raykit.status import DONE
 from . import scale
 from .support import expect, kit, need_solutions
 from .fixtures import fixture_dir
@@ -101,7 +101,7 @@ def selftest_batch_grading(ctx) -> str:
     graded = [a, b, c, d, f_, g]
     expect(len({row["maximum"] for row in graded}) == 1, "the maximum differs between students: one scale broken")
     expect(float(a["earned"]) > float(b["earned"]) > 0, "scores do not order alice > bob > 0")
-    # --json-dir keeps the kit's own record of each student (kitlib/record.py); Gradescope's format is
+    # --json-dir keeps the kit's own record of each student (raykit/record.py); Gradescope's format is
     # what ./kit check --json writes, for the same grading.
     records = sorted(p for p in jsons.glob("*.json") if not p.name.startswith("."))   # .judged-by.json aside
     expect(len(records) == 6, "a record per graded student is missing")

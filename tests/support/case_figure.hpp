@@ -1,5 +1,5 @@
 // The geometry of a failing sphere or rectangle case, for the picture the kit
-// draws of it (tools/kitlib/picture/).
+// draws of it (tools/raykit/picture/).
 //
 // Why here and not in the suites: every sphere and rectangle case already ends
 // in check_roots or check_hit (grading.hpp), and every call to the student's

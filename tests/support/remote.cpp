@@ -71,7 +71,7 @@ std::string signal_name(int sig) {
 
 std::vector<std::string> split(const std::string& s, char sep);
 
-/// How to start the answers program, as the kit's boundary (tools/kitlib/sandbox/) says: the
+/// How to start the answers program, as the kit's boundary (tools/raykit/sandbox/) says: the
 /// wrapper (bubblewrap's options, or nothing), the user id to take, the control groups to join and
 /// the rlimits. The kit builds all of it in one place, for the compile and for this run alike.
 struct Settings {
@@ -133,7 +133,7 @@ using platform::queued_seconds;
 
 /// What the calls of the student's code may cost beyond each call's own limit, and what they cost.
 ///
-/// Set by the kit (tools/kitlib/checking.py) for a graded step, never for ctest or ./kit debug:
+/// Set by the kit (tools/raykit/checking.py) for a graded step, never for ctest or ./kit debug:
 ///   RAYKIT_BUDGET       "CPU WAIT CASE": the step's budget of CPU seconds and of seconds waited
 ///                       (in a call, neither computing nor queued for a CPU: sleeping, blocked),
 ///                       over all its cases, and the wall seconds the calls of one case may take

@@ -25,8 +25,8 @@
 //                             the step's time budget for the student's code over all its calls, and
 //                             the file its totals are kept in (remote.cpp, `Budget`; set by ./kit
 //                             check, not for ctest or ./kit debug)
-// The boundary's come from tools/kitlib/sandbox/, the one place it is defined; the budget's from
-// tools/kitlib/checking.py.
+// The boundary's come from tools/raykit/sandbox/, the one place it is defined; the budget's from
+// tools/raykit/checking.py.
 #pragma once
 
 #include <cstddef>

@@ -11,7 +11,7 @@
 // and what the code printed comes back with the case. Status is one of pass,
 // fail, not_started (a stub threw raykit::not_implemented), threw, crashed,
 // timed_out, grader_error (no verdict: the judge itself crashed or threw, with
-// "fault" saying so; the step is not graded, kitlib/faults.py).
+// "fault" saying so; the step is not graded, raykit/faults.py).
 
 #include <doctest/doctest.h>
 
@@ -94,7 +94,7 @@ public:
         if (crashed_) {
             // The process is about to die: say so while we still can. The student's code runs in
             // the answers process, never here, so this is the judge's own crash: no verdict, the
-            // grader's fault (the case is not graded, kitlib/faults.py), said as data.
+            // grader's fault (the case is not graded, raykit/faults.py), said as data.
             fault_ = "the kit's test program crashed (" + exception_ + ")";
             write_end("grader_error");
         }

@@ -5,7 +5,7 @@
 
 RESULTS.json is what `./kit check --classroom RESULTS.json` wrote: every step's result already in
 the form classroom-resources/autograding-grading-reporter reads (the command grader's version 1
-JSON, one entry per counted case, rendered by tools/kitlib/classroomresults.py from the kit's own
+JSON, one entry per counted case, rendered by tools/raykit/classroomresults.py from the kit's own
 results). This hands step NN's on unchanged: `result=BASE64` to $GITHUB_OUTPUT (to stdout without
 it). It reads no display text and computes no score.
 
@@ -21,7 +21,7 @@ import json
 import os
 import sys
 
-FORMAT = "raykit-classroom"     # tools/kitlib/classroomresults.py
+FORMAT = "raykit-classroom"     # tools/raykit/classroomresults.py
 VERSION = 1
 
 

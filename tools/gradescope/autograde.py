@@ -2,7 +2,7 @@
 """Gradescope's per-submission run: find the steps, grade them, always leave a results.json.
 
 Called by run_autograder (this folder), from the kit unpacked in /autograder/source:
-  1. tools/kitlib/submissions.py finds the step files at any depth of /autograder/submission
+  1. tools/raykit/submissions.py finds the step files at any depth of /autograder/submission
      (a zipped kit, a steps/ folder, loose NN_topic/ folders, the .cpp files) and copies them
      into a clean folder;
   2. `./kit check --steps THAT --json PRIVATE` grades them; the kit sandboxes the student code;
@@ -45,7 +45,7 @@ METADATA = AUTOGRADER / "submission_metadata.json"     # the due dates and the s
 PR_SET_CHILD_SUBREAPER = 36    # <linux/prctl.h>
 KIT_SECONDS = 30 * 60           # all steps; Gradescope's own limit is set per assignment
 
-sys.path.insert(0, str(SOURCE / "tools"))       # the kit's driver package, kitlib
+sys.path.insert(0, str(SOURCE / "tools"))       # the kit's driver packages, raykit and kitlib
 
 
 def failed(reason: str, name: str = "Autograder", output: str = "") -> dict:
@@ -57,7 +57,7 @@ def failed(reason: str, name: str = "Autograder", output: str = "") -> dict:
 
 def not_graded(reason: str) -> dict:
     """The grader's own failure (the kit died, hung or wrote nothing usable): a test worth 0 of 0, so no
-    point is taken away, that says "not graded" and asks for a regrade (kitlib/faults.py)."""
+    point is taken away, that says "not graded" and asks for a regrade (raykit/faults.py)."""
     words = (f"NOT GRADED: {reason}\nThis is the grader's fault, not your code's: no points are taken away, "
              "and none are given yet; ask for a regrade (Request Regrade on this page), or submit again.")
     return {"score": 0, "output": words, "visibility": "visible", "stdout_visibility": "hidden",
@@ -116,7 +116,7 @@ def end_descendants() -> int:
 
 
 def submission_identity(metadata_path: Path) -> str:
-    """Gradescope's id of this submission, for the hidden cases' seed (kitlib/secret.py): every
+    """Gradescope's id of this submission, for the hidden cases' seed (raykit/secret.py): every
     submission, the same bytes again included, draws its own inputs; a re-grade of it the same."""
     try:
         metadata = json.loads(metadata_path.read_text())
@@ -154,7 +154,7 @@ class Closed:
 
 def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
     cmd = [str(SOURCE / "kit"), "check", "--steps", str(steps_dir), "--json", str(json_path), "--quiet"]
-    from kitlib.gradescope import reveal_options    # course.json's visibility; --reveal after the due date
+    from raykit.gradescope import reveal_options    # course.json's visibility; --reveal after the due date
     cmd += reveal_options(METADATA)
     identity = submission_identity(METADATA)
     if identity:
@@ -173,7 +173,7 @@ def run_kit(steps_dir: Path, json_path: Path) -> tuple[int, str]:
         except ProcessLookupError:
             pass
         proc.wait()
-        from kitlib.sandbox import kill_session
+        from raykit.sandbox import kill_session
         kill_session(proc.pid)                      # and in its session (cmake, ninja, compilers)
         stray = end_descendants()                   # and whatever left it (we are its subreaper)
         log.seek(0)
@@ -198,7 +198,7 @@ def usable(data: object) -> str:
 
 
 def grade() -> dict:
-    from kitlib.submissions import NotFound, locate
+    from raykit.submissions import NotFound, locate
 
     work = Path(tempfile.mkdtemp(prefix="raykit-autograder-"))     # 0700: the sandbox reads its own copies
     try:

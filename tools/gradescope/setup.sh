@@ -5,11 +5,11 @@ set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 cd "$(dirname "$0")"
 # python3 runs the kit; bubblewrap isolates the graded code. The kit installs the rest itself
-# (the same packages as for students: one list, in tools/kitlib/packages.py).
+# (the same packages as for students: one list, in tools/raykit/packages.py).
 apt-get update -q
 apt-get install -y -q --no-install-recommends python3 bubblewrap
-# Build once now, by grading the solutions: the kit's side (tools/kitlib/bundle.py: the judges,
+# Build once now, by grading the solutions: the kit's side (tools/raykit/bundle.py: the judges,
 # the dispatchers, the reference, in root's ~/.cache/raykit/bundles) and the precompiled step headers
-# (tools/kitlib/studentpch.py), so that each submission only compiles and links its own step files.
+# (tools/raykit/studentpch.py), so that each submission only compiles and links its own step files.
 # (The stubs would build nothing: an untouched step is scored without a build.)
 RAYKIT_STUDENT_PCH=build ./kit check --steps solutions --quiet || [ $? -eq 1 ]

@@ -1,8 +1,9 @@
-"""python3 -m kitlib COMMAND ...: what ./kit runs (with tools/ on PYTHONPATH)."""
+"""python3 -m kitlib COMMAND ...: what ./kit runs in the instructor's kit (with tools/ on PYTHONPATH):
+the students' commands (raykit) and the instructor's (kitlib/cli.py)."""
 
 import sys
 
-from . import pycache
+from raykit import pycache
 
 pycache.install()       # before any other of the kit's modules loads
 

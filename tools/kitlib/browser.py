@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from . import atomic
+from raykit import atomic
 
 
 class BrowserError(Exception):

@@ -1,146 +1,64 @@
-"""raykit's command line: ./kit COMMAND [options].
+"""The instructor's commands, after the students' (raykit/cli.py, which parses and dispatches both).
 
-COMMANDS is the one table of commands: their order in ./kit help, who they are for, and the module
-(kitlib/commands/NAME.py) that does the work, with
-    def register(parser): ...   # add its arguments
-    def run(args) -> int: ...   # do the work, return an exit status (kitlib/status.py)
-Only the module of the command being run is imported.
-
-The words, one meaning each: *check* runs a student's steps' cases and scores them (./kit check,
-./kit watch); *grade* checks every submission of a class into grades (./kit grade, Gradescope);
-the *self-test* is the kit testing itself (./kit test).
+The kit's driver is two packages, along its two audiences:
+  - tools/raykit, the student's runtime (./kit check, watch, hint, debug, render, reset and what they
+    import): the standard library only; all a handout ships of the driver;
+  - tools/kitlib, the instructor's toolchain (grading, the platforms, the report, the docs and
+    slides, the bench's reading, the self-test): it imports raykit, never the reverse, and may use
+    Debian 12's packages.
+The layers self-test holds both rules (kitlib/selftest/layers.py).
 """
 
 from __future__ import annotations
 
-import argparse
-import importlib
-import os
-import re
-import sys
-from dataclasses import dataclass
-from pathlib import Path
+from raykit import cli as students
+from raykit.cli import INSTRUCTOR, STUDENT, Command, Parser, handout
 
-from .common import ROOT, KitError
-from .status import FAILED, INTERRUPTED, OK, USAGE
-
-STUDENT, INSTRUCTOR = "students", "instructors"
+# The table's words, re-exported: the instructor's side reads every command from here.
+__all__ = ["COMMANDS", "INSTRUCTOR", "STUDENT", "Command", "Parser", "handout", "available", "overview",
+           "build_parser", "main"]
+STUDENTS = students.COMMANDS
 
 
-@dataclass(frozen=True)
-class Command:
-    name: str
-    module: str         # kitlib/commands/MODULE.py
-    audience: str       # STUDENT or INSTRUCTOR
-    help: str
+def _i(name: str, module: str, help: str) -> Command:
+    return Command(name, module, INSTRUCTOR, help, package="kitlib")
 
 
-COMMANDS = [
-    Command("check", "check", STUDENT, "check your steps: every case, your score, and what to do next"),
-    Command("watch", "watch", STUDENT, "check the step you work on at every save, and move on when it is done"),
-    Command("hint", "hint", STUDENT, "show the next hint for step N (first a nudge, then the formula, never the code)"),
-    Command("debug", "debug", STUDENT, "run one case of step N under gdb (or lldb), stopped in your own function"),
-    Command("reset", "reset", STUDENT, "put a step's shipped stub back (your file is kept as NAME.cpp.bak-TIME)"),
-    Command("render", "render", STUDENT, "render the course's scenes to PNG, from the solutions or, with --steps, from your code"),
-    Command("docs", "docs", STUDENT, "write the course's documentation (lectures, API, images) as HTML that reads offline"),
-    Command("bench", "bench", STUDENT, "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
-    Command("test", "selftest", INSTRUCTOR, "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
-    Command("course", "course", INSTRUCTOR, "print the course's scale (course.json): steps, case groups, points, the Gradescope total"),
-    Command("grade", "grade", INSTRUCTOR, "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
-    Command("report", "report", INSTRUCTOR, "the class report of a grading (offline HTML): scores, failed cases, slips, incidents, similar work"),
-    Command("handout", "handout", INSTRUCTOR, "write the students' copy of the kit: the committed stubs, no code that computes an answer"),
-    Command("exact", "exact", INSTRUCTOR, "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
-    Command("refresh", "refresh", INSTRUCTOR, "after a change to the course: rewrite what is stale (tables, pictures, "
-                                              "case lists, exact answers, signatures), run the touched self-tests"),
-    Command("mutant", "mutant", INSTRUCTOR, "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
-    Command("slides", "slides", INSTRUCTOR, "write a slide deck per lecture (lectures/slides/) as offline HTML, --pdf also PDF"),
-    Command("autograder", "autograder", INSTRUCTOR, "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
-    Command("classroom", "classroom", INSTRUCTOR, "write GitHub Classroom's autograding workflow into a handout (partial credit per case)"),
-    Command("prairielearn", "prairielearn", INSTRUCTOR, "write PrairieLearn questions, the grader's entry point and its Docker image"),
+COMMANDS = STUDENTS + [
+    _i("docs", "docs", "write the course's documentation (lectures, API, images) as HTML that reads offline"),
+    _i("bench", "bench", "measure speed against error of the ray-sphere formulas, the kit's code and Embree"),
+    _i("test", "selftest", "the kit's self-test: solutions pass, stubs are not started, tools work (CI)"),
+    _i("course", "course", "print the course's scale (course.json): steps, case groups, points, the Gradescope total"),
+    _i("grade", "grade", "grade a class (one folder or .zip per student, steps at any depth) into a CSV"),
+    _i("report", "report", "the class report of a grading (offline HTML): scores, failed cases, slips, incidents, "
+                           "similar work"),
+    _i("handout", "handout", "write the students' copy of the kit: the committed stubs, no code that computes an "
+                             "answer"),
+    _i("exact", "exact", "check (--refresh: rewrite) the precomputed exact answers of the ★ tier"),
+    _i("refresh", "refresh", "after a change to the course: rewrite what is stale (tables, pictures, "
+                             "case lists, exact answers, signatures), run the touched self-tests"),
+    _i("mutant", "mutant", "write a mutant (a slip in the reference answer) as a patch: new, edit, save"),
+    _i("slides", "slides", "write a slide deck per lecture (lectures/slides/) as offline HTML, --pdf also PDF"),
+    _i("autograder", "autograder", "write the Gradescope autograder zip: the kit, with setup.sh and run_autograder"),
+    _i("classroom", "classroom", "write GitHub Classroom's autograding workflow into a handout (partial credit per "
+                                 "case)"),
+    _i("prairielearn", "prairielearn", "write PrairieLearn questions, the grader's entry point and its Docker image"),
 ]
 
 
-# What a student's handout offers beside the students' commands: its own self-test. Grading a
-# class, writing handouts, mutants and the autograder need the full kit (solutions/, tests/mutants/).
-IN_HANDOUT = {"test"}
-
-
-def available() -> list[Command]:
-    """The commands this copy of the kit has (a handout has no commands/exact.py) and offers."""
-    here = Path(__file__).resolve().parent / "commands"
-    return [c for c in COMMANDS if (here / f"{c.module}.py").is_file()
-            and (not handout() or c.audience == STUDENT or c.name in IN_HANDOUT)]
-
-
-class Parser(argparse.ArgumentParser):
-    def parse_known_args(self, args=None, namespace=None):
-        # argparse reads a value that starts with '-' as an option ("--size -5x10": "expected one
-        # argument"). Glue such a value to its option, so the command says what is wrong with it.
-        takes_value = {o for a in self._actions if a.nargs is None for o in a.option_strings}
-        glued: list[str] = []
-        for token in list(sys.argv[1:] if args is None else args):
-            if glued and glued[-1] in takes_value and re.match(r"-[\d.]", token):
-                glued[-1] += "=" + token
-            else:
-                glued.append(token)
-        return super().parse_known_args(glued, namespace)
-
-    def error(self, message):  # usage errors: clear message, usage, exit status USAGE
-        self.print_usage(sys.stderr)
-        print(f"kit: {message}", file=sys.stderr)
-        sys.exit(USAGE)
-
-
-def handout() -> bool:
-    return not (ROOT / "solutions").is_dir()   # a student's copy: no solutions/
-
-
-def overview() -> str:
-    """./kit help: the commands by audience, from the table alone (no command module is imported)."""
-    lines = ["usage: ./kit COMMAND [options]    (./kit COMMAND -h: its options)", "",
-             "raykit: a first ray tracing course kit."]
-    for audience in (STUDENT, INSTRUCTOR):
-        listed = [f"  {c.name:<11} {c.help}" for c in available() if c.audience == audience]
-        lines += ["", f"For {audience}:"] + listed if listed else []     # a handout: no instructors' part
-    lines += ["", "Start with ./kit check." + ("" if handout() else " Instructors: ./kit test verifies the whole kit.")]
-    return "\n".join(lines)
+def main(argv: list[str]) -> int:
+    return students.main(argv, COMMANDS)
 
 
 def build_parser(chosen: str | None) -> Parser:
-    """The parser; only `chosen`'s module is imported to add its options, and only its sub-parser is
-    made (20 of them cost 40 ms of every command's start); with no command chosen, all of them, for
-    the message that lists them."""
-    p = Parser(prog="./kit", description="raykit: a first ray tracing course kit.", add_help=False)
-    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
-    for c in available():
-        if chosen is not None and c.name != chosen:
-            continue
-        shown = c.help if c.audience == STUDENT else f"{c.audience}: {c.help}"
-        sp = sub.add_parser(c.name, help=shown, description=shown)
-        if c.name == chosen:
-            importlib.import_module(f"{__package__}.commands.{c.module}").register(sp)
-    sub.add_parser("help", help="show the commands")
-    return p
+    """./kit's parser with every command (raykit/cli.py's build_parser)."""
+    return students.build_parser(chosen, COMMANDS)
 
 
-def main(argv: list[str]) -> int:
-    try:
-        if not argv or argv[0] in ("help", "-h", "--help"):
-            print(overview())
-            return OK
-        commands = {c.name: c for c in available()}
-        if argv[0] not in commands and argv[0] in {c.name for c in COMMANDS}:
-            raise KitError(f"{argv[0]} is an instructor's command and this is a student's copy of the kit "
-                           "(no solutions/); run it in the instructor's kit")
-        chosen = argv[0] if argv[0] in commands else None
-        args = build_parser(chosen).parse_args(argv)
-        return importlib.import_module(f"{__package__}.commands.{commands[args.command].module}").run(args)
-    except KitError as e:
-        print(f"kit: {e}", file=sys.stderr)
-        return e.code
-    except KeyboardInterrupt:
-        print("kit: interrupted", file=sys.stderr)
-        return INTERRUPTED
-    except BrokenPipeError:  # ./kit check | head: the reader has gone, nothing left to say
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return FAILED
+def available() -> list[Command]:
+    """The commands of COMMANDS this copy offers (raykit/cli.py's available)."""
+    return students.available(COMMANDS)
+
+
+def overview() -> str:
+    return students.overview(COMMANDS)

@@ -25,9 +25,9 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import atomic
-from .common import BUILD, ROOT, KitError
-from .status import FAILED, SETUP, USAGE
+from raykit import atomic
+from raykit.common import BUILD, ROOT, KitError
+from raykit.status import FAILED, SETUP, USAGE
 from .webtools import ensure_docs_tools, npm_package
 
 SOURCES = ROOT / "lectures" / "slides"
@@ -331,7 +331,7 @@ def print_pdfs(decks: list[Path]) -> list[Path]:
     Over the DevTools protocol, once the deck's `deckReady` has settled: Chromium's --print-to-pdf prints
     when its virtual time runs out, ready or not (CONTRIBUTING, "The docs")."""
     from . import browser
-    from .packages import ensure_packages
+    from raykit.packages import ensure_packages
     ensure_packages("browser")
     chromium = browser.find_chromium()
     if chromium is None:

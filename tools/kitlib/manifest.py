@@ -24,7 +24,7 @@ import json
 import re
 from pathlib import Path
 
-from .common import ROOT, KitError
+from raykit.common import ROOT, KitError
 
 REQUIRED = ("title", "summary", "files", "lecture", "functions")
 OPTIONAL = ("needs", "contract", "scenes", "runs_without", "picture_sections", "picture_note", "image")

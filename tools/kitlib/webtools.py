@@ -11,9 +11,9 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from .common import BUILD, ROOT, KitError, note
-from .packages import ensure_packages, install_line
-from .status import FAILED, SETUP
+from raykit.common import BUILD, ROOT, KitError, note
+from raykit.packages import ensure_packages, install_line
+from raykit.status import FAILED, SETUP
 
 DOCS = ROOT / "docs"
 NPM_DIR = BUILD / "docs" / "npm"

@@ -8,7 +8,7 @@
 Each question's tests/grade.py runs this file from the kit in /grade/serverFilesCourse/raykit/ with the
 question's step. The student's files (one <pl-file-editor> per step file) are copied into a steps folder
 of their own and `./kit check NN --steps THAT --prairielearn FILE` checks them (the instructor's kit:
-hidden cases and the sandbox apply) and writes PrairieLearn's results itself (tools/kitlib/plresults.py,
+hidden cases and the sandbox apply) and writes PrairieLearn's results itself (tools/raykit/plresults.py,
 drawn from the same results as every other output: no display text is parsed here). A step that does
 not compile is graded 0 with the compiler's first diagnostic, so the student sees why (PrairieLearn's
 documentation would also allow "not gradable" for a syntax error: the kit grades it, as its other

@@ -1,2 +1,2 @@
-"""One module per ./kit command, each with HELP, register(parser) and run(args) -> exit status.
-The table of commands (their order, who they are for) is kitlib/cli.py's COMMANDS."""
+"""One module per instructor's ./kit command, each with register(parser) and run(args) -> exit status.
+The table of those commands is kitlib/cli.py's COMMANDS; the students' are raykit/commands/."""

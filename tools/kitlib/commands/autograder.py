@@ -7,10 +7,10 @@ import time
 import zipfile
 from pathlib import Path
 
-from .. import atomic, secret
-from ..kitfiles import kit_files, platform_excluded as excluded
-from ..common import ROOT, KitError, say, writable_parent
-from ..status import FAILED, OK
+from raykit import atomic, secret
+from raykit.kitfiles import kit_files, platform_excluded as excluded
+from raykit.common import ROOT, KitError, say, writable_parent
+from raykit.status import FAILED, OK
 
 
 AT_ROOT = {"setup.sh": "tools/gradescope/setup.sh", "run_autograder": "tools/gradescope/run_autograder"}
@@ -49,7 +49,7 @@ def run(args) -> int:
                 add(z, ROOT / src, name)
             for rel in files:
                 add(z, ROOT / rel, rel.as_posix())
-            # The hidden cases' secret (kitlib/secret.py), the kit's own: ./kit check --identity
+            # The hidden cases' secret (raykit/secret.py), the kit's own: ./kit check --identity
             # gradescope:ID here draws what Gradescope drew for submission ID. Mode 0600.
             info = zipfile.ZipInfo(secret.SECRET_FILE.relative_to(ROOT).as_posix(), date_time=time.localtime()[:6])
             info.external_attr = (stat.S_IFREG | 0o600) << 16

@@ -19,12 +19,12 @@ import threading
 import time
 from pathlib import Path
 
-from .. import atomic
+from raykit import atomic
 from .. import bench_report as report
-from ..common import ROOT, KitError, load_steps, note, paint, say
-from ..build import Build, build_targets, configure, preset_build, tools_build
-from ..packages import ensure_packages
-from ..status import FAILED, OK
+from raykit.common import ROOT, KitError, load_steps, note, paint, say
+from raykit.build import Build, build_targets, configure, preset_build, tools_build
+from raykit.packages import ensure_packages
+from raykit.status import FAILED, OK
 
 TARGET = "raykit_bench"
 # The instructor's benchmark; a student's handout has only bench/handout.cpp (no code that computes

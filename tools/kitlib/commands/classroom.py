@@ -6,7 +6,7 @@ permissions it asks for, one job on ubuntu-latest, one step per test, then the r
 `runners:`), with two differences that give partial credit per case on the kit's one scale:
 
 - the packages are installed, and every step checked, once (`./kit check --classroom FILE`, which
-  renders every step's result from the kit's own results: kitlib/classroomresults.py);
+  renders every step's result from the kit's own results: raykit/classroomresults.py);
 - each kit step's grading step is a `run:` step handing its step's result on as its own `result`
   output (tools/classroom/result.py), in the command grader's version 1 format: one entry per counted
   case, 1 or 0 points, so the reporter's "Points X/Y" is the kit's own score (where each counted case
@@ -22,10 +22,10 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .. import atomic
-from ..common import KitError, load_steps, say, writable_parent
-from ..packages import PACKAGES
-from ..status import OK
+from raykit import atomic
+from raykit.common import KitError, load_steps, say, writable_parent
+from raykit.packages import PACKAGES
+from raykit.status import OK
 
 WORKFLOW = Path(".github/workflows/classroom.yml")
 RESULTS = "build/classroom-results.json"
@@ -93,8 +93,8 @@ def run(args) -> int:
         raise KitError(f"{args.dir}: no such folder; write the handout first (./kit handout {args.dir})")
     if not (target / "kit").is_file() or not (target / "steps").is_dir():
         raise KitError(f"{args.dir}: not a copy of the kit (no ./kit or steps/); write it with ./kit handout")
-    if not all((target / f).is_file() for f in ("tools/classroom/result.py", "tools/kitlib/classroomresults.py")):
-        raise KitError(f"{args.dir}: has no tools/classroom/result.py or kitlib/classroomresults.py (a handout "
+    if not all((target / f).is_file() for f in ("tools/classroom/result.py", "tools/raykit/classroomresults.py")):
+        raise KitError(f"{args.dir}: has no tools/classroom/result.py or raykit/classroomresults.py (a handout "
                        "from an older kit); write it again")
     if (target / "solutions").exists():
         raise KitError(f"{args.dir}: has solutions/; Classroom's template repository must be a handout "

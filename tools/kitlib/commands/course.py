@@ -1,14 +1,14 @@
-"""./kit course: the course's scale (course.json, read by kitlib/course.py) as a table: each step's
+"""./kit course: the course's scale (course.json, read by raykit/course.py) as a table: each step's
 cases per group, their points, and the total to enter in Gradescope."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from .. import course as course_file
-from .. import record as results_record
-from ..common import KitError, load_steps, say
-from ..status import OK
+from raykit import course as course_file
+from raykit import record as results_record
+from raykit.common import KitError, load_steps, say
+from raykit.status import OK
 
 
 def register(p) -> None:
@@ -31,7 +31,7 @@ def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str, str]
 def cases_recorded(steps) -> dict[str, list[tuple[str, str]]] | None:
     """The steps' cases as recorded (tests/NN_topic/cases.json, tests/hidden/cases.json): no build, so
     the first ./kit course of a fresh clone answers at once. None when a step has no record."""
-    from ..checking import recorded_cases
+    from raykit.checking import recorded_cases
     found = {}
     for s in steps:
         cases = recorded_cases(s)
@@ -43,10 +43,10 @@ def cases_recorded(steps) -> dict[str, list[tuple[str, str]]] | None:
 
 def cases_from_build(steps) -> dict[str, list[tuple[str, str]]]:
     """The kit's side (bundle.py: no student code), built once, and its judges' cases."""
-    from .. import bundle
-    from ..build import detect_undefined
-    from ..runcases import list_cases
-    from ..packages import ensure_packages
+    from raykit import bundle
+    from raykit.build import detect_undefined
+    from raykit.runcases import list_cases
+    from raykit.packages import ensure_packages
     ensure_packages("build")
     kit = bundle.ensure(detect_undefined(), lambda: say(
         f"building the kit's side once (the test programs of {len(steps)} steps) to list their cases ..."))

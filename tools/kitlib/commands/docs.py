@@ -28,11 +28,11 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import picture
+from raykit import picture
 from ..decks import build as build_decks
-from ..common import BUILD, ROOT, KitError, Step, load_steps, say
+from raykit.common import BUILD, ROOT, KitError, Step, load_steps, say
 from ..webtools import ensure_docs_tools, npm_package, page_id
-from ..status import FAILED, OK
+from raykit.status import FAILED, OK
 
 DOCS = ROOT / "docs"
 OUT = BUILD / "docs"

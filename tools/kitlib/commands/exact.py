@@ -19,11 +19,11 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from ..common import ROOT, KitError, Step, load_steps, say
-from ..build import build_target, configure, preset_build
+from raykit.common import ROOT, KitError, Step, load_steps, say
+from raykit.build import build_target, configure, preset_build
 
-from ..packages import ensure_packages
-from ..status import FAILED, OK, USAGE
+from raykit.packages import ensure_packages
+from raykit.status import FAILED, OK, USAGE
 
 
 DATA = "exact_answers.cpp"

@@ -21,22 +21,22 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import atomic
-from .. import course as course_file
-from .. import faults
-from .. import judgedby
-from .. import secret as secret_file
-from .. import studentpch
-from .. import record as results_record
+from raykit import atomic
+from raykit import course as course_file
+from raykit import faults
+from raykit import judgedby
+from raykit import secret as secret_file
+from raykit import studentpch
+from raykit import record as results_record
 
-from ..checking import VERDICTS_ENV
-from ..common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
-from ..packages import ensure_packages
-from ..sandbox import WithheldFromOthers, kill_session, kill_uid
+from raykit.checking import VERDICTS_ENV
+from raykit.common import BUILD, ROOT, KitError, load_steps, printable, say, student_file_name
+from raykit.packages import ensure_packages
+from raykit.sandbox import WithheldFromOthers, kill_session, kill_uid
 from ..report.make import from_grade
 from ..report.rows import NOT_GRADED_WORDS, csv_text, record_row
-from ..submissions import NotFound, locate
-from ..status import FAILED, NOTHING_SUBMITTED, OK
+from raykit.submissions import NotFound, locate
+from raykit.status import FAILED, NOTHING_SUBMITTED, OK
 
 SUBMISSION_SECONDS = 600    # a whole submission; each case already has its own limit
 
@@ -51,7 +51,7 @@ def register(p) -> None:
                    help="submissions graded at once (default: the number of cores)")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"], default="auto",
                    help="how the graded code is kept apart (default: auto)")
-    p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results record here (the kit's own format, kitlib/record.py: "
+    p.add_argument("--json-dir", metavar="DIR", help="also keep each student's results record here (the kit's own format, raykit/record.py: "
                         "every case, hidden inputs included)")
     p.add_argument("--report", metavar="DIR", help="also write the class report (./kit report) in DIR, the grading in DIR/grading/")
     p.add_argument("--roster", metavar="CSV",
@@ -344,7 +344,7 @@ def _the_secret(args, json_dir: Path | None) -> bytes | None:
     none, with a warning (a TA who forgot to copy it draws other inputs); refused when the folder graded
     into (--json-dir, --report's grading/json/) holds a grading drawn with another secret, unless
     --new-secret. None where this copy grades no hidden case (no solutions/ or tests/hidden/)."""
-    from ..bundle import hidden_here
+    from raykit.bundle import hidden_here
     if not hidden_here():
         say("secret: none (this copy of the kit grades no hidden cases)")
         return None

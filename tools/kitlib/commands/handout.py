@@ -23,10 +23,10 @@ import tokenize
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import course as course_file
-from ..kitfiles import git, is_clone, kit_files
-from ..common import ROOT, KitError, load_steps, note, say, writable_parent
-from ..status import FAILED, OK
+from raykit import course as course_file
+from raykit.kitfiles import git, is_clone, kit_files
+from raykit.common import ROOT, KitError, load_steps, note, say, writable_parent
+from raykit.status import FAILED, OK
 
 
 # Paths (relative to the kit) that never go into a handout.
@@ -36,7 +36,8 @@ EXCLUDED = [
     "tests/hidden",                                        # the hidden cases (graded against the solutions)
     "tests/support/reference_roots.hpp",                   # the exact roots: a handout has the data instead
     "bench/reference",                                     # the benchmark's formulations and exact answers
-    "tools/kitlib/commands/exact.py",                      # regenerates that data from the solutions
+    "tools/kitlib",                                        # the instructor's toolchain: grading, the platforms,
+                                                           # the report, docs, slides, exact data, self-test
     "docs/lab/check",                                      # the lab's C++ check: a textbook root function
     # docs/lab/lab.js ships on purpose: the lab is for students. It is JavaScript, which no step can link
     # and the scan does not read, and every formula it evaluates is printed in lectures 01-03.
@@ -44,7 +45,6 @@ EXCLUDED = [
     "docs/instructors.md", "docs/performance.md",          # the instructor's manual; the kit's own costs
     "tools/gradescope", "tools/portability",               # the autograder; the check in bare Debian roots
     "tests/kit", "pytest.ini",                             # the kit's self-test (pytest), which stays out
-    "tools/kitlib/report/templates",                       # the class report's pages (./kit report's)
     ".ci", "build", ".git", "docs/instructor",            # the kit's own CI, build output, history
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
     ".github/workflows/ci.yml",                            # .ci/run on GitHub's runners (needs .ci/)
@@ -224,35 +224,6 @@ def scan_tree(root: Path, skip: tuple[str, ...] = ("steps",)) -> dict[str, list[
 
 # --- what goes out ------------------------------------------------------------------------------
 
-def student_side() -> set[Path]:
-    """The driver's Python files a handout ships (relative to the kit): cli.py, __main__.py, the
-    students' commands' modules, and every module they import, found in their import statements
-    (ast, relative imports, at any depth of the code). The self-test, the instructor's commands and
-    what only they import stay out."""
-    import ast
-    from ..cli import COMMANDS, STUDENT
-    pkg = ROOT / "tools" / "kitlib"
-    todo = [pkg / "cli.py", pkg / "__main__.py", pkg / "__init__.py", pkg / "commands" / "__init__.py"]
-    todo += [pkg / "commands" / f"{c.module}.py" for c in COMMANDS if c.audience == STUDENT]
-    seen: set[Path] = set()
-    while todo:
-        path = todo.pop()
-        if path in seen or not path.is_file():
-            continue
-        seen.add(path)
-        for node in ast.walk(ast.parse(path.read_text(), str(path))):
-            if not isinstance(node, ast.ImportFrom) or not node.level:
-                continue
-            base = path.parent
-            for _ in range(node.level - 1):
-                base = base.parent
-            mod = base.joinpath(*node.module.split(".")) if node.module else base
-            # `from .. import picture` names a module or a package (picture/__init__.py) alike
-            todo += [mod.with_suffix(".py"), mod / "__init__.py"] + [mod / f"{a.name}.py" for a in node.names] \
-                + [mod / a.name / "__init__.py" for a in node.names]
-    return {p.relative_to(ROOT) for p in seen}
-
-
 def launch_json(text: str) -> str:
     """.vscode/launch.json with its list of steps written from tests/NN_topic/step.json."""
     options = json.dumps([s.number for s in load_steps()])
@@ -402,18 +373,15 @@ def run(args) -> int:
     dropped: list[str] = []
     try:
         count = 0
-        driver = student_side()
         for rel in kit_files():
             if excluded(rel) or rel.parts[0] == "steps" or not (ROOT / rel).is_file():
                 continue
-            if rel.parts[:2] == ("tools", "kitlib") and rel.suffix == ".py" and rel not in driver:
-                continue        # the instructor's side of the driver (grade, mutant, ...)
             dst = staging / rel
             dst.parent.mkdir(parents=True, exist_ok=True)
             if rel.as_posix() == "README.md":
                 dst.write_text(strip_instructor_parts((ROOT / rel).read_text()))
                 shutil.copymode(ROOT / rel, dst)
-            elif rel.as_posix() == "course.json":    # with the hidden cases' count (kitlib/course.py)
+            elif rel.as_posix() == "course.json":    # with the hidden cases' count (raykit/course.py)
                 dst.write_text(course_file.handout_text())
             elif rel.as_posix() == ".vscode/launch.json":    # its list of steps, from the steps
                 dst.write_text(launch_json((ROOT / rel).read_text()))

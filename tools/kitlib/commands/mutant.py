@@ -27,12 +27,11 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from .. import atomic
-from ..common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps
-from ..status import FAILED, OK
-from ..mutants import (MUTANTS, SOLUTIONS, WORK, PatchError, apply_patch, failing_cases, grade_files, read_patch,
-                       write_patch)
-from ..mutants import _NAME as NAME
+from raykit import atomic
+from raykit.common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps
+from raykit.status import FAILED, OK
+from raykit.mutants import MUTANTS, SOLUTIONS, WORK, PatchError, apply_patch, failing_cases, grade_files, read_patch, write_patch
+from raykit.mutants import _NAME as NAME
 
 
 def register(p) -> None:

@@ -59,13 +59,13 @@ from pathlib import Path
 
 from fractions import Fraction
 
-from .. import course as course_file
-from .. import secret
-from ..checking import recorded_cases
-from ..common import ROOT, KitError, load_steps, say, writable_parent
-from ..kitfiles import kit_files, platform_excluded as not_shipped
-from ..plresults import HIDDEN_NOTE
-from ..status import OK
+from raykit import course as course_file
+from raykit import secret
+from raykit.checking import recorded_cases
+from raykit.common import ROOT, KitError, load_steps, say, writable_parent
+from raykit.kitfiles import kit_files, platform_excluded as not_shipped
+from raykit.plresults import HIDDEN_NOTE
+from raykit.status import OK
 from ..taskpage import FIGURE_URL, Page, kit_paths_out as for_prairielearn, task_html
 from ..webtools import page_id
 
@@ -644,7 +644,7 @@ def run(args) -> int:
             if not not_shipped(rel) and (ROOT / rel).is_file() and ROOT / rel != secret.SECRET_FILE:
                 (kit / rel).parent.mkdir(parents=True, exist_ok=True)
                 shutil.copy2(ROOT / rel, kit / rel)
-        # The hidden cases' secret (kitlib/secret.py): the kit's own, so ./kit check --identity
+        # The hidden cases' secret (raykit/secret.py): the kit's own, so ./kit check --identity
         # prairielearn:VARIANT here draws what the job drew.
         secret.copy_into(kit / secret.SECRET_FILE.relative_to(ROOT))
         (staging / "graders" / "raykit").mkdir(parents=True)

@@ -22,8 +22,8 @@ import subprocess
 import sys
 from dataclasses import dataclass
 
-from ..common import ROOT, KitError, load_steps, say
-from ..status import FAILED, OK
+from raykit.common import ROOT, KitError, load_steps, say
+from raykit.status import FAILED, OK
 
 
 @dataclass(frozen=True)

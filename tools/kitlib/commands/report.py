@@ -17,12 +17,12 @@ import shutil
 import time
 from pathlib import Path
 
-from ..common import BUILD, ROOT, KitError, load_steps, say, select_steps, writable_parent
+from raykit.common import BUILD, ROOT, KitError, load_steps, say, select_steps, writable_parent
 from ..report import signatures
 from ..report.grading import load
 from ..report.make import save_submissions, write_report
 from ..report.merge import merge
-from ..status import FAILED, OK
+from raykit.status import FAILED, OK
 
 
 def register(p) -> None:

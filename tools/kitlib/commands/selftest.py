@@ -15,9 +15,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from ..packages import ensure_packages, instructor_groups
-from ..common import ROOT, KitError, load_steps, say
-from ..status import FAILED, OK
+from raykit.packages import ensure_packages, instructor_groups
+from raykit.common import ROOT, KitError, load_steps, say
+from raykit.status import FAILED, OK
 
 SUITE = ROOT / "tests" / "kit"
 # pytest's exit statuses (pytest.ExitCode): the tests failed; none was collected
@@ -53,7 +53,7 @@ def register(p) -> None:
 def prepare() -> None:
     """The packages and environment of a self-test run (tests/kit/conftest.py calls it once a run)."""
     ensure_packages(*instructor_groups())
-    # No background warm-up from the checks the self-test runs on a terminal (kitlib/warmup.py):
+    # No background warm-up from the checks the self-test runs on a terminal (raykit/warmup.py):
     # it would build beside the measured ones. The latency test turns it on where it measures it.
     os.environ["RAYKIT_NO_WARMUP"] = "1"
 

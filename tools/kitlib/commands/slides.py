@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import os
 
-from ..common import say
+from raykit.common import say
 from ..decks import OUT, SOURCES, build, deck_title, index_html, print_pdfs, split_deck
-from ..status import OK
+from raykit.status import OK
 
 
 def register(p) -> None:

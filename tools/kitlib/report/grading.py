@@ -15,16 +15,16 @@ from pathlib import Path
 
 from fractions import Fraction
 
-from .. import course as course_file
-from .. import record as results_record
-from ..common import KitError, Step, printable, student_file_name
+from raykit import course as course_file
+from raykit import record as results_record
+from raykit.common import KitError, Step, printable, student_file_name
 
 
 @dataclass
 class Student:
     name: str
     row: dict                           # the CSV row
-    data: dict | None = None            # its results record (kitlib/record.py), when it was graded
+    data: dict | None = None            # its results record (raykit/record.py), when it was graded
     page: str = ""                      # students/<page>.html
 
     @property
@@ -146,7 +146,7 @@ def load(folder: Path) -> Grading:
 def save_files(students: dict[str, Path], steps: list[Step], target: Path, work: Path) -> list[str]:
     """Copies each student's step files (as ./kit grade finds them in their upload) to target/STUDENT/
     (the name as common.student_file_name writes it), their control characters shown (common.printable)."""
-    from ..submissions import NotFound, locate
+    from raykit.submissions import NotFound, locate
 
     notes = []
     shutil.rmtree(target, ignore_errors=True)

@@ -8,9 +8,9 @@ import shutil
 import time
 from pathlib import Path
 
-from ..common import BUILD, KitError, load_steps, printable, say, writable_parent
-from ..packages import ensure_packages
-from ..status import OK
+from raykit.common import BUILD, KitError, load_steps, printable, say, writable_parent
+from raykit.packages import ensure_packages
+from raykit.status import OK
 from .grading import load, save_files
 from .pages import build
 
@@ -59,7 +59,7 @@ GRADES, CASES = "grades.csv", "grades-cases.csv"
 
 def from_grade(args, csv_path: Path, json_dir: Path, cases_path: Path | None = None) -> int:
     """./kit grade --report DIR: keeps the grading in DIR/grading/ and writes the report in DIR."""
-    from ..judgedby import FILE_NAME
+    from raykit.judgedby import FILE_NAME
     out = Path(args.report)
     grading = out / "grading"
     (grading / "json").mkdir(parents=True, exist_ok=True)

@@ -25,10 +25,10 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from .. import judgedby
-from .. import record as results_record
-from .. import secret as secret_file
-from ..common import KitError, printable, student_file_name
+from raykit import judgedby
+from raykit import record as results_record
+from raykit import secret as secret_file
+from raykit.common import KitError, printable, student_file_name
 from .grading import Grading, load
 from . import rows as rows_file
 from .make import CASES, GRADES
@@ -144,7 +144,7 @@ def _same_judge(gradings: list[Grading]) -> list[dict]:
 def _borne_out(g: Grading, columns: list[str], key: str) -> None:
     """Refuses (KitError) a row of g's CSV that its sealed record does not give, cell for cell, as ./kit grade
     writes it (report/rows.record_row), the per-run columns aside; or a row with points and no record."""
-    from ..common import load_steps
+    from raykit.common import load_steps
     from .grading import NOT_GRADED
     steps = load_steps()
     for s in g.students:

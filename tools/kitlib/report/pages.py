@@ -21,13 +21,12 @@ from collections import Counter, defaultdict
 from fractions import Fraction
 from pathlib import Path
 
-from .. import atomic
-from .. import course as course_file
-from .. import picture
-from .. import record as results_record
-from ..common import KitError, load_steps, prerequisites, printable
-from ..status import (NOTHING_SUBMITTED_STATES, NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED,
-                      PARTIAL, PASS, SETUP, STATE_WORDS, STATUS_WORDS, THREW, TIMED_OUT, NO_ANSWER, WAITING)
+from raykit import atomic
+from raykit import course as course_file
+from raykit import picture
+from raykit import record as results_record
+from raykit.common import KitError, load_steps, prerequisites, printable
+from raykit.status import NOTHING_SUBMITTED_STATES, NOT_GRADED, OLD_BROKEN, CRASHED, DONE, MISSING, NO_COMPILE, NOT_STARTED, PARTIAL, PASS, SETUP, STATE_WORDS, STATUS_WORDS, THREW, TIMED_OUT, NO_ANSWER, WAITING
 from . import grading as grading_mod
 from . import plots, signatures, similar
 

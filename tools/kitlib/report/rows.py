@@ -8,10 +8,10 @@ import csv
 import io
 from fractions import Fraction
 
-from .. import course as course_file
-from .. import record as results_record
-from ..common import printable
-from ..status import CRASHED, DONE, GRADER_ERROR, NOT_GRADED, OLD_BROKEN, STATE_WORDS, THREW, TIMED_OUT
+from raykit import course as course_file
+from raykit import record as results_record
+from raykit.common import printable
+from raykit.status import CRASHED, DONE, GRADER_ERROR, NOT_GRADED, OLD_BROKEN, STATE_WORDS, THREW, TIMED_OUT
 
 NOT_GRADED_WORDS = "not graded"     # a row's status, a step's cells: no verdict, the grader's fault
 
@@ -53,7 +53,7 @@ def csv_text(cols: list[str], rows: list[dict]) -> str:
 
 
 def record_row(row: dict, data: dict, steps, left_out: list[str] = ()) -> dict:
-    """A submission's row of the grades CSV from its results record (kitlib/record.py): the total on
+    """A submission's row of the grades CSV from its results record (raykit/record.py): the total on
     the course's decimals, the extra credit it holds apart, each step; `left_out`, what its upload had
     that was not graded."""
     course = course_file.load()

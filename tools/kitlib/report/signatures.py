@@ -23,9 +23,9 @@ from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import atomic
-from ..common import ROOT, Step, load_steps
-from ..mutants import PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
+from raykit import atomic
+from raykit.common import ROOT, Step, load_steps
+from raykit.mutants import PatchError, apply_patch, failing_cases, grade_files, patches, read_patch
 
 FILE = ROOT / "tests" / "mutants" / "signatures.json"
 NEAR_SHARE = 1 / 3
@@ -62,7 +62,7 @@ DOC_LINES = re.compile(rb'(?m)^[ \t]*"(?:summary|picture_note)": "(?:[^"\\\n]|\\
 def compute(progress=print, numbers: list[str] | None = None) -> dict:
     """Grades every mutant (of the steps `numbers` only, keeping the other steps' recorded signatures)
     and returns the file's content. Takes a build per mutant."""
-    from ..common import BUILD
+    from raykit.common import BUILD
 
     entries, problems = {}, []
     if numbers:

@@ -41,7 +41,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..common import ROOT, Step, student_file_name
+from raykit.common import ROOT, Step, student_file_name
 
 REFERENCE_LIKE = 80     # per cent of a student's file found in a version of the reference (or the stub)
 SHOWN = 30              # a pair is listed from this share on

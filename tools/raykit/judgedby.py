@@ -14,9 +14,9 @@ machines' gradings (report/merge.py) compares the lists and names the first file
 
 What it covers (INPUTS): course.json (the scale, weights, limits); CMake's files (how the judges and the
 student's code are compiled); include/ (the kit's headers, the scene); solutions/ (the reference answers);
-tests/ (the cases, their judges and support, the hidden families); the kit's own Python (tools/kitlib:
-how a check builds, runs, judges and scores), and the compiler with the settings CMake reads from the
-environment (bundle.ENV_READ). Which files: those git tracks or would track (kitfiles.kit_files: a file
+tests/ (the cases, their judges and support, the hidden families); the kit's own Python (tools/raykit
+and tools/kitlib: how a check builds, runs, judges and scores, and how a grading runs the checks), and
+the compiler with the settings CMake reads from the environment (bundle.ENV_READ). Which files: those git tracks or would track (kitfiles.kit_files: a file
 added and not ignored counts; build output, caches and tests/hidden/secret.key do not).
 
 Left out, as they decide no verdict nor point: the self-test (tests/kit/), the class report
@@ -43,7 +43,7 @@ ENV = "RAYKIT_JUDGED_BY"        # the digest, from ./kit grade to each of its ch
 COMPILER = "the compiler"       # how a refusal names the compiler entry
 
 INPUTS = ("course.json", "CMakeLists.txt", "CMakePresets.json", "cmake/", "include/", "solutions/", "tests/",
-          "tools/kitlib/")
+          "tools/raykit/", "tools/kitlib/")
 LEFT_OUT = ("tests/kit/", "tools/kitlib/report/", "tests/hidden/secret.key",
             "tests/mutants/signatures.json")
 

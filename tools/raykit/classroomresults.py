@@ -26,7 +26,7 @@ another, each case that waits says so. Hidden
 cases (none in a handout, which is what Classroom grades) show only their family: Classroom has
 no due date to reveal them after.
 
-A step the grader failed (status.NOT_GRADED, kitlib/faults.py) is a runner with status "error", its
+A step the grader failed (status.NOT_GRADED, raykit/faults.py) is a runner with status "error", its
 entries "error" and worth nothing (max_score 0): the reporter then fails the workflow with "Some
 tests errored." (Classroom's own way to say that no grade came), and the entry says why and to run
 it again. The file's "not_graded" lists them; the placeholder written before the check has

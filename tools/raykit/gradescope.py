@@ -6,7 +6,7 @@ or the seed, unless --reveal (after the due date): a later submission is handed 
 (submission_metadata.json's previous_submissions), and so could the code it runs. The kit's own
 record of everything is record.py's, kept by the grader.
 
-On the course's scale (course.json, kitlib/course.py): points are exact fractions; each test shows
+On the course's scale (course.json, raykit/course.py): points are exact fractions; each test shows
 its case's points rounded for display, and the top-level `score` (which Gradescope takes instead of
 the tests' sum) is the exact total rounded once, at the end.
 
@@ -23,7 +23,7 @@ name, number, output, output_format, tags, visibility, extra_data. So:
     says the assignment's points and the extra apart ("115 + 7.78 extra");
   - a step that does not compile (or misses a file, or waits for another) is one failed test
     worth the step's points, carrying the diagnostic; its cases are "not run", not 44 failures;
-  - a step the grader failed (status.NOT_GRADED: its fault, not the student's; kitlib/faults.py) is
+  - a step the grader failed (status.NOT_GRADED: its fault, not the student's; raykit/faults.py) is
     one failed test worth 0 of 0, "Step NN: not graded — REASON", so no point is taken away; the
     format has no "not graded", so the summary's first line says it and asks for a regrade
     (Gradescope's Request Regrade), and extra_data carries "gradable" and "not_graded";

@@ -19,7 +19,7 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
      "gradable": true,                              # false when a step is not graded (the grader's fault)
      "not_graded": [{"step": "03", "reason": "..."}],
      "grader": {"secret": "...", "cases": "..."},   # what drew and judged it (see `grader`)
-     "steps": [StepResult.to_json(), ...],          # kitlib/cases.py
+     "steps": [StepResult.to_json(), ...],          # raykit/cases.py
      "mac": "..."}                                  # in a grading folder: its seal (secret.seal)
 
 The seal is put on by `./kit grade` as it keeps the record (HMAC-SHA256 of the rest under a key derived

@@ -270,7 +270,7 @@ def scoreboard(results: list[StepResult], shown: Path, every_failure: bool = Fal
         for r in results:
             say(row(r, width))
     say()
-    say(course_score_line(results))     # kitlib/course.py: the course's scale, or a handout's visible part
+    say(course_score_line(results))     # raykit/course.py: the course's scale, or a handout's visible part
     for r in results:   # compiled here, but maybe not on the grader's standard library: said before it is
         if r.state != NO_COMPILE:
             for line in r.includes:

@@ -19,7 +19,7 @@ makeGradingResult) and what a PrairieLearn student may see:
                failed test with the reason
   images       the picture of the first failing visible case, an SVG data URL (also on its test)
   message      the step's state and score, and a compile error's first diagnostic
-  gradable     false when a step is not graded (the grader's fault, kitlib/faults.py): PrairieLearn then
+  gradable     false when a step is not graded (the grader's fault, raykit/faults.py): PrairieLearn then
                marks the submission "invalid, not gradable", awards and takes no points and charges no
                attempt (docs/externalGrading.md); format_errors says why, in the student's words
 

@@ -11,7 +11,7 @@ names, nothing else. A symbolic link to the kit's solutions, a 2 GB file or a zi
 outside its folder never reaches the build.
 
 Used by the Gradescope autograder (tools/gradescope/) and by batch grading. As a command (with tools/ on PYTHONPATH):
-    python3 -m kitlib.submissions UPLOAD WORKDIR
+    python3 -m raykit.submissions UPLOAD WORKDIR
 prints the folder to grade (exit 0) or what it found and what it expected (exit 1).
 """
 

@@ -28,7 +28,7 @@ from .status import SETUP
 # Debian package names each command needs, per group, with who needs them: the one list. The first
 # ./kit call installs what is missing of its command's groups (apt-get, non-interactive, with sudo when
 # not root); ./kit test installs every group but those of CI_ONLY first; .ci/run installs all of them
-# (`python3 -m kitlib.packages --ci`, from tools/, prints the list) and has none of its own.
+# (`python3 -m raykit.packages --ci`, from tools/, prints the list) and has none of its own.
 PACKAGES = {
     "build": ["cmake", "ninja-build", "g++", "libglm-dev", "doctest-dev", "libstb-dev"],   # every command
     "render": ["libstb-dev"],           # ./kit render's PNG reader and writer, two headers (in "build" too where apt is)
@@ -359,8 +359,8 @@ def ensure_packages(*groups: str) -> None:
 
 def main(argv: list[str]) -> int:
     import argparse
-    p = argparse.ArgumentParser(prog="python3 -m kitlib.packages",
-                                description="The Debian packages the kit needs (tools/kitlib/packages.py).")
+    p = argparse.ArgumentParser(prog="python3 -m raykit.packages",
+                                description="The Debian packages the kit needs (tools/raykit/packages.py).")
     p.add_argument("--ci", action="store_true", help="every package .ci/run installs, one a line")
     p.add_argument("--groups", action="store_true", help="each group and its packages")
     args = p.parse_args(argv)

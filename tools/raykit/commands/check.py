@@ -1,7 +1,7 @@
-"""./kit check: check the student's steps (kitlib/checking.py) and print the scoreboard
-(kitlib/scoreboard.py); --results writes the kit's own record (kitlib/record.py), --json
-Gradescope's format (kitlib/gradescope.py), --prairielearn and --classroom those platforms'
-(kitlib/plresults.py, kitlib/classroomresults.py), all from the same results."""
+"""./kit check: check the student's steps (raykit/checking.py) and print the scoreboard
+(raykit/scoreboard.py); --results writes the kit's own record (raykit/record.py), --json
+Gradescope's format (raykit/gradescope.py), --prairielearn and --classroom those platforms'
+(raykit/plresults.py, raykit/classroomresults.py), all from the same results."""
 
 from __future__ import annotations
 
@@ -25,19 +25,19 @@ def register(p) -> None:
     p.add_argument("--steps", metavar="DIR", help="check the steps in DIR instead of steps/ (DIR is not modified)")
     p.add_argument("--json", metavar="FILE", help="also write the results as JSON")
     p.add_argument("--results", metavar="FILE",
-                   help="also write the kit's own results record (kitlib/record.py): every case, hidden "
+                   help="also write the kit's own results record (raykit/record.py): every case, hidden "
                         "inputs included; for the grader's side only")
     p.add_argument("--prairielearn", metavar="FILE",
-                   help="also write the results in PrairieLearn's external-grader format (kitlib/plresults.py)")
+                   help="also write the results in PrairieLearn's external-grader format (raykit/plresults.py)")
     p.add_argument("--prairielearn-part", choices=["step", "extra"], default="step",
                    help="which question --prairielearn grades: the step's points (default), or its extra-credit "
                         "cases alone (the step's extra-credit question of ./kit prairielearn)")
     p.add_argument("--classroom", metavar="FILE",
                    help="also write each step's GitHub Classroom result, for tools/classroom/result.py "
-                        "(kitlib/classroomresults.py)")
+                        "(raykit/classroomresults.py)")
     p.add_argument("--identity", default="", metavar="TEXT",
                    help="the submission's name on its platform (e.g. gradescope:ID), part of the hidden "
-                        "cases' seed (kitlib/secret.py)")
+                        "cases' seed (raykit/secret.py)")
     p.add_argument("--quiet", action="store_true", help="print nothing; the exit status tells")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"],
                    help="how the graded code is kept apart (default: auto with --steps, none for your own steps/)")
@@ -50,7 +50,7 @@ def register(p) -> None:
                    help="instructors: record the stubs' hashes and every judge's cases (tests/stubs.json, "
                         "tests/NN_topic/cases.json; of the steps named, else all), so untouched steps are checked without a build")
     p.add_argument("--slot", type=int, default=0, help=argparse.SUPPRESS)  # ./kit grade -j: build folder and sandbox
-    p.add_argument("--warm-up", action="store_true", help=argparse.SUPPRESS)  # kitlib/warmup.py, in the background
+    p.add_argument("--warm-up", action="store_true", help=argparse.SUPPRESS)  # raykit/warmup.py, in the background
 
 
 def record_cases(numbers: list[str]) -> int:
@@ -115,7 +115,7 @@ def checked(args, all_steps, folder) -> int:
         record.write(args.results, record.make([], 0.0, finished=False))
     if args.classroom:
         classroomresults.write(args.classroom, [])
-    faults.after_placeholder()      # the self-test's killed check (kitlib/faults.py)
+    faults.after_placeholder()      # the self-test's killed check (raykit/faults.py)
     # The table's heading at once, each step's row as soon as it is checked (a cold build takes a while).
     live = None if args.quiet else LiveProgress(display, steps)
     ensure_packages("build")

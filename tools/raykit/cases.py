@@ -73,7 +73,7 @@ class Case:
 
     @property
     def group(self) -> str:
-        """core, degenerate, hidden or robust (the rule: kitlib/course.py)."""
+        """core, degenerate, hidden or robust (the rule: raykit/course.py)."""
         return course_file.load().group(self.tier, self.name)
 
     @property
