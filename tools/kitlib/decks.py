@@ -101,7 +101,7 @@ def as_text(tex: str) -> str:
 
 
 def formulas(text: str) -> str:
-    """A line's `$...$` and `$$...$$` as \(...\) and \[...\], shielded from the plugin; code spans kept."""
+    r"""A line's `$...$` and `$$...$$` as \(...\) and \[...\], shielded from the plugin; code spans kept."""
     parts = re.split(r"(`[^`]+`)", text)
     return "".join(p if p.startswith("`") else MATH.sub(
         lambda m: as_text(r"\[" + m.group(1) + r"\]") if m.group(1) is not None else as_text(r"\(" + m.group(2) + r"\)"),
