@@ -256,8 +256,13 @@ def _prebuilt(k: str, parts: list[str] | None) -> Bundle | None:
     found = _load(folder, parts)
     if found is not None and all(p.startswith(str(folder) + "/") for s in found.recipe.get("steps", {}).values()
                                  for p in [s.get("judge", "")] + list(s.get("kit_objects", []))):
-        return found
-    why = _prebuilt_mismatch(Path(where), k, folder, found)
+        missing = _missing_files(Path(where), folder)
+        if not missing:
+            return found
+        why = (f"the bundle prebuilt in {folder} lacks {len(missing)} of its files or has them changed ({missing[0]}, "
+               "...): was it committed whole? (its .gitignore keeps the course's from leaving files out)")
+    else:
+        why = _prebuilt_mismatch(Path(where), k, folder, found)
     if why not in _prebuilt_miss:
         _prebuilt_miss.append(why)
     return None
@@ -286,6 +291,22 @@ def _prebuilt_mismatch(where: Path, k: str, folder: Path, found: Bundle | None) 
                 f"(build it where the job finds it)")
     return (f"the bundle prebuilt in {folder} is incomplete, or its packages (GLM, doctest) are not this image's "
             "(the image was built again after it)")
+
+
+def _missing_files(where: Path, folder: Path) -> list[str]:
+    """The files PREBUILT_NOTE lists (each with its size) that `folder` lacks or holds at another size."""
+    try:
+        listed = json.loads((where / PREBUILT_NOTE).read_text())["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return [PREBUILT_NOTE]
+    missing = []
+    for rel, size in listed.items():
+        try:
+            if (folder / rel).stat().st_size != size:
+                missing.append(rel)
+        except OSError:
+            missing.append(rel)
+    return missing
 
 
 def _compiler_words() -> str:
@@ -325,8 +346,12 @@ def prebuild(target: Path, sanitize: bool) -> Bundle:
     (target / f"{found.folder.name}.lock").unlink(missing_ok=True)
     note = {"key": found.folder.name, "folder": str(found.folder), "sanitize": sanitize, "hidden": hidden_here(),
             "compiler": _compiler_words(), "env": _env_read(),
-            "sources": _sources_digest(), "built": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+            "sources": _sources_digest(), "built": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "files": {p.relative_to(found.folder).as_posix(): p.stat().st_size
+                      for p in sorted(found.folder.rglob("*")) if p.is_file() and p.name != IN_USE}}
     (target / PREBUILT_NOTE).write_text(json.dumps(note, indent=1) + "\n")
+    # A course's own .gitignore (*.o, CMakeFiles/, ...) must not leave a file of it out of the commit.
+    (target / ".gitignore").write_text("# raykit's prebuilt bundle: every file of it is committed\n!*\n!*/\n")
     return found
 
 

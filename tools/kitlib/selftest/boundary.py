@@ -1114,6 +1114,17 @@ def selftest_grader_images(ctx) -> str:
     expect(b.returncode == 0 and (grade / "serverFilesCourse/raykit-bundle" / PREBUILT_NOTE).is_file(),
            f"prebuild.py failed: {b.stdout[-600:]}{b.stderr[-800:]}")
     grade.rename(pristine)
+    # Committed whole whatever the course's .gitignore says (git keeps what the job gets).
+    repo = work / "course-repo"
+    shutil.copytree(pristine / "serverFilesCourse" / "raykit-bundle", repo / "serverFilesCourse" / "raykit-bundle",
+                    symlinks=True)
+    (repo / ".gitignore").write_text("*.o\n*.json\nCMakeFiles/\nbuild/\nready\n")
+    subprocess.run(["git", "init", "-q", str(repo)], check=True, capture_output=True)
+    listed = subprocess.run(["git", "-C", str(repo), "ls-files", "--others", "--exclude-standard"],
+                            capture_output=True, text=True, check=True).stdout.split()
+    files = [p for p in (repo / "serverFilesCourse").rglob("*") if p.is_file()]
+    expect(len(listed) == len(files), f"a course's .gitignore (*.o, *.json, CMakeFiles/) leaves {len(files) - len(listed)} "
+           f"of the prebuilt bundle's {len(files)} files out of a commit")
     last, first = ctx.steps[-1], ctx.steps[0]
     solution = lambda s: {f: (ROOT / "solutions" / s.folder / f).read_text() for f in s.files}
     hostile = lambda name: {f: (fixture_dir("hostile") / name / first.folder / f).read_text() for f in first.files}
@@ -1159,9 +1170,15 @@ def selftest_grader_images(ctx) -> str:
         note.update(key="0123456789abcdef01234567", compiler="/usr/bin/another-g++, 1, 1")
         (folder / PREBUILT_NOTE).write_text(json.dumps(note))
 
+    def file_left_out(g: Path) -> None:
+        folder = g / "serverFilesCourse/raykit-bundle"
+        note = json.loads((folder / PREBUILT_NOTE).read_text())
+        (folder / note["key"] / next(f for f in note["files"] if f.endswith(".o"))).unlink()
+
     rebuilt = []
     for mode, edit, words in [(modes[0], course_changed, "the course's sources"),
-                              (modes[-1], other_toolchain, "the compiler")]:
+                              (modes[-1], other_toolchain, "the compiler"),
+                              (modes[0], file_left_out, "lacks 1 of its files")]:
         got, cpu = pl_job(pristine, grade, first, solution(first), mode, edit)
         expect(got.get("score") == 1 and got.get("built") == BUILT_HERE and words in got.get("built_why", "")
                and "the grader's own side" in got.get("output", ""),
@@ -1200,7 +1217,7 @@ def selftest_grader_images(ctx) -> str:
     extra = data.get("extra_data", {})
     expect(extra.get("built") == BUILT_HERE and data.get("score", 0) > 0,
            f"a Gradescope job with no bundle built: built {extra.get('built')!r}, score {data.get('score')}")
-    return (f"public context clean (a spoiled one caught); PrairieLearn, step {last.number} solved, prebuilt: student "
+    return (f"public context clean (a spoiled one caught); the bundle committed whole past a course's .gitignore; PrairieLearn, step {last.number} solved, prebuilt: student "
             f"files only, CPU {', '.join(costs)}; read_answers as always_miss{control}; mismatch rebuilt and said why: "
             f"{'; '.join(rebuilt)}; Gradescope: student files only ({', '.join(modes)}), kit side without a bundle"
             + (f" ({'; '.join(skipped)})" if skipped else ""))
