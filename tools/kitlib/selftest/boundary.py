@@ -1031,8 +1031,8 @@ def context_problems(context: Path, kit: Path) -> list[str]:
 
 
 def pl_job(pristine: Path, grade: Path, step, files: dict[str, str], mode: str, edit=None) -> tuple[dict, float]:
-    """A PrairieLearn job as PrairieLearn lays it out (/grade: serverFilesCourse/, tests/ of the
-    question, student/, data/data.json) at `grade`, made afresh from `pristine` (the prebuilt bundle
+    """A PrairieLearn job as PrairieLearn lays it out (/grade: serverFilesCourse/ and its copy shared/,
+    tests/ of the question, student/, data/data.json) at `grade`, made afresh from `pristine` (the prebuilt bundle
     names its own folder's files, so it is always at the same place), `edit(grade)` applied, then the
     question's entry point run as the image runs it, with an empty home (a job's cache starts empty):
     results.json and the CPU time of the job (its processes, waited for)."""
@@ -1041,6 +1041,8 @@ def pl_job(pristine: Path, grade: Path, step, files: dict[str, str], mode: str, 
     shutil.copytree(pristine, grade, symlinks=True)
     shutil.copytree(grade / "questions" / step.folder / "tests", grade / "tests")
     shutil.rmtree(grade / "questions")
+    # PrairieLearn copies serverFilesCourse/ twice: also to /grade/shared (externalGraderCommon.ts).
+    shutil.copytree(grade / "serverFilesCourse", grade / "shared", symlinks=True)
     (grade / "student").mkdir()
     (grade / "data").mkdir()
     (grade / "data" / "data.json").write_text(json.dumps({"variant_seed": 53}))
@@ -1077,8 +1079,12 @@ def selftest_grader_images(ctx) -> str:
     from ..bundle import BUILT_HERE, PREBUILT_NOTE, STUDENT_ONLY
     modes, skipped = isolations()
     expect(bool(modes), "no isolation to grade under here: " + "; ".join(skipped))
-    work = WORK / "images"
-    shutil.rmtree(work, ignore_errors=True)
+    # Out of the kit (whose root a grading under the user isolation closes to other users for good,
+    # which would hide the job from graded code whatever grade.py does, and the control below would
+    # prove nothing): a folder of its own per run, open as a job's parents are.
+    work = Path(tempfile.mkdtemp(prefix="raykit-selftest-images-"))
+    os.chmod(work, 0o755)
+    atexit.register(shutil.rmtree, work, True)
     out = work / "out"
     r = subprocess.run([str(ROOT / "kit"), "prairielearn", str(out), "--image", "raykit-selftest/raykit-grader"],
                        cwd=ROOT, capture_output=True, text=True, timeout=600)
@@ -1122,9 +1128,15 @@ def selftest_grader_images(ctx) -> str:
     subprocess.run(["git", "init", "-q", str(repo)], check=True, capture_output=True)
     listed = subprocess.run(["git", "-C", str(repo), "ls-files", "--others", "--exclude-standard"],
                             capture_output=True, text=True, check=True).stdout.split()
+    listed = [f for f in listed if f.startswith("serverFilesCourse/")]
     files = [p for p in (repo / "serverFilesCourse").rglob("*") if p.is_file()]
     expect(len(listed) == len(files), f"a course's .gitignore (*.o, *.json, CMakeFiles/) leaves {len(files) - len(listed)} "
            f"of the prebuilt bundle's {len(files)} files out of a commit")
+    (repo / "serverFilesCourse" / "raykit-bundle" / ".gitignore").unlink()     # the control: without its own
+    bare = subprocess.run(["git", "-C", str(repo), "ls-files", "--others", "--exclude-standard"],
+                          capture_output=True, text=True, check=True).stdout.split()
+    expect(len([f for f in bare if f.startswith("serverFilesCourse/")]) < len(files) - 1,
+           "without the bundle's own .gitignore the course's still commits every file: the check above proves nothing")
     last, first = ctx.steps[-1], ctx.steps[0]
     solution = lambda s: {f: (ROOT / "solutions" / s.folder / f).read_text() for f in s.files}
     hostile = lambda name: {f: (fixture_dir("hostile") / name / first.folder / f).read_text() for f in first.files}
