@@ -13,7 +13,14 @@ reads, graded as an instructor grades them, with the harm checked, not argued.
   graded code can reach do not stop two gradings, and an object compiled outside the sandbox (or
   before a system header changed) is never reused inside it;
 - the Gradescope flow gives one submission one score, run after run, equal to ./kit grade's;
-- load never fails correct code: the reference graded cold beside two busy loops gets the maximum.
+- load never fails correct code: the reference graded cold beside two busy loops gets the maximum;
+- grader images (#53 item 3): the public PrairieLearn image's build context holds nothing of the course
+  (no COPY, no solution, secret or bundle; a spoiled context is caught); a PrairieLearn job laid out as
+  PrairieLearn lays it out, with the bundle prebuilt beside the kit by prebuild.py (the image's step),
+  compiles only the student's files and says so, under every isolation, and hostile/read_answers reads
+  nothing of the prebuilt bundle or the job's folder there; a job whose course or toolchain differs from
+  the prebuilt bundle's builds its own and says why; a Gradescope job with the bundle built before it
+  (setup.sh's) says it compiled the student's files only, one with none built says the kit's side too.
 
 The heavy forms (the Gradescope flow five times; the slow compile at the default 60 s limit) run
 with RAYKIT_SELFTEST_FULL=1; CI runs the small forms.
@@ -30,6 +37,7 @@ import shutil
 import socket
 import stat
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -999,3 +1007,234 @@ def stale_system_header() -> str:
         shutil.rmtree(work, ignore_errors=True)
     return ("-MP dependency file read; an unchanged compile served from the cache, a changed system header "
             "that only the dependency file names compiled again (and its entry made anew), a changed compiler too")
+
+
+PUBLIC_CONTEXT = {"Dockerfile", "README.md", "build.sh"}     # graders/raykit/: the public image's build context
+
+
+def context_problems(context: Path, kit: Path) -> list[str]:
+    """What in the public image's build context (`context`, graders/raykit/) is not public: a file
+    other than PUBLIC_CONTEXT, a COPY or ADD in the Dockerfile (the image takes nothing from the
+    course: the toolchain alone), a file holding the secret, a solution's text or a bundle's file
+    (the private copy of the kit `kit`, serverFilesCourse/raykit/, gives them)."""
+    found = [f"{p.relative_to(context)}: not among {sorted(PUBLIC_CONTEXT)}"
+             for p in sorted(context.rglob("*")) if p.relative_to(context).as_posix() not in PUBLIC_CONTEXT]
+    docker = (context / "Dockerfile").read_text() if (context / "Dockerfile").is_file() else ""
+    found += [f"Dockerfile: {line.strip()}" for line in re.sub(r"\\\n", " ", docker).splitlines()
+              if re.match(r"\s*(COPY|ADD)\b", line, re.I)]
+    secrets = [(kit / "tests" / "hidden" / "secret.key").read_bytes().strip()]
+    secrets += [f.read_bytes().strip() for f in sorted((kit / "solutions").rglob("*.cpp"))]
+    for p in sorted(context.rglob("*")):
+        if p.is_file():
+            data = p.read_bytes()
+            if data.startswith(b"\x7fELF") or b"raykit-bundle.json" in data:
+                found.append(f"{p.relative_to(context)}: a compiled program or a bundle's recipe")
+            found += [f"{p.relative_to(context)}: holds the secret or a solution" for x in secrets
+                      if x and x in data][:1]
+    return found
+
+
+def pl_job(pristine: Path, grade: Path, step, files: dict[str, str], mode: str, edit=None) -> tuple[dict, float]:
+    """A PrairieLearn job as PrairieLearn lays it out (/grade: serverFilesCourse/ and its copy shared/,
+    tests/ of the question, student/, data/data.json) at `grade`, made afresh from `pristine` (the prebuilt bundle
+    names its own folder's files, so it is always at the same place), `edit(grade)` applied, then the
+    question's entry point run as the image runs it, with an empty home (a job's cache starts empty):
+    results.json and the CPU time of the job (its processes, waited for)."""
+    import resource
+    shutil.rmtree(grade, ignore_errors=True)
+    shutil.copytree(pristine, grade, symlinks=True)
+    shutil.copytree(grade / "questions" / step.folder / "tests", grade / "tests")
+    shutil.rmtree(grade / "questions")
+    # PrairieLearn copies serverFilesCourse/ twice: also to /grade/shared (externalGraderCommon.ts).
+    shutil.copytree(grade / "serverFilesCourse", grade / "shared", symlinks=True)
+    (grade / "student").mkdir()
+    (grade / "data").mkdir()
+    (grade / "data" / "data.json").write_text(json.dumps({"variant_seed": 53}))
+    for name, text in files.items():
+        (grade / "student" / name).write_text(text)
+    # The modes a git checkout and PrairieLearn's copy leave (git keeps none of a folder's, and only
+    # a file's executable bit): whatever the kit or prebuild.py closed on this machine is open there.
+    for path in [grade, *grade.rglob("*")]:
+        if not path.is_symlink():
+            path.chmod(0o755 if path.is_dir() or path.stat().st_mode & 0o100 else 0o644)
+    if edit is not None:
+        edit(grade)
+    home = Path(tempfile.mkdtemp(prefix="raykit-selftest-pl-home-"))
+    env = {k: v for k, v in os.environ.items() if k not in ("XDG_CACHE_HOME", "RAYKIT_BUNDLE_DIR", "RAYKIT_PREBUILT_BUNDLE")}
+    env.update(HOME=str(home), RAYKIT_AUTOGRADER_ISOLATION=mode)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    try:
+        r = subprocess.run([sys.executable, str(grade / "tests" / "grade.py")], capture_output=True, text=True,
+                           env=with_uid_file(env), timeout=1800)
+    finally:
+        shutil.rmtree(home, ignore_errors=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    note_uid()
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    expect(r.returncode == 0, f"the PrairieLearn job ({step.number}, {mode}) exited {r.returncode}: {r.stderr[-800:]}")
+    try:
+        return json.loads((grade / "results" / "results.json").read_text()), cpu
+    except (OSError, ValueError) as e:
+        raise Failed(f"the PrairieLearn job ({step.number}, {mode}) wrote no results.json ({e}): {r.stderr[-800:]}")
+
+
+def selftest_grader_images(ctx) -> str:
+    need_solutions()
+    from raykit.bundle import BUILT_HERE, PREBUILT_NOTE, STUDENT_ONLY
+    modes, skipped = isolations()
+    expect(bool(modes), "no isolation to grade under here: " + "; ".join(skipped))
+    # Out of the kit (whose root a grading under the user isolation closes to other users for good,
+    # which would hide the job from graded code whatever grade.py does, and the control below would
+    # prove nothing): a folder of its own per run, open as a job's parents are.
+    work = Path(tempfile.mkdtemp(prefix="raykit-selftest-images-"))
+    os.chmod(work, 0o755)
+    atexit.register(shutil.rmtree, work, True)
+    out = work / "out"
+    r = subprocess.run([str(ROOT / "kit"), "prairielearn", str(out), "--image", "raykit-selftest/raykit-grader"],
+                       cwd=ROOT, capture_output=True, text=True, timeout=600)
+    expect(r.returncode == 0, f"./kit prairielearn failed: {r.stdout[-600:]}{r.stderr[-600:]}")
+    kit_copy = out / "serverFilesCourse" / "raykit"
+    # The public image: its build context holds the toolchain's recipe alone, and the check sees a leak.
+    context = out / "graders" / "raykit"
+    problems = context_problems(context, kit_copy)
+    expect(not problems, f"the public image's build context holds what is not public: {problems}")
+    spoiled = work / "spoiled"
+    shutil.copytree(context, spoiled)
+    with open(spoiled / "Dockerfile", "a") as f:
+        f.write("COPY serverFilesCourse/raykit /raykit\n")
+    shutil.copyfile(kit_copy / "tests" / "hidden" / "secret.key", spoiled / "key")
+    caught = context_problems(spoiled, kit_copy)
+    expect(len(caught) >= 3, f"the context check missed a COPY, a stray file or the secret: {caught}")
+    build_sh = (context / "build.sh").read_text()
+    expect(re.search(r"docker build [^\n]* graders/raykit\s*$", build_sh, re.M)
+           and "/grade/serverFilesCourse" in build_sh and "prebuild.py" in build_sh,
+           f"build.sh does not build the image from graders/raykit alone and then prebuild.py in it: {build_sh}")
+    infos = [json.loads(p.read_text()) for p in sorted(out.glob("questions/raykit/*/info.json"))]
+    expect(all("raykit-bundle/" in i["externalGradingOptions"]["serverFilesCourse"] for i in infos)
+           and (out / "serverFilesCourse" / "raykit-bundle").is_dir(),
+           "info.json does not bring serverFilesCourse/raykit-bundle/ into the job, or the folder is not written")
+    # The image's step: prebuild.py in the job's own layout, then a pristine job folder to copy.
+    pristine, grade = work / "pristine", work / "grade"
+    grade.mkdir(parents=True)
+    shutil.copytree(out / "serverFilesCourse", grade / "serverFilesCourse", symlinks=True)
+    shutil.copytree(out / "questions" / "raykit", grade / "questions")
+    b = subprocess.run([sys.executable, str(grade / "serverFilesCourse/raykit/tools/prairielearn/prebuild.py")],
+                       capture_output=True, text=True, timeout=3600,
+                       env={k: v for k, v in os.environ.items() if k != "RAYKIT_BUNDLE_DIR"})
+    expect(b.returncode == 0 and (grade / "serverFilesCourse/raykit-bundle" / PREBUILT_NOTE).is_file(),
+           f"prebuild.py failed: {b.stdout[-600:]}{b.stderr[-800:]}")
+    grade.rename(pristine)
+    # Committed whole whatever the course's .gitignore says (git keeps what the job gets).
+    repo = work / "course-repo"
+    shutil.copytree(pristine / "serverFilesCourse" / "raykit-bundle", repo / "serverFilesCourse" / "raykit-bundle",
+                    symlinks=True)
+    (repo / ".gitignore").write_text("*.o\n*.json\nCMakeFiles/\nbuild/\nready\n")
+    subprocess.run(["git", "init", "-q", str(repo)], check=True, capture_output=True)
+    listed = subprocess.run(["git", "-C", str(repo), "ls-files", "--others", "--exclude-standard"],
+                            capture_output=True, text=True, check=True).stdout.split()
+    listed = [f for f in listed if f.startswith("serverFilesCourse/")]
+    files = [p for p in (repo / "serverFilesCourse").rglob("*") if p.is_file()]
+    expect(len(listed) == len(files), f"a course's .gitignore (*.o, *.json, CMakeFiles/) leaves {len(files) - len(listed)} "
+           f"of the prebuilt bundle's {len(files)} files out of a commit")
+    (repo / "serverFilesCourse" / "raykit-bundle" / ".gitignore").unlink()     # the control: without its own
+    bare = subprocess.run(["git", "-C", str(repo), "ls-files", "--others", "--exclude-standard"],
+                          capture_output=True, text=True, check=True).stdout.split()
+    expect(len([f for f in bare if f.startswith("serverFilesCourse/")]) < len(files) - 1,
+           "without the bundle's own .gitignore the course's still commits every file: the check above proves nothing")
+    last, first = ctx.steps[-1], ctx.steps[0]
+    solution = lambda s: {f: (ROOT / "solutions" / s.folder / f).read_text() for f in s.files}
+    hostile = lambda name: {f: (fixture_dir("hostile") / name / first.folder / f).read_text() for f in first.files}
+    costs = []
+    for mode in modes:
+        full, cpu = pl_job(pristine, grade, last, solution(last), mode)
+        expect(full.get("score") == 1 and full.get("built") == STUDENT_ONLY and "built_why" not in full
+               and "your files only" in full.get("output", ""),
+               f"step {last.number}'s solution with the prebuilt bundle ({mode}): score {full.get('score')}, "
+               f"built {full.get('built')!r} ({full.get('built_why')}), output {full.get('output', '')[-120:]!r}")
+        costs.append(f"{mode} {cpu:.1f} s")
+        base, _ = pl_job(pristine, grade, first, hostile("always_miss"), mode)
+        got, _ = pl_job(pristine, grade, first, hostile("read_answers"), mode)
+        shown = "\n".join(t.get("output", "") for t in got.get("tests", []))
+        expect(got.get("built") == STUDENT_ONLY, f"read_answers ({mode}): built {got.get('built')!r}")
+        expect("could read" not in shown and got.get("score") == base.get("score"),
+               f"read_answers in a PrairieLearn job ({mode}) read the kit's answers (score {got.get('score')}, "
+               f"always_miss {base.get('score')}): {[l for l in shown.splitlines() if 'could read' in l][:4]}")
+    # The control: with the job's folder left open (grade.py's closing taken out), the user isolation's
+    # graded code reads the prebuilt bundle: the attack works, and the check above can fail.
+    def left_open(g: Path) -> None:
+        entry = g / "serverFilesCourse/raykit/tools/prairielearn/grade.py"
+        text = entry.read_text()
+        expect("os.chmod(grade_dir, mode & ~0o007)" in text, "grade.py no longer closes the job's folder as this test knows")
+        entry.write_text(text.replace("os.chmod(grade_dir, mode & ~0o007)", "pass"))
+
+    control = ""
+    if "user" in modes:
+        got, _ = pl_job(pristine, grade, first, hostile("read_answers"), "user", left_open)
+        shown = "\n".join(t.get("output", "") for t in got.get("tests", []))
+        expect("raykit-bundle" in shown, "read_answers, the job's folder left open (user): it did not read the "
+               f"prebuilt bundle, so the check above proves nothing: {shown[:300]!r}")
+        control = "; read_answers reads it where the job's folder is left open (user)"
+    # A job whose course (first isolation) or toolchain (the other, or the same) is not the bundle's.
+    def course_changed(g: Path) -> None:
+        with open(g / "serverFilesCourse/raykit/include/raykit/ray.hpp", "a") as f:
+            f.write("// the course changed after the bundle was built\n")
+
+    def other_toolchain(g: Path) -> None:
+        folder = g / "serverFilesCourse/raykit-bundle"
+        note = json.loads((folder / PREBUILT_NOTE).read_text())
+        (folder / note["key"]).rename(folder / "0123456789abcdef01234567")
+        note.update(key="0123456789abcdef01234567", compiler="/usr/bin/another-g++, 1, 1")
+        (folder / PREBUILT_NOTE).write_text(json.dumps(note))
+
+    def file_left_out(g: Path) -> None:
+        folder = g / "serverFilesCourse/raykit-bundle"
+        note = json.loads((folder / PREBUILT_NOTE).read_text())
+        (folder / note["key"] / next(f for f in note["files"] if f.endswith(".o"))).unlink()
+
+    rebuilt = []
+    for mode, edit, words in [(modes[0], course_changed, "the course's sources"),
+                              (modes[-1], other_toolchain, "the compiler"),
+                              (modes[0], file_left_out, "lacks 1 of its files")]:
+        got, cpu = pl_job(pristine, grade, first, solution(first), mode, edit)
+        expect(got.get("score") == 1 and got.get("built") == BUILT_HERE and words in got.get("built_why", "")
+               and "the grader's own side" in got.get("output", ""),
+               f"a job with a mismatched bundle ({edit.__name__}, {mode}): score {got.get('score')}, built "
+               f"{got.get('built')!r}, why {got.get('built_why')!r}, output {got.get('output', '')[-100:]!r}")
+        rebuilt.append(f"{edit.__name__.replace('_', ' ')} ({mode}) {cpu:.1f} s")
+    shutil.rmtree(work, ignore_errors=True)
+    # Gradescope: the bundle setup.sh builds (its check of every solution) serves a job, which says so.
+    setup = (ROOT / "tools/gradescope/setup.sh").read_text()
+    expect(re.search(r"^[^#\n]*\./kit check --steps solutions", setup, re.M),
+           "tools/gradescope/setup.sh does not build the kit's side by checking every solution")
+    from raykit import bundle
+    from raykit.build import detect_undefined
+    bundle.ensure(detect_undefined())      # what setup.sh's check leaves in the image's cache
+    upload = WORK / "images-upload"
+    shutil.rmtree(upload, ignore_errors=True)
+    shutil.copytree(ROOT / "solutions" / first.folder, upload / first.folder)
+    for mode in modes:
+        data = gradescope(upload, isolation=mode)
+        extra = data.get("extra_data", {})
+        expect(extra.get("built") == STUDENT_ONLY and "your files only" in data.get("output", ""),
+               f"a Gradescope job with the bundle built ({mode}): built {extra.get('built')!r} "
+               f"({extra.get('built_why')}), output {data.get('output', '')[-200:]!r}")
+    empty = Path(tempfile.mkdtemp(prefix="raykit-selftest-no-bundle-"))
+    saved = os.environ.get("RAYKIT_BUNDLE_DIR")
+    os.environ["RAYKIT_BUNDLE_DIR"] = str(empty)
+    try:
+        data = gradescope(upload, isolation=modes[0])
+    finally:
+        if saved is None:
+            os.environ.pop("RAYKIT_BUNDLE_DIR", None)
+        else:
+            os.environ["RAYKIT_BUNDLE_DIR"] = saved
+        shutil.rmtree(empty, ignore_errors=True)
+        shutil.rmtree(upload, ignore_errors=True)
+    extra = data.get("extra_data", {})
+    expect(extra.get("built") == BUILT_HERE and data.get("score", 0) > 0,
+           f"a Gradescope job with no bundle built: built {extra.get('built')!r}, score {data.get('score')}")
+    return (f"public context clean (a spoiled one caught); the bundle committed whole past a course's .gitignore; PrairieLearn, step {last.number} solved, prebuilt: student "
+            f"files only, CPU {', '.join(costs)}; read_answers as always_miss{control}; mismatch rebuilt and said why: "
+            f"{'; '.join(rebuilt)}; Gradescope: student files only ({', '.join(modes)}), kit side without a bundle"
+            + (f" ({'; '.join(skipped)})" if skipped else ""))
+

@@ -11,5 +11,6 @@ apt-get install -y -q --no-install-recommends python3 bubblewrap
 # Build once now, by grading the solutions: the kit's side (tools/raykit/bundle.py: the judges,
 # the dispatchers, the reference, in root's ~/.cache/raykit/bundles) and the precompiled step headers
 # (tools/raykit/studentpch.py), so that each submission only compiles and links its own step files.
-# (The stubs would build nothing: an untouched step is scored without a build.)
+# (The stubs would build nothing: an untouched step is scored without a build.) Each job's results then
+# say "built": "student files only" (extra_data; bundle.built), or why the job built the kit's side.
 RAYKIT_STUDENT_PCH=build ./kit check --steps solutions --quiet || [ $? -eq 1 ]

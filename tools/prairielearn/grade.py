@@ -14,6 +14,14 @@ not compile is graded 0 with the compiler's first diagnostic, so the student see
 documentation would also allow "not gradable" for a syntax error: the kit grades it, as its other
 graders do).
 
+The kit's side (tools/raykit/bundle.py: the judges, the reference, the hidden cases) comes prebuilt:
+serverFilesCourse/raykit-bundle/, built by the grading image's own toolchain when the image is built
+(prebuild.py, graders/raykit/README.md), beside the kit in every job, private to the course as the
+kit is. The check uses it when it is this kit's under this image's compiler and packages (its key),
+and compiles the student's files alone; otherwise it builds its own and the results say so and why
+("built", "built_why"). The job's folder is closed to other users first: graded code runs as one
+(the user isolation, in PrairieLearn's container) and needs nothing of it.
+
 The whole file stays under 1 MB (images dropped first, then outputs shortened). Only a failure of the
 kit itself (no JSON, an exit status other than 0 or 1, the time budget RAYKIT_BUDGET seconds exceeded)
 is written as {"gradable": false}: the student loses no attempt to the kit's fault.
@@ -32,6 +40,7 @@ import time
 from pathlib import Path
 
 KIT = Path(__file__).resolve().parents[2]
+PREBUILT = KIT.parent / "raykit-bundle"     # serverFilesCourse/raykit-bundle/ (prebuild.py)
 LIMIT = 1_000_000           # bytes: PrairieLearn's limit on results.json ("1 MB")
 
 
@@ -88,6 +97,13 @@ def grade(number: str, grade_dir: Path, part: str = "step") -> int:
     folder = steps[number].parent.name
     budget = float(os.environ.get("RAYKIT_BUDGET", "540"))
     started = time.monotonic()
+    # Graded code runs as another user (the user isolation): nothing of the job's folder is its, not
+    # the kit, its copy PrairieLearn also puts in /grade/shared, or the prebuilt bundle.
+    mode = grade_dir.stat().st_mode
+    if mode & 0o007:
+        os.chmod(grade_dir, mode & ~0o007)
+    env = dict(os.environ, RAYKIT_PREBUILT_BUNDLE=str(PREBUILT))
+    isolation = os.environ.get("RAYKIT_AUTOGRADER_ISOLATION")   # the self-test's seam, as Gradescope's
     with tempfile.TemporaryDirectory(prefix="raykit-") as tmp:
         staged = Path(tmp) / "steps"
         (staged / folder).mkdir(parents=True)
@@ -99,8 +115,9 @@ def grade(number: str, grade_dir: Path, part: str = "step") -> int:
         out = Path(tmp) / "results.json"
         try:
             r = subprocess.run([str(KIT / "kit"), "check", number, "--steps", str(staged), "--prairielearn", str(out),
-                                "--prairielearn-part", part, "--identity", identity(grade_dir)],
-                               capture_output=True, text=True,  # not --quiet: it draws the pictures
+                                "--prairielearn-part", part, "--identity", identity(grade_dir)]
+                               + (["--isolation", isolation] if isolation in ("bwrap", "user") else []),
+                               capture_output=True, text=True, env=env,  # not --quiet: it draws the pictures
                                timeout=max(budget - (time.monotonic() - started), 1), cwd=KIT)
         except subprocess.TimeoutExpired:
             return not_gradable(results_dir, f"grading took more than {budget:g} s (RAYKIT_BUDGET)")

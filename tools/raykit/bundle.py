@@ -14,6 +14,13 @@ probe's place), and links them with the bundle's objects for the step (raykit-bu
 dispatcher, the platform layer, the stand-ins). No build folder is configured for a check, and the
 build tool's rules are never read.
 
+A grader's image carries it prebuilt (prebuild(): PrairieLearn's, in the course's private
+serverFilesCourse/raykit-bundle/, built by the public grading image's own toolchain; Gradescope's, in
+the private image's cache, by tools/gradescope/setup.sh): a job then finds it by its key and compiles
+the student's files alone. A prebuilt bundle is used read-only and only under its own key, at the
+folder it was built in, with the packages it was built with: a job whose toolchain or course differs
+builds its own and says why (built(), in the kit's record and each grader's results).
+
 The bundle is built by whoever needs it first: the warm-up (warmup.py), the autograders' set-up
 (tools/gradescope/setup.sh, by grading the solutions), CI, or a check. One build at a time per key
 (a lock file); a finished bundle is marked `ready` last, so a half-built one is never used, and one
@@ -53,6 +60,12 @@ ENV_READ = ("CXX", "CXXFLAGS", "LDFLAGS", "CMAKE_PREFIX_PATH", "CPATH", "CPLUS_I
 # in the bundle's CMakeCache.txt: an upgrade rewrites the files there, which changes the folder's time,
 # and the bundle is built again (a new compiler changes the key itself).
 PACKAGE_DIRS = ("glm_DIR", "doctest_DIR")
+PREBUILT_ENV = "RAYKIT_PREBUILT_BUNDLE"     # a folder of a bundle prebuilt for a grader (prebuild()), used read-only
+PREBUILT_NOTE = "raykit-prebuilt.json"      # in it: what the bundle was built for (key, compiler, sources)
+STUDENT_ONLY = "student files only"
+BUILT_HERE = "kit side built in this job"
+_built: list[str] = []      # what this process built of the kit's side, each with why (built())
+_prebuilt_miss: list[str] = []      # why a prebuilt bundle named by PREBUILT_ENV was not used
 
 
 def cache_root() -> Path:
@@ -219,8 +232,127 @@ def _packages(folder: Path) -> dict[str, int | None]:
 
 def find(sanitize: bool) -> Bundle | None:
     """The bundle for this kit and compiler when it is built; None otherwise (not held: to look only)."""
-    root = cache_root()
-    return _load(_own_folder(root, key(sanitize), None))
+    k = key(sanitize)
+    return _prebuilt(k, None) or _load(_own_folder(cache_root(), k, None))
+
+
+def built() -> dict:
+    """What this process built of the kit's side, from its own doing (never from the graded code's):
+    {"built": STUDENT_ONLY} when it built nothing of it (a bundle found ready: prebuilt, or built by
+    an earlier job or check), else {"built": BUILT_HERE, "why": "..."}, why the bundle was not there."""
+    if not _built:
+        return {"built": STUDENT_ONLY}
+    return {"built": BUILT_HERE, "why": "; ".join(dict.fromkeys(_prebuilt_miss + _built))}
+
+
+def _prebuilt(k: str, parts: list[str] | None) -> Bundle | None:
+    """The bundle prebuilt for this job (PREBUILT_ENV's folder) when it is this kit's under this
+    toolchain: its key, the folder it was built in, the packages it was built with. Never written to
+    (a course's files, copied into each job). None otherwise, and why is kept for built()."""
+    where = os.environ.get(PREBUILT_ENV)
+    if not where:
+        return None
+    folder = Path(where) / k
+    found = _load(folder, parts)
+    if found is not None and all(p.startswith(str(folder) + "/") for s in found.recipe.get("steps", {}).values()
+                                 for p in [s.get("judge", "")] + list(s.get("kit_objects", []))):
+        missing = _missing_files(Path(where), folder)
+        if not missing:
+            return found
+        why = (f"the bundle prebuilt in {folder} lacks {len(missing)} of its files or has them changed ({missing[0]}, "
+               "...): was it committed whole? (its .gitignore keeps the course's from leaving files out)")
+    else:
+        why = _prebuilt_mismatch(Path(where), k, folder, found)
+    if why not in _prebuilt_miss:
+        _prebuilt_miss.append(why)
+    return None
+
+
+def _prebuilt_mismatch(where: Path, k: str, folder: Path, found: Bundle | None) -> str:
+    """Why the prebuilt bundle in `where` cannot serve this job (its key `k`), in the instructor's words."""
+    try:
+        note = json.loads((where / PREBUILT_NOTE).read_text())
+        if not isinstance(note, dict):
+            raise ValueError
+    except (OSError, ValueError):
+        return f"no bundle prebuilt for this course in {where} (graders/raykit/README.md says how to build it)"
+    if note.get("key") != k:
+        differ = []
+        if note.get("compiler") != _compiler_words():
+            differ.append(f"the compiler (prebuilt with {note.get('compiler')}; this job's {_compiler_words()})")
+        if note.get("env") != _env_read():
+            differ.append("the compiler's settings (CXX, CXXFLAGS, ...)")
+        if note.get("sources") != _sources_digest():
+            differ.append("the course's sources (the kit changed after the bundle was built)")
+        return (f"the bundle prebuilt in {where} is for another toolchain or course (key {note.get('key')}, this "
+                f"job's {k}): " + ("; ".join(differ) or "its options") + " differ")
+    if found is not None:
+        return (f"the bundle prebuilt in {folder} was built in {note.get('folder')}: it names that folder's files "
+                f"(build it where the job finds it)")
+    return (f"the bundle prebuilt in {folder} is incomplete, or its packages (GLM, doctest) are not this image's "
+            "(the image was built again after it)")
+
+
+def _missing_files(where: Path, folder: Path) -> list[str]:
+    """The files PREBUILT_NOTE lists (each with its size) that `folder` lacks or holds at another size."""
+    try:
+        listed = json.loads((where / PREBUILT_NOTE).read_text())["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return [PREBUILT_NOTE]
+    missing = []
+    for rel, size in listed.items():
+        try:
+            if (folder / rel).stat().st_size != size:
+                missing.append(rel)
+        except OSError:
+            missing.append(rel)
+    return missing
+
+
+def _compiler_words() -> str:
+    try:
+        return compiler_identity(compiler()).replace("\0", ", ")
+    except OSError:
+        return "no compiler"
+
+
+def _env_read() -> dict:
+    return {name: os.environ.get(name, "") for name in ENV_READ}
+
+
+def _sources_digest() -> str:
+    h = hashlib.sha256()
+    for f in sources(hidden_here()):
+        h.update(str(f.relative_to(ROOT)).encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:24]
+
+
+def prebuild(target: Path, sanitize: bool) -> Bundle:
+    """Builds the whole bundle into `target` (emptied first) for a grader: PrairieLearn's job, which
+    finds it through PREBUILT_ENV at this same path (the bundle names its own folder's files), and
+    writes PREBUILT_NOTE, what it was built for, so a job that differs says how."""
+    if target.exists():
+        shutil.rmtree(target)
+    target.mkdir(parents=True, mode=0o700)
+    saved = os.environ.get("RAYKIT_BUNDLE_DIR")
+    os.environ["RAYKIT_BUNDLE_DIR"] = str(target)
+    try:
+        found = ensure(sanitize)
+    finally:
+        if saved is None:
+            os.environ.pop("RAYKIT_BUNDLE_DIR", None)
+        else:
+            os.environ["RAYKIT_BUNDLE_DIR"] = saved
+    (target / f"{found.folder.name}.lock").unlink(missing_ok=True)
+    note = {"key": found.folder.name, "folder": str(found.folder), "sanitize": sanitize, "hidden": hidden_here(),
+            "compiler": _compiler_words(), "env": _env_read(),
+            "sources": _sources_digest(), "built": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "files": {p.relative_to(found.folder).as_posix(): p.stat().st_size
+                      for p in sorted(found.folder.rglob("*")) if p.is_file() and p.name != IN_USE}}
+    (target / PREBUILT_NOTE).write_text(json.dumps(note, indent=1) + "\n")
+    # A course's own .gitignore (*.o, CMakeFiles/, ...) must not leave a file of it out of the commit.
+    (target / ".gitignore").write_text("# raykit's prebuilt bundle: every file of it is committed\n!*\n!*/\n")
+    return found
 
 
 def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: list[str] | None = None) -> Bundle:
@@ -231,8 +363,11 @@ def ensure(sanitize: bool, starting: Callable[[], None] | None = None, parts: li
     `parts`: the steps (numbers) the caller needs, built alone when the bundle is not whole yet (a
     check of step 01 waits for step 01's judge, not for all five; the warm-up builds the rest). KitError
     when it cannot be built: the kit's fault or the machine's, never a student's."""
-    root = cache_root()
     k = key(sanitize)
+    found = _prebuilt(k, parts)
+    if found is not None:
+        return found
+    root = cache_root()
     folder = _own_folder(root, k, parts)
     found = _use(folder, parts)
     if found is not None:
@@ -342,6 +477,8 @@ def _build(folder: Path, sanitize: bool, parts: list[str] | None = None) -> None
         configure(b, extra=extra)
         configured.write_text(json.dumps({"packages": _packages(folder)}) + "\n")
     targets = ["all"] if parts is None else _targets(folder, parts)
+    _built.append(("the kit's side" if parts is None else f"the kit's side of step {', '.join(parts)}")
+                  + " was not built on this machine yet")
     ok, out = build_targets(b, targets)
     if not ok:
         raise KitError(f"the kit's bundle does not build (a kit bug, or the machine's):\n{out[-3000:]}", FAILED)

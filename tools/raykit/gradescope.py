@@ -40,8 +40,10 @@ from pathlib import Path
 from . import atomic
 from . import course as course_file
 from . import faults
+from .bundle import STUDENT_ONLY
 from .cases import StepResult
 from .common import KitError
+from .record import built_fields
 from .scoreboard import compile_errors
 from .status import MISSING, NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
 
@@ -192,6 +194,9 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
     isolation = next((r.isolation for r in results if r.isolation), "")
     if isolation:
         summary.append(f"graded code: {isolation}")
+    built = built_fields()
+    summary.append("built in this job: " + ("your files only (the kit's side was built before it)"
+                                            if built["built"] == STUDENT_ONLY else "your files and the kit's side"))
     missed = [r for r in results if r.state == NOT_GRADED]
     if missed:      # first, where Gradescope shows the output
         summary.insert(0, f"NOT GRADED: step {', '.join(r.step.number for r in missed)}: the grader could not "
@@ -207,7 +212,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
             "visibility": "visible", "stdout_visibility": "hidden", "tests": tests,
             "extra_data": {"max_score": course.number(maximum), "score_exact": course_file.exact_text(exact),
                            "max_score_exact": course_file.exact_text(maximum), "rounding": course.decimals,
-                           "gradable": bool(results) and not missed,
+                           "gradable": bool(results) and not missed, **built,
                            "not_graded": [{"step": r.step.number, "reason": r.reason} for r in missed],
                            # Each step's state and points, nothing of its cases: the kit's own record
                            # (record.py, with every input and expected answer) stays on the grader's side.

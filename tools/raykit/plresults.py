@@ -19,6 +19,10 @@ makeGradingResult) and what a PrairieLearn student may see:
                failed test with the reason
   images       the picture of the first failing visible case, an SVG data URL (also on its test)
   message      the step's state and score, and a compile error's first diagnostic
+  built        "student files only" when this job built nothing of the kit's side (a bundle prebuilt
+               for the image: ./kit prairielearn, graders/raykit/README.md), else "kit side built in this
+               job" and built_why, why (the kit's record's fields, raykit/record.py; the output says it
+               in a sentence)
   gradable     false when a step is not graded (the grader's fault, raykit/faults.py): PrairieLearn then
                marks the submission "invalid, not gradable", awards and takes no points and charges no
                attempt (docs/externalGrading.md); format_errors says why, in the student's words
@@ -38,8 +42,10 @@ from pathlib import Path
 from . import atomic
 from . import course as course_file
 from . import faults
+from .bundle import STUDENT_ONLY
 from .cases import StepResult
 from .common import KitError
+from .record import built_fields
 from .gradescope import UNRUN_STATES, shown_shares, split_cases
 from .scoreboard import compile_errors
 from .status import NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
@@ -143,19 +149,21 @@ def prairielearn(results: list[StepResult], shown_dir: str = "", part: str = "st
                         for r in results for mine in [part_points(r, course, extra_part)])
     if notes:
         message += "\n" + notes[0]
+    built = built_fields()      # the kit's record's "built": what this job compiled (bundle.built)
     missed = [r for r in results if r.state == NOT_GRADED]
     if missed:      # not gradable: no points given or taken, no attempt used; the student is told why
         errors = [clean(f"Step {r.step.number}: " + faults.to_student(r.reason, AGAIN)) for r in missed]
-        return {"gradable": False, "format_errors": errors, "message": "\n".join(errors + [message]),
+        return {"gradable": False, **built, "format_errors": errors, "message": "\n".join(errors + [message]),
                 "images": images, "tests": tests}
-    return {"gradable": True, "score": float(earned / maximum) if maximum else 0.0,
-            "message": message,
-            "output": f"{what} {course.shown(earned)} of {course.shown(maximum)}" + (
+    output = (f"{what} {course.shown(earned)} of {course.shown(maximum)}" + (
                       " (the extra-credit cases; the assessment counts these points above its total)" if extra_part
                       else f" ({course.scale_words()})")
                       + (f". {HIDDEN_NOTE}" if any(c.tier == "hidden" for r in results for c in r.cases
-                                                   if course.hidden_enabled) and not extra_part else ""),
-            "images": images, "tests": tests}
+                                                   if course.hidden_enabled) and not extra_part else ""))
+    output += ("" if output.endswith(".") else ".") + (" Built in this job: your files only." if built["built"] == STUDENT_ONLY
+                                                       else " Built in this job: your files and the grader's own side.")
+    return {"gradable": True, "score": float(earned / maximum) if maximum else 0.0, **built,
+            "message": message, "output": output, "images": images, "tests": tests}
 
 
 def part_points(r: StepResult, course, extra_part: bool) -> tuple[list[Fraction], list[Fraction]]:

@@ -19,6 +19,8 @@ the reference's answers), and the hidden cases' seeds. It is never handed to a s
      "gradable": true,                              # false when a step is not graded (the grader's fault)
      "not_graded": [{"step": "03", "reason": "..."}],
      "grader": {"secret": "...", "cases": "..."},   # what drew and judged it (see `grader`)
+     "built": "student files only",                # or "kit side built in this job", and then
+     "built_why": "...",                            # why (bundle.built: the kit's own doing)
      "steps": [StepResult.to_json(), ...],          # raykit/cases.py
      "mac": "..."}                                  # in a grading folder: its seal (secret.seal)
 
@@ -62,7 +64,15 @@ def make(results: list[StepResult], elapsed: float, identity: str = "", finished
             "rounding": course.decimals, "execution_time": round(elapsed, 3), "identity": identity,
             "isolation": next((r.isolation for r in results if r.isolation), ""),
             "finished": finished, "gradable": finished and not missed, "not_graded": missed,
-            "grader": grader(), "steps": [r.to_json() for r in results]}
+            "grader": grader(), **built_fields(), "steps": [r.to_json() for r in results]}
+
+
+def built_fields() -> dict:
+    """What this check built of the kit's side (bundle.built): "built", and "built_why" when it built
+    any (the record's; each grader's results render the same)."""
+    from . import bundle
+    done = bundle.built()
+    return {"built": done["built"], **({"built_why": done["why"]} if "why" in done else {})}
 
 
 @functools.lru_cache(maxsize=None)

@@ -24,8 +24,15 @@ kit's steps, ready to sync.
                                       credit while the instance is published)
     OUT/serverFilesCourse/raykit/     the instructor's kit, solutions included: students never see
                                       serverFilesCourse, so the hidden cases run
-    OUT/graders/raykit/Dockerfile     the grading image (tools/prairielearn/Dockerfile), and README.md: how to
-                                      build it for linux/amd64, push it under --image and sync the course
+    OUT/serverFilesCourse/raykit-bundle/
+                                      the kit's side prebuilt for the image (tools/raykit/bundle.py: the
+                                      judges, the reference, the hidden cases), filled by graders/raykit/
+                                      build.sh (tools/prairielearn/prebuild.py run in the image): private,
+                                      as the kit is; until then it holds a README and each job builds its own
+    OUT/graders/raykit/Dockerfile     the grading image (tools/prairielearn/Dockerfile): public, the toolchain
+                                      alone (its build context holds nothing else); build.sh, which builds it
+                                      and then the bundle with it; README.md: how to build it for
+                                      linux/amd64, push it under --image and sync the course
     OUT/infoCourse.json               with --new-course NAME, a whole course's (OUT is then its repository):
                                       the topic and tags the questions use declared; with --course DIR,
                                       DIR's own with those it lacks added (copy it over DIR's)
@@ -80,6 +87,10 @@ from ..webtools import page_id
 # step 05 12.5 to 14.5 s. The timeout covers the worst wall time measured with a margin (1.6 times it,
 # 6 times a job alone); RAYKIT_BUDGET, 10 s less, makes the kit stop first and write "not gradable"
 # (no attempt lost) rather than let PrairieLearn kill the job (a failure the student sees).
+# Those jobs built the kit's side themselves. With it prebuilt (graders/raykit/build.sh, prebuild.py) a job
+# compiles only the student's files: step 05's solution took 2.0 to 2.7 s of CPU and steps 01-04 under 1 s
+# (the self-test's /grade layout without Docker, an empty cache, both isolations, load 9 to 14, 2026-12-07);
+# the timeout still covers a job whose bundle does not match and is built in it.
 MEASURED_SECONDS = {"05": (25.8, 72), "02": (22.0, 112)}     # step: (CPU seconds, wall seconds), cold, loaded
 TIMEOUT = 180
 NAMESPACE = uuid.UUID("6f1c2d8e-4b0a-4f5e-9a43-72a1c0de5b1e")   # the kit's: uuids stay the same per step
@@ -88,9 +99,17 @@ ENTRY = '''#!/usr/bin/env python3
 import os
 import sys
 
-GRADER = "/grade/serverFilesCourse/raykit/tools/prairielearn/grade.py"
-os.execv(sys.executable, [sys.executable, GRADER, "{number}", "/grade"{part}])
+GRADE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))     # /grade in PrairieLearn's job
+GRADER = "/grade/serverFilesCourse/raykit/tools/prairielearn/grade.py".replace("/grade", GRADE, 1)
+os.execv(sys.executable, [sys.executable, GRADER, "{number}", GRADE{part}])
 '''
+BUNDLE_FOLDER = "raykit-bundle"     # serverFilesCourse/raykit-bundle/: the kit's side, prebuilt (prebuild.py)
+BUNDLE_PLACEHOLDER = """# The kit's side, prebuilt for the grading image (private): not built yet
+
+`graders/raykit/build.sh` builds the grading image and then, in it, the kit's side into this folder
+(tools/prairielearn/prebuild.py). Until then each job builds it itself (about 20 s of CPU more a job)
+and its results say so ("built": "kit side built in this job").
+"""
 
 
 def register(p) -> None:
@@ -168,7 +187,7 @@ def info_json(step, image: str, timeout: int, extra: bool = False) -> dict:
         "externalGradingOptions": {
             "image": image,
             "entrypoint": "/grade/tests/grade.py",
-            "serverFilesCourse": ["raykit/"],
+            "serverFilesCourse": ["raykit/", f"{BUNDLE_FOLDER}/"],
             "timeout": timeout,
             "environment": {"RAYKIT_BUDGET": str(max(timeout - 10, 10))},
         },
@@ -410,13 +429,26 @@ DOCKERFILE = ROOT / "tools" / "prairielearn" / "Dockerfile"
 def image_readme(image: str) -> str:
     return f"""# The grading image
 
-PrairieLearn pulls its grading images from Docker Hub. `Dockerfile` here is the kit's
+PrairieLearn pulls its grading images from Docker Hub, public. `Dockerfile` here is the kit's
 (`tools/prairielearn/Dockerfile`): Debian 13 (`debian:13`, Docker Hub's official image) with the kit's
-build packages and Python. Build it for the graders' machines (x86-64) and push it under the name every
-question's `info.json` names (`./kit prairielearn --image {image}`):
+build packages and Python, nothing of the course (its build context, this folder, holds only this
+README, the Dockerfile and build.sh). Build it for the graders' machines (x86-64), with the kit's side
+built by it into the course's private files, then push the image under the name every question's
+`info.json` names (`./kit prairielearn --image {image}`). From the folder that holds `graders/` and
+`serverFilesCourse/` (this output, before you copy it into the course; or the course's repository):
 
-    docker build --platform linux/amd64 -t {image}:latest graders/raykit
+    graders/raykit/build.sh
     docker login && docker push {image}:latest
+
+build.sh runs `docker build --platform linux/amd64 -t {image}:latest graders/raykit`, then the image
+once, without network, with `serverFilesCourse/` mounted where a job finds it
+(`/grade/serverFilesCourse`), to build the kit's side (the judges, the reference, the hidden cases:
+tools/raykit/bundle.py) into `serverFilesCourse/raykit-bundle/` with the image's own compiler. Commit
+that folder with the course (about 10 MB): it is private, as the kit beside it is, and PrairieLearn
+copies it into each job, which then compiles only the student's files (about 2 s of CPU instead of
+about 20; its results say `"built": "student files only"`). Run build.sh again after any change to the
+kit or a new image: a job whose image or kit differs from the bundle's builds its own and says why
+(`"built_why"`), so it is slower, never wrong.
 
 Then in PrairieLearn: the course's **Sync** page, *Sync* beside the image (PrairieLearn caches it), and
 **Sync** the course itself after copying `questions/`, `courseInstances/` and `serverFilesCourse/` into its
@@ -430,6 +462,18 @@ runs its RUN lines in it, and grades a cold job there under PrairieLearn's limit
 The limits PrairieLearn's graders give a job: 2 GiB of memory, 0.9 of a CPU, 1024 processes, no network,
 the question's `timeout` (compile time included). bubblewrap cannot run under Docker's default seccomp
 profile, so the kit grades as a user id of its own there.
+"""
+
+
+BUILD_SH = """#!/bin/sh
+# Builds the public grading image, then the kit's side with it into the course's private files
+# (graders/raykit/README.md). Run from the folder of graders/ and serverFilesCourse/.
+set -eu
+[ -d serverFilesCourse/raykit ] || {{ echo "build.sh: run it from the folder of graders/ and serverFilesCourse/ (no serverFilesCourse/raykit here)" >&2; exit 2; }}
+docker build --platform linux/amd64 -t {image}:latest graders/raykit
+docker run --rm --platform linux/amd64 --network none \\
+    -v "$(pwd)/serverFilesCourse:/grade/serverFilesCourse" {image}:latest \\
+    python3 /grade/serverFilesCourse/raykit/tools/prairielearn/prebuild.py
 """
 
 
@@ -521,8 +565,9 @@ def setup_readme(args, instance_note: str, lines: list[str], access: str, info_n
             "`questions/`, `courseInstances/`, `serverFilesCourse/`), then build and push the grading image as "
             "`graders/raykit/README.md` says. This file and `graders/` are not part of the course."
             if getattr(args, "new_course", None) is not None else
-            "Copy `questions/`, `courseInstances/` and `serverFilesCourse/` into the course repository (merging with "
-            "what is there)" + (", and `infoCourse.json` over the course's own" if info_note else "")
+            "Run `graders/raykit/build.sh` here first (it builds the image and, with it, the kit's side into "
+            "`serverFilesCourse/raykit-bundle/`). Copy `questions/`, `courseInstances/` and `serverFilesCourse/` into "
+            "the course repository (merging with what is there)" + (", and `infoCourse.json` over the course's own" if info_note else "")
             + ", then build and push the grading image as `graders/raykit/README.md` says. This file and "
             "`graders/` are not part of the course.")
     return f"""# raykit for PrairieLearn: what to copy, what to add
@@ -647,9 +692,15 @@ def run(args) -> int:
         # The hidden cases' secret (raykit/secret.py): the kit's own, so ./kit check --identity
         # prairielearn:VARIANT here draws what the job drew.
         secret.copy_into(kit / secret.SECRET_FILE.relative_to(ROOT))
+        (staging / "serverFilesCourse" / BUNDLE_FOLDER).mkdir()
+        (staging / "serverFilesCourse" / BUNDLE_FOLDER / "README.md").write_text(BUNDLE_PLACEHOLDER)
+        # The image's build context: the Dockerfile, the script and its README, nothing of the kit's.
         (staging / "graders" / "raykit").mkdir(parents=True)
         shutil.copyfile(DOCKERFILE, staging / "graders" / "raykit" / "Dockerfile")
         (staging / "graders" / "raykit" / "README.md").write_text(image_readme(image))
+        build_sh = staging / "graders" / "raykit" / "build.sh"
+        build_sh.write_text(BUILD_SH.format(image=image))
+        build_sh.chmod(0o755)
         access = (f"Full credit until the due date, {course.due_date}"
                   + (f" ({course.timezone})" if course.timezone else " (the course's timezone)")
                   + ", from course.json; afterwards the assessment can be read, not submitted to."
@@ -674,7 +725,8 @@ def run(args) -> int:
         + (f" ({extras} of them the steps' extra credit)" if extras else "") + ", the assessment in "
         f"courseInstances/{args.instance}/assessments/raykit/ ({course.shown(total)} points"
         + (f", {course.shown(bonus)} of extra credit" if bonus else "") + "),")
-    say(f"  the kit in serverFilesCourse/raykit/, the grading image in graders/raykit/ (timeout {args.timeout} s; image {image})")
+    say(f"  the kit in serverFilesCourse/raykit/, the grading image in graders/raykit/ (timeout {args.timeout} s; image {image});")
+    say("  graders/raykit/build.sh builds the image and, with it, the kit's side into serverFilesCourse/raykit-bundle/")
     say(f"  course instance {args.instance}: " + (f"{course_dir} has it; its infoCourseInstance.json is left as it is"
                                                   if has_instance else "infoCourseInstance.json written"
                                                   + ("" if course_dir or new_course is not None else

@@ -14,6 +14,7 @@ Nothing is written unless all of it can be.
 
 What may differ from one machine's grading of the whole class, as it says how a grading ran, not what it
 gave (PER_RUN): in grades.csv the columns isolation and note; in a record its execution_time, isolation,
+what it built of the kit's side (built, built_why),
 each step's isolation and cost (CPU and wait measured), each case's runs, and the seal over them.
 """
 
@@ -36,7 +37,7 @@ from .make import CASES, GRADES
 # Columns that say where and how a grading ran, not what it gave: they may differ between two
 # machines that gave the same grade.
 _WHERE = {"isolation", "note"}
-PER_RUN = {"csv": sorted(_WHERE), "record": ["execution_time", "isolation", "mac"],
+PER_RUN = {"csv": sorted(_WHERE), "record": ["execution_time", "isolation", "mac", "built", "built_why"],
            "step": ["isolation", "cost"], "case": ["runs"]}
 
 
