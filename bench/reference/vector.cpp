@@ -45,6 +45,7 @@ struct HwyOps {
     V fma(V a, V b, V c) const { return hn::MulAdd(a, b, c); }
     V fms(V a, V b, V c) const { return hn::MulSub(a, b, c); }
     V nfms(V a, V b, V c) const { return hn::NegMulSub(a, b, c); }
+    V nfma(V a, V b, V c) const { return hn::NegMulAdd(a, b, c); }
     V sqrt(V x) const { return hn::Sqrt(x); }
     V copysign(V mag, V sign) const { return hn::CopySign(mag, sign); }
     V min(V a, V b) const { return hn::Min(a, b); }
