@@ -136,6 +136,7 @@ def clone(rev: str, where: Path) -> Path:
 
 def handouts(kit: Path, where: Path, numbers: list[str], env: dict) -> dict[str, Path]:
     """A student's copy of `kit` per step N, solved up to step N."""
+    where.mkdir(parents=True, exist_ok=True)
     handout = where / "handout"
     r = subprocess.run([str(kit / "kit"), "handout", str(handout), "--committed"], cwd=kit, env=env,
                        capture_output=True, text=True)
