@@ -5,7 +5,8 @@
 A student's copy of the kit is made (`./kit handout --committed`, in a temporary folder), one per
 step N, with steps/ holding this repository's solutions up to step N and the shipped stubs after it,
 and `./kit watch N` runs in each on a pseudo-terminal (Python's pty), as a student runs it (the warm-up
-off: RAYKIT_NO_WARMUP, so that no build of it runs beside the rounds). After the watch has shown
+off: RAYKIT_NO_WARMUP, so that no build of it runs beside the rounds; the kit's side built in a
+folder of the run's own, RAYKIT_BUNDLE_DIR, one per revision). After the watch has shown
 its first verdict, each round saves the step's first file with one harmless line of code of its own
 (a new `[[maybe_unused]]` constant: the compiler sees new code, so no cache can answer for it) and
 times, from the save:
@@ -191,7 +192,11 @@ def main(argv: list[str]) -> int:
         order = [(label, n) for label in labels for n in numbers]
         for key in order:       # each watch's first check (the build folder from nothing) is not timed
             label, n = key
-            w = watches[key] = Watch(kits[label][n], n, env)
+            # The kit's side (bundle.py) in a folder per revision: a machine keeps its few most recently
+            # used bundles, and the revisions measured here, with what else runs on the machine, would
+            # otherwise push one another's out between two saves (a student's kit has one).
+            own = dict(env, RAYKIT_BUNDLE_DIR=str(work / f"bundles-{labels.index(label)}"))
+            w = watches[key] = Watch(kits[label][n], n, own)
             times[key] = []
             seen, verdict = w.wait_verdict(0, args.timeout * 5, time.monotonic(), n)
             if verdict is None:
