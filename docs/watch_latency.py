@@ -25,7 +25,8 @@ every other round; several rounds, medians. The load average (1 minute) at each 
 printed beside the figures: a loaded machine makes every one of them larger, and the goal of issue
 53 (1 s for steps 01 to 04, 2 s for step 05) is for 2 cores at load 2.
 
-Bad input: a message and exit 2. A watch that shows no verdict within --timeout seconds: a message
+--write FILE puts the table in FILE between the lines `<!-- watch_latency:begin -->` and
+`<!-- watch_latency:end -->`. Bad input: a message and exit 2. A watch that shows no verdict within --timeout seconds: a message
 and exit 1.
 """
 
@@ -48,6 +49,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 ANSI = re.compile(r"\033\[[0-9;?]*[A-Za-z]")
 CLEAR = "\033[2J"
+BEGIN, END = "<!-- watch_latency:begin -->", "<!-- watch_latency:end -->"
 DONE_LINE = re.compile(r"watching .*save to re-check")
 
 
@@ -165,11 +167,18 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--steps", default="1,2,3,4,5", help="the steps to time, e.g. 1,5")
     ap.add_argument("--settle", type=float, default=1.5, help="seconds between a verdict and the next save")
     ap.add_argument("--timeout", type=float, default=120.0)
+    ap.add_argument("--write", metavar="FILE", help=f"put the table in FILE between its lines {BEGIN} and {END}")
     args = ap.parse_args(argv)
     if args.rounds < 1:
         fail("--rounds must be 1 or more")
     if args.settle < 0 or args.timeout <= 0:
         fail("--settle must be 0 or more and --timeout more than 0")
+    try:
+        written = Path(args.write).read_text() if args.write else BEGIN + END
+    except OSError as e:
+        fail(f"{args.write}: {e.strerror}")
+    if BEGIN not in written or END not in written or written.index(BEGIN) > written.index(END):
+        fail(f"{args.write} has no {BEGIN} ... {END} lines to write between")
     folders = {p.name[:2]: p for p in sorted((ROOT / "solutions").iterdir()) if p.is_dir()}
     try:
         numbers = [f"{int(n):02d}" for n in args.steps.split(",")]
@@ -227,16 +236,23 @@ def main(argv: list[str]) -> int:
             w.close()
         shutil.rmtree(work, ignore_errors=True)
 
-    print(f"\nsave to verdict under ./kit watch, {args.rounds} rounds, interleaved, {os.cpu_count()} cores; "
-          "medians (min-max):")
-    print("| revision | step | seen | verdict | load (1 min) |")
-    print("|---|---|--:|--:|--:|")
+    lines = [f"Save to verdict under `./kit watch`, {args.rounds} rounds, interleaved, {os.cpu_count()} cores; "
+             "medians (min-max); `seen`: the watch's screen says it is checking.", "",
+             "| revision | step | seen | verdict | load (1 min) |", "|---|---|--:|--:|--:|"]
     for key in order:
         s = [t[0] for t in times[key]]
         v = [t[1] for t in times[key]]
         lo = [t[2] for t in times[key]]
-        print(f"| {key[0]} | {key[1]} | {statistics.median(s):.2f} s | {statistics.median(v):.2f} s "
-              f"({min(v):.2f}-{max(v):.2f}) | {statistics.median(lo):.2f} ({min(lo):.2f}-{max(lo):.2f}) |")
+        lines.append(f"| {key[0]} | {key[1]} | {statistics.median(s):.2f} s | {statistics.median(v):.2f} s "
+                     f"({min(v):.2f}-{max(v):.2f}) | {statistics.median(lo):.2f} ({min(lo):.2f}-{max(lo):.2f}) |")
+    print("\n" + "\n".join(lines))
+    if args.write:
+        text = Path(args.write).read_text()
+        head, tail = text[:text.index(BEGIN) + len(BEGIN)], text[text.index(END):]
+        tmp = Path(args.write).with_name(Path(args.write).name + ".tmp")
+        tmp.write_text(head + "\n" + "\n".join(lines) + "\n" + tail)
+        os.replace(tmp, args.write)
+        print(f"wrote the table into {args.write}")
     return 0
 
 
