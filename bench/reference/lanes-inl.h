@@ -185,19 +185,22 @@ RAYKIT_LANES_INLINE FF<V> diff_of_products(const O& o, V a, V d, V b, V c, V ext
     return renorm(o, s.hi, s.lo + ((p.lo - q.lo) + extra));
 }
 
-/// The quotient (n.hi + n.lo) / (d.hi + d.lo) to about a float's half ulp,
-/// given inv = 1/d.hi rounded: t = n.hi inv is within two ulps of the
-/// quotient, its remainder n.hi - t d.hi is exact in one fused multiply-add
-/// (Markstein; for a t that close the remainder is a float), and one
-/// correction, multiplied by inv rather than divided by d.hi, adds it: the
-/// correction is at most a few ulps of t, so inv's own rounding (half an ulp
-/// of 1/d.hi) changes the result by far less than a float ulp of t. One
-/// divide per denominator instead of two per quotient: the divider is
-/// the unit this form waits for with 16 float lanes.
+/// Minus the quotient (n.hi + n.lo) / (d.hi + d.lo), to about a float's
+/// half ulp, given ninv = -1/d.hi rounded: t = n.hi ninv is within two ulps,
+/// the remainder n.hi + t d.hi is exact in one fused multiply-add (Markstein;
+/// for a t that close the remainder is a float), and one correction,
+/// multiplied by ninv rather than divided by d.hi, adds it: the correction
+/// is at most a few ulps of t, so ninv's own rounding (half an ulp of 1/d.hi)
+/// changes the result by far less than a float ulp of t. One divide per
+/// denominator instead of two per quotient: the divider is the unit this
+/// form waits for with 16 float lanes. Negated because the roots are: every
+/// step is the mirror image of the quotient's own (round to nearest is
+/// symmetric), so the bits are those of negating the quotient, without the
+/// negation's instruction.
 template <class O, class V = typename O::V>
-RAYKIT_LANES_INLINE V quotient(const O& o, V nhi, V nlo, V dhi, V dlo, V inv) {
-    const V t = nhi * inv;
-    return t + (o.nfma(t, dhi, nhi) + o.nfma(t, dlo, nlo)) * inv;
+RAYKIT_LANES_INLINE V minus_quotient(const O& o, V nhi, V nlo, V dhi, V dlo, V ninv) {
+    const V t = nhi * ninv;
+    return t + (o.fma(t, dhi, nhi) + o.fma(t, dlo, nlo)) * ninv;
 }
 
 /// The Lagrange form in float only, made exact with float-float where a
@@ -205,7 +208,7 @@ RAYKIT_LANES_INLINE V quotient(const O& o, V nhi, V nlo, V dhi, V dlo, V inv) {
 /// cross product and the discriminant a r^2 - |f x d|^2. The square root is
 /// refined by one Newton step on the float-float discriminant, the root pair
 /// q / a, c / q is formed from float-float q and c, and each quotient gets
-/// one correction step (quotient() above). About seven times the flops of
+/// one correction step (minus_quotient() above). About seven times the flops of
 /// the plain form; no double anywhere. Written for the vector units (every
 /// operation takes an issue slot there, a negation and a select included):
 /// subtractions rather than negated sums, and q's sign carried to the end.
@@ -216,7 +219,7 @@ RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_exact_float(const O& o, V 
     const FF<V> fx = two_diff(o, ox, cx), fy = two_diff(o, oy, cy), fz = two_diff(o, oz, cz);
     // a = d.d and h = f.d, float-float (the lo parts of f enter as small terms).
     const FF<V> a = dot2(o, dx, dy, dz, dx, dy, dz);
-    const V inv_a = o.k(1) / a.hi;      // off the discriminant's path: the divider starts on it at once
+    const V ninv_a = o.k(-1) / a.hi;    // off the discriminant's path: the divider starts on it at once
     FF<V> h = dot2(o, fx.hi, fy.hi, fz.hi, dx, dy, dz);
     h = renorm(o, h.hi, h.lo + (fx.lo * dx + fy.lo * dy + fz.lo * dz));
     // g = f x d, each component in float-float.
@@ -236,7 +239,7 @@ RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_exact_float(const O& o, V 
     const V dh = o.zero_unless(hit, disc.hi);
     V s = o.sqrt(dh);
     const V safe = o.select(o.gt(s, zero), s, o.k(1));
-    s = s + o.zero_unless(o.gt(s, zero), (o.fma(o.neg(s), s, dh) + disc.lo) / (o.k(2) * safe));
+    s = s + o.zero_unless(o.gt(s, zero), (o.nfma(s, s, dh) + disc.lo) / (o.k(2) * safe));
     // p = h + sign(h) s = -q in float-float: the two terms have the same sign.
     const FF<V> ps = two_sum(o, h.hi, o.copysign(s, h.hi));
     const FF<V> p = renorm(o, ps.hi, ps.lo + h.lo);
@@ -245,11 +248,10 @@ RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_exact_float(const O& o, V 
     ff.lo = ff.lo + o.k(2) * (fx.hi * fx.lo + fy.hi * fy.lo + fz.hi * fz.lo);
     const FF<V> cc = two_diff(o, ff.hi, r2.hi);
     const FF<V> c = renorm(o, cc.hi, cc.lo + (ff.lo - r2.lo));
-    // The roots are q / a = -(p / a) and c / q = -(c / p): both quotients of
-    // p's sign, negated once at the end (the same bits as dividing by -p).
-    const V u = quotient(o, p.hi, p.lo, a.hi, a.lo, inv_a);
-    const V w = quotient(o, c.hi, c.lo, p.hi, p.lo, o.k(1) / p.hi);
-    return {o.zero_unless(hit, o.neg(o.max(u, w))), o.zero_unless(hit, o.neg(o.min(u, w))), hit};
+    // The roots are q / a = -(p / a) and c / q = -(c / p).
+    const V u = minus_quotient(o, p.hi, p.lo, a.hi, a.lo, ninv_a);
+    const V w = minus_quotient(o, c.hi, c.lo, p.hi, p.lo, o.k(-1) / p.hi);
+    return {o.zero_unless(hit, o.min(u, w)), o.zero_unless(hit, o.max(u, w)), hit};
 }
 
 /// The operations a formulation needs, on one number of type T (float,
