@@ -188,6 +188,8 @@ def main(argv: list[str]) -> int:
     if unknown:
         fail(f"no step {', '.join(unknown)} in {ROOT / 'solutions'}")
 
+    # Ended by a signal: the watches and the temporary folder go too (the finally below).
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(1))
     env = dict(os.environ, TERM="xterm", COLUMNS="120", LINES="60", RAYKIT_NO_WARMUP="1")
     work = Path(tempfile.mkdtemp(prefix="watch-latency-"))
     labels = args.revs or ["working tree"]
