@@ -64,7 +64,8 @@ LaneRoots<V, typename O::M> roots_over(const O& o, const Quadratic<V>& q) {
 
 /// The half-b form: t = (-h -+ sqrt(h^2 - a c)) / a, c = f.f - r^2.
 template <class O, class V = typename O::V>
-RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_half_b(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
+RAYKIT_LANES_INLINE
+LaneRoots<V, typename O::M> lanes_half_b(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
                                          V r) {
     return roots_over(o, half_b_quadratic(o, ox, oy, oz, dx, dy, dz, cx, cy, cz, r));
 }
@@ -94,7 +95,8 @@ LaneRoots<V, typename O::M> roots_times(const O& o, const Quadratic<V>& q) {
 /// The Lagrange-identity discriminant, then as half-b (the kit's reference,
 /// step 02, when run in double).
 template <class O, class V = typename O::V>
-RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_lagrange(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
+RAYKIT_LANES_INLINE
+LaneRoots<V, typename O::M> lanes_lagrange(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
                                            V r) {
     return roots_times(o, lagrange_quadratic(o, ox, oy, oz, dx, dy, dz, cx, cy, cz, r));
 }
@@ -102,7 +104,8 @@ RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_lagrange(const O& o, V ox,
 /// The stable float form of formulations.hpp: closest-point discriminant and
 /// the root pair q / a, c / q.
 template <class O, class V = typename O::V>
-RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_stable(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
+RAYKIT_LANES_INLINE
+LaneRoots<V, typename O::M> lanes_stable(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy, V cz,
                                          V r) {
     const V fx = ox - cx, fy = oy - cy, fz = oz - cz;
     const V a = dx * dx + dy * dy + dz * dz;
@@ -211,9 +214,11 @@ RAYKIT_LANES_INLINE V minus_quotient(const O& o, V nhi, V nlo, V dhi, V dlo, V n
 /// one correction step (minus_quotient() above). About seven times the flops of
 /// the plain form; no double anywhere. Written for the vector units (every
 /// operation takes an issue slot there, a negation and a select included):
-/// subtractions rather than negated sums, and q's sign carried to the end.
+/// subtractions rather than negated sums, and the roots' sign taken by the
+/// reciprocals (minus_quotient), not by negations.
 template <class O, class V = typename O::V>
-RAYKIT_LANES_INLINE LaneRoots<V, typename O::M> lanes_exact_float(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy,
+RAYKIT_LANES_INLINE
+LaneRoots<V, typename O::M> lanes_exact_float(const O& o, V ox, V oy, V oz, V dx, V dy, V dz, V cx, V cy,
                                               V cz, V r) {
     const V zero = o.k(0);
     const FF<V> fx = two_diff(o, ox, cx), fy = two_diff(o, oy, cy), fz = two_diff(o, oz, cz);
