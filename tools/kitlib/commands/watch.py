@@ -286,23 +286,24 @@ def _watch(args, folder) -> int:
                 key = keys.get(args.interval)
                 if key == "q":
                     break
+                # A save or a key starts a new run of steps passed (a run it stops names none of them).
                 if key == "r":
-                    due = True
+                    due, passed = True, []
                 elif key == "n" and later(current):
-                    current, due = later(current), True
+                    current, due, passed = later(current), True, []
                 for s in all_steps:               # the step whose file was saved becomes the current one
                     now = stamps(source, s)
                     if now != seen[s.number]:
                         seen[s.number] = now
                         contents[s.number] = digest(source, s)
-                        current, due = s, True
+                        current, due, passed = s, True, []
                 if time.monotonic() - last_content_look >= CONTENT_SECONDS:
                     last_content_look = time.monotonic()
                     for s in all_steps:
                         d = digest(source, s)
                         if d != contents[s.number]:
                             contents[s.number] = d
-                            current, due, blind = s, True, True
+                            current, due, blind, passed = s, True, True, []
                 if due and running is not None:
                     stopped = True
         except KeyboardInterrupt:
