@@ -196,7 +196,8 @@ def run(args) -> int:
     # Every save compiles the step's file again: the step headers precompiled (studentpch.py) are built
     # the first time one is needed, here as in ./kit grade, so that a save's compile no longer reads
     # GLM and the standard library (step 01: about 0.35 s of CPU a save without, 0.14 s with; step 05
-    # 1.1 and 0.6 s, measured with docs/watch_latency.py's saves). "off" in the environment still wins.
+    # 1.1 and 0.6 s, a check in a handout with docs/watch_latency.py's saves, at load 16; CPU, so the
+    # load matters less than for the wall time). "off" in the environment still wins.
     os.environ.setdefault(studentpch.ENV, "build")
     if not args.steps:
         return _watch(args, None)
