@@ -56,6 +56,9 @@ Sample<To> convert(const Sample<From>& s) {
 /// copysign are free, as they are for the hardware's floating-point pipes.
 struct OpCount {
     std::int64_t add = 0, mul = 0, div = 0, sqrt = 0;
+    /// Of the adds and multiplies, those fused in pairs (fused() below): one
+    /// instruction each, where a lone add or multiply is one instruction too.
+    std::int64_t fma = 0;
     std::int64_t flops() const { return add + mul + div + sqrt; }
 };
 
@@ -94,6 +97,7 @@ inline double fused(double a, double b, double c) { return std::fma(a, b, c); }
 template <class T> Counted<T> fused(Counted<T> a, Counted<T> b, Counted<T> c) {
     ++op_count().mul;
     ++op_count().add;
+    ++op_count().fma;
     return {fused(a.v, b.v, c.v)};
 }
 

@@ -451,7 +451,8 @@ def block_bench_peaks(run: Run) -> list:
         f"({x3['div_ns_f64']:.3f} and {x3['sqrt_ns_f64']:.3f} ns in double), and a conversion between float and "
         f"double every {x3['cvt_ns']:.3f} ns ({x2['cvt_ns']:.3f} with AVX2). The *roofline* column is the least time "
         f"the counted work needs at those rates, as a share of the measured time: the adds and multiplies at the FMA "
-        f"rate, the divides and the square roots at the divider's, and for double lanes on float rays one conversion "
+        f"rate (in a vector row, as instructions: a fused multiply-add, a lone add and a lone multiply take one "
+        f"instruction of the FMA units each, the measured rate's two flops), the divides and the square roots at the divider's, and for double lanes on float rays one conversion "
         f"per input and per result (section 6), whichever of these takes longest; two that take turns on one unit "
         f"add up, as far as a loop of both measures (section 6). Every scalar formulation sits at "
         f"{span(share, lambda x: f'{x:.0f}')} %: {verdict}.")
@@ -715,7 +716,10 @@ def _ref_costs(run: Run, isa: str) -> dict:
     row = run.row(REF_X8 if isa == "AVX3" else REF_X4, "typical")
     if t.get("shared_div_sqrt") is None or t.get("shared_fma_cvt") is None:
         raise Stale(f"results.json has no measured overlap of the {isa} units (a run before it was measured)")
-    return {"row": row, "add_mul": (row["flops"] - row["div"] - row["sqrt"]) / t["gflops_f64"],
+    add_mul = row["flops"] - row["div"] - row["sqrt"]
+    if row.get("fma") is None:
+        raise Stale("results.json has no count of fused multiply-adds (a run before it was counted)")
+    return {"row": row, "add_mul": (add_mul - row["fma"]) * 2 / t["gflops_f64"], "instructions": add_mul - row["fma"],
             "cvt": (row.get("cvt") or 0) * t["cvt_ns"], "div": row["div"] * t["div_ns_f64"],
             "sqrt": row["sqrt"] * t["sqrt_ns_f64"], "shared_div_sqrt": t["shared_div_sqrt"],
             "shared_fma_cvt": t["shared_fma_cvt"]}
@@ -731,7 +735,8 @@ def block_bench_vector_roofline(run: Run) -> list:
     beside = lambda x: "they take turns" if x >= 0.5 else "they run mostly beside each other"
     return paragraph(
         f"With AVX-512 the reference's roofline has four terms per ray: its {row['flops'] - row['div'] - row['sqrt']:.0f} "
-        f"adds and multiplies take {c['add_mul']:.2f} ns at the FMA rate; a kernel that takes float rays and computes "
+        f"adds and multiplies, {c['instructions']:.0f} instructions once fused, take {c['add_mul']:.2f} ns at the FMA "
+        "units' pace; a kernel that takes float rays and computes "
         "in double must widen each of the ten float arrays it reads and narrow each of the three it writes, and its "
         f"{row.get('cvt') or 0:.0f} conversions take {c['cvt']:.2f} ns; its divide and its square root take "
         f"{c['div']:.2f} and {c['sqrt']:.2f} ns at the divider's pace. Timed in one loop, divides and square roots "
@@ -759,7 +764,25 @@ def block_bench_vector_reference(run: Run) -> list:
         "ten widenings. The "
         f"float-float form has no conversions and {r.flops(FF_X16) / r.flops(REF_X8):.1f} times the arithmetic, and "
         f"reaches {span(ff3, lambda x: f'{x:.0f}')} % of its roofline with AVX-512 and "
-        f"{span(ff2, lambda x: f'{x:.0f}')} % with AVX2, which arithmetic sets.")
+        f"{span(ff2, lambda x: f'{x:.0f}')} % with AVX2, which arithmetic sets. Every vector row with a roofline "
+        f"reaches at least {min(vector_shares(run, 'AVX3')):.0f} % of it with AVX-512 and "
+        f"{min(vector_shares(run, 'AVX2')):.0f} % with AVX2, on every family.")
+
+
+def vector_shares(run: Run, isa: str) -> list:
+    """The roofline shares (per cent) of every vector row of `isa` with a roofline, on every family."""
+    r = Reading(run)
+    ids = [v["id"] for v in run.data["variants"] if (v.get("lanes") or 1) > 1 and v.get("isa") == isa]
+    shares = []
+    for v in ids:
+        for f in r.fids:
+            try:
+                shares += r.roofline_shares([v], [f])
+            except Stale:       # a row without a roofline (no flop count) or not run on this family
+                pass
+    if not shares:
+        raise Stale(f"results.json has no {isa} row with a roofline")
+    return shares
 
 
 def block_bench_front_units(run: Run) -> list:

@@ -164,7 +164,8 @@ void write_json(std::ostream& os, const Options& opt, const Peak& peak, const st
                << ", \"vs_embree_p99\": " << number(e.vs_embree_p99) << ", \"vs_embree_max\": " << number(e.vs_embree_max);
         }
         os << ", \"flops\": " << (r.flops < 0 ? "null" : number(r.flops)) << ", \"div\": " << number(r.div)
-           << ", \"sqrt\": " << number(r.sqrt) << ", \"cvt\": " << r.variant->conversions;
+           << ", \"sqrt\": " << number(r.sqrt) << ", \"fma\": " << number(r.fma)
+           << ", \"cvt\": " << r.variant->conversions;
         if (t != timings.end()) {
             os << ", \"cpu_ns\": " << numbers(t->second.cpu_ns) << ", \"real_ns\": " << numbers(t->second.real_ns);
         } else {

@@ -110,17 +110,19 @@ std::vector<BoxData> make_boxes(std::size_t n, std::string& note) {
 /// Average operation counts over the timed batch, or -1 flops when unknown.
 void count_ops(const Variant& v, std::size_t f, std::size_t n, Row& row) {
     if (!v.count) return;
-    double flops = 0, div = 0, sqrt = 0;
+    double flops = 0, div = 0, sqrt = 0, fma = 0;
     const std::size_t m = batch_size(n);
     for (std::size_t i = 0; i < m; ++i) {
         const OpCount c = v.count(f, i);
         flops += static_cast<double>(c.flops());
         div += static_cast<double>(c.div);
         sqrt += static_cast<double>(c.sqrt);
+        fma += static_cast<double>(c.fma);
     }
     row.flops = flops / static_cast<double>(m);
     row.div = div / static_cast<double>(m);
     row.sqrt = sqrt / static_cast<double>(m);
+    row.fma = fma / static_cast<double>(m);
 }
 
 /// Runs the error pass of the kit's subject once, to learn whether it is

@@ -126,7 +126,7 @@ struct Row {
     const Variant* variant;
     std::string family;
     ErrorStats error;
-    double flops = -1, div = 0, sqrt = 0;  // per ray, averaged over the timed batch; -1: unknown
+    double flops = -1, div = 0, sqrt = 0, fma = 0;  // per ray, averaged over the timed batch; -1: unknown
 };
 
 /// Everything as one JSON document (read by tools/kitlib/bench_report.py).

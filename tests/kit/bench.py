@@ -204,16 +204,20 @@ def selftest_roofline_model(ctx) -> str:
     double lanes on float rays included; a row without a conversion count (runs from before they were counted)
     keeps the old bound. Made-up rates, so each term is the slowest in turn. Then terms that share a unit, as
     measured: divides and square roots that take turns add up, conversions that half-overlap the
-    multiply-adds add half of the shorter term; a run without that measurement keeps the longest term."""
+    multiply-adds add half of the shorter term; a run without that measurement keeps the longest term. A
+    vector row whose fused multiply-adds are counted takes its adds and multiplies as instructions (a lone
+    add a whole one); a scalar row does not."""
     target = {"isa": "AVX3", "gflops_f32": 200.0, "gflops_f64": 100.0, "div_ns_f32": 0.05, "div_ns_f64": 0.15,
               "sqrt_ns_f32": 0.08, "sqrt_ns_f64": 0.25, "cvt_ns": 0.04}
     peak = {"scalar_gflops_f32": 13.0, "scalar_gflops_f64": 13.0, "div_ns_f32": 0.7, "div_ns_f64": 1.1,
             "sqrt_ns_f32": 1.3, "sqrt_ns_f64": 2.1, "vector_targets": [target]}
 
-    def bound(precision: str, flops: float, div: float, sqrt: float, cvt=None, lanes: int = 8) -> float:
+    def bound(precision: str, flops: float, div: float, sqrt: float, cvt=None, lanes: int = 8, fma=None) -> float:
         raw = {"flops": flops, "div": div, "sqrt": sqrt}
         if cvt is not None:
             raw["cvt"] = cvt
+        if fma is not None:
+            raw["fma"] = fma
         variant = {"id": "x", "precision": precision, "lanes": lanes, "isa": "AVX3"}
         return cmd_bench.report.Point(variant, {"id": "f"}, raw).roofline_ns(peak)
 
@@ -225,6 +229,13 @@ def selftest_roofline_model(ctx) -> str:
         ("no conversion count", bound(wide, 36, 1, 1), 34 / 100.0),
         ("float lanes, no conversions", bound("float", 28, 2, 1, cvt=0, lanes=16), 25 / 200.0),
         ("scalar: the scalar rates", bound("float", 27, 1, 1, cvt=13, lanes=1), 25 / 13.0),
+        # With the fused pairs counted, a vector row's adds and multiplies are instructions at half the flop
+        # rate: 100 flops of which 20 pairs fused are 80 instructions, 160 flops' time.
+        ("instructions: lone adds take a slot each", bound("float", 102, 1, 1, cvt=0, lanes=16, fma=20),
+         80 * 2 / 200.0),
+        ("instructions: all fused, as the flop rate", bound("float", 102, 1, 1, cvt=0, lanes=16, fma=50),
+         100 / 200.0),
+        ("scalar: the fused count changes nothing", bound("float", 27, 1, 1, cvt=0, lanes=1, fma=5), 25 / 13.0),
     ]
     # The same target, with its units' overlaps measured.
     target.update(shared_div_sqrt=1.0, shared_fma_cvt=0.5)

@@ -84,8 +84,12 @@ class Point:
         conversion per input and per result at the measured conversion rate
         (arithmetic the flop count does not see and the form cannot skip).
         Scalar variants at the scalar rates; a vector variant at the rates
-        measured with its own vectors (an FMA counts two flops there, as in the
-        count), per lane.
+        measured with its own vectors, per lane. There the rate is measured
+        with fused multiply-adds (two flops each), and the adds and multiplies
+        count as instructions: a fused pair, a lone add and a lone multiply
+        take one each (the count's "fma" says how many pairs were fused). A run
+        from before that count takes each flop at the FMA rate, which credits
+        a lone add with half an instruction: optimistic.
 
         Terms on different units bound the time each on its own: the bound is
         the longest. Two terms that compete for one unit add up instead, and a
@@ -117,7 +121,14 @@ class Point:
         if not rate:
             return None
         add_mul = flops - self.raw["div"] - self.raw["sqrt"]
-        return max(combined(add_mul / rate, (self.raw.get("cvt") or 0) * cvt_ns, shared_units),
+        arith_ns = add_mul / rate
+        fused = self.raw.get("fma")
+        if self.lanes > 1 and fused is not None:
+            # The vector rate is measured with FMAs, two flops an instruction. A lone add or multiply
+            # takes an instruction of the same units too, not half of one: the time is the
+            # instructions (an FMA, an add, a multiply: one each) at half the flop rate.
+            arith_ns = (add_mul - fused) * 2 / rate
+        return max(combined(arith_ns, (self.raw.get("cvt") or 0) * cvt_ns, shared_units),
                    combined(self.raw["div"] * div_ns, self.raw["sqrt"] * sqrt_ns, shared_divider))
 
 
@@ -342,7 +353,8 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     w("\nroofline: the least time the counted arithmetic needs on one core (adds and multiplies at the peak rate, "
       "divides and square roots at the divider's pace, and for double lanes on float rays the widening of each "
       "input and narrowing of each result at the conversion pace: scalar rates for scalar variants, the rates of "
-      "their own vectors for vector ones; the slowest of these), as a share of the measured time; 100% would be "
+      "their own vectors for vector ones, where an FMA, a lone add and a lone multiply take one instruction each; "
+      "the slowest of these), as a share of the measured time; 100% would be "
       "the machine's limit.\n")
     for s in statuses:
         w(s + "\n")
