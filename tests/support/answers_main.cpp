@@ -201,6 +201,8 @@ void release(void* p) noexcept {
 // Set by a stand-in's object when the program has one (standin_04.cpp); constant-initialised, so
 // set before any dynamic initialiser may read it.
 raykit::standin::Receiver raykit::standin::receiver = nullptr;
+// Set by the reference's script answerer (script_04.cpp), never in a student's program.
+raykit::standin::LinesServer raykit::standin::lines_server = nullptr;
 
 void* operator new(std::size_t size) { return allocate(size); }
 void* operator new[](std::size_t size) { return allocate(size); }
@@ -281,6 +283,11 @@ void answer(const std::string& function, wire::Reader& in, wire::Writer& out) {
         standin::receiver(in);
         out.raw(wire::Kind::value);
         return wire::put(out, 0);
+    }
+    if (function == standin::lines_message) {   // the reference's answers for a whole script
+        if (standin::lines_server == nullptr) return out.raw(wire::Kind::unknown);
+        out.raw(wire::Kind::value);
+        return standin::lines_server(in, out);
     }
 #define RAYKIT_REMOTE(ret, name, params, args) \
     if (function == #name) return serve(&raykit::name, in, out);

@@ -847,6 +847,11 @@ std::string Child::exchange(const std::string& request, const std::string& call,
     std::uint32_t want = 0;
     bool have_size = false;
     char buf[65536];
+    // A call to a running program is measured after its first wait, not before it: it has had no
+    // time to spend yet (what ran since the last call is charged all the same, by the next reading),
+    // and three reads of /proc a call less were a tenth of a step 05 judge's CPU, whose render cases
+    // call view_ray once a pixel (docs/performance.md). A limit is still checked every 50 ms.
+    bool waited_once = fresh;
     for (;;) {
         if (output_case > output_limit) {
             measure();
@@ -855,7 +860,8 @@ std::string Child::exchange(const std::string& request, const std::string& call,
                              " MiB during " + in() + " and was stopped.");
         }
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-        measure();
+        if (waited_once) measure();
+        waited_once = true;
         const double used = spent.cpu;
         char limit[32];
         if (by_cpu && used > seconds) {
