@@ -171,7 +171,11 @@ def one_run(kit: Path, cache: Path, klass: Path, jobs: int, isolation: str, log:
         fail(f"./kit grade in {kit}: a submission was not graded:\n{text[-1500:]}")
     rows: dict[str, list[float]] = {}
     others: dict[str, float] = {}
+    comms: dict[str, list] = {}
     for r in descendants(acct.records(), proc.pid):
+        comms.setdefault(r["comm"], [0.0, 0])
+        comms[r["comm"]][0] += r["cpu"]
+        comms[r["comm"]][1] += 1
         name = row_of(r["comm"])
         rows.setdefault(name, [0.0, 0])
         rows[name][0] += r["cpu"]
@@ -179,7 +183,8 @@ def one_run(kit: Path, cache: Path, klass: Path, jobs: int, isolation: str, log:
         if name == "other":
             others[r["comm"]] = others.get(r["comm"], 0.0) + r["cpu"]
     return {"cpu": round(cpu, 2), "wall": round(wall, 2), "load": round(load, 2), "rows": rows,
-            "others": {k: round(v, 2) for k, v in sorted(others.items(), key=lambda kv: -kv[1])[:6]}}
+            "others": {k: round(v, 2) for k, v in sorted(others.items(), key=lambda kv: -kv[1])[:6]},
+            "comms": {k: [round(v[0], 2), v[1]] for k, v in sorted(comms.items(), key=lambda kv: -kv[1][0])}}
 
 
 def table(revs: list[str], runs: dict[str, list[dict]], students: int, command: str) -> str:

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <tuple>
 #include <type_traits>
 #include <vector>
@@ -79,10 +80,19 @@ void prepare(const char* function, const Scene& scene, const Camera& camera) {
     // the stand-in then refuses whatever it is asked.
     std::vector<Ray> rays;
     if (camera.width > 0 && camera.height > 0 && static_cast<long long>(camera.width) * camera.height <= (1 << 16)) {
-        rays.reserve(static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height));
-        for (int j = 0; j < camera.height; ++j)
-            for (int i = 0; i < camera.width; ++i)
-                rays.push_back(remote::call<Ray>(remote::Target::student, "view_ray", camera, i, j));
+        // Every pixel's view ray in one call of the student's process (answers_main.cpp's grid); where
+        // that fails in any way, one call a pixel as before, which names the pixel that fails.
+        const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
+        std::optional<std::vector<Ray>> all =
+            remote::try_call<std::vector<Ray>>("raykit.grid.view_ray", camera, camera.width, camera.height);
+        if (all && all->size() == pixels) {
+            rays = std::move(*all);
+        } else {
+            rays.reserve(pixels);
+            for (int j = 0; j < camera.height; ++j)
+                for (int i = 0; i < camera.width; ++i)
+                    rays.push_back(remote::call<Ray>(remote::Target::student, "view_ray", camera, i, j));
+        }
     }
     send(standin::For::render, scene, rays);
 }
