@@ -3,7 +3,7 @@ revisions of the kit side by side, interleaved in one run (the order reversed ev
 several rounds, medians (cold_check.py's way).
 
     sudo python3 docs/grade_cost.py [--rounds N] [--students N] [-j N] [--isolation MODE]
-                                    [--write docs/performance.md] REV [REV ...]
+                                    [--new-step] [--write docs/performance.md] REV [REV ...]
 
 Each REV (a commit, a branch, HEAD) is cloned from this repository into a temporary folder with a
 kit cache of its own (XDG_CACHE_HOME), filled by one grading that is not counted: the kit's side is
@@ -20,8 +20,14 @@ judge, the reference's answers program, the kit's Python. The acct clock ticks a
 process's figure is rounded; the rows' sum is shown beside the getrusage total. Without root, the
 totals alone. The machine's load makes every figure larger: the load average is printed beside.
 
+--new-step adds a sixth step to every revision's clone before its warm-up: the kit's own template
+(tests/fixtures/new_step/, as `./kit test newstep` writes it: the step's files, its reference and its
+stub), its cases recorded (`./kit check 06 --record`) and committed, each revision with its own
+template. The class then holds six steps (issue 55: an instructor's six-step course).
+
 --write FILE replaces the part of FILE between the lines `<!-- grade_cost:ISOLATION:begin -->` and
-`<!-- grade_cost:ISOLATION:end -->` (ISOLATION: --isolation's value) with the table. Bad input: a
+`<!-- grade_cost:ISOLATION:end -->` (ISOLATION: --isolation's value, with -six after it for
+--new-step) with the table. Bad input: a
 message and exit 2.
 """
 
@@ -134,6 +140,35 @@ def clone(rev: str, where: Path) -> Path:
     return folder
 
 
+def add_new_step(kit: Path, cache: Path) -> None:
+    """The revision's own step template written into its clone as step 06, its cases recorded and
+    committed (the bundle's key holds what git tracks)."""
+    template = kit / "tests" / "fixtures" / "new_step"
+    if not template.is_dir():
+        fail(f"{kit.name} has no step template (tests/fixtures/new_step/)")
+    for f in sorted(template.rglob("*")):
+        if f.is_file():
+            target = kit / f.relative_to(template)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(f, target)
+    r = subprocess.run(["./kit", "check", "06", "--record"], cwd=kit, env=kit_env(cache),
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        fail(f"./kit check 06 --record in {kit} exited {r.returncode}:\n{(r.stdout + r.stderr)[-1500:]}")
+    for args in (["add", "-A"], ["-c", "user.name=grade_cost", "-c", "user.email=grade_cost@raykit.invalid",
+                                 "-c", "commit.gpgsign=false", "commit", "-q", "-m", "step 06 from the template"]):
+        r = subprocess.run(["git", *args], cwd=kit, capture_output=True, text=True)
+        if r.returncode != 0:
+            fail(f"git {args[0]} in {kit}: {r.stderr.strip()}")
+
+
+def kit_env(cache: Path) -> dict[str, str]:
+    env = dict(os.environ, XDG_CACHE_HOME=str(cache), RAYKIT_NO_WARMUP="1", RAYKIT_SELFTEST_SECRET="ab" * 32)
+    for name in ("RAYKIT_KIT_CACHE_DIR", "RAYKIT_BUNDLE_DIR", "PYTHONPYCACHEPREFIX", "RAYKIT_PYCACHE"):
+        env.pop(name, None)
+    return env
+
+
 def write_class(kit: Path, where: Path, students: int, tag: str) -> None:
     """`students` submissions of `kit`'s solutions, each .cpp with a line of code no other file has."""
     shutil.rmtree(where, ignore_errors=True)
@@ -149,9 +184,7 @@ def write_class(kit: Path, where: Path, students: int, tag: str) -> None:
 
 
 def one_run(kit: Path, cache: Path, klass: Path, jobs: int, isolation: str, log: Path) -> dict:
-    env = dict(os.environ, XDG_CACHE_HOME=str(cache), RAYKIT_NO_WARMUP="1", RAYKIT_SELFTEST_SECRET="ab" * 32)
-    for name in ("RAYKIT_KIT_CACHE_DIR", "RAYKIT_BUNDLE_DIR", "PYTHONPYCACHEPREFIX", "RAYKIT_PYCACHE"):
-        env.pop(name, None)
+    env = kit_env(cache)
     out = klass.parent / "grades.csv"
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     load = os.getloadavg()[0]
@@ -171,7 +204,11 @@ def one_run(kit: Path, cache: Path, klass: Path, jobs: int, isolation: str, log:
         fail(f"./kit grade in {kit}: a submission was not graded:\n{text[-1500:]}")
     rows: dict[str, list[float]] = {}
     others: dict[str, float] = {}
+    comms: dict[str, list] = {}
     for r in descendants(acct.records(), proc.pid):
+        comms.setdefault(r["comm"], [0.0, 0])
+        comms[r["comm"]][0] += r["cpu"]
+        comms[r["comm"]][1] += 1
         name = row_of(r["comm"])
         rows.setdefault(name, [0.0, 0])
         rows[name][0] += r["cpu"]
@@ -179,7 +216,8 @@ def one_run(kit: Path, cache: Path, klass: Path, jobs: int, isolation: str, log:
         if name == "other":
             others[r["comm"]] = others.get(r["comm"], 0.0) + r["cpu"]
     return {"cpu": round(cpu, 2), "wall": round(wall, 2), "load": round(load, 2), "rows": rows,
-            "others": {k: round(v, 2) for k, v in sorted(others.items(), key=lambda kv: -kv[1])[:6]}}
+            "others": {k: round(v, 2) for k, v in sorted(others.items(), key=lambda kv: -kv[1])[:6]},
+            "comms": {k: [round(v[0], 2), v[1]] for k, v in sorted(comms.items(), key=lambda kv: -kv[1][0])}}
 
 
 def table(revs: list[str], runs: dict[str, list[dict]], students: int, command: str) -> str:
@@ -216,24 +254,30 @@ def main(argv: list[str]) -> int:
     p.add_argument("--students", type=int, default=2, help="unique submissions in each class (2)")
     p.add_argument("-j", "--jobs", type=int, default=2, help="./kit grade -j (2)")
     p.add_argument("--isolation", choices=["auto", "bwrap", "user", "none"], default="auto")
+    p.add_argument("--new-step", action="store_true",
+                   help="a six-step course: the template's step 06 added to every revision (issue 55)")
     p.add_argument("--write", metavar="FILE", help="put the table in FILE between its grade_cost markers")
     args = p.parse_args(argv)
     if args.rounds < 1 or args.students < 1 or args.jobs < 1:
         p.error("--rounds, --students and -j must be at least 1")
-    begin, end = MARK.format(args.isolation, "begin"), MARK.format(args.isolation, "end")
+    marker = f"{args.isolation}-six" if args.new_step else args.isolation
+    begin, end = MARK.format(marker, "begin"), MARK.format(marker, "end")
     try:
         written = Path(args.write).read_text() if args.write else begin + end
     except OSError as e:
         fail(f"{args.write}: {e.strerror}")
     if begin not in written or end not in written:
         fail(f"{args.write} has no {begin} ... {end} lines to write between")
-    command = f"./kit grade CLASS -j {args.jobs} --isolation {args.isolation}"
+    command = f"./kit grade CLASS -j {args.jobs} --isolation {args.isolation}" + (
+        " (six steps: the template's step 06 added)" if args.new_step else "")
     with tempfile.TemporaryDirectory(prefix="grade-cost-") as tmp:
         work = Path(tmp)
         folders = {rev: clone(rev, work) for rev in args.revs}
         caches = {rev: work / f"cache-{rev.replace('/', '_')}" for rev in args.revs}
         for rev in args.revs:
             caches[rev].mkdir()
+            if args.new_step:
+                add_new_step(folders[rev], caches[rev])
             # As many as are graded at once: each grading slot's own folders are filled too.
             write_class(folders[rev], work / "class", max(args.jobs, args.students), f"warm_{rev}")
             one_run(folders[rev], caches[rev], work / "class", args.jobs, args.isolation, work / "acct")

@@ -865,3 +865,26 @@ def selftest_no_reference_answer(ctx) -> str:
 
     need_solutions()
     return run_modes(one)
+
+
+def selftest_view_ray_one_pixel(ctx) -> str:
+    """A step 05 whose view_ray crashes at pixel (1, 1) alone (tests/fixtures/view_ray_one_pixel): a
+    render case asks every pixel's view ray in one call first (raykit.grid.view_ray, answers_main.cpp),
+    and where that fails makes the calls one a pixel, so each render case that reaches the pixel fails
+    as a crash named at view_ray(..., 1, 1), never at the one call, and a render of no such pixel passes."""
+    def one(mode: str) -> str:
+        _, got, _, _ = grade_json(fixture_dir("view_ray_one_pixel"), ["05"], mode)
+        cases = [c for s in got["record"]["steps"] for c in s["cases"] if c["tier"] in ("basic", "hidden")]
+        grid = [c["name"] for c in cases if any("raykit.grid" in m for m in c["messages"])]
+        expect(not grid, f"view_ray_one_pixel ({mode}): the one call for every pixel is named to the student: "
+                         f"{grid[:3]}")
+        crashed = [c for c in cases if c["messages"] and re.search(r"crashed in view_ray\(.*, 1, 1\)", c["messages"][0])]
+        expect(bool(crashed), f"view_ray_one_pixel ({mode}): no case's first message names the crash at pixel "
+                              f"(1, 1): {[c['messages'][:1] for c in cases if c['status'] != 'pass'][:3]}")
+        passed = sum(c["status"] == "pass" for c in cases)
+        expect(passed > 0, f"view_ray_one_pixel ({mode}): no case passed (those that never reach pixel (1, 1))")
+        return f"{len(crashed)} cases crashed at view_ray's pixel (1, 1), {passed} of {len(cases)} passed"
+
+    need_solutions()
+    return run_modes(one)
+

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <tuple>
 #include <type_traits>
 #include <vector>
@@ -42,17 +43,30 @@ template <class... A>
 void prepare(const char*, const A&...) {}
 
 void send(standin::For what, const Scene& scene, const std::vector<Ray>& rays) {
-    const float inf = std::numeric_limits<float>::infinity();
     std::vector<Rect> rects;
     for (const Object& o : scene.objects) rects.push_back(o.shape);
+    // Where each ray meets each object, asked of the reference's own program in one question
+    // (script_04.cpp): its answers come back to the judge, never through the student's process.
+    wire::Writer question;
+    wire::put(question, rects);
+    wire::put(question, rays);
+    std::vector<std::optional<float>> t;
+    try {
+        const std::string reply = remote::exchange(remote::Target::reference, standin::lines_message, question.bytes,
+                                                   "the case's rays and objects");
+        wire::Reader r(reply.data(), reply.size());
+        t = wire::get<std::vector<std::optional<float>>>(r);
+        if (!r.at_end() || t.size() != rays.size() * rects.size())
+            throw wire::wire_error("not one answer per ray and object");
+    } catch (const wire::wire_error& e) {
+        throw remote::CallFailed(std::string("the reference's answers for the case's script cannot be read (") +
+                                 e.what() + ")");
+    }
     std::vector<standin::Line> lines;
     lines.reserve(rays.size());
-    for (const Ray& ray : rays) {
-        standin::Line line{ray, {}};
-        for (const Rect& rect : rects)
-            line.t.push_back(remote::reference<std::optional<float>>("intersect_rect", ray, rect, -inf, inf));
-        lines.push_back(std::move(line));
-    }
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        lines.push_back({rays[i], std::vector<std::optional<float>>(t.begin() + static_cast<std::ptrdiff_t>(i * rects.size()),
+                                                                    t.begin() + static_cast<std::ptrdiff_t>((i + 1) * rects.size()))});
     remote::exchange(remote::Target::student, standin::message, standin::encode(what, rects, lines), "the case's script");
 }
 
@@ -66,10 +80,19 @@ void prepare(const char* function, const Scene& scene, const Camera& camera) {
     // the stand-in then refuses whatever it is asked.
     std::vector<Ray> rays;
     if (camera.width > 0 && camera.height > 0 && static_cast<long long>(camera.width) * camera.height <= (1 << 16)) {
-        rays.reserve(static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height));
-        for (int j = 0; j < camera.height; ++j)
-            for (int i = 0; i < camera.width; ++i)
-                rays.push_back(remote::call<Ray>(remote::Target::student, "view_ray", camera, i, j));
+        // Every pixel's view ray in one call of the student's process (answers_main.cpp's grid); where
+        // that fails in any way, one call a pixel as before, which names the pixel that fails.
+        const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
+        std::optional<std::vector<Ray>> all =
+            remote::try_call<std::vector<Ray>>("raykit.grid.view_ray", camera, camera.width, camera.height);
+        if (all && all->size() == pixels) {
+            rays = std::move(*all);
+        } else {
+            rays.reserve(pixels);
+            for (int j = 0; j < camera.height; ++j)
+                for (int i = 0; i < camera.width; ++i)
+                    rays.push_back(remote::call<Ray>(remote::Target::student, "view_ray", camera, i, j));
+        }
     }
     send(standin::For::render, scene, rays);
 }

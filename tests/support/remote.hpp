@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -85,6 +86,31 @@ R call(Target target, const char* function, const A&... args) {
     } catch (const wire::wire_error& e) {
         throw CallFailed(std::string(function) + "(" + wire::args_text(args...) +
                          ") sent back an answer the grader cannot read (" + e.what() + ").");
+    }
+}
+
+/// One call of the student's code that stands for several the judge could make one by one (a
+/// render's view rays: "raykit.grid.view_ray", answers_main.cpp): its payload, or nothing when it
+/// failed in any way (crashed, threw, the stub, out of time or budget). A failed attempt is no
+/// incident of the case and is not charged to the step's budget, and what it printed is forgotten:
+/// the caller then makes the calls one by one, which fail, print and are charged as they always did.
+/// After one failure a judge makes no more attempts, so a loop costs the grader one call's limit.
+std::optional<std::string> attempt(const std::string& function, const std::string& arguments,
+                                   const std::string& shown_arguments);
+
+template <class R, class... A>
+std::optional<R> try_call(const char* function, const A&... args) {
+    wire::Writer w;
+    (wire::put(w, args), ...);
+    const std::optional<std::string> reply = attempt(function, w.bytes, wire::args_text(args...));
+    if (!reply) return std::nullopt;
+    wire::Reader r(reply->data(), reply->size());
+    try {
+        R value = wire::get<R>(r);
+        if (!r.at_end()) return std::nullopt;
+        return value;
+    } catch (const wire::wire_error&) {
+        return std::nullopt;
     }
 }
 

@@ -67,4 +67,16 @@ inline std::string encode(For what, const std::vector<Rect>& rects, const std::v
 using Receiver = void (*)(wire::Reader&);
 extern Receiver receiver;
 
+/// The wire name of the judge's one question to the *reference's* program for a whole script: the
+/// scene's rectangles and the rays, answered with where each ray's line meets each rectangle (rays
+/// in order, objects in order within a ray). One call a case instead of one a ray and object: those
+/// round trips were most of a step 05 judge's CPU (docs/performance.md).
+inline constexpr const char* lines_message = "raykit.lines";
+
+/// The reference's answerer of lines_message (script_04.cpp, linked into the reference's answers
+/// program only). None in a student's program, which then says it has no such function: the
+/// question and its answer never reach the student's process.
+using LinesServer = void (*)(wire::Reader&, wire::Writer&);
+extern LinesServer lines_server;
+
 }  // namespace raykit::standin

@@ -33,6 +33,24 @@ def status(pid: int) -> dict[str, str]:
     return {k: v.strip() for k, _, v in (line.partition(":") for line in text.splitlines()) if _}
 
 
+def status_fields(pid: int, *names: str) -> dict[str, str]:
+    """Only the named fields of /proc/PID/status (not "Name"), from one read, as status() gives them;
+    {} when gone. A scan of every process asks two or three of its fifty: building the whole dict was
+    most of the kit's CPU in ending a sandbox (docs/performance.md). The kernel escapes a newline in
+    the one field a process sets, its name, so "\nUid:" can only start the real line."""
+    text = _read(pid, "status")
+    if text is None:
+        return {}
+    found = {}
+    for name in names:
+        at = text.find(f"\n{name}:")
+        if at < 0:
+            continue
+        end = text.find("\n", at + 1)
+        found[name] = text[at + len(name) + 2:end if end >= 0 else len(text)].strip()
+    return found
+
+
 def stat(pid: int) -> list[str]:
     """The fields of /proc/PID/stat after the command's name (which may hold spaces and parentheses):
     [state, ppid, pgrp, session, ...]; [] when gone."""
@@ -72,7 +90,7 @@ def alive(pid: int) -> bool:
 
 def real_uid(pid: int) -> int | None:
     """The process's real user id; None when gone."""
-    uid = status(pid).get("Uid", "").split()[:1]
+    uid = status_fields(pid, "Uid").get("Uid", "").split()[:1]
     return int(uid[0]) if uid and uid[0].isdigit() else None
 
 

@@ -10,7 +10,6 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import procfs
 from ..sandbox_slots import RUN_PROCESSES, clear_keyrings, prepare_keyctl, scratch_words, use_kit_temp
 from .limits import Limits, MiB
 from .ids import COMPILE_UID_OFFSET, claim_uid
@@ -132,16 +131,14 @@ class Isolation:
                 os.rmdir(group)
             except OSError:
                 pass
-        for uid in (self.uid, self.compile_uid):
-            if uid:
-                kill_uid(uid)
-                self.clean_files(uid)
         if not (self.uid or self.compile_uid):
             return                  # no id of the sandbox's: nothing of the graded code's to reap
+        kill_uid(self.uid, self.compile_uid)        # both ids in one scan of /proc a round
+        for uid in (self.uid, self.compile_uid):
+            if uid:
+                self.clean_files(uid)
         for _ in range(25):     # a process killed a moment ago becomes a zombie a moment later
-            reap_orphans({self.uid, self.compile_uid})
-            if not any(procfs.parent(p) == os.getpid() and procfs.real_uid(p) in (self.uid, self.compile_uid)
-                       for p in procfs.pids()):
+            if not reap_orphans({self.uid, self.compile_uid}):
                 break
             time.sleep(0.02)
 

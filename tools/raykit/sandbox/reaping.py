@@ -20,56 +20,72 @@ def become_subreaper() -> None:
         pass
 
 
-def reap_orphans(uids: set[int]) -> None:
+def reap_orphans(uids: set[int]) -> bool:
     """Reaps the graded code's dead orphans given to us (zombies of the sandbox's ids whose parent
     is this process), each by its pid: never waitpid(-1), which could take a build's exit status
-    from the subprocess that waits for it."""
+    from the subprocess that waits for it. Returns whether a child of ours with one of the ids is
+    still there (alive, or a zombie not reaped yet): one scan of /proc answers both."""
     me, wanted = str(os.getpid()), {str(u) for u in uids if u}
     if not wanted:
-        return
+        return False
+    left = False
     for p in procfs.pids():
-        fields = procfs.status(p)         # one read: state, parent and owner of the same moment
-        if (fields.get("State", "").startswith("Z") and fields.get("PPid") == me
-                and fields.get("Uid", "").split()[:1] and fields["Uid"].split()[0] in wanted):
+        fields = procfs.status_fields(p, "State", "PPid", "Uid")    # one read: the same moment
+        owner = fields.get("Uid", "").split()[:1]
+        if fields.get("PPid") != me or not owner or owner[0] not in wanted:
+            continue
+        if not fields.get("State", "").startswith("Z"):
+            left = True
+            continue
+        try:
+            if os.waitpid(p, os.WNOHANG)[0] == 0:
+                left = True
+        except ChildProcessError:
+            pass
+    return left
+
+
+def _owned_by(pid: int, uids: set[str]) -> bool:
+    """Whether process `pid` is alive (not a zombie waiting for its parent) with its real user id in `uids`."""
+    fields = procfs.status_fields(pid, "State", "Uid")     # one read: owner and state of the same moment
+    owner = fields.get("Uid", "").split()[:1]
+    return bool(owner) and owner[0] in uids and not fields.get("State", "").startswith("Z")
+
+
+def _signal_all_as(uid: int) -> None:
+    """A helper that takes the id and signals all it may signal (kill -1), and empties the id's keyrings."""
+    pid = os.fork()
+    if pid == 0:
+        try:
+            os.setgroups([])
+            os.setgid(uid)
+            os.setuid(uid)
             try:
-                os.waitpid(p, os.WNOHANG)
-            except ChildProcessError:
+                os.kill(-1, signal.SIGKILL)
+            except OSError:         # none left to signal
                 pass
+            clear_keyrings()        # what the id's processes kept in its keyrings outlives them
+        finally:
+            os._exit(0)
+    os.waitpid(pid, 0)
 
 
-def _owned_by(pid: int, uid: int) -> bool:
-    """Whether process `pid` is alive (not a zombie waiting for its parent) with real user id `uid`."""
-    fields = procfs.status(pid)         # one read: owner and state of the same moment
-    return fields.get("Uid", "").split()[:1] == [str(uid)] and not fields.get("State", "").startswith("Z")
-
-
-def kill_uid(uid: int) -> None:
-    """Ends every process whose real user id is `uid`: a helper that takes the id and signals all
-    it may signal (kill -1), repeated while any is left (a fork between two rounds), and empties the
-    id's keyrings (at least once, with no process left too)."""
-    if not uid or os.geteuid() != 0:
+def kill_uid(*uids: int) -> None:
+    """Ends every process whose real user id is one of `uids`: for each, a helper that takes the id
+    and signals all it may signal (kill -1), repeated while any is left (a fork between two rounds),
+    and empties the id's keyrings (at least once, with no process left too). One scan of /proc a
+    round, for all the ids, after the signals: what decides is that none is left after them."""
+    wanted = [u for u in dict.fromkeys(uids) if u]
+    if not wanted or os.geteuid() != 0:
         return
     prepare_keyctl()
-    for round in range(20):
-        left = [p for p in procfs.pids() if _owned_by(p, uid)]
-        if not left and round:
+    names = {str(u) for u in wanted}
+    for _ in range(20):
+        for uid in wanted:
+            _signal_all_as(uid)
+        if not any(_owned_by(p, names) for p in procfs.pids()):
             return
-        pid = os.fork()
-        if pid == 0:
-            try:
-                os.setgroups([])
-                os.setgid(uid)
-                os.setuid(uid)
-                try:
-                    os.kill(-1, signal.SIGKILL)
-                except OSError:         # none left to signal
-                    pass
-                clear_keyrings()        # what the id's processes kept in its keyrings outlives them
-            finally:
-                os._exit(0)
-        os.waitpid(pid, 0)
-        if left:
-            time.sleep(0.02)
+        time.sleep(0.02)
 
 
 def session_members(sid: int) -> list[int]:
