@@ -6,7 +6,7 @@ The kit's driver is two packages, along its two audiences:
   - tools/kitlib, the instructor's toolchain (grading, the platforms, the report, the docs and
     slides, the bench's reading, the self-test): it imports raykit, never the reverse, and may use
     Debian 12's packages.
-The layers self-test holds both rules (kitlib/selftest/layers.py).
+The layers self-test holds both rules (tests/kit/layers.py).
 """
 
 from __future__ import annotations
