@@ -28,12 +28,15 @@
 
 namespace raykit::grading {
 
-/// Whether the relations may be measured in this case: its calls so far cost little (a right call takes
-/// microseconds). A measurement is a dozen more calls of the student's code, charged to the step's budget
-/// like any: on code that sleeps or computes for long (a sleeper, a slow answer), they would spend that
-/// budget and turn the case's own verdict, and the next cases', into time outs. A fact is only ever
-/// added to a verdict, never the cause of one, so there the case says what it says without it.
-inline bool cheap_to_measure() { return remote::case_cost_seconds() < 0.05; }
+/// Whether the relations may be measured in this case. A measurement is a dozen more calls of the
+/// student's code, charged to the step's budget like any: on code that sleeps or computes for long (a
+/// sleeper, a slow answer), they would spend that budget and turn the case's own verdict, and the next
+/// cases', into time outs. So 16 more calls (as many as a fact makes), each priced at the case's
+/// cheapest call, must fit well in what is left of the budget (remote::can_afford_calls). A right call
+/// takes microseconds however loaded the machine (the queue is not charged, nor a process's start-up),
+/// so right and nearly right code is always measured. A fact is only ever added to a verdict, never the
+/// cause of one, so where it is not measured the case says what it says without it.
+inline bool cheap_to_measure() { return remote::can_afford_calls(16); }
 
 inline bool same_answer(const Roots& a, const Roots& b) {
     if (a.count != b.count) return false;

@@ -163,7 +163,10 @@ struct Budget {
     bool looped = false;
     static constexpr double loop_seconds = 0.2;
     double case_spent = 0;      // wall seconds of the running case's calls
-    double case_cost = 0;       // their CPU and waiting (the machine's queue left out)
+    // Their CPU and waiting (the machine's queue left out): the case's cheapest call that did not start the answers process (CPU and waiting), or -1 before
+    // one: what a call of this code costs, the process's start-up and a one-off stall left out.
+    double case_cheapest = -1;
+    double case_start = 0;      // the call that started the process, start-up included (a fresh process)
     static constexpr int ledger_line = 200;
     int ledger_fd = -1;
 
@@ -193,16 +196,19 @@ struct Budget {
     void begin_case(const std::string& suite) {
         current = suite == "robust" ? 1 : 0;
         case_spent = 0;
-        case_cost = 0;
+        case_cheapest = -1;
+        case_start = 0;
         save();
     }
 
-    void add(double c, double w, double wall) {
-        accounts[current].cpu += c;
-        accounts[current].wait += w;
+    void add(const CallCost& cost) {
+        accounts[current].cpu += cost.cpu;
+        accounts[current].wait += cost.waited;
         ++accounts[current].calls;
-        case_spent += wall;
-        case_cost += c + w;
+        case_spent += cost.wall;
+        const double price = cost.cpu + cost.waited;
+        if (cost.started) case_start = price;
+        else if (case_cheapest < 0 || price < case_cheapest) case_cheapest = price;
         save();
     }
 
@@ -263,6 +269,7 @@ struct CallBounds {
 };
 struct CallCost {
     double cpu = 0, waited = 0, wall = 0;
+    bool started = false;       // the call started the answers process: its start-up is in the figures
 };
 
 /// A call stopped by its own CPU limit: it computed without end (the step's later calls get less).
@@ -838,6 +845,7 @@ std::string Child::exchange(const std::string& request, const std::string& call,
     const double wall = by_cpu || !sandboxed_ ? std::max(40 * seconds, seconds + 60) : seconds;
     const auto deadline = began + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall));
     CallCost spent;
+    spent.started = fresh;
     auto measure = [&]() {
         spent.wall = std::chrono::duration<double>(Clock::now() - began).count();
         if (by_cpu) {
@@ -991,7 +999,14 @@ bool set_built_programs(const char* answers, const char* reference) {
 
 bool has_reference() { return state().reference.available(); }
 
-double case_cost_seconds() { return budget().case_cost; }
+bool can_afford_calls(int calls) {
+    const Budget& b = budget();
+    // Before a call that did not start the process (a case of one call, under the user isolation),
+    // the starting call prices them: its start-up makes that an overestimate, never an underestimate.
+    const double price = (b.case_cheapest >= 0 ? b.case_cheapest : b.case_start) * calls;
+    if (!b.set()) return price < 1.0;
+    return price < 0.1 * std::min({b.cpu_left(), b.wait_left(), b.case_left()});
+}
 
 std::string exchange(Target target, const std::string& function, const std::string& arguments,
                      const std::string& shown_arguments) {
@@ -1029,7 +1044,7 @@ std::string exchange(Target target, const std::string& function, const std::stri
             } catch (const CpuTimeout& e) {
                 const bool first = !b.looped;
                 b.looped = true;
-                b.add(cost.cpu, cost.waited, cost.wall);
+                b.add(cost);
                 if (first) throw;
                 char words[200];
                 std::snprintf(words, sizeof words,
@@ -1037,10 +1052,10 @@ std::string exchange(Target target, const std::string& function, const std::stri
                               "may use %g s of CPU: a correct one needs microseconds.)", limit);
                 throw CpuTimeout(std::string(e.what()) + words);
             } catch (const CallFailed&) {
-                b.add(cost.cpu, cost.waited, cost.wall);
+                b.add(cost);
                 throw;
             }
-            b.add(cost.cpu, cost.waited, cost.wall);
+            b.add(cost);
         } else {
             body = child.exchange(request, call, 60.0);
         }
@@ -1123,7 +1138,7 @@ std::optional<std::string> attempt(const std::string& function, const std::strin
         b.save();
         return std::nullopt;
     }
-    b.add(cost.cpu, cost.waited, cost.wall);
+    b.add(cost);
     return body.substr(1);
 }
 

@@ -127,8 +127,12 @@ bool set_built_programs(const char* answers, const char* reference);
 /// Whether a reference answers program is there (solutions present).
 bool has_reference();
 
-/// The CPU and waiting of the running case's calls of the student's code so far, in seconds.
-double case_cost_seconds();
+/// Whether `calls` more calls of the student's code may be made to measure a fact about it: each priced
+/// at the running case's cheapest call that did not start the answers process (its start-up left out;
+/// the machine's queue is never charged), must fit in a tenth of what is left of the step's budget
+/// (CPU, waiting) and of the case's time. A sleeper or slow code is not measured; right code,
+/// whose calls take microseconds, always is, however loaded the machine.
+bool can_afford_calls(int calls);
 
 // ---- per case, for the reporter ---------------------------------------------------
 
