@@ -132,6 +132,12 @@ using platform::first_child;
 
 using platform::queued_seconds;
 
+/// What one call of the student's code cost: its CPU, its time waited and its wall time.
+struct CallCost {
+    double cpu = 0, waited = 0, wall = 0;
+    bool started = false;       // the call started the answers process: its start-up is in the figures
+};
+
 /// What the calls of the student's code may cost beyond each call's own limit, and what they cost.
 ///
 /// Set by the kit (tools/raykit/checking.py) for a graded step, never for ctest or ./kit debug:
@@ -266,10 +272,6 @@ struct OverBudget : CallFailed {
 /// and of the case's time), and what it took.
 struct CallBounds {
     double cpu = Budget::none, wait = Budget::none, wall = Budget::none;
-};
-struct CallCost {
-    double cpu = 0, waited = 0, wall = 0;
-    bool started = false;       // the call started the answers process: its start-up is in the figures
 };
 
 /// A call stopped by its own CPU limit: it computed without end (the step's later calls get less).
