@@ -9,7 +9,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <random>
 
 namespace raykit::bench {
@@ -173,22 +172,6 @@ std::vector<SphereFamily> sphere_families(std::size_t n) {
         });
     }
     return out;
-}
-
-std::uint64_t fingerprint(const std::vector<Sample<float>>& samples, std::size_t m) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (std::size_t i = 0; i < m && i < samples.size(); ++i) {
-        const Sample<float>& s = samples[i];
-        for (const float x : {s.o.x, s.o.y, s.o.z, s.d.x, s.d.y, s.d.z, s.c.x, s.c.y, s.c.z, s.r}) {
-            std::uint32_t bits;
-            std::memcpy(&bits, &x, sizeof bits);
-            for (int k = 0; k < 4; ++k) {
-                h ^= (bits >> (8 * k)) & 0xffu;
-                h *= 0x100000001b3ULL;
-            }
-        }
-    }
-    return h;
 }
 
 std::vector<BoxFamily> box_families(std::size_t n) {

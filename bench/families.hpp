@@ -40,11 +40,6 @@ struct BoxFamily {
 /// 8) and the ground (radius 1e3 and the Earth's, seen from 1 to 2 units up).
 std::vector<SphereFamily> sphere_families(std::size_t n);
 
-/// A fingerprint of the first `m` samples' float inputs (FNV-1a over their
-/// bits), so that exact answers stored as data can be matched to the rays
-/// they belong to.
-std::uint64_t fingerprint(const std::vector<Sample<float>>& samples, std::size_t m);
-
 /// Rays into the Cornell box: from a camera 5 mm above the data's eye, and from inside (bounces).
 std::vector<BoxFamily> box_families(std::size_t n);
 

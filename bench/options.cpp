@@ -13,7 +13,7 @@ namespace {
 
 const char* kUsage =
     "usage: raykit_bench [--quick | --smoke] [--rays=N] [--repetitions=N] [--min-time=SECONDS]\n"
-    "                    [--subject-only] [--out=FILE] [--write-exact=FILE]\n"
+    "                    [--subject-only] [--out=FILE]\n"
     "\n"
     "Measures the error (against float128) and the speed of ray-sphere formulations,\n"
     "the kit's own step functions and Embree, and writes the results as JSON.\n"
@@ -23,9 +23,7 @@ const char* kUsage =
     "  --repetitions=N   timed repetitions per variant and family (default 11)\n"
     "  --min-time=S      seconds each repetition runs, about (default 0.003)\n"
     "  --subject-only    only the kit's sphere function of this build (for a student build)\n"
-    "  --out=FILE        write the JSON here (written to FILE.tmp, then renamed)\n"
-    "  --write-exact=F   also write the exact roots of the first rays of each family (the\n"
-    "                    handout's yardstick, bench/data/exact_roots.txt); instructor's bench only\n";
+    "  --out=FILE        write the JSON here (written to FILE.tmp, then renamed)\n";
 
 [[noreturn]] void usage_error(const std::string& message) {
     std::fprintf(stderr, "raykit_bench: %s\n%s", message.c_str(), kUsage);
@@ -85,10 +83,6 @@ Options parse_options(int argc, char** argv) {
         } else if (key == "--subject-only") {
             no_value();
             o.subject_only = true;
-        } else if (key == "--write-exact") {
-            need_value();
-            if (value.empty()) usage_error("--write-exact needs a file name");
-            o.write_exact = value;
         } else if (key == "--out") {
             need_value();
             if (value.empty()) usage_error("--out needs a file name");

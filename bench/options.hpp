@@ -1,5 +1,4 @@
-// The benchmark's command line, shared by the instructor's benchmark
-// (bench/reference/main.cpp) and the handout's (bench/handout.cpp).
+// The benchmark's command line (bench/reference/main.cpp).
 #pragma once
 
 #include <cstddef>
@@ -15,7 +14,6 @@ struct Options {
     double peak_time = 0.02;     // seconds per run of a peak kernel
     bool subject_only = false;   // only the kit's sphere subject (the student build)
     std::string out;             // JSON file; stdout when empty
-    std::string write_exact;     // where to write the handout's exact roots; empty: nowhere
 };
 
 /// Parses the options; prints the usage and exits 2 on a bad one, 0 on --help.

@@ -1,5 +1,4 @@
-// Timing with Google Benchmark, and the progress lines ./kit bench reads;
-// shared by the instructor's benchmark (bench/reference/) and the handout's.
+// Timing with Google Benchmark, and the progress lines ./kit bench reads.
 #pragma once
 
 #include <cstddef>

@@ -140,38 +140,6 @@ void probe_subject(Variant& subject, const std::vector<SphereData>& spheres) {
     }
 }
 
-/// The handout's yardstick: the exact answers for the first kExactRays rays of
-/// each sphere family, as data (bench/handout.cpp reads them; the code that
-/// computes them stays with the instructor). Written to FILE.tmp, then renamed.
-constexpr std::size_t kExactRays = 500;
-
-void write_exact(const std::string& path, const std::vector<SphereData>& spheres) {
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << "# raykit bench: exact roots (float128, rounded to double) of the first rays of each family.\n"
-               "# Written by raykit_bench --write-exact from bench/reference/; read by bench/handout.cpp.\n"
-               "# per family: '= family rays fingerprint', then 'family index hit near_tangent t0 t1' per ray\n";
-        char line[160];
-        for (const SphereData& d : spheres) {
-            const std::size_t m = std::min(kExactRays, d.exact.size());
-            // The rays themselves are not stored: the handout makes them again
-            // from families.cpp, and checks this fingerprint of their inputs.
-            std::snprintf(line, sizeof line, "= %s %zu %016llx\n", d.family.id.c_str(), m,
-                          static_cast<unsigned long long>(fingerprint(d.family.samples, m)));
-            out << line;
-            for (std::size_t i = 0; i < m; ++i) {
-                const ExactSphere& e = d.exact[i];
-                std::snprintf(line, sizeof line, "%s %zu %d %d %.17g %.17g\n", d.family.id.c_str(), i, e.hit ? 1 : 0,
-                              e.near_tangent ? 1 : 0, static_cast<double>(e.t[0]), static_cast<double>(e.t[1]));
-                out << line;
-            }
-        }
-        if (!out) throw std::runtime_error("writing " + tmp + " failed");
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
-}
-
 int run(const Options& opt, const char* argv0, std::ofstream& file) {
 #if defined(__SSE2__)
     // Embree asks for flush-to-zero and denormals-are-zero; no input or result
@@ -181,7 +149,6 @@ int run(const Options& opt, const char* argv0, std::ofstream& file) {
 #endif
     const bool with_embree = !opt.subject_only && embree::available();
     std::vector<SphereData> spheres = make_spheres(opt.rays, with_embree);
-    if (!opt.write_exact.empty()) write_exact(opt.write_exact, spheres);
     std::string box_note;
     std::vector<BoxData> boxes;
     if (!opt.subject_only) boxes = make_boxes(opt.rays, box_note);

@@ -8,7 +8,6 @@ facts that only hold when the float128 yardstick and the ulp measure work.
 from __future__ import annotations
 
 import csv
-import functools
 import importlib.util
 import json
 import math
@@ -80,7 +79,7 @@ def selftest_quick_run(ctx) -> str:
 
         # Facts about the errors (not the times) that a broken yardstick would miss.
         far_text, far_stable = rows[("far_1e4", "textbook_f32")], rows[("far_1e4", "stable_f32")]
-        # (A handout reads the committed full run, where the stable form misclassifies a few rays in 10^4.)
+        # (Not none: on the committed full run the stable form misclassifies a few rays in 10^4.)
         expect(_number(far_text, "misclassified_share") > 0.1 and _number(far_stable, "misclassified_share") < 1e-3,
                "1e4 radii away, the textbook form in float must misclassify many rays and the stable form almost none")
         expect(_number(far_stable, "ulps_p99") < 10 < _number(far_text, "ulps_p99"),
@@ -166,36 +165,6 @@ def selftest_bad_input(ctx, bench_exe) -> str:
                            text=True, timeout=120)
         expect(r.returncode == 1 and "cannot write" in r.stderr, "an unwritable --out must fail with a message")
     return "bad options and folders: message and exit 2, nothing written"
-
-
-def _needs_bench(check):
-    """A handout leaves bench/ out while a file of it computes a step's answer (cmd_handout.OPTIONAL_PARTS)."""
-    @functools.wraps(check)
-    def run(ctx, **fixtures):
-        if not (ROOT / "bench" / "CMakeLists.txt").is_file():
-            raise Skipped("this copy of the kit has no bench/")
-        return check(ctx, **fixtures)
-    return run
-
-
-def selftest_handout_data(ctx, bench_exe) -> str:
-    """The exact roots a handout's bench judges the student with (bench/data/exact_roots.txt) are what the
-    instructor's bench computes today for the same rays."""
-    exe = bench_exe
-    committed = ROOT / "bench" / "data" / "exact_roots.txt"
-    with tempfile.TemporaryDirectory() as tmp:
-        fresh = Path(tmp) / "exact_roots.txt"
-        r = subprocess.run([str(exe), "--rays=500", "--repetitions=1", "--min-time=0.0001",
-                            f"--write-exact={fresh}", f"--out={Path(tmp) / 'run.json'}"],
-                           capture_output=True, text=True, timeout=600)
-        expect(r.returncode == 0, f"raykit_bench --write-exact exited {r.returncode}: {r.stderr[-500:]}")
-        old, new = committed.read_text().splitlines(), fresh.read_text().splitlines()
-        differ = [i for i, (a, b) in enumerate(zip(old, new)) if a != b]
-        expect(len(old) == len(new) and not differ,
-               f"bench/data/exact_roots.txt is stale ({len(differ)} lines differ, first at line "
-               f"{differ[0] + 1 if differ else min(len(old), len(new)) + 1}); write it again with "
-               f"build/reference/bench/raykit_bench --rays=500 --write-exact=bench/data/exact_roots.txt")
-    return f"the handout's exact roots match the instructor's bench ({len(new)} lines)"
 
 
 @pytest.mark.quick
@@ -399,10 +368,3 @@ def selftest_reading_generated(ctx) -> str:
     blocks = sum(1 for p in files for l in p.read_text().split("\n") if bn.BEGIN.match(l))
     return (f"{blocks} generated blocks current with the committed run, no typed figure in "
             f"{', '.join(p.name for p in files)}; {len(PLANTED)} planted figures and a hand-edited block caught")
-
-
-# bench/ is optional in a handout: without it these three skip (wrapped here, below _needs_bench; they
-# still run in the order they are written, the bench build first).
-selftest_quick_run = _needs_bench(selftest_quick_run)
-selftest_bad_input = _needs_bench(selftest_bad_input)
-selftest_handout_data = _needs_bench(selftest_handout_data)

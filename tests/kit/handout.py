@@ -56,6 +56,8 @@ def selftest_scan(ctx) -> str:
     _make_handout()
     for gone in cmd_handout.EXCLUDED:
         expect(not (TARGET / gone).exists(), f"the handout contains {gone}")
+    # Named as well as listed: ./kit bench is the instructor's (issue 56), so no part of bench/ ships.
+    expect(not (TARGET / "bench").exists(), "the handout contains bench/ (./kit bench is the instructor's)")
     # 1. The scan for step code, on every file outside steps/.
     found = cmd_handout.scan_tree(TARGET)
     if found:

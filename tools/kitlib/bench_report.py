@@ -152,11 +152,10 @@ def merge_student(data: dict, student: dict | None, status: str, label: str) -> 
     """Adds the student's sphere function to the reference run as variant "student".
 
     The student's code runs in its own process (its functions have the same
-    names as the kit's), maybe on another day or machine (a handout places it
-    on the committed reference run), so its times are put on the reference
-    run's scale: both runs time the same calibration loop (a fixed amount of
-    arithmetic), and the student's times are multiplied by the ratio of its
-    medians."""
+    names as the kit's), timed apart from the reference run, so its times are
+    put on the reference run's scale: both runs time the same calibration loop
+    (a fixed amount of arithmetic), and the student's times are multiplied by
+    the ratio of its medians."""
     variant = {"id": "student", "formulation": "student", "label": label, "precision": "float",
                "group": "sphere", "ulp_of": "float", "lanes": 1, "isa": "", "status": status,
                "note": "built from steps/"}
@@ -179,9 +178,6 @@ def merge_student(data: dict, student: dict | None, status: str, label: str) -> 
             else:
                 row["cpu_ns"], row["real_ns"] = [], []
             data["results"].append(row)
-        if student["meta"].get("handout"):
-            variant["note"] += (f"; errors over the first {max((r['rays'] for r in student['results']), default=0)} "
-                                f"rays of each family (their exact roots are shipped as data)")
         if skipped:
             variant["note"] += f"; not shown (the reference run has no such family): {', '.join(skipped)}"
         if k is not None:

@@ -27,9 +27,6 @@ from raykit.packages import ensure_packages
 from raykit.status import FAILED, OK
 
 TARGET = "raykit_bench"
-# The instructor's benchmark; a student's handout has only bench/handout.cpp (no code that computes
-# what a step asks for) and places the student's function on the committed run.
-INSTRUCTOR = (ROOT / "bench" / "reference").is_dir()
 COMMITTED = ROOT / "docs" / "bench" / "results.json"
 DEFAULT_OUT = ROOT / "build" / "bench"
 OUTPUTS = ("results.csv", "results.json", "table.md", "plot.svg")
@@ -175,8 +172,6 @@ def status_lines(data: dict) -> list[str]:
         words = {"absent": "not built in", "not_started": "not started (the stub throws raykit::not_implemented)"}
         lines.append(f"{v['label']}: {words.get(v['status'], v['status'])}"
                      + (f" ({v['note']})" if v["status"] == "absent" and v["note"] else "") + ".")
-    if data["meta"].get("source"):
-        lines.append(data["meta"]["source"][0].upper() + data["meta"]["source"][1:] + ".")
     lines.append(f"Embree: {data['meta']['embree']}.")
     if data["meta"].get("highway"):
         lines.append(f"Vectors: {data['meta']['highway']}.")
@@ -349,9 +344,6 @@ def measure(args) -> dict:
     progress = Progress()
     run_args = ["--quick"] if args.quick else []
     timeout = 120 if args.quick else 600
-    if not INSTRUCTOR:  # only the student's step is built: Embree and Highway are not needed
-        return measure_handout(args, progress, run_args, timeout)
-
     try:
         ensure_packages("bench-embree")
     except KitError:
@@ -376,27 +368,6 @@ def measure(args) -> dict:
     if data is None:
         raise KitError(f"raykit_bench {problem}", FAILED)
     report.merge_student(data, student, student_status or "ok", student_label)
-    return data
-
-
-def measure_handout(args, progress: Progress, run_args: list[str], timeout: float) -> dict:
-    """A handout has no bench/reference/: only the student's function is measured, and
-    placed on the committed reference run."""
-    if not COMMITTED.is_file():
-        progress.done()
-        raise KitError(f"{COMMITTED.relative_to(ROOT)} is missing: the handout's benchmark places your step on "
-                       f"that committed run", FAILED)
-    data = load(str(COMMITTED))
-    # The committed run holds the instructor's own "your step" (a stub): replaced by this one.
-    data["variants"] = [v for v in data["variants"] if v["id"] != "student"]
-    data["results"] = [r for r in data["results"] if r["variant"] != "student"]
-    data["meta"]["source"] = (f"every row but yours is from the committed reference run "
-                              f"({COMMITTED.relative_to(ROOT)}, measured on {data['meta']['cpu']})")
-    student, status, label = None, "not measured (--no-student)", "your step"
-    if not args.no_student:
-        student, status, label = student_subject(progress, run_args, timeout)
-    progress.done()
-    report.merge_student(data, student, status or "ok", label)
     return data
 
 

@@ -6,11 +6,9 @@ What goes out:
     anyway, --from-working-tree the working tree's files (with a warning; never a solution's line);
   - everything else the kit tracks, except what EXCLUDED lists: the solutions, the mutants and fixtures
     (answers with one slip), the property oracles and fuzz targets, the exact-root helper, the
-    benchmark's reference formulations, and the instructor's tools that need them.
+    benchmark (./kit bench is the instructor's, issue 56), and the instructor's tools.
 Nothing outside steps/ may compute what a step asks for: every code file that would ship is scanned for
-step code (SCAN_PATTERNS below) and the command refuses when one matches. The benchmark is an optional
-part: when a file of bench/ outside bench/reference/ still computes an answer, bench/ is left out whole
-(its CMakeLists.txt would miss the file otherwise) and the command says so.
+step code (SCAN_PATTERNS below) and the command refuses when one matches.
 """
 
 from __future__ import annotations
@@ -35,7 +33,7 @@ EXCLUDED = [
     "tests/properties", "tests/fuzz",                      # oracles and fuzz targets run on the solutions
     "tests/hidden",                                        # the hidden cases (graded against the solutions)
     "tests/support/reference_roots.hpp",                   # the exact roots: a handout has the data instead
-    "bench/reference",                                     # the benchmark's formulations and exact answers
+    "bench",                                               # the benchmark: ./kit bench is the instructor's
     "tools/kitlib",                                        # the instructor's toolchain: grading, the platforms,
                                                            # the report, docs, slides, exact data, self-test
     "docs/lab/check",                                      # the lab's C++ check: a textbook root function
@@ -49,8 +47,6 @@ EXCLUDED = [
     ".github/workflows/student-loop.yml",                  # the instructor's CI on GitHub's runners (needs solutions/)
     ".github/workflows/ci.yml",                            # .ci/run on GitHub's runners (needs .ci/)
 ]
-# Optional parts dropped whole when a file in them still computes an answer (see the module's comment).
-OPTIONAL_PARTS = ["bench"]
 
 README_BLOCK = re.compile(r"<!-- instructor -->.*?<!-- /instructor -->\n?", re.S)
 README_LINE = "<!-- instructor line -->"
@@ -370,7 +366,6 @@ def run(args) -> int:
 
     staging = target.resolve().parent / f".{target.name}.partial"
     shutil.rmtree(staging, ignore_errors=True)
-    dropped: list[str] = []
     try:
         count = 0
         for rel in kit_files():
@@ -405,14 +400,6 @@ def run(args) -> int:
                 keep.parent.mkdir(parents=True, exist_ok=True)
                 keep.write_bytes(data)
         found = scan_tree(staging)
-        for part in OPTIONAL_PARTS:
-            inside_part = sorted(f for f in found if f.startswith(part + "/"))
-            if inside_part:
-                count -= sum(1 for p in (staging / part).rglob("*") if p.is_file())
-                shutil.rmtree(staging / part)
-                dropped.append(f"{part}/ (its {inside_part[0]} computes: {found[inside_part[0]][0]})")
-                for f in inside_part:
-                    del found[f]
         if found:
             first = next(iter(found))
             raise KitError(f"{first} would ship step code ({', '.join(found[first])})" +
@@ -427,7 +414,6 @@ def run(args) -> int:
     source = "the working tree (--from-working-tree)" if args.from_working_tree else "the committed stubs (HEAD)"
     say(f"wrote a student handout of {count} files to {target}")
     say(f"  steps/ from {source}")
-    say("  left out: solutions, mutants, fixtures, property tests, fuzz targets, exact-root code"
-        + "".join(f"; {d}" for d in dropped))
+    say("  left out: solutions, mutants, fixtures, property tests, fuzz targets, exact-root code, the benchmark")
     say(f"  students start with: cd {target} && ./kit check")
     return OK
