@@ -4,6 +4,8 @@ Each folder of tests/fixtures/slips/ is a student's file with one slip, everythi
 checked as a student checks it (./kit check N --steps DIR), and what the student reads first, the
 one case the scoreboard shows, must name the slip: its words, the lecture section it points to (found
 in the lecture by what the section teaches, not by its number), and the first hint ./kit hint gives.
+What each folder must produce is in its own expected.json (expected_slips below): the tables of the
+misdirections and trial 6 are those files; a test whose checks are code is named in its fixtures' files.
 The ★ cases of a slip billions of ulps off must not blame rounding. Then the parts that need no
 build: the next command of a step that waits for another, the terminal picture of a ray seen end-on,
 and a render turned upside down or mirrored.
@@ -29,6 +31,57 @@ CASE_LINE = re.compile(r"^\s+✗ (.*?)  \[", re.M)
 
 def _steps() -> dict:
     return {s.number: s for s in load_steps()}
+
+
+# Each folder of tests/fixtures/slips/ says what it must produce in its own expected.json: the step, the
+# self-tests of this module that check it ("checked_by"), and for the tests that are tables ("says",
+# "says_not": words the first message must say and must not say, null for none) those words; for a
+# test whose checks are code, a "note" naming it. A folder without one, or naming no test of this
+# module, fails every test that reads them, so no fixture is forgotten.
+EXPECTED = "expected.json"
+_WORDS = ("selftest_misdirections", "selftest_trial6")
+
+
+def expected_slips() -> dict[str, dict]:
+    """{fixture: its expected.json} for every folder of the slip fixtures; Failed naming a folder
+    without one or one that does not say what it must."""
+    found = {}
+    for folder in sorted(p for p in fixture_dir("slips").iterdir() if p.is_dir()):
+        spec = folder / EXPECTED
+        where = f"tests/fixtures/slips/{folder.name}/{EXPECTED}"
+        if not spec.is_file():
+            raise Failed(f"tests/fixtures/slips/{folder.name}/ has no {EXPECTED}: what must it produce?")
+        try:
+            data = json.loads(spec.read_text())
+        except ValueError as e:
+            raise Failed(f"{where}: not JSON: {e}")
+        by = data.get("checked_by")
+        if not isinstance(data.get("step"), str) or not isinstance(by, list) or not by:
+            raise Failed(f"{where}: needs \"step\" (\"01\") and \"checked_by\" (a list of self-tests)")
+        for name in by:
+            if not (name.startswith("selftest_") and callable(globals().get(name))):
+                raise Failed(f"{where}: checked_by names {name!r}, no self-test of tests/kit/slips.py")
+            if name in _WORDS and not (isinstance(data.get("says"), str) and data["says"]
+                                       and (data.get("says_not") is None or isinstance(data["says_not"], str))):
+                raise Failed(f"{where}: {name} needs \"says\" (words) and \"says_not\" (words or null)")
+        if not set(by) & set(_WORDS) and not data.get("note"):
+            raise Failed(f"{where}: its checks are code: a \"note\" must name the self-test")
+        found[folder.name] = data
+    return found
+
+
+def _table(test: str) -> list[tuple[str, str, str, str | None]]:
+    """(fixture, step, words the first message must say, words it must not say or None) of the
+    fixtures whose expected.json names `test`."""
+    return [(name, d["step"], d["says"], d.get("says_not"))
+            for name, d in expected_slips().items() if test in d["checked_by"]]
+
+
+def _declared(test: str, used) -> None:
+    """The fixtures a self-test whose checks are code uses are those whose expected.json names it."""
+    named = {name for name, d in expected_slips().items() if test in d["checked_by"]}
+    expect(named == set(used), f"{test} checks {sorted(set(used))}, but the fixtures whose {EXPECTED} "
+                               f"names it are {sorted(named)}")
 
 
 def _first_block(stdout: str) -> str:
@@ -81,6 +134,8 @@ def selftest_planted_slips(ctx) -> str:
     """The first case shown, its section and the first hint name each planted slip."""
     need_solutions()    # tests/fixtures/ ships in no handout
     steps = _steps()
+    _declared("selftest_planted_slips", ["radius_not_squared", "roots_sign", "uv_swapped", "right_up_x_forward",
+                                         "upside_down", "model_slip"])
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-"))
     table = []
     try:
@@ -160,20 +215,8 @@ def selftest_planted_slips(ctx) -> str:
 # tests/fixtures/slips/ checked as a handout checks it (no catalogue of the course's mutants: only what
 # the judge measures on the code speaks). (fixture, step, words the first message must say, words it
 # must not say: the cause the trial's student was wrongly told, or one alike.) The measured fact comes
-# before the case's own why.
-MISDIRECTED = [
-    ("static_between_calls", "01", "it keeps state between calls", "Report count 0"),
-    ("distance_not_t", "02", "it counts distance along the ray, not steps of d", "must be sorted"),
-    ("unit_direction_assumed", "02", "your code assumes a unit direction", "epsilon"),
-    ("origin_not_centred", "02", "your code uses the origin o where it needs o - c", "not from its square"),
-    ("roots_unsorted", "02", "Your roots are in the wrong order", "not from its square"),
-    ("hit_point_normalized", "04", "your code assumes a unit direction", "throws real hits away"),
-    ("bound_copy_pasted", "04", "a comparison reads hi.x for the other coordinate", "in the other order"),
-    ("bounds_as_ranges", "04", "it reads lo as the range of u and hi as the range of v", "a bound copied"),
-    ("slab_nan", "04", "0 * (1 / 0) = 0 * inf: NaN", "(<=, not <)"),
-    ("integer_half", "05", "In C++ 1 / 2 divides two ints and gives 0", "focal_length in front"),
-    ("mirrored_offset", "05", "half the width minus the pixel's position", "points left"),
-]
+# before the case's own why. The table is the expected.json of each fixture whose checked_by names
+# selftest_misdirections ("says", "says_not").
 
 
 def selftest_misdirections(ctx) -> str:
@@ -189,13 +232,15 @@ def selftest_misdirections(ctx) -> str:
     # process, alike in each. The user isolation needs root; without it, bubblewrap alone (the default).
     import os
     modes = ["bwrap", "user"] if os.geteuid() == 0 else ["bwrap"]
+    misdirected = _table("selftest_misdirections")
+    expect(misdirected, "no slip fixture's expected.json names selftest_misdirections")
     try:
-        for (fixture, number, words, not_words), mode in ((m, mode) for m in MISDIRECTED for mode in modes):
+        for (fixture, number, words, not_words), mode in ((m, mode) for m in misdirected for mode in modes):
             out, _ = _check(steps[number], fixture, work, {NO_CATALOGUE: "1"},   # what a handout prints
                             "--isolation", mode)
             block = _first_block(out)
             why = block.find("why ")
-            expect(words in block and not_words not in block and 0 <= why < block.find(words),
+            expect(words in block and (not_words is None or not_words not in block) and 0 <= why < block.find(words),
                    f"{fixture}: the first message does not say '{words}' first, or says '{not_words}':\n{block}")
             if mode == modes[0]:
                 table.append(f"{fixture}: {CASE_LINE.search(block).group(1)[:40]}")
@@ -203,28 +248,13 @@ def selftest_misdirections(ctx) -> str:
         shutil.rmtree(work, ignore_errors=True)
     halves = [s.folder for s in steps.values() if "½" in (ROOT / "tests" / s.folder / "hints.md").read_text()]
     expect(not halves, f"a hint writes ½, which reads like the student's 1 / 2 (0 in C++): {halves}")
-    return f"{len(MISDIRECTED)} slips named under {' and '.join(modes)}: " + "; ".join(table)
+    return f"{len(misdirected)} slips named under {' and '.join(modes)}: " + "; ".join(table)
 
 
 # Trial 6 (docs/trials/trial6.md): a new student's own code, slips they made up before reading the kit's
 # catalogue, whose first message named only part of the slip (or, for sqrt_in_int, blamed a unit
-# direction). (fixture, step, what the first message must say, what it must not say or None.)
-TRIAL6 = [
-    ("full_b_in_half_form", "01", "with h = 2 f.d, the whole b", None),
-    ("disc_4ac_with_half_b", "01", "the 4 belongs to the whole b", None),
-    ("c_plus_one_inside", "01", "it finds no root. From inside", None),
-    ("over_2a_half_b", "01", "its roots are half the right ones", None),
-    ("sqrt_in_int", "01", "the square root loses its fraction", "assumes a unit direction"),
-    ("f_reversed", "02", "f = o - c (the origin seen from the centre, not c - o", "not from its square"),
-    ("geom_lm2_sign", "03", "the sign of l_m^2 = |L|^2 - t_m^2 is turned", None),
-    ("geom_r_not_squared", "03", "such as r where r^2 belongs", None),
-    ("unitdir_c_from_origin", "03", "your code uses the origin o where it needs o - c", None),
-    ("unitdir_full_b", "03", "with h = 2 f.d, the whole b", None),
-    ("plane_t_sign", "04", "the right t with its sign turned", None),
-    ("int_aspect", "05", "width / height in ints", None),
-    ("loops_swapped", "05", "is past the last row", None),
-    ("render_tmax_mm", "05", "and your render paints it black", None),
-]
+# direction). (fixture, step, what the first message must say, what it must not say or None): the
+# expected.json of each fixture whose checked_by names selftest_trial6.
 
 
 def selftest_trial6(ctx) -> str:
@@ -236,8 +266,10 @@ def selftest_trial6(ctx) -> str:
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-trial6-"))
     import os
     modes = ["bwrap", "user"] if os.geteuid() == 0 else ["bwrap"]
+    trial6 = _table("selftest_trial6")
+    expect(trial6, "no slip fixture's expected.json names selftest_trial6")
     try:
-        for (fixture, number, words, not_words), mode in ((t, mode) for t in TRIAL6 for mode in modes):
+        for (fixture, number, words, not_words), mode in ((t, mode) for t in trial6 for mode in modes):
             if number not in steps:
                 continue    # a course without that step
             out, _ = _check(steps[number], fixture, work, {NO_CATALOGUE: "1"}, "--isolation", mode)
@@ -247,7 +279,7 @@ def selftest_trial6(ctx) -> str:
                    f"{'' if not_words is None else f', or says {not_words!r}'}:\n{block}")
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    return f"{len(TRIAL6)} slips of trial 6 named under {' and '.join(modes)}"
+    return f"{len(trial6)} slips of trial 6 named under {' and '.join(modes)}"
 
 
 def selftest_slow_named(ctx) -> str:
@@ -255,6 +287,7 @@ def selftest_slow_named(ctx) -> str:
     how many times the reference's CPU it took, not graded; the reference itself is not called slow."""
     need_solutions()
     from raykit.runcases import SLOW_FACTOR
+    _declared("selftest_slow_named", ["slow_sqrt"])
     rows = {}
     for name, folder in (("reference", ROOT / "solutions"), ("slow", fixture_dir("slips") / "slow_sqrt"),
                          ("reference again", ROOT / "solutions")):
@@ -271,6 +304,7 @@ def selftest_slow_named(ctx) -> str:
 def selftest_turned_render(ctx) -> str:
     """./kit render on an upside-down and a mirrored step 05 says so, not "an edge moved by a pixel"."""
     need_solutions()
+    _declared("selftest_turned_render", ["upside_down", "right_up_x_forward"])
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-render-"))
     said = []
     try:
@@ -291,6 +325,22 @@ def selftest_turned_render(ctx) -> str:
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return "; ".join(said)
+
+
+@pytest.mark.quick
+def selftest_expected_files(ctx) -> str:
+    """Every folder of tests/fixtures/slips/ has an expected.json that names a self-test of this module
+    and holds what that test reads; each test that reads a table has a row."""
+    need_solutions()    # tests/fixtures/ ships in no handout
+    found = expected_slips()
+    steps = _steps()
+    for name, d in found.items():
+        expect(d["step"] in steps, f"tests/fixtures/slips/{name}/{EXPECTED}: step {d['step']!r} is no step of the course")
+        expect((fixture_dir("slips") / name / steps[d["step"]].folder).is_dir(),
+               f"tests/fixtures/slips/{name}/: no folder {steps[d['step']].folder} for its step {d['step']}")
+    for test in _WORDS:
+        expect(_table(test), f"no slip fixture's {EXPECTED} names {test}")
+    return f"{len(found)} slip fixtures, each with its {EXPECTED}"
 
 
 @pytest.mark.quick
@@ -566,6 +616,7 @@ def selftest_fitting_words(ctx) -> str:
     tie kept by a loop from last to first, negative t dropped, a slab's in-plane hit), and no other."""
     need_solutions()
     steps = _steps()
+    _declared("selftest_fitting_words", ["ties_last_to_first", "negative_t_dropped", "in_plane_slab"])
     work = Path(tempfile.mkdtemp(dir=BUILD, prefix="slips-words-"))
     said = []
     try:
