@@ -102,3 +102,34 @@ def selftest_no_own_not_graded(ctx) -> str:
         return f"{len(graded)} routes, each the student's own verdict ({states})"
 
     return run_modes(one)
+
+
+@pytest.mark.quick
+def selftest_hostile_expectations(ctx) -> str:
+    """Every folder of tests/fixtures/hostile/ says what it expects (issue 56): an expect.json (read by
+    the test above) or an expected.json whose checked_by names the self-tests, MODULE.py::FUNCTION of
+    tests/kit/, that check it in code."""
+    need_solutions()    # tests/fixtures/ ships in no handout
+    from raykit.common import ROOT
+    here = ROOT / "tests" / "kit"
+    data, code = 0, 0
+    for folder in sorted(p for p in fixture_dir("hostile").iterdir() if p.is_dir()):
+        where = f"tests/fixtures/hostile/{folder.name}"
+        if (folder / "expect.json").is_file():
+            data += 1
+            continue
+        spec = folder / "expected.json"
+        expect(spec.is_file(), f"{where}/ has neither expect.json nor expected.json: what must it produce?")
+        try:
+            tests = json.loads(spec.read_text()).get("checked_by")
+        except ValueError as e:
+            raise Failed(f"{where}/expected.json: not JSON: {e}")
+        expect(isinstance(tests, list) and tests, f"{where}/expected.json: no checked_by list")
+        for t in tests:
+            path, _, name = str(t).partition("::")
+            source = ROOT / path
+            expect(source.parent == here and source.is_file() and name.startswith("selftest_")
+                   and f"\ndef {name}(" in source.read_text(),
+                   f"{where}/expected.json: checked_by {t!r} is no self-test of tests/kit/")
+        code += 1
+    return f"{data} hostile fixtures with an expect.json, {code} checked in code, each named in its expected.json"
