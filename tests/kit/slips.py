@@ -335,7 +335,9 @@ def selftest_expected_files(ctx) -> str:
     found = expected_slips()
     steps = _steps()
     for name, d in found.items():
-        expect(d["step"] in steps, f"tests/fixtures/slips/{name}/{EXPECTED}: step {d['step']!r} is no step of the course")
+        expect(re.fullmatch(r"\d\d", d["step"]) is not None, f"tests/fixtures/slips/{name}/{EXPECTED}: step {d['step']!r}")
+        if d["step"] not in steps:
+            continue    # a course without that step
         expect((fixture_dir("slips") / name / steps[d["step"]].folder).is_dir(),
                f"tests/fixtures/slips/{name}/: no folder {steps[d['step']].folder} for its step {d['step']}")
     for test in _WORDS:
