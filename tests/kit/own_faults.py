@@ -1,12 +1,12 @@
 """Self-test: no route of a student's own file to "not graded" (issue 52, item 2).
 
 A step is not graded only from evidence the graded code cannot shape (docs/integrity.md, "Not
-graded"). Each fixture of tests/fixtures/hostile/ with an `expect.json` is one route a student's file
+graded"). Each fixture of tests/fixtures/hostile/ with a verdict in its `expected.json` is one route a student's file
 has to its own "not graded": the words of a full disk in a diagnostic (`#warning`, `#line`, `#pragma
 message`, a deprecation, a failing `static_assert`), a global constructor that sleeps, spins or forks,
 descriptors closed, put on /dev/full or flooded, a scratch folder filled at start-up. Each is graded
 with `./kit check 1 --steps` under bubblewrap and under the user isolation (integrity.isolations: a
-part left out is a failure in CI), and must get the student's own verdict, as its `expect.json` says:
+part left out is a failure in CI), and must get the student's own verdict, as its `expected.json` says:
 
   "base"       the partial step the others are compared with: graded, partial, never not graded
   "same"       the very cases and score of `like` (the words change nothing)
@@ -36,16 +36,18 @@ def routes() -> list[tuple[str, dict]]:
     """The fixtures that declare an expectation, the base first."""
     found = []
     for folder in sorted(fixture_dir("hostile").iterdir()):
-        spec = folder / "expect.json"
+        spec = folder / "expected.json"
         if not spec.is_file():
             continue
         data = json.loads(spec.read_text())
+        if "verdict" not in data:
+            continue            # checked in code (checked_by): selftest_hostile_expectations
         if data.get("verdict") not in KINDS:
             raise Failed(f"{spec}: verdict {data.get('verdict')!r} is none of {KINDS}")
         found.append((folder.name, data))
     found.sort(key=lambda r: r[1]["verdict"] != "base")
     if not found or found[0][1]["verdict"] != "base":
-        raise Failed("no hostile fixture declares the base (expect.json, verdict \"base\")")
+        raise Failed("no hostile fixture declares the base (expected.json, verdict \"base\")")
     return found
 
 
@@ -80,7 +82,7 @@ def selftest_no_own_not_graded(ctx) -> str:
             kind = spec["verdict"]
             like = graded.get(spec.get("like", ""))
             if kind in ("same", "own") and like is None:
-                raise Failed(f"{name}: its expect.json names no graded base ({spec.get('like')!r})")
+                raise Failed(f"{name}: its expected.json names no graded base ({spec.get('like')!r})")
             theirs = {c["name"]: c["status"] for c in like["cases"]} if like else {}
             if kind == "base":
                 expect(any(st == PASS for st in cases.values()) and any(st != PASS for st in cases.values()),
@@ -106,8 +108,8 @@ def selftest_no_own_not_graded(ctx) -> str:
 
 @pytest.mark.quick
 def selftest_hostile_expectations(ctx) -> str:
-    """Every folder of tests/fixtures/hostile/ says what it expects (issue 56): an expect.json (read by
-    the test above) or an expected.json whose checked_by names the self-tests, MODULE.py::FUNCTION of
+    """Every folder of tests/fixtures/hostile/ says what it expects (issue 56) in its expected.json: a
+    verdict (read by the test above), or a checked_by that names the self-tests, MODULE.py::FUNCTION of
     tests/kit/, that check it in code."""
     need_solutions()    # tests/fixtures/ ships in no handout
     from raykit.common import ROOT
@@ -115,15 +117,16 @@ def selftest_hostile_expectations(ctx) -> str:
     data, code = 0, 0
     for folder in sorted(p for p in fixture_dir("hostile").iterdir() if p.is_dir()):
         where = f"tests/fixtures/hostile/{folder.name}"
-        if (folder / "expect.json").is_file():
-            data += 1
-            continue
         spec = folder / "expected.json"
-        expect(spec.is_file(), f"{where}/ has neither expect.json nor expected.json: what must it produce?")
+        expect(spec.is_file(), f"{where}/ has no expected.json: what must it produce?")
         try:
-            tests = json.loads(spec.read_text()).get("checked_by")
+            said = json.loads(spec.read_text())
         except ValueError as e:
             raise Failed(f"{where}/expected.json: not JSON: {e}")
+        if "verdict" in said:       # a route to "not graded": its verdict is data (the test above)
+            data += 1
+            continue
+        tests = said.get("checked_by")
         expect(isinstance(tests, list) and tests, f"{where}/expected.json: no checked_by list")
         for t in tests:
             path, _, name = str(t).partition("::")
@@ -132,4 +135,4 @@ def selftest_hostile_expectations(ctx) -> str:
                    and f"\ndef {name}(" in source.read_text(),
                    f"{where}/expected.json: checked_by {t!r} is no self-test of tests/kit/")
         code += 1
-    return f"{data} hostile fixtures with an expect.json, {code} checked in code, each named in its expected.json"
+    return f"{data} hostile fixtures with a verdict as data, {code} checked in code, each naming its test"
