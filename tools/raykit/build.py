@@ -198,16 +198,3 @@ def shown_text(build: Build, text: str) -> str:
         text = text.replace(str(build.steps_dir), str(build.shown_dir))
     return printable(text)
 
-
-def ensure_configured(build: Build, all_steps: list[Step]) -> None:
-    """Configures `build` once per build folder and set of present step files: the targets CMake
-    makes depend on which files exist; after that, the build tool re-runs CMake when its inputs change."""
-    present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
-                         if (build.steps_dir / s.folder / f).is_file())
-    stamp = build.binary_dir / "raykit-configured.txt"
-    key = (f"{build.steps_dir}\ntools {build.tools}\nboundary {build.boundary}\n"
-           f"sanitize {build.sanitize_student}\n{present}\n")
-    cache = build.binary_dir / "CMakeCache.txt"
-    if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
-        configure(build)
-        stamp.write_text(key)
