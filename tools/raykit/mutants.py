@@ -57,7 +57,7 @@ def header_line(slip: str, cases: list[str]) -> str:
     return f"Slip: {slip} Caught by: {named}"
 
 
-def write_patch(step: Step, name: str, slip: str, cases: list[str], changed: dict[str, str]) -> str:
+def write_patch(step: Step, slip: str, cases: list[str], changed: dict[str, str]) -> str:
     """The patch text: the header, then one unified diff per file whose text differs from the reference."""
     if "\n" in slip or '"' in slip:
         raise KitError("--slip must be one line without double quotes")

@@ -139,7 +139,7 @@ def _save(step: Step, args, target: Path) -> int:
                        f"answers on every case (an equivalent mutant: drop it with `{drop}`), or the suite lacks "
                        f"the case that would show it: add one to tests/{step.folder}/ and save again.")
     cases = args.caught_by or failing
-    text = write_patch(step, args.name, slip, cases, changed)
+    text = write_patch(step, slip, cases, changed)
     target.parent.mkdir(parents=True, exist_ok=True)
     atomic.write(target, text)      # never a half-written patch
     say(f"wrote {rel_target} ({sum(len(h) for h in read_patch(target, step).files.values())} hunk(s))")
