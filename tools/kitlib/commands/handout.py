@@ -205,12 +205,12 @@ def scan_text(path: Path, text: str) -> list[str]:
     return [p.name for p in SCAN_PATTERNS if p.regex.search(code)]
 
 
-def scan_tree(root: Path, skip: tuple[str, ...] = ("steps",)) -> dict[str, list[str]]:
-    """{file relative to root: patterns found} for every code file under root outside `skip`."""
+def scan_tree(root: Path) -> dict[str, list[str]]:
+    """{file relative to root: patterns found} for every code file under root outside steps/."""
     found = {}
     for path in sorted(root.rglob("*")):
         rel = path.relative_to(root)
-        if not path.is_file() or rel.parts[0] in skip or "__pycache__" in rel.parts:
+        if not path.is_file() or rel.parts[0] == "steps" or "__pycache__" in rel.parts:
             continue
         hits = scan_text(path, path.read_text(errors="replace"))
         if hits:
@@ -226,9 +226,9 @@ def launch_json(text: str) -> str:
     return re.sub(r'("id": "step",[^\n]*"options": )\[[^\]]*\]', lambda m: m.group(1) + options, text)
 
 
-def excluded(rel: Path, extra: list[str] = ()) -> bool:
+def excluded(rel: Path) -> bool:
     s = rel.as_posix()
-    return any(s == e or s.startswith(e + "/") for e in list(EXCLUDED) + list(extra)) or "__pycache__" in rel.parts
+    return any(s == e or s.startswith(e + "/") for e in EXCLUDED) or "__pycache__" in rel.parts
 
 
 def committed_steps() -> dict[str, bytes]:
