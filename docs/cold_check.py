@@ -37,7 +37,9 @@ def fail(message: str) -> None:
     sys.exit(2)
 
 
-def clone(rev: str, where: Path, all_steps: bool) -> Path:
+def checkout(rev: str, where: Path, fail=fail) -> Path:
+    """REV cloned from this repository into a folder of `where` (docs/grade_cost.py's too), with the
+    shared folder beside it that a clone looks for; `fail` says why not."""
     folder = where / rev.replace("/", "_")
     r = subprocess.run(["git", "clone", "-q", str(ROOT), str(folder)], capture_output=True, text=True)
     if r.returncode == 0:
@@ -47,6 +49,11 @@ def clone(rev: str, where: Path, all_steps: bool) -> Path:
     shared = ROOT.parent / "shared"
     if shared.is_dir() and not (where / "shared").exists():
         (where / "shared").symlink_to(shared)
+    return folder
+
+
+def clone(rev: str, where: Path, all_steps: bool) -> Path:
+    folder = checkout(rev, where)
     for step in sorted((folder / "solutions").iterdir()):
         if step.is_dir() and (all_steps or step.name.startswith("01_")):
             for f in step.glob("*.cpp"):

@@ -47,6 +47,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import cold_check              # beside this script: its checkout of a revision
+
 ROOT = Path(__file__).resolve().parent.parent
 ACCT = struct.Struct("<BBHIIIIIIf8H16s")          # struct acct_v3, 64 bytes
 MARK = "<!-- grade_cost:{}:{} -->"
@@ -126,17 +128,9 @@ def descendants(records: list[dict], root: int) -> list[dict]:
 
 
 def clone(rev: str, where: Path) -> Path:
-    folder = where / rev.replace("/", "_")
-    r = subprocess.run(["git", "clone", "-q", str(ROOT), str(folder)], capture_output=True, text=True)
-    if r.returncode == 0:
-        r = subprocess.run(["git", "checkout", "-q", rev], cwd=folder, capture_output=True, text=True)
-    if r.returncode != 0:
-        fail(f"cannot check out {rev}: {r.stderr.strip()}")
+    folder = cold_check.checkout(rev, where, fail)
     short = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=folder, capture_output=True, text=True).stdout.strip()
     NAMES[rev] = rev if short.startswith(rev) or rev.startswith(short) else f"{rev} ({short})"
-    shared = ROOT.parent / "shared"
-    if shared.is_dir() and not (where / "shared").exists():
-        (where / "shared").symlink_to(shared)
     return folder
 
 

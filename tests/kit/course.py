@@ -813,7 +813,7 @@ def rendered_outputs(rs) -> dict[str, str]:
     st = grading_mod.Student("ada", {"earned": str(data.get("score")), "maximum": str(data.get("max_score"))}, data)
     said = io.StringIO()
     with contextlib.redirect_stdout(said):
-        out["the report's student page"] = student_page(st, [r.step for r in rs], {})
+        out["the report's student page"] = student_page(st, {})
     return out
 
 

@@ -202,7 +202,7 @@ def selftest_class_report(ctx) -> str:
     from kitlib.report.pages import analyse
     sigs, _ = signatures.load()
     g = load(out / "grading")
-    problems = _slip_problems(plan, analyse(g, load_steps(), sigs))
+    problems = _slip_problems(plan, analyse(g, sigs))
     expect(not problems, "slips not recognised:\n  " + "\n  ".join(problems))
 
     # The check can fail: with one slip's recorded signature one case short, its student is not matched to it.
@@ -210,7 +210,7 @@ def selftest_class_report(ctx) -> str:
                             if sum(x.step == m[0].step and x.fails == m[0].fails for x in sigs) == 1)
     wrong = [signatures.Signature(x.key, x.step, x.name, x.slip, x.lecture, frozenset(sorted(x.fails)[1:]))
              if x.key == mutant.key else x for x in sigs]
-    missed = _slip_problems({"one": {victim: [mutant]}, "two": {}}, analyse(g, load_steps(), wrong))
+    missed = _slip_problems({"one": {victim: [mutant]}, "two": {}}, analyse(g, wrong))
     expect(missed, f"{victim} still matched {mutant.key} exactly when its signature lacks a case")
 
     index = (out / "index.html").read_text(encoding="utf-8")
@@ -823,7 +823,6 @@ def selftest_loop_no_slip(ctx) -> str:
     sigs, _ = signatures.load()
     expect(bool(sigs), "no mutant signature recorded (./kit report --signatures)")
     sig = sigs[0]
-    steps = load_steps()
 
     def student(name: str, failing: str) -> Student:
         cases = [{"name": n, "tier": "basic", "status": failing} for n in sorted(sig.fails)]
@@ -833,7 +832,7 @@ def selftest_loop_no_slip(ctx) -> str:
 
     g = Grading(WORK, WORK / "none.csv", [student("wrong", "fail"), student("looping", "timed_out"),
                                           student("budget", "not_run")], None)
-    found = analyse(g, steps, sigs)
+    found = analyse(g, sigs)
     wrong = found.get(("wrong", sig.step))
     expect(wrong is not None and wrong[1].kind == "exact" and sig in wrong[1].signatures,
            f"wrong answers on {sig.name}'s cases are not matched to it: {wrong}")

@@ -258,12 +258,14 @@ def precision_word(v: dict) -> str:
         v["precision"], v["precision"])
 
 
-def family_order(data: dict) -> list[dict]:
-    return list(data["families"])
-
-
-def variant_order(data: dict) -> list[str]:
-    return [v["id"] for v in data["variants"]]
+def family_groups(data: dict, pts: list[Point]):
+    """(family, its points: the scalar variants first, each in the variants' order) for each family
+    that has points, in the families' order."""
+    order = {v["id"]: i for i, v in enumerate(data["variants"])}
+    for fam in data["families"]:
+        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
+        if group:
+            yield fam, group
 
 
 def peak_line(data: dict) -> str:
@@ -306,7 +308,6 @@ def subtitle(data: dict) -> str:
 def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
     """The terminal table: one block per family."""
     peak = data.get("peak") or {}
-    order = {vid: i for i, vid in enumerate(variant_order(data))}
     out = io.StringIO()
     w = out.write
     m = data["meta"]
@@ -322,10 +323,7 @@ def table_text(data: dict, pts: list[Point], statuses: list[str]) -> str:
       "or the other way round.\n")
     header = (f"  {'':2}{'variant':<34}{'type':<15}{'ns/ray':>7} {'[min-max]':<13}{'median':>8}{'p99':>8}"
               f"{'max':>8}  {'misclassified':>13}{'flops':>7}{'roofl.':>7}\n")
-    for fam in family_order(data):
-        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
-        if not group:
-            continue
+    for fam, group in family_groups(data, pts):
         hard = " (hard)" if fam.get("hard") else ""
         band = f" Tangent band {fam['tangent_band']:g} r." if fam.get("tangent_band") else ""
         w(f"\n{fam['label']}{hard}: {fam['description']}.{band}\n")
@@ -368,7 +366,7 @@ def student_summary(data: dict, pts: list[Point]) -> list[str]:
     out = [f"{label}, in short (rank among the scalar variants of each family, 1 the best; by error only among "
            f"those with the same result type):"]
     width = max(len(f["label"]) for f in data["families"] if f["id"] in mine)
-    for fam in family_order(data):
+    for fam in data["families"]:
         p = mine.get(fam["id"])
         if p is None:
             continue
@@ -438,7 +436,6 @@ def csv_text(data: dict, pts: list[Point]) -> str:
 
 def markdown_table(data: dict, pts: list[Point]) -> str:
     """The same numbers as the terminal table, for the docs."""
-    order = {vid: i for i, vid in enumerate(variant_order(data))}
     peak = data.get("peak") or {}
     lines = ["<!-- written by ./kit bench; do not edit -->", "", peak_line(data), ""]
     m = data["meta"]
@@ -447,10 +444,7 @@ def markdown_table(data: dict, pts: list[Point]) -> str:
                  f"Errors in ulps of the result type against float128; ◆ marks the Pareto front, one front for "
                  f"the float results and one for the double results (a float ulp is 2^29 double ulps), scalar "
                  f"and vector apart.")
-    for fam in family_order(data):
-        group = sorted((p for p in pts if p.family["id"] == fam["id"]), key=lambda p: (p.lanes > 1, order.get(p.vid, 99)))
-        if not group:
-            continue
+    for fam, group in family_groups(data, pts):
         band = fam.get("tangent_band")
         lines += ["", f"### {fam['label']}{' (hard)' if fam.get('hard') else ''}", "",
                   fam["description"] + "." + (f" Tangent band {band:g} r." if band else ""), "",
@@ -497,7 +491,7 @@ def short_name(v: dict) -> str:
 def plot_svg(data: dict, pts: list[Point]) -> str:
     """ns/ray against p99 error, log-log, one panel per family, the Pareto front as
     a dashed staircase, the kit's reference ringed."""
-    fams = [f for f in family_order(data) if any(p.family["id"] == f["id"] and p.timed for p in pts)]
+    fams = [f for f in data["families"] if any(p.family["id"] == f["id"] and p.timed for p in pts)]
     timed = [p for p in pts if p.timed]
     floor = 0.1  # errors below 0.1 ulp are drawn at 0.1
     cols, pw, ph = 3, 330, 250

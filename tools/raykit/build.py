@@ -12,7 +12,7 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
-from .common import BUILD, KitError, QUICK_TIER, ROOT, Step, load_steps, printable, say
+from .common import BUILD, KitError, QUICK_TIER, ROOT, Step, load_steps, printable
 from .relocate import forget_moved_build
 from .status import FAILED
 
@@ -92,7 +92,7 @@ def submission_build(source: Path, slot: str = "submission", folder: Path | None
                  boundary=True, sanitize_student=detect_undefined())
 
 
-def configure(build: Build, quiet: bool = True, extra: dict[str, str] | None = None) -> None:
+def configure(build: Build, extra: dict[str, str] | None = None) -> None:
     """Runs `cmake --preset PRESET -S -B` for `build` (a submission: the "submission" preset) with the
     kit's own settings on top (-D: the steps folder, the tools, the sanitizer, then `extra`). The
     presets (CMakePresets.json) are the one place the builds are described; -B puts the folder where
@@ -115,8 +115,6 @@ def configure(build: Build, quiet: bool = True, extra: dict[str, str] | None = N
     r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if r.returncode != 0:
         raise KitError(f"cmake could not configure {build.binary_dir}:\n{r.stdout[-3000:]}{r.stderr[-3000:]}", FAILED)
-    if not quiet:
-        say(r.stdout)
 
 
 def workflow(name: str, env: dict | None = None) -> subprocess.CompletedProcess:
@@ -198,16 +196,3 @@ def shown_text(build: Build, text: str) -> str:
         text = text.replace(str(build.steps_dir), str(build.shown_dir))
     return printable(text)
 
-
-def ensure_configured(build: Build, all_steps: list[Step]) -> None:
-    """Configures `build` once per build folder and set of present step files: the targets CMake
-    makes depend on which files exist; after that, the build tool re-runs CMake when its inputs change."""
-    present = "\n".join(f"{s.folder}/{f}" for s in all_steps for f in s.files
-                         if (build.steps_dir / s.folder / f).is_file())
-    stamp = build.binary_dir / "raykit-configured.txt"
-    key = (f"{build.steps_dir}\ntools {build.tools}\nboundary {build.boundary}\n"
-           f"sanitize {build.sanitize_student}\n{present}\n")
-    cache = build.binary_dir / "CMakeCache.txt"
-    if not cache.is_file() or not stamp.is_file() or stamp.read_text(errors="replace") != key:
-        configure(build)
-        stamp.write_text(key)

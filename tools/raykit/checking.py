@@ -275,7 +275,7 @@ def recorded_cases(step: Step) -> list[Case] | None:
     return [Case(c["name"], c["tier"], c.get("lecture", "")) for c in visible + hidden]
 
 
-def untouched_result(step: Step, cases: list[Case], results: dict[str, StepResult], build: Build) -> StepResult:
+def untouched_result(step: Step, cases: list[Case]) -> StepResult:
     """Not started, whatever the steps it needs: nothing of it is written yet."""
     for c in cases:
         c.status, c.messages = NOT_STARTED, ["not started: the step's files are the shipped stubs "
@@ -496,7 +496,7 @@ def _check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolati
         if step.number in known:
             results[step.number] = known[step.number]
         elif built is None:
-            results[step.number] = untouched_result(step, quick[step.number], results, build)
+            results[step.number] = untouched_result(step, quick[step.number])
         elif isinstance(built, Exception):
             results[step.number] = not_graded(step, f"the kit failed building it: {faults.describe(built)}")
         else:

@@ -57,7 +57,7 @@ def header_line(slip: str, cases: list[str]) -> str:
     return f"Slip: {slip} Caught by: {named}"
 
 
-def write_patch(step: Step, name: str, slip: str, cases: list[str], changed: dict[str, str]) -> str:
+def write_patch(step: Step, slip: str, cases: list[str], changed: dict[str, str]) -> str:
     """The patch text: the header, then one unified diff per file whose text differs from the reference."""
     if "\n" in slip or '"' in slip:
         raise KitError("--slip must be one line without double quotes")
@@ -152,15 +152,19 @@ def apply_patch(mutant: Mutant) -> dict[str, str]:
     return out
 
 
-def write_answer(step: Step, patch: Path, folder: Path) -> Path:
-    """Writes the mutant's whole answer to the step into `folder`: the reference files, with the
-    patched ones in their place (for a self-test that needs a wrong answer as files)."""
-    files = apply_patch(read_patch(patch, step))
+def reference_with(step: Step, files: dict[str, str], folder: Path) -> Path:
+    """`folder` made anew: the step's reference files, with `files` ({name: text}) in their place."""
     shutil.rmtree(folder, ignore_errors=True)
     shutil.copytree(SOLUTIONS / step.folder, folder)
     for file_name, text in files.items():
         (folder / file_name).write_text(text)
     return folder
+
+
+def write_answer(step: Step, patch: Path, folder: Path) -> Path:
+    """Writes the mutant's whole answer to the step into `folder`: the reference files, with the
+    patched ones in their place (for a self-test that needs a wrong answer as files)."""
+    return reference_with(step, apply_patch(read_patch(patch, step)), folder)
 
 
 def patches(step: Step) -> list[Path]:

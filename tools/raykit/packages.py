@@ -197,24 +197,24 @@ def probe(elsewhere: Elsewhere) -> Path | bool:
     raise ValueError(elsewhere.probe)
 
 
-def install_line(debian: str, brew: str, msys2: str = "") -> str:
+def install_line(debian: str, brew: str) -> str:
     """The one command that installs a tool on this machine, in its own package manager's words
-    (`debian`, `brew` and `msys2` are the tool's names there)."""
+    (`debian` and `brew` are the tool's names there; MSYS2's is Homebrew's, prefixed)."""
     kind = family()
     if kind == "brew":
         return f"brew install {brew}"
     if kind == "msys2":
-        return f"pacman -S {msys2 or 'mingw-w64-ucrt-x86_64-' + brew}"
+        return f"pacman -S mingw-w64-ucrt-x86_64-{brew}"
     if kind == "apt":
         return f"sudo apt-get install {debian}"
     return f"install {brew} with your system's package manager"
 
 
-def install_hint(missing: list[str], kind: str | None = None) -> str:
+def install_hint(missing: list[str]) -> str:
     """The commands that install `missing` (Debian names) with the package manager of this
-    machine's `kind` (family()): Homebrew's words on a Mac, MSYS2's on Windows, plain ones on a
+    machine (family()): Homebrew's words on a Mac, MSYS2's on Windows, plain ones on a
     Linux without apt; vcpkg's (which runs everywhere) after them."""
-    kind = kind or family()
+    kind = family()
     rows = [OTHER_MANAGERS[n] for n in missing]
     lines = []
     if kind == "msys2":

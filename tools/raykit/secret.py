@@ -69,9 +69,9 @@ def _read(path: Path) -> bytes | None:
     return key
 
 
-def write_new(path: Path) -> bytes:
-    """A new secret at `path` (never over an existing file)."""
-    key = random_source.token_bytes(SECRET_BYTES)
+def write_new(path: Path, key: bytes | None = None) -> bytes:
+    """A new secret at `path` (`key`, or a fresh one), never over an existing file, mode 0600."""
+    key = key or random_source.token_bytes(SECRET_BYTES)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
     try:
@@ -161,14 +161,8 @@ def sealed(data: dict, key: bytes) -> bool:
 
 def copy_into(target: Path) -> None:
     """Puts the kit's secret at `target` (inside an autograder's copy of the kit), mode 0600."""
-    key = secret()
-    target.parent.mkdir(parents=True, exist_ok=True)
     target.unlink(missing_ok=True)
-    fd = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
-    try:
-        os.write(fd, key.hex().encode() + b"\n")
-    finally:
-        os.close(fd)
+    write_new(target, secret())
 
 
 def code_only(data: bytes) -> bytes:

@@ -20,7 +20,7 @@ def register(p) -> None:
                         "(tests/NN_topic/cases.json, written by ./kit check --record)")
 
 
-def cases_from_results(path: Path, steps) -> dict[str, list[tuple[str, str, str]]]:
+def cases_from_results(path: Path) -> dict[str, list[tuple[str, str, str]]]:
     try:
         data = results_record.read(path)
         return {s["step"]: [(c["tier"], c["name"], c.get("lecture", "")) for c in s["cases"]] for s in data["steps"]}
@@ -61,7 +61,7 @@ def run(args) -> int:
     course = course_file.read(Path(args.file), numbers) if args.file else course_file.load()
     if args.file and not Path(args.file).is_file():
         raise KitError(f"--file {args.file}: no such file")
-    found = (cases_from_results(Path(args.results), steps) if args.results
+    found = (cases_from_results(Path(args.results)) if args.results
              else None if args.build else cases_recorded(steps)) or cases_from_build(steps)
     for line in course_file.table(course, [(s.number, s.title, found.get(s.number, [])) for s in steps]):
         say(line)

@@ -136,7 +136,7 @@ def recorded(build, step: Step) -> list[str]:
         return log.read_text().splitlines()
 
 
-def fresh_texts(steps: list[Step] | None = None, prepare: bool = False) -> dict[Path, str]:
+def fresh_texts(prepare: bool = False) -> dict[Path, str]:
     """{data file: the text a regeneration writes}, from the reference solutions.
 
     `prepare` first writes an empty table for a step that has none yet, so that its test program links.
@@ -145,7 +145,7 @@ def fresh_texts(steps: list[Step] | None = None, prepare: bool = False) -> dict[
         raise KitError("./kit exact needs the instructor's copy of the kit (solutions/ and "
                        "tests/support/reference_roots.hpp); a handout only reads the committed data", USAGE)
     ensure_packages("build")
-    chosen = users(load_steps()) if steps is None else steps
+    chosen = users(load_steps())
     if prepare:
         for s in chosen:
             if not data_file(s).is_file():

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from raykit import course as course_file
 from raykit.kitfiles import git, is_clone, kit_files
+from raykit.includes import code_only
 from raykit.common import ROOT, KitError, load_steps, note, say, writable_parent
 from raykit.status import FAILED, OK
 
@@ -134,42 +135,6 @@ NOT_STEP_CODE = [
 CPP_SUFFIXES = {".cpp", ".hpp", ".h", ".cc", ".cxx", ".hh", ".inc", ".c", ".in"}
 
 
-def strip_cpp(text: str) -> str:
-    """C++ text without comments, string and character literals (each replaced by a space)."""
-    out, i, n = [], 0, len(text)
-    while i < n:
-        c, nxt = text[i], text[i + 1] if i + 1 < n else ""
-        if c == "/" and nxt == "/":
-            i = text.find("\n", i)
-            i = n if i < 0 else i
-        elif c == "/" and nxt == "*":
-            end = text.find("*/", i + 2)
-            i = n if end < 0 else end + 2
-            out.append(" ")
-        elif c == "R" and nxt == '"' and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
-            m = re.match(r'R"([^(\s]*)\(', text[i:])
-            if m:
-                end = text.find(")" + m.group(1) + '"', i)
-                i = n if end < 0 else end + len(m.group(1)) + 2
-                out.append(' "" ')
-            else:
-                out.append(c)
-                i += 1
-        elif c in "\"'":
-            if c == "'" and i > 0 and text[i - 1].isalnum() and nxt.isalnum():   # digit separator 1'000
-                i += 1
-                continue
-            j = i + 1
-            while j < n and text[j] != c and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
-            i = j + 1
-            out.append(' "" ')
-        else:
-            out.append(c)
-            i += 1
-    return "".join(out)
-
-
 def strip_python(text: str) -> str:
     """Python text without comments and string literals (docstrings included)."""
     kept = []
@@ -187,7 +152,7 @@ def strip_python(text: str) -> str:
 def code_of(path: Path, text: str) -> str | None:
     """The code to scan in a file (no comments, strings or white space), or None when it is not code."""
     if path.suffix in CPP_SUFFIXES:
-        code = strip_cpp(text)
+        code = code_only(text)
     elif path.suffix == ".py":
         code = strip_python(text)
     elif path.name == "CMakeLists.txt" or path.suffix == ".cmake":
@@ -205,12 +170,12 @@ def scan_text(path: Path, text: str) -> list[str]:
     return [p.name for p in SCAN_PATTERNS if p.regex.search(code)]
 
 
-def scan_tree(root: Path, skip: tuple[str, ...] = ("steps",)) -> dict[str, list[str]]:
-    """{file relative to root: patterns found} for every code file under root outside `skip`."""
+def scan_tree(root: Path) -> dict[str, list[str]]:
+    """{file relative to root: patterns found} for every code file under root outside steps/."""
     found = {}
     for path in sorted(root.rglob("*")):
         rel = path.relative_to(root)
-        if not path.is_file() or rel.parts[0] in skip or "__pycache__" in rel.parts:
+        if not path.is_file() or rel.parts[0] == "steps" or "__pycache__" in rel.parts:
             continue
         hits = scan_text(path, path.read_text(errors="replace"))
         if hits:
@@ -226,9 +191,9 @@ def launch_json(text: str) -> str:
     return re.sub(r'("id": "step",[^\n]*"options": )\[[^\]]*\]', lambda m: m.group(1) + options, text)
 
 
-def excluded(rel: Path, extra: list[str] = ()) -> bool:
+def excluded(rel: Path) -> bool:
     s = rel.as_posix()
-    return any(s == e or s.startswith(e + "/") for e in list(EXCLUDED) + list(extra)) or "__pycache__" in rel.parts
+    return any(s == e or s.startswith(e + "/") for e in EXCLUDED) or "__pycache__" in rel.parts
 
 
 def committed_steps() -> dict[str, bytes]:

@@ -24,13 +24,13 @@ change, it stops applying and `./kit test` names it.
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 from raykit import atomic
 from raykit.common import BUILD, ROOT, KitError, Step, load_steps, say, select_steps
 from raykit.status import FAILED, OK
-from raykit.mutants import MUTANTS, SOLUTIONS, WORK, PatchError, apply_patch, failing_cases, grade_files, read_patch, write_patch
+from raykit.mutants import (MUTANTS, SOLUTIONS, WORK, PatchError, apply_patch, failing_cases, grade_files, read_patch,
+                            reference_with, write_patch)
 from raykit.mutants import _NAME as NAME
 
 
@@ -47,15 +47,6 @@ def register(p) -> None:
 
 def copy_dir(step: Step, name: str) -> Path:
     return WORK / step.folder / name
-
-
-def _make_copy(step: Step, name: str, files: dict[str, str]) -> Path:
-    copy = copy_dir(step, name)
-    shutil.rmtree(copy, ignore_errors=True)
-    shutil.copytree(SOLUTIONS / step.folder, copy)
-    for file_name, text in files.items():
-        (copy / file_name).write_text(text)
-    return copy
 
 
 def _print_copy(step: Step, name: str, copy: Path, existing: bool) -> None:
@@ -86,7 +77,7 @@ def run(args) -> int:
         if target.exists():
             raise KitError(f"{rel_target} exists already; ./kit mutant edit {int(step.number)} {args.name} "
                            f"gives its copy to change")
-        _print_copy(step, args.name, _make_copy(step, args.name, {}), False)
+        _print_copy(step, args.name, reference_with(step, {}, copy_dir(step, args.name)), False)
         return OK
 
     if args.action == "edit":
@@ -96,7 +87,7 @@ def run(args) -> int:
             files = apply_patch(read_patch(target, step))
         except PatchError as e:
             raise KitError(f"{rel_target}: {e}", FAILED)
-        _print_copy(step, args.name, _make_copy(step, args.name, files), True)
+        _print_copy(step, args.name, reference_with(step, files, copy_dir(step, args.name)), True)
         return OK
 
     return _save(step, args, target)
@@ -139,7 +130,7 @@ def _save(step: Step, args, target: Path) -> int:
                        f"answers on every case (an equivalent mutant: drop it with `{drop}`), or the suite lacks "
                        f"the case that would show it: add one to tests/{step.folder}/ and save again.")
     cases = args.caught_by or failing
-    text = write_patch(step, args.name, slip, cases, changed)
+    text = write_patch(step, slip, cases, changed)
     target.parent.mkdir(parents=True, exist_ok=True)
     atomic.write(target, text)      # never a half-written patch
     say(f"wrote {rel_target} ({sum(len(h) for h in read_patch(target, step).files.values())} hunk(s))")

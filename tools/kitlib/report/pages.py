@@ -113,7 +113,7 @@ def draw_case(case: dict, title: str) -> dict | None:
 
 
 
-def analyse(g, steps, sigs):
+def analyse(g, sigs):
     by_step = defaultdict(list)
     for s in sigs:
         by_step[s.step].append(s)
@@ -332,7 +332,7 @@ def build(folder: Path, out: Path) -> dict:
     sigs, notes = signatures.load()
     notes = g.problems + notes
     shown_notes = list(notes)
-    matches = analyse(g, steps, sigs)
+    matches = analyse(g, sigs)
     names = {st.name: st for st in g.students}
     graded = [st for st in g.students if st.data is not None]
     ungraded = [st for st in g.students if st.row.get("status") in ("not graded", "timed out")]
@@ -411,7 +411,7 @@ def build(folder: Path, out: Path) -> dict:
     for (name, number), fm in matches.items():
         by_student[name][number] = fm
     for st in g.students:
-        (tmp / f"{st.page}.html").write_text(student_page(st, steps, by_student.get(st.name, {})), encoding="utf-8")
+        (tmp / f"{st.page}.html").write_text(student_page(st, by_student.get(st.name, {})), encoding="utf-8")
     shutil.rmtree(target_students, ignore_errors=True)
     tmp.replace(target_students)
 
@@ -450,7 +450,7 @@ def similar_section(sim, names: dict) -> str:
 
 # --- a student's page ------------------------------------------------------------------------------
 
-def student_page(st, steps, matches: dict) -> str:
+def student_page(st, matches: dict) -> str:
     data = {"title": f"{st.name}: results", "st": st, "graded": st.data is not None,
             "nothing_submitted": st.row.get("status", "") in NOTHING_SUBMITTED_STATES}
     if st.data is None:     # nothing submitted (no file of a step found or read) is the student's; else not graded

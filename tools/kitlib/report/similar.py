@@ -47,7 +47,6 @@ REFERENCE_LIKE = 80     # per cent of a student's file found in a version of the
 SHOWN = 30              # a pair is listed from this share on
 GROUP_MIN = 3           # students sharing one file (byte for byte or nearly) that make a group
 GROUP_SAME = 95         # per cent both ways: "nearly" the same file
-REFERENCE = "(reference)"
 
 _PERCENT = re.compile(r"^(.+?) consists for (\d+) % of (.+?) material$")
 _RUN = re.compile(r"^(.+?): line (\d+)-(\d+)\s*\|(.+?): line (\d+)-(\d+)\s*\[(\d+)\]")

@@ -175,7 +175,7 @@ def record_calls(judge: Path, answers: Path, seed: str, case: str, log: Path) ->
     return count
 
 
-def batch_commands(debugger: str, step) -> list[str]:
+def batch_commands(debugger: str) -> list[str]:
     """What --batch (the self-test) asks once stopped: where, the source around, the arguments."""
     if debugger == "gdb":
         return ["bt 3", "list", "info args"]
@@ -214,7 +214,7 @@ def run(args) -> int:
     script = folder / f"step{step.number}.{debugger}"
     script.write_text(gdb_script(step.functions) if debugger == "gdb" else lldb_script(step.functions))
     program = [str(answers), "--replay", str(log)]
-    extra = batch_commands(debugger, step) if args.batch else []
+    extra = batch_commands(debugger) if args.batch else []
     if debugger == "gdb":
         argv = ["gdb", "-q", *(["-batch"] if args.batch else []), "-x", str(script),
                 *[w for c in extra for w in ("-ex", c)], "--args", *program]
