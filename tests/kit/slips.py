@@ -224,6 +224,10 @@ TRIAL6 = [
     ("int_aspect", "05", "width / height in ints", None),
     ("loops_swapped", "05", "is past the last row", None),
     ("render_tmax_mm", "05", "and your render paints it black", None),
+    # Trial 7 (docs/trials/trial7.md): graded done (int_t_*) or pointed elsewhere (pixel_corner).
+    ("int_t_unit_window", "01", "your root is 2, expected 2.5: a whole number where the root is not", None),
+    ("int_t_window", "02", "your root is 2, expected 2.5: a whole number where the root is not", None),
+    ("pixel_corner", "05", "the ray passes through the pixel's corner, not its centre", "scale x by the film's width"),
 ]
 
 
