@@ -57,6 +57,7 @@ void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> exp
     if (!agree(expected, intersect_unit_sphere(ray, tmin, tmax))) {
         fact = state_cause([&] { return intersect_unit_sphere(ray, tmin, tmax); },
                            [] { intersect_unit_sphere(seen_a, 0, inf); }, [] { intersect_unit_sphere(seen_b, 0, inf); });
+        if (fact.empty()) fact = whole_number_cause(expected, intersect_unit_sphere(ray, tmin, tmax));
         if (fact.empty())
             fact = parameter_cause(ray.direction, expected, intersect_unit_sphere(ray, tmin, tmax), [&](float k) {
                 return intersect_unit_sphere({ray.origin, ray.direction * k}, tmin / k, tmax / k);
@@ -298,6 +299,12 @@ TEST_CASE("a direction so short that d.d underflows float: no roots or the true 
 
 TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
     expect_hit(through_centre, 0, inf, 2.0f, "Both roots are in [0, inf]; the closest is t = 2.");
+}
+
+TEST_CASE("window: a root that is not a whole number" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-3.5f, 0, 0}, {1, 0, 0}}, 0, inf, 2.5f,
+               "x = -3.5 + t reaches x = -1 at t = 2.5 and x = 1 at t = 4.5: the hit is t = 2.5, not a whole "
+               "number.");
 }
 
 TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root in a window")) {

@@ -77,7 +77,11 @@ void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, st
                 const std::string& why) {
     std::string fact;
     const std::optional<float> first = intersect_sphere(ray, sphere, tmin, tmax);
-    if (!agree(expected, first))
+    if (!agree(expected, first)) fact = state_cause([&] { return intersect_sphere(ray, sphere, tmin, tmax); },
+                                                    [&] { intersect_sphere(seen_a, seen_a_ball, 0, inf); },
+                                                    [&] { intersect_sphere(seen_b, seen_b_ball, 0, inf); });
+    if (!agree(expected, first) && fact.empty()) fact = whole_number_cause(expected, first);
+    if (!agree(expected, first) && fact.empty())
         fact = measured(ray, sphere, expected, first, [&](const Ray& r, const Sphere& s, float k) {
             return intersect_sphere({r.origin, r.direction * k}, s, tmin / k, tmax / k);
         });
@@ -355,6 +359,12 @@ TEST_CASE("a direction so short that d.d underflows float: no roots or the true 
 
 TEST_CASE("window: the nearer of two roots" * doctest::description("5. The closest root in a window")) {
     expect_hit(through_centre, ball, 0, inf, 2.0f, "Both roots (2 and 4) are in [0, inf]; the closest is t = 2.");
+}
+
+TEST_CASE("window: a root that is not a whole number" * doctest::description("5. The closest root in a window")) {
+    expect_hit({{-5, -11, -14}, {2, 3, 6}}, {{1, -2, 4}, 3.5f}, 0, inf, 2.5f,
+               "The roots are 2.5 and 3.5 (the line passes through the centre at t = 3, and r / |d| = 3.5 / 7 "
+               "= 0.5); the hit is t = 2.5, not a whole number.");
 }
 
 TEST_CASE("window: a miss is no hit" * doctest::description("5. The closest root in a window")) {

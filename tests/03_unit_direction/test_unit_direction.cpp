@@ -50,6 +50,7 @@ Roots measured_roots(Fn fn, const Ray& ray, const Sphere& sphere, const Roots& e
     Roots got = fn(ray, sphere);
     if (agree(expected, got)) return got;
     fact = state_cause([&] { return fn(ray, sphere); }, [&] { fn(seen_a, seen_ball); }, [&] { fn(seen_b, seen_ball); });
+    if (fact.empty()) fact = whole_number_cause(expected, got);
     if (fact.empty())
         fact = translation_cause(ray.origin, sphere.center, expected, got, [&] {
             return fn(Ray{ray.origin - sphere.center, ray.direction}, Sphere{{0, 0, 0}, sphere.radius});

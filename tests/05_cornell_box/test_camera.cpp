@@ -6,6 +6,7 @@
 // for every positive multiple of d.
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <doctest/doctest.h>
@@ -73,6 +74,47 @@ std::string corner_cause(const Camera& camera, const glm::vec3& expected, const 
            "divides two ints and gives 0; write 0.5f (lecture 05, section 5). ";
 }
 
+// The point where view_ray(camera, i, j)'s ray crosses the film (the plane focal_length in front of the
+// eye), or nothing when the ray does not start at the eye or point forward.
+std::optional<glm::vec3> film_point(const Camera& camera, int i, int j) {
+    const Ray ray = view_ray(camera, i, j);
+    const float along = glm::dot(ray.direction, camera.forward);
+    if (!(glm::length(ray.origin - camera.eye) <= 1e-5f) || !(along > 0.0f)) return std::nullopt;
+    return ray.origin + ray.direction * (camera.focal_length / along);
+}
+
+// Measured on the function: the film point is half a pixel off the expected one, across the film or along
+// up (not both: corner_cause), and the next pixel's point along that way is one pixel from it, as it must
+// be: the scale is right and the pixel's centre is not, its + 1/2 left out. A scale slip moves the next
+// pixel by other than one pixel, so the two are told apart even where a corner's offset is twice a
+// centre's (pixel 0 of 2). Read off the expected point and the pixel's size, as corner_cause.
+std::string half_pixel_cause(const Camera& camera, int i, int j, const glm::vec3& expected, const glm::vec3& got) {
+    const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
+    const glm::vec3 e = expected - centre, g = got - centre;
+    const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
+    const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
+    const float pixel = camera.film_height / float(camera.height);   // square pixels
+    const float tol = 1e-4f * (1.0f + glm::length(e));
+    const bool up_same = std::fabs(gu - eu) <= tol, up_half = std::fabs(std::fabs(gu - eu) - pixel / 2) <= tol;
+    const bool across_same = glm::length(ga - ea) <= tol,
+               across_half = std::fabs(glm::length(ga - ea) - pixel / 2) <= tol &&
+                             (!(glm::length(ea) > tol) || glm::length(glm::cross(ga - ea, ea)) <= tol * glm::length(ea));
+    const bool across = across_half && up_same, along_up = up_half && across_same;
+    if (!across && !along_up) return "";
+    // The next pixel the same way (the one before, at the last column or row), one pixel away when right.
+    const int i2 = across ? (i + 1 < camera.width ? i + 1 : i - 1) : i;
+    const int j2 = along_up ? (j + 1 < camera.height ? j + 1 : j - 1) : j;
+    if (i2 < 0 || j2 < 0) return "";
+    const std::optional<glm::vec3> next = film_point(camera, i2, j2);
+    if (!next || !(std::fabs(glm::length(*next - got) - pixel) <= tol)) return "";
+    return std::string("Measured on your function: your point is half a pixel ") +
+           (across ? "across the film" : "up or down") + " from the expected one, and the next " +
+           (across ? "column's" : "row's") + " point is one pixel from yours, so the film's scale is right: "
+           "the ray passes through the pixel's corner, not its centre (+ 1/2). The centre of " +
+           (across ? "column i is (i + 1/2) / width" : "row j is (j + 1/2) / height") +
+           " of the way across the film, half a pixel in from its edge (lecture 05, section 5). ";
+}
+
 // Measured on the answer: the film point's offset from the film's centre scaled, across the film only
 // (the film's width taken from another length: its height, an inverted aspect) or across and along up
 // alike (the film at another distance: the focal length left out or used twice). Empty otherwise.
@@ -135,7 +177,8 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     const glm::vec3 got = ray.origin + ray.direction * (camera.focal_length / along);
     const bool ok = glm::length(got - expected) <= 1e-5f * (1.0f + glm::length(expected));
     if (!ok) {
-        const std::string corner = corner_cause(camera, expected, got);
+        std::string corner = corner_cause(camera, expected, got);
+        if (corner.empty()) corner = half_pixel_cause(camera, i, j, expected, got);
         FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
                           "a ray through " + show(got) + " (direction " + show(ray.direction) + ")",
                           corner.empty() ? mirror_cause(camera, expected, got) + scale_cause(camera, expected, got) +

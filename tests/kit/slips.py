@@ -253,8 +253,9 @@ def selftest_misdirections(ctx) -> str:
 
 # Trial 6 (docs/trials/trial6.md): a new student's own code, slips they made up before reading the kit's
 # catalogue, whose first message named only part of the slip (or, for sqrt_in_int, blamed a unit
-# direction). (fixture, step, what the first message must say, what it must not say or None): the
-# expected.json of each fixture whose checked_by names selftest_trial6.
+# direction); and trial 7's (docs/trials/trial7.md), graded done (int_t_*) or pointed elsewhere
+# (pixel_corner). What the first message must say and must not say: the expected.json of each fixture
+# whose checked_by names selftest_trial6.
 
 
 def selftest_trial6(ctx) -> str:

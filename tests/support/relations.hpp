@@ -91,6 +91,34 @@ inline bool has_nan(const std::optional<float>& r) { return r && std::isnan(*r);
 inline bool has_answer(const Roots& r) { return r.count > 0; }
 inline bool has_answer(const std::optional<float>& r) { return r.has_value(); }
 
+/// A root that is not a whole number answered as one (within 1 of it): the fraction lost, as by an int on
+/// the way (`int t = r.t[k];`). Measured on the answer alone: every expected value that is a whole number
+/// is answered exactly, and every one that is not is answered by a whole number less than 1 away. Empty
+/// otherwise, or when every expected value is a whole number.
+inline std::string whole_number_cause(const Roots& expected, const Roots& got) {
+    if (expected.count == 0 || got.count != expected.count) return "";
+    int fractions = 0, at = -1;
+    for (int i = 0; i < expected.count; ++i) {
+        const float e = expected.t[i], g = got.t[i];
+        if (!std::isfinite(e) || !std::isfinite(g) || g != std::trunc(g) || !(std::fabs(g - e) < 1.0f)) return "";
+        if (e == std::trunc(e)) {
+            if (g != e) return "";
+        } else {
+            ++fractions;
+            if (at < 0) at = i;
+        }
+    }
+    if (fractions == 0) return "";
+    return " Measured on your answer: your root is " + show(got.t[at]) + ", expected " + show(expected.t[at]) +
+           ": a whole number where the root is not. Is it kept in an int somewhere (int t = ...)? The fraction "
+           "is lost there: keep t a float (or a double).";
+}
+
+inline std::string whole_number_cause(const std::optional<float>& expected, const std::optional<float>& got) {
+    if (!expected || !got) return "";
+    return whole_number_cause(Roots{1, {*expected, *expected}}, Roots{1, {*got, *got}});
+}
+
 /// t is the ray parameter: measured on `answer(d_scale)`, the function asked on the same line with the
 /// direction multiplied by `d_scale` (and a window divided by it). `expected` and `got` are this call's.
 /// Says, in this order, what the answers show: the answer is the expected t times |d| (a distance); the

@@ -38,6 +38,7 @@ EXCLUDED = [
     "tools/kitlib",                                        # the instructor's toolchain: grading, the platforms,
                                                            # the report, docs, slides, exact data, self-test
     "docs/lab/check",                                      # the lab's C++ check: a textbook root function
+    "docs/trials",                                         # student trials: a trial student's solutions, slips
     # docs/lab/lab.js ships on purpose: the lab is for students. It is JavaScript, which no step can link
     # and the scan does not read, and every formula it evaluates is printed in lectures 01-03.
     "CONTRIBUTING.md",                                     # how to change the kit: solutions, mutants, data
