@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import base64
 import csv
+import html
 import json
 import os
 import shutil
@@ -179,9 +180,9 @@ def selftest_grade(ctx) -> str:
     check(not any(c["submission"] == "erin" and c["step"] == last and c["status"] == "crashed" for c in cases),
           f"the cases CSV has erin's step {last} crashed (the judge's abort as the student's crash)")
     report = out / "report"
-    index = (report / "index.html").read_text()
+    index = html.unescape((report / "index.html").read_text())     # the text, whatever the escaping's form
     check("Not graded" in index and all(w in index for w in [w for w, _ in faulty if w != "erin"]
-                                         + [f"step {last}: the kit&#x27;s test program"]),
+                                         + [f"step {last}: the kit's test program"]),
           "the class report's incidents have no \"Not graded\" group naming carol, dave and erin's step")
     check(f"{len(faulty)} not graded" in index, "the class report's first line does not count those not graded")
     page = next((p for p in (report / "students").glob("erin*.html")), None)
