@@ -41,6 +41,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -269,7 +270,7 @@ def rules_here() -> int:
     from kitlib.commands import docs
     from . import check, hint, latency, lectures, mutant, slides
     from . import docs as docs_tests
-    from .support import Context, Skipped
+    from .support import Context, Skipped, committed_steps
 
     use(os.environ.get("RAYKIT_NEWSTEP_NUMBER") or TEMPLATE_NUMBER)
     steps = [s for s in load_steps() if s.number == NUMBER]
@@ -310,8 +311,21 @@ def rules_here() -> int:
         expect(not bad, "; ".join(bad) + ": ./kit report --signatures --step " + NUMBER)
         return f"{len(patches(steps[0]))} signatures current"
 
+    # The session fixtures (conftest.py) the rules take, made here as the fixtures make them.
+    def kit_side():
+        from raykit import bundle
+        from raykit.build import detect_undefined
+        return bundle.ensure(detect_undefined())
+
+    def case_names(c) -> str:
+        return check.selftest_case_names_and_lectures(c, kit_side())
+
+    def no_solutions(c) -> str:
+        with tempfile.TemporaryDirectory(prefix="raykit-newstep-steps-") as tmp:
+            return docs_tests.selftest_no_solutions(c, committed_steps(Path(tmp)))
+
     rules = [("the reference judge builds", reference_judge),
-             ("case names and lecture headings", check.selftest_case_names_and_lectures),
+             ("case names and lecture headings", case_names),
              ("the judge's functions from step.json", check.selftest_remote_lists),
              ("recorded stubs and case lists", latency.selftest_recorded),
              ("hints", hint.selftest_hints),
@@ -322,7 +336,7 @@ def rules_here() -> int:
              ("mutant signatures current", signed),
              ("the docs' front page", front_page),
              ("the docs build without a warning", docs_tests.selftest_site_builds),
-             ("no solution line in the student docs", docs_tests.selftest_no_solutions)]
+             ("no solution line in the student docs", no_solutions)]
     if os.environ.get("RAYKIT_NEWSTEP_FAST") == "1":
         # --fast: no Doxygen, and the mutants are not graded again (`./kit mutant save --caught-by`
         # graded each, and failed unless its named case caught it).
