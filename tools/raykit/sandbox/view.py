@@ -31,7 +31,8 @@ class Scratch:
     for the next. This folder and the program stay the kit's: with a sandbox id, the folder 0710 and
     the program 0750, both root's with the id's group, so that id alone may cross the one and start
     the other (no other sandbox id may list, read, run or copy them, even knowing the path), and
-    nobody but the kit may write or swap anything here (0711 and 0755 without an id).
+    nobody but the kit may write or swap anything here (0711 and 0755 without an id, inside a
+    folder of the kit's, 0700, that no other user may cross).
 
     Under the user isolation, where the kit may mount (root with CAP_SYS_ADMIN), the folder is a
     tmpfs of its own, Limits.scratch_mb plus the program's size and sandbox_slots.SCRATCH_INODES
@@ -43,7 +44,17 @@ class Scratch:
         self.mount_note = ""
         self.mounted = False
         uid = isolation.uid
-        self.path = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-"))
+        # The folder named for the grading (SCRATCH_PREFIX + its pid: sweep_scratch_mounts).
+        self.top = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-"))
+        self.path = self.top
+        if not uid:
+            # No sandbox id: bubblewrap binds the program and the folder in at paths of its own, and
+            # without isolation the program runs as the kit. Nobody else need reach them on the host,
+            # so they sit in the grading's folder, left 0700 (mkdtemp): code graded under the user
+            # isolation on this kernel (another kit's grading, or a later one beside a killed
+            # grading's leftovers) can neither list, read nor run a classmate's program here.
+            self.path = self.top / "scratch"
+            self.path.mkdir()
         if uid and isolation.mode != "bwrap" and answers is not None and answers.is_file():
             size = isolation.limits.scratch_mb + answers.stat().st_size // MiB + 1
             self.mount_note = mount_scratch(self.path, uid, size)
@@ -80,7 +91,7 @@ class Scratch:
             reap_orphans({self.isolation.uid})
         if self.mounted:
             unmount(self.path)
-        shutil.rmtree(self.path, ignore_errors=True)
+        shutil.rmtree(self.top, ignore_errors=True)
 
 
 def hide_secrets() -> None:
