@@ -271,12 +271,9 @@ def lecture_words(step, docs_url: str | None = None) -> str:
 
 def contract_headers(step) -> list[str]:
     """The raykit headers the step's files include: the contracts of its functions."""
-    headers = []
-    for f in step.files:
-        for h in re.findall(r'#include "(raykit/[a-z_]+\.hpp)"', (ROOT / "steps" / step.folder / f).read_text()):
-            if h not in headers and h != "raykit/not_implemented.hpp":
-                headers.append(h)
-    return headers
+    found = [h for f in step.files
+             for h in re.findall(r'#include "(raykit/[a-z_]+\.hpp)"', (ROOT / "steps" / step.folder / f).read_text())]
+    return [h for h in dict.fromkeys(found) if h != "raykit/not_implemented.hpp"]
 
 
 def shared_headers(contracts: list[str]) -> list[str]:
@@ -335,11 +332,8 @@ def hints_html(step) -> str:
     if not path.is_file():
         return ""
     hints = [h.strip() for h in re.split(r"^---\s*$", path.read_text(), flags=re.M) if h.strip()]
-    parts = []
-    for n, hint in enumerate(hints, 1):
-        text = html.escape(for_prairielearn(hint), quote=False)
-        parts.append(f'<details><summary>Hint {n}</summary><p style="white-space: pre-line">{text}</p></details>')
-    return "\n".join(parts)
+    return "\n".join(f'<details><summary>Hint {n}</summary><p style="white-space: pre-line">'
+                     f'{html.escape(for_prairielearn(hint), quote=False)}</p></details>' for n, hint in enumerate(hints, 1))
 
 
 def question_html(step, course, points, docs_url: str | None = None) -> tuple[str, list]:
@@ -367,31 +361,26 @@ def question_html(step, course, points, docs_url: str | None = None) -> tuple[st
     if hints:
         parts += ["<p>Stuck? The hints, one at a time:</p>", hints]
     parts.append("</pl-question-panel>")
-    for f in step.files:
-        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
-    parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
-              "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
-    return template_safe("\n".join(parts)), figures
+    return with_editors(step, parts), figures
 
 
 def headers_html(step) -> list[str]:
     """The step's scene, its contract's headers and the kit's definitions they include (struct Ray and
     the rest), as both of a step's questions show them."""
+    def shown(h: str, summary: str) -> list[str]:
+        return [f"<details><summary>{summary}</summary>", '<pl-code language="cpp">',
+                html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False), "</pl-code></details>"]
     headers = contract_headers(step)
     parts = [scene_html(headers)]
     for h in headers:
-        parts += [f"<details><summary>The contract: <code>{h}</code> (read it: what your functions must do)</summary>",
-                  '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
-                  "</pl-code></details>"]
+        parts += shown(h, f"The contract: <code>{h}</code> (read it: what your functions must do)")
     shared = shared_headers(headers)
     if shared:
         parts.append("<p>The definitions your functions take, as the kit's headers give them (the contract "
                      "includes them for you):</p>")
     for h in shared:
         names = ", ".join(f"<code>{n}</code>" for n in defined_names(h))
-        parts += [f"<details><summary>Shared definitions: <code>{h}</code>{' (' + names + ')' if names else ''}</summary>",
-                  '<pl-code language="cpp">', html.escape(for_prairielearn((ROOT / "include" / h).read_text()), quote=False),
-                  "</pl-code></details>"]
+        parts += shown(h, f"Shared definitions: <code>{h}</code>{' (' + names + ')' if names else ''}")
     return parts
 
 
@@ -407,8 +396,13 @@ def extra_question_html(step, course, points) -> str:
              "<strong>Save &amp; Grade</strong> runs the step's cases and counts the extra-credit ones.</p>",
              *headers_html(step),       # the same definitions as the step's own page (issue 55)
              "</pl-question-panel>"]
-    for f in step.files:
-        parts.append(f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>')
+    return with_editors(step, parts)
+
+
+def with_editors(step, parts: list[str]) -> str:
+    """A question's page: its panel (`parts`), then an editor per step file and the grader's results."""
+    parts += [f'<pl-file-editor file-name="{f}" source-file-name="{f}" ace-mode="ace/mode/c_cpp"></pl-file-editor>'
+              for f in step.files]
     parts += ["<pl-submission-panel>", "  <pl-external-grader-results></pl-external-grader-results>",
               "  <pl-file-preview></pl-file-preview>", "</pl-submission-panel>", ""]
     return template_safe("\n".join(parts))
@@ -418,9 +412,7 @@ def template_safe(page: str) -> str:
     """question.html is a Mustache template to PrairieLearn: every {{ or }} but the figures' URL becomes
     an entity pair the browser shows as the same characters."""
     url = FIGURE_URL.rstrip("/")
-    keep = page.split(url)
-    safe = [k.replace("{{", "{&#123;").replace("}}", "}&#125;") for k in keep]
-    return url.join(safe)
+    return url.join(k.replace("{{", "{&#123;").replace("}}", "}&#125;") for k in page.split(url))
 
 
 DOCKERFILE = ROOT / "tools" / "prairielearn" / "Dockerfile"
@@ -529,11 +521,8 @@ def undeclared(wanted: dict[str, list[dict]], info: dict | None) -> dict[str, li
     """The entries of `wanted` that the course's infoCourse.json (None: not known) does not declare."""
     if info is None:
         return wanted
-    missing = {}
-    for key, entries in wanted.items():
-        have = {e.get("name") for e in info.get(key) or [] if isinstance(e, dict)}
-        missing[key] = [e for e in entries if e["name"] not in have]
-    return missing
+    have = {key: {e.get("name") for e in info.get(key) or [] if isinstance(e, dict)} for key in wanted}
+    return {key: [e for e in entries if e["name"] not in have[key]] for key, entries in wanted.items()}
 
 
 def declaration_lines(missing: dict[str, list[dict]]) -> list[str]:
@@ -591,6 +580,22 @@ def setup_readme(args, instance_note: str, lines: list[str], access: str, info_n
 """
 
 
+def write_question(staging: Path, step, info: dict, page: str, figures: list, extra: bool = False) -> None:
+    """A question's folder: info.json, question.html, its figures, the step's stubs and the entry point."""
+    q = staging / "questions" / question_id(step, extra)
+    (q / "tests").mkdir(parents=True)
+    (q / "info.json").write_text(json.dumps(info, indent=2) + "\n")
+    (q / "question.html").write_text(page)
+    for path, name in figures:
+        (q / "clientFilesQuestion").mkdir(exist_ok=True)
+        shutil.copyfile(path, q / "clientFilesQuestion" / name)
+    for f in step.files:
+        shutil.copyfile(ROOT / "steps" / step.folder / f, q / f)
+    entry = q / "tests" / "grade.py"
+    entry.write_text(ENTRY.format(number=step.number, part=', "--extra-credit"' if extra else ""))
+    entry.chmod(0o755)
+
+
 def run(args) -> int:
     if not (ROOT / "solutions").is_dir():
         raise KitError("this is a student handout (no solutions/): ./kit prairielearn runs in the instructor's kit")
@@ -634,29 +639,11 @@ def run(args) -> int:
     shutil.rmtree(staging, ignore_errors=True)
     try:
         for step in steps:
-            q = staging / "questions" / question_id(step)
-            (q / "tests").mkdir(parents=True)
-            (q / "info.json").write_text(json.dumps(info_json(step, image, args.timeout), indent=2) + "\n")
             page, figures = question_html(step, course, points[step.number], args.docs_url)
-            (q / "question.html").write_text(page)
-            for path, name in figures:
-                (q / "clientFilesQuestion").mkdir(exist_ok=True)
-                shutil.copyfile(path, q / "clientFilesQuestion" / name)
-            for f in step.files:
-                shutil.copyfile(ROOT / "steps" / step.folder / f, q / f)
-            entry = q / "tests" / "grade.py"
-            entry.write_text(ENTRY.format(number=step.number, part=""))
-            entry.chmod(0o755)
+            write_question(staging, step, info_json(step, image, args.timeout), page, figures)
             if points[step.number][1]:      # its extra credit: a question of its own (assessment_json)
-                x = staging / "questions" / question_id(step, extra=True)
-                (x / "tests").mkdir(parents=True)
-                (x / "info.json").write_text(json.dumps(info_json(step, image, args.timeout, extra=True), indent=2) + "\n")
-                (x / "question.html").write_text(extra_question_html(step, course, points[step.number]))
-                for f in step.files:
-                    shutil.copyfile(ROOT / "steps" / step.folder / f, x / f)
-                entry = x / "tests" / "grade.py"
-                entry.write_text(ENTRY.format(number=step.number, part=', "--extra-credit"'))
-                entry.chmod(0o755)
+                write_question(staging, step, info_json(step, image, args.timeout, extra=True),
+                               extra_question_html(step, course, points[step.number]), [], extra=True)
         assessment = staging / "courseInstances" / args.instance / "assessments" / "raykit"
         assessment.mkdir(parents=True)
         if has_instance:
@@ -744,9 +731,7 @@ def run(args) -> int:
                " (--new-course NAME writes a whole course's infoCourse.json; --course DIR yours with them added):"))
         for line in lines:
             say(line)
-    elif new_course is not None:
-        pass
-    else:
+    elif new_course is None:
         say(f"  the questions' topic and tags: declared in {course_dir}/infoCourse.json already")
     say(f"  next: {out}/README-raykit.md (what to copy), graders/raykit/README.md (build, push, sync)")
     return OK
