@@ -141,11 +141,8 @@ def combined(a: float, b: float, shared: float) -> float:
 def points(data: dict) -> list[Point]:
     variants = {v["id"]: v for v in data["variants"]}
     families = {f["id"]: f for f in data["families"]}
-    out = []
-    for r in data["results"]:
-        out.append(Point(variants[r["variant"]], families[r["family"]], r, list(r.get("cpu_ns") or []),
-                         list(r.get("real_ns") or [])))
-    return out
+    return [Point(variants[r["variant"]], families[r["family"]], r, list(r.get("cpu_ns") or []),
+                  list(r.get("real_ns") or [])) for r in data["results"]]
 
 
 def merge_student(data: dict, student: dict | None, status: str, label: str) -> None:
@@ -411,26 +408,21 @@ def csv_text(data: dict, pts: list[Point]) -> str:
         return f"{x:.{digits}g}" if isinstance(x, float) else str(x)
 
     for p in pts:
-        bound = p.roofline_ns(peak)
         flops = p.raw.get("flops")
-        writer.writerow({
-            "group": p.variant["group"], "family": p.family["id"], "family_label": p.family["label"],
-            "hard": int(bool(p.family.get("hard"))), "variant": p.vid, "label": p.variant["label"],
-            "formulation": p.variant["formulation"], "precision": p.variant["precision"],
-            "lanes": p.lanes, "isa": p.variant.get("isa") or "",
-            "ulp_of": p.variant["ulp_of"], "rays": p.raw["rays"], "in_band": p.raw["in_band"],
-            "compared": p.raw["compared"], "misclassified": p.raw["misclassified"],
-            "misclassified_share": num(p.misclassified_share), "ulps_median": num(p.ulps("median")),
-            "ulps_p99": num(p.ulps("p99")), "ulps_max": num(p.ulps("max")), "ns_median": num(p.ns_median),
-            "ns_min": num(p.ns_min), "ns_max": num(p.ns_max),
-            "ns_real_median": num(statistics.median(p.ns_real) if p.ns_real else math.nan),
-            "repetitions": len(p.ns), "flops": num(flops), "div": num(p.raw.get("div")),
-            "sqrt": num(p.raw.get("sqrt")), "cvt": num(p.raw.get("cvt")), "roofline_ns": num(bound),
-            "gflops": num(flops / p.ns_median if flops is not None and p.timed else None),
-            "pareto": int(p.pareto), "dominated_by": " ".join(p.dominated_by),
-            "vs_embree_median": num(p.raw.get("vs_embree_median")),
-            "vs_embree_p99": num(p.raw.get("vs_embree_p99")), "vs_embree_max": num(p.raw.get("vs_embree_max")),
-        })
+        row = {"group": p.variant["group"], "family": p.family["id"], "family_label": p.family["label"],
+               "hard": int(bool(p.family.get("hard"))), "variant": p.vid, "label": p.variant["label"],
+               "lanes": p.lanes, "isa": p.variant.get("isa") or "", "misclassified_share": num(p.misclassified_share),
+               "ns_median": num(p.ns_median), "ns_min": num(p.ns_min), "ns_max": num(p.ns_max),
+               "ns_real_median": num(statistics.median(p.ns_real) if p.ns_real else math.nan),
+               "repetitions": len(p.ns), "roofline_ns": num(p.roofline_ns(peak)),
+               "gflops": num(flops / p.ns_median if flops is not None and p.timed else None),
+               "pareto": int(p.pareto), "dominated_by": " ".join(p.dominated_by)}
+        row.update({k: p.variant[k] for k in ("formulation", "precision", "ulp_of")})
+        row.update({k: p.raw[k] for k in ("rays", "in_band", "compared", "misclassified")})
+        row.update({f"ulps_{k}": num(p.ulps(k)) for k in ("median", "p99", "max")})
+        row.update({k: num(p.raw.get(k)) for k in ("flops", "div", "sqrt", "cvt", "vs_embree_median", "vs_embree_p99",
+                                                   "vs_embree_max")})
+        writer.writerow(row)
     return out.getvalue()
 
 

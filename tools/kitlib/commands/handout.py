@@ -138,16 +138,11 @@ CPP_SUFFIXES = {".cpp", ".hpp", ".h", ".cc", ".cxx", ".hh", ".inc", ".c", ".in"}
 
 def strip_python(text: str) -> str:
     """Python text without comments and string literals (docstrings included)."""
-    kept = []
     try:
-        for tok in tokenize.generate_tokens(io.StringIO(text).readline):
-            if tok.type not in (tokenize.COMMENT, tokenize.STRING):
-                kept.append(tok.string)
-            else:
-                kept.append(" ")
+        return " ".join(" " if tok.type in (tokenize.COMMENT, tokenize.STRING) else tok.string
+                        for tok in tokenize.generate_tokens(io.StringIO(text).readline))
     except (tokenize.TokenError, IndentationError, SyntaxError):
         return re.sub(r"#.*", "", text)
-    return " ".join(kept)
 
 
 def code_of(path: Path, text: str) -> str | None:
@@ -166,9 +161,7 @@ def code_of(path: Path, text: str) -> str | None:
 def scan_text(path: Path, text: str) -> list[str]:
     """The names of the step-code patterns found in one file."""
     code = code_of(path, text)
-    if code is None:
-        return []
-    return [p.name for p in SCAN_PATTERNS if p.regex.search(code)]
+    return [] if code is None else [p.name for p in SCAN_PATTERNS if p.regex.search(code)]
 
 
 def scan_tree(root: Path) -> dict[str, list[str]]:
@@ -223,16 +216,9 @@ def changed_steps() -> list[str]:
 def answer_lines(step, stub_text: str) -> set[str]:
     """Lines of the reference solution that are not in the stub: what a handout must not contain."""
     stub = {line.strip() for line in stub_text.splitlines()}
-    lines = set()
     path = ROOT / "solutions" / step.folder
-    for f in step.files:
-        if not (path / f).is_file():
-            continue
-        for line in (path / f).read_text().splitlines():
-            line = line.strip()
-            if len(line) > 24 and line not in stub and not line.startswith(("//", "#include")):
-                lines.add(line)
-    return lines
+    solution = [line.strip() for f in step.files if (path / f).is_file() for line in (path / f).read_text().splitlines()]
+    return {line for line in solution if len(line) > 24 and line not in stub and not line.startswith(("//", "#include"))}
 
 
 def strip_instructor_parts(text: str) -> str:
@@ -310,10 +296,9 @@ def mark_missing_pointers(text: str, has) -> tuple[str, int]:
             return m.group(0)
         marked += 1
         return m.group(0) + INSTRUCTOR_ONLY
-    out = []
-    for line in text.splitlines(keepends=True):     # not inside $...$ formulas: lines only, spans in them
-        out.append(_SPAN.sub(one, line) if "`" in line else line)
-    return "".join(out), marked
+    # Not inside $...$ formulas: lines only, spans in them.
+    out = "".join(_SPAN.sub(one, line) if "`" in line else line for line in text.splitlines(keepends=True))
+    return out, marked
 
 
 def run(args) -> int:
