@@ -28,7 +28,7 @@ from pathlib import Path
 from raykit import atomic
 from raykit.common import BUILD, ROOT, KitError
 from raykit.status import FAILED, SETUP, USAGE
-from .webtools import ensure_docs_tools, npm_package
+from .webtools import copy_parts, ensure_docs_tools, npm_package, swap_in
 
 SOURCES = ROOT / "lectures" / "slides"
 OUT = BUILD / "slides"
@@ -308,21 +308,13 @@ def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
                     if lab and lab.group(1) and f'id: "{lab.group(1)[1:]}"' not in (LAB / "lab.js").read_text(encoding="utf-8"):
                         raise KitError(f"{src.relative_to(ROOT)}: the lab has no preset {lab.group(1)[1:]}", FAILED)
             shutil.copytree(LAB, work / "lab", ignore=shutil.ignore_patterns("check"))
-        for base, files, dest in ((reveal, REVEAL_FILES, "reveal"), (mathjax, MATHJAX_FILES, "mathjax")):
-            for rel in files:
-                s, d = base / rel, work / dest / rel
-                d.parent.mkdir(parents=True, exist_ok=True)
-                (shutil.copytree if s.is_dir() else shutil.copyfile)(s, d)
+        copy_parts(reveal, REVEAL_FILES, work / "reveal")
+        copy_parts(mathjax, MATHJAX_FILES, work / "mathjax")
         (work / "index.html").write_text(index_html(decks), encoding="utf-8")
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
         raise
-    old = out.with_name(out.name + ".old")
-    shutil.rmtree(old, ignore_errors=True)
-    if out.exists():
-        out.rename(old)
-    work.rename(out)
-    shutil.rmtree(old, ignore_errors=True)
+    swap_in(work, out)
     return [out / f for f, _ in decks]
 
 

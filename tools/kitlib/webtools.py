@@ -75,3 +75,21 @@ def npm_package(name: str, needed: str, what: str) -> Path:
             note(f"kit: npm failed ({said[-1] if said else f'exit {r.returncode}'}); trying once more")
     raise KitError(f"npm could not install {name}, which {what} "
                    f"(it needs the npm registry once):\n{(r.stdout + r.stderr)[-1500:]}", FAILED)
+
+
+def copy_parts(package: Path, parts: list[str], dest: Path) -> None:
+    """The files and folders `parts` of an npm package, copied into `dest` under the same paths."""
+    for rel in parts:
+        src, dst = package / rel, dest / rel
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        (shutil.copytree if src.is_dir() else shutil.copyfile)(src, dst)
+
+
+def swap_in(work: Path, final: Path) -> None:
+    """The folder `work` becomes `final`; the old one stays whole until the new one is."""
+    old = final.with_name(final.name + ".old")
+    shutil.rmtree(old, ignore_errors=True)
+    if final.exists():
+        final.rename(old)
+    work.rename(final)
+    shutil.rmtree(old, ignore_errors=True)

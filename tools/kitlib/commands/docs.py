@@ -31,7 +31,7 @@ from pathlib import Path
 from raykit import picture
 from ..decks import build as build_decks
 from raykit.common import BUILD, ROOT, KitError, Step, load_steps, say
-from ..webtools import ensure_docs_tools, npm_package, page_id
+from ..webtools import copy_parts, ensure_docs_tools, npm_package, page_id, swap_in
 from raykit.status import FAILED, OK
 
 DOCS = ROOT / "docs"
@@ -340,13 +340,7 @@ def finish_html(site: Path, mathjax: Path) -> None:
             new = pattern.sub(target, new)
         if new != text:
             page.write_text(new, encoding="utf-8")
-    for rel in MATHJAX_FILES:
-        src, dst = mathjax / rel, site / "mathjax" / rel
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        if src.is_dir():
-            shutil.copytree(src, dst)
-        else:
-            shutil.copyfile(src, dst)
+    copy_parts(mathjax, MATHJAX_FILES, site / "mathjax")
 
 
 @dataclass
@@ -399,13 +393,7 @@ def build_site(instructor: bool = False) -> Site:
     except BaseException:
         shutil.rmtree(work, ignore_errors=True)
         raise
-    # Swap in the new site: the old one stays whole until the new one is.
-    old = OUT / f"{variant}.old"
-    shutil.rmtree(old, ignore_errors=True)
-    if final.exists():
-        final.rename(old)
-    work.rename(final)
-    shutil.rmtree(old, ignore_errors=True)
+    swap_in(work, final)
     doxyfile_run = final / "Doxyfile"      # kept to rerun by hand: say where things are now
     doxyfile_run.write_text(doxyfile_run.read_text().replace(str(work), str(final)))
     # Doxygen repeats some warnings (once per page that shows the member): each once.
