@@ -15,8 +15,7 @@ from raykit import cli as students
 from raykit.cli import INSTRUCTOR, STUDENT, Command, Parser, handout
 
 # The table's words, re-exported: the instructor's side reads every command from here.
-__all__ = ["COMMANDS", "INSTRUCTOR", "STUDENT", "Command", "Parser", "handout", "available", "overview",
-           "build_parser", "main"]
+__all__ = ["COMMANDS", "INSTRUCTOR", "STUDENT", "Command", "Parser", "handout", "build_parser", "main"]
 STUDENTS = students.COMMANDS
 
 
@@ -53,12 +52,3 @@ def main(argv: list[str]) -> int:
 def build_parser(chosen: str | None) -> Parser:
     """./kit's parser with every command (raykit/cli.py's build_parser)."""
     return students.build_parser(chosen, COMMANDS)
-
-
-def available() -> list[Command]:
-    """The commands of COMMANDS this copy offers (raykit/cli.py's available)."""
-    return students.available(COMMANDS)
-
-
-def overview() -> str:
-    return students.overview(COMMANDS)

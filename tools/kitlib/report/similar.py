@@ -92,11 +92,8 @@ class Similarity:
 
 
 def strip(text: str, stub: set) -> str:
-    lines = []
-    for line in text.splitlines():
-        s = line.strip()
-        lines.append("" if (s in stub or s.startswith("#include")) else line)
-    return "\n".join(lines) + "\n"
+    return "\n".join("" if line.strip() in stub or line.strip().startswith("#include") else line
+                     for line in text.splitlines()) + "\n"
 
 
 def same_text(text: str) -> str:
@@ -162,11 +159,8 @@ class _Union:
 
 def _exact(a: Path, b: Path) -> tuple[int, int]:
     """(share of a in b, share of b in a), per cent, the two files compared on their own."""
-    both = {}
-    for line in _sim(["-p", "-a", "-e", "-s", "-t", "1"], [a, b]).splitlines():
-        m = _PERCENT.match(line.strip())
-        if m:
-            both[m.group(1)] = int(m.group(2))
+    found = (_PERCENT.match(line.strip()) for line in _sim(["-p", "-a", "-e", "-s", "-t", "1"], [a, b]).splitlines())
+    both = {m.group(1): int(m.group(2)) for m in found if m}
     return both.get(str(a), 0), both.get(str(b), 0)
 
 
@@ -312,14 +306,10 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step]) -> Sim
         result.compared = len(like_by_student)
         result.copies = sorted(n for n, flags in like_by_student.items() if flags and all(flags))
         result.groups.sort(key=lambda g: (-len(g.members), g.key))
-        pairs = []
-        for (a, b), by_file in shares.items():
-            best = max(by_file, key=lambda k: min(by_file[k]))
-            score = min(by_file[best])
-            if score >= SHOWN:
-                pairs.append(Pair(a, b, score, by_file, best=best, group=pair_group.get((a, b))))
-        pairs.sort(key=lambda p: (-p.score, -sum(min(v) for v in p.files.values()), p.a, p.b))
-        result.pairs = pairs
+        best = {pair: max(by_file, key=lambda k: min(by_file[k])) for pair, by_file in shares.items()}
+        pairs = [Pair(a, b, min(by_file[best[a, b]]), by_file, best=best[a, b], group=pair_group.get((a, b)))
+                 for (a, b), by_file in shares.items() if min(by_file[best[a, b]]) >= SHOWN]
+        result.pairs = sorted(pairs, key=lambda p: (-p.score, -sum(min(v) for v in p.files.values()), p.a, p.b))
         for p in result.pairs:
             p.runs = runs(work, texts[(p.a, p.best)], texts[(p.b, p.best)], p.best)
             p.lines = tuple(_original(files_root, originals[(n, p.best)], p.best).splitlines() for n in (p.a, p.b))
@@ -336,9 +326,7 @@ def runs(work: Path, a_text: str, b_text: str, key: str) -> list[tuple]:
     for p, t in ((a, a_text), (b, b_text)):
         p.parent.mkdir(parents=True, exist_ok=True)
         p.write_text(t)
-    out = []
-    for line in _sim(["-s", "-n"], [a, b]).splitlines():
-        m = _RUN.match(line.strip())
-        if m and m.group(1) == str(a) and m.group(4) == str(b):
-            out.append(((int(m.group(2)), int(m.group(3))), (int(m.group(5)), int(m.group(6))), int(m.group(7))))
+    found = (_RUN.match(line.strip()) for line in _sim(["-s", "-n"], [a, b]).splitlines())
+    out = [((int(m.group(2)), int(m.group(3))), (int(m.group(5)), int(m.group(6))), int(m.group(7)))
+           for m in found if m and m.group(1) == str(a) and m.group(4) == str(b)]
     return sorted(out, key=lambda r: -r[2])
