@@ -278,8 +278,7 @@ OTHER_RENAMES = {
     "kitlib.report.merge": (1, "a merged grading folder, moved into place whole"),
     "kitlib.commands.prairielearn": (1, "a staged folder, swapped whole"),
     "kitlib.commands.handout": (1, "a staged folder, swapped whole"),
-    "kitlib.commands.docs": (2, "the site's folder, swapped whole"),
-    "kitlib.decks": (2, "the decks' folder, swapped whole"),
+    "kitlib.webtools": (2, "a built folder (the docs site's, the decks'), swapped whole"),
 }
 
 
