@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 from raykit.common import ROOT, KitError, load_steps, say
 from raykit.status import FAILED, OK
+from . import selftest
 
 
 @dataclass(frozen=True)
@@ -73,18 +74,9 @@ def scene_steps(path: str) -> set[str]:
     NAME among its "scenes" (step 05 in the kit; not the last step, once an instructor adds one)."""
     import json
     name = path.rsplit("/", 1)[-1].split(".")[0]
-    found = set()
-    for s in load_steps():
-        data = json.loads((ROOT / "tests" / s.folder / "step.json").read_text())
-        if any(isinstance(e, dict) and e.get("name") == name for e in data.get("scenes", [])):
-            found.add(s.number)
-    return found
-
-
-def selftest_modules() -> list[str]:
-    """The modules of tests/kit/ that hold self-tests (./kit test's MODULE words)."""
-    return [p.stem for p in (ROOT / "tests" / "kit").glob("*.py")
-            if re.search(r"^def selftest_\w+\(", p.read_text(), flags=re.M)]
+    scenes = {s.number: json.loads((ROOT / "tests" / s.folder / "step.json").read_text()).get("scenes", [])
+              for s in load_steps()}
+    return {n for n, listed in scenes.items() if any(isinstance(e, dict) and e.get("name") == name for e in listed)}
 
 
 def touched_tests(paths: list[str]) -> list[list[str]]:
@@ -104,7 +96,7 @@ def touched_tests(paths: list[str]) -> list[list[str]]:
             steps |= scene_steps(p) or {max(numbers)}
         elif p.startswith(("lectures/", "docs/")) and not p.startswith("docs/images/"):
             modules += ["lectures", "slides"]
-        elif re.fullmatch(r"tests/kit/\w+\.py", p) and p[10:-3] in selftest_modules():
+        elif re.fullmatch(r"tests/kit/\w+\.py", p) and p[10:-3] in selftest.modules():
             modules.append(p[10:-3])        # a self-test module: itself
         elif p.startswith(("tools/", "tests/support/", "tests/kit/", "include/", "CMakeLists.txt", "cmake/")) \
                 or p == "pytest.ini":
