@@ -55,11 +55,7 @@ def _jinja():
     debian = Path("/usr/lib/python3/dist-packages")
     if (debian / "jinja2").is_dir() and str(debian) not in sys.path:
         sys.path.append(str(debian))
-        try:
-            import jinja2
-            return jinja2
-        except ImportError:
-            pass
+        return _jinja()
     raise KitError("./kit report needs jinja2: sudo apt-get install python3-jinja2", SETUP)
 
 
@@ -110,8 +106,6 @@ def draw_case(case: dict, title: str) -> dict | None:
 
 
 # --- what the class did ----------------------------------------------------------------------------
-
-
 
 def analyse(g, sigs):
     by_step = defaultdict(list)
@@ -233,8 +227,6 @@ def case_worth(course, step: str, case: dict) -> tuple[bool, str]:
     counted = not extra and not course.optional(group)
     return counted, (f"{course_file.exact_text(weight)} → " + ("+" if extra else "") + course.shown(points)
                      + (" extra" if extra else ""))
-
-
 
 
 def step_counts(graded, steps):
@@ -383,11 +375,9 @@ def build(folder: Path, out: Path) -> dict:
         needs = prerequisites(step_of[number], steps) if number in step_of else []
         return "*" if any((st.step(p.number) or {}).get("state") != DONE for p in needs) else ""
 
-    unmatched_rows = []
-    for (number, fails), who in sorted(unmatched.items(), key=lambda kv: (kv[0][0], -len(kv[1]))):
-        shown = sorted(fails)
-        unmatched_rows.append({"step": number, "who": [(n, upstream(n, number)) for n in who], "cases": shown[:12],
-                               "more": len(shown) - 12 if len(shown) > 12 else 0})
+    unmatched_rows = [{"step": number, "who": [(n, upstream(n, number)) for n in who], "cases": sorted(fails)[:12],
+                       "more": max(len(fails) - 12, 0)}
+                      for (number, fails), who in sorted(unmatched.items(), key=lambda kv: (kv[0][0], -len(kv[1])))]
 
     # 4. incidents
     found = [(section, sorted(kinds.items(), key=lambda kv: -len(kv[1]))) for section, kinds in incidents(g).items()]
@@ -432,13 +422,10 @@ def similar_data(sim) -> dict:
     """What the similar submissions' section shows: the groups set aside (a version of the reference)
     and the others, and the first pairs' matching runs side by side."""
     aside = [g for g in sim.groups if g.source and g.share >= similar.REFERENCE_LIKE]
-    runs = []
-    for p in sim.pairs[:3]:
-        shown = []
-        for (a0, a1), (b0, b1), tokens in p.runs[:4]:
-            shown.append((tokens, a0, a1, b0, b1, "\n".join(p.lines[0][a0 - 1:min(a1, a0 - 1 + RUN_LINES)]),
-                          "\n".join(p.lines[1][b0 - 1:min(b1, b0 - 1 + RUN_LINES)])))
-        runs.append({"pair": p, "shown": shown})
+    runs = [{"pair": p, "shown": [(tokens, a0, a1, b0, b1, "\n".join(p.lines[0][a0 - 1:min(a1, a0 - 1 + RUN_LINES)]),
+                                   "\n".join(p.lines[1][b0 - 1:min(b1, b0 - 1 + RUN_LINES)]))
+                                  for (a0, a1), (b0, b1), tokens in p.runs[:4]]}
+            for p in sim.pairs[:3]]
     return {"sim": sim, "similar": similar, "aside": aside, "shared": [g for g in sim.groups if g not in aside],
             "runs": runs}
 
@@ -468,16 +455,13 @@ def student_page(st, matches: dict) -> str:
             data["extra"] = {"base": st.shown(course_file.exact_text(total - extra)),
                              "earned": st.shown(course_file.exact_text(extra)),
                              "possible": st.shown(course_file.exact_text(possible))}
-    scoreboard = []
-    for res in st.steps():
-        rob = res.get("robust", {})
-        scoreboard.append({"step": res.get("step"), "title": res.get("title", ""), "state": res.get("state"),
+    data["scoreboard"] = [{"step": res.get("step"), "title": res.get("title", ""), "state": res.get("state"),
                            "not_graded": res.get("state") in (NOT_GRADED, OLD_BROKEN),
                            "state_words": STATE_WORDS.get(res.get("state"), res.get("state")),
                            "earned": st.shown(res.get("earned_exact"), res.get("earned")),
                            "maximum": st.shown(res.get("maximum_exact"), res.get("maximum")),
-                           "robust_passed": rob.get("passed", 0), "robust_total": rob.get("total", 0)})
-    data["scoreboard"] = scoreboard
+                           "robust_passed": res.get("robust", {}).get("passed", 0),
+                           "robust_total": res.get("robust", {}).get("total", 0)} for res in st.steps()]
     data["slips"] = [{"step": number, "kind": m.kind, "distance": m.distance, "signatures": m.signatures}
                      for number, (fails, m) in sorted(matches.items())]
     shown_steps = []
