@@ -42,12 +42,8 @@ def data_file(step: Step, root: Path = ROOT) -> Path:
 
 def users(steps: list[Step]) -> list[Step]:
     """The steps whose suites include the exact-answer interface."""
-    found = []
-    for s in steps:
-        sources = [p for p in (ROOT / "tests" / s.folder).glob("*.cpp") if p.name != DATA]
-        if any(f'/{name}"' in p.read_text() for p in sources for name in INTERFACE):
-            found.append(s)
-    return found
+    return [s for s in steps if any(f'/{name}"' in p.read_text() for p in (ROOT / "tests" / s.folder).glob("*.cpp")
+                                    if p.name != DATA for name in INTERFACE)]
 
 
 # --- the data file's text ----------------------------------------------------------
@@ -157,13 +153,9 @@ def fresh_texts(prepare: bool = False) -> dict[Path, str]:
 
 def stale(texts: dict[Path, str], root: Path = ROOT) -> list[str]:
     """The data files (under `root`) whose bytes differ from a regeneration's, relative to the kit."""
-    bad = []
-    for path, text in texts.items():
-        rel = path.relative_to(ROOT)
-        mine = root / rel
-        if not mine.is_file() or mine.read_text() != text:
-            bad.append(rel.as_posix())
-    return bad
+    mine = {path: root / path.relative_to(ROOT) for path in texts}
+    return [path.relative_to(ROOT).as_posix() for path, text in texts.items()
+            if not mine[path].is_file() or mine[path].read_text() != text]
 
 
 def run(args) -> int:
