@@ -284,10 +284,6 @@ def out_dir(arg: str | None) -> Path:
     return p
 
 
-def write_atomic(path: Path, text: str) -> None:
-    atomic.write(path, text)
-
-
 # --- comparing two runs -------------------------------------------------------------------
 
 
@@ -394,27 +390,24 @@ def run(args) -> int:
     verdict = reference_verdict(pts)
     if verdict:
         say(paint("The kit's reference on the hard families:", "bold"))
-        for line in verdict:
-            say(line)
+        say("\n".join(verdict))
     lanes = vector_verdict(pts, data.get("peak") or {})
     if lanes:
         say(paint("The reference, scalar (the kit's function) and vectorized (the fastest lanes), and the "
                   "float-float form (exact-float):", "bold"))
-        for line in lanes:
-            say(line)
+        say("\n".join(lanes))
 
     summary = report.student_summary(data, pts)
     if summary:
         say()
         say(paint(summary[0], "bold"))
-        for line in summary[1:]:
-            say(line)
+        say("\n".join(summary[1:]))
 
     target.mkdir(parents=True, exist_ok=True)
     outputs = {"results.json": json.dumps(data, indent=1) + "\n", "results.csv": report.csv_text(data, pts),
                "table.md": report.markdown_table(data, pts), "plot.svg": report.plot_svg(data, pts)}
     for name, text in outputs.items():
-        write_atomic(target / name, text)
+        atomic.write(target / name, text)
     shown = os.path.relpath(target, Path.cwd()) if str(target).startswith(str(Path.cwd())) else str(target)
     say(f"\nwrote {', '.join(shown + '/' + n for n in OUTPUTS)}")
     if target.resolve() == COMMITTED.parent.resolve() and (ROOT / "docs" / "bench_numbers.py").is_file():
