@@ -48,10 +48,8 @@ class Slide:
 
 
 def split_deck(text: str) -> list[Slide]:
-    slides, lines = [], text.splitlines()
-    chunks, current = [], []
-    fence = False
-    for line in lines:
+    chunks, current, fence = [], [], False
+    for line in text.splitlines():
         if line.startswith("```"):
             fence = not fence
         if line.strip() == "---" and not fence:
@@ -60,6 +58,7 @@ def split_deck(text: str) -> list[Slide]:
         else:
             current.append(line)
     chunks.append(current)
+    slides = []
     for i, chunk in enumerate(chunks):
         body, notes, in_notes = [], [], False
         for line in chunk:
@@ -298,15 +297,14 @@ def build(out: Path = OUT, sources: list[Path] | None = None) -> list[Path]:
         for name, path in media.items():
             (work / "media").mkdir(exist_ok=True)
             shutil.copyfile(path, work / "media" / name)
-        if any(LINK.search(line) and LAB_LINK.match(LINK.search(line).group(2))
-               for src in sources for line in src.read_text(encoding="utf-8").splitlines()):
-            for src in sources:
-                for m in LINK.finditer(src.read_text(encoding="utf-8")):
-                    lab = LAB_LINK.match(m.group(2))
-                    if lab and not (LAB / "index.html").is_file():
-                        raise KitError(f"{src.relative_to(ROOT)}: links the lab, and docs/lab/index.html is missing", FAILED)
-                    if lab and lab.group(1) and f'id: "{lab.group(1)[1:]}"' not in (LAB / "lab.js").read_text(encoding="utf-8"):
-                        raise KitError(f"{src.relative_to(ROOT)}: the lab has no preset {lab.group(1)[1:]}", FAILED)
+        labs = [(src, lab) for src in sources for m in LINK.finditer(src.read_text(encoding="utf-8"))
+                if (lab := LAB_LINK.match(m.group(2)))]
+        for src, lab in labs:
+            if not (LAB / "index.html").is_file():
+                raise KitError(f"{src.relative_to(ROOT)}: links the lab, and docs/lab/index.html is missing", FAILED)
+            if lab.group(1) and f'id: "{lab.group(1)[1:]}"' not in (LAB / "lab.js").read_text(encoding="utf-8"):
+                raise KitError(f"{src.relative_to(ROOT)}: the lab has no preset {lab.group(1)[1:]}", FAILED)
+        if labs:
             shutil.copytree(LAB, work / "lab", ignore=shutil.ignore_patterns("check"))
         copy_parts(reveal, REVEAL_FILES, work / "reveal")
         copy_parts(mathjax, MATHJAX_FILES, work / "mathjax")

@@ -122,25 +122,19 @@ def gather(instructor: bool) -> Content:
     for s in load_steps():
         lecture = ROOT / s.lecture
         task = ROOT / "steps" / s.folder / "README.md"
-        image = None
         manifest = json.loads((ROOT / "tests" / s.folder / "step.json").read_text())
         # The picture named in the manifest, else its first scene's render, else one named after the step.
         named = [manifest["image"]] if manifest.get("image") else []
         named += [f"{sc['name']}.png" for sc in manifest.get("scenes", [])[:1]]
         named = [DOCS / "images" / n for n in named if (DOCS / "images" / n).is_file()]
-        if named:
-            image = named[0]
-        else:
-            image = next((p for p in images if is_step_image(p, s)), None)
+        image = named[0] if named else next((p for p in images if is_step_image(p, s)), None)
         steps.append(StepPages(s, lecture if lecture.is_file() else None, task if task.is_file() else None,
                                image, {f: declaring_header(f, headers) for f in s.functions}))
         used.add(lecture.resolve())
     others = [p for p in sorted((ROOT / "lectures").glob("*.md")) if p.resolve() not in used]
     bench = DOCS / "bench"
-    solutions = []
-    if instructor:
-        for s in load_steps():
-            solutions += [p for p in (ROOT / "solutions" / s.folder / f for f in s.files) if p.is_file()]
+    solutions = [p for s in load_steps() for p in (ROOT / "solutions" / s.folder / f for f in s.files)
+                 if instructor and p.is_file()]
     # The benchmark's reading (docs/bench.md, which the lectures cite) first, then its generated table.
     readings = [p for p in [DOCS / "bench.md"] if p.is_file()] + (sorted(bench.glob("*.md")) if bench.is_dir() else [])
     return Content(steps, others, headers, images, readings, images_in(bench), solutions)

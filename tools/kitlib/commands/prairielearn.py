@@ -729,8 +729,7 @@ def run(args) -> int:
         say("  the questions' topic and tags, which PrairieLearn wants declared"
             + (" (added in OUT/infoCourse.json):" if info_note else
                " (--new-course NAME writes a whole course's infoCourse.json; --course DIR yours with them added):"))
-        for line in lines:
-            say(line)
+        say("\n".join(lines))
     elif new_course is None:
         say(f"  the questions' topic and tags: declared in {course_dir}/infoCourse.json already")
     say(f"  next: {out}/README-raykit.md (what to copy), graders/raykit/README.md (build, push, sync)")
