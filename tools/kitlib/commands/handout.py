@@ -217,8 +217,10 @@ def answer_lines(step, stub_text: str) -> set[str]:
     """Lines of the reference solution that are not in the stub: what a handout must not contain."""
     stub = {line.strip() for line in stub_text.splitlines()}
     path = ROOT / "solutions" / step.folder
-    solution = [line.strip() for f in step.files if (path / f).is_file() for line in (path / f).read_text().splitlines()]
-    return {line for line in solution if len(line) > 24 and line not in stub and not line.startswith(("//", "#include"))}
+    solution = [line.strip() for f in step.files if (path / f).is_file()
+                for line in (path / f).read_text().splitlines()]
+    return {line for line in solution
+            if len(line) > 24 and line not in stub and not line.startswith(("//", "#include"))}
 
 
 def strip_instructor_parts(text: str) -> str:

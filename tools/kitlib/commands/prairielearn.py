@@ -333,7 +333,8 @@ def hints_html(step) -> str:
         return ""
     hints = [h.strip() for h in re.split(r"^---\s*$", path.read_text(), flags=re.M) if h.strip()]
     return "\n".join(f'<details><summary>Hint {n}</summary><p style="white-space: pre-line">'
-                     f'{html.escape(for_prairielearn(hint), quote=False)}</p></details>' for n, hint in enumerate(hints, 1))
+                     f'{html.escape(for_prairielearn(hint), quote=False)}</p></details>'
+                     for n, hint in enumerate(hints, 1))
 
 
 def question_html(step, course, points, docs_url: str | None = None) -> tuple[str, list]:

@@ -153,10 +153,8 @@ def crash_kind(case: dict) -> tuple[str, str]:
 
 def incidents(g):
     """{section title: {kind: [(student, step, example)]}}"""
-    out = {"Does not compile": defaultdict(list), "Crashed": defaultdict(list),
-           "Threw an exception": defaultdict(list), "Timed out": defaultdict(list),
-           "Run again after a timeout": defaultdict(list), "Not graded": defaultdict(list),
-           "Nothing submitted": defaultdict(list)}
+    out = {section: defaultdict(list) for section in ("Does not compile", "Crashed", "Threw an exception", "Timed out",
+                                                      "Run again after a timeout", "Not graded", "Nothing submitted")}
     for st in g.students:
         if st.data is None:
             status = st.row.get("status") or "not graded"
