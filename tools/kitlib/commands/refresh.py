@@ -24,7 +24,6 @@ from dataclasses import dataclass
 
 from raykit.common import ROOT, KitError, load_steps, say
 from raykit.status import FAILED, OK
-from . import selftest
 
 
 @dataclass(frozen=True)
@@ -79,6 +78,13 @@ def scene_steps(path: str) -> set[str]:
     return {n for n, listed in scenes.items() if any(isinstance(e, dict) and e.get("name") == name for e in listed)}
 
 
+def selftest_modules() -> list[str]:
+    """The modules of tests/kit/ that hold self-tests (./kit test's MODULE words; a command imports no
+    other command, so not commands/selftest.py's modules())."""
+    return [p.stem for p in (ROOT / "tests" / "kit").glob("*.py")
+            if re.search(r"^def selftest_\w+\(", p.read_text(), flags=re.M)]
+
+
 def touched_tests(paths: list[str]) -> list[list[str]]:
     """The ./kit test calls the changed paths ask for: `--step N` for a step's cases, reference or
     stubs; the modules that read the course, the scene, the lectures; everything for the kit's code."""
@@ -96,7 +102,7 @@ def touched_tests(paths: list[str]) -> list[list[str]]:
             steps |= scene_steps(p) or {max(numbers)}
         elif p.startswith(("lectures/", "docs/")) and not p.startswith("docs/images/"):
             modules += ["lectures", "slides"]
-        elif re.fullmatch(r"tests/kit/\w+\.py", p) and p[10:-3] in selftest.modules():
+        elif re.fullmatch(r"tests/kit/\w+\.py", p) and p[10:-3] in selftest_modules():
             modules.append(p[10:-3])        # a self-test module: itself
         elif p.startswith(("tools/", "tests/support/", "tests/kit/", "include/", "CMakeLists.txt", "cmake/")) \
                 or p == "pytest.ini":
