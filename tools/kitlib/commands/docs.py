@@ -172,28 +172,19 @@ def front_page(c: Content, instructor: bool) -> str:
     for sp in c.steps:
         s = sp.step
         out += [f"### Step {s.number}: {s.title}", ""]
-        if sp.lecture:
-            out.append(f"- **Lecture:** \\ref {page_id(sp.lecture)} "
-                       f"\"{label(title_of(sp.lecture, s.title))}\"")
-        else:
-            out.append(f"- **Lecture:** not written yet (`{s.lecture}`)")
-        if sp.task:
-            out.append(f"- **Task:** \\ref {page_id(sp.task)} \"steps/{s.folder}/README.md\": what to write, "
-                       "in which order, how to check it")
-        else:
-            out.append(f"- **Task:** `steps/{s.folder}/README.md` (not written yet)")
+        out.append(f"- **Lecture:** \\ref {page_id(sp.lecture)} \"{label(title_of(sp.lecture, s.title))}\""
+                   if sp.lecture else f"- **Lecture:** not written yet (`{s.lecture}`)")
+        out.append(f"- **Task:** \\ref {page_id(sp.task)} \"steps/{s.folder}/README.md\": what to write, in which "
+                   "order, how to check it" if sp.task else
+                   f"- **Task:** `steps/{s.folder}/README.md` (not written yet)")
         files = ", ".join(f"`steps/{s.folder}/{f}`" for f in s.files)
-        if s.functions:
-            fns = ", ".join(f"\\ref raykit::{f} \"{f}()\"" for f in s.functions)
-            where = sorted({h for h in sp.headers.values() if h})
-            declared = f", declared in {', '.join(f'`{h}`' for h in where)}" if where else ""
-            out.append(f"- **Write:** {fns} in {files}{declared}")
-        else:
-            out.append(f"- **Write:** {files}")
+        where = sorted({h for h in sp.headers.values() if h})
+        declared = f", declared in {', '.join(f'`{h}`' for h in where)}" if where else ""
+        fns = ", ".join(f"\\ref raykit::{f} \"{f}()\"" for f in s.functions)
+        out.append(f"- **Write:** {fns} in {files}{declared}" if s.functions else f"- **Write:** {files}")
         if s.needs:
             out.append(f"- **Builds on:** step {', step '.join(s.needs)}")
-        out.append(f"- **Check:** `./kit check {int(s.number)}`")
-        out.append("")
+        out += [f"- **Check:** `./kit check {int(s.number)}`", ""]
         if sp.image:
             out += [f"\\image html {sp.image.name} \"Step {s.number}: the reference image\" width=360px", ""]
     if c.other_lectures:

@@ -107,6 +107,12 @@ def _sim(args: list[str], files: list, timeout: float = 300) -> str:
     return r.stdout
 
 
+def _percents(args: list[str], files: list) -> list[tuple[str, int, str]]:
+    """sim_c++'s lines "A consists for N % of B material", as (A, N, B)."""
+    found = (_PERCENT.match(line.strip()) for line in _sim(args, files).splitlines())
+    return [(m.group(1), int(m.group(2)), m.group(3)) for m in found if m]
+
+
 def versions(path: str) -> list[tuple[str, str]]:
     """Today's text of a file of the kit (path relative to ROOT) and, when the kit is a git clone, every
     older text in its history, newest first: [(label, text)], texts distinct."""
@@ -159,8 +165,7 @@ class _Union:
 
 def _exact(a: Path, b: Path) -> tuple[int, int]:
     """(share of a in b, share of b in a), per cent, the two files compared on their own."""
-    found = (_PERCENT.match(line.strip()) for line in _sim(["-p", "-a", "-e", "-s", "-t", "1"], [a, b]).splitlines())
-    both = {m.group(1): int(m.group(2)) for m in found if m}
+    both = {first: pct for first, pct, _ in _percents(["-p", "-a", "-e", "-s", "-t", "1"], [a, b])}
     return both.get(str(a), 0), both.get(str(b), 0)
 
 
@@ -224,12 +229,9 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step]) -> Sim
                     ref_label[str(path)] = (label, kind)
                 best_ref: dict[str, tuple] = {}         # same_text -> (per cent, label, kind)
                 if refs:
-                    for line in _sim(["-p", "-S", "-e", "-t", "1"], list(path_of.values()) + ["/"] + refs).splitlines():
-                        m = _PERCENT.match(line.strip())
-                        if m and m.group(1) in of and m.group(3) in ref_label:
-                            s, pct = of[m.group(1)], int(m.group(2))
-                            if pct > best_ref.get(s, (-1,))[0]:
-                                best_ref[s] = (pct, *ref_label[m.group(3)])
+                    for a, pct, b in _percents(["-p", "-S", "-e", "-t", "1"], list(path_of.values()) + ["/"] + refs):
+                        if a in of and b in ref_label and pct > best_ref.get(of[a], (-1,))[0]:
+                            best_ref[of[a]] = (pct, *ref_label[b])
                 like = {s for s, (pct, _, kind) in best_ref.items() if pct >= REFERENCE_LIKE and kind == "reference"}
                 stubby = {s for s, (pct, _, kind) in best_ref.items() if pct >= REFERENCE_LIKE and kind == "stub"}
                 result.reference_like[key] = sorted(n for s in like for n in members[s])
@@ -239,11 +241,9 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step]) -> Sim
                         like_by_student.setdefault(n, []).append(s in like)
                 # Groups: the texts nearly the same (GROUP_SAME both ways), GROUP_MIN students or more.
                 near = _Union()
-                named = []
-                for line in _sim(["-p", "-a", "-s", "-t", str(SHOWN)], list(path_of.values())).splitlines():
-                    m = _PERCENT.match(line.strip())
-                    if m and m.group(1) in of and m.group(3) in of and m.group(1) != m.group(3):
-                        named.append((of[m.group(1)], of[m.group(3)], int(m.group(2))))
+                named = [(of[a], of[b], pct)
+                         for a, pct, b in _percents(["-p", "-a", "-s", "-t", str(SHOWN)], list(path_of.values()))
+                         if a in of and b in of and a != b]
                 measured = {}
                 for s, t, pct in named:
                     if pct >= GROUP_SAME:
@@ -279,14 +279,11 @@ def compare(files_root: Path | None, names: list[str], steps: list[Step]) -> Sim
                         for i, a in enumerate(who):
                             for b in who[i + 1:]:
                                 shares.setdefault((a, b), {})[key] = (100, 100)
-                candidates = set()
                 one_path = {str(path_of[s]): s for s in ones}
-                for line in _sim(["-p", "-a", "-s", "-t", str(SHOWN)], [path_of[s] for s in ones]).splitlines():
-                    m = _PERCENT.match(line.strip())
-                    if m and m.group(1) in one_path and m.group(3) in one_path:
-                        s, t = sorted((one_path[m.group(1)], one_path[m.group(3)]))
-                        if s != t and not (s in aside and t in aside):
-                            candidates.add((s, t))
+                found = [tuple(sorted((one_path[a], one_path[b])))
+                         for a, _, b in _percents(["-p", "-a", "-s", "-t", str(SHOWN)], [path_of[s] for s in ones])
+                         if a in one_path and b in one_path]
+                candidates = {(s, t) for s, t in found if s != t and not (s in aside and t in aside)}
                 for s, t in sorted(candidates):
                     ab = measured.get((s, t)) or _exact(path_of[s], path_of[t])
                     if min(ab) <= 0:
