@@ -20,6 +20,7 @@ template to PrairieLearn, so a `{{` in a formula is written `{ {` (the same TeX)
 from __future__ import annotations
 
 import html
+import itertools
 import re
 from pathlib import Path
 
@@ -150,10 +151,7 @@ class Page:
     @staticmethod
     def rows(lines: list[str], start: int) -> list[str]:
         """A table's body: the lines from `start` that begin with |."""
-        end = start
-        while end < len(lines) and lines[end].lstrip().startswith("|"):
-            end += 1
-        return lines[start:end]
+        return list(itertools.takewhile(lambda line: line.lstrip().startswith("|"), lines[start:]))
 
     def table(self, head: str, body: list[str]) -> str:
         def cells(row: str) -> list[str]:
