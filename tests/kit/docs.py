@@ -22,8 +22,7 @@ import pytest
 
 from kitlib.commands import docs as cmd_docs
 from raykit.common import BUILD, ROOT, KitError
-from raykit.packages import ensure_packages
-from .support import Failed, Skipped, expect, need_solutions
+from .support import Failed, Skipped, chromium_or_skip, expect, need_solutions
 
 SCREENSHOTS = BUILD / "docs" / "screenshots"
 
@@ -181,14 +180,7 @@ def pages_to_open(site) -> list[tuple[str, str]]:
 
 
 def selftest_browser(ctx) -> str:
-    from kitlib import browser
-    try:
-        ensure_packages("browser")
-    except KitError as e:
-        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
-    chromium = browser.find_chromium()
-    if chromium is None:
-        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
+    browser, chromium = chromium_or_skip()
     site = _site(ctx)
     try:
         return _check_pages(browser, chromium, site)

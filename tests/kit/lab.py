@@ -39,9 +39,8 @@ import struct
 import subprocess
 from pathlib import Path
 
-from raykit.common import BUILD, ROOT, KitError
-from raykit.packages import ensure_packages
-from .support import Failed, Skipped, expect, need_solutions
+from raykit.common import BUILD, ROOT
+from .support import Failed, Skipped, chromium_or_skip, expect, need_solutions
 
 LAB = ROOT / "docs" / "lab"
 CHECK_SOURCE = LAB / "check" / "lab_check.cpp"
@@ -398,23 +397,11 @@ def word_problems(name: str, page: dict) -> list[str]:
     return problems
 
 
-def _browser():
-    from kitlib import browser
-    try:
-        ensure_packages("browser")
-    except KitError as e:
-        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
-    chromium = browser.find_chromium()
-    if chromium is None:
-        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
-    return browser, chromium
-
-
 def selftest_lab(ctx) -> str:
     need_solutions()
     if not CHECK_SOURCE.is_file():
         raise Skipped("docs/lab/check/ is not here (a handout leaves it out)")
-    browser, chromium = _browser()
+    browser, chromium = chromium_or_skip()
     exe = build_check()
     try:
         with browser.Browser(chromium, 1400, 1000) as b:
@@ -532,7 +519,7 @@ def selftest_lab(ctx) -> str:
 
 def selftest_lab_keyboard(ctx) -> str:
     """Without a mouse: Tab reaches a handle, the arrow keys move it, typing sets a value exactly; and a drag."""
-    browser, chromium = _browser()
+    browser, chromium = chromium_or_skip()
 
     def key(b, name: str, code: int) -> None:
         for kind in ("rawKeyDown", "keyUp"):
@@ -602,7 +589,7 @@ def selftest_lab_catches(ctx) -> str:
     need_solutions()
     if not CHECK_SOURCE.is_file():
         raise Skipped("docs/lab/check/ is not here (a handout leaves it out)")
-    browser, chromium = _browser()
+    browser, chromium = chromium_or_skip()
     exe = build_check()
     wrong = OUT / "wrong-lab"
     shutil.rmtree(wrong, ignore_errors=True)
@@ -628,7 +615,7 @@ def selftest_lab_catches(ctx) -> str:
 
 def selftest_browser_restart(ctx) -> str:
     """A Chromium that never answers its first command is started again, not waited on for ever."""
-    browser, chromium = _browser()
+    browser, chromium = chromium_or_skip()
     OUT.mkdir(parents=True, exist_ok=True)
     count = OUT / "fake-chromium-starts"
     count.unlink(missing_ok=True)

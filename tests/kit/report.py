@@ -30,9 +30,9 @@ from pathlib import Path
 
 import pytest
 
-from raykit.common import BUILD, ROOT, KitError, load_steps
+from raykit.common import BUILD, ROOT, load_steps
 from . import scale
-from .support import Failed, Skipped, expect, kit, need_solutions
+from .support import Failed, Skipped, chromium_or_skip, expect, kit, need_solutions
 from .fixtures import fixture_dir
 
 WORK = BUILD / "report-test"
@@ -367,15 +367,7 @@ def selftest_similar_groups(ctx) -> str:
 
 
 def _browser(*pages_: Path) -> str:
-    from kitlib import browser
-    from raykit.packages import ensure_packages
-    try:
-        ensure_packages("browser")
-    except KitError as e:
-        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
-    chromium = browser.find_chromium()
-    if chromium is None:
-        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
+    browser, chromium = chromium_or_skip()
 
     class Watching(browser.Browser):
         def __enter__(self):

@@ -22,10 +22,9 @@ from pathlib import Path
 
 import pytest
 
-from raykit.common import BUILD, ROOT, KitError
+from raykit.common import BUILD, ROOT
 from kitlib import decks as cmd_slides
-from raykit.packages import ensure_packages
-from .support import Failed, Skipped, expect
+from .support import Failed, Skipped, chromium_or_skip, expect
 
 SCREENSHOTS = BUILD / "slides-screenshots"     # beside the decks: ./kit slides replaces build/slides whole
 
@@ -101,18 +100,6 @@ def selftest_structure(ctx) -> str:
     return f"{len(decks)} decks, {count} slides: notes with their lecture section, Ponder before its answer, the step's command last"
 
 
-def _browser():
-    from kitlib import browser
-    try:
-        ensure_packages("browser")
-    except KitError as e:
-        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
-    chromium = browser.find_chromium()
-    if chromium is None:
-        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
-    return browser, chromium
-
-
 def show_decks(browser, chromium: str, decks: list[Path], shots: Path | None) -> tuple[list[str], int, int]:
     from .lab import attach_log
     problems, slides, formulas = [], 0, 0
@@ -146,7 +133,7 @@ def show_decks(browser, chromium: str, decks: list[Path], shots: Path | None) ->
 def selftest_browser(ctx) -> str:
     if not cmd_slides.deck_sources():
         raise Skipped("no decks in lectures/slides/")
-    browser, chromium = _browser()
+    browser, chromium = chromium_or_skip()
     decks = cmd_slides.build()
     shutil.rmtree(SCREENSHOTS, ignore_errors=True)
     SCREENSHOTS.mkdir(parents=True)
@@ -164,7 +151,7 @@ def selftest_overflow_caught(ctx) -> str:
     """A slide with too much on it must be reported."""
     if not cmd_slides.deck_sources():
         raise Skipped("no decks in lectures/slides/")
-    browser, chromium = _browser()
+    browser, chromium = chromium_or_skip()
     work = BUILD / "slides-selftest"
     shutil.rmtree(work, ignore_errors=True)
     src = work / "src"

@@ -93,6 +93,22 @@ def partly_skipped(need: str, reason: str) -> str:
     return reason
 
 
+def chromium_or_skip():
+    """(kitlib.browser, the Chromium it drives) for a self-test in a browser: installed when it can be
+    (packages.py's "browser"), else the test is skipped, naming what is missing."""
+    from kitlib import browser
+    from raykit.common import KitError
+    from raykit.packages import ensure_packages
+    try:
+        ensure_packages("browser")
+    except KitError as e:
+        raise Skipped(f"Chromium is not installed and could not be ({str(e).splitlines()[0]})")
+    found = browser.find_chromium()
+    if found is None:
+        raise Skipped("no chromium on the PATH (sudo apt-get install chromium)")
+    return browser, found
+
+
 def need_solutions() -> None:
     # The self-test is never shipped in a handout and ./kit test refuses to run in one (cli.py), so
     # this guards only a kit whose solutions/ was removed by hand.
