@@ -45,6 +45,15 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
             });
         if (fact.empty() && lead.empty())
             fact = formula_cause(true, [](const Ray& r, const Sphere&) { return unit_sphere_roots(r); });
+        // The stable pair's slips and a root divided in part by a (sphere_facts.hpp), said first.
+        const Sphere unit{{0, 0, 0}, 1};
+        if (fact.empty() && lead.empty()) lead = zero_over_q_cause(ray, unit, expected, got);
+        if (fact.empty() && lead.empty()) lead = q_over_c_cause(ray, unit, expected, got);
+        if (fact.empty() && lead.empty())
+            lead = stable_4ac_cause(true, [](const Ray& r, const Sphere&) { return unit_sphere_roots(r); });
+        if (fact.empty() && lead.empty())
+            lead = one_root_undivided_cause(ray.direction, expected, got,
+                                            [&](float k) { return unit_sphere_roots({ray.origin, ray.direction * k}); });
         // A tangent whose two entries differ breaks the contract (check_roots says so): halving is not
         // measured on it, whose second entry says nothing about t.
         const bool split_tangent = got.count == 1 && !(got.t[0] == got.t[1]);

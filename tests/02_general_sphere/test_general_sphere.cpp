@@ -72,6 +72,8 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
             });
         if (stateless && lead.empty())
             lead = a_from_f_cause([](const Ray& r, const Sphere& s) { return sphere_roots(r, s); });
+        if (stateless && lead.empty()) lead = zero_over_q_cause(ray, sphere, expected, got);
+        if (stateless && lead.empty()) lead = q_over_c_cause(ray, sphere, expected, got);
         if (lead.empty())
             fact = measured(ray, sphere, expected, got, [](const Ray& r, const Sphere& s, float k) {
                 return sphere_roots({r.origin, r.direction * k}, s);
