@@ -46,9 +46,8 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
         if (fact.empty() && lead.empty())
             fact = formula_cause(true, [](const Ray& r, const Sphere&) { return unit_sphere_roots(r); });
         // The stable pair's slips and a root divided in part by a (sphere_facts.hpp), said first.
-        const Sphere unit{{0, 0, 0}, 1};
-        if (fact.empty() && lead.empty()) lead = zero_over_q_cause(ray, unit, expected, got);
-        if (fact.empty() && lead.empty()) lead = q_over_c_cause(ray, unit, expected, got);
+        if (fact.empty() && lead.empty()) lead = zero_over_q_cause(expected, got);
+        if (fact.empty() && lead.empty()) lead = q_over_c_cause(expected, got);
         if (fact.empty() && lead.empty())
             lead = stable_4ac_cause(true, [](const Ray& r, const Sphere&) { return unit_sphere_roots(r); });
         if (fact.empty() && lead.empty())

@@ -64,7 +64,9 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
         const bool stateless = state_cause([&] { return sphere_roots(ray, sphere); },
                                            [&] { sphere_roots(seen_a, seen_a_ball); },
                                            [&] { sphere_roots(seen_b, seen_b_ball); }).empty();
-        if (stateless) lead = int_radius_cause(ray, sphere, expected, got);
+        if (stateless)
+            lead = int_radius_cause(sphere.radius, expected, got,
+                                    [&](float r) { return sphere_roots(ray, Sphere{sphere.center, r}); });
         if (stateless && lead.empty())
             lead = axes_cause(expected, got, [&](int k) {
                 return sphere_roots({axes_turned(ray.origin, k), axes_turned(ray.direction, k)},
@@ -72,8 +74,8 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
             });
         if (stateless && lead.empty())
             lead = a_from_f_cause([](const Ray& r, const Sphere& s) { return sphere_roots(r, s); });
-        if (stateless && lead.empty()) lead = zero_over_q_cause(ray, sphere, expected, got);
-        if (stateless && lead.empty()) lead = q_over_c_cause(ray, sphere, expected, got);
+        if (stateless && lead.empty()) lead = zero_over_q_cause(expected, got);
+        if (stateless && lead.empty()) lead = q_over_c_cause(expected, got);
         if (lead.empty())
             fact = measured(ray, sphere, expected, got, [](const Ray& r, const Sphere& s, float k) {
                 return sphere_roots({r.origin, r.direction * k}, s);

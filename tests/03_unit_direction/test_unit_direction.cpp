@@ -60,8 +60,8 @@ Roots measured_roots(Fn fn, const Ray& ray, const Sphere& sphere, const Roots& e
             return fn(Ray{axes_turned(ray.origin, k), axes_turned(ray.direction, k)},
                       Sphere{axes_turned(sphere.center, k), sphere.radius});
         });
-    if (fact.empty() && lead.empty() && !geometric) lead = zero_over_q_cause(ray, sphere, expected, got);
-    if (fact.empty() && lead.empty() && !geometric) lead = q_over_c_cause(ray, sphere, expected, got);
+    if (fact.empty() && lead.empty() && !geometric) lead = zero_over_q_cause(expected, got);
+    if (fact.empty() && lead.empty() && !geometric) lead = q_over_c_cause(expected, got);
     if (fact.empty() && lead.empty() && !geometric) lead = stable_4ac_cause(false, fn);
     if (!lead.empty()) return fn(ray, sphere);
     if (fact.empty())

@@ -5,12 +5,12 @@
 //   - renaming the axes leaves the roots unchanged: the same ray and sphere with (x, y, z) taken as
 //     (y, z, x) (or (z, x, y)) must give the same roots, so code right there and wrong here reads a
 //     component from the wrong axis (axes_cause);
-//   - a radius that is not a whole number: roots that are exactly those of the radius without its
-//     fraction say that the radius went through an int (int_radius_cause);
+//   - a radius that is not a whole number: roots that stay the same when only its fraction changes say
+//     that the radius went through an int (int_radius_cause);
 //   - the quadratic's a is d.d: on probe rays of the kit's own along a line through the centre, right
 //     where |o - c| = |d| and those of a = f.f elsewhere (a_from_f_cause);
-//   - the stable pair (q / a, c / q): a NaN beside a 0 from q = 0 (zero_over_q_cause), q / c for c / q
-//     (q_over_c_cause), the discriminant's 4 (stable_4ac_cause);
+//   - the stable pair of roots: a NaN beside a 0 from its larger term cancelling (zero_over_q_cause), the
+//     second root divided the wrong way round (q_over_c_cause), the discriminant's 4 (stable_4ac_cause);
 //   - one root wrong and both right with d of length 1: a = d.d divides only part of it (precedence,
 //     one_root_undivided_cause).
 // Unlike relations.hpp's facts, which follow check_roots's sentence on the contract, these lead the
@@ -21,11 +21,9 @@
 
 #include <cmath>
 #include <optional>
-#include <utility>
-
-#include <glm/geometric.hpp>
-#include <glm/vec3.hpp>
 #include <string>
+
+#include <glm/vec3.hpp>
 
 #include "grading.hpp"
 #include "relations.hpp"
@@ -65,41 +63,24 @@ std::string axes_cause(const Roots& expected, const Roots& got, Turned turned) {
     return "";
 }
 
-/// The roots (sorted; one for a discriminant of 0) of the sphere of radius `r` for `ray`, in double
-/// from the float inputs, by the half-b form (a = d.d, h = f.d, c = f.f - r^2). A discriminant within
-/// rounding of 0 (1e-12 of h^2) is a tangent.
-inline Roots roots_in_double(const Ray& ray, const glm::vec3& center, double r) {
-    const double fx = double(ray.origin.x) - center.x, fy = double(ray.origin.y) - center.y,
-                 fz = double(ray.origin.z) - center.z;
-    const double dx = ray.direction.x, dy = ray.direction.y, dz = ray.direction.z;
-    const double a = dx * dx + dy * dy + dz * dz, h = fx * dx + fy * dy + fz * dz,
-                 c = fx * fx + fy * fy + fz * fz - r * r;
-    Roots out;
-    if (!(a > 0)) return out;
-    const double disc = h * h - a * c;
-    if (std::fabs(disc) <= 1e-12 * h * h) {
-        out.count = 1;
-        out.t[0] = out.t[1] = static_cast<float>(-h / a);
-    } else if (disc > 0) {
-        const double s = std::sqrt(disc);
-        out.count = 2;
-        out.t[0] = static_cast<float>((-h - s) / a);
-        out.t[1] = static_cast<float>((-h + s) / a);
-    }
-    return out;
-}
-
-/// A radius that is not a whole number, and roots that are exactly those of the radius without its
-/// fraction (rounded toward 0, as an int keeps it): the radius went through an int. Measured on the
-/// answer alone. Empty otherwise.
-inline std::string int_radius_cause(const Ray& ray, const Sphere& sphere, const Roots& expected, const Roots& got) {
-    const float r = sphere.radius;
-    if (agree(expected, got) || !std::isfinite(r) || !(r > 0) || r == std::trunc(r) || r > 1e6f) return "";
-    const double whole = std::trunc(double(r));
-    if (!agree(roots_in_double(ray, sphere.center, whole), got)) return "";
-    return " Measured on your answer: your roots are those of a sphere of radius " + show(float(whole)) +
-           ", the radius " + show(r) + " without its fraction. Is the radius kept in an int somewhere (int r = "
-           "sphere.radius)? The fraction is lost there: keep it a float (or a double).";
+/// A radius that is not a whole number, and an answer that keeps only its whole part: the same roots
+/// with the radius's fraction changed (to .25 and .75: `with_radius(r)`, the function asked with the
+/// case's sphere of radius r), and other roots with the whole part one more. A right answer changes with
+/// any radius (the roots are wrong here, so the ray is no tangent of both); the radius went through an
+/// int. Empty otherwise (an answer that ignores the radius altogether is the same at every radius).
+template <class WithRadius>
+std::string int_radius_cause(float radius, const Roots& expected, const Roots& got, WithRadius with_radius) {
+    if (agree(expected, got) || has_nan(got) || !std::isfinite(radius) || !(radius > 0) ||
+        radius == std::trunc(radius) || radius > 1e6f || !cheap_to_measure())
+        return "";
+    const float whole = std::trunc(radius);
+    const Roots quarter = with_radius(whole + 0.25f), three_quarters = with_radius(whole + 0.75f),
+                next = with_radius(whole + 1.25f);
+    if (!same_answer(got, quarter) || !same_answer(got, three_quarters) || same_answer(got, next)) return "";
+    return " Measured on your function: your roots are the same for a radius of " + show(whole + 0.25f) + ", " +
+           show(radius) + " and " + show(whole + 0.75f) + ", and change at " + show(whole + 1.25f) +
+           ": only the radius's whole part counts, its fraction is lost. Is the radius kept in an int somewhere "
+           "(int r = sphere.radius)? Keep it a float (or a double).";
 }
 
 /// The quadratic's a taken as f.f (f = o - c) where d.d belongs, measured on probe rays of the kit's own
@@ -116,77 +97,63 @@ std::string a_from_f_cause(RootsOf roots_of) {
     const Roots surface = roots_of(Ray{ball.center + glm::vec3(0, 0, -2), {0, 0, 1}}, ball);
     if (agree(Roots{2, {0, 4}}, surface) || !agree(Roots{2, {0, 1}}, surface)) return "";
     return " Measured on your function: on rays of the kit's own along a line through the centre, it is right "
-           "where |o - c| = |d| and wrong elsewhere, where its roots are those of a = f.f (f = o - c): the "
-           "quadratic's a is d.d, the direction's length squared, whatever the origin.";
+           "where the origin is as far from the centre as d is long, and wrong elsewhere, where its roots are those "
+           "of a quadratic whose a is f.f (f = o - c): the quadratic's a is d.d, the direction's length squared, "
+           "whatever the origin.";
 }
 
-/// The quadratic's numbers for `ray` and `sphere`, in double from the float inputs: a = d.d, h = f.d and
-/// c = f.f - r^2 (f = o - c).
-struct Quadratic {
-    double a, h, c;
-};
-
-inline Quadratic quadratic_of(const Ray& ray, const Sphere& sphere) {
-    const glm::dvec3 f = glm::dvec3(ray.origin) - glm::dvec3(sphere.center), d = glm::dvec3(ray.direction);
-    const double r = sphere.radius;
-    return {glm::dot(d, d), glm::dot(f, d), glm::dot(f, f) - r * r};
-}
-
-/// The stable pair's 0 / 0: a NaN beside a root of 0, where the discriminant is positive and c = 0 (the
-/// origin on the surface). q = -(h + s) without h's sign is 0 there, so q/a is 0 and c/q is 0/0. Measured
-/// on the answer and the case's own numbers. Empty otherwise.
-inline std::string zero_over_q_cause(const Ray& ray, const Sphere& sphere, const Roots& expected, const Roots& got) {
+/// The stable pair's 0 / 0: a NaN beside a root of 0, where two roots are expected and one of them is 0
+/// (a positive discriminant, and the origin on the sphere). The pair's larger term without h's sign
+/// cancels to 0 there, and the other root, divided by it, is 0 / 0. Measured on the answer. Empty otherwise.
+inline std::string zero_over_q_cause(const Roots& expected, const Roots& got) {
     if (expected.count != 2 || got.count != 2 || !(expected.t[0] == 0 || expected.t[1] == 0)) return "";
     const bool nan0 = std::isnan(got.t[0]), nan1 = std::isnan(got.t[1]);
     if (nan0 == nan1 || (nan0 ? got.t[1] : got.t[0]) != 0.0f) return "";
-    const Quadratic q = quadratic_of(ray, sphere);
-    const double disc = q.h * q.h - q.a * q.c;
-    if (!(disc > 0) || q.c != 0) return "";
-    return " Measured on your answer: one root is 0 and the other NaN, where the discriminant h^2 - a c = " +
-           show(float(disc)) + " is positive: this NaN is no square root of a negative number but 0 / 0, c / q "
-           "with q = 0 (c = 0: the origin is on the sphere). In the stable pair q = -(h + s) when h >= 0 and "
-           "-(h - s) when h < 0, so that h and s never cancel: take the branch on h's sign.";
+    return " Measured on your answer: one root is 0 and the other NaN, where the roots are " + show(expected.t[0]) +
+           " and " + show(expected.t[1]) + ": two roots, so the discriminant is positive, and this NaN is no square "
+           "root of a negative number but 0 / 0. The origin is on the sphere (c = 0), and the stable pair's "
+           "larger term, -(h + s), cancels to 0 here where h < 0: the sign in front of s must follow h's, so "
+           "that h and s never cancel.";
 }
 
-/// The stable pair's second root written q / c where c / q belongs: one root right (t = q / a) and the
-/// other exactly a t / c (that is q / c). Measured on the answer and the case's own numbers. Empty
-/// otherwise.
-inline std::string q_over_c_cause(const Ray& ray, const Sphere& sphere, const Roots& expected, const Roots& got) {
+/// The stable pair's second root divided the wrong way round: one root right, and the other exactly that
+/// root divided by the product of the expected roots (which is c / a): the first root over c where c over
+/// it belongs. Measured on the answer. Empty otherwise.
+inline std::string q_over_c_cause(const Roots& expected, const Roots& got) {
     if (expected.count != 2 || got.count != 2 || agree(expected, got) || has_nan(got)) return "";
-    const Quadratic q = quadratic_of(ray, sphere);
-    if (q.c == 0) return "";
+    const float product = expected.t[0] * expected.t[1];
+    if (product == 0 || !std::isfinite(product)) return "";
     for (int i = 0; i < 2; ++i) {
         const int right = close(expected.t[0], got.t[i]) ? 0 : close(expected.t[1], got.t[i]) ? 1 : -1;
         if (right < 0) continue;
         const float other = got.t[1 - i], want = expected.t[1 - right];
-        if (close(want, other) || !close(float(q.a * got.t[i] / q.c), other)) continue;
+        if (close(want, other) || !close(got.t[i] / product, other)) continue;
         return " Measured on your answer: your root " + show(got.t[i]) + " is right and the other, " + show(other) +
-               ", is q / c (q = " + show(float(q.a * got.t[i])) + ", c = " + show(float(q.c)) + ") where c / q = " +
-               show(want) + " belongs: the two roots multiply to c / a, so the second root of the stable pair is "
-               "c / q, not q / c.";
+               ", is " + show(got.t[i]) + " / " + show(product) + ", where the two roots multiply to c / a = " +
+               show(product) + " and the other root is " + show(product) + " / " + show(got.t[i]) + " = " +
+               show(want) + ": your second root divides the other way round (the right root over c, where c "
+               "over it belongs).";
     }
     return "";
 }
 
-/// The stable pair (q / a and c / q, q = -(h + sign(h) s)) with the discriminant h^2 - 4 a c where the half-b
-/// form has h^2 - a c, measured on a probe ray of the kit's own that starts inside the sphere (`roots_of`,
-/// as formula_cause asks: the unit sphere at the origin, or the sphere of radius 2 about (1, 2, 3)), r/2
-/// behind the centre along +z. relations.hpp's formula_cause knows the textbook form's 4; this is the
-/// stable pair's. Empty unless the answer is exactly that variation's.
+/// The stable pair with the discriminant h^2 - 4 a c where the half-b form has h^2 - a c, measured on a
+/// probe ray of the kit's own that starts inside the sphere (`roots_of`, as formula_cause asks: the unit
+/// sphere at the origin, or the sphere of radius 2 about (1, 2, 3)), r/2 behind the centre along +z
+/// (a = 1, h = -r/2, c = -3r^2/4). That variation's roots, worked out by hand: the larger term
+/// r/2 + sqrt(13) r/2 = 2.3027756 r, and the other root -0.75 r^2 over it, -0.3256939 r. relations.hpp's
+/// formula_cause knows the textbook form's 4; this is the stable pair's. Empty unless the answer is
+/// exactly that variation's.
 template <class RootsOf>
 std::string stable_4ac_cause(bool unit_sphere, RootsOf roots_of) {
     if (!cheap_to_measure()) return "";
     const Sphere ball = unit_sphere ? Sphere{{0, 0, 0}, 1} : Sphere{{1, 2, 3}, 2};
-    const Ray inside{ball.center + glm::vec3(0, 0, -0.5f * ball.radius), {0, 0, 1}};
-    const Quadratic q = quadratic_of(inside, ball);
-    const double s = std::sqrt(q.h * q.h - 4 * q.a * q.c), big = q.h >= 0 ? -(q.h + s) : -(q.h - s);
-    double t0 = big / q.a, t1 = q.c / big;
-    if (t0 > t1) std::swap(t0, t1);
-    const Roots got = roots_of(inside, ball);
-    if (agree(pair_of(-0.5 * ball.radius, 1.5 * ball.radius), got) || !agree(pair_of(t0, t1), got)) return "";
+    const double r = ball.radius;
+    const Roots got = roots_of(Ray{ball.center + glm::vec3(0, 0, -0.5f * ball.radius), {0, 0, 1}}, ball);
+    if (agree(pair_of(-0.5 * r, 1.5 * r), got) || !agree(pair_of(-0.3256939 * r, 2.3027756 * r), got)) return "";
     return " Measured on your function: asked about a ray of the kit's own that starts inside the sphere, it "
-           "gives what the stable pair (q / a and c / q) gives with the discriminant h^2 - 4 a c: with h = b/2 "
-           "(h = f.d) the discriminant is h^2 - a c; the 4 belongs to the whole b, b^2 - 4ac.";
+           "gives what the stable pair of roots gives with the discriminant h^2 - 4 a c: with h = b/2 (h = f.d) "
+           "the discriminant is h^2 - a c; the 4 belongs to the whole b, b^2 - 4ac.";
 }
 
 /// Only one root wrong, and both right on the same line with d of length 1 (`unit_answer`, the function
@@ -203,8 +170,8 @@ std::string one_root_undivided_cause(const glm::vec3& d, const Roots& expected, 
     const float wrong = ok0 ? expected.t[1] : expected.t[0];
     return " Measured on your function: one root is right and the other is not (" + show(wrong) + " expected), "
            "and on the same line with d scaled to length 1 both are right: that root's formula divides only "
-           "part of its numerator by a = d.d (at |d| = 1, a = 1 hides it). Put the whole numerator in "
-           "parentheses: (-b -+ sqrt(b^2 - a c)) / a.";
+           "part of its numerator by a = d.d (at |d| = 1, a = 1 hides it), an operator's precedence: the "
+           "division binds before the sum or difference it should divide.";
 }
 
 /// check_roots with a leading fact: where `lead` is measured, it comes first and the case's geometry
