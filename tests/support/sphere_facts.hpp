@@ -164,9 +164,11 @@ std::string one_root_undivided_cause(const glm::vec3& d, const Roots& expected, 
     if (expected.count != 2 || got.count != 2 || has_nan(got) || !cheap_to_measure()) return "";
     const float len = length_of(d);
     if (len == 0.0f || std::fabs(len - 1.0f) <= 1e-3f) return "";
-    const bool ok0 = close(expected.t[0], got.t[0]) || close(expected.t[0], got.t[1]);
-    const bool ok1 = close(expected.t[1], got.t[1]) || close(expected.t[1], got.t[0]);
-    if (ok0 == ok1 || !agree(scaled(expected, len), unit_answer(1.0f / len))) return "";
+    // Root by root, in order (a root equal to the other expected one proves nothing: a distance t |d| for
+    // |d| = 2 gives 2 and 4 where 1 and 2 are expected), and not the distance, which parameter_cause names.
+    const bool ok0 = close(expected.t[0], got.t[0]), ok1 = close(expected.t[1], got.t[1]);
+    if (ok0 == ok1 || agree(scaled(expected, len), got) || !agree(scaled(expected, len), unit_answer(1.0f / len)))
+        return "";
     const float wrong = ok0 ? expected.t[1] : expected.t[0];
     return " Measured on your function: one root is right and the other is not (" + show(wrong) + " expected), "
            "and on the same line with d scaled to length 1 both are right: that root's formula divides only "
