@@ -157,10 +157,19 @@ TEST_CASE("the centre matters: the roots move with the sphere" * doctest::descri
 
 TEST_CASE("the radius matters: c' uses r squared" * doctest::description("2. Any radius")) {
     // f = (-6, 0, 0), r = 3: c' = 36 - 9 = 27, h = -6, h^2 - c' = 9.
-    expect_roots({{-4, 1, 0}, {1, 0, 0}}, {{2, 1, 0}, 3}, two(3, 9),
-                 "The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9. "
-                 "Here r = 3 and r^2 = 9 differ: roots computed from r, not from its square, belong to "
-                 "another sphere.");
+    const Ray ray{{-4, 1, 0}, {1, 0, 0}};
+    const Sphere sphere{{2, 1, 0}, 3};
+    // r for r^2 is said only where it is measured (trial 8, issue 54): on the same line with the radius 1,
+    // where r = r^2 (roots 5 and 7), the function is right, and so the radius's degree is what can be wrong.
+    // A function wrong at r = 1 too has a slip of another kind, and is told the case's geometry alone.
+    const bool right_at_radius_1 =
+        !agree(two(3, 9), sphere_roots(ray, sphere)) && agree(two(5, 7), sphere_roots(ray, Sphere{sphere.center, 1}));
+    expect_roots(ray, sphere, two(3, 9),
+                 std::string("The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9.") +
+                     (right_at_radius_1 ? " Here r = 3 and r^2 = 9 differ, and your function is right with the "
+                                          "radius 1, where r = r^2: roots computed from r, not from its square, "
+                                          "belong to another sphere."
+                                        : ""));
 }
 
 TEST_CASE("the radius matters: a small sphere" * doctest::description("2. Any radius")) {
