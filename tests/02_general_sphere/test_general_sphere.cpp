@@ -14,6 +14,7 @@
 
 #include "../support/grading.hpp"
 #include "../support/relations.hpp"
+#include "../support/sphere_facts.hpp"
 #include "raykit/general_sphere.hpp"
 
 using namespace raykit;
@@ -56,15 +57,33 @@ std::string measured(const Ray& ray, const Sphere& sphere, const Result& expecte
 // the case's picture records, is the one checked.
 void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, const std::string& why) {
     Roots got = sphere_roots(ray, sphere);
-    std::string fact;
+    std::string fact, lead;
     if (!agree(expected, got)) {
-        fact = measured(ray, sphere, expected, got, [](const Ray& r, const Sphere& s, float k) {
-            return sphere_roots({r.origin, r.direction * k}, s);
-        }, [](const Ray& r, const Sphere& s) { return sphere_roots(r, s); });
+        // Facts that lead the message (sphere_facts.hpp), after hidden state: the radius through an int,
+        // a component from the wrong axis, a = f.f.
+        const bool stateless = state_cause([&] { return sphere_roots(ray, sphere); },
+                                           [&] { sphere_roots(seen_a, seen_a_ball); },
+                                           [&] { sphere_roots(seen_b, seen_b_ball); }).empty();
+        if (stateless)
+            lead = int_radius_cause(sphere.radius, expected, got,
+                                    [&](float r) { return sphere_roots(ray, Sphere{sphere.center, r}); });
+        if (stateless && lead.empty())
+            lead = axes_cause(expected, got, [&](int k) {
+                return sphere_roots({axes_turned(ray.origin, k), axes_turned(ray.direction, k)},
+                                    {axes_turned(sphere.center, k), sphere.radius});
+            });
+        if (stateless && lead.empty())
+            lead = a_from_f_cause([](const Ray& r, const Sphere& s) { return sphere_roots(r, s); });
+        if (stateless && lead.empty()) lead = zero_over_q_cause(expected, got);
+        if (stateless && lead.empty()) lead = q_over_c_cause(expected, got);
+        if (lead.empty())
+            fact = measured(ray, sphere, expected, got, [](const Ray& r, const Sphere& s, float k) {
+                return sphere_roots({r.origin, r.direction * k}, s);
+            }, [](const Ray& r, const Sphere& s) { return sphere_roots(r, s); });
         got = sphere_roots(ray, sphere);
     }
-    check_roots("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(sphere), expected, got,
-                with_fact(fact, why));
+    check_roots_led("sphere_roots(ray, sphere)", show(ray) + "; sphere " + show(sphere), expected, got, lead,
+                    with_fact(fact, why));
 }
 
 // An own epsilon's probe (grading.hpp, own_epsilon): from (-2, 0, 0) with the direction (1/t, 0, 0) the
@@ -80,6 +99,7 @@ void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, st
     if (!agree(expected, first)) fact = state_cause([&] { return intersect_sphere(ray, sphere, tmin, tmax); },
                                                     [&] { intersect_sphere(seen_a, seen_a_ball, 0, inf); },
                                                     [&] { intersect_sphere(seen_b, seen_b_ball, 0, inf); });
+    if (!agree(expected, first) && fact.empty()) fact = window_outside_cause(tmin, tmax, expected, first);
     if (!agree(expected, first) && fact.empty()) fact = whole_number_cause(expected, first);
     if (!agree(expected, first) && fact.empty())
         fact = measured(ray, sphere, expected, first, [&](const Ray& r, const Sphere& s, float k) {
@@ -137,10 +157,19 @@ TEST_CASE("the centre matters: the roots move with the sphere" * doctest::descri
 
 TEST_CASE("the radius matters: c' uses r squared" * doctest::description("2. Any radius")) {
     // f = (-6, 0, 0), r = 3: c' = 36 - 9 = 27, h = -6, h^2 - c' = 9.
-    expect_roots({{-4, 1, 0}, {1, 0, 0}}, {{2, 1, 0}, 3}, two(3, 9),
-                 "The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9. "
-                 "Here r = 3 and r^2 = 9 differ: roots computed from r, not from its square, belong to "
-                 "another sphere.");
+    const Ray ray{{-4, 1, 0}, {1, 0, 0}};
+    const Sphere sphere{{2, 1, 0}, 3};
+    // r for r^2 is said only where it is measured (trial 8, issue 54): on the same line with the radius 1,
+    // where r = r^2 (roots 5 and 7), the function is right, and so the radius's degree is what can be wrong.
+    // A function wrong at r = 1 too has a slip of another kind, and is told the case's geometry alone.
+    const bool right_at_radius_1 =
+        !agree(two(3, 9), sphere_roots(ray, sphere)) && agree(two(5, 7), sphere_roots(ray, Sphere{sphere.center, 1}));
+    expect_roots(ray, sphere, two(3, 9),
+                 std::string("The sphere of radius 3 around (2, 1, 0) spans x from -1 to 5: t = 3 and t = 9.") +
+                     (right_at_radius_1 ? " Here r = 3 and r^2 = 9 differ, and your function is right with the "
+                                          "radius 1, where r = r^2: roots computed from r, not from its square, "
+                                          "belong to another sphere."
+                                        : ""));
 }
 
 TEST_CASE("the radius matters: a small sphere" * doctest::description("2. Any radius")) {
@@ -383,6 +412,13 @@ TEST_CASE("window: a ray holding NaN is no hit" * doctest::description("5. The c
 TEST_CASE("window: the near root before tmin gives the far root" *
           doctest::description("5. The closest root in a window")) {
     expect_hit(through_centre, ball, 3, 10, 4.0f, "t = 2 is before tmin = 3, t = 4 is inside [3, 10].");
+}
+
+TEST_CASE("window: a window between the two roots is a miss" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit(through_centre, ball, 3, 3.5f, std::nullopt,
+               "The roots are 2 and 4: t = 2 is before tmin = 3 and t = 4 after tmax = 3.5, so neither is in "
+               "[3, 3.5]. Both bounds hold for the same root or it is no hit.");
 }
 
 TEST_CASE("window: origin inside the sphere hits the far side" *
