@@ -37,13 +37,11 @@ from datetime import datetime, timezone
 from fractions import Fraction
 from pathlib import Path
 
-from . import atomic
 from . import course as course_file
 from . import faults
 from .bundle import STUDENT_ONLY
 from .cases import StepResult
-from .common import KitError
-from .record import built_fields
+from .record import built_fields, write_output
 from .scoreboard import compile_errors
 from .status import MISSING, NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
 
@@ -51,13 +49,15 @@ UNRUN_STATES = (NO_COMPILE, MISSING, WAITING)
 REGRADE = "ask for a regrade (Request Regrade on this page), or submit again"
 
 
-def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
-    hidden = c.tier == "hidden"
+def case_lines(r: StepResult, c, reveal: bool, hidden_words: str = "", printed: int = 2000) -> list[str]:
+    """A case's words on a platform; a hidden one's inputs, messages and output only with `reveal`,
+    else `hidden_words` (the course's hidden_note) in their place."""
+    hidden = c.tier == "hidden" and not reveal
     lines = [STATUS_WORDS.get(c.status, c.status)]
     if c.status != PASS:
-        lines += [course_file.hidden_note()] if hidden and not reveal else c.messages[:3]
-        if c.output_bytes and not (hidden and not reveal):
-            lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:2000]}")
+        lines += [hidden_words or course_file.hidden_note()] if hidden else c.messages[:3]
+        if c.output_bytes and not hidden:
+            lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:printed]}")
         if c.lecture:
             lines.append(f"Read {r.step.lecture}, section \"{c.lecture}\".")
     return lines
@@ -105,7 +105,7 @@ def extra_credit_test(r: StepResult, bonus: list, number: int, course, visibilit
              f"cases pass, {course.shown(points)} of {course.shown(most)} extra points."]
     for c in bonus:
         if c.status != PASS:
-            lines += [f"not earned: {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
+            lines += [f"not earned: {c.name}"] + ["    " + l for l in case_lines(r, c, reveal)]
     hidden = any(c.tier == "hidden" for c in bonus)
     return {"name": f"Step {s.number} ★ · extra credit: {len(earned)} of {len(bonus)} cases, "
                     f"+{course.shown(points)} of {course.shown(most)}",
@@ -149,7 +149,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                 "max_score": points,
                 "status": "passed" if c.status == PASS else "failed",
                 "visibility": visibility if c.tier == "hidden" else "visible",
-                "output": "\n".join(_case_lines(r, c, reveal)),
+                "output": "\n".join(case_lines(r, c, reveal)),
                 "tags": [f"step{s.number}", c.tier, c.group],
             })
         if bonus:
@@ -160,7 +160,7 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
             lines = [f"Optional, worth no points ({', '.join(groups)}): {passed} of {len(optional)} pass."]
             for c in optional:
                 if c.status != PASS:
-                    lines += [f"✗ {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
+                    lines += [f"✗ {c.name}"] + ["    " + l for l in case_lines(r, c, reveal)]
             tests.append({
                 "name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
                 "number": f"{int(s.number)}.{len(counted) + bool(bonus) + 1}",
@@ -266,13 +266,5 @@ def reveal_options(metadata_path: Path, now: datetime | None = None) -> list[str
 
 def write_json(path: str, results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
                reveal: bool = False) -> None:
-    target = Path(path)
-    if not target.parent.is_dir():
-        raise KitError(f"--json {path}: folder {target.parent} does not exist")
-    if target.is_dir():
-        raise KitError(f"--json {path}: is a folder, not a file")
-    try:
-        atomic.write(target, json.dumps(gradescope(results, elapsed, hidden_visibility, reveal), indent=2,
-                                        ensure_ascii=False))
-    except OSError as e:
-        raise KitError(f"--json {path}: cannot write it ({e.strerror})")
+    write_output("--json", path, json.dumps(gradescope(results, elapsed, hidden_visibility, reveal), indent=2,
+                                            ensure_ascii=False))

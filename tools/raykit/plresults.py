@@ -39,13 +39,12 @@ import json
 from fractions import Fraction
 from pathlib import Path
 
-from . import atomic
 from . import course as course_file
 from . import faults
 from .bundle import STUDENT_ONLY
 from .cases import StepResult
 from .common import KitError
-from .record import built_fields
+from .record import built_fields, write_output
 from .gradescope import UNRUN_STATES, shown_shares, split_cases
 from .scoreboard import compile_errors
 from .status import NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
@@ -173,10 +172,4 @@ def part_points(r: StepResult, course, extra_part: bool) -> tuple[list[Fraction]
 
 
 def write(path: str, results: list[StepResult], shown_dir: str = "", part: str = "step") -> None:
-    target = Path(path)
-    if not target.parent.is_dir():
-        raise KitError(f"--prairielearn {path}: folder {target.parent} does not exist")
-    try:
-        atomic.write(target, json.dumps(prairielearn(results, shown_dir, part), ensure_ascii=False))
-    except OSError as e:
-        raise KitError(f"--prairielearn {path}: cannot write it ({e.strerror})")
+    write_output("--prairielearn", path, json.dumps(prairielearn(results, shown_dir, part), ensure_ascii=False))
