@@ -32,28 +32,20 @@ def rel(path: Path) -> str:
 
 def status_cell(r: StepResult) -> tuple[str, str]:
     basic, robust = r.tier("basic"), r.tier("robust")
-    if r.state == DONE:
-        text, style = f"done  {r.passed('basic')}/{len(basic)}", "green"
-        mark = "✓"
-    elif r.state == NOT_STARTED:
-        text, style, mark = "not started", "dim", "·"
-    elif r.state == PARTIAL:
-        text, style, mark = f"{r.passed('basic')} of {len(basic)} cases", "red", "✗"
-    elif r.state == NO_COMPILE:
-        text, style, mark = "does not compile", "red", "✗"
-    elif r.state == MISSING:
-        text, style, mark = "file missing", "red", "✗"
-    elif r.state == WAITING:
-        text, style, mark = f"needs step {r.detail} first", "yellow", "…"
-    else:   # NOT_GRADED: the grader's fault, no verdict; yellow, not a student's red
-        text, style, mark = f"not graded: {r.reason}"[:120], "yellow", "!"
+    # NOT_GRADED (the default): the grader's fault, no verdict; yellow, not a student's red
+    text, style, mark = {DONE: (f"done  {r.passed('basic')}/{len(basic)}", "green", "✓"),
+                         NOT_STARTED: ("not started", "dim", "·"),
+                         PARTIAL: (f"{r.passed('basic')} of {len(basic)} cases", "red", "✗"),
+                         NO_COMPILE: ("does not compile", "red", "✗"), MISSING: ("file missing", "red", "✗"),
+                         WAITING: (f"needs step {r.detail} first", "yellow", "…")
+                         }.get(r.state, (f"not graded: {r.reason}"[:120], "yellow", "!"))
     extra = ""
     hidden = r.tier("hidden")
     if hidden and r.state in (DONE, PARTIAL):
         extra += f"  hidden {r.passed('hidden')} of {len(hidden)}"
     if robust and r.state in (DONE, PARTIAL):
         extra += f"  ★ robust {r.passed('robust')} of {len(robust)}"
-    waiting = sum(c.status == NOT_STARTED for c in r.tier("basic"))
+    waiting = sum(c.status == NOT_STARTED for c in basic)
     if r.state == PARTIAL and waiting:
         extra += f"  ({waiting} not started yet)"
     incidents = r.incidents()
