@@ -9,6 +9,7 @@ import os
 import re
 import shutil
 import subprocess
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -148,10 +149,8 @@ def ninja_of(build: Build) -> str | None:
     if _ninja_of.get(build.binary_dir) is None:      # asked again until the build is configured
         found = None
         if (build.binary_dir / "build.ninja").is_file():
-            try:
+            with suppress(OSError):
                 found = cache_entries(build.binary_dir / "CMakeCache.txt").get("CMAKE_MAKE_PROGRAM") or None
-            except OSError:
-                pass
             found = found if found and os.access(found, os.X_OK) else (shutil.which("ninja") or shutil.which("ninja-build"))
         _ninja_of[build.binary_dir] = found
     return _ninja_of[build.binary_dir]

@@ -41,6 +41,7 @@ import os
 import shlex
 import shutil
 import time
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -509,10 +510,8 @@ def _targets(folder: Path, parts: list[str]) -> list[str]:
 def _touch(folder: Path) -> None:
     """Marks the bundle used now (the prune keeps the most recently used)."""
     for mark in [folder / READY] if (folder / READY).is_file() else folder.glob(f"{READY}-*"):
-        try:
+        with suppress(OSError):
             os.utime(mark)
-        except OSError:
-            pass
 
 
 def _prune(root: Path, keep: Path) -> None:
@@ -522,10 +521,8 @@ def _prune(root: Path, keep: Path) -> None:
     def used(p: Path) -> float:
         times = []
         for mark in [p / READY, *p.glob(f"{READY}-*")]:
-            try:
+            with suppress(OSError):
                 times.append(mark.stat().st_mtime)
-            except OSError:
-                pass
         return max(times, default=0.0)
     folders = sorted((p for p in root.iterdir() if p.is_dir() and p != keep), key=used, reverse=True)
     for old in folders[KEEP - 1:]:

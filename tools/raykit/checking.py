@@ -25,6 +25,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -374,10 +375,8 @@ class Verdicts:
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
                 "includes": result.includes, "slip": result.slip, "reason": result.reason,
                 "cases": [{k: getattr(c, k) for k in self.CASE_FIELDS} for c in result.cases]}
-        try:
+        with suppress(OSError):
             atomic.write(self._path(result.step), json.dumps(data))
-        except OSError:
-            pass
 
 
 class LastCheck(Verdicts):

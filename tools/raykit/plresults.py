@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import base64
 import json
+from contextlib import suppress
 from fractions import Fraction
 from pathlib import Path
 
@@ -60,11 +61,9 @@ HIDDEN_NOTE = ("Hidden cases (marked so) are graded and counted like the others;
 
 
 def picture_url(path: str | None) -> str | None:
-    try:
+    with suppress(OSError):
         if path and Path(path).is_file() and Path(path).stat().st_size < 300_000:
             return "data:image/svg+xml;base64," + base64.b64encode(Path(path).read_bytes()).decode()
-    except OSError:
-        pass
     return None
 
 
