@@ -81,12 +81,8 @@ def usage(folder: Path) -> int:
 
 
 def _items() -> list[tuple[str, str]]:
-    out = []
-    for item in os.environ.get(FAULT_ENV, "").split(","):
-        kind, _, target = item.strip().partition("@")
-        if kind:
-            out.append((kind, target or "*"))
-    return out
+    return [(kind, target or "*") for item in os.environ.get(FAULT_ENV, "").split(",")
+            for kind, _, target in [item.strip().partition("@")] if kind]
 
 
 def fault(kind: str, step: str = "", name: str | None = None) -> bool:

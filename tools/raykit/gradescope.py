@@ -235,14 +235,10 @@ def due_date(metadata: dict) -> datetime | None:
     """The last date anyone may submit: the assignment's late due date, else its due date (the fields
     Gradescope documents), or a later one in a users[] entry's "assignment" (not documented; read if
     there)."""
-    dates = []
-    for a in [metadata.get("assignment")] + [u.get("assignment") for u in metadata.get("users") or []
-                                             if isinstance(u, dict)]:
-        if isinstance(a, dict):
-            d = _when(a.get("late_due_date")) or _when(a.get("due_date"))
-            if d:
-                dates.append(d)
-    return max(dates) if dates else None
+    assignments = [metadata.get("assignment")] + [u.get("assignment") for u in metadata.get("users") or []
+                                                  if isinstance(u, dict)]
+    dates = [_when(a.get("late_due_date")) or _when(a.get("due_date")) for a in assignments if isinstance(a, dict)]
+    return max((d for d in dates if d), default=None)
 
 
 def reveal_options(metadata_path: Path, now: datetime | None = None) -> list[str]:

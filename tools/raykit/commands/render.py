@@ -54,12 +54,8 @@ def available_scenes() -> list[Scene]:
     """The course's scenes, in step order, from the manifest of each step of this kit:
     tests/NN_topic/step.json, "scenes": [{"name", "shadings" ("flat" first), "about"}], drawn by
     tools/render/render_stepNN.cpp."""
-    scenes = []
-    for step in load_steps():
-        manifest = json.loads((ROOT / "tests" / step.folder / "step.json").read_text())
-        for entry in manifest.get("scenes", []):
-            scenes.append(Scene(entry["name"], step.number, list(entry["shadings"]), entry["about"]))
-    return scenes
+    return [Scene(entry["name"], step.number, list(entry["shadings"]), entry["about"]) for step in load_steps()
+            for entry in json.loads((ROOT / "tests" / step.folder / "step.json").read_text()).get("scenes", [])]
 
 
 def parse_size(text: str) -> tuple[int, int]:
