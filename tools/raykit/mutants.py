@@ -202,6 +202,3 @@ def failing_cases(result: dict | None) -> list[str]:
     if not result:
         return []
     return [c["name"] for c in result["cases"] if c["tier"] == "basic" and c["status"] != "pass"]
-
-
-# --- the command --------------------------------------------------------------------

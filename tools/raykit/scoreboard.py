@@ -72,9 +72,7 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True, drawin
     star = "★ " if case.tier == "robust" else ""
     lines = [f"{indent}{paint('✗', 'red')} {star}{paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
     messages = case.messages if reveal or case.tier != "hidden" else [hidden_note()]
-    for m in messages[:3]:
-        for line in m.rstrip().splitlines():
-            lines.append(f"{indent}    {line}")
+    lines += [f"{indent}    {line}" for m in messages[:3] for line in m.rstrip().splitlines()]
     if case.output_bytes and (reveal or case.tier != "hidden"):
         shown = case.output.splitlines()[:OUTPUT_LINES]
         lines.append(f"{indent}    your code printed ({case.output_bytes} bytes"
@@ -112,11 +110,8 @@ def compile_errors(text: str, limit: int = 12) -> list[str]:
 
 def function_of(case) -> str:
     """The step function a failed case called, from its message's first line (`name(...)`)."""
-    for m in case.messages:
-        hit = re.match(r"\s*(?:Your code \w+ (?:in|an exception in) )?([a-z_]+)\(", m)
-        if hit:
-            return hit.group(1)
-    return "other checks"
+    calls = (re.match(r"\s*(?:Your code \w+ (?:in|an exception in) )?([a-z_]+)\(", m) for m in case.messages)
+    return next((hit.group(1) for hit in calls if hit), "other checks")
 
 
 def all_failures(r: StepResult, reveal: bool) -> list[str]:
@@ -152,8 +147,7 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
         return out
     s = todo.step
     out.append(paint(f"Next: step {s.number}, {s.title}", "bold"))
-    for f in s.files:
-        out.append(f"  edit      {rel(shown / s.folder / f)}")
+    out += [f"  edit      {rel(shown / s.folder / f)}" for f in s.files]
     out.append(f"  task      {rel(ROOT / 'steps' / s.folder / 'README.md')}")
     out.append(f"  lecture   {s.lecture}")
     out.append("")
