@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import stat
 import sys
+from contextlib import suppress
 
 from .. import procfs
 
@@ -203,10 +204,8 @@ def _lock_folder() -> int:
         try:
             for i, part in enumerate(parts):
                 if i == len(parts) - 1 or (named is None and i > 0):
-                    try:
+                    with suppress(FileExistsError):
                         os.mkdir(part, 0o700, dir_fd=fd)
-                    except FileExistsError:
-                        pass
                 inner = os.open(part, _DIR_FLAGS, dir_fd=fd)
                 os.close(fd)
                 fd = inner
