@@ -78,10 +78,6 @@ class Built:
     output: str                 # the compiler's and the linker's output (the errors, if any)
     missing: list[str] = field(default_factory=list)    # the step's files not there when it was built
 
-    @property
-    def judge_ok(self) -> bool:
-        return self.judge is not None
-
 
 def build_step(build: Build, step: Step, kit: bundle.Bundle, isolation: Isolation,
                progress: Callable[[int, int], None] | None = None) -> Built:
@@ -154,7 +150,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
     (the fairness table re-runs the hidden cases alone on each draw)."""
     # A full disk is not read here from the build's words (a compiler quotes the student's source): the
     # boundary raises faults.MachineFault from the kit's own errno or measure (sandbox/runner.py).
-    if not built.judge_ok:
+    if built.judge is None:
         why = "the kit's test program does not build (a kit bug)"
         return not_graded(step, why, detail=why + ":\n" + built.output)
     judge = built.judge

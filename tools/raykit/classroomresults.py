@@ -57,10 +57,6 @@ def entry(name: str, passed: bool, message: str) -> dict:
             "message": message[:MESSAGE_CHARS], "test_code": "", "filename": "", "line_no": 0, "duration": 0}
 
 
-def case_message(step_result: StepResult, c) -> str:
-    return "\n".join(case_lines(step_result, c, False, HIDDEN_WORDS, 1000))
-
-
 def runner(r: StepResult, course) -> dict:
     s = r.step
     _, counted, bonus, optional = split_cases(r, course)
@@ -74,7 +70,7 @@ def runner(r: StepResult, course) -> dict:
         return {"version": 1, "status": "error", "max_score": 0,
                 "tests": [{**entry(f"Step {s.number} · {s.title}", False, why), "status": "error"}]}
     entries = [entry(f"Step {s.number}{' (hidden)' if c.tier == 'hidden' else ''} · {c.name}",
-                     c.status == PASS, case_message(r, c)) for c in counted]
+                     c.status == PASS, "\n".join(case_lines(r, c, False, HIDDEN_WORDS, 1000))) for c in counted]
     if r.state == NO_COMPILE:       # the compiler's words once, on the first entry
         errors = "\n".join(compile_errors(r.detail, 20))
         entries[0]["message"] = (f"{STATE_WORDS[r.state]}: no case ran.\n{errors}")[:MESSAGE_CHARS]
