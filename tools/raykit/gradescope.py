@@ -63,6 +63,12 @@ def case_lines(r: StepResult, c, reveal: bool, hidden_words: str = "", printed: 
     return lines
 
 
+def unrun_text(r: StepResult, cases: list) -> str:
+    """Why a step's cases did not run (UNRUN_STATES), with the compiler's first errors."""
+    detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
+    return f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()
+
+
 def split_cases(r: StepResult, course) -> tuple[list, list, list, list]:
     """A step's cases as every platform's results show them: those shown at all (hidden ones only when
     the course counts them), then the counted ones, the extra-credit ones and the optional ones
@@ -131,13 +137,11 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                           "tags": [f"step{s.number}", "not_graded"]})
             continue
         if r.state in UNRUN_STATES and cases:
-            detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
             tests.append({
                 "name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
                 "number": f"{int(s.number)}.0",
                 "score": 0, "max_score": course.number(r.maximum), "status": "failed", "visibility": "visible",
-                "output": f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()[:8000],
-                "tags": [f"step{s.number}", r.state]})
+                "output": unrun_text(r, cases)[:8000], "tags": [f"step{s.number}", r.state]})
             continue
         shown = shown_shares([c.points for c in counted], course)
         for i, (c, points) in enumerate(zip(counted, shown), 1):

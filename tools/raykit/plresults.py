@@ -46,8 +46,7 @@ from .bundle import STUDENT_ONLY
 from .cases import StepResult
 from .common import KitError
 from .record import built_fields, write_output
-from .gradescope import UNRUN_STATES, shown_shares, split_cases
-from .scoreboard import compile_errors
+from .gradescope import UNRUN_STATES, shown_shares, split_cases, unrun_text
 from .status import NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 
 TEXT = 4000         # characters per message or output
@@ -94,10 +93,8 @@ def prairielearn(results: list[StepResult], shown_dir: str = "", part: str = "st
                           "max_points": 0, "message": clean(faults.to_student(r.reason, AGAIN)), "output": ""})
             continue
         if r.state in UNRUN_STATES and cases:
-            detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
-            tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
-                          "description": "", "points": 0, "max_points": course.number(worth),
-                          "message": clean(f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()),
+            tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}", "description": "",
+                          "points": 0, "max_points": course.number(worth), "message": clean(unrun_text(r, cases)),
                           "output": ""})
             if r.state == NO_COMPILE:
                 first = next((line.strip() for line in r.detail.splitlines() if "error" in line.lower()), "")
