@@ -75,10 +75,12 @@ from __future__ import annotations
 import functools
 import json
 import re
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_UP, Decimal
 from fractions import Fraction
 from pathlib import Path
+from typing import Iterator
 
 from .common import ROOT, KitError
 from .status import NOT_GRADED
@@ -490,10 +492,8 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     head = f"  {'step':<36}" + "".join(f"{g:>{w}}" for g, w in zip(GROUPS, widths)) + f"{'points':>9}"
     lines += [head, "  " + "-" * (len(head) - 2)]
     lines += [f"  {name}" + "".join(f"{c:>{w}}" for c, w in zip(cells, widths)) + f"{pts:>9}" for name, cells, pts in rows]
-    lines.append("")
-    lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
-                 "on top of the step's points)")
-    lines.append("")
+    lines += ["", "  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
+              "on top of the step's points)", ""]
     weights = ", ".join(f"{g} {exact_text(course.weight(g))}" + (" (optional, like ★)" if course.optional(g) else
                                                                  " (extra credit)" if course.extra_credit(g) else "")
                         for g in GROUPS)
@@ -514,8 +514,7 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     lines.append("  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
     lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
                  f"{course.decimals} decimals (half up)")
-    lines += extra_credit_lines(course, cases_by_step, total)
-    lines.append("")
+    lines += extra_credit_lines(course, cases_by_step, total) + [""]
     lines.append(f"  Total to enter in Gradescope (the assignment's points): {exact_text(total)}"
                  + (f" = {course.rounded(total)}" if total.denominator != 1 else ""))
     return lines
@@ -559,18 +558,13 @@ def extra_credit_lines(course: Course, cases_by_step, total: Fraction) -> list[s
             + (", less" if total < bugged else ", the same" if total == bugged else ", more")]
 
 
-class using:
+@contextmanager
+def using(course: Course) -> Iterator[Course]:
     """`with using(course):` makes `course` the one load() gives (a self-test's scale), then puts
     the previous one back."""
-
-    def __init__(self, course: Course):
-        self.course, self.saved = course, None
-
-    def __enter__(self) -> Course:
-        global _LOADED
-        self.saved, _LOADED = _LOADED, self.course
-        return self.course
-
-    def __exit__(self, *exc) -> None:
-        global _LOADED
-        _LOADED = self.saved
+    global _LOADED
+    saved, _LOADED = _LOADED, course
+    try:
+        yield course
+    finally:
+        _LOADED = saved
