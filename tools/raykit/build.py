@@ -93,7 +93,7 @@ def submission_build(source: Path, slot: str = "submission", folder: Path | None
 
 def _not_in_quick_tier(doing: str) -> None:
     if os.environ.get(QUICK_TIER) == "1":
-        raise KitError(f'{doing}: a self-test of the quick tier builds nothing (take its @tier("quick") off)')
+        raise KitError(f'{doing}: a self-test of the quick tier builds nothing (take its quick marker off)')
 
 
 def configure(build: Build, extra: dict[str, str] | None = None) -> None:
