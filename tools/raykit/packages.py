@@ -266,9 +266,7 @@ def ensure_elsewhere(names: list[str]) -> None:
 
 
 def missing_packages(names: list[str]) -> list[str]:
-    if shutil.which("dpkg-query") is None:
-        return []
-    if not names:
+    if shutil.which("dpkg-query") is None or not names:
         return []
     # One dpkg-query for all of them (one a package took 0.4 s of every ./kit check): it prints
     # the packages it knows, and exits non-zero when one is unknown, which is then missing too.

@@ -165,9 +165,7 @@ def for_compile(argv: list[str], source: str, cwd: Path) -> list[tuple[Path, str
     except OSError:
         return []
     folder = STORE / key
-    if not folder.is_dir() and mode != "build":
-        return []
-    if not _is_gcc(compiler):
+    if (not folder.is_dir() and mode != "build") or not _is_gcc(compiler):
         return []
     header = first.group(1)
     gch = folder / (header + ".gch")
