@@ -128,8 +128,7 @@ def build_renderers(build: Build, steps: list[str]) -> dict[str, str]:
         ok, out = build_target(build, f"raykit_render_step{nn}")
         if not ok:
             errors = [line for line in out.splitlines() if "error" in line][:3]
-            problems[nn] = "it does not compile (./kit check shows why)" + \
-                ("".join(f"\n      {e}" for e in errors) if errors else "")
+            problems[nn] = "it does not compile (./kit check shows why)" + "".join(f"\n      {e}" for e in errors)
     ok, out = build_target(build, "raykit_imgdiff")
     if not ok:
         raise KitError(f"could not build the image comparer:\n{out[-2000:]}", FAILED)
