@@ -110,10 +110,9 @@ def debug_command(kit: bundle.Bundle, source: Path, out: Path) -> list[str]:
 
 def build_debug(kit: bundle.Bundle, step, steps_dir: Path, folder: Path) -> Path:
     """The step's answers program for the debugger, in `folder`; a KitError naming the compile error."""
-    sources = [(step.folder, f) for f in step.files]
     by_folder = {s.folder: s for s in load_steps()}
-    for need in kit.own_needs(step):
-        sources += [(need, f) for f in by_folder[need].files]
+    sources = [(step.folder, f) for f in step.files] + [(need, f) for need in kit.own_needs(step)
+                                                         for f in by_folder[need].files]
     missing = [f"{d}/{f}" for d, f in sources if not (steps_dir / d / f).is_file()]
     if missing:
         raise KitError(f"{missing[0]} is missing; ./kit check {int(step.number)} says what to write", FAILED)
