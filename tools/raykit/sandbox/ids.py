@@ -15,21 +15,13 @@ from .. import procfs
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
 # sandboxed processes ever has them (an id that has a name there is skipped).
 FIRST_UID = 64000
-
-
 UID_CLAIMS = 32                 # ids FIRST_UID + slot + 64 k, k < UID_CLAIMS, run the code
-
-
 COMPILE_UID_OFFSET = 64 * UID_CLAIMS    # and each one's compile runs as that id + this
-
-
 UID_RANGE = 2 * COMPILE_UID_OFFSET      # the ids of one root file system's gradings
-
 
 # Several root file systems on one kernel (tools/portability/run's chroots) each take their own
 # range: RAYKIT_FIRST_UID, FIRST_UID + k * UID_RANGE, set by whoever made the root.
 FIRST_UID_ENV = "RAYKIT_FIRST_UID"
-
 
 # Where the claims on those ids are kept: a folder only root can write (see claim_uid).
 LOCK_DIRS = ["/run/raykit", "/var/lib/raykit/locks"]
