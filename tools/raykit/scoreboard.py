@@ -148,9 +148,7 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     s = todo.step
     out.append(paint(f"Next: step {s.number}, {s.title}", "bold"))
     out += [f"  edit      {rel(shown / s.folder / f)}" for f in s.files]
-    out.append(f"  task      {rel(ROOT / 'steps' / s.folder / 'README.md')}")
-    out.append(f"  lecture   {s.lecture}")
-    out.append("")
+    out += [f"  task      {rel(ROOT / 'steps' / s.folder / 'README.md')}", f"  lecture   {s.lecture}", ""]
     if todo.state == NOT_STARTED:
         out.append(f"  Read the task, then replace each not_implemented_yet(...) line in "
                    f"{s.files[0]} with your code.")
@@ -162,8 +160,8 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     elif todo.state == WAITING:
         out.append(f"  Step {s.number} uses your step {todo.detail}: finish that one first.")
     elif todo.state == NOT_GRADED:
-        out.append(f"  {faults.to_student(todo.reason, 'check again; if it stays so, tell your instructor')}")
-        out.append(f"  {todo.detail.splitlines()[0] if todo.detail else ''}".rstrip())
+        out += [f"  {faults.to_student(todo.reason, 'check again; if it stays so, tell your instructor')}",
+                f"  {todo.detail.splitlines()[0] if todo.detail else ''}".rstrip()]
     else:
         c = todo.first_problem("basic") or todo.first_problem("hidden")
         if c is not None:
@@ -171,8 +169,7 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     if not watching:   # ./kit watch re-checks by itself at every save
         # A step waiting for another: the other one is what to check next, not this one again.
         then = todo.detail.split(",")[0] if todo.state == WAITING and todo.detail else s.number
-        out.append("")
-        out.append(f"  Then run: ./kit check {int(then)}")
+        out += ["", f"  Then run: ./kit check {int(then)}"]
     return out
 
 

@@ -261,9 +261,7 @@ def verdict(d: Difference, picture: Path, reference: Path, diff: Path, accepted:
             elif d.other == 0:
                 lines.append("      only edges moved: a camera shifted by half a pixel, or an object a little off "
                              "(the correct answers measured never move one)")
-    lines.append(f"      reference {reference}")
-    lines.append(f"      marked in {diff}")
-    return lines
+    return lines + [f"      reference {reference}", f"      marked in {diff}"]
 
 
 def render_reference(scenes: list[Scene], size: tuple[int, int], out: Path) -> dict[str, Path]:

@@ -172,8 +172,7 @@ def legend_svg(y: float, window: bool) -> tuple:
         w = room + text_width(text, 12.5)
         if x > 10 and x + w > WIDTH - 10:
             x, y = 10.0, y + 20
-        out.append(mark(x, y))
-        out.append(f'<text x="{x + room:.1f}" y="{y}" font-size="12.5">{escape(text)}</text>')
+        out += [mark(x, y), f'<text x="{x + room:.1f}" y="{y}" font-size="12.5">{escape(text)}</text>']
         x += w + 22
     return "".join(out + ["</g>"]), y - top + 18
 
