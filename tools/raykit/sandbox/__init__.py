@@ -33,14 +33,16 @@ from __future__ import annotations
 
 from .limits import Limits, MiB, SECRET_PARTS  # noqa: F401
 from .ids import (COMPILE_UID_OFFSET, FIRST_UID, FIRST_UID_ENV, LOCK_DIRS, UID_CLAIMS, UID_RANGE,  # noqa: F401
-                  claim_range, first_uid)
+                  claim_range, claim_uid, first_uid)
 from .reaping import kill_session, kill_uid, session_members  # noqa: F401
 from .bwrap import bwrap_works  # noqa: F401
-from .runner import SANDBOX_FAILED  # noqa: F401
-from .view import Scratch, WithheldFromOthers  # noqa: F401
+from .runner import SANDBOX_FAILED, copy_regular  # noqa: F401
+from .view import Scratch, WithheldFromOthers, hide_secrets  # noqa: F401
 from .isolation import Isolation, NONE_OWN, choose  # noqa: F401
 
-# The names the package re-exports, those its users read through it (pyflakes reads them as used).
+# The names the package re-exports: those its users (code, the self-test's scripts, the comments that
+# name them) read through it (pyflakes reads them as used).
 __all__ = ["Limits", "MiB", "SECRET_PARTS", "COMPILE_UID_OFFSET", "FIRST_UID", "FIRST_UID_ENV", "LOCK_DIRS",
-           "UID_CLAIMS", "UID_RANGE", "claim_range", "first_uid", "kill_session", "kill_uid", "session_members",
-           "bwrap_works", "SANDBOX_FAILED", "Scratch", "WithheldFromOthers", "Isolation", "NONE_OWN", "choose"]
+           "UID_CLAIMS", "UID_RANGE", "claim_range", "claim_uid", "first_uid", "kill_session", "kill_uid",
+           "session_members", "bwrap_works", "SANDBOX_FAILED", "copy_regular", "Scratch", "WithheldFromOthers",
+           "hide_secrets", "Isolation", "NONE_OWN", "choose"]
