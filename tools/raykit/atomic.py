@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import BinaryIO, Iterator
 
@@ -39,10 +39,8 @@ def replacing(path: str | os.PathLike, mode: int | None = None, sync: bool = Tru
             os.fchmod(f.fileno(), DEFAULT_MODE if mode is None else mode)
         os.replace(tmp, target)
     except BaseException:
-        try:
+        with suppress(OSError):
             os.unlink(tmp)
-        except OSError:
-            pass
         raise
     if not sync:
         return

@@ -9,11 +9,12 @@ import os
 import re
 import shutil
 import subprocess
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 
 from .common import BUILD, KitError, QUICK_TIER, ROOT, Step, load_steps, printable
-from .relocate import forget_moved_build
+from .relocate import cache_entries, forget_moved_build
 from .status import FAILED
 
 
@@ -69,8 +70,6 @@ def tools_build(build: Build) -> Build:
                  build.steps_dir, build.shown_dir, preset=build.preset, tools=True)
 
 
-
-
 def submission_build(source: Path, slot: str = "submission", folder: Path | None = None) -> Build:
     """Grades a copy of `source` (never modified) in a build folder: build/SLOT, or `folder` (a run's
     own, runfolders.private: what ./kit check --steps uses, so two checks at once never share one).
@@ -92,14 +91,17 @@ def submission_build(source: Path, slot: str = "submission", folder: Path | None
                  boundary=True, sanitize_student=detect_undefined())
 
 
+def _not_in_quick_tier(doing: str) -> None:
+    if os.environ.get(QUICK_TIER) == "1":
+        raise KitError(f'{doing}: a self-test of the quick tier builds nothing (take its quick marker off)')
+
+
 def configure(build: Build, extra: dict[str, str] | None = None) -> None:
     """Runs `cmake --preset PRESET -S -B` for `build` (a submission: the "submission" preset) with the
     kit's own settings on top (-D: the steps folder, the tools, the sanitizer, then `extra`). The
     presets (CMakePresets.json) are the one place the builds are described; -B puts the folder where
     the kit wants it."""
-    if os.environ.get(QUICK_TIER) == "1":
-        raise KitError(f"configuring {build.binary_dir.name}: a self-test of the quick tier builds nothing "
-                       '(take its @tier("quick") off)')
+    _not_in_quick_tier(f"configuring {build.binary_dir.name}")
     variables = {"RAYKIT_STEPS_DIR": str(build.steps_dir)}
     variables["RAYKIT_TOOLS"] = variables["RAYKIT_CTEST"] = "ON" if build.tools else "OFF"
     variables["RAYKIT_CHECK_SANITIZE"] = "ON" if build.sanitize_student and not build.tools else "OFF"
@@ -147,13 +149,8 @@ def ninja_of(build: Build) -> str | None:
     if _ninja_of.get(build.binary_dir) is None:      # asked again until the build is configured
         found = None
         if (build.binary_dir / "build.ninja").is_file():
-            try:
-                for line in (build.binary_dir / "CMakeCache.txt").read_text(errors="replace").splitlines():
-                    if line.startswith("CMAKE_MAKE_PROGRAM:"):
-                        found = line.split("=", 1)[1].strip() or None
-                        break
-            except OSError:
-                pass
+            with suppress(OSError):
+                found = cache_entries(build.binary_dir / "CMakeCache.txt").get("CMAKE_MAKE_PROGRAM") or None
             found = found if found and os.access(found, os.X_OK) else (shutil.which("ninja") or shutil.which("ninja-build"))
         _ninja_of[build.binary_dir] = found
     return _ninja_of[build.binary_dir]
@@ -165,9 +162,7 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     Ninja is called directly where CMake generated for it: `cmake --build` would only start it, at
     20 ms of CPU a call, five calls a check (and Ninja itself runs CMake again when a CMakeLists.txt
     changed)."""
-    if os.environ.get(QUICK_TIER) == "1":
-        raise KitError(f"building {', '.join(targets)[:80]}: a self-test of the quick tier builds nothing "
-                       '(take its @tier("quick") off)')
+    _not_in_quick_tier(f"building {', '.join(targets)[:80]}")
     ninja = ninja_of(build)
     if ninja:
         cmd = [ninja, *(["-k", "0"] if len(targets) > 1 else []), *targets]     # run in the build folder
@@ -182,9 +177,8 @@ def build_targets(build: Build, targets: list[str], progress=None) -> tuple[bool
     for line in proc.stdout:
         lines.append(line)
         m = NINJA_PROGRESS.match(line)
-        if m:
-            if progress:
-                progress(int(m.group(1)), int(m.group(2)))
+        if m and progress:
+            progress(int(m.group(1)), int(m.group(2)))
     proc.wait()
     return proc.returncode == 0, shown_text(build, "".join(lines))
 

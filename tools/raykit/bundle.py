@@ -41,12 +41,14 @@ import os
 import shlex
 import shutil
 import time
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 from .common import BUILD, KitError, ROOT, Step
 from .compilers import compiler_identity
+from .relocate import cache_entries
 from .secret import SECRET_FILE
 from .status import FAILED
 
@@ -203,13 +205,11 @@ def _marks(folder: Path, parts: list[str] | None) -> list[Path]:
 def _load(folder: Path, parts: list[str] | None = None) -> Bundle | None:
     """The bundle in `folder` when it is built (the steps `parts` of it at least) and the packages it
     was built with are unchanged."""
+    if any(_load_mark(mark) is None for mark in _marks(folder, parts)):
+        return None
     try:
-        for mark in _marks(folder, parts):
-            ready = json.loads(mark.read_text())
-            if any(_mtime(path) != when for path, when in ready["packages"].items()):
-                return None
         return Bundle(folder, json.loads((folder / RECIPE).read_text()))
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+    except (OSError, ValueError):
         return None
 
 
@@ -221,13 +221,8 @@ def _mtime(path: str) -> int | None:
 
 
 def _packages(folder: Path) -> dict[str, int | None]:
-    found = {}
-    for line in (folder / "CMakeCache.txt").read_text(errors="replace").splitlines():
-        name, _, value = line.partition(":")
-        if name in PACKAGE_DIRS and "=" in value:
-            path = value.split("=", 1)[1].strip()
-            found[path] = _mtime(path)
-    return found
+    return {path: _mtime(path) for name, path in cache_entries(folder / "CMakeCache.txt").items()
+            if name in PACKAGE_DIRS}
 
 
 def find(sanitize: bool) -> Bundle | None:
@@ -515,10 +510,8 @@ def _targets(folder: Path, parts: list[str]) -> list[str]:
 def _touch(folder: Path) -> None:
     """Marks the bundle used now (the prune keeps the most recently used)."""
     for mark in [folder / READY] if (folder / READY).is_file() else folder.glob(f"{READY}-*"):
-        try:
+        with suppress(OSError):
             os.utime(mark)
-        except OSError:
-            pass
 
 
 def _prune(root: Path, keep: Path) -> None:
@@ -528,10 +521,8 @@ def _prune(root: Path, keep: Path) -> None:
     def used(p: Path) -> float:
         times = []
         for mark in [p / READY, *p.glob(f"{READY}-*")]:
-            try:
+            with suppress(OSError):
                 times.append(mark.stat().st_mtime)
-            except OSError:
-                pass
         return max(times, default=0.0)
     folders = sorted((p for p in root.iterdir() if p.is_dir() and p != keep), key=used, reverse=True)
     for old in folders[KEEP - 1:]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import json
 import re
+from collections import Counter
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -169,12 +170,7 @@ class StepResult:
             return 1 if c.lecture in pictures or standin_refused(c) else 0
         best = min(rank(c) for c in failing)
         failing = [c for c in failing if rank(c) == best]
-        total: dict[str, int] = {}
-        for c in cases:
-            total[c.lecture] = total.get(c.lecture, 0) + 1
-        bad: dict[str, int] = {}
-        for c in failing:
-            bad[c.lecture] = bad.get(c.lecture, 0) + 1
+        total, bad = Counter(c.lecture for c in cases), Counter(c.lecture for c in failing)
         section = min(bad, key=lambda s: (-Fraction(bad[s], total[s]), lecture_section(s)))
         return next(c for c in failing if c.lecture == section)
 

@@ -25,6 +25,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -50,11 +51,8 @@ def submission_seed(build: Build, step: Step) -> str:
     files (secret.py), so no student can know or steer it and a re-grade meets the same inputs."""
     if not hidden_cases_here():
         return ""               # a handout: no hidden cases, no secret
-    files = []
-    for f in step.files:
-        p = build.steps_dir / step.folder / f
-        files.append(p.read_bytes() if p.is_file() else None)
-    return hidden_seed(step.folder, files, build.identity)
+    paths = [build.steps_dir / step.folder / f for f in step.files]
+    return hidden_seed(step.folder, [p.read_bytes() if p.is_file() else None for p in paths], build.identity)
 
 
 def not_graded(step: Step, reason: str, cases: list[Case] | None = None, detail: str = "") -> StepResult:
@@ -79,10 +77,6 @@ class Built:
     answers_ok: bool
     output: str                 # the compiler's and the linker's output (the errors, if any)
     missing: list[str] = field(default_factory=list)    # the step's files not there when it was built
-
-    @property
-    def judge_ok(self) -> bool:
-        return self.judge is not None
 
 
 def build_step(build: Build, step: Step, kit: bundle.Bundle, isolation: Isolation,
@@ -156,7 +150,7 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
     (the fairness table re-runs the hidden cases alone on each draw)."""
     # A full disk is not read here from the build's words (a compiler quotes the student's source): the
     # boundary raises faults.MachineFault from the kit's own errno or measure (sandbox/runner.py).
-    if not built.judge_ok:
+    if built.judge is None:
         why = "the kit's test program does not build (a kit bug)"
         return not_graded(step, why, detail=why + ":\n" + built.output)
     judge = built.judge
@@ -335,6 +329,8 @@ class Verdicts:
     """The grading's verdicts by content (see above); `here()` is None outside a grading."""
 
     SHOWN = "@SHOWN@"       # where the submission's own path stood in the text
+    CASE_FIELDS = ("name", "tier", "lecture", "status", "messages", "output", "output_bytes", "figure", "runs",
+                   "rerun", "incident")
 
     def __init__(self, folder: Path, build: Build, all_steps: list[Step], isolation: Isolation):
         self.folder, self.build, self.all_steps, self.isolation = folder, build, all_steps, isolation
@@ -358,10 +354,7 @@ class Verdicts:
         except (OSError, ValueError):
             return None
         shown = str(self.build.shown_dir)
-        cases = [Case(c["name"], c["tier"], c["lecture"], c["status"], c["messages"], c["output"],
-                      c["output_bytes"], c["figure"], runs=c.get("runs", 1), rerun=c.get("rerun"),
-                      incident=c.get("incident"))
-                 for c in d["cases"]]
+        cases = [Case(**{k: c[k] for k in self.CASE_FIELDS if k in c}) for c in d["cases"]]
         return StepResult(step, d["state"], cases, detail=d["detail"].replace(self.SHOWN, shown),
                           isolation=self.isolation.description, seed=d["seed"], includes=d.get("includes", []),
                           slip=d.get("slip"), reason=d.get("reason", ""))
@@ -377,14 +370,9 @@ class Verdicts:
         shown = str(self.build.shown_dir)
         data = {"state": result.state, "detail": result.detail.replace(shown, self.SHOWN), "seed": result.seed,
                 "includes": result.includes, "slip": result.slip, "reason": result.reason,
-                "cases": [{"name": c.name, "tier": c.tier, "lecture": c.lecture, "status": c.status,
-                           "messages": c.messages, "output": c.output, "output_bytes": c.output_bytes,
-                           "figure": c.figure, "runs": c.runs, "rerun": c.rerun, "incident": c.incident}
-                          for c in result.cases]}
-        try:
+                "cases": [{k: getattr(c, k) for k in self.CASE_FIELDS} for c in result.cases]}
+        with suppress(OSError):
             atomic.write(self._path(result.step), json.dumps(data))
-        except OSError:
-            pass
 
 
 class LastCheck(Verdicts):
@@ -468,17 +456,11 @@ def _check_steps(build: Build, steps: list[Step], all_steps: list[Step], isolati
     wanted = {s.number for s in steps}
     needed = set() if build.reference_needs else {p.number for s in steps for p in prerequisites(s, all_steps)}
     order = [s for s in all_steps if s.number in wanted or s.number in needed]
-    quick = {}
-    for s in order:
-        cases = recorded_cases(s) if untouched(build, s) else None
-        if cases is not None:
-            quick[s.number] = cases
+    quick = {s.number: cases for s in order if untouched(build, s)
+             for cases in [recorded_cases(s)] if cases is not None}
     verdicts = Verdicts.here(build, all_steps, isolation)
-    known = {}
-    for s in order:
-        found = verdicts.load(s) if verdicts is not None and s.number not in quick else None
-        if found is not None:
-            known[s.number] = found
+    known = {s.number: found for s in order if verdicts is not None and s.number not in quick
+             for found in [verdicts.load(s)] if found is not None}
     results: dict[str, StepResult] = {}
     kit: bundle.Bundle | Exception | None = None
     if len(quick) + len(known) < len(order):

@@ -37,16 +37,14 @@ from __future__ import annotations
 
 import json
 from fractions import Fraction
-from pathlib import Path
 
-from . import atomic
 from . import course as course_file
 from . import faults
 from .cases import StepResult
-from .common import KitError
-from .gradescope import split_cases
+from .gradescope import case_lines, split_cases
+from .record import write_output
 from .scoreboard import compile_errors
-from .status import NOT_GRADED, MISSING, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
+from .status import NOT_GRADED, MISSING, NO_COMPILE, PASS, STATE_WORDS
 
 FORMAT = "raykit-classroom"
 VERSION = 1
@@ -57,18 +55,6 @@ HIDDEN_WORDS = "a hidden case: random inputs of this family; its inputs are not 
 def entry(name: str, passed: bool, message: str) -> dict:
     return {"name": name, "status": "pass" if passed else "fail", "score": int(passed),
             "message": message[:MESSAGE_CHARS], "test_code": "", "filename": "", "line_no": 0, "duration": 0}
-
-
-def case_message(step_result: StepResult, c) -> str:
-    lines = [STATUS_WORDS.get(c.status, c.status)]
-    if c.status != PASS:
-        hidden = c.tier == "hidden"
-        lines += [HIDDEN_WORDS] if hidden else c.messages[:3]
-        if c.output_bytes and not hidden:
-            lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:1000]}")
-        if c.lecture:
-            lines.append(f"Read {step_result.step.lecture}, section \"{c.lecture}\".")
-    return "\n".join(lines)
 
 
 def runner(r: StepResult, course) -> dict:
@@ -84,7 +70,7 @@ def runner(r: StepResult, course) -> dict:
         return {"version": 1, "status": "error", "max_score": 0,
                 "tests": [{**entry(f"Step {s.number} · {s.title}", False, why), "status": "error"}]}
     entries = [entry(f"Step {s.number}{' (hidden)' if c.tier == 'hidden' else ''} · {c.name}",
-                     c.status == PASS, case_message(r, c)) for c in counted]
+                     c.status == PASS, "\n".join(case_lines(r, c, False, HIDDEN_WORDS, 1000))) for c in counted]
     if r.state == NO_COMPILE:       # the compiler's words once, on the first entry
         errors = "\n".join(compile_errors(r.detail, 20))
         entries[0]["message"] = (f"{STATE_WORDS[r.state]}: no case ran.\n{errors}")[:MESSAGE_CHARS]
@@ -117,12 +103,4 @@ def classroom(results: list[StepResult]) -> dict:
 
 
 def write(path: str, results: list[StepResult]) -> None:
-    target = Path(path)
-    if not target.parent.is_dir():
-        raise KitError(f"--classroom {path}: folder {target.parent} does not exist")
-    if target.is_dir():
-        raise KitError(f"--classroom {path}: is a folder, not a file")
-    try:
-        atomic.write(target, json.dumps(classroom(results), ensure_ascii=False))
-    except OSError as e:
-        raise KitError(f"--classroom {path}: cannot write it ({e.strerror})")
+    write_output("--classroom", path, json.dumps(classroom(results), ensure_ascii=False))

@@ -100,13 +100,11 @@ class Step:
 
 
 def load_steps() -> list[Step]:
-    steps = []
-    for manifest in sorted((ROOT / "tests").glob("[0-9][0-9]_*/step.json")):
-        data = json.loads(manifest.read_text())
-        steps.append(Step(folder=manifest.parent.name, title=data["title"], files=data["files"],
-                          needs=data.get("needs", []), lecture=data["lecture"],
-                          functions=[f["name"] if isinstance(f, dict) else f for f in data.get("functions", [])], contract=data.get("contract", {})))
-    return steps
+    return [Step(folder=manifest.parent.name, title=data["title"], files=data["files"], needs=data.get("needs", []),
+                 lecture=data["lecture"], contract=data.get("contract", {}),
+                 functions=[f["name"] if isinstance(f, dict) else f for f in data.get("functions", [])])
+            for manifest in sorted((ROOT / "tests").glob("[0-9][0-9]_*/step.json"))
+            for data in [json.loads(manifest.read_text())]]
 
 
 def select_steps(steps: list[Step], wanted: list[str]) -> list[Step]:

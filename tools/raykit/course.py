@@ -75,10 +75,12 @@ from __future__ import annotations
 import functools
 import json
 import re
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from decimal import ROUND_HALF_UP, Decimal
 from fractions import Fraction
 from pathlib import Path
+from typing import Iterator
 
 from .common import ROOT, KitError
 from .status import NOT_GRADED
@@ -231,9 +233,9 @@ def exact_text(value: Fraction) -> str:
 def _fraction(value, where: str, allow_none: bool = False) -> Fraction | None:
     if value is None and allow_none:
         return None
-    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise KitError(f"{where}: {json.dumps(value)} is not a number (write 3, \"2.5\" or \"41/3\")")
     try:
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise ValueError(value)
         f = Fraction(str(value).strip())
     except (ValueError, ZeroDivisionError):
         raise KitError(f"{where}: {json.dumps(value)} is not a number (write 3, \"2.5\" or \"41/3\")")
@@ -242,16 +244,19 @@ def _fraction(value, where: str, allow_none: bool = False) -> Fraction | None:
     return f
 
 
-def _known(data: dict, keys, where: str) -> None:
-    unknown = sorted(set(data) - set(keys))
-    if unknown:
-        raise KitError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(sorted(keys))})")
-
-
-def _object(value, where: str) -> dict:
+def _object(value, where: str, keys=None) -> dict:
+    """`value` when it is a JSON object (with no key but `keys`, when given); KitError otherwise."""
     if not isinstance(value, dict):
         raise KitError(f"{where}: expected a JSON object {{...}}, found {type(value).__name__}")
+    unknown = sorted(set(value) - set(keys)) if keys is not None else []
+    if unknown:
+        raise KitError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(sorted(keys))})")
     return value
+
+
+def _flag(entry: dict, key: str, where: str) -> None:
+    if key in entry and not isinstance(entry[key], bool):
+        raise KitError(f"{where}.{key}: expected true or false, found {json.dumps(entry[key])}")
 
 
 def _due(entry: dict, where: str) -> tuple[str | None, str | None]:
@@ -259,7 +264,7 @@ def _due(entry: dict, where: str) -> tuple[str | None, str | None]:
     added when left out) and the timezone, each None when not given; KitError on a date that is not
     one or a timezone unknown to this machine's database."""
     from datetime import datetime
-    _known(entry, {"date", "timezone"}, where)
+    _object(entry, where, {"date", "timezone"})
     date, zone = entry.get("date"), entry.get("timezone")
     if date is not None:
         if not isinstance(date, str) or not re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d(:\d\d)?", date.strip()):
@@ -289,8 +294,8 @@ def _due(entry: dict, where: str) -> tuple[str | None, str | None]:
 def parse(data, steps: list[str], where: str = "course.json") -> Course:
     """A Course from the decoded JSON `data`, for the steps numbered `steps`; KitError on bad input."""
     course = Course(source=where)
-    data = _object(data, where)
-    _known(data, {"about", "steps", "groups", "hidden", "due", "rounding", "time_limits", "hidden_cases"}, where)
+    data = _object(data, where, {"about", "steps", "groups", "hidden", "due", "rounding", "time_limits",
+                                 "hidden_cases"})
     counts = _object(data.get("hidden_cases", {}), f"{where} hidden_cases")
     for number, n in counts.items():
         if number not in steps or isinstance(n, bool) or not isinstance(n, int) or n < 0:
@@ -299,8 +304,7 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
     for number, entry in _object(data.get("steps", {}), f"{where} steps").items():
         if number not in steps:
             raise KitError(f"{where} steps: no step {number!r} in this kit (steps: {', '.join(steps)})")
-        entry = _object(entry, f"{where} steps.{number}")
-        _known(entry, {"points", "weights"}, f"{where} steps.{number}")
+        entry = _object(entry, f"{where} steps.{number}", {"points", "weights"})
         course.points[number] = _fraction(entry.get("points"), f"{where} steps.{number}.points", allow_none=True)
         own = _object(entry.get("weights", {}), f"{where} steps.{number}.weights")
         for key, value in own.items():
@@ -311,15 +315,11 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
     for name, entry in _object(data.get("groups", {}), f"{where} groups").items():
         if name not in GROUPS:
             raise KitError(f"{where} groups: unknown group {name!r} (groups: {', '.join(GROUPS)})")
-        entry = _object(entry, f"{where} groups.{name}")
-        _known(entry, {"weight", "names", "extra_credit"} if name == "degenerate" else {"weight", "extra_credit"},
-               f"{where} groups.{name}")
-        if "extra_credit" in entry:
-            if not isinstance(entry["extra_credit"], bool):
-                raise KitError(f"{where} groups.{name}.extra_credit: expected true or false, found "
-                               f"{json.dumps(entry['extra_credit'])}")
-            if entry["extra_credit"]:
-                course.extra.add(name)
+        entry = _object(entry, f"{where} groups.{name}",
+                        {"weight", "names", "extra_credit"} if name == "degenerate" else {"weight", "extra_credit"})
+        _flag(entry, "extra_credit", f"{where} groups.{name}")
+        if entry.get("extra_credit"):
+            course.extra.add(name)
         if "weight" in entry:
             course.weights[name] = _fraction(entry["weight"], f"{where} groups.{name}.weight")
         if "names" in entry:
@@ -327,11 +327,9 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
             if not isinstance(names, list) or not all(isinstance(n, str) and n.strip() for n in names):
                 raise KitError(f"{where} groups.degenerate.names: expected a list of words, e.g. [\"NaN\"]")
             course.degenerate_names = [n.strip() for n in names]
-    hidden = _object(data.get("hidden", {}), f"{where} hidden")
-    _known(hidden, {"enabled", "visibility", "reveal_after_due_date"}, f"{where} hidden")
+    hidden = _object(data.get("hidden", {}), f"{where} hidden", {"enabled", "visibility", "reveal_after_due_date"})
     for key in ("enabled", "reveal_after_due_date"):
-        if key in hidden and not isinstance(hidden[key], bool):
-            raise KitError(f"{where} hidden.{key}: expected true or false, found {json.dumps(hidden[key])}")
+        _flag(hidden, key, f"{where} hidden")
     course.hidden_enabled = hidden.get("enabled", True)
     course.reveal_after_due_date = hidden.get("reveal_after_due_date", True)
     course.hidden_visibility = hidden.get("visibility", "after_due_date")
@@ -339,14 +337,12 @@ def parse(data, steps: list[str], where: str = "course.json") -> Course:
         raise KitError(f"{where} hidden.visibility: {json.dumps(course.hidden_visibility)} is not one of "
                        f"Gradescope's: {', '.join(VISIBILITIES)}")
     course.due_date, course.timezone = _due(_object(data.get("due", {}), f"{where} due"), f"{where} due")
-    rounding = _object(data.get("rounding", {}), f"{where} rounding")
-    _known(rounding, {"decimals"}, f"{where} rounding")
+    rounding = _object(data.get("rounding", {}), f"{where} rounding", {"decimals"})
     decimals = rounding.get("decimals", 2)
     if isinstance(decimals, bool) or not isinstance(decimals, int) or not 0 <= decimals <= 6:
         raise KitError(f"{where} rounding.decimals: expected a whole number from 0 to 6, found {json.dumps(decimals)}")
     course.decimals = decimals
-    limits = _object(data.get("time_limits", {}), f"{where} time_limits")
-    _known(limits, set(LIMITS), f"{where} time_limits")
+    limits = _object(data.get("time_limits", {}), f"{where} time_limits", set(LIMITS))
     for key, value in limits.items():
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 24 * 3600:
             raise KitError(f"{where} time_limits.{key}: expected seconds above 0, found {json.dumps(value)}")
@@ -496,10 +492,8 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     head = f"  {'step':<36}" + "".join(f"{g:>{w}}" for g, w in zip(GROUPS, widths)) + f"{'points':>9}"
     lines += [head, "  " + "-" * (len(head) - 2)]
     lines += [f"  {name}" + "".join(f"{c:>{w}}" for c, w in zip(cells, widths)) + f"{pts:>9}" for name, cells, pts in rows]
-    lines.append("")
-    lines.append("  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
-                 "on top of the step's points)")
-    lines.append("")
+    lines += ["", "  (cases × the points of one; ★: optional, run and shown, worth nothing; +: extra credit, "
+              "on top of the step's points)", ""]
     weights = ", ".join(f"{g} {exact_text(course.weight(g))}" + (" (optional, like ★)" if course.optional(g) else
                                                                  " (extra credit)" if course.extra_credit(g) else "")
                         for g in GROUPS)
@@ -520,8 +514,7 @@ def table(course: Course, cases_by_step: list[tuple[str, str, list[tuple[str, st
     lines.append("  time limits: " + ", ".join(f"{k} {v:g}" for k, v in course.limits.items()))
     lines.append(f"  points are exact fractions; a student's total is rounded once, at the end, to "
                  f"{course.decimals} decimals (half up)")
-    lines += extra_credit_lines(course, cases_by_step, total)
-    lines.append("")
+    lines += extra_credit_lines(course, cases_by_step, total) + [""]
     lines.append(f"  Total to enter in Gradescope (the assignment's points): {exact_text(total)}"
                  + (f" = {course.rounded(total)}" if total.denominator != 1 else ""))
     return lines
@@ -565,18 +558,13 @@ def extra_credit_lines(course: Course, cases_by_step, total: Fraction) -> list[s
             + (", less" if total < bugged else ", the same" if total == bugged else ", more")]
 
 
-class using:
+@contextmanager
+def using(course: Course) -> Iterator[Course]:
     """`with using(course):` makes `course` the one load() gives (a self-test's scale), then puts
     the previous one back."""
-
-    def __init__(self, course: Course):
-        self.course, self.saved = course, None
-
-    def __enter__(self) -> Course:
-        global _LOADED
-        self.saved, _LOADED = _LOADED, self.course
-        return self.course
-
-    def __exit__(self, *exc) -> None:
-        global _LOADED
-        _LOADED = self.saved
+    global _LOADED
+    saved, _LOADED = _LOADED, course
+    try:
+        yield course
+    finally:
+        _LOADED = saved

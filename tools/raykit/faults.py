@@ -27,6 +27,7 @@ import os
 import shutil
 import signal
 import time
+from contextlib import suppress
 from pathlib import Path
 
 FAULT_ENV = "RAYKIT_FAULT"
@@ -74,20 +75,14 @@ def usage(folder: Path) -> int:
     total = 0
     for top, dirs, files in os.walk(folder):
         for name in files:
-            try:
+            with suppress(OSError):
                 total += os.lstat(os.path.join(top, name)).st_size
-            except OSError:
-                pass
     return total
 
 
 def _items() -> list[tuple[str, str]]:
-    out = []
-    for item in os.environ.get(FAULT_ENV, "").split(","):
-        kind, _, target = item.strip().partition("@")
-        if kind:
-            out.append((kind, target or "*"))
-    return out
+    return [(kind, target or "*") for item in os.environ.get(FAULT_ENV, "").split(",")
+            for kind, _, target in [item.strip().partition("@")] if kind]
 
 
 def fault(kind: str, step: str = "", name: str | None = None) -> bool:
@@ -129,10 +124,8 @@ def after_placeholder() -> None:
 
 def abort(pid: int) -> None:
     """The hook `judge`: the judge `pid` aborts (unless it has just ended by itself)."""
-    try:
+    with suppress(ProcessLookupError):
         os.kill(pid, signal.SIGABRT)
-    except ProcessLookupError:
-        pass
 
 
 def submission_seconds(limit: int) -> int:

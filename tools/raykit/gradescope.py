@@ -37,13 +37,11 @@ from datetime import datetime, timezone
 from fractions import Fraction
 from pathlib import Path
 
-from . import atomic
 from . import course as course_file
 from . import faults
 from .bundle import STUDENT_ONLY
 from .cases import StepResult
-from .common import KitError
-from .record import built_fields
+from .record import built_fields, write_output
 from .scoreboard import compile_errors
 from .status import MISSING, NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS, WAITING
 
@@ -51,16 +49,24 @@ UNRUN_STATES = (NO_COMPILE, MISSING, WAITING)
 REGRADE = "ask for a regrade (Request Regrade on this page), or submit again"
 
 
-def _case_lines(r: StepResult, c, reveal: bool) -> list[str]:
-    hidden = c.tier == "hidden"
+def case_lines(r: StepResult, c, reveal: bool, hidden_words: str = "", printed: int = 2000) -> list[str]:
+    """A case's words on a platform; a hidden one's inputs, messages and output only with `reveal`,
+    else `hidden_words` (the course's hidden_note) in their place."""
+    hidden = c.tier == "hidden" and not reveal
     lines = [STATUS_WORDS.get(c.status, c.status)]
     if c.status != PASS:
-        lines += [course_file.hidden_note()] if hidden and not reveal else c.messages[:3]
-        if c.output_bytes and not (hidden and not reveal):
-            lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:2000]}")
+        lines += [hidden_words or course_file.hidden_note()] if hidden else c.messages[:3]
+        if c.output_bytes and not hidden:
+            lines.append(f"Your code printed ({c.output_bytes} bytes):\n{c.output[:printed]}")
         if c.lecture:
             lines.append(f"Read {r.step.lecture}, section \"{c.lecture}\".")
     return lines
+
+
+def unrun_text(r: StepResult, cases: list) -> str:
+    """Why a step's cases did not run (UNRUN_STATES), with the compiler's first errors."""
+    detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
+    return f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()
 
 
 def split_cases(r: StepResult, course) -> tuple[list, list, list, list]:
@@ -92,6 +98,13 @@ def shown_shares(values: list[Fraction], course) -> list[int | float]:
     return [course.number(f * unit) for f in floors]
 
 
+def _test(name: str, number: str | None, score, max_score, status: str, output: str, tags: list[str],
+          visibility: str = "visible") -> dict:
+    """One test of results.json in Gradescope's fields (`number` None: the test has none)."""
+    return {"name": name, **({"number": number} if number is not None else {}), "score": score,
+            "max_score": max_score, "status": status, "visibility": visibility, "output": output, "tags": tags}
+
+
 def extra_credit_test(r: StepResult, bonus: list, number: int, course, visibility: str, reveal: bool) -> dict:
     """A step's extra-credit cases (course.json: a group's "extra_credit") as one test: max_score 0 and
     the points they earned as its score (Gradescope counts a score above a test's max_score as extra
@@ -105,13 +118,11 @@ def extra_credit_test(r: StepResult, bonus: list, number: int, course, visibilit
              f"cases pass, {course.shown(points)} of {course.shown(most)} extra points."]
     for c in bonus:
         if c.status != PASS:
-            lines += [f"not earned: {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
+            lines += [f"not earned: {c.name}"] + ["    " + l for l in case_lines(r, c, reveal)]
     hidden = any(c.tier == "hidden" for c in bonus)
-    return {"name": f"Step {s.number} ★ · extra credit: {len(earned)} of {len(bonus)} cases, "
-                    f"+{course.shown(points)} of {course.shown(most)}",
-            "number": f"{int(s.number)}.{number}", "score": course.number(points), "max_score": 0,
-            "status": "passed", "visibility": visibility if hidden else "visible",
-            "output": "\n".join(lines)[:8000], "tags": [f"step{s.number}", "extra_credit"]}
+    return _test(f"Step {s.number} ★ · extra credit: {len(earned)} of {len(bonus)} cases, +{course.shown(points)} "
+                 f"of {course.shown(most)}", f"{int(s.number)}.{number}", course.number(points), 0, "passed",
+                 "\n".join(lines)[:8000], [f"step{s.number}", "extra_credit"], visibility if hidden else "visible")
 
 
 def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
@@ -125,33 +136,20 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
         s = r.step
         cases, counted, bonus, optional = split_cases(r, course)
         if r.state == NOT_GRADED:   # no verdict: worth 0 of 0 here, so nothing is taken away
-            tests.append({"name": f"Step {s.number} · {s.title}: not graded — {r.reason}"[:300],
-                          "number": f"{int(s.number)}.0", "score": 0, "max_score": 0, "status": "failed",
-                          "visibility": "visible", "output": faults.to_student(r.reason, REGRADE),
-                          "tags": [f"step{s.number}", "not_graded"]})
+            tests.append(_test(f"Step {s.number} · {s.title}: not graded — {r.reason}"[:300], f"{int(s.number)}.0",
+                               0, 0, "failed", faults.to_student(r.reason, REGRADE), [f"step{s.number}", "not_graded"]))
             continue
         if r.state in UNRUN_STATES and cases:
-            detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
-            tests.append({
-                "name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
-                "number": f"{int(s.number)}.0",
-                "score": 0, "max_score": course.number(r.maximum), "status": "failed", "visibility": "visible",
-                "output": f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()[:8000],
-                "tags": [f"step{s.number}", r.state]})
+            tests.append(_test(f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}", f"{int(s.number)}.0", 0,
+                               course.number(r.maximum), "failed", unrun_text(r, cases)[:8000],
+                               [f"step{s.number}", r.state]))
             continue
         shown = shown_shares([c.points for c in counted], course)
         for i, (c, points) in enumerate(zip(counted, shown), 1):
-            mark = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, "")
-            tests.append({
-                "name": f"Step {s.number}{mark} · {c.name}",
-                "number": f"{int(s.number)}.{i}",
-                "score": points if c.status == PASS else 0,
-                "max_score": points,
-                "status": "passed" if c.status == PASS else "failed",
-                "visibility": visibility if c.tier == "hidden" else "visible",
-                "output": "\n".join(_case_lines(r, c, reveal)),
-                "tags": [f"step{s.number}", c.tier, c.group],
-            })
+            mark, passed = {"robust": " ★", "hidden": " (hidden)"}.get(c.tier, ""), c.status == PASS
+            tests.append(_test(f"Step {s.number}{mark} · {c.name}", f"{int(s.number)}.{i}", points if passed else 0,
+                               points, "passed" if passed else "failed", "\n".join(case_lines(r, c, reveal)),
+                               [f"step{s.number}", c.tier, c.group], visibility if c.tier == "hidden" else "visible"))
         if bonus:
             tests.append(extra_credit_test(r, bonus, len(counted) + 1, course, visibility, reveal))
         if optional:
@@ -160,17 +158,13 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
             lines = [f"Optional, worth no points ({', '.join(groups)}): {passed} of {len(optional)} pass."]
             for c in optional:
                 if c.status != PASS:
-                    lines += [f"✗ {c.name}"] + ["    " + l for l in _case_lines(r, c, reveal)]
-            tests.append({
-                "name": f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
-                "number": f"{int(s.number)}.{len(counted) + bool(bonus) + 1}",
-                "score": 0, "max_score": 0, "status": "passed", "visibility": "visible",
-                "output": "\n".join(lines)[:8000], "tags": [f"step{s.number}", "optional"]})
+                    lines += [f"✗ {c.name}"] + ["    " + l for l in case_lines(r, c, reveal)]
+            tests.append(_test(f"Step {s.number} ★ · optional cases: {passed} of {len(optional)} pass",
+                               f"{int(s.number)}.{len(counted) + bool(bonus) + 1}", 0, 0, "passed",
+                               "\n".join(lines)[:8000], [f"step{s.number}", "optional"]))
         if not r.cases:  # the kit's own test program failed: say so
-            tests.append({"name": f"Step {s.number} · {s.title}", "number": s.number, "score": 0,
-                          "max_score": course.number(r.maximum), "status": "failed", "visibility": "visible",
-                          "output": f"{STATE_WORDS[r.state]}. {r.detail[:4000]}".strip(),
-                          "tags": [f"step{s.number}"]})
+            tests.append(_test(f"Step {s.number} · {s.title}", s.number, 0, course.number(r.maximum), "failed",
+                               f"{STATE_WORDS[r.state]}. {r.detail[:4000]}".strip(), [f"step{s.number}"]))
     exact = sum((r.earned for r in results), Fraction(0))
     maximum = sum((r.maximum for r in results), Fraction(0))
     summary = [f"step {r.step.number}: {STATE_WORDS[r.state]}, " + ("no points taken" if r.state == NOT_GRADED else
@@ -204,8 +198,8 @@ def gradescope(results: list[StepResult], elapsed: float, hidden_visibility: str
                           f"score above leaves {'them' if len(missed) > 1 else 'it'} out; {REGRADE}.")
     if not results:     # the placeholder ./kit check writes before it starts: no result yet
         why = "the grader stopped before it finished"
-        tests.append({"name": f"Not graded — {why}", "score": 0, "max_score": 0, "status": "failed",
-                      "visibility": "visible", "output": faults.to_student(why, REGRADE), "tags": ["not_graded"]})
+        tests.append(_test(f"Not graded — {why}", None, 0, 0, "failed", faults.to_student(why, REGRADE),
+                           ["not_graded"]))
         summary = [f"NOT GRADED: {why} (the grader's fault, not your code's); {REGRADE}."]
     return {"score": float(course.rounded(exact)) if exact.denominator != 1 else exact.numerator,
             "execution_time": round(elapsed, 3), "output": "\n".join(summary),
@@ -235,14 +229,10 @@ def due_date(metadata: dict) -> datetime | None:
     """The last date anyone may submit: the assignment's late due date, else its due date (the fields
     Gradescope documents), or a later one in a users[] entry's "assignment" (not documented; read if
     there)."""
-    dates = []
-    for a in [metadata.get("assignment")] + [u.get("assignment") for u in metadata.get("users") or []
-                                             if isinstance(u, dict)]:
-        if isinstance(a, dict):
-            d = _when(a.get("late_due_date")) or _when(a.get("due_date"))
-            if d:
-                dates.append(d)
-    return max(dates) if dates else None
+    assignments = [metadata.get("assignment")] + [u.get("assignment") for u in metadata.get("users") or []
+                                                  if isinstance(u, dict)]
+    dates = [_when(a.get("late_due_date")) or _when(a.get("due_date")) for a in assignments if isinstance(a, dict)]
+    return max((d for d in dates if d), default=None)
 
 
 def reveal_options(metadata_path: Path, now: datetime | None = None) -> list[str]:
@@ -266,13 +256,5 @@ def reveal_options(metadata_path: Path, now: datetime | None = None) -> list[str
 
 def write_json(path: str, results: list[StepResult], elapsed: float, hidden_visibility: str | None = None,
                reveal: bool = False) -> None:
-    target = Path(path)
-    if not target.parent.is_dir():
-        raise KitError(f"--json {path}: folder {target.parent} does not exist")
-    if target.is_dir():
-        raise KitError(f"--json {path}: is a folder, not a file")
-    try:
-        atomic.write(target, json.dumps(gradescope(results, elapsed, hidden_visibility, reveal), indent=2,
-                                        ensure_ascii=False))
-    except OSError as e:
-        raise KitError(f"--json {path}: cannot write it ({e.strerror})")
+    write_output("--json", path, json.dumps(gradescope(results, elapsed, hidden_visibility, reveal), indent=2,
+                                            ensure_ascii=False))

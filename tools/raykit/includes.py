@@ -18,6 +18,7 @@ reported. Comments and literals are not read.
 from __future__ import annotations
 
 import re
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -201,10 +202,8 @@ def included(text: str, here: Path | None, include_root: Path, seen: set[Path] |
             path = (base / name).resolve()
             if path.is_file() and path not in seen:
                 seen.add(path)
-                try:
+                with suppress(OSError):
                     found |= included(path.read_text(errors="replace")[:1_000_000], path.parent, include_root, seen)
-                except OSError:
-                    pass
                 break
     return found
 

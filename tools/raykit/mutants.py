@@ -199,9 +199,4 @@ def grade_files(step: Step, files: dict[str, str], work: Path) -> tuple[int, dic
 
 def failing_cases(result: dict | None) -> list[str]:
     """The basic cases the mutant fails, in the suite's order."""
-    if not result:
-        return []
-    return [c["name"] for c in result["cases"] if c["tier"] == "basic" and c["status"] != "pass"]
-
-
-# --- the command --------------------------------------------------------------------
+    return [c["name"] for c in (result or {}).get("cases", []) if c["tier"] == "basic" and c["status"] != "pass"]

@@ -15,6 +15,7 @@ import os
 import shutil
 import stat
 import tempfile
+from contextlib import suppress
 from pathlib import Path
 
 from .common import BUILD, ROOT
@@ -130,10 +131,8 @@ class ObjectCache:
             return
         if self.stale:              # replaced by this compile's, which read the headers as they are now
             old = self.dir.with_name(f".{self.dir.name}.stale.{os.getpid()}")
-            try:
+            with suppress(OSError):
                 os.rename(self.dir, old)
-            except OSError:
-                pass
             shutil.rmtree(old, ignore_errors=True)
         if self.dir.exists():
             return

@@ -266,18 +266,13 @@ def ensure_elsewhere(names: list[str]) -> None:
 
 
 def missing_packages(names: list[str]) -> list[str]:
-    if shutil.which("dpkg-query") is None:
-        return []
-    if not names:
+    if shutil.which("dpkg-query") is None or not names:
         return []
     # One dpkg-query for all of them (one a package took 0.4 s of every ./kit check): it prints
     # the packages it knows, and exits non-zero when one is unknown, which is then missing too.
     r = subprocess.run(["dpkg-query", "-W", "-f=${Package}\t${Status}\n", *names], capture_output=True, text=True)
-    installed = set()
-    for line in r.stdout.splitlines():
-        name, _, status = line.partition("\t")
-        if "install ok installed" in status:
-            installed.add(name.split(":")[0])
+    installed = {name.split(":")[0] for name, _, status in (line.partition("\t") for line in r.stdout.splitlines())
+                 if "install ok installed" in status}
     return [n for n in names if n not in installed]
 
 
@@ -321,9 +316,7 @@ def ensure_packages(*groups: str) -> None:
     run in CI or an editor). Without apt, or without the right to install, the user gets the one
     command to run. A failed install names the package and apt's reason.
     """
-    names: list[str] = []
-    for g in groups:
-        names += [n for n in PACKAGES[g] if n not in names]
+    names = list(dict.fromkeys(n for g in groups for n in PACKAGES[g]))
     if not has_apt():   # macOS, or a Linux without apt: look, never install; stb only for render
         render = "render" in groups
         ensure_elsewhere([n for n in names if n not in OTHER_MANAGERS or render

@@ -36,18 +36,17 @@ from __future__ import annotations
 
 import base64
 import json
+from contextlib import suppress
 from fractions import Fraction
 from pathlib import Path
 
-from . import atomic
 from . import course as course_file
 from . import faults
 from .bundle import STUDENT_ONLY
 from .cases import StepResult
 from .common import KitError
-from .record import built_fields
-from .gradescope import UNRUN_STATES, shown_shares, split_cases
-from .scoreboard import compile_errors
+from .record import built_fields, write_output
+from .gradescope import UNRUN_STATES, shown_shares, split_cases, unrun_text
 from .status import NOT_GRADED, NO_COMPILE, PASS, STATE_WORDS, STATUS_WORDS
 
 TEXT = 4000         # characters per message or output
@@ -61,11 +60,9 @@ HIDDEN_NOTE = ("Hidden cases (marked so) are graded and counted like the others;
 
 
 def picture_url(path: str | None) -> str | None:
-    try:
+    with suppress(OSError):
         if path and Path(path).is_file() and Path(path).stat().st_size < 300_000:
             return "data:image/svg+xml;base64," + base64.b64encode(Path(path).read_bytes()).decode()
-    except OSError:
-        pass
     return None
 
 
@@ -96,10 +93,8 @@ def prairielearn(results: list[StepResult], shown_dir: str = "", part: str = "st
                           "max_points": 0, "message": clean(faults.to_student(r.reason, AGAIN)), "output": ""})
             continue
         if r.state in UNRUN_STATES and cases:
-            detail = "\n".join(compile_errors(r.detail, 40)) if r.state == NO_COMPILE else (r.detail or "")
-            tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}",
-                          "description": "", "points": 0, "max_points": course.number(worth),
-                          "message": clean(f"{STATE_WORDS[r.state]}: its {len(cases)} cases were not run.\n{detail}".strip()),
+            tests.append({"name": f"Step {s.number} · {s.title}: {STATE_WORDS[r.state]}", "description": "",
+                          "points": 0, "max_points": course.number(worth), "message": clean(unrun_text(r, cases)),
                           "output": ""})
             if r.state == NO_COMPILE:
                 first = next((line.strip() for line in r.detail.splitlines() if "error" in line.lower()), "")
@@ -173,10 +168,4 @@ def part_points(r: StepResult, course, extra_part: bool) -> tuple[list[Fraction]
 
 
 def write(path: str, results: list[StepResult], shown_dir: str = "", part: str = "step") -> None:
-    target = Path(path)
-    if not target.parent.is_dir():
-        raise KitError(f"--prairielearn {path}: folder {target.parent} does not exist")
-    try:
-        atomic.write(target, json.dumps(prairielearn(results, shown_dir, part), ensure_ascii=False))
-    except OSError as e:
-        raise KitError(f"--prairielearn {path}: cannot write it ({e.strerror})")
+    write_output("--prairielearn", path, json.dumps(prairielearn(results, shown_dir, part), ensure_ascii=False))

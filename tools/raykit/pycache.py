@@ -54,10 +54,6 @@ class _KitFinder:
             spec.loader = _KitLoader(spec.name, spec.origin)
         return spec
 
-    @staticmethod
-    def invalidate_caches():
-        pass
-
 
 def install() -> None:
     """From now on, the kit's modules are compiled into $RAYKIT_PYCACHE (nothing when it is unset)."""

@@ -85,17 +85,23 @@ def grader() -> dict:
     return {"secret": secret_file.fingerprint(), "cases": judgedby.current_digest()}
 
 
-def write(path: str | Path, data: dict) -> None:
-    """Writes `data` whole or not at all (atomic.write)."""
+def write_output(option: str, path: str | Path, text: str) -> None:
+    """Writes `text` to the file `path` the command line's `option` named, whole or not at all
+    (atomic.write); KitError, with the option, when it cannot."""
     target = Path(path)
     if not target.parent.is_dir():
-        raise KitError(f"--results {path}: folder {target.parent} does not exist")
+        raise KitError(f"{option} {path}: folder {target.parent} does not exist")
     if target.is_dir():
-        raise KitError(f"--results {path}: is a folder, not a file")
+        raise KitError(f"{option} {path}: is a folder, not a file")
     try:
-        atomic.write(target, json.dumps(data, indent=1, ensure_ascii=False))
+        atomic.write(target, text)
     except OSError as e:
-        raise KitError(f"--results {path}: cannot write it ({e.strerror})")
+        raise KitError(f"{option} {path}: cannot write it ({e.strerror})")
+
+
+def write(path: str | Path, data: dict) -> None:
+    """Writes `data` whole or not at all (atomic.write)."""
+    write_output("--results", path, json.dumps(data, indent=1, ensure_ascii=False))
 
 
 def read(path: str | Path) -> dict:

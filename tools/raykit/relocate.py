@@ -14,18 +14,21 @@ from pathlib import Path
 from .common import BUILD, ROOT, KitError, note
 
 
+def cache_entries(cache: Path) -> dict[str, str]:
+    """A CMakeCache.txt's entries, NAME:TYPE=VALUE, as NAME -> VALUE (stripped). OSError when it cannot
+    be read."""
+    lines = cache.read_text(errors="replace").splitlines()
+    return {name: value.split("=", 1)[1].strip() for name, _, value in (l.partition(":") for l in lines)
+            if "=" in value}
+
+
 def cache_paths(cache: Path) -> tuple[str, str]:
     """The build folder and the source folder a CMakeCache.txt was made for ("" when not said)."""
-    made_in = source = ""
     try:
-        for line in cache.read_text(errors="replace").splitlines():
-            if line.startswith("CMAKE_CACHEFILE_DIR:"):
-                made_in = line.split("=", 1)[1].strip()
-            elif line.startswith("CMAKE_HOME_DIRECTORY:"):
-                source = line.split("=", 1)[1].strip()
+        found = cache_entries(cache)
     except OSError:
-        pass
-    return made_in, source
+        found = {}
+    return found.get("CMAKE_CACHEFILE_DIR", ""), found.get("CMAKE_HOME_DIRECTORY", "")
 
 
 def _same(a: str, b: Path) -> bool:

@@ -13,6 +13,7 @@ import signal
 import subprocess
 import tempfile
 import time
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -37,18 +38,14 @@ def _read_lines(path: Path) -> list[dict]:
     except FileNotFoundError:
         return events
     for line in text.splitlines():
-        try:
+        with suppress(json.JSONDecodeError):  # a half-written last line from a killed process
             events.append(json.loads(line))
-        except json.JSONDecodeError:
-            pass            # a half-written last line from a killed process
     return events
 
 
 def _kill(proc: subprocess.Popen) -> None:
-    try:
+    with suppress(ProcessLookupError):
         os.killpg(proc.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
     proc.wait()
 
 
@@ -179,11 +176,9 @@ def record_reference_time(build: Build, step: Step, budget: Budget, cases: list[
     spent = budget.spent()
     data = reference_times()
     data[step.number] = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"]}
-    try:
+    with suppress(OSError):
         REFERENCE_TIMES.parent.mkdir(parents=True, exist_ok=True)
         atomic.write(REFERENCE_TIMES, json.dumps(data, indent=1, sort_keys=True) + "\n")
-    except OSError:
-        pass
 
 
 def group_cpu(groups: list[str]) -> float | None:
@@ -192,16 +187,12 @@ def group_cpu(groups: list[str]) -> float | None:
     kernel counts them. None where there is no such group (a container: the judge's ledger only)."""
     total, found = 0.0, False
     for g in groups:
-        try:
+        with suppress(OSError, KeyError, ValueError):
             stat = dict(line.split() for line in (Path(g) / "cpu.stat").read_text().splitlines() if " " in line)
             total, found = total + int(stat["usage_usec"]) / 1e6, True
             continue
-        except (OSError, KeyError, ValueError):
-            pass
-        try:
+        with suppress(OSError, ValueError):
             total, found = total + int((Path(g) / "cpuacct.usage").read_text()) / 1e9, True
-        except (OSError, ValueError):
-            pass
     return total if found else None
 
 

@@ -25,7 +25,7 @@ import sys
 import tempfile
 import threading
 import time
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Iterator
 
@@ -48,11 +48,9 @@ def _sweep() -> None:
             fd = os.open(os.path.join(e.path, HELD), os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
         except FileNotFoundError:
             # Made a moment ago and not locked yet, or left half made: only an old one is removed.
-            try:
+            with suppress(OSError):
                 if time.time() - e.stat(follow_symlinks=False).st_mtime > 3600:
                     shutil.rmtree(e.path, ignore_errors=True)
-            except OSError:
-                pass
             continue
         except OSError:
             continue
@@ -130,9 +128,7 @@ def using(folder: Path, what: str = "") -> Iterator[None]:
         finally:
             with _held_guard:
                 del _held[key]
-            try:
+            with suppress(OSError):
                 os.ftruncate(fd, 0)
-            except OSError:
-                pass
     finally:
         os.close(fd)

@@ -32,28 +32,20 @@ def rel(path: Path) -> str:
 
 def status_cell(r: StepResult) -> tuple[str, str]:
     basic, robust = r.tier("basic"), r.tier("robust")
-    if r.state == DONE:
-        text, style = f"done  {r.passed('basic')}/{len(basic)}", "green"
-        mark = "✓"
-    elif r.state == NOT_STARTED:
-        text, style, mark = "not started", "dim", "·"
-    elif r.state == PARTIAL:
-        text, style, mark = f"{r.passed('basic')} of {len(basic)} cases", "red", "✗"
-    elif r.state == NO_COMPILE:
-        text, style, mark = "does not compile", "red", "✗"
-    elif r.state == MISSING:
-        text, style, mark = "file missing", "red", "✗"
-    elif r.state == WAITING:
-        text, style, mark = f"needs step {r.detail} first", "yellow", "…"
-    else:   # NOT_GRADED: the grader's fault, no verdict; yellow, not a student's red
-        text, style, mark = f"not graded: {r.reason}"[:120], "yellow", "!"
+    # NOT_GRADED (the default): the grader's fault, no verdict; yellow, not a student's red
+    text, style, mark = {DONE: (f"done  {r.passed('basic')}/{len(basic)}", "green", "✓"),
+                         NOT_STARTED: ("not started", "dim", "·"),
+                         PARTIAL: (f"{r.passed('basic')} of {len(basic)} cases", "red", "✗"),
+                         NO_COMPILE: ("does not compile", "red", "✗"), MISSING: ("file missing", "red", "✗"),
+                         WAITING: (f"needs step {r.detail} first", "yellow", "…")
+                         }.get(r.state, (f"not graded: {r.reason}"[:120], "yellow", "!"))
     extra = ""
     hidden = r.tier("hidden")
     if hidden and r.state in (DONE, PARTIAL):
         extra += f"  hidden {r.passed('hidden')} of {len(hidden)}"
     if robust and r.state in (DONE, PARTIAL):
         extra += f"  ★ robust {r.passed('robust')} of {len(robust)}"
-    waiting = sum(c.status == NOT_STARTED for c in r.tier("basic"))
+    waiting = sum(c.status == NOT_STARTED for c in basic)
     if r.state == PARTIAL and waiting:
         extra += f"  ({waiting} not started yet)"
     incidents = r.incidents()
@@ -80,9 +72,7 @@ def case_block(step: Step, case, indent: str = "  ", reveal: bool = True, drawin
     star = "★ " if case.tier == "robust" else ""
     lines = [f"{indent}{paint('✗', 'red')} {star}{paint(case.name, 'bold')}  [{STATUS_WORDS.get(case.status, case.status)}]"]
     messages = case.messages if reveal or case.tier != "hidden" else [hidden_note()]
-    for m in messages[:3]:
-        for line in m.rstrip().splitlines():
-            lines.append(f"{indent}    {line}")
+    lines += [f"{indent}    {line}" for m in messages[:3] for line in m.rstrip().splitlines()]
     if case.output_bytes and (reveal or case.tier != "hidden"):
         shown = case.output.splitlines()[:OUTPUT_LINES]
         lines.append(f"{indent}    your code printed ({case.output_bytes} bytes"
@@ -120,11 +110,8 @@ def compile_errors(text: str, limit: int = 12) -> list[str]:
 
 def function_of(case) -> str:
     """The step function a failed case called, from its message's first line (`name(...)`)."""
-    for m in case.messages:
-        hit = re.match(r"\s*(?:Your code \w+ (?:in|an exception in) )?([a-z_]+)\(", m)
-        if hit:
-            return hit.group(1)
-    return "other checks"
+    calls = (re.match(r"\s*(?:Your code \w+ (?:in|an exception in) )?([a-z_]+)\(", m) for m in case.messages)
+    return next((hit.group(1) for hit in calls if hit), "other checks")
 
 
 def all_failures(r: StepResult, reveal: bool) -> list[str]:
@@ -160,11 +147,8 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
         return out
     s = todo.step
     out.append(paint(f"Next: step {s.number}, {s.title}", "bold"))
-    for f in s.files:
-        out.append(f"  edit      {rel(shown / s.folder / f)}")
-    out.append(f"  task      {rel(ROOT / 'steps' / s.folder / 'README.md')}")
-    out.append(f"  lecture   {s.lecture}")
-    out.append("")
+    out += [f"  edit      {rel(shown / s.folder / f)}" for f in s.files]
+    out += [f"  task      {rel(ROOT / 'steps' / s.folder / 'README.md')}", f"  lecture   {s.lecture}", ""]
     if todo.state == NOT_STARTED:
         out.append(f"  Read the task, then replace each not_implemented_yet(...) line in "
                    f"{s.files[0]} with your code.")
@@ -176,8 +160,8 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     elif todo.state == WAITING:
         out.append(f"  Step {s.number} uses your step {todo.detail}: finish that one first.")
     elif todo.state == NOT_GRADED:
-        out.append(f"  {faults.to_student(todo.reason, 'check again; if it stays so, tell your instructor')}")
-        out.append(f"  {todo.detail.splitlines()[0] if todo.detail else ''}".rstrip())
+        out += [f"  {faults.to_student(todo.reason, 'check again; if it stays so, tell your instructor')}",
+                f"  {todo.detail.splitlines()[0] if todo.detail else ''}".rstrip()]
     else:
         c = todo.first_problem("basic") or todo.first_problem("hidden")
         if c is not None:
@@ -185,8 +169,7 @@ def next_steps(results: list[StepResult], shown: Path, watching: bool = False) -
     if not watching:   # ./kit watch re-checks by itself at every save
         # A step waiting for another: the other one is what to check next, not this one again.
         then = todo.detail.split(",")[0] if todo.state == WAITING and todo.detail else s.number
-        out.append("")
-        out.append(f"  Then run: ./kit check {int(then)}")
+        out += ["", f"  Then run: ./kit check {int(then)}"]
     return out
 
 

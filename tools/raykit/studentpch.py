@@ -32,6 +32,7 @@ import os
 import re
 import subprocess
 import threading
+from contextlib import suppress
 from pathlib import Path
 
 from . import atomic
@@ -53,12 +54,10 @@ def step_headers() -> list[str]:
     if _headers is None:
         found = set()
         for stub in sorted((ROOT / "steps").glob("*/*.cpp")):
-            try:
+            with suppress(OSError):
                 m = FIRST_INCLUDE.search(stub.read_text(errors="replace"))
-            except OSError:
-                continue
-            if m and (ROOT / "include" / m.group(1)).is_file():
-                found.add(m.group(1))
+                if m and (ROOT / "include" / m.group(1)).is_file():
+                    found.add(m.group(1))
         _headers = sorted(found)
     return _headers
 
@@ -115,11 +114,8 @@ def _is_gcc(compiler: str) -> bool:
 def _deps_current(deps_file: Path) -> bool:
     try:
         deps = json.loads(deps_file.read_text())
-        for path, size, mtime in deps:
-            st = os.stat(path)
-            if st.st_size != size or st.st_mtime_ns != mtime:
-                return False
-        return bool(deps)
+        return bool(deps) and all((st.st_size, st.st_mtime_ns) == (size, mtime)
+                                  for path, size, mtime in deps for st in [os.stat(path)])
     except (OSError, ValueError, TypeError):
         return False
 
@@ -137,11 +133,9 @@ def _build(compiler: str, options: list[str], header: str, gch: Path, cwd: Path)
                             "-o", str(tmp), "-MD", "-MF", str(dep)], capture_output=True, timeout=300, cwd=cwd)
         if r.returncode != 0 or not tmp.is_file():
             return False
-        deps = []
-        for p in dependencies(dep.read_text(errors="replace")):
-            path = os.path.abspath(os.path.join(cwd, p))     # the options' paths are the build folder's
-            st = os.stat(path)
-            deps.append([path, st.st_size, st.st_mtime_ns])
+        # The options' paths are the build folder's.
+        deps = [[path, st.st_size, st.st_mtime_ns] for p in dependencies(dep.read_text(errors="replace"))
+                for path in [os.path.abspath(os.path.join(cwd, p))] for st in [os.stat(path)]]
         os.chmod(tmp, 0o644)        # read by the compile's own user id, through its private folder
         os.replace(tmp, gch)
         atomic.write(gch.with_name(gch.name + ".deps.json"), json.dumps(deps))
@@ -171,9 +165,7 @@ def for_compile(argv: list[str], source: str, cwd: Path) -> list[tuple[Path, str
     except OSError:
         return []
     folder = STORE / key
-    if not folder.is_dir() and mode != "build":
-        return []
-    if not _is_gcc(compiler):
+    if (not folder.is_dir() and mode != "build") or not _is_gcc(compiler):
         return []
     header = first.group(1)
     gch = folder / (header + ".gch")

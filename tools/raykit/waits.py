@@ -50,10 +50,6 @@ def waits_whole(step: Step, results: dict) -> str:
     return next((n for n in pending(step, results) if n not in free), "")
 
 
-def functions_of(number: str) -> list[str]:
-    return next((s.functions for s in load_steps() if s.number == number), [])
-
-
 def wait_on_needs(step: Step, cases: list, results: dict, state: str) -> str:
     """After the cases ran: each failed case of a section that needs a step not done yet waits for
     it. Returns the step's state: WAITING when only waiting cases are left, else `state`."""
@@ -66,7 +62,8 @@ def wait_on_needs(step: Step, cases: list, results: dict, state: str) -> str:
             continue
         need = next((n for n in waits if c.lecture not in free.get(n, [])), None)
         if need is not None:
-            names = ", ".join(functions_of(need)) or f"step {need}'s functions"
+            names = ", ".join(next((s.functions for s in load_steps() if s.number == need), [])) \
+                or f"step {need}'s functions"
             c.status = WAITING
             c.messages = [f"waits for your step {need} ({names}): this case calls it, and step {need} is not "
                           f"done yet. The cases of {step.number} that call nothing of step {need} are checked now."]

@@ -21,6 +21,7 @@ import signal
 import subprocess
 import sys
 import time
+from contextlib import suppress
 
 from .common import ROOT, load_steps
 from . import bundle
@@ -44,14 +45,12 @@ def wanted(build: Build) -> bool:
 def start(build: Build) -> None:
     """Starts the warm-up of `build` in its own session, detached from the terminal."""
     build.binary_dir.mkdir(parents=True, exist_ok=True)
-    try:
+    with suppress(OSError):  # no warm-up: the next check builds what it needs, as without one
         with open(build.binary_dir / LOG_FILE, "w") as log:
             proc = subprocess.Popen([str(ROOT / "kit"), "check", "--warm-up"], cwd=ROOT, stdin=subprocess.DEVNULL,
                                     stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
                                     preexec_fn=lambda: os.nice(19))
         (build.binary_dir / PID_FILE).write_text(str(proc.pid))
-    except OSError:
-        pass        # no warm-up: the next check builds what it needs, as without one
 
 
 def _pid(build: Build) -> int | None:
@@ -82,9 +81,7 @@ def run(build: Build) -> int:
         ok = False
     print(f"warm-up: {'built' if ok else 'could not build'} the kit's side in {time.monotonic() - start:.1f} s",
           flush=True)
-    try:
+    with suppress(OSError):
         if _pid(build) == os.getpid():
             (build.binary_dir / PID_FILE).unlink()
-    except OSError:
-        pass
     return 0 if ok else 1

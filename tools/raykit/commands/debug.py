@@ -53,16 +53,12 @@ def register(p) -> None:
 
 
 def gdb_script(functions: list[str]) -> str:
-    lines = ["set pagination off", "set confirm off", "set breakpoint pending on"]
-    lines += [f"break raykit::{f}" for f in functions]
-    lines += [f"echo \\n{STOPPED}\\n", "run"]
-    return "\n".join(lines) + "\n"
+    return "\n".join(["set pagination off", "set confirm off", "set breakpoint pending on"]
+                     + [f"break raykit::{f}" for f in functions] + [f"echo \\n{STOPPED}\\n", "run"]) + "\n"
 
 
 def lldb_script(functions: list[str]) -> str:
-    lines = [f"breakpoint set --name raykit::{f}" for f in functions]
-    lines += ["process launch"]
-    return "\n".join(lines) + "\n"
+    return "\n".join([f"breakpoint set --name raykit::{f}" for f in functions] + ["process launch"]) + "\n"
 
 
 def choose_debugger(wanted: str | None) -> str:
@@ -114,10 +110,9 @@ def debug_command(kit: bundle.Bundle, source: Path, out: Path) -> list[str]:
 
 def build_debug(kit: bundle.Bundle, step, steps_dir: Path, folder: Path) -> Path:
     """The step's answers program for the debugger, in `folder`; a KitError naming the compile error."""
-    sources = [(step.folder, f) for f in step.files]
     by_folder = {s.folder: s for s in load_steps()}
-    for need in kit.own_needs(step):
-        sources += [(need, f) for f in by_folder[need].files]
+    sources = [(step.folder, f) for f in step.files] + [(need, f) for need in kit.own_needs(step)
+                                                         for f in by_folder[need].files]
     missing = [f"{d}/{f}" for d, f in sources if not (steps_dir / d / f).is_file()]
     if missing:
         raise KitError(f"{missing[0]} is missing; ./kit check {int(step.number)} says what to write", FAILED)
@@ -153,11 +148,10 @@ def pick_case(judge: Path, wanted: str | None, check: Build, step, all_steps) ->
     if result is None:
         say(f"kit: running step {step.number}'s cases to find the first that fails")
         [result] = check_steps(check, [step], all_steps)
-    for tier in ("basic", "robust"):
-        case = result.first_problem(tier)
-        if case is not None and case.tier != "hidden":
-            return case.name
-    raise KitError(f"every case of step {step.number} passes; name a case to debug it anyway", FAILED)
+    case = result.first_problem("basic") or result.first_problem("robust")     # never a hidden one
+    if case is None:
+        raise KitError(f"every case of step {step.number} passes; name a case to debug it anyway", FAILED)
+    return case.name
 
 
 def record_calls(judge: Path, answers: Path, seed: str, case: str, log: Path) -> int:

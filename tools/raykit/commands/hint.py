@@ -129,13 +129,8 @@ def _first_failing(step, build, isolation):
     else:
         say(paint(f"kit: step {step.number}'s files are as your last ./kit check saw them: its first failing case "
                   "is taken from there", "dim"))
-    if result.state not in (PARTIAL, DONE):
-        return result.state, None, reused
-    for tier in ("basic", "hidden", "robust"):
-        case = result.first_problem(tier)
-        if case is not None:
-            return result.state, case, reused
-    return result.state, None, reused
+    tiers = ("basic", "hidden", "robust") if result.state in (PARTIAL, DONE) else ()
+    return result.state, next((c for t in tiers if (c := result.first_problem(t)) is not None), None), reused
 
 
 def run(args) -> int:

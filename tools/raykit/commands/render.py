@@ -30,6 +30,9 @@ RENDER_SECONDS = 60.0           # one picture; a student's endless loop is stopp
 DOCS_IMAGES = ROOT / "docs" / "images"
 TEST_DATA = ROOT / "tests" / "05_cornell_box" / "reference_render.hpp"
 TEST_SIZE = (48, 32)
+NO_SOLUTIONS = "this copy of the kit has no solutions/ folder. Render your own code with:\n  ./kit render --steps steps"
+DOCS_SIZE_ONLY = (f"this copy has no solutions/, so the only reference pictures are those in docs/images, at "
+                  f"{DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}; drop --size")
 
 # Exit statuses of raykit_render_stepNN (tools/render/tool.hpp).
 NOT_WRITTEN, THREW, CANNOT_WRITE = 3, 4, 5
@@ -47,20 +50,12 @@ class Scene:
         return [(s, self.name if s == "flat" else f"{self.name}-{s}") for s in self.shadings]
 
 
-def load_scenes() -> list[Scene]:
-    """The course's scenes, in step order, from each step's manifest: tests/NN_topic/step.json,
-    "scenes": [{"name", "shadings" ("flat" first), "about"}], drawn by tools/render/render_stepNN.cpp."""
-    scenes = []
-    for step in load_steps():
-        manifest = json.loads((ROOT / "tests" / step.folder / "step.json").read_text())
-        for entry in manifest.get("scenes", []):
-            scenes.append(Scene(entry["name"], step.number, list(entry["shadings"]), entry["about"]))
-    return scenes
-
-
 def available_scenes() -> list[Scene]:
-    """The scenes of the steps that are part of this kit (a step's manifest lists them)."""
-    return load_scenes()
+    """The course's scenes, in step order, from the manifest of each step of this kit:
+    tests/NN_topic/step.json, "scenes": [{"name", "shadings" ("flat" first), "about"}], drawn by
+    tools/render/render_stepNN.cpp."""
+    return [Scene(entry["name"], step.number, list(entry["shadings"]), entry["about"]) for step in load_steps()
+            for entry in json.loads((ROOT / "tests" / step.folder / "step.json").read_text()).get("scenes", [])]
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -133,8 +128,7 @@ def build_renderers(build: Build, steps: list[str]) -> dict[str, str]:
         ok, out = build_target(build, f"raykit_render_step{nn}")
         if not ok:
             errors = [line for line in out.splitlines() if "error" in line][:3]
-            problems[nn] = "it does not compile (./kit check shows why)" + \
-                ("".join(f"\n      {e}" for e in errors) if errors else "")
+            problems[nn] = "it does not compile (./kit check shows why)" + "".join(f"\n      {e}" for e in errors)
     ok, out = build_target(build, "raykit_imgdiff")
     if not ok:
         raise KitError(f"could not build the image comparer:\n{out[-2000:]}", FAILED)
@@ -152,9 +146,9 @@ def render_one(exe: Path, scene: str, shading: str, size: tuple[int, int], targe
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.communicate()
-        tmp.unlink(missing_ok=True)
         return f"stopped after {RENDER_SECONDS:g} s: an endless loop?"
-    tmp.unlink(missing_ok=True)         # left only by a crash in the middle of writing
+    finally:
+        tmp.unlink(missing_ok=True)     # left only by a stop or a crash in the middle of writing
     message = (err or out).strip().splitlines()
     first = message[0] if message else ""
     if proc.returncode == 0:
@@ -267,16 +261,13 @@ def verdict(d: Difference, picture: Path, reference: Path, diff: Path, accepted:
             elif d.other == 0:
                 lines.append("      only edges moved: a camera shifted by half a pixel, or an object a little off "
                              "(the correct answers measured never move one)")
-    lines.append(f"      reference {reference}")
-    lines.append(f"      marked in {diff}")
-    return lines
+    return lines + [f"      reference {reference}", f"      marked in {diff}"]
 
 
 def render_reference(scenes: list[Scene], size: tuple[int, int], out: Path) -> dict[str, Path]:
     """Renders the scenes with the solutions into `out`; {image name: path}."""
     if not (ROOT / "solutions").is_dir():
-        raise KitError("this copy of the kit has no solutions/ folder. Render your own code with:\n"
-                       "  ./kit render --steps steps", USAGE)
+        raise KitError(NO_SOLUTIONS, USAGE)
     build = preset_build("reference")
     problems = build_renderers(build, sorted({s.step for s in scenes}))
     if problems:
@@ -301,8 +292,7 @@ def reference_pictures(scenes: list[Scene], size: tuple[int, int]) -> dict[str, 
         folder.mkdir(parents=True, exist_ok=True)
         return render_reference(scenes, size, folder)
     if size != DEFAULT_SIZE:
-        raise KitError(f"this copy has no solutions/, so the only reference pictures are those in docs/images, "
-                       f"at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}; drop --size", USAGE)
+        raise KitError(DOCS_SIZE_ONLY, USAGE)
     return {name: DOCS_IMAGES / f"{name}.png" for s in scenes for _, name in s.images()
             if (DOCS_IMAGES / f"{name}.png").is_file()}
 
@@ -340,10 +330,6 @@ def fresh_test_data() -> str:
         return test_data_text(path.read_text().splitlines())
 
 
-def write_atomically(path: Path, text: str) -> None:
-    atomic.write(path, text)
-
-
 # --- the command ---------------------------------------------------------------------------
 
 
@@ -375,11 +361,9 @@ def run(args) -> int:
     if not (ROOT / "solutions").is_dir():
         # A student's copy of the kit: the committed pictures are the only reference.
         if source is None:
-            raise KitError("this copy of the kit has no solutions/ folder. Render your own code with:\n"
-                           "  ./kit render --steps steps", USAGE)
+            raise KitError(NO_SOLUTIONS, USAGE)
         if size != DEFAULT_SIZE:
-            raise KitError(f"this copy has no solutions/, so the only reference pictures are those in docs/images, "
-                           f"at {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}; drop --size", USAGE)
+            raise KitError(DOCS_SIZE_ONLY, USAGE)
     default_out = BUILD / "render" / ("steps" if source else "")
     out = prepare_out(Path(args.out).expanduser() if args.out else default_out, args.out or str(default_out))
     if source is None:
@@ -389,8 +373,7 @@ def run(args) -> int:
 
 def render_solutions(scenes: list[Scene], size: tuple[int, int], out: Path) -> int:
     note(f"kit: rendering {len(scenes)} scene(s) at {size[0]}x{size[1]} with the reference solutions")
-    written = render_reference(scenes, size, out)
-    for name, path in written.items():
+    for path in render_reference(scenes, size, out).values():
         say(f"  {paint('✓', 'green')} {path}")
     return OK
 
@@ -452,6 +435,6 @@ def refresh() -> int:
         for name, path in written.items():
             atomic.write(DOCS_IMAGES / f"{name}.png", path.read_bytes())
             say(f"  {paint('✓', 'green')} {(DOCS_IMAGES / f'{name}.png').relative_to(ROOT)}")
-    write_atomically(TEST_DATA, fresh_test_data())
+    atomic.write(TEST_DATA, fresh_test_data())
     say(f"  {paint('✓', 'green')} {TEST_DATA.relative_to(ROOT)}")
     return OK

@@ -23,6 +23,7 @@ import sys
 import termios
 import time
 import tty
+from contextlib import suppress
 from pathlib import Path
 
 from .. import picture, studentpch
@@ -166,10 +167,8 @@ class Check:
         if self.done():
             return
         for pid in [self.pid] + descendants(self.pid):
-            try:
+            with suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
-            except OSError:
-                pass
         os.waitpid(self.pid, 0)
         self.status = -1
 

@@ -28,7 +28,7 @@ The parts, each importing only those above it in this list:
 - drawing.py: the SVG whole (render), its sketch in characters, write;
 - grading.py: the pictures of a grading (pictures_folder, draw_results);
 - gallery.py: the pitfalls of docs/pitfalls.md (PITFALLS, write_gallery).
-The package re-exports their names, so `picture.render` and the rest are used as before. A name is
+The package re-exports the names its users read through it (`picture.render`, ...). A name is
 looked up in the part that defines it: a test that replaces one sets it there (picture.drawing.write),
 not on the package.
 """
@@ -37,25 +37,15 @@ from __future__ import annotations
 
 from fractions import Fraction  # noqa: F401  (the self-test reads picture.Fraction, as before the split)
 
-from .basics import (escape, WIDTH, PANEL_MAX_HEIGHT, PANEL_MIN_HEIGHT, FAR, NEARLY_PARALLEL, EXPECTED_COLOUR,
-                     GOT_COLOUR, WINDOW_COLOUR, RAY_COLOUR, SHAPE_COLOUR, AXES, PictureError, f32, num, ulps_apart,
-                     vec, fmt, fmt_vec, fmt_point, add, sub, scale, inner, norm, unit, cross, perpendicular,
-                     finite, _ADVANCE, text_width, text_box, overlap, wrap_px)  # noqa: F401
-from .case import Case, answer_text, direction_text, shape_text, summary, summary_of  # noqa: F401
-from .panel import Panel, around, bounds, ABOVE, BELOW, draw_ray, mark_answers, extras  # noqa: F401
-from .shapes import line_and_centre, sphere_panels, rect_panels, draw_rect, rect_labels  # noqa: F401
-from .drawing import (render, render_all, SKETCH_COLUMNS, SKETCH_ROWS, sketch, legend_svg, shorten_px, slug,
-                      write)  # noqa: F401
+from .basics import (EXPECTED_COLOUR, GOT_COLOUR, WIDTH, PictureError, norm, overlap, sub,  # noqa: F401
+                     text_box)
+from .case import Case  # noqa: F401
+from .shapes import line_and_centre  # noqa: F401
+from .drawing import render, render_all, SKETCH_ROWS, sketch, slug, write  # noqa: F401
 from .grading import pictures_folder, draw_results  # noqa: F401
-from .gallery import INF, _THROUGH, _WIDE, PITFALLS, write_gallery  # noqa: F401
+from .gallery import PITFALLS, write_gallery  # noqa: F401
 
-# The names the package re-exports (pyflakes reads them as used).
-__all__ = ["Fraction", "escape", "WIDTH", "PANEL_MAX_HEIGHT", "PANEL_MIN_HEIGHT", "FAR", "NEARLY_PARALLEL",
-           "EXPECTED_COLOUR", "GOT_COLOUR", "WINDOW_COLOUR", "RAY_COLOUR", "SHAPE_COLOUR", "AXES", "PictureError",
-           "f32", "num", "ulps_apart", "vec", "fmt", "fmt_vec", "fmt_point", "add", "sub", "scale", "inner", "norm",
-           "unit", "cross", "perpendicular", "finite", "_ADVANCE", "text_width", "text_box", "overlap", "wrap_px",
-           "Case", "answer_text", "direction_text", "shape_text", "summary", "summary_of", "Panel", "around",
-           "bounds", "ABOVE", "BELOW", "draw_ray", "mark_answers", "extras", "line_and_centre", "sphere_panels",
-           "rect_panels", "draw_rect", "rect_labels", "render", "render_all", "SKETCH_COLUMNS", "SKETCH_ROWS",
-           "sketch", "legend_svg", "shorten_px", "slug", "write", "pictures_folder", "draw_results", "INF",
-           "_THROUGH", "_WIDE", "PITFALLS", "write_gallery"]
+# The names the package re-exports, those its users read through it (pyflakes reads them as used).
+__all__ = ["Fraction", "EXPECTED_COLOUR", "GOT_COLOUR", "WIDTH", "PictureError", "norm", "overlap", "sub",
+           "text_box", "Case", "line_and_centre", "render", "render_all", "SKETCH_ROWS", "sketch", "slug", "write",
+           "pictures_folder", "draw_results", "PITFALLS", "write_gallery"]

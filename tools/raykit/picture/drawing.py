@@ -28,12 +28,9 @@ def render(figure: dict, title: str) -> tuple:
     first = 22 + 19 * (len(titles) - 1)         # the baseline of the summary's first line, less 22
     top = first + 30 + 17 * len(head) - 9
     panels = sphere_panels(case, top) if case.sphere is not None else rect_panels(case, top)
-    notes = []
-    for p in panels:
-        notes += p.notes
-        notes += [f"{label}, at {fmt_point(q)}, is far outside the view: the view shows the shape and the hits"
-                  for label, q in p.off]
-    notes = list(dict.fromkeys(notes))
+    notes = list(dict.fromkeys(n for p in panels for n in p.notes + [
+        f"{label}, at {fmt_point(q)}, is far outside the view: the view shows the shape and the hits"
+        for label, q in p.off]))
     y = panels[-1].bottom + 26
     legend, legend_height = legend_svg(y, case.window is not None)
     y += legend_height + 4
@@ -175,8 +172,7 @@ def legend_svg(y: float, window: bool) -> tuple:
         w = room + text_width(text, 12.5)
         if x > 10 and x + w > WIDTH - 10:
             x, y = 10.0, y + 20
-        out.append(mark(x, y))
-        out.append(f'<text x="{x + room:.1f}" y="{y}" font-size="12.5">{escape(text)}</text>')
+        out += [mark(x, y), f'<text x="{x + room:.1f}" y="{y}" font-size="12.5">{escape(text)}</text>']
         x += w + 22
     return "".join(out + ["</g>"]), y - top + 18
 

@@ -223,15 +223,10 @@ def mark_answers(panel: Panel, case: Case, at) -> None:
     shown = []      # (who, t, x, y)
     for who, a, colour in (("expected", case.expected, EXPECTED_COLOUR), ("got", case.got, GOT_COLOUR)):
         for t in a["ts"]:
-            p = at(t)
-            if not math.isfinite(t):
-                panel.notes.append(f"{who} t = {fmt(t)}: no point to draw")
-                continue
+            p = at(t) if math.isfinite(t) else (math.nan, math.nan)
             if not panel.inside(p):
-                if all(math.isfinite(c) for c in p):
-                    panel.notes.append(f"{who} t = {fmt(t)} is at {fmt_point(case.point(t))}, outside the view")
-                else:
-                    panel.notes.append(f"{who} t = {fmt(t)}: no point to draw")
+                panel.notes.append(f"{who} t = {fmt(t)} is at {fmt_point(case.point(t))}, outside the view"
+                                   if finite(*p) else f"{who} t = {fmt(t)}: no point to draw")
                 continue
             x, y = panel.px(p)
             if any(q[0] == who and q[1] == t for q in shown):

@@ -31,21 +31,18 @@ root), which also bounds the memory of tmpfs files and lets a timeout end every 
 
 from __future__ import annotations
 
-from .limits import HIDDEN, HIDDEN_TMPFS_BYTES, Limits, MiB, SECRET_PARTS, SYSTEM, SYSTEM_ETC, SYSTEM_LINKS  # noqa: F401
-from .ids import COMPILE_UID_OFFSET, FIRST_UID, FIRST_UID_ENV, LOCK_DIRS, UID_CLAIMS, UID_RANGE, claim_range, claim_uid, first_uid  # noqa: F401
-from .reaping import become_subreaper, kill_session, kill_uid, reap_orphans, session_members  # noqa: F401
-from .ipc import SHARED_WRITABLE, clean_uid_files, clean_uid_ipc  # noqa: F401
-from .cgroups import kill_cgroup, make_cgroups  # noqa: F401
-from .bwrap import bwrap_sizes, bwrap_works, compiler_folders, install_bwrap, system_view  # noqa: F401
-from .runner import SANDBOX_FAILED, _run_tool, copy_regular  # noqa: F401
-from .view import Scratch, WITHHELD, WithheldFromOthers, hide_secrets, restore_withheld  # noqa: F401
+from .limits import Limits, MiB, SECRET_PARTS  # noqa: F401
+from .ids import (COMPILE_UID_OFFSET, FIRST_UID, FIRST_UID_ENV, LOCK_DIRS, UID_CLAIMS, UID_RANGE,  # noqa: F401
+                  claim_range, claim_uid, first_uid)
+from .reaping import kill_session, kill_uid, session_members  # noqa: F401
+from .bwrap import bwrap_works  # noqa: F401
+from .runner import SANDBOX_FAILED, copy_regular  # noqa: F401
+from .view import Scratch, WithheldFromOthers, hide_secrets  # noqa: F401
 from .isolation import Isolation, NONE_OWN, choose  # noqa: F401
 
-# The names the package re-exports (pyflakes reads them as used).
-__all__ = ["HIDDEN", "HIDDEN_TMPFS_BYTES", "Limits", "MiB", "SECRET_PARTS", "SYSTEM", "SYSTEM_ETC", "SYSTEM_LINKS",
-           "COMPILE_UID_OFFSET", "FIRST_UID", "FIRST_UID_ENV", "LOCK_DIRS", "UID_CLAIMS", "UID_RANGE",
-           "claim_range", "claim_uid", "first_uid", "become_subreaper", "kill_session", "kill_uid", "reap_orphans",
-           "session_members", "SHARED_WRITABLE", "clean_uid_files", "clean_uid_ipc", "kill_cgroup", "make_cgroups",
-           "bwrap_sizes", "bwrap_works", "compiler_folders", "install_bwrap", "system_view", "SANDBOX_FAILED",
-           "_run_tool", "copy_regular", "Scratch", "WITHHELD", "WithheldFromOthers", "hide_secrets",
-           "restore_withheld", "Isolation", "NONE_OWN", "choose"]
+# The names the package re-exports: those its users (code, the self-test's scripts, the comments that
+# name them) read through it (pyflakes reads them as used).
+__all__ = ["Limits", "MiB", "SECRET_PARTS", "COMPILE_UID_OFFSET", "FIRST_UID", "FIRST_UID_ENV", "LOCK_DIRS",
+           "UID_CLAIMS", "UID_RANGE", "claim_range", "claim_uid", "first_uid", "kill_session", "kill_uid",
+           "session_members", "bwrap_works", "SANDBOX_FAILED", "copy_regular", "Scratch", "WithheldFromOthers",
+           "hide_secrets", "Isolation", "NONE_OWN", "choose"]

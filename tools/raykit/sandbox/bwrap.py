@@ -6,6 +6,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+from contextlib import suppress
 from pathlib import Path
 
 from ..common import BUILD, ROOT
@@ -62,15 +63,13 @@ def compiler_folders(shown: list[str]) -> list[str]:
         words = shlex.split(os.environ.get("CXX", ""))
     except ValueError:
         words = []
-    try:
+    with suppress(OSError):
         if Path.cwd() != BUILD and BUILD not in Path.cwd().parents:
             raise OSError("not a build folder of the kit")
         with open("CMakeCache.txt", errors="replace") as cache:
             for line in cache:
                 if line.startswith("CMAKE_CXX_COMPILER:"):
                     words.append(line.split("=", 1)[1].strip())
-    except OSError:
-        pass
     for word in words:
         exe = shutil.which(word)
         if not exe:

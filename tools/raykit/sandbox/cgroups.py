@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import signal
 import time
+from contextlib import suppress
 from pathlib import Path
 
 from .limits import Limits, MiB
@@ -42,19 +43,15 @@ def make_cgroups(slot: int, limits: Limits) -> list[str]:
             for key, value in settings.items():
                 (group / key).write_text(str(value))
             if controller == "memory" and (group / "memory.memsw.limit_in_bytes").is_file():
-                try:
+                with suppress(OSError):
                     (group / "memory.memsw.limit_in_bytes").write_text(str(limits.memory_mb * MiB))
-                except OSError:
-                    pass
         if not any("/memory/" in g for g in made):
             raise OSError("no memory controller")
         return made
     except OSError:
         for g in made:
-            try:
+            with suppress(OSError):
                 os.rmdir(g)
-            except OSError:
-                pass
         return []
 
 
@@ -67,8 +64,6 @@ def kill_cgroup(group: Path) -> None:
         if not pids:
             return
         for p in pids:
-            try:
+            with suppress(OSError):
                 os.kill(p, signal.SIGKILL)
-            except OSError:
-                pass
         time.sleep(0.02)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import stat
 import sys
+from contextlib import suppress
 
 from .. import procfs
 
@@ -14,21 +15,13 @@ from .. import procfs
 # User ids for the sandbox, one per parallel grading slot. Never in /etc/passwd: nothing but the
 # sandboxed processes ever has them (an id that has a name there is skipped).
 FIRST_UID = 64000
-
-
 UID_CLAIMS = 32                 # ids FIRST_UID + slot + 64 k, k < UID_CLAIMS, run the code
-
-
 COMPILE_UID_OFFSET = 64 * UID_CLAIMS    # and each one's compile runs as that id + this
-
-
 UID_RANGE = 2 * COMPILE_UID_OFFSET      # the ids of one root file system's gradings
-
 
 # Several root file systems on one kernel (tools/portability/run's chroots) each take their own
 # range: RAYKIT_FIRST_UID, FIRST_UID + k * UID_RANGE, set by whoever made the root.
 FIRST_UID_ENV = "RAYKIT_FIRST_UID"
-
 
 # Where the claims on those ids are kept: a folder only root can write (see claim_uid).
 LOCK_DIRS = ["/run/raykit", "/var/lib/raykit/locks"]
@@ -203,10 +196,8 @@ def _lock_folder() -> int:
         try:
             for i, part in enumerate(parts):
                 if i == len(parts) - 1 or (named is None and i > 0):
-                    try:
+                    with suppress(FileExistsError):
                         os.mkdir(part, 0o700, dir_fd=fd)
-                    except FileExistsError:
-                        pass
                 inner = os.open(part, _DIR_FLAGS, dir_fd=fd)
                 os.close(fd)
                 fd = inner

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+from contextlib import suppress
 
 from .. import procfs
 
@@ -27,15 +28,13 @@ def clean_uid_files(uid: int) -> None:
         except OSError:
             continue
         for e in entries:
-            try:
+            with suppress(OSError):
                 if e.stat(follow_symlinks=False).st_uid != uid:
                     continue
                 if e.is_dir(follow_symlinks=False):
                     shutil.rmtree(e.path, ignore_errors=True)
                 else:
                     os.unlink(e.path)
-            except OSError:
-                pass
 
 
 def clean_uid_ipc(uid: int) -> None:

@@ -7,6 +7,7 @@ import resource
 import shutil
 import tempfile
 import time
+from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -56,10 +57,8 @@ class Isolation:
         def enter() -> None:
             os.setpgid(0, 0)
             for group in cgroups:
-                try:
+                with suppress(OSError):
                     Path(group, "cgroup.procs").write_text(str(os.getpid()))
-                except OSError:
-                    pass
             for res, value in ((resource.RLIMIT_AS, memory_mb * MiB), (resource.RLIMIT_CORE, 0),
                                (resource.RLIMIT_FSIZE, limits.file_mb * MiB),
                                (resource.RLIMIT_CPU, limits.cpu_seconds)):
@@ -127,10 +126,8 @@ class Isolation:
     def close(self) -> None:
         for group in self.cgroups:
             kill_cgroup(Path(group))
-            try:
+            with suppress(OSError):
                 os.rmdir(group)
-            except OSError:
-                pass
         if not (self.uid or self.compile_uid):
             return                  # no id of the sandbox's: nothing of the graded code's to reap
         kill_uid(self.uid, self.compile_uid)        # both ids in one scan of /proc a round

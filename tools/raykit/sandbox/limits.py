@@ -23,20 +23,11 @@ SECRET_PARTS = ["solutions", "tests", "build", "bench", ".git"]
 # - the boundary's own files (Isolation.wrapper's ro, rw and tmpfs), a fresh /dev and /proc;
 # - HIDDEN, writable and empty: what programs expect to write, each a small tmpfs of its own.
 SYSTEM = ["/usr"]
-
-
 SYSTEM_LINKS = ["/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"]
-
-
 SYSTEM_ETC = ["/etc/alternatives", "/etc/ld.so.cache"]
-
-
 HIDDEN = ["/tmp", "/dev/shm"]
 
-
 MiB = 1 << 20
-
-
 HIDDEN_TMPFS_BYTES = 4 * MiB        # each hidden folder's tmpfs, where bubblewrap can size one
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import signal
 import time
+from contextlib import suppress
 
 from .. import procfs
 from ..sandbox_slots import clear_keyrings, prepare_keyctl
@@ -13,11 +14,9 @@ from ..sandbox_slots import clear_keyrings, prepare_keyctl
 def become_subreaper() -> None:
     """Orphans of the graded code (killed sandboxes' processes) are given to this process, which
     reaps them (reap_children), instead of to PID 1, which in some containers never does."""
-    try:
+    with suppress(OSError, AttributeError):
         import ctypes
         ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)     # PR_SET_CHILD_SUBREAPER
-    except (OSError, AttributeError):
-        pass
 
 
 def reap_orphans(uids: set[int]) -> bool:
@@ -37,11 +36,9 @@ def reap_orphans(uids: set[int]) -> bool:
         if not fields.get("State", "").startswith("Z"):
             left = True
             continue
-        try:
+        with suppress(ChildProcessError):
             if os.waitpid(p, os.WNOHANG)[0] == 0:
                 left = True
-        except ChildProcessError:
-            pass
     return left
 
 
@@ -60,10 +57,8 @@ def _signal_all_as(uid: int) -> None:
             os.setgroups([])
             os.setgid(uid)
             os.setuid(uid)
-            try:
+            with suppress(OSError):  # none left to signal
                 os.kill(-1, signal.SIGKILL)
-            except OSError:         # none left to signal
-                pass
             clear_keyrings()        # what the id's processes kept in its keyrings outlives them
         finally:
             os._exit(0)
@@ -113,10 +108,8 @@ def kill_session(sid: int) -> int:
         if not left:
             break
         for p in left:
-            try:
+            with suppress(OSError):
                 os.kill(p, signal.SIGKILL)
                 ended += 1
-            except OSError:
-                pass
         time.sleep(0.02)
     return ended

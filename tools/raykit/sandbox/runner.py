@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import suppress
 from typing import TYPE_CHECKING
 import os
 import shutil
@@ -176,11 +177,9 @@ def _run_tool(iso: Isolation, kind: str, argv: list[str], cwd: Path, work: Path,
     status, text = _finish(kind, iso, text, returncode, timed_out, total, mapping, copies, memory)
     for dep in dep_files if status == 0 else []:
         made = next((str(target) for _, target, mode in copies if mode == 0o755), "")
-        try:
+        with suppress(OSError):
             dep.parent.mkdir(parents=True, exist_ok=True)
             dep.write_text(f"{made}:\n")
-        except OSError:
-            pass
     return status, text
 
 
@@ -281,7 +280,5 @@ def _end_group(proc: subprocess.Popen) -> None:
     """Ends the compile's process group (what the compiler driver started). Not the user id's or the
     control group's other processes: the build runs compiles in parallel under one id. Whatever
     a compile could leave is ended with the submission (Isolation.close)."""
-    try:
+    with suppress(OSError):
         os.killpg(proc.pid, signal.SIGKILL)
-    except OSError:
-        pass

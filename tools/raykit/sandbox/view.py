@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import suppress
 from typing import TYPE_CHECKING
 import json
 import os
@@ -109,13 +110,11 @@ def hide_secrets() -> None:
     as closed as it was while grading (its owner and group keep their rights).
     """
     for p in [ROOT] + [ROOT / part for part in SECRET_PARTS]:
-        try:
+        with suppress(OSError):
             if p.exists() and not p.is_symlink():
                 mode = p.stat().st_mode
                 if mode & 0o007:
                     os.chmod(p, mode & ~0o007)
-        except OSError:
-            pass
 
 
 WITHHELD = BUILD / "withheld-modes.json"     # {path: [mode, pid]}: what to put back should the kit die
@@ -130,14 +129,12 @@ def _withheld_read() -> dict:
 
 
 def _withheld_write(data: dict) -> None:
-    try:
+    with suppress(OSError):
         if data:
             BUILD.mkdir(parents=True, exist_ok=True)
             atomic.write(WITHHELD, json.dumps(data))
         else:
             WITHHELD.unlink(missing_ok=True)
-    except OSError:
-        pass
 
 
 def _alive(pid: int) -> bool:
@@ -157,11 +154,9 @@ def restore_withheld() -> list[str]:
     for path, (mode, pid) in list(data.items()):
         if _alive(int(pid)) and int(pid) != os.getpid():
             continue
-        try:
+        with suppress(OSError):
             os.chmod(path, int(mode))
             done.append(path)
-        except OSError:
-            pass
         del data[path]
     _withheld_write(data)
     return done
@@ -193,12 +188,10 @@ class WithheldFromOthers:
             return self
         import atexit
         atexit.register(self.restore)
-        try:
+        with suppress(ValueError):  # not the main thread: atexit and finally still put them back
             for sig in (signal.SIGTERM, signal.SIGHUP):
                 if signal.getsignal(sig) == signal.SIG_DFL:
                     self.handlers[sig] = signal.signal(sig, _exit_on_signal)
-        except ValueError:
-            pass                    # not the main thread: atexit and finally still put them back
         record = _withheld_read()
         for p in self.paths:
             try:
@@ -216,18 +209,14 @@ class WithheldFromOthers:
     def restore(self) -> None:
         record = _withheld_read()
         for path, mode in list(self.taken.items()):
-            try:
+            with suppress(OSError):
                 os.chmod(path, mode)
-            except OSError:
-                pass
             record.pop(path, None)
             del self.taken[path]
         _withheld_write(record)
         for sig, old in self.handlers.items():
-            try:
+            with suppress(ValueError):
                 signal.signal(sig, old)
-            except ValueError:
-                pass
         self.handlers = {}
 
     def __exit__(self, *exc) -> None:
