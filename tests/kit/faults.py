@@ -23,6 +23,8 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
+import pytest
+
 from raykit import course as course_file
 from raykit.cases import StepResult
 from raykit.checking import recorded_cases
@@ -372,3 +374,48 @@ def selftest_busy_machine(ctx) -> str:
            f"the code's budget spent: {dict(got['spent'])}, a case not graded or left without a verdict")
     return (f"a step given no time: {got['within']['grader_error']} of {sum(got['within'].values())} cases not graded "
             f"with the budget unspent; with it spent, none ({dict(got['spent'])})")
+
+
+@pytest.mark.quick
+def selftest_killed_run_leaves_no_folder(ctx) -> str:
+    """A run killed by SIGKILL cannot remove its scratch folder (a judge's output, a compile's work,
+    build/runs/): the next run of the same kind does (raykit/heldtmp.py), and only that: a live run's
+    folder, a recent folder with no lock, a link and another prefix's folder stay."""
+    import signal
+    import tempfile
+    import time
+    from raykit import heldtmp
+    with tempfile.TemporaryDirectory(prefix="raykit-selftest-held-") as tmp:
+        parent = Path(tmp)
+        hold = ("import sys, time\nfrom pathlib import Path\nfrom raykit import heldtmp\n"
+                "with heldtmp.held('raykit-judge-', Path(sys.argv[1])) as f:\n"
+                "    print(f, flush=True)\n    time.sleep(120)\n")
+        env = dict(os.environ, PYTHONPATH=str(ROOT / "tools"))
+        runs = [subprocess.Popen([sys.executable, "-c", hold, tmp], stdout=subprocess.PIPE, text=True, env=env)
+                for _ in range(2)]
+        try:
+            killed, live = (Path(r.stdout.readline().strip()) for r in runs)
+            runs[0].send_signal(signal.SIGKILL)
+            runs[0].wait()
+            expect(killed.is_dir(), f"the killed run's folder {killed.name} was not there to sweep")
+            unlocked = parent / "raykit-judge-unlocked"
+            unlocked.mkdir()
+            other = parent / "raykit-build-other"
+            other.mkdir()
+            (parent / "raykit-judge-link").symlink_to(other)
+            with heldtmp.held("raykit-judge-", parent) as mine:
+                expect(mine.is_dir() and mine.name.startswith(f"raykit-judge-{os.getpid()}-"),
+                       f"the new folder is {mine}")
+            expect(not killed.exists(), f"the killed run's folder {killed.name} was left")
+            expect(not mine.exists(), "the run's own folder was not removed when it ended")
+            for kept in (live, unlocked, other, parent / "raykit-judge-link"):
+                expect(os.path.lexists(kept), f"{kept.name} was removed, though it is not a dead run's")
+            old = time.time() - heldtmp.UNLOCKED_AGE - 60
+            os.utime(unlocked, (old, old))
+            heldtmp.sweep(parent, "raykit-judge-")
+            expect(not unlocked.exists(), "a folder with no lock, older than an hour, was left")
+        finally:
+            for r in runs:
+                r.kill()
+                r.wait()
+    return "a killed run's folder is removed by the next run; a live run's, a new one, a link and another kind's stay"

@@ -46,7 +46,7 @@ STUDENT_ROOTS = ("raykit.__main__", "raykit.cli", "raykit.commands")
 # Module names without their package: a layer holds a module of either package.
 LAYERS = [
     ("core", ["status", "common", "atomic", "course", "manifest", "secret", "packages", "includes", "relocate", "kitfiles",
-              "waits", "submissions", "compilers", "procfs", "pycache", "faults"]),
+              "waits", "submissions", "compilers", "procfs", "pycache", "faults", "heldtmp"]),
     ("boundary", ["sandbox_slots", "sandbox.limits", "sandbox.ids", "sandbox.reaping", "sandbox.ipc", "sandbox.cgroups",
                   "sandbox.bwrap", "sandbox.runner", "sandbox.view", "sandbox.isolation", "sandbox", "studentpch"]),
     ("build", ["build", "bundle", "objcache", "warmup", "runfolders", "judgedby"]),

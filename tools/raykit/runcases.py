@@ -11,7 +11,6 @@ import json
 import os
 import signal
 import subprocess
-import tempfile
 import time
 from contextlib import suppress
 from dataclasses import dataclass
@@ -21,6 +20,7 @@ from typing import Callable
 from . import atomic
 from . import course as course_file
 from . import faults
+from . import heldtmp
 from .build import Build
 from .cases import Case
 from .common import BUILD, ROOT, Step, printable
@@ -50,7 +50,7 @@ def _kill(proc: subprocess.Popen) -> None:
 
 
 def list_cases(exe: Path) -> list[Case]:
-    with tempfile.TemporaryDirectory() as tmp:
+    with heldtmp.held("raykit-list-") as tmp:
         out = Path(tmp) / "list.jsonl"
         r = subprocess.run([str(exe), "--reporters=raykit", "--list-test-cases", f"--out={out}"],
                            capture_output=True, timeout=20)
@@ -219,7 +219,7 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
     group_start = group_cpu(groups)
     done: set[str] = set()
     full_env = dict(os.environ, **(env or {}))
-    with tempfile.TemporaryDirectory(prefix="raykit-judge-") as tmp:
+    with heldtmp.held("raykit-judge-") as tmp:
         attempt = 0
         while len(done) < len(cases) and time.monotonic() < deadline:
             attempt += 1
@@ -364,7 +364,7 @@ def _run_alone(exe: Path, c: Case, env: dict[str, str]) -> tuple[Case, bool]:
     gave none), and whether the run outlived the case's backstop."""
     again = Case(c.name, c.tier, c.lecture)
     outlived = False
-    with tempfile.TemporaryDirectory(prefix="raykit-rerun-") as tmp:
+    with heldtmp.held("raykit-rerun-") as tmp:
         out = Path(tmp) / "run.jsonl"
         try:
             subprocess.run([str(exe), "--reporters=raykit", f"--out={out}", f"--test-case={c.name}",

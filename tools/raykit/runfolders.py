@@ -20,62 +20,27 @@ from __future__ import annotations
 
 import fcntl
 import os
-import shutil
 import sys
-import tempfile
 import threading
 import time
 from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import Iterator
 
+from . import heldtmp
 from .common import BUILD
 
 RUNS = BUILD / "runs"
-HELD = ".held"          # the lock file inside a private folder: locked while its run lives
-
-
-def _sweep() -> None:
-    """Removes the private folders of runs that ended without removing theirs (their lock is free)."""
-    try:
-        entries = list(os.scandir(RUNS))
-    except OSError:
-        return
-    for e in entries:
-        if not e.is_dir(follow_symlinks=False):
-            continue
-        try:
-            fd = os.open(os.path.join(e.path, HELD), os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC)
-        except FileNotFoundError:
-            # Made a moment ago and not locked yet, or left half made: only an old one is removed.
-            with suppress(OSError):
-                if time.time() - e.stat(follow_symlinks=False).st_mtime > 3600:
-                    shutil.rmtree(e.path, ignore_errors=True)
-            continue
-        except OSError:
-            continue
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            continue                # a live run's
-        finally:
-            os.close(fd)            # (the lock, when taken, goes with the descriptor)
-        shutil.rmtree(e.path, ignore_errors=True)
 
 
 @contextmanager
 def private(kind: str) -> Iterator[Path]:
-    """A folder of this run's own under build/runs/ (see above), removed when the block ends."""
+    """A folder of this run's own under build/runs/ (see above), removed when the block ends; the
+    folders of runs that died are removed first (heldtmp: each is locked while its run lives)."""
     RUNS.mkdir(parents=True, exist_ok=True)
-    _sweep()
-    folder = Path(tempfile.mkdtemp(prefix=f"{kind}-{os.getpid()}-", dir=RUNS))
-    fd = os.open(folder / HELD, os.O_RDWR | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
+    heldtmp.sweep(RUNS, "")         # every kind's: the folder is the kit's own
+    with heldtmp.held(f"{kind}-", RUNS) as folder:
         yield folder
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
-        os.close(fd)
 
 
 _held: dict[str, list] = {}        # lock file -> [descriptor, depth]: one process takes a folder once

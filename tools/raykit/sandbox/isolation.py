@@ -5,12 +5,12 @@ from __future__ import annotations
 import os
 import resource
 import shutil
-import tempfile
 import time
 from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .. import heldtmp
 from ..sandbox_slots import RUN_PROCESSES, clear_keyrings, prepare_keyctl, scratch_words, use_kit_temp
 from .limits import Limits, MiB
 from .ids import COMPILE_UID_OFFSET, claim_uid
@@ -110,11 +110,8 @@ class Isolation:
         student's own. `cache`, when given, is the build layer's store of compiled objects
         (objcache.ObjectCache): called as cache(argv, work, source_dir, isolation, wrapper) for a
         compile, it answers fetch(out) and store(out, text); the boundary keeps none of its own."""
-        work = Path(tempfile.mkdtemp(prefix="raykit-build-"))
-        try:
+        with heldtmp.held("raykit-build-") as work:
             return _run_tool(self, kind, argv, cwd, work, cache)
-        finally:
-            shutil.rmtree(work, ignore_errors=True)
 
     def clean_files(self, uid: int) -> None:
         """What `uid` left in the shared temporary folders. Under bubblewrap it has none to write:
