@@ -22,15 +22,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
 import subprocess
-import tempfile
 from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from . import atomic, runfolders, slips
+from . import atomic, heldtmp, runfolders, slips
 from . import course as course_file
 from . import faults
 from . import includes
@@ -180,28 +178,25 @@ def judge_step(build: Build, step: Step, built: Built, results: dict[str, StepRe
         return StepResult(step, NO_COMPILE, _all(cases, NO_COMPILE, "does not compile: " + first.strip()),
                           detail="\n".join(found + [built.output]), includes=found)
     seed = submission_seed(build, step)
-    scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
-    ledger_dir = ""
-    try:
-        # The step's budget (runcases.py, "Budgets"): its ledger in a folder of the grader's, which the
-        # sandboxed code cannot reach, shared by every run of the judge, the cases run again too.
-        ledger_dir = tempfile.mkdtemp(prefix="raykit-ledger-")
-        budget = step_budget(step, Path(ledger_dir) / "ledger")
-        env = dict(scratch.env(), RAYKIT_SEED=seed, **budget.env())
-        if not isolation.sandboxed:
-            env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
-        run_cases(judge, cases, env, *course_file.load().case_limits(), budget=budget)   # course.json time_limits
-        rerun_timeouts(judge, cases, env, scratch.between_runs, looped=budget.spent()["looped"])
-        rerun_unsent_kills(judge, cases, env, scratch.between_runs)
-        record_reference_time(build, step, budget, cases)
-        spent = budget.spent()
-        cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],
-                "cpu_budget": budget.cpu, "wait_budget": budget.wait,
-                **({"reference_cpu": budget.reference["cpu"]} if budget.reference else {})}
-    finally:
-        scratch.close()
-        if ledger_dir:
-            shutil.rmtree(ledger_dir, ignore_errors=True)
+    # The step's budget (runcases.py, "Budgets"): its ledger in a folder of the grader's, which the
+    # sandboxed code cannot reach, shared by every run of the judge, the cases run again too.
+    with heldtmp.held("raykit-ledger-") as ledger_dir:
+        scratch = Scratch(isolation, build.binary_dir / f"answers_step{step.number}")
+        try:
+            budget = step_budget(step, ledger_dir / "ledger")
+            env = dict(scratch.env(), RAYKIT_SEED=seed, **budget.env())
+            if not isolation.sandboxed:
+                env["RAYKIT_ANSWERS"] = str(build.binary_dir / f"answers_step{step.number}")
+            run_cases(judge, cases, env, *course_file.load().case_limits(), budget=budget)   # course.json time_limits
+            rerun_timeouts(judge, cases, env, scratch.between_runs, looped=budget.spent()["looped"])
+            rerun_unsent_kills(judge, cases, env, scratch.between_runs)
+            record_reference_time(build, step, budget, cases)
+            spent = budget.spent()
+            cost = {"cpu": round(spent["cpu"], 3), "wait": round(spent["wait"], 3), "calls": spent["calls"],
+                    "cpu_budget": budget.cpu, "wait_budget": budget.wait,
+                    **({"reference_cpu": budget.reference["cpu"]} if budget.reference else {})}
+        finally:
+            scratch.close()
     failed_sandbox = [c for c in cases if c.status == GRADER_ERROR]
     if failed_sandbox:      # the sandbox, the judge, the disk: no verdict for the step (faults.py)
         first = failed_sandbox[0].messages[0] if failed_sandbox[0].messages else "no verdict"

@@ -20,6 +20,7 @@ import os
 import platform
 import shutil
 import stat
+import time
 from pathlib import Path
 
 from . import procfs
@@ -127,9 +128,30 @@ def unmount(folder: Path) -> None:
             return
 
 
-def sweep_scratch_mounts(folder: str) -> None:
+def _grading_runs(pid: int, path: Path) -> bool:
+    """Whether the grading that made `path` still runs: a process `pid` that started before the folder
+    was last changed. One that started later has the pid of a grading that died (the kernel gives pids
+    again), and the folder is a leftover."""
+    started = procfs.started(pid)
+    if started is None:
+        return False
+    try:
+        changed = path.lstat().st_mtime
+    except OSError:
+        return True             # gone, or not ours to judge: left alone
+    return time.time() - procfs.uptime() + started <= changed + 1
+
+
+_swept: set[str] = set()
+
+
+def sweep_scratch_mounts(folder: str, once: bool = False) -> None:
     """Unmounts and removes the scratch folders a killed grading left in `folder` (their names
-    carry the grading's process id: SCRATCH_PREFIX + PID + "-")."""
+    carry the grading's process id: SCRATCH_PREFIX + PID + "-"); with `once`, the first time a
+    process asks for that folder only (a scan of a busy /tmp costs milliseconds)."""
+    if once and folder in _swept:
+        return
+    _swept.add(folder)
     try:
         names = os.listdir(folder)
     except OSError:
@@ -138,9 +160,9 @@ def sweep_scratch_mounts(folder: str) -> None:
         if not name.startswith(SCRATCH_PREFIX):
             continue
         pid = name[len(SCRATCH_PREFIX):].split("-", 1)[0]
-        if not pid.isdigit() or procfs.status(int(pid)):     # its grading is still running
-            continue
         path = Path(folder, name)
+        if not pid.isdigit() or _grading_runs(int(pid), path):
+            continue
         unmount(path)
         if not _mounted(str(path)):
             shutil.rmtree(path, ignore_errors=True)

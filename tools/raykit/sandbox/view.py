@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .. import atomic
 from ..common import BUILD, ROOT
-from ..sandbox_slots import SCRATCH_PREFIX, mount_scratch, unmount
+from ..sandbox_slots import SCRATCH_PREFIX, mount_scratch, sweep_scratch_mounts, unmount
 from .limits import MiB, SECRET_PARTS
 from .reaping import kill_uid, reap_orphans
 from .bwrap import bwrap_works
@@ -45,7 +45,9 @@ class Scratch:
         self.mount_note = ""
         self.mounted = False
         uid = isolation.uid
-        # The folder named for the grading (SCRATCH_PREFIX + its pid: sweep_scratch_mounts).
+        # The folder named for the grading (SCRATCH_PREFIX + its pid: sweep_scratch_mounts, which
+        # removes those of gradings that were killed).
+        sweep_scratch_mounts(tempfile.gettempdir(), once=True)
         self.top = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-"))
         self.path = self.top
         if not uid:
