@@ -159,40 +159,31 @@ std::string film_point_cause(const Camera& camera, const Ray& ray, const glm::ve
 }
 
 // Measured on the function (trial 8, issue 54): the film point is half the film off the expected one
-// along up (or across), and so is the next row's (column's): every row is shifted by half the film, the
-// 0.5 in the offset left out, as an integer 1 / 2 (0 in C++) does. Told apart from a mirror, which in a
-// 2-row image puts row 0 where the shift does but moves the next row the other way. The formula is
-// written with 0.5, never 1/2, which reads like the student's own integer division.
+// along up, and so is the next row's: every row is shifted by half the film, the 0.5 in the offset left
+// out, as an integer 1 / 2 (0 in C++) does. Told apart from a mirror, which in a 2-row image puts row 0
+// where the shift does but moves the next row the other way. Along up only: no camera basis is built
+// here (the handout ships this file). The formula is written with 0.5, never 1/2, which reads like the
+// student's own integer division.
 std::string half_film_cause(const Camera& camera, int i, int j, const glm::vec3& expected, const glm::vec3& got) {
     const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
     const glm::vec3 e = expected - centre, g = got - centre;
     const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
     const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
     const float pixel = camera.film_height / float(camera.height);   // square pixels
-    const float film_width = pixel * float(camera.width);
     const float tol = 1e-4f * (1.0f + glm::length(e));
-    const bool up_shift = glm::length(ga - ea) <= tol && std::fabs(std::fabs(gu - eu) - camera.film_height / 2) <= tol;
-    const bool across_shift = std::fabs(gu - eu) <= tol && std::fabs(glm::length(ga - ea) - film_width / 2) <= tol;
-    if (!up_shift && !across_shift) return "";
-    // The next row (column), the one before at the last; its expected point one pixel down (right) of this
-    // one's, and the student's shifted the same way by the same amount.
-    const int i2 = across_shift ? (i + 1 < camera.width ? i + 1 : i - 1) : i;
-    const int j2 = up_shift ? (j + 1 < camera.height ? j + 1 : j - 1) : j;
-    if (i2 < 0 || j2 < 0) return "";
-    const std::optional<glm::vec3> next = film_point(camera, i2, j2);
+    if (!(glm::length(ga - ea) <= tol && std::fabs(std::fabs(gu - eu) - camera.film_height / 2) <= tol)) return "";
+    // The next row (the one before, at the last): its expected point one pixel down from this one's.
+    const int j2 = j + 1 < camera.height ? j + 1 : j - 1;
+    if (j2 < 0) return "";
+    const std::optional<glm::vec3> next = film_point(camera, i, j2);
     if (!next) return "";
-    const glm::vec3 next_expected = up_shift ? expected - float(j2 - j) * pixel * camera.up
-                                             : expected + float(i2 - i) * pixel * glm::normalize(glm::cross(camera.forward, camera.up));
+    const glm::vec3 next_expected = expected - float(j2 - j) * pixel * camera.up;
     if (!(glm::length((*next - next_expected) - (got - expected)) <= tol)) return "";
-    const std::string way = up_shift ? (gu < eu ? "down" : "up") : "across the film";
-    const std::string row = up_shift ? "row " + std::to_string(j) + " and in row " + std::to_string(j2)
-                                     : "column " + std::to_string(i) + " and in column " + std::to_string(i2);
-    return "Measured on your function: your point is half the film (" +
-           show(up_shift ? camera.film_height / 2 : film_width / 2) + ") " + way + " from the expected one, in " + row +
-           " alike: every " + (up_shift ? "row" : "column") + " is shifted by half the film, as if the 0.5 in the "
-           "offset were 0. In C++ 1 / 2 divides two ints and gives 0; write 0.5f. The offset " +
-           (up_shift ? "along up is (0.5 - (j + 0.5) / height) * film_height"
-                     : "across is ((i + 0.5) / width - 0.5) * film_width") + " (lecture 05, sections 5 and 6). ";
+    return "Measured on your function: your point is half the film (" + show(camera.film_height / 2) + ") " +
+           (gu < eu ? "down" : "up") + " from the expected one, in row " + std::to_string(j) + " and in row " +
+           std::to_string(j2) + " alike: every row is shifted by half the film, as if the 0.5 in the offset along "
+           "up were 0. In C++ 1 / 2 divides two ints and gives 0; write 0.5f. The offset along up is "
+           "(0.5 - (j + 0.5) / height) * film_height (lecture 05, section 6). ";
 }
 
 void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expected, const std::string& why) {
