@@ -248,7 +248,8 @@ std::string rect_translation_cause(const Ray& ray, const Rect& rect, float tmin,
     const std::optional<float> at_zero = intersect_rect(Ray{glm::vec3(0.0f), ray.direction}, moved, tmin, tmax);
     if (!agree(expected, at_zero)) return "";
     const std::string where = " Measured on your function: with the ray's origin and the rectangle moved together "
-                              "by " + grading::show(glm::vec3(0.0f) - o) + ", so that the ray starts at (0, 0, 0), it answers right (" +
+                              "by " + grading::show(glm::vec3(0.0f) - o) + ", so that the ray starts at (0, 0, 0), it "
+                              "answers right (" +
                               (at_zero ? "t = " + grading::show(*at_zero) : std::string("no hit")) + "), where nothing "
                               "but the place of the whole scene changed: your answer depends on where the origin is. ";
     if (expected && got)

@@ -52,7 +52,8 @@ std::string show_canvas(const Canvas& c, const Scene& scene) {
 // canvas, the first or last column or row, left background where the expected colours are not: the
 // render loop skips it (starts at 1, or stops one early). `rows` are the canvas's rows as shown, one
 // character a pixel, as `expected` is. Empty otherwise.
-std::string skipped_line_cause(const Camera& camera, const std::string& expected, const std::vector<std::string>& rows) {
+std::string skipped_line_cause(const Camera& camera, const std::string& expected,
+                               const std::vector<std::string>& rows) {
     const int w = camera.width, h = camera.height;
     if (int(rows.size()) != h || w < 2 || h < 1) return "";
     for (const std::string& r : rows)
@@ -125,8 +126,8 @@ TEST_CASE("render makes a canvas of the camera's size" * doctest::description("7
 TEST_CASE("every pixel that sees an object gets its colour" * doctest::description("7. The render loop")) {
     const Scene scene{{Object{"orange", Rect{2, -1, {-10, -10}, {10, 10}}, orange}}};
     expect_canvas(scene, camera4x2, "oooooooo",
-                  "The square z = -1, 20 wide, fills the view: all 8 pixels, the last row and column included, "
-                  "are orange.");
+                  "The square z = -1, 20 wide, fills the view: all 8 pixels, the first and the last of each row "
+                  "and column, are orange.");
 }
 
 TEST_CASE("only the pixels whose ray hits an object are coloured" * doctest::description("7. The render loop")) {
