@@ -227,8 +227,8 @@ std::string coordinate_cause(const Ray& ray, const Rect& rect, float tmin, float
                grading::show(float(above)) + " (below, inside and beyond " + grading::show(float(lo)) + " <= " + c +
                " <= " + grading::show(float(hi)) + "), your function gives the same answer all three times, and "
                "moving it along " + oc + " changes it: it never reads the hit point's " + c + ". Is " +
-               (k == 0 ? "u" : "v") + " taken from the same coordinate as " + (k == 0 ? "v" : "u") + " (a line "
-               "copied)? u and v are the hit point's two coordinates other than the axis's, here " +
+               (k == 0 ? "u" : "v") + " read from another coordinate (" + (k == 0 ? "v" : "u") + "'s, in a line "
+               "copied, or the axis's)? u and v are the hit point's two coordinates other than the axis's, here " +
                letter[u] + " and " + letter[v] + ".";
     }
     return "";
