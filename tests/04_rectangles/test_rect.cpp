@@ -123,6 +123,141 @@ std::string sign_cause(const Ray& ray, const Rect& rect, float tmin, float tmax,
            "ray reaches the plane at t = (offset - o) / d, along the rectangle's axis.";
 }
 
+// Trial 8's probes (issue 54), each a relation of the contract measured on the function:
+// - axis_cause: a missed hit that no widening of the bounds (to +-1e30) gives, and that the same ray and
+//   rectangle turned so that the axis is 2 (z) get: the code reads z where the rectangle's axis belongs;
+// - division_cause: with |d[axis]| not 1, the plane moved by 1 along the axis and the origin moved by 1
+//   change the right t by 1 / d[axis] and -1 / d[axis]; one of them changing it by +-1 means that term
+//   is not divided by d[axis] (parentheses);
+// - coordinate_cause: the ray moved along one in-plane coordinate so that the hit point lies below,
+//   inside and beyond the rectangle gets one answer all three times (where the other coordinate's move
+//   changes it): that coordinate of the hit point is never read;
+// - rect_translation_cause: the ray's origin and the rectangle moved together (so that the ray starts at 0)
+//   give the right answer where the case's do not: the answer depends on where the scene is.
+// Each is empty when its relation holds or the measurement does not apply.
+std::string axis_cause(const Ray& ray, const Rect& rect, float tmin, float tmax, const std::optional<float>& expected,
+                       const std::optional<float>& got) {
+    if (!expected || got || rect.axis < 0 || rect.axis > 1 || !cheap_to_measure()) return "";
+    const Rect widened{rect.axis, rect.offset, {-1e30f, -1e30f}, {1e30f, 1e30f}};
+    if (intersect_rect(ray, widened, tmin, tmax)) return "";
+    // Turned: the axis becomes z, u and v become x and y, in their order (u < v).
+    const int u = rect.axis == 0 ? 1 : 0, v = 2;
+    const auto turn = [&](const glm::vec3& w) { return glm::vec3(w[u], w[v], w[rect.axis]); };
+    const Ray turned{turn(ray.origin), turn(ray.direction)};
+    if (!agree(expected, intersect_rect(turned, Rect{2, rect.offset, rect.lo, rect.hi}, tmin, tmax))) return "";
+    const std::string a = rect.axis == 0 ? "x" : "y";
+    return " Measured on your function: it finds no hit in this plane even with the rectangle's bounds widened "
+           "to +-1e30, so the miss comes before the bounds; and it hits the same ray and rectangle turned so that "
+           "the axis is 2 (z): your code reads z where the rectangle's axis, here " + a + ", belongs (ray.direction.z "
+           "or ray.origin.z for d[axis] or o[axis]). Index the ray by rect.axis.";
+}
+
+std::string division_cause(const Ray& ray, const Rect& rect, const std::optional<float>& expected,
+                           const std::optional<float>& got) {
+    if (!expected || !got || agree(expected, got) || rect.axis < 0 || rect.axis > 2 || !cheap_to_measure())
+        return "";
+    const int a = rect.axis;
+    const float d = ray.direction[a];
+    if (!std::isfinite(d) || d == 0.0f || std::fabs(std::fabs(d) - 1.0f) < 1e-3f) return "";
+    const Rect open{a, rect.offset, {-1e30f, -1e30f}, {1e30f, 1e30f}};
+    Rect plane_moved = open;
+    plane_moved.offset += 1.0f;
+    Ray origin_moved = ray;
+    origin_moved.origin[a] += 1.0f;
+    const std::optional<float> t0 = intersect_rect(ray, open, -1e30f, 1e30f),
+                               t_plane = intersect_rect(ray, plane_moved, -1e30f, 1e30f),
+                               t_origin = intersect_rect(origin_moved, open, -1e30f, 1e30f);
+    if (!t0 || !t_plane || !t_origin) return "";
+    const float by_plane = *t_plane - *t0, by_origin = *t_origin - *t0, right = 1.0f / d;
+    const auto near = [](float x, float y) { return std::fabs(x - y) <= 1e-3f * (1.0f + std::fabs(y)); };
+    const std::string moves = "moving the plane by 1 moves your t by " + grading::show(by_plane) +
+                              ", moving the ray's origin by 1 along the axis moves it by " + grading::show(by_origin) +
+                              ", where each must move t by 1 / d[axis] = " + grading::show(right) + " (the origin's "
+                              "the other way): ";
+    if (near(by_plane, 1.0f) && near(by_origin, -right))
+        return " Measured on your function: " + moves + "the offset is not divided by d[axis]. Division binds "
+               "tighter than subtraction: offset - o / d divides o alone; write t = (offset - o[axis]) / d[axis].";
+    if (near(by_plane, right) && near(by_origin, -1.0f))
+        return " Measured on your function: " + moves + "the origin's coordinate is not divided by d[axis]. "
+               "Division binds tighter than subtraction: offset / d - o divides the offset alone; write "
+               "t = (offset - o[axis]) / d[axis].";
+    return "";
+}
+
+std::string coordinate_cause(const Ray& ray, const Rect& rect, float tmin, float tmax,
+                             const std::optional<float>& expected, const std::optional<float>& got) {
+    if (agree(expected, got) || rect.axis < 0 || rect.axis > 2 || !cheap_to_measure()) return "";
+    const int a = rect.axis, u = a == 0 ? 1 : 0, v = a == 2 ? 1 : 2;
+    const double d = ray.direction[a];
+    if (d == 0.0 || !std::isfinite(d)) return "";
+    const double t = (double(rect.offset) - double(ray.origin[a])) / d;
+    if (!(tmin < t && t < tmax)) return "";
+    if (!(rect.lo.x < rect.hi.x && rect.lo.y < rect.hi.y)) return "";
+    const double p[3] = {double(ray.origin[0]) + t * double(ray.direction[0]),
+                         double(ray.origin[1]) + t * double(ray.direction[1]),
+                         double(ray.origin[2]) + t * double(ray.direction[2])};
+    const char* letter[3] = {"x", "y", "z"};
+    // The hit point moved along coordinate k (index 0 or 1 of lo and hi) to `at`, the other one to `other`.
+    const auto answer = [&](int k, double at, double other) {
+        Ray moved = ray;
+        const int kk = k == 0 ? u : v, ko = k == 0 ? v : u;
+        moved.origin[kk] = float(double(ray.origin[kk]) + (at - p[kk]));
+        moved.origin[ko] = float(double(ray.origin[ko]) + (other - p[ko]));
+        return intersect_rect(moved, rect, tmin, tmax);
+    };
+    for (int k = 0; k < 2; ++k) {
+        const double lo = k == 0 ? rect.lo.x : rect.lo.y, hi = k == 0 ? rect.hi.x : rect.hi.y;
+        const double olo = k == 0 ? rect.lo.y : rect.lo.x, ohi = k == 0 ? rect.hi.y : rect.hi.x;
+        const double span = hi - lo, mid = (lo + hi) / 2, omid = (olo + ohi) / 2;
+        const double below = lo - 1000 * span, above = hi + 1000 * span;
+        // At the other coordinate's middle, and at the case's own (inside or not).
+        bool same_everywhere = true;
+        for (const double other : {omid, p[k == 0 ? v : u]}) {
+            const std::optional<float> b = answer(k, below, other), m = answer(k, mid, other),
+                                       h = answer(k, above, other);
+            same_everywhere = same_everywhere && bool(b) == bool(m) && bool(m) == bool(h);
+        }
+        if (!same_everywhere) continue;
+        // The other coordinate's move changes the answer: the function does read the point.
+        const std::optional<float> in = answer(k, mid, omid), out = answer(k, mid, ohi + 1000 * (ohi - olo));
+        if (bool(in) == bool(out)) continue;
+        const std::string c = letter[k == 0 ? u : v], oc = letter[k == 0 ? v : u];
+        return " Measured on your function: with the ray moved along " + c + " so that the hit point's " + c +
+               " is " + grading::show(float(below)) + ", " + grading::show(float(mid)) + " and " +
+               grading::show(float(above)) + " (below, inside and beyond " + grading::show(float(lo)) + " <= " + c +
+               " <= " + grading::show(float(hi)) + "), your function gives the same answer all three times, and "
+               "moving it along " + oc + " changes it: it never reads the hit point's " + c + ". Is " +
+               (k == 0 ? "u" : "v") + " read from another coordinate (" + (k == 0 ? "v" : "u") + "'s, in a line "
+               "copied, or the axis's)? u and v are the hit point's two coordinates other than the axis's, here " +
+               letter[u] + " and " + letter[v] + ".";
+    }
+    return "";
+}
+
+std::string rect_translation_cause(const Ray& ray, const Rect& rect, float tmin, float tmax,
+                              const std::optional<float>& expected, const std::optional<float>& got) {
+    if (agree(expected, got) || rect.axis < 0 || rect.axis > 2 || !cheap_to_measure()) return "";
+    const glm::vec3 o = ray.origin;
+    if (o == glm::vec3(0.0f)) return "";
+    const int a = rect.axis, u = a == 0 ? 1 : 0, v = a == 2 ? 1 : 2;
+    const auto exact = [](float x, float y) { return double(x - y) == double(x) - double(y); };
+    if (!exact(rect.offset, o[a]) || !exact(rect.lo.x, o[u]) || !exact(rect.hi.x, o[u]) || !exact(rect.lo.y, o[v]) ||
+        !exact(rect.hi.y, o[v]))
+        return "";
+    const Rect moved{a, rect.offset - o[a], {rect.lo.x - o[u], rect.lo.y - o[v]}, {rect.hi.x - o[u], rect.hi.y - o[v]}};
+    const std::optional<float> at_zero = intersect_rect(Ray{glm::vec3(0.0f), ray.direction}, moved, tmin, tmax);
+    if (!agree(expected, at_zero)) return "";
+    const std::string where = " Measured on your function: with the ray's origin and the rectangle moved together "
+                              "by " + grading::show(glm::vec3(0.0f) - o) + ", so that the ray starts at (0, 0, 0), it "
+                              "answers right (" +
+                              (at_zero ? "t = " + grading::show(*at_zero) : std::string("no hit")) + "), where nothing "
+                              "but the place of the whole scene changed: your answer depends on where the origin is. ";
+    if (expected && got)
+        return where + "Your t is not (offset - o[axis]) / d[axis]: is the origin left out, or divided alone?";
+    return where + "The point compared with lo and hi must be the hit point o + t d: is the origin left out of "
+                   "it (p = t d)?";
+}
+
 void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
     // A wrong answer is measured first (no state, t the ray parameter, a bound read wrong, an own epsilon),
@@ -133,12 +268,16 @@ void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::o
         std::string fact = state_cause([&] { return intersect_rect(ray, rect, tmin, tmax); },
                                        [] { intersect_rect(along_z_seen(0, 0), wide_seen, 0, inf); },
                                        [] { intersect_rect(along_z_seen(3.5f, 0), wide_seen, 0, inf); });
+        if (fact.empty()) fact = axis_cause(ray, rect, tmin, tmax, expected, first);
+        if (fact.empty()) fact = division_cause(ray, rect, expected, first);
         if (fact.empty())
             fact = parameter_cause(ray.direction, expected, first, [&](float k) {
                 return intersect_rect({ray.origin, ray.direction * k}, rect, tmin / k, tmax / k);
             });
         if (fact.empty()) fact = sign_cause(ray, rect, tmin, tmax, expected, first);
+        if (fact.empty()) fact = coordinate_cause(ray, rect, tmin, tmax, expected, first);
         if (fact.empty()) fact = bound_cause(ray, rect, tmin, tmax, expected, first);
+        if (fact.empty()) fact = rect_translation_cause(ray, rect, tmin, tmax, expected, first);
         because = with_fact(fact, why);
         if (fact.empty()) because += epsilon_cause(tmin, tmax, expected, first, hit_at);
     }

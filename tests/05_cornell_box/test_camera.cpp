@@ -46,7 +46,7 @@ std::string mirror_cause(const Camera& camera, const glm::vec3& expected, const 
                "the film's width (lecture 05, section 5). ";
     if (up_flipped && across_same)
         return "Your point is the expected one mirrored top to bottom: row 0 is the top of the image, so the "
-               "offset along up is (1/2 - (j + 1/2) / height) * film_height (lecture 05, section 6). ";
+               "offset along up is (0.5 - (j + 0.5) / height) * film_height (lecture 05, section 6). ";
     if (across_flipped && up_flipped)
         return "Your point is the expected one mirrored both ways, left to right and top to bottom: right is "
                "forward x up, row 0 the top (lecture 05, sections 5 and 6). ";
@@ -158,6 +158,34 @@ std::string film_point_cause(const Camera& camera, const Ray& ray, const glm::ve
     return "";
 }
 
+// Measured on the function (trial 8, issue 54): the film point is half the film off the expected one
+// along up, and so is the next row's: every row is shifted by half the film, the 0.5 in the offset left
+// out, as an integer 1 / 2 (0 in C++) does. Told apart from a mirror, which in a 2-row image puts row 0
+// where the shift does but moves the next row the other way. Along up only: no camera basis is built
+// here (the handout ships this file). The formula is written with 0.5, never 1/2, which reads like the
+// student's own integer division.
+std::string half_film_cause(const Camera& camera, int i, int j, const glm::vec3& expected, const glm::vec3& got) {
+    const glm::vec3 centre = camera.eye + camera.focal_length * camera.forward;
+    const glm::vec3 e = expected - centre, g = got - centre;
+    const float eu = glm::dot(e, camera.up), gu = glm::dot(g, camera.up);
+    const glm::vec3 ea = e - eu * camera.up, ga = g - gu * camera.up;
+    const float pixel = camera.film_height / float(camera.height);   // square pixels
+    const float tol = 1e-4f * (1.0f + glm::length(e));
+    if (!(glm::length(ga - ea) <= tol && std::fabs(std::fabs(gu - eu) - camera.film_height / 2) <= tol)) return "";
+    // The next row (the one before, at the last): its expected point one pixel down from this one's.
+    const int j2 = j + 1 < camera.height ? j + 1 : j - 1;
+    if (j2 < 0) return "";
+    const std::optional<glm::vec3> next = film_point(camera, i, j2);
+    if (!next) return "";
+    const glm::vec3 next_expected = expected - float(j2 - j) * pixel * camera.up;
+    if (!(glm::length((*next - next_expected) - (got - expected)) <= tol)) return "";
+    return "Measured on your function: your point is half the film (" + show(camera.film_height / 2) + ") " +
+           (gu < eu ? "down" : "up") + " from the expected one, in row " + std::to_string(j) + " and in row " +
+           std::to_string(j2) + " alike: every row is shifted by half the film, as if the 0.5 in the offset along "
+           "up were 0. In C++ 1 / 2 divides two ints and gives 0; write 0.5f. The offset along up is "
+           "(0.5 - (j + 0.5) / height) * film_height (lecture 05, section 6). ";
+}
+
 void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expected, const std::string& why) {
     const Ray ray = view_ray(camera, i, j);
     const std::string call = "view_ray(camera, " + std::to_string(i) + ", " + std::to_string(j) + ")";
@@ -179,6 +207,7 @@ void expect_film_point(const Camera& camera, int i, int j, const glm::vec3& expe
     if (!ok) {
         std::string corner = corner_cause(camera, expected, got);
         if (corner.empty()) corner = half_pixel_cause(camera, i, j, expected, got);
+        if (corner.empty()) corner = half_film_cause(camera, i, j, expected, got);
         FAIL_CHECK(report(call, input, "a ray through " + show(expected) + " on the film",
                           "a ray through " + show(got) + " (direction " + show(ray.direction) + ")",
                           corner.empty() ? mirror_cause(camera, expected, got) + scale_cause(camera, expected, got) +
