@@ -240,6 +240,8 @@ def selftest_misdirections(ctx) -> str:
                             "--isolation", mode)
             block = _first_block(out)
             why = block.find("why ")
+            if why < 0:     # an exception's block has no why: its sentence follows "threw an exception in"
+                why = block.find("threw an exception in")
             expect(words in block and (not_words is None or not_words not in block) and 0 <= why < block.find(words),
                    f"{fixture}: the first message does not say '{words}' first, or says '{not_words}':\n{block}")
             if mode == modes[0]:

@@ -118,13 +118,26 @@ std::string canvas_note(const std::string& text) {
         std::sscanf(text.c_str() + at, "Canvas::at(%d, %d): outside the %d x %d canvas", &i, &j, &w, &h) != 4)
         return "";
     std::string which;
-    if (j >= h) which = "the row j = " + std::to_string(j) + " is past the last row, " + std::to_string(h - 1);
-    else if (i >= w) which = "the column i = " + std::to_string(i) + " is past the last column, " + std::to_string(w - 1);
-    else if (i < 0 || j < 0) which = "an index is negative";
-    else return "";
+    // Trial 9 (issue 54): canvas.at(j, i), the arguments swapped, with the loops right, sends a row index up
+    // to width - 1 (or a column index up to height - 1): past its side but within the other. The message
+    // alone cannot tell that from loops bounded by the other side's size, so both are named there.
+    bool swap_fits = false;
+    if (j >= h) {
+        which = "the row j = " + std::to_string(j) + " is past the last row, " + std::to_string(h - 1);
+        swap_fits = j < w;
+    } else if (i >= w) {
+        which = "the column i = " + std::to_string(i) + " is past the last column, " + std::to_string(w - 1);
+        swap_fits = i < h;
+    } else if (i < 0 || j < 0) {
+        which = "an index is negative";
+    } else {
+        return "";
+    }
     return " Here " + which + ": the columns i run from 0 to width - 1 and the rows j from 0 to height - 1, so "
            "a loop bounded by the other side's size (width for the rows, height for the columns) or by <= gets "
-           "there.";
+           "there" + (swap_fits ? std::string(", or canvas.at(j, i) with its arguments swapped: canvas.at takes "
+                                              "the column i first, then the row j (canvas.at(i, j))")
+                                : std::string()) + ".";
 }
 
 using platform::cpu_seconds;
