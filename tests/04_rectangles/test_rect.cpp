@@ -277,7 +277,7 @@ std::string multiplied_cause(const Ray& ray, const Rect& rect, const std::option
     const std::optional<float> t1 = intersect_rect(ray, open, -1e30f, 1e30f),
                                t2 = intersect_rect({ray.origin, ray.direction * 2.0f}, open, -1e30f, 1e30f);
     if (!t1 || !t2) return "";
-    const float right = (rect.offset - ray.origin[a]) / d;
+    const float gap = rect.offset - ray.origin[a], right = gap / d;
     const auto near = [](float x, float y) { return std::fabs(x - y) <= 1e-3f * (1.0f + std::fabs(y)); };
     if (right == 0.0f || !near(*t1, right * d * d) || !near(*t2, 2.0f * right * d * d)) return "";
     return " Measured on your function: your t grows with d: " + grading::show(*t1) + " for d[axis] = " +

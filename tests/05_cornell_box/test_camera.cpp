@@ -203,7 +203,7 @@ std::string half_width_cause(const Camera& camera, int i, int j, const glm::vec3
     if (!(glm::length(ea) > tol && std::fabs(gu - eu) <= tol &&
           std::fabs(glm::length(ga - ea) - film_width / 2) <= tol))
         return "";
-    const glm::vec3 right = glm::normalize(ea) * (2.0f * (float(i) + 0.5f) < float(camera.width) ? -1.0f : 1.0f);
+    const glm::vec3 right = glm::normalize(ea) * (2 * i + 1 < camera.width ? -1.0f : 1.0f);
     const int i2 = i + 1 < camera.width ? i + 1 : i - 1;
     const std::optional<glm::vec3> next = film_point(camera, i2, j);
     if (!next) return "";
