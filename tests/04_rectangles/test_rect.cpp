@@ -343,6 +343,57 @@ std::string or_cause(const Ray& ray, const Rect& rect, float tmin, float tmax, c
            "both ranges must hold (&&).";
 }
 
+// Trial 9 (issue 54, s04_v_always_z): a missed hit that the same ray and plane, moved together along the
+// axis so that the plane's offset lies in the middle of one in-plane range (t unchanged), get: that in-plane
+// coordinate is read from the axis's own coordinate, always the offset. Empty otherwise.
+std::string plane_coordinate_cause(const Ray& ray, const Rect& rect, float tmin, float tmax,
+                                   const std::optional<float>& expected, const std::optional<float>& got) {
+    if (!expected || got || rect.axis < 0 || rect.axis > 2 || !cheap_to_measure()) return "";
+    if (!(rect.lo.x < rect.hi.x && rect.lo.y < rect.hi.y)) return "";
+    const int a = rect.axis, u = a == 0 ? 1 : 0, v = a == 2 ? 1 : 2;
+    const char* letter[3] = {"x", "y", "z"};
+    // 1: the hit found with the plane at `value` (ray moved along with it), 0: not, -1: the move is inexact.
+    const auto hits_at = [&](float value) {
+        const float shift = value - rect.offset;
+        if (double(value) - double(rect.offset) != double(shift)) return -1;
+        Ray moved = ray;
+        moved.origin[a] = ray.origin[a] + shift;
+        if (double(moved.origin[a]) != double(ray.origin[a]) + double(shift)) return -1;
+        Rect there = rect;
+        there.offset = value;
+        return agree(expected, intersect_rect(moved, there, tmin, tmax)) ? 1 : 0;
+    };
+    const float lo[2] = {rect.lo.x, rect.lo.y}, hi[2] = {rect.hi.x, rect.hi.y};
+    const auto in = [&](int k, float x) { return lo[k] <= x && x <= hi[k]; };
+    // A value within k's range and outside the other's, if any.
+    const auto only = [&](int k) -> std::optional<float> {
+        for (const float x : {lo[k] + (hi[k] - lo[k]) / 2, lo[k], hi[k]})
+            if (in(k, x) && !in(1 - k, x)) return x;
+        return std::nullopt;
+    };
+    for (int k = 0; k < 2; ++k) {
+        const std::optional<float> mine = only(k), other = only(1 - k);
+        float at = 0;
+        if (mine && hits_at(*mine) == 1) {
+            at = *mine;
+        } else if (!mine && other && hits_at(*other) == 0) {
+            const float mid = lo[k] + (hi[k] - lo[k]) / 2;     // within both ranges
+            if (!in(1 - k, mid) || hits_at(mid) != 1) continue;
+            at = mid;
+        } else {
+            continue;
+        }
+        const std::string c = k == 0 ? "u" : "v";
+        return " Measured on your function: with the plane and the ray moved together along " +
+               std::string(letter[a]) + " so that the plane's " + letter[a] + " = offset is " + grading::show(at) +
+               ", inside the range of " + c + " (" + grading::show(lo[k]) + " to " + grading::show(hi[k]) +
+               "), it finds the hit, where only the offset changed: your " + c + " is the hit point's " +
+               letter[a] + ", the plane's own coordinate (always the offset). For axis " + std::to_string(a) +
+               ", (u, v) = (" + letter[u] + ", " + letter[v] + ").";
+    }
+    return "";
+}
+
 void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::optional<float> expected,
                 const std::string& why) {
     // A wrong answer is measured first (no state, t the ray parameter, a bound read wrong, an own epsilon),
@@ -363,6 +414,7 @@ void expect_hit(const Ray& ray, const Rect& rect, float tmin, float tmax, std::o
                 return intersect_rect({ray.origin, ray.direction * k}, rect, tmin / k, tmax / k);
             });
         if (fact.empty()) fact = sign_cause(ray, rect, tmin, tmax, expected, first);
+        if (fact.empty()) fact = plane_coordinate_cause(ray, rect, tmin, tmax, expected, first);
         if (fact.empty()) fact = coordinate_cause(ray, rect, tmin, tmax, expected, first);
         if (fact.empty()) fact = bound_cause(ray, rect, tmin, tmax, expected, first);
         if (fact.empty()) fact = rect_translation_cause(ray, rect, tmin, tmax, expected, first);
