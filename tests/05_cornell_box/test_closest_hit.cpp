@@ -113,6 +113,32 @@ std::string order_cause(const Scene& scene, const Ray& ray, float tmin, float tm
            "object's t with the best found so far.";
 }
 
+// Trial 9 (issue 54, s05_farthest_wins): each object asked alone gives its own t; the answer is the largest
+// of them, in the list's order and in the reverse order alike, where the expected hit is the smallest: the
+// comparison that keeps the best hit is reversed. Empty otherwise.
+std::string farthest_cause(const Scene& scene, const Ray& ray, float tmin, float tmax, const std::optional<Hit>& expected,
+                           const std::optional<Hit>& got) {
+    if (!expected || !got || scene.objects.size() < 2 || !cheap_to_measure()) return "";
+    float largest = -inf;
+    int hits = 0;
+    for (const Object& o : scene.objects) {
+        const std::optional<Hit> alone = find_intersection(ray, Scene{{o}}, tmin, tmax);
+        if (!alone) continue;
+        ++hits;
+        largest = std::max(largest, alone->t);
+    }
+    if (hits < 2 || !(largest > expected->t) || !close(got->t, largest)) return "";
+    Scene reversed = scene;
+    std::reverse(reversed.objects.begin(), reversed.objects.end());
+    const std::optional<Hit> other = find_intersection(ray, reversed, tmin, tmax);
+    if (!other || !close(other->t, largest)) return "";
+    return " Measured on your function: it answers t = " + show(largest) + ", the farthest of the " +
+           std::to_string(hits) + " hits (each object asked alone), in this order and with the list reversed "
+           "alike, where the nearest, t = " + show(expected->t) + ", must win: your find_intersection keeps the "
+           "largest t. The comparison is reversed: a new hit replaces the best only when its t is smaller (<, "
+           "not >).";
+}
+
 void expect(const Scene& scene, const Ray& ray, float tmin, float tmax, std::optional<Hit> expected,
             const std::string& why) {
     std::optional<Hit> got = find_intersection(ray, scene, tmin, tmax);
@@ -121,13 +147,15 @@ void expect(const Scene& scene, const Ray& ray, float tmin, float tmax, std::opt
                (!expected || (got->index == expected->index && close(expected->t, got->t)));
     };
     if (!right()) {
-        std::string measured = loop_cause(scene, ray, tmin, tmax, expected, got);
-        if (measured.empty()) measured = order_cause(scene, ray, tmin, tmax, got);
+        const std::string farthest = farthest_cause(scene, ray, tmin, tmax, expected, got);
+        std::string measured = farthest.empty() ? loop_cause(scene, ray, tmin, tmax, expected, got) : "";
+        if (farthest.empty() && measured.empty()) measured = order_cause(scene, ray, tmin, tmax, got);
         got = find_intersection(ray, scene, tmin, tmax);   // the call the case records
         FAIL_CHECK(report("find_intersection(ray, scene, tmin, tmax)",
                           show(ray) + ", window [" + show(tmin) + ", " + show(tmax) + "],\n            scene" +
                               show(scene),
-                          show(expected), show(got), why + measured));
+                          show(expected), show(got),
+                          farthest.empty() ? why + measured : with_fact(farthest, why)));
     }
 }
 
