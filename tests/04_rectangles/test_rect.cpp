@@ -367,7 +367,7 @@ std::string plane_coordinate_cause(const Ray& ray, const Rect& rect, float tmin,
     const auto in = [&](int k, float x) { return lo[k] <= x && x <= hi[k]; };
     // A value within k's range and outside the other's, if any.
     const auto only = [&](int k) -> std::optional<float> {
-        for (const float x : {lo[k] + (hi[k] - lo[k]) / 2, lo[k], hi[k]})
+        for (const float x : {lo[k] + 0.5f * (hi[k] - lo[k]), lo[k], hi[k]})
             if (in(k, x) && !in(1 - k, x)) return x;
         return std::nullopt;
     };
@@ -377,7 +377,7 @@ std::string plane_coordinate_cause(const Ray& ray, const Rect& rect, float tmin,
         if (mine && hits_at(*mine) == 1) {
             at = *mine;
         } else if (!mine && other && hits_at(*other) == 0) {
-            const float mid = lo[k] + (hi[k] - lo[k]) / 2;     // within both ranges
+            const float mid = lo[k] + 0.5f * (hi[k] - lo[k]);     // within both ranges
             if (!in(1 - k, mid) || hits_at(mid) != 1) continue;
             at = mid;
         } else {
