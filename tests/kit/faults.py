@@ -398,6 +398,12 @@ def selftest_killed_run_leaves_no_folder(ctx) -> str:
             runs[0].send_signal(signal.SIGKILL)
             runs[0].wait()
             expect(killed.is_dir(), f"the killed run's folder {killed.name} was not there to sweep")
+            # A lock file just made, not locked yet (a run between creating and locking it): kept.
+            racing = parent / "raykit-judge-racing"
+            racing.mkdir()
+            (racing / heldtmp.HELD).touch()
+            aged = time.time() - heldtmp.LOCKING_AGE - 5
+            os.utime(killed / heldtmp.HELD, (aged, aged))
             unlocked = parent / "raykit-judge-unlocked"
             unlocked.mkdir()
             other = parent / "raykit-build-other"
@@ -408,7 +414,7 @@ def selftest_killed_run_leaves_no_folder(ctx) -> str:
                        f"the new folder is {mine}")
             expect(not killed.exists(), f"the killed run's folder {killed.name} was left")
             expect(not mine.exists(), "the run's own folder was not removed when it ended")
-            for kept in (live, unlocked, other, parent / "raykit-judge-link"):
+            for kept in (live, racing, unlocked, other, parent / "raykit-judge-link"):
                 expect(os.path.lexists(kept), f"{kept.name} was removed, though it is not a dead run's")
             old = time.time() - heldtmp.UNLOCKED_AGE - 60
             os.utime(unlocked, (old, old))
@@ -418,4 +424,5 @@ def selftest_killed_run_leaves_no_folder(ctx) -> str:
             for r in runs:
                 r.kill()
                 r.wait()
-    return "a killed run's folder is removed by the next run; a live run's, a new one, a link and another kind's stay"
+    return ("a killed run's folder is removed by the next run; a live run's, one whose lock is being taken, a new "
+            "one without a lock, a link and another kind's stay")

@@ -23,6 +23,7 @@ from typing import Iterator
 
 HELD = ".held"          # the lock file inside a folder: locked while its run lives
 UNLOCKED_AGE = 3600     # seconds after which a folder with no lock file is taken as left behind
+LOCKING_AGE = 10        # seconds after which a lock file that nobody holds is taken as a dead run's
 _swept: set[tuple[str, str]] = set()     # once a process: a scan of a busy /tmp costs milliseconds
 
 
@@ -47,11 +48,15 @@ def sweep(parent: Path, prefix: str) -> None:
             continue
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            # A run creates its lock file and then locks it: in between, a moment, the lock is free
+            # though the run lives. A free lock counts only once the file is older than that.
+            left = time.time() - os.fstat(fd).st_mtime > LOCKING_AGE
         except OSError:
             continue                # a live run's
         finally:
             os.close(fd)            # (the lock, when taken, goes with the descriptor)
-        shutil.rmtree(e.path, ignore_errors=True)
+        if left:
+            shutil.rmtree(e.path, ignore_errors=True)
 
 
 @contextmanager
