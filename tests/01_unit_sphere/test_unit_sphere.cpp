@@ -401,6 +401,13 @@ TEST_CASE("window: tmin greater than tmax is empty" *
                "No t satisfies 4 <= t <= 2; both conditions must hold, not either one.");
 }
 
+TEST_CASE("window: a window of one point [2, 2] holding a root is a hit" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit_at_end(2, 2, 2.0f,
+                      "tmin == tmax is a window of one point, not an empty one: only tmin > tmax is empty (a test tmin < tmax "
+                      "rejects it). The root t = 2 lies in [2, 2], so it is a hit.");
+}
+
 TEST_CASE("window: a direction of length 2 returns t in steps of d" *
           doctest::description("2. The ray meets the sphere")) {
     expect_hit({{-3, 0, 0}, {2, 0, 0}}, 0, inf, 1.0f,
