@@ -64,7 +64,10 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
         const bool stateless = state_cause([&] { return sphere_roots(ray, sphere); },
                                            [&] { sphere_roots(seen_a, seen_a_ball); },
                                            [&] { sphere_roots(seen_b, seen_b_ball); }).empty();
-        if (stateless)
+        // Read off the answer itself first: the roots right and the count not, one root stored twice.
+        if (stateless) lead = count_unset_cause(expected, got);
+        if (stateless && lead.empty()) lead = root_stored_twice_cause(expected, got);
+        if (stateless && lead.empty())
             lead = int_radius_cause(sphere.radius, expected, got,
                                     [&](float r) { return sphere_roots(ray, Sphere{sphere.center, r}); });
         if (stateless && lead.empty())
@@ -99,6 +102,7 @@ void expect_hit(const Ray& ray, const Sphere& sphere, float tmin, float tmax, st
     if (!agree(expected, first)) fact = state_cause([&] { return intersect_sphere(ray, sphere, tmin, tmax); },
                                                     [&] { intersect_sphere(seen_a, seen_a_ball, 0, inf); },
                                                     [&] { intersect_sphere(seen_b, seen_b_ball, 0, inf); });
+    if (!agree(expected, first) && fact.empty()) fact = beyond_count_cause(sphere_roots(ray, sphere), expected, first);
     if (!agree(expected, first) && fact.empty()) fact = window_outside_cause(tmin, tmax, expected, first);
     if (!agree(expected, first) && fact.empty()) fact = whole_number_cause(expected, first);
     if (!agree(expected, first) && fact.empty())

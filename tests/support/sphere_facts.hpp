@@ -176,6 +176,53 @@ std::string one_root_undivided_cause(const glm::vec3& d, const Roots& expected, 
            "division binds before the sum or difference it should divide.";
 }
 
+/// The roots right but the count not (trial 9, s01_count_two_unset: the two-root branch forgets
+/// count = 2): every expected root is in its entry, and the count says fewer. Said first: a relation on
+/// the sign of c or of the discriminant can only explain roots that are wrong or absent, not right ones.
+inline std::string count_unset_cause(const Roots& expected, const Roots& got) {
+    if (expected.count == 0 || got.count >= expected.count || got.count < 0 || has_nan(got)) return "";
+    for (int i = 0; i < expected.count; ++i)
+        if (!close(expected.t[i], got.t[i])) return "";
+    const std::string roots = expected.count == 2 ? "t = " + show(got.t[0]) + " and " + show(got.t[1])
+                                                  : "t = " + show(got.t[0]);
+    return " Measured on your answer: the roots are right (" + roots + ") but count is " +
+           std::to_string(got.count) + ", not " + std::to_string(expected.count) +
+           ": where your code finds " + (expected.count == 2 ? "two roots" : "one root") +
+           ", it fills t but does not set count = " + std::to_string(expected.count) + ".";
+}
+
+/// Count 2 with both entries the same root where the two roots differ (trial 9, s02_t1_copy_t0: t[1]
+/// written from t0): one root stored twice, the other never.
+inline std::string root_stored_twice_cause(const Roots& expected, const Roots& got) {
+    if (expected.count != 2 || got.count != 2 || has_nan(got) || !(got.t[0] == got.t[1]) ||
+        close(expected.t[0], expected.t[1]))
+        return "";
+    const int held = close(expected.t[0], got.t[0]) ? 0 : close(expected.t[1], got.t[0]) ? 1 : -1;
+    if (held < 0) return "";
+    return " Measured on your answer: count is 2 but both entries hold t = " + show(got.t[0]) + ", the " +
+           (held == 0 ? "near" : "far") + " root, where the two roots differ (" + show(expected.t[0]) + " and " +
+           show(expected.t[1]) + "): one root stored twice; t[" + std::to_string(1 - held) +
+           "] is written from the wrong variable.";
+}
+
+/// A hit that is an entry beyond the count of the same ray's roots (trial 9, s01_loop_two_roots: the
+/// window's loop runs k < 2): `roots` is the roots function's answer for the ray. Empty unless the hit
+/// is wrong, equals an entry at or past count and none of the roots.
+inline std::string beyond_count_cause(const Roots& roots, const std::optional<float>& expected,
+                                      const std::optional<float>& got) {
+    if (!got || (expected && close(*expected, *got)) || roots.count < 0 || roots.count > 2 || has_nan(roots))
+        return "";
+    for (int k = 0; k < roots.count; ++k)
+        if (roots.t[k] == *got) return "";
+    for (int k = roots.count; k < 2; ++k)
+        if (roots.t[k] == *got)
+            return " Measured on your function: your hit t = " + show(*got) + " is t[" + std::to_string(k) +
+                   "] of this ray's roots, whose count is " + std::to_string(roots.count) +
+                   ": an entry beyond the count, which is no root. Read the roots with a loop k < count, "
+                   "not k < 2.";
+    return "";
+}
+
 /// check_roots with a leading fact: where `lead` is measured, it comes first and the case's geometry
 /// (the why's first sentence) after it, before any sentence on the contract; otherwise check_roots with
 /// `why` as it is.
