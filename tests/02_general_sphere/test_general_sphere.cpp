@@ -471,7 +471,7 @@ TEST_CASE("window: tmin greater than tmax is empty" * doctest::description("5. T
                "No t satisfies 4 <= t <= 2; both conditions must hold, not either one.");
 }
 
-TEST_CASE("window: a window of one point [2, 2] holding a root is a hit" *
+TEST_CASE("window: a one-point window tmin = tmax = 2 holding a root is a hit" *
           doctest::description("5. The closest root in a window")) {
     expect_hit_at_end(2, 2, 2.0f,
                       "tmin == tmax is a window of one point, not an empty one: only tmin > tmax is empty (a test tmin < tmax "
