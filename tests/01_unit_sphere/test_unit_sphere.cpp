@@ -39,6 +39,11 @@ void expect_roots(const Ray& ray, const Roots& expected, const std::string& why)
     // answer itself, said first, and no relation after them.
     if (!agree(expected, got)) lead = count_unset_cause(expected, got);
     if (!agree(expected, got) && lead.empty()) lead = root_stored_twice_cause(expected, got);
+    if (!agree(expected, got) && lead.empty()) lead = root_product_cause(expected, got);
+    // The kit's tangent y = 1 from (-2, 1, 0) along +x, d of length len: t = 2 / len.
+    if (!agree(expected, got) && lead.empty())
+        lead = tangent_factor_cause(expected, got, [](float len) { return unit_sphere_roots({{-2, 1, 0}, {len, 0, 0}}); },
+                                    [](float len) { return 2.0f / len; });
     if (!agree(expected, got) && lead.empty()) {
         fact = state_cause([&] { return unit_sphere_roots(ray); }, [] { unit_sphere_roots(seen_a); },
                            [] { unit_sphere_roots(seen_b); });

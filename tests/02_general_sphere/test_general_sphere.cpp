@@ -67,6 +67,7 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
         // Read off the answer itself first: the roots right and the count not, one root stored twice.
         if (stateless) lead = count_unset_cause(expected, got);
         if (stateless && lead.empty()) lead = root_stored_twice_cause(expected, got);
+        if (stateless && lead.empty()) lead = root_product_cause(expected, got);
         if (stateless && lead.empty())
             lead = int_radius_cause(sphere.radius, expected, got,
                                     [&](float r) { return sphere_roots(ray, Sphere{sphere.center, r}); });

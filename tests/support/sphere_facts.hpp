@@ -205,6 +205,48 @@ inline std::string root_stored_twice_cause(const Roots& expected, const Roots& g
            "] is written from the wrong variable.";
 }
 
+/// One root right and the other the product of the two (trial 9, s01_t1_c_over_a: t1 = c / a where the
+/// stable pair has c / q): Vieta's c / a = t0 t1. Empty unless both hold and the product is neither root.
+inline std::string root_product_cause(const Roots& expected, const Roots& got) {
+    if (expected.count != 2 || got.count != 2 || has_nan(got)) return "";
+    const float product = expected.t[0] * expected.t[1];
+    if (close(product, expected.t[0]) || close(product, expected.t[1])) return "";
+    for (int k = 0; k < 2; ++k) {
+        if (!close(product, got.t[k])) continue;
+        const float other = got.t[1 - k];
+        const int right = close(expected.t[0], other) ? 0 : close(expected.t[1], other) ? 1 : -1;
+        if (right < 0) continue;
+        return " Measured on your answer: one root is right (" + show(other) + ") and the other, " +
+               show(got.t[k]) + ", is the product of the two roots (" + show(expected.t[0]) + " x " +
+               show(expected.t[1]) + " = c/a, Vieta), where " + show(expected.t[1 - right]) +
+               " belongs: the second root of the stable pair is c/q, not c/a.";
+    }
+    return "";
+}
+
+/// A tangent root off by a factor of exactly 2 on two tangents of different a (trial 9,
+/// s01_tangent_over_2a: -h / (2a) with the half h): `tangent(len)` is the function's root on the kit's
+/// tangent of a direction of length len, whose right root is `right(len)`. Empty unless the same factor
+/// (1/2 or 2) holds on both.
+template <class Tangent, class Right>
+std::string tangent_factor_cause(const Roots& expected, const Roots& got, Tangent tangent, Right right) {
+    if (expected.count != 1 || got.count != 1 || has_nan(got) || expected.t[0] == 0.0f || !cheap_to_measure())
+        return "";
+    const float ratio = got.t[0] / expected.t[0];
+    if (!(close(0.5f, ratio) || close(2.0f, ratio))) return "";
+    for (float len : {1.0f, 2.0f}) {
+        const Roots there = tangent(len);
+        if (there.count != 1 || has_nan(there) || !close(ratio * right(len), there.t[0])) return "";
+    }
+    return ratio < 1.0f
+               ? " Measured on your function: on tangents with directions of length 1 and 2, your tangent root is "
+                 "exactly half the right one (" + show(got.t[0]) + " for " + show(expected.t[0]) +
+                     "): with the half b, h = o.d, the tangent root is -h/a, not -h/(2a)."
+               : " Measured on your function: on tangents with directions of length 1 and 2, your tangent root is "
+                 "exactly twice the right one (" + show(got.t[0]) + " for " + show(expected.t[0]) +
+                     "): with the whole b = 2 o.d, the tangent root is -b/(2a), not -b/a.";
+}
+
 /// A hit that is an entry beyond the count of the same ray's roots (trial 9, s01_loop_two_roots: the
 /// window's loop runs k < 2): `roots` is the roots function's answer for the ray. Empty unless the hit
 /// is wrong, equals an entry at or past count and none of the roots.
