@@ -219,7 +219,7 @@ inline std::string root_product_cause(const Roots& expected, const Roots& got) {
         return " Measured on your answer: one root is right (" + show(other) + ") and the other, " +
                show(got.t[k]) + ", is the product of the two roots (" + show(expected.t[0]) + " x " +
                show(expected.t[1]) + " = c/a, Vieta), where " + show(expected.t[1 - right]) +
-               " belongs: the second root of the stable pair is c/q, not c/a.";
+               " belongs: your second root is c/a, the product of the roots, which is no root.";
     }
     return "";
 }
