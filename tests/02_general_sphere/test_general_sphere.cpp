@@ -69,6 +69,8 @@ void expect_roots(const Ray& ray, const Sphere& sphere, const Roots& expected, c
         if (stateless && lead.empty()) lead = root_stored_twice_cause(expected, got);
         if (stateless && lead.empty()) lead = root_product_cause(expected, got);
         if (stateless && lead.empty())
+            lead = centre_component_cause([](const Ray& r, const Sphere& s) { return sphere_roots(r, s); });
+        if (stateless && lead.empty())
             lead = int_radius_cause(sphere.radius, expected, got,
                                     [&](float r) { return sphere_roots(ray, Sphere{sphere.center, r}); });
         if (stateless && lead.empty())

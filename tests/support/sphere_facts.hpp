@@ -247,6 +247,29 @@ std::string tangent_factor_cause(const Roots& expected, const Roots& got, Tangen
                      "): with the whole b = 2 o.d, the tangent root is -b/(2a), not -b/a.";
 }
 
+/// A component of the centre the code never reads (trial 9, s02_center_y_typo: f.y = o.y - c.x): on the
+/// kit's ray along +z from 5 below the centre (1, 2, 3) of a sphere of radius 2 (roots 3 and 7), the
+/// centre alone moved by 0.5 along one axis moves the right roots, whatever the axis; an answer that is
+/// the same, bit for bit, names that component. `roots_of(ray, sphere)` is the student's function.
+template <class RootsOf>
+std::string centre_component_cause(RootsOf roots_of) {
+    if (!cheap_to_measure()) return "";
+    const Ray ray{{1, 2, -2}, {0, 0, 1}};
+    const Sphere ball{{1, 2, 3}, 2};
+    const Roots there = roots_of(ray, ball);
+    if (agree(pair_of(3.0, 7.0), there)) return "";
+    static const char* const axis[] = {"x", "y", "z"};
+    for (int k = 0; k < 3; ++k) {
+        Sphere moved = ball;
+        moved.center[k] += 0.5f;
+        if (same_answer(there, roots_of(ray, moved)))
+            return std::string(" Measured on your function: moving the sphere's centre alone by 0.5 along ") +
+                   axis[k] + " moves the roots, and yours stay the same: your code never reads c." + axis[k] +
+                   " (f = o - c, and f." + axis[k] + " = o." + axis[k] + " - c." + axis[k] + ").";
+    }
+    return "";
+}
+
 /// A hit that is an entry beyond the count of the same ray's roots (trial 9, s01_loop_two_roots: the
 /// window's loop runs k < 2): `roots` is the roots function's answer for the ray. Empty unless the hit
 /// is wrong, equals an entry at or past count and none of the roots.
