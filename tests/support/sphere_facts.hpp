@@ -257,17 +257,19 @@ std::string centre_component_cause(RootsOf roots_of) {
     const Ray ray{{1, 2, -2}, {0, 0, 1}};
     const Sphere ball{{1, 2, 3}, 2};
     const Roots there = roots_of(ray, ball);
-    if (agree(pair_of(3.0, 7.0), there)) return "";
+    // Two roots found, and exactly one axis whose move leaves them: no roots at all move with nothing.
+    if (agree(pair_of(3.0, 7.0), there) || there.count != 2 || has_nan(there)) return "";
     static const char* const axis[] = {"x", "y", "z"};
+    int unread = -1, still = 0;
     for (int k = 0; k < 3; ++k) {
         Sphere moved = ball;
         moved.center[k] += 0.5f;
-        if (same_answer(there, roots_of(ray, moved)))
-            return std::string(" Measured on your function: moving the sphere's centre alone by 0.5 along ") +
-                   axis[k] + " moves the roots, and yours stay the same: your code never reads c." + axis[k] +
-                   " (f = o - c, and f." + axis[k] + " = o." + axis[k] + " - c." + axis[k] + ").";
+        if (same_answer(there, roots_of(ray, moved))) unread = k, ++still;
     }
-    return "";
+    if (still != 1) return "";
+    return std::string(" Measured on your function: moving the sphere's centre alone by 0.5 along ") + axis[unread] +
+           " moves the roots, and yours stay the same: your code never reads c." + axis[unread] + " (f = o - c, and f." +
+           axis[unread] + " = o." + axis[unread] + " - c." + axis[unread] + ").";
 }
 
 /// A hit that is an entry beyond the count of the same ray's roots (trial 9, s01_loop_two_roots: the
