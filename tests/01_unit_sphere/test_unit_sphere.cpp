@@ -35,7 +35,16 @@ const Ray seen_a{{-3, 0, 0}, {1, 0, 0}}, seen_b{{-3, 0, 0}, {2, 0, 0}};
 void expect_roots(const Ray& ray, const Roots& expected, const std::string& why) {
     Roots got = unit_sphere_roots(ray);
     std::string fact, lead;
-    if (!agree(expected, got)) {
+    // The roots right and the count not, or one root stored twice (sphere_facts.hpp): read off the
+    // answer itself, said first, and no relation after them.
+    if (!agree(expected, got)) lead = count_unset_cause(expected, got);
+    if (!agree(expected, got) && lead.empty()) lead = root_stored_twice_cause(expected, got);
+    if (!agree(expected, got) && lead.empty()) lead = root_product_cause(expected, got);
+    // The kit's tangent y = 1 from (-2, 1, 0) along +x, d of length len: t = 2 / len.
+    if (!agree(expected, got) && lead.empty())
+        lead = tangent_factor_cause(expected, got, [](float len) { return unit_sphere_roots({{-2, 1, 0}, {len, 0, 0}}); },
+                                    [](float len) { return 2.0f / len; });
+    if (!agree(expected, got) && lead.empty()) {
         fact = state_cause([&] { return unit_sphere_roots(ray); }, [] { unit_sphere_roots(seen_a); },
                            [] { unit_sphere_roots(seen_b); });
         // Renaming the axes (sphere_facts.hpp): said first, before the contract's sentence it explains.
@@ -74,6 +83,8 @@ void expect_hit(const Ray& ray, float tmin, float tmax, std::optional<float> exp
     if (!agree(expected, intersect_unit_sphere(ray, tmin, tmax))) {
         fact = state_cause([&] { return intersect_unit_sphere(ray, tmin, tmax); },
                            [] { intersect_unit_sphere(seen_a, 0, inf); }, [] { intersect_unit_sphere(seen_b, 0, inf); });
+        if (fact.empty())
+            fact = beyond_count_cause(unit_sphere_roots(ray), expected, intersect_unit_sphere(ray, tmin, tmax));
         if (fact.empty()) fact = window_outside_cause(tmin, tmax, expected, intersect_unit_sphere(ray, tmin, tmax));
         if (fact.empty()) fact = whole_number_cause(expected, intersect_unit_sphere(ray, tmin, tmax));
         if (fact.empty())
@@ -203,14 +214,27 @@ TEST_CASE("origin on the surface with a tangent direction: one root at t = 0" *
 TEST_CASE("no state between calls: a miss after a hit is still a miss" *
           doctest::description("4. What the discriminant says")) {
     // Asked in one case, so that the verdict is the same whether the cases share a process or not.
+    // The words on state only where state is measured (relations.hpp, state_cause: the same call after
+    // two other calls answers differently); a wrong miss that is the same after any call is another slip
+    // (trial 9, s01_loop_two_roots: an entry beyond the count), and its why is the geometry alone.
+    const Ray miss{{-3, 2, 0}, {1, 0, 0}};
+    const bool roots_stateless = state_cause([&] { return unit_sphere_roots(miss); },
+                                             [] { unit_sphere_roots(seen_a); },
+                                             [] { unit_sphere_roots(seen_b); }).empty();
     unit_sphere_roots(seen_a);
-    expect_roots({{-3, 2, 0}, {1, 0, 0}}, none(),
-                 "The line y = 2 never comes within 1 of the centre, whatever was asked before: each answer "
-                 "depends on its ray alone (the task: keep nothing from one call to the next).");
+    expect_roots(miss, none(),
+                 roots_stateless ? "The line y = 2 never comes within 1 of the centre: no roots."
+                                 : "The line y = 2 never comes within 1 of the centre, whatever was asked before: "
+                                   "each answer depends on its ray alone (the task: keep nothing from one call "
+                                   "to the next).");
+    const bool hit_stateless = state_cause([&] { return intersect_unit_sphere(miss, 0, inf); },
+                                           [] { intersect_unit_sphere(seen_a, 0, inf); },
+                                           [] { intersect_unit_sphere(seen_b, 0, inf); }).empty();
     intersect_unit_sphere(seen_a, 0, inf);
-    expect_hit({{-3, 2, 0}, {1, 0, 0}}, 0, inf, std::nullopt,
-               "The line y = 2 never meets the sphere, whatever was asked before: each answer depends on its "
-               "arguments alone.");
+    expect_hit(miss, 0, inf, std::nullopt,
+               hit_stateless ? "The line y = 2 never meets the sphere: no hit."
+                             : "The line y = 2 never meets the sphere, whatever was asked before: each answer "
+                               "depends on its arguments alone.");
 }
 
 TEST_CASE("sphere behind the ray: both roots negative" *
@@ -399,6 +423,13 @@ TEST_CASE("window: tmin greater than tmax is empty" *
           doctest::description("5. The closest root in a window")) {
     expect_hit(through_centre, 4, 2, std::nullopt,
                "No t satisfies 4 <= t <= 2; both conditions must hold, not either one.");
+}
+
+TEST_CASE("window: a one-point window tmin = tmax = 2 holding a root is a hit" *
+          doctest::description("5. The closest root in a window")) {
+    expect_hit_at_end(2, 2, 2.0f,
+                      "tmin == tmax is a window of one point, not an empty one: only tmin > tmax is empty (a test tmin < tmax "
+                      "rejects it). The root t = 2 lies in [2, 2], so it is a hit.");
 }
 
 TEST_CASE("window: a direction of length 2 returns t in steps of d" *

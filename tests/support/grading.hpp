@@ -202,6 +202,13 @@ inline std::string window_cause(float tmin, float tmax, const std::optional<floa
     if (!expected || (got && close(*expected, *got)) || !widened || !close(*expected, *widened)) return "";
     const char* end = *expected == tmin ? "tmin" : *expected == tmax ? "tmax" : nullptr;
     if (!end) return "";
+    // A window of one point (trial 9, s02_point_window_rejected: a guard tmin < tmax): the root is both
+    // ends, and the ends alone are not what is skipped, so the open-window sentence is not said.
+    if (tmin == tmax && *widened == *expected)
+        return std::string(" Measured on your answer: the window [") + show(tmin) + ", " + show(tmax) +
+               "] gives no hit, and a window a little wider gives t = " + show(*expected) +
+               ": your function takes a window of one point as empty (a guard tmin < tmax where tmin <= tmax "
+               "belongs).";
     if (*widened == *expected)
         return std::string(" Measured on your answer: the hit t = ") + show(*expected) + " is exactly " + end +
                "; your function skips it, and returns it once the window is a little wider: it treats the "

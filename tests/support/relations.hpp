@@ -241,7 +241,10 @@ std::string formula_cause(bool unit_sphere, RootsOf roots_of, bool geometric = f
         const Ray beside{ball.center + glm::vec3(0.6f * ball.radius, 0, 0), {0, 0, 1}};
         const Roots there = roots_of(beside, ball);
         const float half = there.count == 2 ? 0.5f * (there.t[1] - there.t[0]) : -1.0f;
-        if (there.count == 2 && half >= 0 && half == std::floor(half) && !close(float(0.8 * r), half))
+        // Its own prediction checked too: an int square root keeps the roots' middle (-h/a, 0 here) right,
+        // where one root stored twice (trial 9, s02_t1_copy_t0) moves it.
+        if (there.count == 2 && half >= 0 && half == std::floor(half) && !close(float(0.8 * r), half) &&
+            std::fabs(there.t[0] + there.t[1]) <= 1e-3f * float(r))
             return " Measured on your function: on a ray of the kit's own whose roots are -+" + show(float(0.8 * r)) +
                    ", its roots lie -+" + show(half) + " from their middle, a whole number: the square root loses "
                    "its fraction on the way (kept in an int: int s = std::sqrt(...)).";

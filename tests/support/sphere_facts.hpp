@@ -176,6 +176,120 @@ std::string one_root_undivided_cause(const glm::vec3& d, const Roots& expected, 
            "division binds before the sum or difference it should divide.";
 }
 
+/// The roots right but the count not (trial 9, s01_count_two_unset: the two-root branch forgets
+/// count = 2): every expected root is in its entry, and the count says fewer. Said first: a relation on
+/// the sign of c or of the discriminant can only explain roots that are wrong or absent, not right ones.
+inline std::string count_unset_cause(const Roots& expected, const Roots& got) {
+    if (expected.count == 0 || got.count >= expected.count || got.count < 0 || has_nan(got)) return "";
+    for (int i = 0; i < expected.count; ++i)
+        if (!close(expected.t[i], got.t[i])) return "";
+    const std::string roots = expected.count == 2 ? "t = " + show(got.t[0]) + " and " + show(got.t[1])
+                                                  : "t = " + show(got.t[0]);
+    return " Measured on your answer: the roots are right (" + roots + ") but count is " +
+           std::to_string(got.count) + ", not " + std::to_string(expected.count) +
+           ": where your code finds " + (expected.count == 2 ? "two roots" : "one root") +
+           ", it fills t but does not set count = " + std::to_string(expected.count) + ".";
+}
+
+/// Count 2 with both entries the same root where the two roots differ (trial 9, s02_t1_copy_t0: t[1]
+/// written from t0): one root stored twice, the other never.
+inline std::string root_stored_twice_cause(const Roots& expected, const Roots& got) {
+    if (expected.count != 2 || got.count != 2 || has_nan(got) || !(got.t[0] == got.t[1]) ||
+        close(expected.t[0], expected.t[1]))
+        return "";
+    const int held = close(expected.t[0], got.t[0]) ? 0 : close(expected.t[1], got.t[0]) ? 1 : -1;
+    if (held < 0) return "";
+    return " Measured on your answer: count is 2 but both entries hold t = " + show(got.t[0]) + ", the " +
+           (held == 0 ? "near" : "far") + " root, where the two roots differ (" + show(expected.t[0]) + " and " +
+           show(expected.t[1]) + "): one root stored twice; t[" + std::to_string(1 - held) +
+           "] is written from the wrong variable.";
+}
+
+/// One root right and the other the product of the two (trial 9, s01_t1_c_over_a: t1 = c / a where the
+/// stable pair has c / q): Vieta's c / a = t0 t1. Empty unless both hold and the product is neither root.
+inline std::string root_product_cause(const Roots& expected, const Roots& got) {
+    if (expected.count != 2 || got.count != 2 || has_nan(got)) return "";
+    const float product = expected.t[0] * expected.t[1];
+    if (close(product, expected.t[0]) || close(product, expected.t[1])) return "";
+    for (int k = 0; k < 2; ++k) {
+        if (!close(product, got.t[k])) continue;
+        const float other = got.t[1 - k];
+        const int right = close(expected.t[0], other) ? 0 : close(expected.t[1], other) ? 1 : -1;
+        if (right < 0) continue;
+        return " Measured on your answer: one root is right (" + show(other) + ") and the other, " +
+               show(got.t[k]) + ", is the product of the two roots (" + show(expected.t[0]) + " x " +
+               show(expected.t[1]) + " = c/a, Vieta), where " + show(expected.t[1 - right]) +
+               " belongs: your second root is c/a, the product of the roots, which is no root.";
+    }
+    return "";
+}
+
+/// A tangent root off by a factor of exactly 2 on two tangents of different a (trial 9,
+/// s01_tangent_over_2a: -h / (2a) with the half h): `tangent(len)` is the function's root on the kit's
+/// tangent of a direction of length len, whose right root is `right(len)`. Empty unless the same factor
+/// (1/2 or 2) holds on both.
+template <class Tangent, class Right>
+std::string tangent_factor_cause(const Roots& expected, const Roots& got, Tangent tangent, Right right) {
+    if (expected.count != 1 || got.count != 1 || has_nan(got) || expected.t[0] == 0.0f || !cheap_to_measure())
+        return "";
+    const float ratio = got.t[0] / expected.t[0];
+    if (!(close(0.5f, ratio) || close(2.0f, ratio))) return "";
+    for (float len : {1.0f, 2.0f}) {
+        const Roots there = tangent(len);
+        if (there.count != 1 || has_nan(there) || !close(ratio * right(len), there.t[0])) return "";
+    }
+    return ratio < 1.0f
+               ? " Measured on your function: on tangents with directions of length 1 and 2, your tangent root is "
+                 "exactly half the right one (" + show(got.t[0]) + " for " + show(expected.t[0]) +
+                     "): with the half b, h = o.d, the tangent root is -h/a, not -h/(2a)."
+               : " Measured on your function: on tangents with directions of length 1 and 2, your tangent root is "
+                 "exactly twice the right one (" + show(got.t[0]) + " for " + show(expected.t[0]) +
+                     "): with the whole b = 2 o.d, the tangent root is -b/(2a), not -b/a.";
+}
+
+/// A component of the centre the code never reads (trial 9, s02_center_y_typo: f.y = o.y - c.x): on the
+/// kit's ray along +z from 5 below the centre (1, 2, 3) of a sphere of radius 2 (roots 3 and 7), the
+/// centre alone moved by 0.5 along one axis moves the right roots, whatever the axis; an answer that is
+/// the same, bit for bit, names that component. `roots_of(ray, sphere)` is the student's function.
+template <class RootsOf>
+std::string centre_component_cause(RootsOf roots_of) {
+    if (!cheap_to_measure()) return "";
+    const Ray ray{{1, 2, -2}, {0, 0, 1}};
+    const Sphere ball{{1, 2, 3}, 2};
+    const Roots there = roots_of(ray, ball);
+    // Two roots found, and exactly one axis whose move leaves them: no roots at all move with nothing.
+    if (agree(pair_of(3.0, 7.0), there) || there.count != 2 || has_nan(there)) return "";
+    static const char* const axis[] = {"x", "y", "z"};
+    int unread = -1, still = 0;
+    for (int k = 0; k < 3; ++k) {
+        Sphere moved = ball;
+        moved.center[k] += 0.5f;
+        if (same_answer(there, roots_of(ray, moved))) unread = k, ++still;
+    }
+    if (still != 1) return "";
+    return std::string(" Measured on your function: moving the sphere's centre alone by 0.5 along ") + axis[unread] +
+           " moves the roots, and yours stay the same: your code never reads c." + axis[unread] + " (f = o - c, and f." +
+           axis[unread] + " = o." + axis[unread] + " - c." + axis[unread] + ").";
+}
+
+/// A hit that is an entry beyond the count of the same ray's roots (trial 9, s01_loop_two_roots: the
+/// window's loop runs k < 2): `roots` is the roots function's answer for the ray. Empty unless the hit
+/// is wrong, equals an entry at or past count and none of the roots.
+inline std::string beyond_count_cause(const Roots& roots, const std::optional<float>& expected,
+                                      const std::optional<float>& got) {
+    if (!got || (expected && close(*expected, *got)) || roots.count < 0 || roots.count > 2 || has_nan(roots))
+        return "";
+    for (int k = 0; k < roots.count; ++k)
+        if (roots.t[k] == *got) return "";
+    for (int k = roots.count; k < 2; ++k)
+        if (roots.t[k] == *got)
+            return " Measured on your function: your hit t = " + show(*got) + " is t[" + std::to_string(k) +
+                   "] of this ray's roots, whose count is " + std::to_string(roots.count) +
+                   ": an entry beyond the count, which is no root. Read the roots with a loop k < count, "
+                   "not k < 2.";
+    return "";
+}
+
 /// check_roots with a leading fact: where `lead` is measured, it comes first and the case's geometry
 /// (the why's first sentence) after it, before any sentence on the contract; otherwise check_roots with
 /// `why` as it is.
