@@ -23,6 +23,7 @@ from . import faults
 from . import heldtmp
 from .build import Build
 from .cases import Case
+from .sandbox.reaping import reap_orphans
 from .common import BUILD, ROOT, Step, printable
 from .status import CRASHED, GRADER_ERROR, NOT_RUN, PASS, TIMED_OUT
 
@@ -219,6 +220,7 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
     group_start = group_cpu(groups)
     done: set[str] = set()
     full_env = dict(os.environ, **(env or {}))
+    sandbox_uids = {int(u) for u in [full_env.get("RAYKIT_SANDBOX_UID", "")] if u.isdigit() and int(u)}
     with heldtmp.held("raykit-judge-") as tmp:
         attempt = 0
         while len(done) < len(cases) and time.monotonic() < deadline:
@@ -234,8 +236,17 @@ def run_cases(exe: Path, cases: list[Case], env: dict[str, str] | None = None,
                                         start_new_session=True, env=full_env)
                 current, started_at, reason = None, time.monotonic(), None
                 seen = 0
+                reaped_at = time.monotonic()
                 while True:
                     finished = proc.poll() is not None
+                    if sandbox_uids and time.monotonic() - reaped_at > 0.25:
+                        # The sandboxes of calls that ended are given to this process (a subreaper)
+                        # when their wrapper dies first. Reaped as the judge runs, not when the step
+                        # ends: a step of many crashing calls (hostile/self_kill) would otherwise
+                        # fill the sandbox id's process limit with zombies, and the sandbox could no
+                        # longer start: "not graded", a free attempt.
+                        reap_orphans(sandbox_uids)
+                        reaped_at = time.monotonic()
                     events = _read_lines(out)
                     for e in events[seen:]:
                         if e.get("event") == "start":
